@@ -1,0 +1,2 @@
+//! The showcase (placeholder until the showcase work lands).
+fn main() {}

@@ -1,0 +1,1 @@
+//! Shared code of the Parallax binaries (argument parsing helpers, scene building, output).

@@ -1,0 +1,56 @@
+//! Parallax's engine: a tile-binned CPU rasterizer with render targets, meshes, materials,
+//! textures, cameras and loaders.
+//!
+//! Data flow for one frame: [`Scene`] (or any [`Draw`]s) + [`Camera`] -> `vertex` ->
+//! `clip` -> `setup` -> `bin` -> `raster` + `shade` per tile -> [`Target`]. Rendering cannot
+//! fail; only loading can (see `load`). Conventions (right-handed, +Y up, reversed depth
+//! inside, OpenGL depth outside, counter-clockwise front faces, linear colour inside) are in
+//! `ARCHITECTURE.md`.
+//!
+//! ```
+//! use engine::{Camera, Material, Mesh, Renderer, Rgba, Scene, Target, FrameOptions};
+//! use glam::{Mat4, Vec3};
+//!
+//! let mut scene = Scene::default();
+//! let tri = Mesh {
+//!     positions: vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
+//!     indices: vec![0, 1, 2],
+//!     ..Default::default()
+//! };
+//! scene.add(tri, Material::unlit(Rgba::new(1.0, 0.0, 0.0, 1.0)), Mat4::IDENTITY);
+//! let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+//! let mut target = Target::new(32, 32);
+//! let stats = Renderer::new().render_scene(&scene, &camera, &mut target, &FrameOptions::default());
+//! assert_eq!(stats.triangles_set_up, 1);
+//! // the centre is red, a corner is the black clear colour
+//! assert_eq!(target.pixel(16, 16), Some(0xff00_00ff));
+//! assert_eq!(target.pixel(0, 0), Some(0xff00_0000));
+//! ```
+
+pub mod bin;
+pub mod camera;
+pub mod clip;
+pub mod color;
+pub mod light;
+pub mod material;
+pub mod mesh;
+pub mod raster;
+pub mod renderer;
+pub mod scene;
+pub mod setup;
+pub mod shade;
+pub mod stats;
+pub mod target;
+pub mod texture;
+pub mod vertex;
+
+pub use camera::{Camera, Projection};
+pub use color::{Encoding, Premul, Rgba};
+pub use light::{Light, Lighting};
+pub use material::{AlphaMode, BlendMode, Material, Shading};
+pub use mesh::{Mesh, Sphere};
+pub use renderer::{Cull, FrameOptions, Renderer};
+pub use scene::{Draw, Instance, Scene};
+pub use stats::FrameStats;
+pub use target::Target;
+pub use texture::{Filter, Sampler, Texture, Wrap};

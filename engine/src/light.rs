@@ -1,0 +1,37 @@
+//! Lights for the `Lit` shading model. Directions and positions are in world space;
+//! colours are linear and may exceed 1 (intensity).
+
+use crate::color::Rgba;
+use glam::Vec3;
+
+/// A light source.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light arriving along `direction` (pointing from the light into the scene).
+    Directional { direction: Vec3, color: Rgba },
+    /// A point light whose intensity falls off smoothly to zero at `range`.
+    Point {
+        position: Vec3,
+        color: Rgba,
+        range: f32,
+    },
+}
+
+/// Lighting shared by every lit material in a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lighting {
+    pub ambient: Rgba,
+    pub lights: Vec<Light>,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Lighting {
+            ambient: Rgba::new(0.15, 0.15, 0.17, 1.0),
+            lights: vec![Light::Directional {
+                direction: Vec3::new(-0.35, -0.6, -0.72).normalize(),
+                color: Rgba::new(1.0, 0.97, 0.92, 1.0),
+            }],
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! Materials: how a surface is shaded, tested and blended.
+//!
+//! A material is plain data; the shading stage (`shade`) reads it. Colours are straight
+//! linear [`Rgba`]; textures are shared through `Arc` so cloning a material is cheap.
+
+use crate::color::Rgba;
+use crate::texture::{Sampler, Texture};
+use std::sync::Arc;
+
+/// The lighting model.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Shading {
+    /// Base colour (times vertex colour and texture) with no lighting.
+    #[default]
+    Unlit,
+    /// Lambert diffuse plus Blinn-Phong specular over the frame's lights.
+    Lit { specular: f32, shininess: f32 },
+    /// Debug: RGB = little-endian 24-bit (triangle index + 1) within the draw, written as
+    /// exact bytes; no lighting, no blending. Pair with a unorm target.
+    FaceId,
+    /// Per-face colour: mean vertex colour times `0.25 + 0.75 |n . L|` for a fixed light
+    /// (the peers' `flat` rule), quantised to bytes. Pair with a unorm target.
+    Flat,
+}
+
+/// How a fragment's alpha is used (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum AlphaMode {
+    /// Alpha ignored; drawn in the opaque pass.
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff are discarded; opaque pass.
+    Mask { cutoff: f32 },
+    /// Blended in the second pass, back to front, without depth writes.
+    Blend,
+}
+
+/// How a blended fragment combines with the target (premultiplied colour).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BlendMode {
+    /// `dst = src + dst * (1 - src.a)`.
+    #[default]
+    Alpha,
+    /// `dst = src + dst` (fire, glows, lasers).
+    Additive,
+}
+
+/// A material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub base_color: Rgba,
+    pub base_texture: Option<Arc<Texture>>,
+    pub sampler: Sampler,
+    /// Multiply by the mesh's vertex colours when it has them.
+    pub vertex_colors: bool,
+    pub shading: Shading,
+    pub alpha_mode: AlphaMode,
+    pub blend: BlendMode,
+    /// Not culled when back-facing, and lit from the side it is seen from.
+    pub double_sided: bool,
+    /// Test fragments against the depth buffer.
+    pub depth_test: bool,
+    /// Soft particles: a blended fragment closer than this distance (view units) in front
+    /// of the opaque surface behind it fades out linearly. 0 disables.
+    pub soft_distance: f32,
+    /// Emitted colour added after lighting.
+    pub emissive: Rgba,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: String::new(),
+            base_color: Rgba::WHITE,
+            base_texture: None,
+            sampler: Sampler::default(),
+            vertex_colors: true,
+            shading: Shading::Unlit,
+            alpha_mode: AlphaMode::Opaque,
+            blend: BlendMode::Alpha,
+            double_sided: false,
+            depth_test: true,
+            soft_distance: 0.0,
+            emissive: Rgba::new(0.0, 0.0, 0.0, 0.0),
+        }
+    }
+}
+
+impl Material {
+    /// An unlit material of one colour.
+    pub fn unlit(color: Rgba) -> Self {
+        Material {
+            base_color: color,
+            ..Default::default()
+        }
+    }
+
+    /// A lit (Lambert + Blinn-Phong) material of one colour.
+    pub fn lit(color: Rgba) -> Self {
+        Material {
+            base_color: color,
+            shading: Shading::Lit {
+                specular: 0.25,
+                shininess: 32.0,
+            },
+            ..Default::default()
+        }
+    }
+
+    pub fn with_texture(mut self, texture: Arc<Texture>) -> Self {
+        self.base_texture = Some(texture);
+        self
+    }
+
+    pub fn double_sided(mut self, yes: bool) -> Self {
+        self.double_sided = yes;
+        self
+    }
+
+    pub fn blended(mut self, mode: BlendMode) -> Self {
+        self.alpha_mode = AlphaMode::Blend;
+        self.blend = mode;
+        self
+    }
+
+    /// Drawn in the second, sorted, pass.
+    pub fn is_blended(&self) -> bool {
+        self.alpha_mode == AlphaMode::Blend
+    }
+}

@@ -1,0 +1,570 @@
+//! The renderer: runs the stages in order and owns the scratch memory they share.
+//!
+//! `vertex` (per draw, parallel over vertices) -> `clip` + `setup` + `bin` (parallel over
+//! fixed chunks of triangles, each chunk writing only its own buffers) -> `raster` + `shade`
+//! (parallel over tiles, each worker owning one tile's memory) -> resolve into the target.
+//! Opaque and alpha-tested draws go first in submission order, then blended draws sorted
+//! back to front, so a tile sees every triangle in one deterministic order whatever the
+//! thread count. All buffers live in the [`Renderer`] and are reset, not reallocated, each
+//! frame: once a scene has been drawn, drawing it again allocates nothing.
+
+use crate::bin::Bins;
+use crate::camera::Camera;
+use crate::clip::{clip_triangle, outcode, ClipVert, MAX_POLY};
+use crate::color::{Encoder, Rgba};
+use crate::light::Lighting;
+use crate::material::{AlphaMode, Material, Shading};
+use crate::mesh::Mesh;
+use crate::raster::{raster_tri, DepthToView, PixelMode, TileBuf};
+use crate::scene::{Draw, Scene};
+use crate::setup::{setup, Dropped, ScreenVert, Tri, Viewport, CLIPPED};
+use crate::shade::{ColorShader, ConstShader, FragShader, GeneralShader};
+use crate::stats::FrameStats;
+use crate::target::{Target, TILE, TILE_PIXELS};
+use crate::vertex::{self, Layout, MAX_VARYINGS};
+use glam::{Mat4, Vec3, Vec4};
+use rayon::prelude::*;
+use std::sync::Mutex;
+
+/// Which faces are culled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Cull {
+    /// Back faces of single-sided materials (the default).
+    #[default]
+    PerMaterial,
+    /// Nothing.
+    None,
+    /// Every back face, double-sided materials included.
+    Back,
+}
+
+/// Per-frame options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameOptions {
+    /// Clear colour (straight linear), or `None` to draw over the target's contents.
+    pub clear: Option<Rgba>,
+    pub cull: Cull,
+}
+
+impl Default for FrameOptions {
+    fn default() -> Self {
+        FrameOptions {
+            clear: Some(Rgba::BLACK),
+            cull: Cull::PerMaterial,
+        }
+    }
+}
+
+/// The fragment shader family a draw uses.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Const(ConstShader),
+    Color(ColorShader),
+    General,
+}
+
+/// What the stages need to know about one draw this frame.
+#[derive(Clone, Copy, Debug)]
+struct DrawInfo<'a> {
+    mesh: &'a Mesh,
+    material: &'a Material,
+    transform: Mat4,
+    layout: Layout,
+    kind: Kind,
+    vert_base: usize,
+    vary_base: usize,
+    tri_base: usize,
+    prim_base: u32,
+    cull_back: bool,
+    mode: PixelMode,
+}
+
+/// One chunk of triangles' front-end output.
+#[derive(Debug, Default)]
+struct Chunk {
+    tris: Vec<Tri>,
+    /// Varyings of vertices made by clipping.
+    extra: Vec<f32>,
+    bins: Bins,
+    stats: FrameStats,
+}
+
+/// Renders draws into targets. Keep one alive across frames: it owns the scratch memory.
+#[derive(Debug, Default)]
+pub struct Renderer {
+    clip: Vec<Vec4>,
+    vary: Vec<f32>,
+    chunks: Vec<Chunk>,
+    workers: Vec<Mutex<TileBuf>>,
+    tile_stats: Vec<FrameStats>,
+    infos: Vec<DrawInfo<'static>>,
+    sort_keys: Vec<(f32, u32)>,
+    last: FrameStats,
+}
+
+/// Reuses an empty vector's allocation for a type that differs only in lifetime.
+fn recycle<'b, 'a>(mut v: Vec<DrawInfo<'a>>) -> Vec<DrawInfo<'b>> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("empty")).collect()
+}
+
+fn classify(m: &Material, mesh: &Mesh) -> (Kind, Layout) {
+    let base = m.base_color.to_array();
+    let plain = m.base_texture.is_none()
+        && m.emissive.r == 0.0
+        && m.emissive.g == 0.0
+        && m.emissive.b == 0.0;
+    match m.shading {
+        Shading::FaceId | Shading::Flat => (
+            Kind::Const(ConstShader {
+                color: base,
+                per_triangle: true,
+            }),
+            Layout::None,
+        ),
+        Shading::Unlit if plain && !(m.vertex_colors && !mesh.colors.is_empty()) => (
+            Kind::Const(ConstShader {
+                color: base,
+                per_triangle: false,
+            }),
+            Layout::None,
+        ),
+        Shading::Unlit if plain => (Kind::Color(ColorShader { base }), Layout::Color),
+        _ => (Kind::General, Layout::Full),
+    }
+}
+
+/// The peers' flat rule: mean vertex colour times `0.25 + 0.75 |n . L|`, as unorm bytes.
+fn flat_color(mesh: &Mesh, idx: [usize; 3]) -> u32 {
+    let p = idx.map(|i| mesh.positions[i]);
+    let c = idx.map(|i| mesh.colors.get(i).copied().unwrap_or(Rgba::WHITE));
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    let len = n.length();
+    let n = if len > 0.0 { n / len } else { Vec3::ZERO };
+    let l = Vec3::new(0.35, 0.6, 0.72);
+    let l = l / l.length();
+    let shade = 0.25 + 0.75 * n.dot(l).abs();
+    let q = |x: f32| ((x * shade).clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8;
+    let mean = |f: fn(&Rgba) -> f32| (f(&c[0]) + f(&c[1]) + f(&c[2])) / 3.0;
+    u32::from_le_bytes([q(mean(|c| c.r)), q(mean(|c| c.g)), q(mean(|c| c.b)), 255])
+}
+
+impl Renderer {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Counters of the last frame.
+    pub fn stats(&self) -> FrameStats {
+        self.last
+    }
+
+    /// Renders every instance of `scene` with its own lighting.
+    pub fn render_scene(
+        &mut self,
+        scene: &Scene,
+        camera: &Camera,
+        target: &mut Target,
+        opts: &FrameOptions,
+    ) -> FrameStats {
+        self.render(scene.draws(), camera, &scene.lighting, target, opts)
+    }
+
+    /// Renders one frame of `draws` into `target`. Never fails: odd geometry is skipped and
+    /// counted in [`FrameStats::triangles_rejected`].
+    pub fn render<'a>(
+        &mut self,
+        draws: impl IntoIterator<Item = Draw<'a>>,
+        camera: &Camera,
+        lighting: &Lighting,
+        target: &mut Target,
+        opts: &FrameOptions,
+    ) -> FrameStats {
+        let mut infos: Vec<DrawInfo<'a>> = recycle(std::mem::take(&mut self.infos));
+        let view_proj = camera.clip_from_world();
+        let mut prim_base = 0u32;
+        for d in draws {
+            let (kind, layout) = classify(d.material, d.mesh);
+            let blended = d.material.is_blended();
+            infos.push(DrawInfo {
+                mesh: d.mesh,
+                material: d.material,
+                transform: d.transform,
+                layout,
+                kind,
+                vert_base: 0,
+                vary_base: 0,
+                tri_base: 0,
+                prim_base,
+                cull_back: match opts.cull {
+                    Cull::PerMaterial => !d.material.double_sided,
+                    Cull::None => false,
+                    Cull::Back => true,
+                },
+                mode: PixelMode {
+                    depth_test: d.material.depth_test,
+                    depth_write: !blended,
+                    alpha: d.material.alpha_mode,
+                    blend: d.material.blend,
+                    soft: if blended {
+                        d.material.soft_distance
+                    } else {
+                        0.0
+                    },
+                },
+            });
+            prim_base = prim_base.wrapping_add(d.mesh.triangle_count() as u32);
+        }
+        self.order_draws(&mut infos, camera);
+
+        // Vertex stage.
+        let (mut nv, mut nf, mut nt) = (0, 0, 0);
+        for info in infos.iter_mut() {
+            info.vert_base = nv;
+            info.vary_base = nf;
+            info.tri_base = nt;
+            nv += info.mesh.positions.len();
+            nf += info.mesh.positions.len() * info.layout.stride();
+            nt += info.mesh.triangle_count();
+        }
+        self.clip.resize(nv, Vec4::ZERO);
+        self.vary.resize(nf, 0.0);
+        for info in infos.iter() {
+            let n = info.mesh.positions.len();
+            let s = info.layout.stride();
+            vertex::transform(
+                info.mesh,
+                info.transform,
+                view_proj,
+                info.layout,
+                &mut self.clip[info.vert_base..info.vert_base + n],
+                &mut self.vary[info.vary_base..info.vary_base + n * s],
+            );
+        }
+
+        // Clip, set up and bin, in chunks of triangles.
+        let vp = Viewport {
+            width: target.width(),
+            height: target.height(),
+        };
+        let (tiles_x, tiles_y) = (target.tiles_x() as usize, target.tiles_y() as usize);
+        let chunk_size = nt.div_ceil(128).max(1024);
+        let n_chunks = nt.div_ceil(chunk_size);
+        if self.chunks.len() < n_chunks {
+            self.chunks.resize_with(n_chunks, Chunk::default);
+        }
+        {
+            let (clip, vary, infos) = (&self.clip[..], &self.vary[..], &infos[..]);
+            self.chunks[..n_chunks]
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(k, chunk)| {
+                    let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
+                    front_end(chunk, range, infos, clip, vary, &vp);
+                    if tiles_x * tiles_y > 0 {
+                        chunk.stats.triangles_binned =
+                            chunk.bins.build(&chunk.tris, tiles_x, tiles_y);
+                    } else {
+                        chunk.bins.build(&[], 1, 1);
+                        chunk.stats.triangles_binned = 0;
+                    }
+                });
+        }
+
+        // Raster and resolve, one tile per task.
+        let threads = rayon::current_num_threads().max(1);
+        while self.workers.len() < threads {
+            self.workers.push(Mutex::new(TileBuf::default()));
+        }
+        let n_tiles = target.tile_count();
+        self.tile_stats.clear();
+        self.tile_stats.resize(n_tiles, FrameStats::default());
+        let encoder = Encoder::new(target.encoding());
+        let clear = opts.clear.map(|c| c.premultiply());
+        let encoding = target.encoding();
+        let soft = DepthToView::new(*camera);
+        let eye = camera.eye();
+        {
+            let chunks = &self.chunks[..n_chunks];
+            let (vary, infos, workers) = (&self.vary[..], &infos[..], &self.workers[..]);
+            let (colors, depths) = target.storage_mut();
+            colors
+                .par_chunks_mut(TILE_PIXELS)
+                .zip(depths.par_chunks_mut(TILE_PIXELS))
+                .zip(self.tile_stats.par_iter_mut())
+                .enumerate()
+                .for_each(|(tile, ((color, depth), stats))| {
+                    let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
+                    let mut buf = workers[w].lock().unwrap_or_else(|e| e.into_inner());
+                    let buf = &mut *buf;
+                    // Load or clear.
+                    match clear {
+                        Some(c) => {
+                            let [r, g, b, a] = &mut buf.color;
+                            r.fill(c.r);
+                            g.fill(c.g);
+                            b.fill(c.b);
+                            a.fill(c.a);
+                            buf.depth.fill(0.0);
+                        }
+                        None => {
+                            for (i, px) in color.iter().enumerate() {
+                                let c = crate::color::unpack(encoding, *px);
+                                buf.color[0][i] = c.r;
+                                buf.color[1][i] = c.g;
+                                buf.color[2][i] = c.b;
+                                buf.color[3][i] = c.a;
+                            }
+                            buf.depth.copy_from_slice(depth);
+                        }
+                    }
+                    let ox = ((tile % tiles_x) * TILE) as i32;
+                    let oy = ((tile / tiles_x) * TILE) as i32;
+                    for chunk in chunks {
+                        for &ti in chunk.bins.tile(tile) {
+                            let tri = &chunk.tris[ti as usize];
+                            let info = &infos[tri.draw as usize];
+                            let src = if tri.flags & CLIPPED != 0 {
+                                &chunk.extra[..]
+                            } else {
+                                vary
+                            };
+                            let mode = &info.mode;
+                            match &info.kind {
+                                Kind::Const(s) => {
+                                    let p = s.prepare(tri, src);
+                                    raster_tri(buf, ox, oy, tri, s, &p, mode, &soft, stats);
+                                }
+                                Kind::Color(s) => {
+                                    let p = s.prepare(tri, src);
+                                    raster_tri(buf, ox, oy, tri, s, &p, mode, &soft, stats);
+                                }
+                                Kind::General => {
+                                    let s = GeneralShader {
+                                        material: info.material,
+                                        lighting,
+                                        eye,
+                                    };
+                                    let p = s.prepare(tri, src);
+                                    raster_tri(buf, ox, oy, tri, &s, &p, mode, &soft, stats);
+                                }
+                            }
+                        }
+                    }
+                    // Resolve.
+                    let [r, g, b, a] = &buf.color;
+                    for i in 0..TILE_PIXELS {
+                        color[i] = encoder.pack(r[i], g[i], b[i], a[i]);
+                    }
+                    depth.copy_from_slice(&buf.depth);
+                });
+        }
+
+        let mut total = FrameStats {
+            draws: infos.len() as u64,
+            triangles_in: nt as u64,
+            ..Default::default()
+        };
+        for c in &self.chunks[..n_chunks] {
+            total += c.stats;
+        }
+        for s in &self.tile_stats {
+            total += *s;
+        }
+        self.infos = recycle(infos);
+        self.last = total;
+        total
+    }
+
+    /// Opaque and alpha-tested draws first, in submission order; then blended draws, far to
+    /// near by the view depth of their bounding-box centre (ties keep submission order).
+    fn order_draws(&mut self, infos: &mut [DrawInfo<'_>], camera: &Camera) {
+        let n_blend = infos
+            .iter()
+            .filter(|i| i.mode.alpha == AlphaMode::Blend)
+            .count();
+        if n_blend == 0 {
+            return;
+        }
+        self.sort_keys.clear();
+        for (i, info) in infos.iter().enumerate() {
+            let key = if info.mode.alpha == AlphaMode::Blend {
+                let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+                for p in info.mesh.positions.iter().filter(|p| p.is_finite()) {
+                    lo = lo.min(*p);
+                    hi = hi.max(*p);
+                }
+                let c = if lo.x <= hi.x {
+                    (lo + hi) * 0.5
+                } else {
+                    Vec3::ZERO
+                };
+                let z = camera
+                    .view
+                    .transform_point3(info.transform.transform_point3(c))
+                    .z;
+                // view z is negative in front; more negative = farther = drawn first
+                if z.is_finite() {
+                    z
+                } else {
+                    0.0
+                }
+            } else {
+                f32::NEG_INFINITY
+            };
+            self.sort_keys.push((key, i as u32));
+        }
+        // Opaque keys are -inf, so a stable order of (is_blend, z, index) does it.
+        self.sort_keys.sort_unstable_by(|a, b| {
+            let blend_a = a.0 != f32::NEG_INFINITY;
+            let blend_b = b.0 != f32::NEG_INFINITY;
+            blend_a
+                .cmp(&blend_b)
+                .then(if blend_a {
+                    a.0.total_cmp(&b.0)
+                } else {
+                    std::cmp::Ordering::Equal
+                })
+                .then(a.1.cmp(&b.1))
+        });
+        // Apply the permutation in place by cycle-walking (no allocation).
+        for i in 0..infos.len() {
+            let mut j = self.sort_keys[i].1 as usize;
+            while j < i {
+                j = self.sort_keys[j].1 as usize;
+            }
+            infos.swap(i, j);
+        }
+    }
+}
+
+/// Clip, set up and collect the triangles of one chunk.
+fn front_end(
+    chunk: &mut Chunk,
+    range: std::ops::Range<usize>,
+    infos: &[DrawInfo<'_>],
+    clip: &[Vec4],
+    vary: &[f32],
+    vp: &Viewport,
+) {
+    chunk.tris.clear();
+    chunk.extra.clear();
+    chunk.stats = FrameStats::default();
+    let guard = vp.guard();
+    if range.is_empty() || vp.width == 0 || vp.height == 0 {
+        chunk.stats.triangles_rejected += range.len() as u64;
+        return;
+    }
+    // First draw overlapping the range.
+    let mut d = infos.partition_point(|i| i.tri_base + i.mesh.triangle_count() <= range.start);
+    let mut t = range.start;
+    while t < range.end && d < infos.len() {
+        let info = &infos[d];
+        let count = info.mesh.triangle_count();
+        let end = (info.tri_base + count).min(range.end);
+        let stride = info.layout.stride();
+        let n_vert = info.mesh.positions.len();
+        while t < end {
+            let local = t - info.tri_base;
+            t += 1;
+            let ix = &info.mesh.indices[3 * local..3 * local + 3];
+            if ix.iter().any(|&i| i as usize >= n_vert) {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            let idx = [ix[0] as usize, ix[1] as usize, ix[2] as usize];
+            let p = idx.map(|i| clip[info.vert_base + i]);
+            if !p.iter().all(|v| v.is_finite()) {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            let color = match info.material.shading {
+                Shading::FaceId => {
+                    (info.prim_base.wrapping_add(local as u32).wrapping_add(1) & 0xff_ffff)
+                        | 0xff00_0000
+                }
+                Shading::Flat => flat_color(info.mesh, idx),
+                _ => 0,
+            };
+            let stamp = |mut tri: Tri, flags: u32| {
+                tri.draw = d as u32;
+                tri.prim = info.prim_base.wrapping_add(local as u32);
+                tri.color = color;
+                tri.flags |= flags;
+                tri
+            };
+            let oc = p.map(|v| outcode(v, guard));
+            if oc[0] | oc[1] | oc[2] == 0 {
+                let (Some(a), Some(b), Some(c)) =
+                    (vp.to_screen(p[0]), vp.to_screen(p[1]), vp.to_screen(p[2]))
+                else {
+                    chunk.stats.triangles_rejected += 1;
+                    continue;
+                };
+                let offs = idx.map(|i| (info.vary_base + i * stride) as u32);
+                match setup([a, b, c], offs, info.cull_back, vp) {
+                    Ok(tri) => chunk.tris.push(stamp(tri, 0)),
+                    Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
+                    Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
+                }
+                continue;
+            }
+            if oc[0] & oc[1] & oc[2] != 0 {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            chunk.stats.triangles_clipped += 1;
+            let cv = |k: usize| {
+                let mut v = ClipVert {
+                    pos: p[k],
+                    vary: [0.0; MAX_VARYINGS],
+                };
+                let o = info.vary_base + idx[k] * stride;
+                v.vary[..stride].copy_from_slice(&vary[o..o + stride]);
+                v
+            };
+            let mut poly = [cv(0); MAX_POLY];
+            let n = clip_triangle(
+                [cv(0), cv(1), cv(2)],
+                oc[0] | oc[1] | oc[2],
+                guard,
+                stride,
+                &mut poly,
+            );
+            let mut sv = [ScreenVert {
+                x: 0,
+                y: 0,
+                z: 0.0,
+                iw: 0.0,
+            }; MAX_POLY];
+            let mut offs = [0u32; MAX_POLY];
+            let mut ok = n >= 3;
+            for k in 0..n {
+                match vp.to_screen(poly[k].pos) {
+                    Some(s) => sv[k] = s,
+                    None => ok = false,
+                }
+                offs[k] = chunk.extra.len() as u32;
+                chunk.extra.extend_from_slice(&poly[k].vary[..stride]);
+            }
+            if !ok {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            for k in 1..n - 1 {
+                match setup(
+                    [sv[0], sv[k], sv[k + 1]],
+                    [offs[0], offs[k], offs[k + 1]],
+                    info.cull_back,
+                    vp,
+                ) {
+                    Ok(tri) => chunk.tris.push(stamp(tri, CLIPPED)),
+                    Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
+                    Err(Dropped::Rejected) => {}
+                }
+            }
+        }
+        d += 1;
+    }
+    chunk.stats.triangles_set_up = chunk.tris.len() as u64;
+}

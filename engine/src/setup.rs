@@ -1,0 +1,261 @@
+//! Setup stage: clip-space triangles -> screen-space [`Tri`]s with vertices snapped to
+//! fixed point (`SUBPIXEL_BITS` sub-pixel bits), exact integer edge functions, a pixel
+//! bounding box, and the planes the rasterizer interpolates.
+//!
+//! Screen space: x right, y down, pixel centres at `(x + 0.5, y + 0.5)`. After setup every
+//! triangle winds so that its edge functions are positive inside; `FRONT` remembers whether
+//! it was front-facing (counter-clockwise in NDC) before that. Triangles that are degenerate
+//! (zero area) or cover no pixel centre's bounding box are dropped here.
+
+use glam::Vec4;
+
+/// Sub-pixel precision of snapped vertices.
+pub const SUBPIXEL_BITS: u32 = 8;
+/// One pixel in fixed-point units.
+pub const ONE: i64 = 1 << SUBPIXEL_BITS;
+/// Guard band: how far (pixels) outside the target a vertex may lie before x/y clipping.
+pub const GUARD_PX: f32 = 8192.0;
+
+/// `flags` bit: the triangle was front-facing.
+pub const FRONT: u32 = 1;
+/// `flags` bit: its varyings live in the chunk's clipped-vertex buffer.
+pub const CLIPPED: u32 = 2;
+
+/// A linear function of screen position: `value = c + dx * (x - rx) + dy * (y - ry)`,
+/// evaluated at pixel centres, where `(rx, ry)` is the triangle's bounding-box corner.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Plane {
+    pub c: f32,
+    pub dx: f32,
+    pub dy: f32,
+}
+
+/// A set-up triangle, ready for binning and rasterization.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tri {
+    /// Vertex positions in fixed point (pixels << SUBPIXEL_BITS), positive winding.
+    pub x: [i32; 3],
+    pub y: [i32; 3],
+    /// Inclusive pixel bounding box, clamped to the target: `[x0, y0, x1, y1]`.
+    pub bbox: [u16; 4],
+    /// Reversed depth (interpolated linearly in screen space).
+    pub z: Plane,
+    /// 1 / w.
+    pub iw: Plane,
+    /// Barycentric weights of vertices 1 and 2, divided by w.
+    pub l1: Plane,
+    pub l2: Plane,
+    /// Index into the frame's draw list.
+    pub draw: u32,
+    /// Triangle index within the frame (submission order), for face ids.
+    pub prim: u32,
+    /// Offsets (in floats) of the three vertices' varyings.
+    pub vary: [u32; 3],
+    pub flags: u32,
+    /// Packed constant colour for per-face shadings.
+    pub color: u32,
+}
+
+/// A vertex after the perspective divide and snapping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScreenVert {
+    pub x: i32,
+    pub y: i32,
+    pub z: f32,
+    pub iw: f32,
+}
+
+/// The target's size as the setup stage needs it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Viewport {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Viewport {
+    /// Perspective divide, viewport transform and snap. `None` for non-finite input.
+    #[inline]
+    pub fn to_screen(&self, p: Vec4) -> Option<ScreenVert> {
+        let iw = 1.0 / p.w;
+        let sx = (p.x * iw * 0.5 + 0.5) * self.width as f32;
+        let sy = (0.5 - p.y * iw * 0.5) * self.height as f32;
+        let z = p.z * iw;
+        if !(sx.is_finite() && sy.is_finite() && z.is_finite() && iw.is_finite()) {
+            return None;
+        }
+        let lim = (crate::target::MAX_TARGET_SIZE as f32 + GUARD_PX * 2.0) * ONE as f32;
+        let snap = |v: f32| (v * ONE as f32).round().clamp(-lim, lim) as i32;
+        Some(ScreenVert {
+            x: snap(sx),
+            y: snap(sy),
+            z: z.clamp(0.0, 1.0),
+            iw,
+        })
+    }
+
+    /// The guard band in NDC units.
+    pub fn guard(&self) -> crate::clip::GuardBand {
+        crate::clip::GuardBand {
+            gx: 1.0 + 2.0 * GUARD_PX / self.width.max(1) as f32,
+            gy: 1.0 + 2.0 * GUARD_PX / self.height.max(1) as f32,
+        }
+    }
+}
+
+/// Why setup dropped a triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dropped {
+    Culled,
+    Rejected,
+}
+
+/// Sets up one triangle. `vary` are the vertices' varying offsets, `cull_back` drops
+/// back-facing triangles.
+#[inline]
+pub fn setup(
+    v: [ScreenVert; 3],
+    vary: [u32; 3],
+    cull_back: bool,
+    vp: &Viewport,
+) -> Result<Tri, Dropped> {
+    let (x0, y0) = (v[0].x as i64, v[0].y as i64);
+    let area =
+        (v[1].x as i64 - x0) * (v[2].y as i64 - y0) - (v[2].x as i64 - x0) * (v[1].y as i64 - y0);
+    if area == 0 {
+        return Err(Dropped::Rejected);
+    }
+    // y points down on screen, so counter-clockwise in NDC has negative area here.
+    let front = area < 0;
+    if cull_back && !front {
+        return Err(Dropped::Culled);
+    }
+    let (v, vary, area) = if area < 0 {
+        ([v[0], v[2], v[1]], [vary[0], vary[2], vary[1]], -area)
+    } else {
+        (v, vary, area)
+    };
+    // Pixel centres inside the bounding box: px * ONE + ONE/2 in [min, max].
+    let (min_x, max_x) = (
+        v.iter().map(|p| p.x).min().unwrap_or(0),
+        v.iter().map(|p| p.x).max().unwrap_or(0),
+    );
+    let (min_y, max_y) = (
+        v.iter().map(|p| p.y).min().unwrap_or(0),
+        v.iter().map(|p| p.y).max().unwrap_or(0),
+    );
+    let first = |m: i32| (m as i64 - ONE / 2 + ONE - 1).div_euclid(ONE);
+    let last = |m: i32| (m as i64 - ONE / 2).div_euclid(ONE);
+    let bx0 = first(min_x).max(0);
+    let by0 = first(min_y).max(0);
+    let bx1 = last(max_x).min(vp.width as i64 - 1);
+    let by1 = last(max_y).min(vp.height as i64 - 1);
+    if bx0 > bx1 || by0 > by1 {
+        return Err(Dropped::Rejected);
+    }
+    // Planes, in f64 for the differences, relative to v0, referenced at the bbox corner.
+    let inv = 1.0 / ONE as f64;
+    let (dx1, dy1) = (
+        (v[1].x - v[0].x) as f64 * inv,
+        (v[1].y - v[0].y) as f64 * inv,
+    );
+    let (dx2, dy2) = (
+        (v[2].x - v[0].x) as f64 * inv,
+        (v[2].y - v[0].y) as f64 * inv,
+    );
+    let det = area as f64 * inv * inv;
+    let (rx, ry) = (
+        bx0 as f64 + 0.5 - v[0].x as f64 * inv,
+        by0 as f64 + 0.5 - v[0].y as f64 * inv,
+    );
+    let plane = |f0: f64, f1: f64, f2: f64| {
+        let (df1, df2) = (f1 - f0, f2 - f0);
+        let a = (df1 * dy2 - df2 * dy1) / det;
+        let b = (dx1 * df2 - dx2 * df1) / det;
+        Plane {
+            c: (f0 + a * rx + b * ry) as f32,
+            dx: a as f32,
+            dy: b as f32,
+        }
+    };
+    let iw = [v[0].iw as f64, v[1].iw as f64, v[2].iw as f64];
+    Ok(Tri {
+        x: [v[0].x, v[1].x, v[2].x],
+        y: [v[0].y, v[1].y, v[2].y],
+        bbox: [bx0 as u16, by0 as u16, bx1 as u16, by1 as u16],
+        z: plane(v[0].z as f64, v[1].z as f64, v[2].z as f64),
+        iw: plane(iw[0], iw[1], iw[2]),
+        l1: plane(0.0, iw[1], 0.0),
+        l2: plane(0.0, 0.0, iw[2]),
+        draw: 0,
+        prim: 0,
+        vary,
+        flags: if front { FRONT } else { 0 },
+        color: 0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const VP: Viewport = Viewport {
+        width: 100,
+        height: 100,
+    };
+
+    fn sv(x: f32, y: f32) -> ScreenVert {
+        ScreenVert {
+            x: (x * ONE as f32) as i32,
+            y: (y * ONE as f32) as i32,
+            z: 0.5,
+            iw: 1.0,
+        }
+    }
+
+    #[test]
+    fn winding_and_culling() {
+        // clockwise on a y-down screen = counter-clockwise in NDC = front
+        let front = [sv(10.0, 10.0), sv(10.0, 20.0), sv(20.0, 10.0)];
+        let t = setup(front, [0, 1, 2], true, &VP).unwrap();
+        assert_eq!(t.flags & FRONT, FRONT);
+        let back = [front[0], front[2], front[1]];
+        assert_eq!(setup(back, [0, 1, 2], true, &VP), Err(Dropped::Culled));
+        let t = setup(back, [0, 1, 2], false, &VP).unwrap();
+        assert_eq!(t.flags & FRONT, 0);
+    }
+
+    #[test]
+    fn degenerate_and_pixelless_triangles_are_dropped() {
+        let line = [sv(1.0, 1.0), sv(5.0, 5.0), sv(9.0, 9.0)];
+        assert_eq!(setup(line, [0; 3], false, &VP), Err(Dropped::Rejected));
+        // a sliver between pixel centres 10.5 and 11.5
+        let tiny = [sv(10.6, 10.6), sv(10.9, 10.6), sv(10.6, 10.9)];
+        assert_eq!(setup(tiny, [0; 3], false, &VP), Err(Dropped::Rejected));
+        let off = [sv(-50.0, 10.0), sv(-40.0, 10.0), sv(-45.0, 20.0)];
+        assert_eq!(setup(off, [0; 3], false, &VP), Err(Dropped::Rejected));
+    }
+
+    #[test]
+    fn planes_reproduce_vertex_values() {
+        let mut v = [sv(0.5, 0.5), sv(8.5, 0.5), sv(0.5, 4.5)];
+        v[0].z = 0.2;
+        v[1].z = 0.6;
+        v[2].z = 1.0;
+        let t = setup(v, [0; 3], false, &VP).unwrap();
+        // reference corner is pixel (0, 0), whose centre is v0
+        assert!((t.z.c - 0.2).abs() < 1e-6);
+        assert!((t.z.c + 8.0 * t.z.dx - 0.6).abs() < 1e-6);
+        assert!((t.z.c + 4.0 * t.z.dy - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn non_finite_positions_are_refused() {
+        assert!(VP.to_screen(Vec4::new(f32::NAN, 0.0, 0.5, 1.0)).is_none());
+        assert!(VP.to_screen(Vec4::new(0.0, 0.0, 0.5, 0.0)).is_none());
+        let huge = VP.to_screen(Vec4::new(1e30, -1e30, 0.5, 1.0)).unwrap();
+        assert!(
+            huge.x > 0 && huge.y > 0,
+            "y is flipped: NDC -y is screen +y"
+        );
+    }
+}

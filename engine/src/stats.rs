@@ -1,0 +1,52 @@
+//! Per-frame work counters. Tests and benchmarks read them; they cost a few adds per
+//! triangle and per 8-pixel row, and are summed in a fixed order so they are the same at
+//! any thread count.
+
+use std::ops::AddAssign;
+
+/// What one frame did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameStats {
+    /// Draws submitted.
+    pub draws: u64,
+    /// Triangles submitted.
+    pub triangles_in: u64,
+    /// Triangles that crossed the near, far or guard-band planes and were clipped.
+    pub triangles_clipped: u64,
+    /// Triangles dropped as back-facing.
+    pub triangles_culled: u64,
+    /// Triangles dropped as invalid (non-finite positions, zero area, wholly outside the
+    /// frustum, or covering no pixel centre).
+    pub triangles_rejected: u64,
+    /// Triangles that reached setup and cover at least one pixel's bounding box.
+    pub triangles_set_up: u64,
+    /// (triangle, tile) pairs written to the bins.
+    pub triangles_binned: u64,
+    /// Covered pixels that were depth-tested (or would have been, with the test off).
+    pub fragments_tested: u64,
+    /// Fragments that passed the depth test and were shaded.
+    pub fragments_shaded: u64,
+    /// Fragments written to the target (after alpha test).
+    pub fragments_written: u64,
+    /// 8 x 8 blocks found wholly inside a triangle (no per-pixel edge tests).
+    pub blocks_full: u64,
+    /// 8 x 8 blocks that needed per-pixel edge tests.
+    pub blocks_partial: u64,
+}
+
+impl AddAssign for FrameStats {
+    fn add_assign(&mut self, o: Self) {
+        self.draws += o.draws;
+        self.triangles_in += o.triangles_in;
+        self.triangles_clipped += o.triangles_clipped;
+        self.triangles_culled += o.triangles_culled;
+        self.triangles_rejected += o.triangles_rejected;
+        self.triangles_set_up += o.triangles_set_up;
+        self.triangles_binned += o.triangles_binned;
+        self.fragments_tested += o.fragments_tested;
+        self.fragments_shaded += o.fragments_shaded;
+        self.fragments_written += o.fragments_written;
+        self.blocks_full += o.blocks_full;
+        self.blocks_partial += o.blocks_partial;
+    }
+}

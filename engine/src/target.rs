@@ -1,0 +1,236 @@
+//! Render targets: colour and depth stored tile by tile, so that each raster worker owns one
+//! tile's memory outright (`&mut` slices handed to rayon, no sharing).
+//!
+//! Layout: the target is cut into `TILE` x `TILE` tiles, row-major over tiles; each tile's
+//! pixels are row-major inside the tile, and edge tiles are padded to full size. Colour is
+//! premultiplied RGBA8 in the target's [`Encoding`]; depth is the pipeline's reversed depth
+//! (1 = near plane, 0 = far plane and the cleared value). Readers convert to row-major images,
+//! OpenGL window depth, or a [`Texture`] for image-based rendering.
+
+use crate::color::{unpack, Encoder, Encoding, Premul, Rgba};
+use crate::texture::Texture;
+
+/// Tile side in pixels (a power of two). 64 x 64 tiles keep a worker's colour and depth
+/// scratch (80 KiB) in L2 while giving enough tiles to balance two or more cores.
+pub const TILE: usize = 64;
+/// `log2(TILE)`.
+pub const TILE_SHIFT: u32 = 6;
+/// Pixels in one tile.
+pub const TILE_PIXELS: usize = TILE * TILE;
+/// Largest target side; larger requests are clamped to it.
+pub const MAX_TARGET_SIZE: u32 = 16384;
+
+/// A colour + depth render target of any size, including 0 x 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    width: u32,
+    height: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    encoding: Encoding,
+    pub(crate) color: Vec<u32>,
+    pub(crate) depth: Vec<f32>,
+}
+
+impl Target {
+    /// A cleared (transparent black, far depth) sRGB target. Sides are clamped to
+    /// [`MAX_TARGET_SIZE`].
+    pub fn new(width: u32, height: u32) -> Self {
+        Self::with_encoding(width, height, Encoding::Srgb)
+    }
+
+    pub fn with_encoding(width: u32, height: u32, encoding: Encoding) -> Self {
+        let mut t = Target {
+            width: 0,
+            height: 0,
+            tiles_x: 0,
+            tiles_y: 0,
+            encoding,
+            color: Vec::new(),
+            depth: Vec::new(),
+        };
+        t.resize(width, height);
+        t
+    }
+
+    /// Changes the size (contents become cleared); keeps the allocation when it can.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        let (width, height) = (width.min(MAX_TARGET_SIZE), height.min(MAX_TARGET_SIZE));
+        self.width = width;
+        self.height = height;
+        self.tiles_x = width.div_ceil(TILE as u32);
+        self.tiles_y = height.div_ceil(TILE as u32);
+        let n = self.tile_count() * TILE_PIXELS;
+        self.color.clear();
+        self.color.resize(n, 0);
+        self.depth.clear();
+        self.depth.resize(n, 0.0);
+    }
+
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    pub fn encoding(&self) -> Encoding {
+        self.encoding
+    }
+
+    pub fn set_encoding(&mut self, encoding: Encoding) {
+        self.encoding = encoding;
+    }
+
+    pub fn tiles_x(&self) -> u32 {
+        self.tiles_x
+    }
+
+    pub fn tiles_y(&self) -> u32 {
+        self.tiles_y
+    }
+
+    pub fn tile_count(&self) -> usize {
+        self.tiles_x as usize * self.tiles_y as usize
+    }
+
+    /// Clears colour and depth now (the renderer clears as part of a frame instead).
+    pub fn clear(&mut self, color: Rgba) {
+        let c = color.premultiply();
+        let px = Encoder::new(self.encoding).pack(c.r, c.g, c.b, c.a);
+        self.color.fill(px);
+        self.depth.fill(0.0);
+    }
+
+    #[inline]
+    fn index(&self, x: u32, y: u32) -> usize {
+        let tile = (y as usize >> TILE_SHIFT) * self.tiles_x as usize + (x as usize >> TILE_SHIFT);
+        tile * TILE_PIXELS + (y as usize & (TILE - 1)) * TILE + (x as usize & (TILE - 1))
+    }
+
+    /// Packed premultiplied bytes `r | g << 8 | b << 16 | a << 24` at a pixel, or `None`
+    /// outside the target.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<u32> {
+        (x < self.width && y < self.height).then(|| self.color[self.index(x, y)])
+    }
+
+    /// Premultiplied linear colour at a pixel.
+    pub fn color_linear(&self, x: u32, y: u32) -> Option<Premul> {
+        self.pixel(x, y).map(|p| unpack(self.encoding, p))
+    }
+
+    /// Reversed depth at a pixel (1 = near plane, 0 = far / nothing drawn).
+    pub fn depth_reversed(&self, x: u32, y: u32) -> Option<f32> {
+        (x < self.width && y < self.height).then(|| self.depth[self.index(x, y)])
+    }
+
+    /// OpenGL window depth at a pixel (0 = near plane, 1 = far / nothing drawn).
+    pub fn depth_gl(&self, x: u32, y: u32) -> Option<f32> {
+        self.depth_reversed(x, y)
+            .map(crate::camera::gl_window_depth)
+    }
+
+    /// Row-major copy of the stored bytes (premultiplied RGBA8), top row first.
+    pub fn to_rgba8_premultiplied(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.width as usize * self.height as usize * 4);
+        for y in 0..self.height {
+            for x in 0..self.width {
+                out.extend_from_slice(&self.color[self.index(x, y)].to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// Row-major straight-alpha RGBA8 in the target's encoding, as image files want it.
+    pub fn to_rgba8(&self) -> Vec<u8> {
+        let enc = Encoder::new(self.encoding);
+        let mut out = self.to_rgba8_premultiplied();
+        for px in out.chunks_exact_mut(4) {
+            let a = px[3];
+            if a != 0 && a != 255 {
+                let c = unpack(self.encoding, u32::from_le_bytes([px[0], px[1], px[2], a]));
+                let s = c.unpremultiply();
+                px.copy_from_slice(&enc.pack(s.r, s.g, s.b, s.a).to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// Writes `0x00RRGGBB` words (a window's framebuffer format), row-major.
+    pub fn write_rgb_u32(&self, out: &mut Vec<u32>) {
+        out.clear();
+        for y in 0..self.height {
+            for x in 0..self.width {
+                let [r, g, b, _] = self.color[self.index(x, y)].to_le_bytes();
+                out.push((r as u32) << 16 | (g as u32) << 8 | b as u32);
+            }
+        }
+    }
+
+    /// Row-major OpenGL window depth (`0.5 * ndc_z + 0.5`; 1.0 where nothing was drawn).
+    pub fn depth_gl_image(&self) -> Vec<f32> {
+        let mut out = Vec::with_capacity(self.width as usize * self.height as usize);
+        for y in 0..self.height {
+            for x in 0..self.width {
+                out.push(crate::camera::gl_window_depth(self.depth[self.index(x, y)]));
+            }
+        }
+        out
+    }
+
+    /// The colour as a texture (premultiplied, same encoding); `None` for a 0-sized target.
+    pub fn to_texture(&self) -> Option<Texture> {
+        let mut texels = Vec::with_capacity(self.width as usize * self.height as usize);
+        for y in 0..self.height {
+            for x in 0..self.width {
+                texels.push(self.color[self.index(x, y)]);
+            }
+        }
+        Texture::from_packed(self.width, self.height, texels, self.encoding, true)
+    }
+
+    /// The tile-major colour and depth storage, for the renderer to split into tiles.
+    pub(crate) fn storage_mut(&mut self) -> (&mut [u32], &mut [f32]) {
+        (&mut self.color, &mut self.depth)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zero_sized_targets_are_fine() {
+        let t = Target::new(0, 0);
+        assert_eq!(t.tile_count(), 0);
+        assert!(t.pixel(0, 0).is_none());
+        assert!(t.to_rgba8().is_empty());
+        assert!(t.to_texture().is_none());
+    }
+
+    #[test]
+    fn index_is_a_bijection_onto_tile_memory() {
+        let t = Target::new(130, 70);
+        let mut seen = vec![false; t.color.len()];
+        for y in 0..70 {
+            for x in 0..130 {
+                let i = t.index(x, y);
+                assert!(!seen[i]);
+                seen[i] = true;
+            }
+        }
+        assert_eq!(t.tiles_x(), 3);
+        assert_eq!(t.tiles_y(), 2);
+    }
+
+    #[test]
+    fn clear_and_read_back() {
+        let mut t = Target::with_encoding(3, 2, Encoding::Unorm);
+        t.clear(Rgba::new(1.0, 0.5, 0.0, 1.0));
+        assert_eq!(&t.to_rgba8()[..4], &[255, 128, 0, 255]);
+        assert_eq!(t.depth_gl(2, 1), Some(1.0));
+        t.resize(100_000, 1);
+        assert_eq!(t.width(), MAX_TARGET_SIZE);
+    }
+}
