@@ -34,6 +34,7 @@ pub mod color;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod procedural;
 pub mod raster;
 pub mod renderer;
 pub mod scene;
