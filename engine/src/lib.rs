@@ -40,6 +40,7 @@ pub mod renderer;
 pub mod scene;
 pub mod setup;
 pub mod shade;
+pub mod simd;
 pub mod stats;
 pub mod target;
 pub mod texture;

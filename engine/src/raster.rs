@@ -14,20 +14,29 @@
 //! happens once per pixel per frame, when the tile is resolved.
 
 use crate::camera::Camera;
+use crate::color::{unpack, Encoder, Encoding, Premul};
 use crate::material::{AlphaMode, BlendMode};
 use crate::setup::{Tri, ONE};
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
+use crate::simd::{F8, I8, M8};
+
 use crate::stats::FrameStats;
 use crate::target::{TILE, TILE_PIXELS};
 
 /// Block side for hierarchical rejection / acceptance (one lane row is one block row).
 pub const BLOCK: i32 = LANES as i32;
 
-/// One tile's working memory: linear premultiplied colour planes and reversed depth.
+/// Blocks per tile side.
+const BLOCKS: usize = TILE / LANES;
+
+/// One tile's working memory: linear premultiplied colour planes, reversed depth, and for
+/// each 8 x 8 block the farthest depth stored in it (a one-level hierarchical Z: a triangle
+/// nowhere nearer than that cannot pass the depth test anywhere in the block).
 #[derive(Clone, Debug)]
 pub struct TileBuf {
     pub color: [Vec<f32>; 4],
     pub depth: Vec<f32>,
+    pub block_far: Vec<f32>,
 }
 
 impl Default for TileBuf {
@@ -35,7 +44,55 @@ impl Default for TileBuf {
         TileBuf {
             color: std::array::from_fn(|_| vec![0.0; TILE_PIXELS]),
             depth: vec![0.0; TILE_PIXELS],
+            block_far: vec![0.0; BLOCKS * BLOCKS],
         }
+    }
+}
+
+impl TileBuf {
+    /// Fills with one premultiplied colour and the far depth.
+    pub fn clear(&mut self, c: Premul) {
+        for (plane, v) in self.color.iter_mut().zip([c.r, c.g, c.b, c.a]) {
+            plane.fill(v);
+        }
+        self.depth.fill(0.0);
+        self.block_far.fill(0.0);
+    }
+
+    /// Loads a stored tile (packed colour in `encoding`, reversed depth).
+    pub fn load(&mut self, color: &[u32], depth: &[f32], encoding: Encoding) {
+        for (i, px) in color.iter().enumerate() {
+            let c = unpack(encoding, *px);
+            self.color[0][i] = c.r;
+            self.color[1][i] = c.g;
+            self.color[2][i] = c.b;
+            self.color[3][i] = c.a;
+        }
+        self.depth.copy_from_slice(depth);
+        for b in 0..BLOCKS * BLOCKS {
+            self.update_block_far(b);
+        }
+    }
+
+    /// Encodes colour into packed bytes and copies depth out.
+    pub fn resolve(&self, color: &mut [u32], depth: &mut [f32], encoder: &Encoder) {
+        let [r, g, b, a] = &self.color;
+        for i in 0..TILE_PIXELS {
+            color[i] = encoder.pack(r[i], g[i], b[i], a[i]);
+        }
+        depth.copy_from_slice(&self.depth);
+    }
+
+    fn update_block_far(&mut self, block: usize) {
+        let (bx, by) = (block % BLOCKS * LANES, block / BLOCKS * LANES);
+        let mut far = [f32::INFINITY; LANES];
+        for y in by..by + LANES {
+            let row = &self.depth[y * TILE + bx..y * TILE + bx + LANES];
+            for l in 0..LANES {
+                far[l] = far[l].min(row[l]);
+            }
+        }
+        self.block_far[block] = far.iter().copied().fold(f32::INFINITY, f32::min);
     }
 }
 
@@ -94,8 +151,25 @@ fn edges(t: &Tri) -> [Edge; 3] {
     })
 }
 
+/// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:
+/// `Some(true)` wholly inside, `Some(false)` wholly outside, `None` crossing.
+#[inline]
+fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
+    let x = |p: i32| p as i64 * ONE + ONE / 2;
+    let (xl, xh) = if ed.a >= 0 { (x(px0), x(px1)) } else { (x(px1), x(px0)) };
+    let (yl, yh) = if ed.b >= 0 { (x(py0), x(py1)) } else { (x(py1), x(py0)) };
+    let lo = ed.a * xl + ed.b * yl + ed.c;
+    let hi = ed.a * xh + ed.b * yh + ed.c;
+    if hi < ed.bias {
+        Some(false)
+    } else if lo >= ed.bias {
+        Some(true)
+    } else {
+        None
+    }
+}
+
 /// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`.
-#[allow(clippy::too_many_lines)]
 pub fn raster_tri<S: FragShader>(
     buf: &mut TileBuf,
     ox: i32,
@@ -115,95 +189,120 @@ pub fn raster_tri<S: FragShader>(
         return;
     }
     let e = edges(tri);
+    // Whole-rectangle test first: big triangles often cover the tile's part entirely.
+    let mut tile_inside = [false; 3];
+    for i in 0..3 {
+        match classify(&e[i], x0, y0, x1, y1) {
+            Some(false) => return,
+            Some(true) => tile_inside[i] = true,
+            None => {}
+        }
+    }
+    let all_inside = tile_inside.iter().all(|&b| b);
     let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
-    let mut out: [Lane; 4] = [[0.0; LANES]; 4];
+    let mut out: [Lane; 4] = [F8::splat(0.0); 4];
     let mut by = y0 & !(BLOCK - 1);
     while by <= y1 {
         let mut bx = x0 & !(BLOCK - 1);
         while bx <= x1 {
-            // Classify the block against each edge, exactly.
-            let px = bx as i64 * ONE + ONE / 2;
-            let py = by as i64 * ONE + ONE / 2;
-            let span = ONE * (BLOCK as i64 - 1);
+            let lx0 = (x0 - bx).max(0);
+            let lx1 = (x1 - bx).min(BLOCK - 1);
+            let rows = (y0.max(by), y1.min(by + BLOCK - 1));
+            // Classify the block against the edges not already known to contain it.
             let mut full = true;
             let mut outside = false;
-            let mut thr = [0i32; 3];
+            let mut thr = [i32::MIN + 1; 3];
             let mut ea = [0i32; 3];
             let mut eb = [0i32; 3];
-            for i in 0..3 {
-                let ed = e[i];
-                let v = ed.a * px + ed.b * py + ed.c;
-                let lo = v + span * (ed.a.min(0) + ed.b.min(0));
-                let hi = v + span * (ed.a.max(0) + ed.b.max(0));
-                if hi < ed.bias {
-                    outside = true;
-                    break;
-                }
-                if lo < ed.bias {
+            if !all_inside {
+                let px = bx as i64 * ONE + ONE / 2;
+                let py = by as i64 * ONE + ONE / 2;
+                for i in 0..3 {
+                    if tile_inside[i] {
+                        continue;
+                    }
+                    let ed = &e[i];
+                    match classify(ed, bx + lx0, rows.0, bx + lx1, rows.1) {
+                        Some(false) => {
+                            outside = true;
+                            break;
+                        }
+                        Some(true) => continue,
+                        None => {}
+                    }
                     full = false;
+                    // i * a + j * b >= ceil((bias - v) / ONE), v = E at the block's first centre
+                    let v = ed.a * px + ed.b * py + ed.c;
+                    let t = -(v - ed.bias).div_euclid(ONE);
+                    thr[i] = t.clamp(i32::MIN as i64 + 1, i32::MAX as i64) as i32;
+                    ea[i] = ed.a as i32;
+                    eb[i] = ed.b as i32;
                 }
-                // i*a + j*b >= ceil((bias - v) / ONE)
-                let t = -(v - ed.bias).div_euclid(ONE);
-                thr[i] = t.clamp(i32::MIN as i64 + 1, i32::MAX as i64) as i32;
-                ea[i] = ed.a as i32;
-                eb[i] = ed.b as i32;
             }
             if outside {
                 bx += BLOCK;
                 continue;
             }
+            // Hierarchical depth: the nearest the triangle gets in this block, against the
+            // farthest depth stored there. A small relative margin keeps the test
+            // conservative under f32 rounding of the per-pixel planes.
+            let block = ((by - oy) as usize / LANES) * BLOCKS + (bx - ox) as usize / LANES;
+            if mode.depth_test {
+                let z = &tri.z;
+                let near = z.c
+                    + z.dx * (bx - rx) as f32
+                    + z.dy * (by - ry) as f32
+                    + (z.dx.max(0.0) + z.dy.max(0.0)) * (BLOCK - 1) as f32;
+                let near = near + near.abs() * 1e-5 + 1e-7;
+                if near <= buf.block_far[block] {
+                    stats.blocks_hiz_rejected += 1;
+                    bx += BLOCK;
+                    continue;
+                }
+            }
+            let mut wrote = false;
             if full {
                 stats.blocks_full += 1;
             } else {
                 stats.blocks_partial += 1;
             }
-            let lx0 = (x0 - bx).max(0);
-            let lx1 = (x1 - bx).min(BLOCK - 1);
-            let rows = (y0.max(by), y1.min(by + BLOCK - 1));
+            let range = I8::lane_range(lx0, lx1);
+            let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
             for y in rows.0..=rows.1 {
                 let j = y - by;
-                let mut m = [false; LANES];
-                if full {
-                    for l in 0..LANES {
-                        m[l] = l as i32 >= lx0 && l as i32 <= lx1;
-                    }
+                let cov: M8 = if full {
+                    range
                 } else {
-                    let k: [i32; 3] = std::array::from_fn(|i| j * eb[i]);
-                    for l in 0..LANES {
-                        let li = l as i32;
-                        m[l] = li >= lx0
-                            && li <= lx1
-                            && li * ea[0] + k[0] >= thr[0]
-                            && li * ea[1] + k[1] >= thr[1]
-                            && li * ea[2] + k[2] >= thr[2];
-                    }
-                }
-                let covered = m.iter().filter(|&&b| b).count() as u64;
+                    let inside = |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
+                    range.and(inside(0)).and(inside(1)).and(inside(2))
+                };
+                let covered = cov.bits().count_ones();
                 if covered == 0 {
                     continue;
                 }
-                stats.fragments_tested += covered;
+                stats.fragments_tested += covered as u64;
                 let row = Row {
                     fx: (bx - rx) as f32,
                     fy: (y - ry) as f32,
                 };
                 let base = ((y - oy) as usize) * TILE + (bx - ox) as usize;
                 let z = eval(&tri.z, &row);
-                let zbuf: &mut [f32; LANES] = (&mut buf.depth[base..base + LANES])
-                    .try_into()
-                    .expect("8 lanes");
-                if mode.depth_test {
-                    for l in 0..LANES {
-                        m[l] &= z[l] > zbuf[l];
-                    }
-                }
-                let passed = m.iter().filter(|&&b| b).count() as u64;
+                let m = if mode.depth_test {
+                    cov.and(z.gt(F8::load(&buf.depth[base..])))
+                } else {
+                    cov
+                };
+                let passed = m.bits().count_ones();
                 if passed == 0 {
                     continue;
                 }
-                stats.fragments_shaded += passed;
+                stats.fragments_shaded += passed as u64;
                 shader.shade(prepared, tri, &row, &mut out);
-                write_row(buf, base, &mut m, &z, &out, mode, soft, stats);
+                write_row(buf, base, m, &z, &out, mode, soft, stats);
+                wrote = true;
+            }
+            if wrote && mode.depth_write {
+                buf.update_block_far(block);
             }
             bx += BLOCK;
         }
@@ -215,7 +314,7 @@ pub fn raster_tri<S: FragShader>(
 fn write_row(
     buf: &mut TileBuf,
     base: usize,
-    m: &mut [bool; LANES],
+    mut m: M8,
     z: &Lane,
     out: &[Lane; 4],
     mode: &PixelMode,
@@ -223,70 +322,48 @@ fn write_row(
     stats: &mut FrameStats,
 ) {
     let [r, g, b, a] = &mut buf.color;
-    let dst: [&mut [f32]; 4] = [
-        &mut r[base..base + LANES],
-        &mut g[base..base + LANES],
-        &mut b[base..base + LANES],
-        &mut a[base..base + LANES],
-    ];
-    let zbuf = &mut buf.depth[base..base + LANES];
+    let (r, g, b, a) = (&mut r[base..], &mut g[base..], &mut b[base..], &mut a[base..]);
     match mode.alpha {
         AlphaMode::Opaque | AlphaMode::Mask { .. } => {
             if let AlphaMode::Mask { cutoff } = mode.alpha {
-                for l in 0..LANES {
-                    m[l] &= out[3][l] >= cutoff;
-                }
+                m = m.and(out[3].ge(F8::splat(cutoff)));
             }
-            let [dr, dg, db, da] = dst;
-            for l in 0..LANES {
-                if m[l] {
-                    dr[l] = out[0][l];
-                    dg[l] = out[1][l];
-                    db[l] = out[2][l];
-                    da[l] = 1.0;
-                }
-            }
-            if mode.depth_write {
-                for l in 0..LANES {
-                    if m[l] {
-                        zbuf[l] = z[l];
-                    }
-                }
-            }
+            m.select(out[0], F8::load(r)).store(r);
+            m.select(out[1], F8::load(g)).store(g);
+            m.select(out[2], F8::load(b)).store(b);
+            m.select(F8::splat(1.0), F8::load(a)).store(a);
         }
         AlphaMode::Blend => {
-            let mut alpha = out[3];
+            let mut alpha = out[3].max(F8::splat(0.0)).min(F8::splat(1.0));
             if mode.soft > 0.0 {
+                let zb = F8::load(&buf.depth[base..]).to_array();
+                let (zs, bits) = (z.to_array(), m.bits());
+                let mut fade = [1.0f32; LANES];
                 for l in 0..LANES {
-                    if m[l] {
-                        let gap = soft.view(zbuf[l]) - soft.view(z[l]);
-                        alpha[l] *= (gap / mode.soft).clamp(0.0, 1.0);
+                    if bits >> l & 1 != 0 {
+                        let gap = soft.view(zb[l]) - soft.view(zs[l]);
+                        fade[l] = (gap / mode.soft).clamp(0.0, 1.0);
                     }
                 }
+                alpha = alpha.mul(F8::from_array(fade));
             }
             let keep = match mode.blend {
                 BlendMode::Alpha => 1.0,
                 BlendMode::Additive => 0.0,
             };
-            let [dr, dg, db, da] = dst;
-            for l in 0..LANES {
-                if m[l] {
-                    let sa = alpha[l].clamp(0.0, 1.0);
-                    let inv = 1.0 - sa * keep;
-                    dr[l] = out[0][l] * sa + dr[l] * inv;
-                    dg[l] = out[1][l] * sa + dg[l] * inv;
-                    db[l] = out[2][l] * sa + db[l] * inv;
-                    da[l] = sa + da[l] * (1.0 - sa);
-                }
+            let inv = F8::splat(1.0).sub(alpha.mul(F8::splat(keep)));
+            let ia = F8::splat(1.0).sub(alpha);
+            for (dst, src) in [(&mut *r, out[0]), (&mut *g, out[1]), (&mut *b, out[2])] {
+                let d = F8::load(dst);
+                m.select(src.mul_add(alpha, d.mul(inv)), d).store(dst);
             }
-            if mode.depth_write {
-                for l in 0..LANES {
-                    if m[l] {
-                        zbuf[l] = z[l];
-                    }
-                }
-            }
+            let d = F8::load(a);
+            m.select(d.mul_add(ia, alpha), d).store(a);
         }
     }
-    stats.fragments_written += m.iter().filter(|&&b| b).count() as u64;
+    if mode.depth_write {
+        let zb = &mut buf.depth[base..];
+        m.select(*z, F8::load(zb)).store(zb);
+    }
+    stats.fragments_written += m.bits().count_ones() as u64;
 }

@@ -297,26 +297,9 @@ impl Renderer {
                     let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
                     let mut buf = workers[w].lock().unwrap_or_else(|e| e.into_inner());
                     let buf = &mut *buf;
-                    // Load or clear.
                     match clear {
-                        Some(c) => {
-                            let [r, g, b, a] = &mut buf.color;
-                            r.fill(c.r);
-                            g.fill(c.g);
-                            b.fill(c.b);
-                            a.fill(c.a);
-                            buf.depth.fill(0.0);
-                        }
-                        None => {
-                            for (i, px) in color.iter().enumerate() {
-                                let c = crate::color::unpack(encoding, *px);
-                                buf.color[0][i] = c.r;
-                                buf.color[1][i] = c.g;
-                                buf.color[2][i] = c.b;
-                                buf.color[3][i] = c.a;
-                            }
-                            buf.depth.copy_from_slice(depth);
-                        }
+                        Some(c) => buf.clear(c),
+                        None => buf.load(color, depth, encoding),
                     }
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;
@@ -351,12 +334,7 @@ impl Renderer {
                             }
                         }
                     }
-                    // Resolve.
-                    let [r, g, b, a] = &buf.color;
-                    for i in 0..TILE_PIXELS {
-                        color[i] = encoder.pack(r[i], g[i], b[i], a[i]);
-                    }
-                    depth.copy_from_slice(&buf.depth);
+                    buf.resolve(color, depth, &encoder);
                 });
         }
 

@@ -14,10 +14,11 @@ use crate::setup::{Plane, Tri, FRONT};
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::Vec3;
 
-/// Lanes per row.
-pub const LANES: usize = 8;
+pub use crate::simd::LANES;
+use crate::simd::F8;
+
 /// 8 lanes of one channel.
-pub type Lane = [f32; LANES];
+pub type Lane = F8;
 
 /// Where a row of lanes sits: pixel `x0 + lane`, row `y`, relative to the plane reference.
 #[derive(Clone, Copy, Debug)]
@@ -28,10 +29,10 @@ pub struct Row {
     pub fy: f32,
 }
 
-#[inline]
+#[inline(always)]
 pub fn eval(p: &Plane, row: &Row) -> Lane {
     let base = p.c + p.dx * row.fx + p.dy * row.fy;
-    std::array::from_fn(|l| base + p.dx * l as f32)
+    F8::splat(p.dx).mul_add(F8::ramp(), F8::splat(base))
 }
 
 /// Perspective-correct barycentrics of vertices 1 and 2, and `w`, for 8 lanes.
@@ -40,12 +41,8 @@ pub fn barycentrics(tri: &Tri, row: &Row) -> (Lane, Lane, Lane) {
     let iw = eval(&tri.iw, row);
     let a = eval(&tri.l1, row);
     let b = eval(&tri.l2, row);
-    let w: Lane = std::array::from_fn(|l| 1.0 / iw[l]);
-    (
-        std::array::from_fn(|l| a[l] * w[l]),
-        std::array::from_fn(|l| b[l] * w[l]),
-        w,
-    )
+    let w = F8::splat(1.0).div(iw);
+    (a.mul(w), b.mul(w), w)
 }
 
 /// A fragment shader over rows of 8 lanes.
@@ -78,7 +75,7 @@ impl FragShader for ConstShader {
     #[inline]
     fn shade(&self, p: &[f32; 4], _: &Tri, _: &Row, out: &mut [Lane; 4]) {
         for c in 0..4 {
-            out[c] = [p[c]; LANES];
+            out[c] = F8::splat(p[c]);
         }
     }
 }
@@ -102,7 +99,7 @@ impl FragShader for ColorShader {
         let (l1, l2, _) = barycentrics(tri, row);
         for c in 0..4 {
             let [a0, d1, d2] = p[c];
-            out[c] = std::array::from_fn(|l| a0 + l1[l] * d1 + l2[l] * d2);
+            out[c] = l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)));
         }
     }
 }
@@ -143,6 +140,8 @@ impl FragShader for GeneralShader<'_> {
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, out: &mut [Lane; 4]) {
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
+        let (l1, l2, w) = (l1.to_array(), l2.to_array(), w.to_array());
+        let mut res = [[0.0f32; LANES]; 4];
         let at = |c: usize, l: usize| {
             let [a0, d1, d2] = p.attr[c];
             a0 + l1[l] * d1 + l2[l] * d2
@@ -206,8 +205,11 @@ impl FragShader for GeneralShader<'_> {
             rgba[1] += m.emissive.g;
             rgba[2] += m.emissive.b;
             for c in 0..4 {
-                out[c][l] = rgba[c];
+                res[c][l] = rgba[c];
             }
+        }
+        for c in 0..4 {
+            out[c] = F8::from_array(res[c]);
         }
     }
 }

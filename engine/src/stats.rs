@@ -32,6 +32,8 @@ pub struct FrameStats {
     pub blocks_full: u64,
     /// 8 x 8 blocks that needed per-pixel edge tests.
     pub blocks_partial: u64,
+    /// 8 x 8 blocks skipped because the triangle lies behind everything stored there.
+    pub blocks_hiz_rejected: u64,
 }
 
 impl AddAssign for FrameStats {
@@ -48,5 +50,6 @@ impl AddAssign for FrameStats {
         self.fragments_written += o.fragments_written;
         self.blocks_full += o.blocks_full;
         self.blocks_partial += o.blocks_partial;
+        self.blocks_hiz_rejected += o.blocks_hiz_rejected;
     }
 }
