@@ -180,6 +180,40 @@ impl Encoder {
     }
 }
 
+impl Encoder {
+    /// Packs 8 pixels at once: `out[l] = pack(r[l], g[l], b[l], a[l])`, bit for bit.
+    #[inline]
+    pub fn pack8(&self, r: &[f32], g: &[f32], b: &[f32], a: &[f32], out: &mut [u32]) {
+        use crate::simd::F8;
+        let unorm = |x: &[f32]| F8::load(x).clamp01().mul_add(F8::splat(255.0), F8::splat(0.5)).to_i32();
+        let alpha = unorm(a).shl::<24>();
+        let rgb = match self.encoding {
+            Encoding::Unorm => unorm(r).or(unorm(g).shl::<8>()).or(unorm(b).shl::<16>()),
+            Encoding::Srgb => {
+                let m = (ENCODE_SIZE - 1) as f32;
+                let idx = |x: &[f32]| {
+                    F8::load(x)
+                        .clamp01()
+                        .mul_add(F8::splat(m), F8::splat(0.5))
+                        .to_i32()
+                        .to_array()
+                };
+                let (ir, ig, ib) = (idx(r), idx(g), idx(b));
+                let lut = self.lut;
+                let px: [i32; 8] = std::array::from_fn(|l| {
+                    let at = |i: i32| lut[(i as usize).min(ENCODE_SIZE - 1)] as i32;
+                    at(ir[l]) | at(ig[l]) << 8 | at(ib[l]) << 16
+                });
+                crate::simd::I8::from_array(px)
+            }
+        };
+        let px = rgb.or(alpha).to_array();
+        for l in 0..8 {
+            out[l] = px[l] as u32;
+        }
+    }
+}
+
 /// Packed target bytes back to premultiplied linear colour.
 #[inline]
 pub fn unpack(encoding: Encoding, px: u32) -> Premul {
@@ -236,6 +270,21 @@ mod tests {
             let x = i as f32 / 4096.0;
             let exact = linear_to_srgb(x) * 255.0;
             assert!((encode_srgb8(x) as f32 - exact).abs() <= 0.51, "{x}");
+        }
+    }
+
+    #[test]
+    fn pack8_matches_pack_bit_for_bit() {
+        let vals = [0.0, 1e-5, 0.003, 0.2, 0.5, 0.999, 1.0, 3.0, -2.0, f32::NAN, f32::INFINITY];
+        for enc in [Encoding::Srgb, Encoding::Unorm] {
+            let e = Encoder::new(enc);
+            for (i, &x) in vals.iter().enumerate() {
+                let ch = |k: usize| vals[(i + k) % vals.len()];
+                let (r, g, b, a) = ([x; 8], [ch(1); 8], [ch(2); 8], [ch(3); 8]);
+                let mut out = [0u32; 8];
+                e.pack8(&r, &g, &b, &a, &mut out);
+                assert_eq!(out[3], e.pack(x, ch(1), ch(2), ch(3)), "{enc:?} {x}");
+            }
         }
     }
 

@@ -77,8 +77,8 @@ impl TileBuf {
     /// Encodes colour into packed bytes and copies depth out.
     pub fn resolve(&self, color: &mut [u32], depth: &mut [f32], encoder: &Encoder) {
         let [r, g, b, a] = &self.color;
-        for i in 0..TILE_PIXELS {
-            color[i] = encoder.pack(r[i], g[i], b[i], a[i]);
+        for i in (0..TILE_PIXELS).step_by(LANES) {
+            encoder.pack8(&r[i..], &g[i..], &b[i..], &a[i..], &mut color[i..]);
         }
         depth.copy_from_slice(&self.depth);
     }

@@ -10,7 +10,7 @@
 
 use crate::bin::Bins;
 use crate::camera::Camera;
-use crate::clip::{clip_triangle, outcode, ClipVert, MAX_POLY};
+use crate::clip::{clip_triangle, ClipVert, MAX_POLY};
 use crate::color::{Encoder, Rgba};
 use crate::light::Lighting;
 use crate::material::{AlphaMode, Material, Shading};
@@ -21,8 +21,8 @@ use crate::setup::{setup, Dropped, ScreenVert, Tri, Viewport, CLIPPED};
 use crate::shade::{ColorShader, ConstShader, FragShader, GeneralShader};
 use crate::stats::FrameStats;
 use crate::target::{Target, TILE, TILE_PIXELS};
-use crate::vertex::{self, Layout, MAX_VARYINGS};
-use glam::{Mat4, Vec3, Vec4};
+use crate::vertex::{self, Layout, VertexPos, MAX_VARYINGS, NOT_FINITE};
+use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -92,7 +92,7 @@ struct Chunk {
 /// Renders draws into targets. Keep one alive across frames: it owns the scratch memory.
 #[derive(Debug, Default)]
 pub struct Renderer {
-    clip: Vec<Vec4>,
+    pos: Vec<VertexPos>,
     vary: Vec<f32>,
     chunks: Vec<Chunk>,
     workers: Vec<Mutex<TileBuf>>,
@@ -227,8 +227,12 @@ impl Renderer {
             nf += info.mesh.positions.len() * info.layout.stride();
             nt += info.mesh.triangle_count();
         }
-        self.clip.resize(nv, Vec4::ZERO);
+        self.pos.resize(nv, VertexPos::default());
         self.vary.resize(nf, 0.0);
+        let vp = Viewport {
+            width: target.width(),
+            height: target.height(),
+        };
         for info in infos.iter() {
             let n = info.mesh.positions.len();
             let s = info.layout.stride();
@@ -237,16 +241,13 @@ impl Renderer {
                 info.transform,
                 view_proj,
                 info.layout,
-                &mut self.clip[info.vert_base..info.vert_base + n],
+                &vp,
+                &mut self.pos[info.vert_base..info.vert_base + n],
                 &mut self.vary[info.vary_base..info.vary_base + n * s],
             );
         }
 
         // Clip, set up and bin, in chunks of triangles.
-        let vp = Viewport {
-            width: target.width(),
-            height: target.height(),
-        };
         let (tiles_x, tiles_y) = (target.tiles_x() as usize, target.tiles_y() as usize);
         let chunk_size = nt.div_ceil(128).max(1024);
         let n_chunks = nt.div_ceil(chunk_size);
@@ -254,13 +255,13 @@ impl Renderer {
             self.chunks.resize_with(n_chunks, Chunk::default);
         }
         {
-            let (clip, vary, infos) = (&self.clip[..], &self.vary[..], &infos[..]);
+            let (pos, vary, infos) = (&self.pos[..], &self.vary[..], &infos[..]);
             self.chunks[..n_chunks]
                 .par_iter_mut()
                 .enumerate()
                 .for_each(|(k, chunk)| {
                     let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
-                    front_end(chunk, range, infos, clip, vary, &vp);
+                    front_end(chunk, range, infos, pos, vary, &vp);
                     if tiles_x * tiles_y > 0 {
                         chunk.stats.triangles_binned =
                             chunk.bins.build(&chunk.tris, tiles_x, tiles_y);
@@ -421,7 +422,7 @@ fn front_end(
     chunk: &mut Chunk,
     range: std::ops::Range<usize>,
     infos: &[DrawInfo<'_>],
-    clip: &[Vec4],
+    pos: &[VertexPos],
     vary: &[f32],
     vp: &Viewport,
 ) {
@@ -451,8 +452,9 @@ fn front_end(
                 continue;
             }
             let idx = [ix[0] as usize, ix[1] as usize, ix[2] as usize];
-            let p = idx.map(|i| clip[info.vert_base + i]);
-            if !p.iter().all(|v| v.is_finite()) {
+            let v = idx.map(|i| &pos[info.vert_base + i]);
+            let oc = v.map(|v| v.code);
+            if (oc[0] | oc[1] | oc[2]) & NOT_FINITE != 0 {
                 chunk.stats.triangles_rejected += 1;
                 continue;
             }
@@ -471,16 +473,9 @@ fn front_end(
                 tri.flags |= flags;
                 tri
             };
-            let oc = p.map(|v| outcode(v, guard));
             if oc[0] | oc[1] | oc[2] == 0 {
-                let (Some(a), Some(b), Some(c)) =
-                    (vp.to_screen(p[0]), vp.to_screen(p[1]), vp.to_screen(p[2]))
-                else {
-                    chunk.stats.triangles_rejected += 1;
-                    continue;
-                };
                 let offs = idx.map(|i| (info.vary_base + i * stride) as u32);
-                match setup([a, b, c], offs, info.cull_back, vp) {
+                match setup([v[0].screen, v[1].screen, v[2].screen], offs, info.cull_back, vp) {
                     Ok(tri) => chunk.tris.push(stamp(tri, 0)),
                     Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
                     Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
@@ -493,13 +488,13 @@ fn front_end(
             }
             chunk.stats.triangles_clipped += 1;
             let cv = |k: usize| {
-                let mut v = ClipVert {
-                    pos: p[k],
+                let mut c = ClipVert {
+                    pos: v[k].clip,
                     vary: [0.0; MAX_VARYINGS],
                 };
                 let o = info.vary_base + idx[k] * stride;
-                v.vary[..stride].copy_from_slice(&vary[o..o + stride]);
-                v
+                c.vary[..stride].copy_from_slice(&vary[o..o + stride]);
+                c
             };
             let mut poly = [cv(0); MAX_POLY];
             let n = clip_triangle(

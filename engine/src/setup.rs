@@ -162,15 +162,15 @@ pub fn setup(
         (v[2].x - v[0].x) as f64 * inv,
         (v[2].y - v[0].y) as f64 * inv,
     );
-    let det = area as f64 * inv * inv;
+    let inv_det = 1.0 / (area as f64 * inv * inv);
     let (rx, ry) = (
         bx0 as f64 + 0.5 - v[0].x as f64 * inv,
         by0 as f64 + 0.5 - v[0].y as f64 * inv,
     );
     let plane = |f0: f64, f1: f64, f2: f64| {
         let (df1, df2) = (f1 - f0, f2 - f0);
-        let a = (df1 * dy2 - df2 * dy1) / det;
-        let b = (dx1 * df2 - dx2 * df1) / det;
+        let a = (df1 * dy2 - df2 * dy1) * inv_det;
+        let b = (dx1 * df2 - dx2 * df1) * inv_det;
         Plane {
             c: (f0 + a * rx + b * ry) as f32,
             dx: a as f32,

@@ -81,6 +81,11 @@ mod imp {
         pub fn gt(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)))
         }
+        /// Truncating conversion (in range for the callers: values in [0, 2^31)).
+        #[inline(always)]
+        pub fn to_i32(self) -> I8 {
+            avx!(I8(_mm256_cvttps_epi32(self.0)))
+        }
         #[inline(always)]
         pub fn ge(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_GE_OQ>(self.0, o.0)))
@@ -99,6 +104,22 @@ mod imp {
         #[inline(always)]
         pub fn add(self, o: Self) -> Self {
             avx!(I8(_mm256_add_epi32(self.0, o.0)))
+        }
+        #[inline(always)]
+        pub fn or(self, o: Self) -> Self {
+            avx!(I8(_mm256_or_si256(self.0, o.0)))
+        }
+        #[inline(always)]
+        pub fn shl<const N: i32>(self) -> Self {
+            avx!(I8(_mm256_slli_epi32::<N>(self.0)))
+        }
+        #[inline(always)]
+        pub fn to_array(self) -> [i32; LANES] {
+            bytemuck::cast(self.0)
+        }
+        #[inline(always)]
+        pub fn from_array(a: [i32; LANES]) -> Self {
+            I8(bytemuck::cast(a))
         }
         /// Lanes where `self >= 0`.
         #[inline(always)]
@@ -184,6 +205,9 @@ mod imp {
         pub fn gt(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] > o.0[l]))
         }
+        pub fn to_i32(self) -> I8 {
+            I8(std::array::from_fn(|l| self.0[l] as i32))
+        }
         pub fn ge(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= o.0[l]))
         }
@@ -198,6 +222,18 @@ mod imp {
         }
         pub fn add(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l] + o.0[l]))
+        }
+        pub fn or(self, o: Self) -> Self {
+            I8(std::array::from_fn(|l| self.0[l] | o.0[l]))
+        }
+        pub fn shl<const N: i32>(self) -> Self {
+            I8(std::array::from_fn(|l| self.0[l] << N))
+        }
+        pub fn to_array(self) -> [i32; LANES] {
+            self.0
+        }
+        pub fn from_array(a: [i32; LANES]) -> Self {
+            I8(a)
         }
         pub fn non_negative(self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= 0))
@@ -234,6 +270,11 @@ impl F8 {
     pub fn store(self, s: &mut [f32]) {
         s[..LANES].copy_from_slice(&self.to_array());
     }
+    /// Clamped to [0, 1]; NaN becomes 0.
+    #[inline(always)]
+    pub fn clamp01(self) -> Self {
+        self.max(F8::splat(0.0)).min(F8::splat(1.0))
+    }
     /// `a * b + c`, unfused (the same rounding on every path).
     #[inline(always)]
     pub fn mul_add(self, b: Self, c: Self) -> Self {
@@ -255,6 +296,10 @@ mod tests {
         assert_eq!(I8::lane_range(2, 4).bits(), 0b0001_1100);
         assert_eq!(I8::ramp_times(-3).add(I8::splat(6)).non_negative().bits(), 0b0000_0111);
         assert_eq!(F8::ramp().to_array()[7], 7.0);
+        let packed = F8::from_array([0.0, 0.5, 1.0, 2.0, -1.0, f32::NAN, 0.25, 0.75]).clamp01();
+        assert_eq!(packed.to_array()[3], 1.0);
+        assert_eq!(packed.to_array()[5], 0.0);
+        assert_eq!(I8::splat(3).shl::<8>().or(I8::splat(1)).to_array()[0], 0x301);
         let mut s = [0.0; 9];
         a.store(&mut s);
         assert_eq!(F8::load(&s).to_array(), a.to_array());

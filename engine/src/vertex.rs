@@ -1,10 +1,15 @@
-//! Vertex stage: object space -> the pipeline's reversed-depth clip space, plus the
-//! varyings each material's shader reads, written into flat per-frame buffers.
+//! Vertex stage: object space -> the pipeline's reversed-depth clip space, the clip outcode,
+//! and (for vertices inside every clip plane) the snapped screen position, plus the varyings
+//! each material's shader reads, written into flat per-frame buffers. Doing the divide and
+//! the snap once per vertex, not once per triangle corner, saves most of the front end's
+//! work on shared vertices.
 //!
 //! Runs in parallel over fixed-size chunks of vertices; every output element depends only
 //! on its own vertex, so the result is the same at any thread count.
 
+use crate::clip::outcode;
 use crate::mesh::Mesh;
+use crate::setup::{ScreenVert, Viewport};
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
@@ -40,22 +45,62 @@ pub const COL: usize = 8;
 
 const CHUNK: usize = 4096;
 
-/// Transforms one draw's vertices. `clip` has one entry per vertex; `vary` has
+/// Outcode bit for a vertex with a non-finite position (its triangles are rejected).
+pub const NOT_FINITE: u8 = 0x80;
+
+/// Per-vertex positions: clip space, outcode, and the screen position when the outcode is 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VertexPos {
+    pub clip: Vec4,
+    pub screen: ScreenVert,
+    pub code: u8,
+}
+
+impl Default for VertexPos {
+    fn default() -> Self {
+        VertexPos {
+            clip: Vec4::ZERO,
+            screen: ScreenVert {
+                x: 0,
+                y: 0,
+                z: 0.0,
+                iw: 0.0,
+            },
+            code: NOT_FINITE,
+        }
+    }
+}
+
+/// Transforms one draw's vertices. `pos` has one entry per vertex; `vary` has
 /// `layout.stride()` floats per vertex.
 pub fn transform(
     mesh: &Mesh,
     object_to_world: Mat4,
     clip_from_world: Mat4,
     layout: Layout,
-    clip: &mut [Vec4],
+    vp: &Viewport,
+    pos: &mut [VertexPos],
     vary: &mut [f32],
 ) {
     let mvp = clip_from_world * object_to_world;
-    clip.par_chunks_mut(CHUNK)
+    let guard = vp.guard();
+    pos.par_chunks_mut(CHUNK)
         .zip(mesh.positions.par_chunks(CHUNK))
-        .for_each(|(out, pos)| {
-            for (o, p) in out.iter_mut().zip(pos) {
-                *o = mvp * p.extend(1.0);
+        .for_each(|(out, src)| {
+            for (o, p) in out.iter_mut().zip(src) {
+                let clip = mvp * p.extend(1.0);
+                o.clip = clip;
+                o.code = if !clip.is_finite() {
+                    NOT_FINITE
+                } else {
+                    outcode(clip, guard)
+                };
+                if o.code == 0 {
+                    match vp.to_screen(clip) {
+                        Some(s) => o.screen = s,
+                        None => o.code = NOT_FINITE,
+                    }
+                }
             }
         });
     let stride = layout.stride();
