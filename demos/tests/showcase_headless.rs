@@ -1,0 +1,70 @@
+//! Runs the showcase binary headless and checks the frames it writes and what it prints.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+#[test]
+fn headless_writes_frames_and_prints_statistics() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_headless");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .arg("--headless")
+        .arg(&dir)
+        .args(["--frames", "3", "-W", "160", "-H", "90"])
+        .output()
+        .expect("showcase runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for word in ["median", "min", "p90", "fragments_shaded", "triangles_in"] {
+        assert!(stdout.contains(word), "missing {word:?} in:\n{stdout}");
+    }
+    let mut frames = Vec::new();
+    for i in 0..3 {
+        let path = dir.join(format!("frame_{i:04}.png"));
+        let img = image::open(&path).expect("frame decodes").to_rgba8();
+        assert_eq!(img.dimensions(), (160, 90));
+        frames.push(img);
+    }
+    assert!(!dir.join("frame_0003.png").exists());
+    // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
+    let f = &frames[0];
+    let top = f.get_pixel(80, 2).0;
+    let bottom = f.get_pixel(80, 87).0;
+    assert!(top[2] > top[0], "sky is blue: {top:?}");
+    assert_ne!(top, bottom);
+    assert_ne!(frames[0].as_raw(), frames[1].as_raw());
+}
+
+#[test]
+fn headless_frames_do_not_depend_on_thread_count() {
+    let run = |name: &str, threads: &str| {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+        let _ = std::fs::remove_dir_all(&dir);
+        let status = Command::new(env!("CARGO_BIN_EXE_showcase"))
+            .arg("--headless")
+            .arg(&dir)
+            .args([
+                "--frames",
+                "2",
+                "-W",
+                "96",
+                "-H",
+                "64",
+                "--threads",
+                threads,
+            ])
+            .output()
+            .expect("showcase runs")
+            .status;
+        assert!(status.success());
+        std::fs::read(dir.join("frame_0001.png")).unwrap()
+    };
+    assert_eq!(
+        run("showcase_threads_1", "1"),
+        run("showcase_threads_2", "2")
+    );
+}
