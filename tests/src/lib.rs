@@ -1,1 +1,7 @@
 //! Test support shared by the integration tests: the golden-image helper and asset paths.
+
+pub mod busy;
+pub mod compare;
+pub mod golden;
+pub mod reference;
+pub mod scenes;

@@ -1,0 +1,154 @@
+//! Blending: premultiplied "over" and additive blending in linear space, blended draws
+//! composited back to front whatever their submission order, depth-tested against opaque
+//! geometry but never writing depth.
+
+use engine::{BlendMode, Cull, Encoding, Material, Rgba, Scene};
+use glam::{Mat4, Vec3};
+use tests::scenes::{pixel_camera, px, render, soup};
+
+const W: u32 = 32;
+const H: u32 = 32;
+
+/// Largest byte difference allowed between a blended pixel and the exact linear result,
+/// encoded: the engine rounds once, at resolve, from `f32` working colour, so the only
+/// difference is where the exact value lies within `f32` rounding of a byte's rounding
+/// boundary; one step covers that.
+const BYTE_TOL: i32 = 1;
+
+/// A full-target quad at view depth `-z`, unlit in `color` with `material` settings.
+fn layer(scene: &mut Scene, z: f32, color: Rgba, blend: Option<BlendMode>) {
+    let c = |x: f64, y: f64| {
+        let p = px(x, y);
+        Vec3::new(p.x, p.y, z)
+    };
+    let quad = soup(&[
+        [c(-1.0, -1.0), c(40.0, -1.0), c(40.0, 40.0)],
+        [c(-1.0, -1.0), c(40.0, 40.0), c(-1.0, 40.0)],
+    ]);
+    let mut m = Material::unlit(color).double_sided(true);
+    if let Some(b) = blend {
+        m = m.blended(b);
+    }
+    scene.add(quad, m, Mat4::IDENTITY);
+}
+
+/// Renders `scene` and checks every pixel's colour bytes against `want` (straight linear
+/// RGB of an opaque result), encoded exactly by this test.
+fn check_uniform(what: &str, scene: &Scene, encoding: Encoding, want: [f64; 3]) {
+    let (target, _) = render(scene, &pixel_camera(W, H), W, H, encoding, Cull::None);
+    let encode = |x: f64| -> i32 {
+        let x = x.clamp(0.0, 1.0);
+        let v = match encoding {
+            Encoding::Unorm => x,
+            Encoding::Srgb => {
+                if x <= 0.003_130_8 {
+                    12.92 * x
+                } else {
+                    1.055 * x.powf(1.0 / 2.4) - 0.055
+                }
+            }
+        };
+        (v * 255.0).round() as i32
+    };
+    let want = want.map(encode);
+    for y in 0..H {
+        for x in 0..W {
+            let [r, g, b, a] = target.pixel(x, y).expect("inside").to_le_bytes();
+            let got = [r as i32, g as i32, b as i32];
+            assert!(
+                got.iter().zip(want).all(|(g, w)| (g - w).abs() <= BYTE_TOL) && a == 255,
+                "{what}: pixel ({x}, {y}) is {:?}, want {want:?} (alpha 255)",
+                [r, g, b, a]
+            );
+        }
+    }
+}
+
+#[test]
+fn over_blending_is_linear_and_back_to_front() {
+    // Opaque dark grey at the back; red 50%, then green 25%, then blue 50% nearer and
+    // nearer, submitted in a scrambled order.
+    let layers: [(f32, Rgba); 3] = [
+        (-2.0, Rgba::new(1.0, 0.0, 0.0, 0.5)),
+        (-1.0, Rgba::new(0.0, 0.0, 1.0, 0.5)),
+        (-1.5, Rgba::new(0.0, 1.0, 0.0, 0.25)),
+    ];
+    let mut want = [0.2, 0.2, 0.2];
+    let mut sorted = layers;
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0)); // farthest (most negative z) first
+    for (_, c) in sorted {
+        let a = c.a as f64;
+        want = [0, 1, 2].map(|i| [c.r, c.g, c.b][i] as f64 * a + want[i] * (1.0 - a));
+    }
+    for encoding in [Encoding::Srgb, Encoding::Unorm] {
+        let mut scene = Scene::default();
+        for (z, c) in layers {
+            layer(&mut scene, z, c, Some(BlendMode::Alpha));
+        }
+        layer(&mut scene, -3.0, Rgba::new(0.2, 0.2, 0.2, 1.0), None);
+        check_uniform(&format!("over, {encoding:?}"), &scene, encoding, want);
+    }
+}
+
+#[test]
+fn blended_layers_are_depth_tested_but_write_no_depth() {
+    // An opaque white wall in front of a blended red layer: the red layer is hidden. A
+    // blended layer in front of an opaque one drawn later still shows over it.
+    let mut scene = Scene::default();
+    layer(&mut scene, -1.0, Rgba::new(1.0, 1.0, 1.0, 1.0), None);
+    layer(
+        &mut scene,
+        -2.0,
+        Rgba::new(1.0, 0.0, 0.0, 0.5),
+        Some(BlendMode::Alpha),
+    );
+    check_uniform(
+        "hidden blended layer",
+        &scene,
+        Encoding::Unorm,
+        [1.0, 1.0, 1.0],
+    );
+
+    let mut scene = Scene::default();
+    layer(
+        &mut scene,
+        -1.0,
+        Rgba::new(0.0, 0.0, 1.0, 0.5),
+        Some(BlendMode::Alpha),
+    );
+    layer(
+        &mut scene,
+        -1.5,
+        Rgba::new(0.0, 1.0, 0.0, 0.4),
+        Some(BlendMode::Alpha),
+    );
+    layer(&mut scene, -3.0, Rgba::new(0.4, 0.4, 0.4, 1.0), None);
+    // Green (alpha 0.4) over grey, then blue (alpha 0.5) over that: the nearer blended
+    // layer does not hide the farther one.
+    let g = [0.4 * 0.6, 1.0 * 0.4 + 0.4 * 0.6, 0.4 * 0.6];
+    let want = [g[0] * 0.5, g[1] * 0.5, 1.0 * 0.5 + g[2] * 0.5];
+    check_uniform("stacked blended layers", &scene, Encoding::Unorm, want);
+}
+
+#[test]
+fn additive_blending_adds_in_linear_space() {
+    let mut scene = Scene::default();
+    layer(&mut scene, -3.0, Rgba::new(0.1, 0.2, 0.3, 1.0), None);
+    layer(
+        &mut scene,
+        -2.0,
+        Rgba::new(0.5, 0.25, 0.0, 0.5),
+        Some(BlendMode::Additive),
+    );
+    layer(
+        &mut scene,
+        -1.0,
+        Rgba::new(0.2, 0.2, 0.8, 1.0),
+        Some(BlendMode::Additive),
+    );
+    // dst + src * src.a per layer
+    let want = [0.1 + 0.25 + 0.2, 0.2 + 0.125 + 0.2, 0.3 + 0.0 + 0.8];
+    for encoding in [Encoding::Srgb, Encoding::Unorm] {
+        check_uniform(&format!("additive, {encoding:?}"), &scene, encoding, want);
+    }
+}
