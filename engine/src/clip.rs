@@ -9,7 +9,7 @@
 //! new vertex and no crack.
 
 use crate::vertex::MAX_VARYINGS;
-use glam::Vec4;
+use glam::{DVec4, Vec4};
 
 /// A vertex in clip space with its varyings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,13 +38,20 @@ pub struct GuardBand {
 
 #[inline]
 fn distance(p: Vec4, plane: u8, g: GuardBand) -> f32 {
+    distance64(p.as_dvec4(), plane, g) as f32
+}
+
+/// The signed distance in f64: differences of f32 values are exact there, which matters
+/// for huge triangles whose w spans millions while the cut lands near w = near.
+#[inline]
+fn distance64(p: DVec4, plane: u8, g: GuardBand) -> f64 {
     match plane {
         NEAR => p.w - p.z,
         FAR => p.z,
-        LEFT => p.x + g.gx * p.w,
-        RIGHT => g.gx * p.w - p.x,
-        BOTTOM => p.y + g.gy * p.w,
-        _ => g.gy * p.w - p.y,
+        LEFT => p.x + g.gx as f64 * p.w,
+        RIGHT => g.gx as f64 * p.w - p.x,
+        BOTTOM => p.y + g.gy as f64 * p.w,
+        _ => g.gy as f64 * p.w - p.y,
     }
 }
 
@@ -82,18 +89,19 @@ pub fn clip_triangle(
         let mut m = 0;
         for i in 0..n {
             let (p, q) = (a[i], a[(i + 1) % n]);
-            let (dp, dq) = (distance(p.pos, plane, g), distance(q.pos, plane, g));
-            if dp >= 0.0 {
-                if m < MAX_POLY {
-                    b[m] = p;
-                    m += 1;
-                }
+            let (dp, dq) = (
+                distance64(p.pos.as_dvec4(), plane, g),
+                distance64(q.pos.as_dvec4(), plane, g),
+            );
+            if dp >= 0.0 && m < MAX_POLY {
+                b[m] = p;
+                m += 1;
             }
             if (dp >= 0.0) != (dq >= 0.0) && m < MAX_POLY {
                 b[m] = if dp >= 0.0 {
-                    lerp(p, q, dp / (dp - dq), n_vary)
+                    lerp(p, q, dp / (dp - dq), n_vary, plane, g)
                 } else {
-                    lerp(q, p, dq / (dq - dp), n_vary)
+                    lerp(q, p, dq / (dq - dp), n_vary, plane, g)
                 };
                 m += 1;
             }
@@ -108,10 +116,23 @@ pub fn clip_triangle(
     n
 }
 
+/// The point at `t` from `a` to `b`, computed in f64 and put exactly on the plane it was
+/// cut by, so its projection cannot fall outside the plane's range.
 #[inline]
-fn lerp(a: ClipVert, b: ClipVert, t: f32, n_vary: usize) -> ClipVert {
+fn lerp(a: ClipVert, b: ClipVert, t: f64, n_vary: usize, plane: u8, g: GuardBand) -> ClipVert {
+    let (pa, pb) = (a.pos.as_dvec4(), b.pos.as_dvec4());
+    let mut p = pa + (pb - pa) * t;
+    match plane {
+        NEAR => p.z = p.w,
+        FAR => p.z = 0.0,
+        LEFT => p.x = -(g.gx as f64) * p.w,
+        RIGHT => p.x = g.gx as f64 * p.w,
+        BOTTOM => p.y = -(g.gy as f64) * p.w,
+        _ => p.y = g.gy as f64 * p.w,
+    }
     let mut v = a;
-    v.pos = a.pos + (b.pos - a.pos) * t;
+    v.pos = p.as_vec4();
+    let t = t as f32;
     for k in 0..n_vary {
         v.vary[k] = a.vary[k] + (b.vary[k] - a.vary[k]) * t;
     }
@@ -157,7 +178,7 @@ mod tests {
         let n = clip_triangle(tri, NEAR, G, 1, &mut out);
         assert_eq!(n, 3);
         for v in &out[..n] {
-            assert!(v.pos.w - v.pos.z >= -1e-6);
+            assert!(v.pos.w - v.pos.z >= 0.0);
             assert!(
                 (v.vary[0] - v.pos.x).abs() < 1e-6,
                 "varyings follow positions"

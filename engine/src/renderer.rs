@@ -475,7 +475,12 @@ fn front_end(
             };
             if oc[0] | oc[1] | oc[2] == 0 {
                 let offs = idx.map(|i| (info.vary_base + i * stride) as u32);
-                match setup([v[0].screen, v[1].screen, v[2].screen], offs, info.cull_back, vp) {
+                match setup(
+                    [v[0].screen, v[1].screen, v[2].screen],
+                    offs,
+                    info.cull_back,
+                    vp,
+                ) {
                     Ok(tri) => chunk.tris.push(stamp(tri, 0)),
                     Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
                     Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
@@ -504,12 +509,7 @@ fn front_end(
                 stride,
                 &mut poly,
             );
-            let mut sv = [ScreenVert {
-                x: 0,
-                y: 0,
-                z: 0.0,
-                iw: 0.0,
-            }; MAX_POLY];
+            let mut sv = [ScreenVert::default(); MAX_POLY];
             let mut offs = [0u32; MAX_POLY];
             let mut ok = n >= 3;
             for k in 0..n {

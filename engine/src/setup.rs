@@ -56,13 +56,16 @@ pub struct Tri {
     pub color: u32,
 }
 
-/// A vertex after the perspective divide and snapping.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A vertex after the perspective divide: snapped position (coverage), exact position,
+/// depth and 1/w in f64 (interpolation planes).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct ScreenVert {
     pub x: i32,
     pub y: i32,
-    pub z: f32,
-    pub iw: f32,
+    pub fx: f64,
+    pub fy: f64,
+    pub z: f64,
+    pub iw: f64,
 }
 
 /// The target's size as the setup stage needs it.
@@ -76,18 +79,21 @@ impl Viewport {
     /// Perspective divide, viewport transform and snap. `None` for non-finite input.
     #[inline]
     pub fn to_screen(&self, p: Vec4) -> Option<ScreenVert> {
+        let p = p.as_dvec4();
         let iw = 1.0 / p.w;
-        let sx = (p.x * iw * 0.5 + 0.5) * self.width as f32;
-        let sy = (0.5 - p.y * iw * 0.5) * self.height as f32;
+        let sx = (p.x * iw * 0.5 + 0.5) * self.width as f64;
+        let sy = (0.5 - p.y * iw * 0.5) * self.height as f64;
         let z = p.z * iw;
         if !(sx.is_finite() && sy.is_finite() && z.is_finite() && iw.is_finite()) {
             return None;
         }
-        let lim = (crate::target::MAX_TARGET_SIZE as f32 + GUARD_PX * 2.0) * ONE as f32;
-        let snap = |v: f32| (v * ONE as f32).round().clamp(-lim, lim) as i32;
+        let lim = (crate::target::MAX_TARGET_SIZE as f64 + GUARD_PX as f64 * 2.0) * ONE as f64;
+        let snap = |v: f64| (v * ONE as f64).round().clamp(-lim, lim) as i32;
         Some(ScreenVert {
             x: snap(sx),
             y: snap(sy),
+            fx: sx,
+            fy: sy,
             z: z.clamp(0.0, 1.0),
             iw,
         })
@@ -129,10 +135,10 @@ pub fn setup(
     if cull_back && !front {
         return Err(Dropped::Culled);
     }
-    let (v, vary, area) = if area < 0 {
-        ([v[0], v[2], v[1]], [vary[0], vary[2], vary[1]], -area)
+    let (v, vary) = if area < 0 {
+        ([v[0], v[2], v[1]], [vary[0], vary[2], vary[1]])
     } else {
-        (v, vary, area)
+        (v, vary)
     };
     // Pixel centres inside the bounding box: px * ONE + ONE/2 in [min, max].
     let (min_x, max_x) = (
@@ -152,21 +158,26 @@ pub fn setup(
     if bx0 > bx1 || by0 > by1 {
         return Err(Dropped::Rejected);
     }
-    // Planes, in f64 for the differences, relative to v0, referenced at the bbox corner.
+    // Planes in f64, relative to v0, referenced at the bbox corner. They use the exact
+    // (unsnapped) positions: snapping moves a vertex by up to 1/512 pixel, which tilts the
+    // depth plane of long thin triangles (clipped fans) measurably. Snapped positions are
+    // the fallback when the exact ones are degenerate.
     let inv = 1.0 / ONE as f64;
-    let (dx1, dy1) = (
-        (v[1].x - v[0].x) as f64 * inv,
-        (v[1].y - v[0].y) as f64 * inv,
-    );
-    let (dx2, dy2) = (
-        (v[2].x - v[0].x) as f64 * inv,
-        (v[2].y - v[0].y) as f64 * inv,
-    );
-    let inv_det = 1.0 / (area as f64 * inv * inv);
-    let (rx, ry) = (
-        bx0 as f64 + 0.5 - v[0].x as f64 * inv,
-        by0 as f64 + 0.5 - v[0].y as f64 * inv,
-    );
+    let snapped = |k: usize| (v[k].x as f64 * inv, v[k].y as f64 * inv);
+    let exact = |k: usize| (v[k].fx, v[k].fy);
+    let geometry = |pos: &dyn Fn(usize) -> (f64, f64)| {
+        let (p0, p1, p2) = (pos(0), pos(1), pos(2));
+        let (dx1, dy1, dx2, dy2) = (p1.0 - p0.0, p1.1 - p0.1, p2.0 - p0.0, p2.1 - p0.1);
+        (p0, dx1, dy1, dx2, dy2, dx1 * dy2 - dx2 * dy1)
+    };
+    let g = geometry(&exact);
+    let (p0, dx1, dy1, dx2, dy2, det) = if g.5 > 0.0 && g.5.is_finite() {
+        g
+    } else {
+        geometry(&snapped)
+    };
+    let inv_det = 1.0 / det;
+    let (rx, ry) = (bx0 as f64 + 0.5 - p0.0, by0 as f64 + 0.5 - p0.1);
     let plane = |f0: f64, f1: f64, f2: f64| {
         let (df1, df2) = (f1 - f0, f2 - f0);
         let a = (df1 * dy2 - df2 * dy1) * inv_det;
@@ -177,12 +188,12 @@ pub fn setup(
             dy: b as f32,
         }
     };
-    let iw = [v[0].iw as f64, v[1].iw as f64, v[2].iw as f64];
+    let iw = [v[0].iw, v[1].iw, v[2].iw];
     Ok(Tri {
         x: [v[0].x, v[1].x, v[2].x],
         y: [v[0].y, v[1].y, v[2].y],
         bbox: [bx0 as u16, by0 as u16, bx1 as u16, by1 as u16],
-        z: plane(v[0].z as f64, v[1].z as f64, v[2].z as f64),
+        z: plane(v[0].z, v[1].z, v[2].z),
         iw: plane(iw[0], iw[1], iw[2]),
         l1: plane(0.0, iw[1], 0.0),
         l2: plane(0.0, 0.0, iw[2]),
@@ -207,6 +218,8 @@ mod tests {
         ScreenVert {
             x: (x * ONE as f32) as i32,
             y: (y * ONE as f32) as i32,
+            fx: x as f64,
+            fy: y as f64,
             z: 0.5,
             iw: 1.0,
         }

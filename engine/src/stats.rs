@@ -22,7 +22,8 @@ pub struct FrameStats {
     pub triangles_set_up: u64,
     /// (triangle, tile) pairs written to the bins.
     pub triangles_binned: u64,
-    /// Covered pixels that were depth-tested (or would have been, with the test off).
+    /// Covered pixels that reached the per-pixel depth test (pixels of 8 x 8 blocks that the
+    /// hierarchical depth test rejected whole are not counted here).
     pub fragments_tested: u64,
     /// Fragments that passed the depth test and were shaded.
     pub fragments_shaded: u64,

@@ -60,12 +60,7 @@ impl Default for VertexPos {
     fn default() -> Self {
         VertexPos {
             clip: Vec4::ZERO,
-            screen: ScreenVert {
-                x: 0,
-                y: 0,
-                z: 0.0,
-                iw: 0.0,
-            },
+            screen: ScreenVert::default(),
             code: NOT_FINITE,
         }
     }
@@ -82,13 +77,16 @@ pub fn transform(
     pos: &mut [VertexPos],
     vary: &mut [f32],
 ) {
-    let mvp = clip_from_world * object_to_world;
+    // In f64: with huge coordinates (a ground plane 1e4 units wide) the f32 products cancel
+    // to a small view depth and lose most of its digits; the transform is a small part of a
+    // frame, so it is done in double precision.
+    let mvp = clip_from_world.as_dmat4() * object_to_world.as_dmat4();
     let guard = vp.guard();
     pos.par_chunks_mut(CHUNK)
         .zip(mesh.positions.par_chunks(CHUNK))
         .for_each(|(out, src)| {
             for (o, p) in out.iter_mut().zip(src) {
-                let clip = mvp * p.extend(1.0);
+                let clip = (mvp * p.as_dvec3().extend(1.0)).as_vec4();
                 o.clip = clip;
                 o.code = if !clip.is_finite() {
                     NOT_FINITE
