@@ -1,5 +1,6 @@
 //! Test support shared by the integration tests: the golden-image helper and asset paths.
 
+pub mod assets;
 pub mod busy;
 pub mod compare;
 pub mod golden;

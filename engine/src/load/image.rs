@@ -1,0 +1,88 @@
+//! Image decoding for the loaders: bytes -> RGBA8 -> [`Texture`], with `image::Limits` so a
+//! file's header cannot make us allocate more than [`MAX_IMAGE_ALLOC`] or exceed
+//! [`MAX_TEXTURE_SIZE`] per side.
+
+use super::LoadError;
+use crate::color::Encoding;
+use crate::texture::{Texture, MAX_TEXTURE_SIZE};
+use ::image::{ImageFormat, ImageReader, Limits};
+use std::io::Cursor;
+use std::path::Path;
+
+/// The most the image decoder may allocate for one image (1 GiB: a 16384 x 16384 RGBA8
+/// image).
+pub const MAX_IMAGE_ALLOC: u64 = 1 << 30;
+
+/// Why bytes did not become a texture.
+#[derive(Debug)]
+pub(crate) enum ImageFailure {
+    Decode(::image::ImageError),
+    Size(u32, u32),
+}
+
+impl ImageFailure {
+    pub(crate) fn into_load_error(self, file: &Path) -> LoadError {
+        match self {
+            ImageFailure::Decode(source) => LoadError::Image {
+                file: file.into(),
+                source,
+            },
+            ImageFailure::Size(w, h) => LoadError::invalid(
+                file,
+                format!("image is {w} x {h}; sides must be 1..={MAX_TEXTURE_SIZE}"),
+            ),
+        }
+    }
+}
+
+impl std::fmt::Display for ImageFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ImageFailure::Decode(e) => write!(f, "{e}"),
+            ImageFailure::Size(w, h) => {
+                write!(
+                    f,
+                    "image is {w} x {h}; sides must be 1..={MAX_TEXTURE_SIZE}"
+                )
+            }
+        }
+    }
+}
+
+/// The decoder limits every loader uses.
+fn limits() -> Limits {
+    let mut l = Limits::default();
+    l.max_image_width = Some(MAX_TEXTURE_SIZE);
+    l.max_image_height = Some(MAX_TEXTURE_SIZE);
+    l.max_alloc = Some(MAX_IMAGE_ALLOC);
+    l
+}
+
+/// A format from a MIME type (`image/png`, `image/jpeg`), as glTF images carry it.
+pub(crate) fn format_from_mime(mime: &str) -> Option<ImageFormat> {
+    ImageFormat::from_mime_type(mime)
+}
+
+/// Decodes PNG or JPEG bytes into a texture. The format is sniffed from the bytes;
+/// `hint` is used only when sniffing fails.
+pub(crate) fn texture_from_bytes(
+    bytes: &[u8],
+    hint: Option<ImageFormat>,
+    encoding: Encoding,
+) -> Result<Texture, ImageFailure> {
+    let mut reader = ImageReader::new(Cursor::new(bytes));
+    if let Some(f) = hint {
+        reader.set_format(f);
+    }
+    let mut reader = reader
+        .with_guessed_format()
+        .map_err(|e| ImageFailure::Decode(e.into()))?;
+    reader.limits(limits());
+    let img = reader.decode().map_err(ImageFailure::Decode)?;
+    let (w, h) = (img.width(), img.height());
+    if w == 0 || h == 0 || w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE {
+        return Err(ImageFailure::Size(w, h));
+    }
+    let rgba = img.into_rgba8();
+    Texture::from_rgba8(w, h, rgba.as_raw(), encoding).ok_or(ImageFailure::Size(w, h))
+}

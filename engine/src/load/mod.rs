@@ -1,0 +1,137 @@
+//! Loaders: OBJ + MTL (via `tobj`), glTF 2.0 / GLB (via `gltf`) and images (via `image`),
+//! each turning a file into engine data ([`Scene`], [`Texture`]).
+//!
+//! Loading is the only part of the engine that can fail, and every failure is one
+//! [`LoadError`] whose message names the file. Loaders never panic on bad input: counts,
+//! offsets and indices read from a file are checked against the bytes actually present
+//! before anything is allocated from them, and sizes are capped ([`MAX_FILE_BYTES`],
+//! [`MAX_BUFFER_BYTES`], [`MAX_IMAGE_ALLOC`], [`crate::texture::MAX_TEXTURE_SIZE`]). Every
+//! mesh returned has passed [`Mesh::validate`].
+//!
+//! **Missing textures are not errors.** A texture file that is missing or cannot be
+//! decoded (OBJ `map_Kd`, glTF base-colour image) is replaced by a magenta-and-black checker
+//! ([`placeholder_texture`]) and a warning is pushed to [`Loaded::warnings`], so that a
+//! model with one broken texture still shows up, visibly marked. Anything unsafe (a glTF
+//! URI outside the file's folder) or structurally wrong (an index out of range) is an error.
+//!
+//! ```no_run
+//! let loaded = engine::load::model(std::path::Path::new("duck.glb"))?;
+//! for w in &loaded.warnings {
+//!     eprintln!("warning: {w}");
+//! }
+//! println!("{} triangles", loaded.scene.triangle_count());
+//! # Ok::<(), engine::load::LoadError>(())
+//! ```
+
+mod accessor;
+mod error;
+mod gltf;
+mod image;
+mod obj;
+mod uri;
+
+pub use self::error::{FileName, LoadError};
+pub use self::image::MAX_IMAGE_ALLOC;
+pub use self::uri::MAX_BUFFER_BYTES;
+
+use crate::color::{Encoding, Rgba};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use crate::texture::Texture;
+use std::io::Read;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The largest main file (OBJ, MTL, glTF JSON, GLB) the loaders read.
+pub const MAX_FILE_BYTES: u64 = 1 << 30;
+
+/// What a model loader returns: the scene and what it had to work around.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Loaded {
+    pub scene: Scene,
+    /// Human-readable notes on what was skipped or replaced (e.g. a missing texture).
+    pub warnings: Vec<String>,
+}
+
+/// Loads a Wavefront OBJ file with its MTL materials and `map_Kd` textures.
+///
+/// One mesh, material and instance per OBJ model (object / group / material change), in
+/// file order, with identity transforms; faces are fan-triangulated in file order, so
+/// triangle `t` of the scene is the file's `t`-th triangle. Vertex colours written as
+/// `v x y z r g b` are kept as linear values, exactly as written. Without an MTL
+/// material a model gets `Material::lit(white)` (vertex colours on).
+pub fn obj(path: &Path) -> Result<Loaded, LoadError> {
+    obj::load(path)
+}
+
+/// Loads a glTF 2.0 file (`.gltf` with external or `data:` buffers, or `.glb`).
+///
+/// The default scene (or scene 0, or every root node) is walked with composed node
+/// transforms; each node-primitive becomes one instance, and meshes and materials used
+/// several times are shared. A glTF may only read files inside its own folder: absolute
+/// paths, `..` components and URI schemes other than `data:` are refused before anything
+/// is read.
+pub fn gltf(path: &Path) -> Result<Loaded, LoadError> {
+    gltf::load(path)
+}
+
+/// Loads an image file (PNG or JPEG) as a texture whose bytes are in `encoding`
+/// (`Srgb` for colour images, `Unorm` for data).
+pub fn image(path: &Path, encoding: Encoding) -> Result<Texture, LoadError> {
+    let bytes = read_file(path, MAX_FILE_BYTES)?;
+    image::texture_from_bytes(&bytes, None, encoding).map_err(|e| e.into_load_error(path))
+}
+
+/// Loads a model, choosing the loader from the extension (`.obj`, `.gltf`, `.glb`; any
+/// case).
+pub fn model(path: &Path) -> Result<Loaded, LoadError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("obj") => obj(path),
+        Some("gltf") | Some("glb") => gltf(path),
+        _ => Err(LoadError::Unsupported { file: path.into() }),
+    }
+}
+
+/// The stand-in for a texture that is missing or cannot be decoded: an 8 x 8-cell magenta
+/// and black checker, impossible to mistake for real content.
+pub fn placeholder_texture() -> Arc<Texture> {
+    Arc::new(Texture::checker(
+        64,
+        8,
+        Rgba::new(1.0, 0.0, 1.0, 1.0),
+        Rgba::BLACK,
+    ))
+}
+
+/// Reads a whole file, refusing files over `cap` bytes before reading them.
+pub(crate) fn read_file(path: &Path, cap: u64) -> Result<Vec<u8>, LoadError> {
+    let file = std::fs::File::open(path).map_err(|e| LoadError::io(path, e))?;
+    let meta = file.metadata().map_err(|e| LoadError::io(path, e))?;
+    if meta.is_dir() {
+        return Err(LoadError::invalid(path, "is a directory, not a file"));
+    }
+    if meta.len() > cap {
+        return Err(LoadError::invalid(
+            path,
+            format!("file is {} bytes, over the {cap}-byte limit", meta.len()),
+        ));
+    }
+    let mut out = Vec::with_capacity(meta.len() as usize);
+    file.take(cap + 1)
+        .read_to_end(&mut out)
+        .map_err(|e| LoadError::io(path, e))?;
+    if out.len() as u64 > cap {
+        return Err(LoadError::invalid(path, "file grew over the size limit"));
+    }
+    Ok(out)
+}
+
+/// Runs [`Mesh::validate`], turning a failure into an error naming the mesh.
+pub(crate) fn check_mesh(path: &Path, what: &str, mesh: &Mesh) -> Result<(), LoadError> {
+    mesh.validate()
+        .map_err(|e| LoadError::invalid(path, format!("{what}: {e}")))
+}
