@@ -1,0 +1,463 @@
+//! `render`: loads an OBJ or glTF, renders it with the peers' camera conventions, and
+//! optionally times frames and writes the colour (PNG) and depth (raw f32) images.
+//!
+//! The counterpart of `../shared/peers/llvmpipe_render.py`: same flags, same camera
+//! (`look_at_rh` + `perspective_rh_gl`), same outputs (PNG with a top-left origin; depth as
+//! little-endian f32 OpenGL window depth, top row first, 1.0 where nothing was drawn) and
+//! the same last stdout line when timing
+//! (`render NAME WxH tris=T threads=N median_ms=.. min_ms=.. p90_ms=.. frames=N`, with the
+//! peer's median and `p90 = sorted[floor(0.9 (n - 1))]`).
+//!
+//! Every error (unreadable model, bad flag value, unwritable output) is one line on stderr,
+//! `render: error: ...`, and exit code 1 (2 for other usage errors).
+
+use clap::error::ErrorKind;
+use clap::{ArgGroup, Parser, ValueEnum};
+use engine::{
+    load, Camera, Cull, Encoding, FrameOptions, FrameStats, Material, Projection, Renderer, Rgba,
+    Scene, Shading, Target,
+};
+use glam::{Mat4, Vec3};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ShadingArg {
+    /// Interpolated vertex colours (default colours where a mesh has none), unlit, unorm.
+    Vertex,
+    /// The peers' per-face rule, unorm bytes.
+    Flat,
+    /// RGB = triangle index + 1 (24-bit little-endian), unorm; 0 = background.
+    Faceid,
+    /// The loaded materials without their textures, lit, sRGB.
+    Lit,
+    /// The loaded materials as they are, sRGB.
+    Textured,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum CullArg {
+    None,
+    Back,
+}
+
+/// Render an OBJ or glTF model with a perspective camera (peer-compatible conventions).
+#[derive(Debug, Parser)]
+#[command(name = "render", version, about)]
+#[command(group(ArgGroup::new("model").required(true).args(["obj", "gltf"])))]
+struct Args {
+    /// Wavefront OBJ file (with its MTL materials, if any).
+    #[arg(long, value_name = "FILE")]
+    obj: Option<PathBuf>,
+    /// glTF 2.0 file (.gltf or .glb).
+    #[arg(long, value_name = "FILE")]
+    gltf: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(short = 'W', long = "width", default_value_t = 640)]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(short = 'H', long = "height", default_value_t = 480)]
+    height: u32,
+    /// Camera position.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,3", value_parser = parse_vec3)]
+    eye: Vec3,
+    /// Point the camera looks at.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", value_parser = parse_vec3)]
+    target: Vec3,
+    /// Camera up direction.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3)]
+    up: Vec3,
+    /// Vertical field of view in degrees.
+    #[arg(long = "fov-y", value_name = "DEG", default_value_t = 60.0)]
+    fov_y: f32,
+    /// Near plane distance.
+    #[arg(long, default_value_t = 0.1)]
+    near: f32,
+    /// Far plane distance.
+    #[arg(long, default_value_t = 100.0)]
+    far: f32,
+    /// What to draw.
+    #[arg(long, value_enum, default_value_t = ShadingArg::Vertex)]
+    shading: ShadingArg,
+    /// Face culling (default: none for vertex/flat/faceid, per material for lit/textured).
+    #[arg(long, value_enum)]
+    cull: Option<CullArg>,
+    /// Worker threads (default: rayon's, one per core).
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+    /// Time N frames (after the warm-up) and print the timing line.
+    #[arg(long, value_name = "N")]
+    frames: Option<usize>,
+    /// Untimed frames before the timed ones.
+    #[arg(long, value_name = "N", default_value_t = 3)]
+    warmup: usize,
+    /// Write the colour image as PNG.
+    #[arg(long, value_name = "FILE")]
+    png: Option<PathBuf>,
+    /// Write the depth image as raw little-endian f32 (OpenGL window depth, top row first).
+    #[arg(long, value_name = "FILE")]
+    depth: Option<PathBuf>,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected x,y,z (three numbers), got {} value(s)",
+            parts.len()
+        ));
+    }
+    let mut v = [0.0f32; 3];
+    for (o, p) in v.iter_mut().zip(&parts) {
+        *o = p
+            .parse::<f32>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("'{p}' is not a finite number"))?;
+    }
+    Ok(Vec3::from_array(v))
+}
+
+/// Checks what clap cannot: sizes, camera sanity, counts.
+fn check(a: &Args) -> Result<(), String> {
+    let max = engine::target::MAX_TARGET_SIZE;
+    if a.width == 0 || a.height == 0 || a.width > max || a.height > max {
+        return Err(format!(
+            "image size {}x{} out of range (1..={max} per side)",
+            a.width, a.height
+        ));
+    }
+    if !(a.fov_y > 0.0 && a.fov_y < 180.0) {
+        return Err(format!("--fov-y {} must be in (0, 180) degrees", a.fov_y));
+    }
+    if !(a.near > 0.0 && a.far > a.near && a.far.is_finite()) {
+        return Err(format!(
+            "need 0 < near < far (finite); got near={} far={}",
+            a.near, a.far
+        ));
+    }
+    let dir = a.target - a.eye;
+    if dir.length_squared() == 0.0 {
+        return Err("--eye and --target are the same point".into());
+    }
+    if dir.cross(a.up).length_squared() == 0.0 {
+        return Err("--up is zero or parallel to the view direction".into());
+    }
+    if matches!(a.threads, Some(n) if n == 0 || n > 1024) {
+        return Err("--threads must be in 1..=1024".into());
+    }
+    if a.frames == Some(0) {
+        return Err("--frames must be at least 1".into());
+    }
+    // Fail before a long render rather than after it.
+    for out in [&a.png, &a.depth].into_iter().flatten() {
+        match out.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
+                return Err(format!(
+                    "{}: cannot write: folder {} does not exist",
+                    out.display(),
+                    dir.display()
+                ))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The peers' colours for meshes without any: `(p - min) / (max - min)` per axis in f32
+/// (an extent of 0 counts as 1), over `lo..hi`.
+fn default_colors(positions: &[Vec3], lo: Vec3, hi: Vec3) -> Vec<Rgba> {
+    let ext = hi - lo;
+    let ext = Vec3::new(
+        if ext.x > 0.0 { ext.x } else { 1.0 },
+        if ext.y > 0.0 { ext.y } else { 1.0 },
+        if ext.z > 0.0 { ext.z } else { 1.0 },
+    );
+    positions
+        .iter()
+        .map(|p| {
+            let c = (*p - lo) / ext;
+            Rgba::new(c.x, c.y, c.z, 1.0)
+        })
+        .collect()
+}
+
+/// Bounds of every `v` line of an OBJ, as the peers compute them (unreferenced vertices
+/// included), or `None` if the file cannot be re-read.
+fn obj_bounds(path: &Path) -> Option<(Vec3, Vec3)> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for line in text.lines() {
+        let mut w = line.split_whitespace();
+        if w.next() != Some("v") {
+            continue;
+        }
+        let xyz: Vec<f32> = w.take(3).filter_map(|t| t.parse().ok()).collect();
+        if let [x, y, z] = xyz[..] {
+            lo = lo.min(Vec3::new(x, y, z));
+            hi = hi.max(Vec3::new(x, y, z));
+        }
+    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// Bounds of every mesh vertex (object space).
+fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for p in scene.meshes.iter().flat_map(|m| &m.positions) {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    (lo, hi)
+}
+
+/// Rewrites the loaded scene for a shading mode; returns the target encoding.
+fn prepare(scene: &mut Scene, shading: ShadingArg, bounds: (Vec3, Vec3)) -> Encoding {
+    let fill_colors = |scene: &mut Scene| {
+        for m in &mut scene.meshes {
+            if m.colors.is_empty() {
+                m.colors = default_colors(&m.positions, bounds.0, bounds.1);
+            }
+        }
+    };
+    let replace = |scene: &mut Scene, mat: Material| {
+        for m in &mut scene.materials {
+            *m = Material {
+                name: std::mem::take(&mut m.name),
+                ..mat.clone()
+            };
+        }
+    };
+    match shading {
+        ShadingArg::Faceid => {
+            replace(
+                scene,
+                Material {
+                    shading: Shading::FaceId,
+                    ..Material::default()
+                },
+            );
+            Encoding::Unorm
+        }
+        ShadingArg::Flat => {
+            fill_colors(scene);
+            replace(
+                scene,
+                Material {
+                    shading: Shading::Flat,
+                    ..Material::default()
+                },
+            );
+            Encoding::Unorm
+        }
+        ShadingArg::Vertex => {
+            fill_colors(scene);
+            replace(scene, Material::unlit(Rgba::WHITE));
+            Encoding::Unorm
+        }
+        ShadingArg::Lit => {
+            for m in &mut scene.materials {
+                m.base_texture = None;
+            }
+            Encoding::Srgb
+        }
+        ShadingArg::Textured => Encoding::Srgb,
+    }
+}
+
+/// The peer's statistics: `statistics.median` and `sorted[floor(0.9 (n - 1))]`.
+fn summary(times_ms: &[f64]) -> (f64, f64, f64) {
+    let mut t = times_ms.to_vec();
+    t.sort_by(f64::total_cmp);
+    let n = t.len();
+    if n == 0 {
+        return (0.0, 0.0, 0.0);
+    }
+    let median = if n % 2 == 1 {
+        t[n / 2]
+    } else {
+        0.5 * (t[n / 2 - 1] + t[n / 2])
+    };
+    (median, t[0], t[(0.9 * (n - 1) as f64) as usize])
+}
+
+fn stats_line(s: &FrameStats) -> String {
+    format!(
+        "render: stats: draws={} triangles_in={} clipped={} culled={} rejected={} set_up={} \
+         binned={} fragments_tested={} shaded={} written={}",
+        s.draws,
+        s.triangles_in,
+        s.triangles_clipped,
+        s.triangles_culled,
+        s.triangles_rejected,
+        s.triangles_set_up,
+        s.triangles_binned,
+        s.fragments_tested,
+        s.fragments_shaded,
+        s.fragments_written
+    )
+}
+
+fn run(a: &Args) -> Result<(), String> {
+    check(a)?;
+    let (path, is_obj) = match (&a.obj, &a.gltf) {
+        (Some(p), _) => (p.as_path(), true),
+        (None, Some(p)) => (p.as_path(), false),
+        (None, None) => return Err("one of --obj or --gltf is required".into()),
+    };
+    let t0 = Instant::now();
+    let loaded = if is_obj {
+        load::obj(path)
+    } else {
+        load::gltf(path)
+    }
+    .map_err(|e| e.to_string())?;
+    for w in &loaded.warnings {
+        eprintln!("render: warning: {w}");
+    }
+    let mut scene = loaded.scene;
+    let bounds = if is_obj {
+        obj_bounds(path).unwrap_or_else(|| scene_bounds(&scene))
+    } else {
+        scene_bounds(&scene)
+    };
+    let encoding = prepare(&mut scene, a.shading, bounds);
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    eprintln!(
+        "render: loaded {name}: {} triangles, {} meshes, {} instances in {:.1} ms",
+        scene.triangle_count(),
+        scene.meshes.len(),
+        scene.instances.len(),
+        t0.elapsed().as_secs_f64() * 1e3
+    );
+
+    let camera = Camera {
+        view: Mat4::look_at_rh(a.eye, a.target, a.up),
+        projection: Projection::Perspective {
+            fov_y: a.fov_y.to_radians(),
+            aspect: a.width as f32 / a.height as f32,
+            near: a.near,
+            far: a.far,
+        },
+    };
+    let cull = match (a.cull, a.shading) {
+        (Some(CullArg::None), _) => Cull::None,
+        (Some(CullArg::Back), _) => Cull::Back,
+        (None, ShadingArg::Lit | ShadingArg::Textured) => Cull::PerMaterial,
+        (None, _) => Cull::None,
+    };
+    let opts = FrameOptions {
+        clear: Some(Rgba::BLACK),
+        cull,
+    };
+    let mut target = Target::with_encoding(a.width, a.height, encoding);
+
+    let render = |target: &mut Target| {
+        let mut renderer = Renderer::new();
+        let mut times = Vec::new();
+        let mut stats = FrameStats::default();
+        match a.frames {
+            None => stats = renderer.render_scene(&scene, &camera, target, &opts),
+            Some(n) => {
+                for _ in 0..a.warmup {
+                    renderer.render_scene(&scene, &camera, target, &opts);
+                }
+                for _ in 0..n {
+                    let t = Instant::now();
+                    stats = renderer.render_scene(&scene, &camera, target, &opts);
+                    times.push(t.elapsed().as_secs_f64() * 1e3);
+                }
+            }
+        }
+        (stats, times, rayon::current_num_threads())
+    };
+    let (stats, times, threads) = match a.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| format!("cannot start {n} threads: {e}"))?
+            .install(|| render(&mut target)),
+        None => render(&mut target),
+    };
+    eprintln!("{}", stats_line(&stats));
+
+    if let Some(png) = &a.png {
+        image::save_buffer_with_format(
+            png,
+            &target.to_rgba8(),
+            target.width(),
+            target.height(),
+            image::ColorType::Rgba8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| format!("{}: cannot write PNG: {e}", png.display()))?;
+    }
+    if let Some(depth) = &a.depth {
+        let bytes: Vec<u8> = target
+            .depth_gl_image()
+            .iter()
+            .flat_map(|d| d.to_le_bytes())
+            .collect();
+        std::fs::write(depth, bytes)
+            .map_err(|e| format!("{}: cannot write depth: {e}", depth.display()))?;
+    }
+    if a.frames.is_some() {
+        let (median, min, p90) = summary(&times);
+        println!(
+            "render {name} {}x{} tris={} threads={threads} median_ms={median:.3} \
+             min_ms={min:.3} p90_ms={p90:.3} frames={}",
+            a.width,
+            a.height,
+            scene.triangle_count(),
+            times.len()
+        );
+    }
+    Ok(())
+}
+
+/// Reports a clap error: help and version as clap does; anything else as one line.
+fn clap_error(e: clap::Error) -> ExitCode {
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit();
+    }
+    let text = e.to_string();
+    let msg: Vec<&str> = text
+        .lines()
+        .take_while(|l| !l.trim().is_empty())
+        .map(str::trim)
+        .collect();
+    let msg = msg.join(" ");
+    eprintln!(
+        "render: error: {}",
+        msg.strip_prefix("error: ").unwrap_or(&msg)
+    );
+    match e.kind() {
+        ErrorKind::InvalidValue | ErrorKind::ValueValidation => ExitCode::from(1),
+        _ => ExitCode::from(2),
+    }
+}
+
+fn main() -> ExitCode {
+    let args = match Args::try_parse() {
+        Ok(a) => a,
+        Err(e) => return clap_error(e),
+    };
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("render: error: {msg}");
+            ExitCode::from(1)
+        }
+    }
+}
