@@ -134,9 +134,9 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> std::io::Result<()> {
 
 /// Short names for triangle counts: 1k, 100k, 2M.
 pub fn count_name(n: u64) -> String {
-    if n >= 1_000_000 && n % 1_000_000 == 0 {
+    if n >= 1_000_000 && n.is_multiple_of(1_000_000) {
         format!("{}M", n / 1_000_000)
-    } else if n >= 1_000 && n % 1_000 == 0 {
+    } else if n >= 1_000 && n.is_multiple_of(1_000) {
         format!("{}k", n / 1_000)
     } else {
         n.to_string()
@@ -255,7 +255,7 @@ pub fn find_models(dir: &Path) -> Vec<PathBuf> {
     let mut best: std::collections::BTreeMap<String, PathBuf> = Default::default();
     for p in all {
         let name = model_name(&p);
-        let better = best.get(&name).map_or(true, |q| rank(&p) < rank(q));
+        let better = best.get(&name).is_none_or(|q| rank(&p) < rank(q));
         if better {
             best.insert(name, p);
         }

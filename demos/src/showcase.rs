@@ -98,7 +98,7 @@ pub fn crate_texture() -> Arc<Texture> {
         let (u, v) = (x as f32 / N as f32, y as f32 / N as f32);
         let grain = procedural::value_noise(u * 3.0, v * 40.0, 11);
         let plank = ((v * 4.0).fract() < 0.04) as u8 as f32;
-        let frame = u < 0.1 || u > 0.9 || v < 0.1 || v > 0.9;
+        let frame = !(0.1..=0.9).contains(&u) || !(0.1..=0.9).contains(&v);
         let brace = ((u - v).abs() < 0.07) && !frame;
         let mut c = [
             168.0 + 40.0 * grain,
@@ -120,7 +120,7 @@ pub fn lattice_texture() -> Arc<Texture> {
     const N: u32 = 128;
     texture(N, |x, y| {
         let (u, v) = (x as f32 / N as f32, y as f32 / N as f32);
-        let frame = u < 0.06 || u > 0.94 || v < 0.08 || v > 0.92;
+        let frame = !(0.06..=0.94).contains(&u) || !(0.08..=0.92).contains(&v);
         let d1 = ((u + v) * 5.0).fract();
         let d2 = ((u - v + 4.0) * 5.0).fract();
         let bar = d1 < 0.16 || d2 < 0.16;

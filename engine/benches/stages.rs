@@ -306,16 +306,16 @@ fn game_scene() -> (Scene, Camera) {
         Mat4::from_translation(Vec3::new(-9.0, 0.0, -2.0)),
     );
     let mut rng = XorShift::new(5);
-    for k in 0..40 {
+    for k in 0..40u64 {
         let a = rng.range(0.0, std::f32::consts::TAU);
         let r = rng.range(16.0, 36.0);
         let (x, z) = (r * a.cos(), r * a.sin());
-        let kind = if k % 2 == 0 {
+        let kind = if k.is_multiple_of(2) {
             TreeKind::Pine
         } else {
             TreeKind::Broadleaf
         };
-        let mesh = if k % 5 == 0 {
+        let mesh = if k.is_multiple_of(5) {
             procedural::rock(0.8, k)
         } else {
             procedural::tree(kind, 5.0, k)

@@ -168,10 +168,10 @@ pub fn factor_grid(quads: u32, aspect: f32) -> (u32, u32) {
     let mut best: Option<(f32, u32, u32)> = None;
     let mut v = 1;
     while v * v <= quads {
-        if quads % v == 0 {
+        if quads.is_multiple_of(v) {
             let u = quads / v;
             let score = ((u as f32 / v as f32) / aspect).ln().abs();
-            if best.map_or(true, |b| score < b.0) {
+            if best.is_none_or(|b| score < b.0) {
                 best = Some((score, u, v));
             }
         }

@@ -1,0 +1,186 @@
+//! The benchmark CLI: `bench SWEEP --out DIR [--quick]` runs one sweep, writes
+//! `DIR/SWEEP.csv` (a header row, one row per measurement) and `DIR/SWEEP_*.png` charts.
+//!
+//! Sweeps:
+//! - `raster`: frame time against resolution (torus 100k, 320x240 to 3840x2160) and
+//!   against triangle count (torus 1k to 2M, and the shared models when their folder
+//!   exists) at 1280x720.
+
+use clap::{Args, Parser, Subcommand};
+use demos::bench::{self, Plan, Step};
+use demos::chart::{self, Drawn};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Parser, Debug)]
+#[command(version, about = "Parallax benchmark sweeps: CSV plus PNG charts")]
+struct Cli {
+    /// Render threads (default: one per core).
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    sweep: Sweep,
+}
+
+#[derive(Subcommand, Debug)]
+enum Sweep {
+    /// Frame time against resolution and against triangle count.
+    Raster(Common),
+}
+
+#[derive(Args, Debug)]
+struct Common {
+    /// Folder for SWEEP.csv and the charts (created if missing).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// A reduced sweep (every point, few frames): about a minute at most.
+    #[arg(long)]
+    quick: bool,
+    /// A seconds-long smoke run for tests: tiny sizes, no models.
+    #[arg(long, hide = true)]
+    tiny: bool,
+    /// Folder of shared models (default: $PARALLAX_ASSETS, ../shared/assets beside the
+    /// workspace, or /work/shared/assets).
+    #[arg(long, value_name = "DIR")]
+    assets: Option<PathBuf>,
+    /// Skip the shared models.
+    #[arg(long)]
+    no_models: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Some(n) = cli.threads {
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+        {
+            eprintln!("bench: cannot set {n} threads: {e}");
+        }
+    }
+    let result = match &cli.sweep {
+        Sweep::Raster(c) => raster(c),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("bench: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Loads the shared models (skipping, with a notice, any that fail).
+fn load_models(c: &Common) -> Vec<(String, engine::Scene)> {
+    let dir = match c.assets.clone().or_else(bench::default_assets_dir) {
+        Some(d) if d.is_dir() => d,
+        Some(d) => {
+            println!(
+                "bench: no shared models: {} is not a folder; skipping them",
+                d.display()
+            );
+            return Vec::new();
+        }
+        None => {
+            println!("bench: no shared models folder found (set --assets or PARALLAX_ASSETS); skipping them");
+            return Vec::new();
+        }
+    };
+    let mut out = Vec::new();
+    for path in bench::find_models(&dir) {
+        match engine::load::model(&path) {
+            Ok(loaded) => {
+                let name = bench::model_name(&path);
+                println!(
+                    "bench: loaded {name} ({} triangles{})",
+                    loaded.scene.triangle_count(),
+                    if loaded.warnings.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", {} warnings", loaded.warnings.len())
+                    }
+                );
+                out.push((name, loaded.scene));
+            }
+            Err(e) => println!("bench: skipping {}: {e}", path.display()),
+        }
+    }
+    out.sort_by_key(|(_, s)| s.triangle_count());
+    out
+}
+
+fn raster(c: &Common) -> Result<(), String> {
+    let plan = if c.tiny {
+        Plan::tiny()
+    } else if c.quick {
+        Plan::quick()
+    } else {
+        Plan::full()
+    };
+    std::fs::create_dir_all(&c.out)
+        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
+    let models = if plan.models && !c.no_models {
+        load_models(c)
+    } else {
+        Vec::new()
+    };
+    let start = Instant::now();
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let rows = bench::raster(&plan, &models, |i, total, step: &Step| {
+        bar.set_length(total as u64);
+        bar.set_position(i as u64);
+        bar.set_message(format!(
+            "{} {} {}x{}",
+            step.series, step.mesh, step.size.0, step.size.1
+        ));
+    });
+    bar.finish_and_clear();
+    for r in &rows {
+        println!(
+            "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
+            r.series,
+            r.mesh,
+            r.triangles,
+            r.width,
+            r.height,
+            r.time.median_ms,
+            r.time.min_ms,
+            r.time.p90_ms,
+            r.time.frames
+        );
+    }
+    let csv = c.out.join("raster.csv");
+    bench::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    type Draw = fn(&Path, &[bench::Row]) -> Result<Drawn, Box<dyn std::error::Error>>;
+    let charts: [(&str, Draw); 2] = [
+        ("raster_resolution.png", chart::resolution_chart),
+        ("raster_triangles.png", chart::triangles_chart),
+    ];
+    for (name, draw) in charts {
+        let path = c.out.join(name);
+        match draw(&path, &rows) {
+            Ok(Drawn::WithText) => {}
+            Ok(Drawn::WithoutText) => println!(
+                "bench: no usable font found; {} was drawn without text",
+                path.display()
+            ),
+            Err(e) => return Err(format!("cannot draw {}: {e}", path.display())),
+        }
+    }
+    println!(
+        "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/raster_*.png",
+        rows.len(),
+        start.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        csv.display(),
+        c.out.display()
+    );
+    Ok(())
+}
