@@ -52,6 +52,19 @@ impl Showcase {
     }
 }
 
+impl Showcase {
+    /// The headless camera path: frame `i` of `n` circles the plaza once, bobbing up and
+    /// down, always at least 2.5 units above the ground. Returns `(eye, target)`.
+    pub fn path(&self, i: usize, n: usize) -> (Vec3, Vec3) {
+        let f = i as f32 / n.max(1) as f32;
+        let a = std::f32::consts::TAU * f + 0.6;
+        let r = 17.0 + 1.5 * (2.0 * a).sin();
+        let (x, z) = (r * a.cos(), r * a.sin());
+        let y = (4.8 + 1.4 * a.sin()).max(self.terrain.height_at(x, z) + 2.5);
+        (Vec3::new(x, y, z), Vec3::new(0.0, 1.2, 0.0))
+    }
+}
+
 impl Default for Showcase {
     fn default() -> Self {
         Self::new()
@@ -68,16 +81,6 @@ pub fn camera(eye: Vec3, target: Vec3, width: u32, height: u32) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, FOV_Y, 1.0)
         .with_aspect(width, height)
         .with_depth_range(0.1, FAR)
-}
-
-/// The headless camera path: frame `i` of `n` circles the plaza once, bobbing up and down.
-/// Returns `(eye, target)`.
-pub fn path(i: usize, n: usize) -> (Vec3, Vec3) {
-    let f = i as f32 / n.max(1) as f32;
-    let a = std::f32::consts::TAU * f + 0.6;
-    let r = 15.0 + 1.5 * (2.0 * a).sin();
-    let eye = Vec3::new(r * a.cos(), 4.2 + 1.4 * a.sin(), r * a.sin());
-    (eye, Vec3::new(0.0, 1.2, 0.0))
 }
 
 /// Builds a texture from a per-texel function returning straight sRGB bytes.
@@ -362,7 +365,7 @@ fn build() -> Showcase {
     let mut placed = 0;
     while placed < 48 {
         let a = rng.range(0.0, std::f32::consts::TAU);
-        let r = rng.range(19.0, 42.0);
+        let r = rng.range(21.0, 44.0);
         let (x, z) = (r * a.cos(), r * a.sin());
         let h = rng.range(3.5, 7.0);
         let y = terrain.height_at(x, z) - 0.1;
@@ -375,7 +378,7 @@ fn build() -> Showcase {
         instance(&mut s, v, veg, xf);
         placed += 1;
     }
-    for (k, (x, z, h)) in [(-11.0, -5.5, 5.0), (-6.5, -9.5, 4.2), (-3.5, -10.5, 4.6)]
+    for (k, (x, z, h)) in [(-12.0, -4.5, 5.0), (-7.5, -9.5, 4.2), (-4.0, -11.0, 4.6)]
         .into_iter()
         .enumerate()
     {
@@ -472,8 +475,7 @@ pub struct FlyCamera {
 
 impl Default for FlyCamera {
     fn default() -> Self {
-        let (eye, target) = path(0, 1);
-        FlyCamera::looking_at(eye, target)
+        FlyCamera::looking_at(Vec3::new(10.0, 4.5, 13.0), Vec3::new(0.0, 1.2, 0.0))
     }
 }
 
@@ -599,7 +601,7 @@ mod tests {
     fn path_stays_above_the_ground() {
         let show = Showcase::new();
         for i in 0..120 {
-            let (eye, _) = path(i, 120);
+            let (eye, _) = show.path(i, 120);
             assert!(eye.y > show.terrain.height_at(eye.x, eye.z) + 1.0);
         }
     }

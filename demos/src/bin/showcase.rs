@@ -110,7 +110,7 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
     let mut stats = FrameStats::default();
     for i in 0..n {
         show.animate(i as f32 / 30.0);
-        let (eye, look) = showcase::path(i, n);
+        let (eye, look) = show.path(i, n);
         let camera = showcase::camera(eye, look, w, h);
         let start = Instant::now();
         stats = renderer.render_scene(&show.scene, &camera, &mut target, &opts);
