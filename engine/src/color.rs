@@ -185,7 +185,12 @@ impl Encoder {
     #[inline]
     pub fn pack8(&self, r: &[f32], g: &[f32], b: &[f32], a: &[f32], out: &mut [u32]) {
         use crate::simd::F8;
-        let unorm = |x: &[f32]| F8::load(x).clamp01().mul_add(F8::splat(255.0), F8::splat(0.5)).to_i32();
+        let unorm = |x: &[f32]| {
+            F8::load(x)
+                .clamp01()
+                .mul_add(F8::splat(255.0), F8::splat(0.5))
+                .to_i32()
+        };
         let alpha = unorm(a).shl::<24>();
         let rgb = match self.encoding {
             Encoding::Unorm => unorm(r).or(unorm(g).shl::<8>()).or(unorm(b).shl::<16>()),
@@ -275,7 +280,19 @@ mod tests {
 
     #[test]
     fn pack8_matches_pack_bit_for_bit() {
-        let vals = [0.0, 1e-5, 0.003, 0.2, 0.5, 0.999, 1.0, 3.0, -2.0, f32::NAN, f32::INFINITY];
+        let vals = [
+            0.0,
+            1e-5,
+            0.003,
+            0.2,
+            0.5,
+            0.999,
+            1.0,
+            3.0,
+            -2.0,
+            f32::NAN,
+            f32::INFINITY,
+        ];
         for enc in [Encoding::Srgb, Encoding::Unorm] {
             let e = Encoder::new(enc);
             for (i, &x) in vals.iter().enumerate() {

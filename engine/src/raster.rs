@@ -156,8 +156,16 @@ fn edges(t: &Tri) -> [Edge; 3] {
 #[inline]
 fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
     let x = |p: i32| p as i64 * ONE + ONE / 2;
-    let (xl, xh) = if ed.a >= 0 { (x(px0), x(px1)) } else { (x(px1), x(px0)) };
-    let (yl, yh) = if ed.b >= 0 { (x(py0), x(py1)) } else { (x(py1), x(py0)) };
+    let (xl, xh) = if ed.a >= 0 {
+        (x(px0), x(px1))
+    } else {
+        (x(px1), x(px0))
+    };
+    let (yl, yh) = if ed.b >= 0 {
+        (x(py0), x(py1))
+    } else {
+        (x(py1), x(py0))
+    };
     let lo = ed.a * xl + ed.b * yl + ed.c;
     let hi = ed.a * xh + ed.b * yh + ed.c;
     if hi < ed.bias {
@@ -273,7 +281,8 @@ pub fn raster_tri<S: FragShader>(
                 let cov: M8 = if full {
                     range
                 } else {
-                    let inside = |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
+                    let inside =
+                        |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
                     range.and(inside(0)).and(inside(1)).and(inside(2))
                 };
                 let covered = cov.bits().count_ones();
@@ -322,7 +331,12 @@ fn write_row(
     stats: &mut FrameStats,
 ) {
     let [r, g, b, a] = &mut buf.color;
-    let (r, g, b, a) = (&mut r[base..], &mut g[base..], &mut b[base..], &mut a[base..]);
+    let (r, g, b, a) = (
+        &mut r[base..],
+        &mut g[base..],
+        &mut b[base..],
+        &mut a[base..],
+    );
     match mode.alpha {
         AlphaMode::Opaque | AlphaMode::Mask { .. } => {
             if let AlphaMode::Mask { cutoff } = mode.alpha {

@@ -14,8 +14,8 @@ use crate::setup::{Plane, Tri, FRONT};
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::Vec3;
 
-pub use crate::simd::LANES;
 use crate::simd::F8;
+pub use crate::simd::LANES;
 
 /// 8 lanes of one channel.
 pub type Lane = F8;

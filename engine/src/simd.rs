@@ -99,7 +99,10 @@ mod imp {
         }
         #[inline(always)]
         pub fn ramp_times(k: i32) -> Self {
-            avx!(I8(_mm256_mullo_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(k))))
+            avx!(I8(_mm256_mullo_epi32(
+                _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+                _mm256_set1_epi32(k)
+            )))
         }
         #[inline(always)]
         pub fn add(self, o: Self) -> Self {
@@ -124,7 +127,10 @@ mod imp {
         /// Lanes where `self >= 0`.
         #[inline(always)]
         pub fn non_negative(self) -> M8 {
-            avx!(M8(_mm256_castsi256_ps(_mm256_cmpgt_epi32(self.0, _mm256_set1_epi32(-1)))))
+            avx!(M8(_mm256_castsi256_ps(_mm256_cmpgt_epi32(
+                self.0,
+                _mm256_set1_epi32(-1)
+            ))))
         }
         /// Lanes `l` with `lo <= l <= hi`.
         #[inline(always)]
@@ -251,7 +257,9 @@ mod imp {
             (0..LANES).fold(0, |b, l| b | (self.0[l] as u32) << l)
         }
         pub fn select(self, a: F8, b: F8) -> F8 {
-            F8(std::array::from_fn(|l| if self.0[l] { a.0[l] } else { b.0[l] }))
+            F8(std::array::from_fn(
+                |l| if self.0[l] { a.0[l] } else { b.0[l] },
+            ))
         }
     }
 }
@@ -292,14 +300,23 @@ mod tests {
         let b = F8::splat(3.5);
         assert_eq!(a.gt(b).bits(), 0b1111_0000);
         assert_eq!(a.ge(F8::splat(3.0)).bits(), 0b1111_1000);
-        assert_eq!(a.gt(b).select(a, b).to_array(), [3.5, 3.5, 3.5, 3.5, 4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(
+            a.gt(b).select(a, b).to_array(),
+            [3.5, 3.5, 3.5, 3.5, 4.0, 5.0, 6.0, 7.0]
+        );
         assert_eq!(I8::lane_range(2, 4).bits(), 0b0001_1100);
-        assert_eq!(I8::ramp_times(-3).add(I8::splat(6)).non_negative().bits(), 0b0000_0111);
+        assert_eq!(
+            I8::ramp_times(-3).add(I8::splat(6)).non_negative().bits(),
+            0b0000_0111
+        );
         assert_eq!(F8::ramp().to_array()[7], 7.0);
         let packed = F8::from_array([0.0, 0.5, 1.0, 2.0, -1.0, f32::NAN, 0.25, 0.75]).clamp01();
         assert_eq!(packed.to_array()[3], 1.0);
         assert_eq!(packed.to_array()[5], 0.0);
-        assert_eq!(I8::splat(3).shl::<8>().or(I8::splat(1)).to_array()[0], 0x301);
+        assert_eq!(
+            I8::splat(3).shl::<8>().or(I8::splat(1)).to_array()[0],
+            0x301
+        );
         let mut s = [0.0; 9];
         a.store(&mut s);
         assert_eq!(F8::load(&s).to_array(), a.to_array());
