@@ -35,7 +35,7 @@ impl Mesh {
     /// Checks the invariants the pipeline relies on; returns what is wrong.
     pub fn validate(&self) -> Result<(), String> {
         let n = self.positions.len();
-        if self.indices.len() % 3 != 0 {
+        if !self.indices.len().is_multiple_of(3) {
             return Err(format!(
                 "index count {} is not a multiple of 3",
                 self.indices.len()

@@ -19,6 +19,7 @@ use crate::material::{AlphaMode, BlendMode};
 use crate::setup::{Tri, ONE};
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
 use crate::simd::{F8, I8, M8};
+use std::ops::{Add, Mul, Sub};
 
 use crate::stats::FrameStats;
 use crate::target::{TILE, TILE_PIXELS};

@@ -122,7 +122,7 @@ fn classify(m: &Material, mesh: &Mesh) -> (Kind, Layout) {
             }),
             Layout::None,
         ),
-        Shading::Unlit if plain && !(m.vertex_colors && !mesh.colors.is_empty()) => (
+        Shading::Unlit if plain && (!m.vertex_colors || mesh.colors.is_empty()) => (
             Kind::Const(ConstShader {
                 color: base,
                 per_triangle: false,

@@ -13,6 +13,7 @@ use crate::material::{Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::Vec3;
+use std::ops::{Div, Mul};
 
 use crate::simd::F8;
 pub use crate::simd::LANES;

@@ -54,22 +54,6 @@ mod imp {
             avx!(F8(_mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0)))
         }
         #[inline(always)]
-        pub fn add(self, o: Self) -> Self {
-            avx!(F8(_mm256_add_ps(self.0, o.0)))
-        }
-        #[inline(always)]
-        pub fn sub(self, o: Self) -> Self {
-            avx!(F8(_mm256_sub_ps(self.0, o.0)))
-        }
-        #[inline(always)]
-        pub fn mul(self, o: Self) -> Self {
-            avx!(F8(_mm256_mul_ps(self.0, o.0)))
-        }
-        #[inline(always)]
-        pub fn div(self, o: Self) -> Self {
-            avx!(F8(_mm256_div_ps(self.0, o.0)))
-        }
-        #[inline(always)]
         pub fn min(self, o: Self) -> Self {
             avx!(F8(_mm256_min_ps(self.0, o.0)))
         }
@@ -105,10 +89,6 @@ mod imp {
             )))
         }
         #[inline(always)]
-        pub fn add(self, o: Self) -> Self {
-            avx!(I8(_mm256_add_epi32(self.0, o.0)))
-        }
-        #[inline(always)]
         pub fn or(self, o: Self) -> Self {
             avx!(I8(_mm256_or_si256(self.0, o.0)))
         }
@@ -139,6 +119,46 @@ mod imp {
             let a = avx!(_mm256_cmpgt_epi32(l, _mm256_set1_epi32(lo - 1)));
             let b = avx!(_mm256_cmpgt_epi32(_mm256_set1_epi32(hi + 1), l));
             avx!(M8(_mm256_castsi256_ps(_mm256_and_si256(a, b))))
+        }
+    }
+
+    impl std::ops::Add for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn add(self, o: Self) -> Self {
+            avx!(F8(_mm256_add_ps(self.0, o.0)))
+        }
+    }
+
+    impl std::ops::Sub for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn sub(self, o: Self) -> Self {
+            avx!(F8(_mm256_sub_ps(self.0, o.0)))
+        }
+    }
+
+    impl std::ops::Mul for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn mul(self, o: Self) -> Self {
+            avx!(F8(_mm256_mul_ps(self.0, o.0)))
+        }
+    }
+
+    impl std::ops::Div for F8 {
+        type Output = Self;
+        #[inline(always)]
+        fn div(self, o: Self) -> Self {
+            avx!(F8(_mm256_div_ps(self.0, o.0)))
+        }
+    }
+
+    impl std::ops::Add for I8 {
+        type Output = Self;
+        #[inline(always)]
+        fn add(self, o: Self) -> Self {
+            avx!(I8(_mm256_add_epi32(self.0, o.0)))
         }
     }
 
@@ -189,18 +209,6 @@ mod imp {
         pub fn ramp() -> Self {
             F8(std::array::from_fn(|l| l as f32))
         }
-        pub fn add(self, o: Self) -> Self {
-            F8(map(self.0, o.0, |a, b| a + b))
-        }
-        pub fn sub(self, o: Self) -> Self {
-            F8(map(self.0, o.0, |a, b| a - b))
-        }
-        pub fn mul(self, o: Self) -> Self {
-            F8(map(self.0, o.0, |a, b| a * b))
-        }
-        pub fn div(self, o: Self) -> Self {
-            F8(map(self.0, o.0, |a, b| a / b))
-        }
         // Same NaN behaviour as minps/maxps: the second operand wins.
         pub fn min(self, o: Self) -> Self {
             F8(map(self.0, o.0, |a, b| if a < b { a } else { b }))
@@ -226,9 +234,6 @@ mod imp {
         pub fn ramp_times(k: i32) -> Self {
             I8(std::array::from_fn(|l| l as i32 * k))
         }
-        pub fn add(self, o: Self) -> Self {
-            I8(std::array::from_fn(|l| self.0[l] + o.0[l]))
-        }
         pub fn or(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l] | o.0[l]))
         }
@@ -246,6 +251,41 @@ mod imp {
         }
         pub fn lane_range(lo: i32, hi: i32) -> M8 {
             M8(std::array::from_fn(|l| l as i32 >= lo && l as i32 <= hi))
+        }
+    }
+
+    impl std::ops::Add for F8 {
+        type Output = Self;
+        fn add(self, o: Self) -> Self {
+            F8(map(self.0, o.0, |a, b| a + b))
+        }
+    }
+
+    impl std::ops::Sub for F8 {
+        type Output = Self;
+        fn sub(self, o: Self) -> Self {
+            F8(map(self.0, o.0, |a, b| a - b))
+        }
+    }
+
+    impl std::ops::Mul for F8 {
+        type Output = Self;
+        fn mul(self, o: Self) -> Self {
+            F8(map(self.0, o.0, |a, b| a * b))
+        }
+    }
+
+    impl std::ops::Div for F8 {
+        type Output = Self;
+        fn div(self, o: Self) -> Self {
+            F8(map(self.0, o.0, |a, b| a / b))
+        }
+    }
+
+    impl std::ops::Add for I8 {
+        type Output = Self;
+        fn add(self, o: Self) -> Self {
+            I8(std::array::from_fn(|l| self.0[l] + o.0[l]))
         }
     }
 
@@ -286,7 +326,7 @@ impl F8 {
     /// `a * b + c`, unfused (the same rounding on every path).
     #[inline(always)]
     pub fn mul_add(self, b: Self, c: Self) -> Self {
-        self.mul(b).add(c)
+        self * b + c
     }
 }
 
@@ -306,7 +346,7 @@ mod tests {
         );
         assert_eq!(I8::lane_range(2, 4).bits(), 0b0001_1100);
         assert_eq!(
-            I8::ramp_times(-3).add(I8::splat(6)).non_negative().bits(),
+            (I8::ramp_times(-3) + I8::splat(6)).non_negative().bits(),
             0b0000_0111
         );
         assert_eq!(F8::ramp().to_array()[7], 7.0);
