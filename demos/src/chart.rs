@@ -1,12 +1,15 @@
 //! PNG charts of benchmark rows, drawn with plotters' bitmap backend.
 //!
-//! Text needs a system font (plotters' `ttf` feature finds one through fontconfig). When
-//! none can be found, the chart is drawn again without any text (axes, grid, series and
+//! Text is drawn by plotters' pure-Rust `ab_glyph` renderer, from a TrueType font found at
+//! run time ([`font_file`]: `$PARALLAX_FONT`, else DejaVu Sans, Liberation Sans or any
+//! `.ttf` under the usual font folders), so building needs no font libraries. When no font
+//! can be found or read, the chart is drawn without any text (axes, grid, series and
 //! points only) rather than failing, and the caller is told so it can say it.
 
 use crate::bench::Row;
 use plotters::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 type Error = Box<dyn std::error::Error>;
 
@@ -74,8 +77,13 @@ fn range(values: impl Iterator<Item = f64> + Clone, log: bool) -> (f64, f64) {
         return (if log { 0.1 } else { 0.0 }, 1.0);
     }
     if log {
+        // Whole decades, so every log axis has labelled ticks.
         let lo = lo.max(1e-3);
-        (lo / 2.0, hi.max(lo) * 2.0)
+        let decade = |v: f64, up: bool| {
+            let e = v.log10();
+            10f64.powf(if up { e.ceil() } else { e.floor() })
+        };
+        (decade(lo * 0.8, false), decade(hi.max(lo) * 1.25, true))
     } else {
         (0.0, hi.max(1e-3) * 1.15)
     }
@@ -158,7 +166,65 @@ fn draw(path: &Path, spec: &Spec, text: bool) -> Result<(), Error> {
     Ok(())
 }
 
+/// The font file charts use: `$PARALLAX_FONT` when set, else the first of DejaVu Sans,
+/// Liberation Sans, or any `.ttf` file found under the usual font folders.
+pub fn font_file() -> Option<PathBuf> {
+    if let Some(p) = std::env::var_os("PARALLAX_FONT") {
+        return Some(PathBuf::from(p));
+    }
+    fn walk(dir: &Path, depth: u32, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        let mut entries: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+        entries.sort();
+        for p in entries {
+            if p.is_dir() && depth < 4 {
+                walk(&p, depth + 1, out);
+            } else if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("ttf")) {
+                out.push(p);
+            }
+        }
+    }
+    let mut found = Vec::new();
+    for dir in [
+        "/usr/share/fonts",
+        "/usr/local/share/fonts",
+        "/Library/Fonts",
+        "C:\\Windows\\Fonts",
+    ] {
+        walk(Path::new(dir), 0, &mut found);
+    }
+    let named = |name: &str| {
+        found
+            .iter()
+            .find(|p| p.file_name().is_some_and(|f| f.eq_ignore_ascii_case(name)))
+            .cloned()
+    };
+    named("DejaVuSans.ttf")
+        .or_else(|| named("LiberationSans-Regular.ttf"))
+        .or_else(|| named("Arial.ttf"))
+        .or_else(|| found.into_iter().next())
+}
+
+/// Registers [`font_file`] as plotters' "sans-serif" once; whether text can be drawn.
+fn font_ready() -> bool {
+    static READY: OnceLock<bool> = OnceLock::new();
+    *READY.get_or_init(|| {
+        let Some(bytes) = font_file().and_then(|p| std::fs::read(p).ok()) else {
+            return false;
+        };
+        // plotters keeps fonts for the life of the program; this runs once.
+        let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+        plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok()
+    })
+}
+
 fn draw_with_fallback(path: &Path, spec: &Spec) -> Result<Drawn, Error> {
+    if !font_ready() {
+        draw(path, spec, false)?;
+        return Ok(Drawn::WithoutText);
+    }
     match draw(path, spec, true) {
         Ok(()) => Ok(Drawn::WithText),
         Err(_) => {
