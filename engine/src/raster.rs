@@ -85,14 +85,11 @@ impl TileBuf {
     }
 
     fn update_block_far(&mut self, block: usize) {
-        let (bx, by) = (block % BLOCKS * LANES, block / BLOCKS * LANES);
-        let mut far = [f32::INFINITY; LANES];
-        for y in by..by + LANES {
-            let row = &self.depth[y * TILE + bx..y * TILE + bx + LANES];
-            for l in 0..LANES {
-                far[l] = far[l].min(row[l]);
-            }
+        let mut far = F8::splat(f32::INFINITY);
+        for row in self.depth[block * 64..block * 64 + 64].chunks_exact(LANES) {
+            far = far.min(F8::load(row));
         }
+        let far = far.to_array();
         self.block_far[block] = far.iter().copied().fold(f32::INFINITY, f32::min);
     }
 }
@@ -208,6 +205,8 @@ pub fn raster_tri<S: FragShader>(
         }
     }
     let all_inside = tile_inside.iter().all(|&b| b);
+    // Counters live in registers during the walk and are added once at the end.
+    let mut local = FrameStats::default();
     let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
     let mut out: [Lane; 4] = [F8::splat(0.0); 4];
     let mut by = y0 & !(BLOCK - 1);
@@ -264,16 +263,16 @@ pub fn raster_tri<S: FragShader>(
                     + (z.dx.max(0.0) + z.dy.max(0.0)) * (BLOCK - 1) as f32;
                 let near = near + near.abs() * 1e-5 + 1e-7;
                 if near <= buf.block_far[block] {
-                    stats.blocks_hiz_rejected += 1;
+                    local.blocks_hiz_rejected += 1;
                     bx += BLOCK;
                     continue;
                 }
             }
             let mut wrote = false;
             if full {
-                stats.blocks_full += 1;
+                local.blocks_full += 1;
             } else {
-                stats.blocks_partial += 1;
+                local.blocks_partial += 1;
             }
             let range = I8::lane_range(lx0, lx1);
             let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
@@ -290,12 +289,12 @@ pub fn raster_tri<S: FragShader>(
                 if covered == 0 {
                     continue;
                 }
-                stats.fragments_tested += covered as u64;
+                local.fragments_tested += covered as u64;
                 let row = Row {
                     fx: (bx - rx) as f32,
                     fy: (y - ry) as f32,
                 };
-                let base = ((y - oy) as usize) * TILE + (bx - ox) as usize;
+                let base = block * LANES * LANES + j as usize * LANES;
                 let z = eval(&tri.z, &row);
                 let m = if mode.depth_test {
                     cov.and(z.gt(F8::load(&buf.depth[base..])))
@@ -306,9 +305,9 @@ pub fn raster_tri<S: FragShader>(
                 if passed == 0 {
                     continue;
                 }
-                stats.fragments_shaded += passed as u64;
+                local.fragments_shaded += passed as u64;
                 shader.shade(prepared, tri, &row, &mut out);
-                write_row(buf, base, m, &z, &out, mode, soft, stats);
+                local.fragments_written += write_row(buf, base, m, &z, &out, mode, soft) as u64;
                 wrote = true;
             }
             if wrote && mode.depth_write {
@@ -318,9 +317,11 @@ pub fn raster_tri<S: FragShader>(
         }
         by += BLOCK;
     }
+    *stats += local;
 }
 
-#[inline]
+/// Writes the lanes of `m` that survive the alpha test; returns how many.
+#[inline(always)]
 fn write_row(
     buf: &mut TileBuf,
     base: usize,
@@ -329,8 +330,7 @@ fn write_row(
     out: &[Lane; 4],
     mode: &PixelMode,
     soft: &DepthToView,
-    stats: &mut FrameStats,
-) {
+) -> u32 {
     let [r, g, b, a] = &mut buf.color;
     let (r, g, b, a) = (
         &mut r[base..],
@@ -380,5 +380,5 @@ fn write_row(
         let zb = &mut buf.depth[base..];
         m.select(*z, F8::load(zb)).store(zb);
     }
-    stats.fragments_written += m.bits().count_ones() as u64;
+    m.bits().count_ones()
 }

@@ -1,8 +1,9 @@
 //! Render targets: colour and depth stored tile by tile, so that each raster worker owns one
 //! tile's memory outright (`&mut` slices handed to rayon, no sharing).
 //!
-//! Layout: the target is cut into `TILE` x `TILE` tiles, row-major over tiles; each tile's
-//! pixels are row-major inside the tile, and edge tiles are padded to full size. Colour is
+//! Layout: the target is cut into `TILE` x `TILE` tiles, row-major over tiles; inside a
+//! tile, pixels are stored in 8 x 8 blocks ([`offset_in_tile`]); edge tiles are padded to
+//! full size. Colour is
 //! premultiplied RGBA8 in the target's [`Encoding`]; depth is the pipeline's reversed depth
 //! (1 = near plane, 0 = far plane and the cleared value). Readers convert to row-major images,
 //! OpenGL window depth, or a [`Texture`] for image-based rendering.
@@ -17,6 +18,16 @@ pub const TILE: usize = 64;
 pub const TILE_SHIFT: u32 = 6;
 /// Pixels in one tile.
 pub const TILE_PIXELS: usize = TILE * TILE;
+/// Side of the blocks a tile is stored in.
+pub const BLOCK: usize = 8;
+
+/// Where pixel `(x, y)` of a tile is stored: 8 x 8 blocks, row-major over blocks, each
+/// block row-major inside. A block (the rasterizer's unit) is then 64 contiguous values.
+#[inline]
+pub fn offset_in_tile(x: usize, y: usize) -> usize {
+    ((y / BLOCK) * (TILE / BLOCK) + x / BLOCK) * BLOCK * BLOCK + (y % BLOCK) * BLOCK + x % BLOCK
+}
+
 /// Largest target side; larger requests are clamped to it.
 pub const MAX_TARGET_SIZE: u32 = 16384;
 
@@ -106,7 +117,7 @@ impl Target {
     #[inline]
     fn index(&self, x: u32, y: u32) -> usize {
         let tile = (y as usize >> TILE_SHIFT) * self.tiles_x as usize + (x as usize >> TILE_SHIFT);
-        tile * TILE_PIXELS + (y as usize & (TILE - 1)) * TILE + (x as usize & (TILE - 1))
+        tile * TILE_PIXELS + offset_in_tile(x as usize & (TILE - 1), y as usize & (TILE - 1))
     }
 
     /// Packed premultiplied bytes `r | g << 8 | b << 16 | a << 24` at a pixel, or `None`
