@@ -30,14 +30,23 @@ pub const BLOCK: i32 = LANES as i32;
 /// Blocks per tile side.
 const BLOCKS: usize = TILE / LANES;
 
+/// Values in one block.
+const BLOCK_PIXELS: usize = LANES * LANES;
+
 /// One tile's working memory: linear premultiplied colour planes, reversed depth, and for
 /// each 8 x 8 block the farthest depth stored in it (a one-level hierarchical Z: a triangle
 /// nowhere nearer than that cannot pass the depth test anywhere in the block).
+///
+/// Clearing is lazy: a cleared tile only remembers the clear colour, and a block is filled
+/// with it the first time a triangle reaches it (`touched`). Blocks no triangle reached are
+/// resolved straight from the packed clear colour.
 #[derive(Clone, Debug)]
 pub struct TileBuf {
     pub color: [Vec<f32>; 4],
     pub depth: Vec<f32>,
     pub block_far: Vec<f32>,
+    touched: u64,
+    clear: Premul,
 }
 
 impl Default for TileBuf {
@@ -46,18 +55,32 @@ impl Default for TileBuf {
             color: std::array::from_fn(|_| vec![0.0; TILE_PIXELS]),
             depth: vec![0.0; TILE_PIXELS],
             block_far: vec![0.0; BLOCKS * BLOCKS],
+            touched: 0,
+            clear: Premul::TRANSPARENT,
         }
     }
 }
 
 impl TileBuf {
-    /// Fills with one premultiplied colour and the far depth.
+    /// Clears to one premultiplied colour and the far depth (lazily, see the type's doc).
     pub fn clear(&mut self, c: Premul) {
-        for (plane, v) in self.color.iter_mut().zip([c.r, c.g, c.b, c.a]) {
-            plane.fill(v);
-        }
-        self.depth.fill(0.0);
+        self.clear = c;
+        self.touched = 0;
         self.block_far.fill(0.0);
+    }
+
+    /// Makes block `b` hold real values before it is drawn into.
+    #[inline]
+    fn touch(&mut self, b: usize) {
+        if self.touched >> b & 1 == 0 {
+            self.touched |= 1 << b;
+            let c = self.clear;
+            let r = b * BLOCK_PIXELS..(b + 1) * BLOCK_PIXELS;
+            for (plane, v) in self.color.iter_mut().zip([c.r, c.g, c.b, c.a]) {
+                plane[r.clone()].fill(v);
+            }
+            self.depth[r].fill(0.0);
+        }
     }
 
     /// Loads a stored tile (packed colour in `encoding`, reversed depth).
@@ -70,6 +93,7 @@ impl TileBuf {
             self.color[3][i] = c.a;
         }
         self.depth.copy_from_slice(depth);
+        self.touched = u64::MAX;
         for b in 0..BLOCKS * BLOCKS {
             self.update_block_far(b);
         }
@@ -78,15 +102,26 @@ impl TileBuf {
     /// Encodes colour into packed bytes and copies depth out.
     pub fn resolve(&self, color: &mut [u32], depth: &mut [f32], encoder: &Encoder) {
         let [r, g, b, a] = &self.color;
-        for i in (0..TILE_PIXELS).step_by(LANES) {
-            encoder.pack8(&r[i..], &g[i..], &b[i..], &a[i..], &mut color[i..]);
+        let c = self.clear;
+        let clear_px = encoder.pack(c.r, c.g, c.b, c.a);
+        for blk in 0..BLOCKS * BLOCKS {
+            let range = blk * BLOCK_PIXELS..(blk + 1) * BLOCK_PIXELS;
+            if self.touched >> blk & 1 == 0 {
+                color[range.clone()].fill(clear_px);
+                depth[range].fill(0.0);
+                continue;
+            }
+            for i in range.clone().step_by(LANES) {
+                encoder.pack8(&r[i..], &g[i..], &b[i..], &a[i..], &mut color[i..]);
+            }
+            depth[range.clone()].copy_from_slice(&self.depth[range]);
         }
-        depth.copy_from_slice(&self.depth);
     }
 
     fn update_block_far(&mut self, block: usize) {
         let mut far = F8::splat(f32::INFINITY);
-        for row in self.depth[block * 64..block * 64 + 64].chunks_exact(LANES) {
+        for row in self.depth[block * BLOCK_PIXELS..(block + 1) * BLOCK_PIXELS].chunks_exact(LANES)
+        {
             far = far.min(F8::load(row));
         }
         let far = far.to_array();
@@ -269,6 +304,7 @@ pub fn raster_tri<S: FragShader>(
                 }
             }
             let mut wrote = false;
+            buf.touch(block);
             if full {
                 local.blocks_full += 1;
             } else {
@@ -343,10 +379,10 @@ fn write_row(
             if let AlphaMode::Mask { cutoff } = mode.alpha {
                 m = m.and(out[3].ge(F8::splat(cutoff)));
             }
-            m.select(out[0], F8::load(r)).store(r);
-            m.select(out[1], F8::load(g)).store(g);
-            m.select(out[2], F8::load(b)).store(b);
-            m.select(F8::splat(1.0), F8::load(a)).store(a);
+            out[0].blend_into(m, r);
+            out[1].blend_into(m, g);
+            out[2].blend_into(m, b);
+            F8::splat(1.0).blend_into(m, a);
         }
         AlphaMode::Blend => {
             let mut alpha = out[3].max(F8::splat(0.0)).min(F8::splat(1.0));
@@ -370,15 +406,14 @@ fn write_row(
             let ia = F8::splat(1.0).sub(alpha);
             for (dst, src) in [(&mut *r, out[0]), (&mut *g, out[1]), (&mut *b, out[2])] {
                 let d = F8::load(dst);
-                m.select(src.mul_add(alpha, d.mul(inv)), d).store(dst);
+                src.mul_add(alpha, d.mul(inv)).blend_into(m, dst);
             }
             let d = F8::load(a);
-            m.select(d.mul_add(ia, alpha), d).store(a);
+            d.mul_add(ia, alpha).blend_into(m, a);
         }
     }
     if mode.depth_write {
-        let zb = &mut buf.depth[base..];
-        m.select(*z, F8::load(zb)).store(zb);
+        z.blend_into(m, &mut buf.depth[base..]);
     }
     m.bits().count_ones()
 }

@@ -318,6 +318,19 @@ impl F8 {
     pub fn store(self, s: &mut [f32]) {
         s[..LANES].copy_from_slice(&self.to_array());
     }
+    /// `dst[l] = if m[l] { self[l] } else { dst[l] }` with one full-width store. The old
+    /// value passes through `black_box` so the compiler cannot turn load-select-store into
+    /// a masked store (`vmaskmovps`), which is microcoded on AMD Zen: measured, it took a
+    /// quarter of the raster time of `torus_10k` at 1920x1080.
+    #[inline(always)]
+    pub fn blend_into(self, m: M8, dst: &mut [f32]) {
+        if m.bits() == (1 << LANES) - 1 {
+            self.store(dst);
+        } else {
+            let old = std::hint::black_box(F8::load(dst));
+            m.select(self, old).store(dst);
+        }
+    }
     /// Clamped to [0, 1]; NaN becomes 0.
     #[inline(always)]
     pub fn clamp01(self) -> Self {
