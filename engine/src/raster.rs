@@ -210,14 +210,16 @@ fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
     }
 }
 
-/// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`.
+/// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`. The shader prepares
+/// the triangle (reads its vertices' varyings from `vary`) only once a fragment survives
+/// the depth test, so hidden triangles never touch their vertex data.
 pub fn raster_tri<S: FragShader>(
     buf: &mut TileBuf,
     ox: i32,
     oy: i32,
     tri: &Tri,
     shader: &S,
-    prepared: &S::Prepared,
+    vary: &[f32],
     mode: &PixelMode,
     soft: &DepthToView,
     stats: &mut FrameStats,
@@ -230,15 +232,19 @@ pub fn raster_tri<S: FragShader>(
         return;
     }
     let e = edges(tri);
-    // Whole-rectangle test first: big triangles often cover the tile's part entirely.
+    // Whole-rectangle test first: big triangles often cover the tile's part entirely. A
+    // rectangle within one block is classified by the block loop anyway.
     let mut tile_inside = [false; 3];
-    for i in 0..3 {
-        match classify(&e[i], x0, y0, x1, y1) {
-            Some(false) => return,
-            Some(true) => tile_inside[i] = true,
-            None => {}
+    if x0 >> 3 != x1 >> 3 || y0 >> 3 != y1 >> 3 {
+        for i in 0..3 {
+            match classify(&e[i], x0, y0, x1, y1) {
+                Some(false) => return,
+                Some(true) => tile_inside[i] = true,
+                None => {}
+            }
         }
     }
+    let mut prepared: Option<S::Prepared> = None;
     let all_inside = tile_inside.iter().all(|&b| b);
     // Counters live in registers during the walk and are added once at the end.
     let mut local = FrameStats::default();
@@ -342,6 +348,7 @@ pub fn raster_tri<S: FragShader>(
                     continue;
                 }
                 local.fragments_shaded += passed as u64;
+                let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
                 shader.shade(prepared, tri, &row, &mut out);
                 local.fragments_written += write_row(buf, base, m, &z, &out, mode, soft) as u64;
                 wrote = true;

@@ -18,7 +18,7 @@ use crate::mesh::Mesh;
 use crate::raster::{raster_tri, DepthToView, PixelMode, TileBuf};
 use crate::scene::{Draw, Scene};
 use crate::setup::{setup, Dropped, ScreenVert, Tri, Viewport, CLIPPED};
-use crate::shade::{ColorShader, ConstShader, FragShader, GeneralShader};
+use crate::shade::{ColorShader, ConstShader, GeneralShader};
 use crate::stats::FrameStats;
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::vertex::{self, Layout, VertexPos, MAX_VARYINGS, NOT_FINITE};
@@ -316,12 +316,10 @@ impl Renderer {
                             let mode = &info.mode;
                             match &info.kind {
                                 Kind::Const(s) => {
-                                    let p = s.prepare(tri, src);
-                                    raster_tri(buf, ox, oy, tri, s, &p, mode, &soft, stats);
+                                    raster_tri(buf, ox, oy, tri, s, src, mode, &soft, stats);
                                 }
                                 Kind::Color(s) => {
-                                    let p = s.prepare(tri, src);
-                                    raster_tri(buf, ox, oy, tri, s, &p, mode, &soft, stats);
+                                    raster_tri(buf, ox, oy, tri, s, src, mode, &soft, stats);
                                 }
                                 Kind::General => {
                                     let s = GeneralShader {
@@ -329,8 +327,7 @@ impl Renderer {
                                         lighting,
                                         eye,
                                     };
-                                    let p = s.prepare(tri, src);
-                                    raster_tri(buf, ox, oy, tri, &s, &p, mode, &soft, stats);
+                                    raster_tri(buf, ox, oy, tri, &s, src, mode, &soft, stats);
                                 }
                             }
                         }
