@@ -141,121 +141,177 @@ impl FragShader for GeneralShader<'_> {
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, out: &mut [Lane; 4]) {
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
-        let (l1, l2, w) = (l1.to_array(), l2.to_array(), w.to_array());
-        let mut res = [[0.0f32; LANES]; 4];
-        let at = |c: usize, l: usize| {
+        let at = |c: usize| {
             let [a0, d1, d2] = p.attr[c];
-            a0 + l1[l] * d1 + l2[l] * d2
+            l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)))
         };
-        let base = m.base_color;
-        for l in 0..LANES {
-            let mut rgba = [base.r, base.g, base.b, base.a];
-            if m.vertex_colors {
-                for c in 0..4 {
-                    rgba[c] *= at(COL + c, l);
-                }
+        let base = m.base_color.to_array();
+        let mut rgba: [F8; 4] = std::array::from_fn(|c| F8::splat(base[c]));
+        if m.vertex_colors {
+            for c in 0..4 {
+                rgba[c] = rgba[c] * at(COL + c);
             }
-            if let Some(tex) = &m.base_texture {
-                let (u, v) = (at(UV, l), at(UV + 1, l));
+        }
+        if let Some(tex) = &m.base_texture {
+            let (u, v) = (at(UV).to_array(), at(UV + 1).to_array());
+            let (l1a, l2a, wa) = (l1.to_array(), l2.to_array(), w.to_array());
+            let [_, du1, du2] = p.attr[UV];
+            let [_, dv1, dv2] = p.attr[UV + 1];
+            let (tw, th) = (tex.width() as f32, tex.height() as f32);
+            let mut t = [[0.0f32; LANES]; 4];
+            for l in 0..LANES {
                 // d(l1)/dx = (d(l1/w)/dx - l1 * d(1/w)/dx) * w, and likewise for y and l2.
                 let d = |pl: &Plane, lam: f32| {
                     (
-                        (pl.dx - lam * tri.iw.dx) * w[l],
-                        (pl.dy - lam * tri.iw.dy) * w[l],
+                        (pl.dx - lam * tri.iw.dx) * wa[l],
+                        (pl.dy - lam * tri.iw.dy) * wa[l],
                     )
                 };
-                let (a1x, a1y) = d(&tri.l1, l1[l]);
-                let (a2x, a2y) = d(&tri.l2, l2[l]);
-                let [_, du1, du2] = p.attr[UV];
-                let [_, dv1, dv2] = p.attr[UV + 1];
-                let (tw, th) = (tex.width() as f32, tex.height() as f32);
+                let (a1x, a1y) = d(&tri.l1, l1a[l]);
+                let (a2x, a2y) = d(&tri.l2, l2a[l]);
                 let dudx = (a1x * du1 + a2x * du2) * tw;
                 let dvdx = (a1x * dv1 + a2x * dv2) * th;
                 let dudy = (a1y * du1 + a2y * du2) * tw;
                 let dvdy = (a1y * dv1 + a2y * dv2) * th;
                 let rho2 = (dudx * dudx + dvdx * dvdx).max(dudy * dudy + dvdy * dvdy);
-                let lod = 0.5 * rho2.max(1e-20).log2();
-                let s = tex.sample(&m.sampler, u, v, lod).unpremultiply();
-                rgba[0] *= s.r;
-                rgba[1] *= s.g;
-                rgba[2] *= s.b;
-                rgba[3] *= s.a;
+                let c = tex.sample(&m.sampler, u[l], v[l], 0.5 * fast_log2(rho2));
+                t[0][l] = c.r;
+                t[1][l] = c.g;
+                t[2][l] = c.b;
+                t[3][l] = c.a;
             }
-            if let Shading::Lit {
-                specular,
-                shininess,
-            } = m.shading
-            {
-                let pos = Vec3::new(at(POS, l), at(POS + 1, l), at(POS + 2, l));
-                let mut n = Vec3::new(at(NRM, l), at(NRM + 1, l), at(NRM + 2, l));
-                // Interpolated normals face the front side: flip them on back faces (two-sided
-                // lighting). The face normal already faces the viewer.
-                n = if n.length_squared() <= 1e-12 {
-                    p.face_normal
-                } else if p.front {
-                    n.normalize()
-                } else {
-                    -n.normalize()
-                };
-                let lit = light(self.lighting, self.eye, pos, n, specular, shininess);
-                for c in 0..3 {
-                    rgba[c] = rgba[c] * lit[0][c] + lit[1][c];
-                }
+            // Samples are premultiplied; the shader works in straight colour.
+            let a = F8::from_array(t[3]);
+            let inv = a
+                .gt(F8::splat(0.0))
+                .select(F8::splat(1.0) / a, F8::splat(0.0));
+            for c in 0..3 {
+                rgba[c] = rgba[c] * F8::from_array(t[c]) * inv;
             }
-            rgba[0] += m.emissive.r;
-            rgba[1] += m.emissive.g;
-            rgba[2] += m.emissive.b;
-            for c in 0..4 {
-                res[c][l] = rgba[c];
+            rgba[3] = rgba[3] * a;
+        }
+        if let Shading::Lit {
+            specular,
+            shininess,
+        } = m.shading
+        {
+            let pos = V3::new(at(POS), at(POS + 1), at(POS + 2));
+            let n = V3::new(at(NRM), at(NRM + 1), at(NRM + 2));
+            let len2 = n.dot(&n);
+            // Interpolated normals face the front side: flip them on back faces (two-sided
+            // lighting). The face normal already faces the viewer; it stands in for missing
+            // normals.
+            let sign = if p.front { 1.0 } else { -1.0 };
+            let has = len2.gt(F8::splat(1e-12));
+            let inv_len = has.select(F8::splat(sign) / len2.sqrt(), F8::splat(0.0));
+            let f = p.face_normal;
+            let n = V3::new(
+                has.select(n.x * inv_len, F8::splat(f.x)),
+                has.select(n.y * inv_len, F8::splat(f.y)),
+                has.select(n.z * inv_len, F8::splat(f.z)),
+            );
+            let lit = light8(self.lighting, self.eye, &pos, &n, specular, shininess);
+            for c in 0..3 {
+                rgba[c] = rgba[c].mul_add(lit[0][c], lit[1][c]);
             }
         }
-        for c in 0..4 {
-            out[c] = F8::from_array(res[c]);
+        let e = m.emissive;
+        for (c, v) in [e.r, e.g, e.b].into_iter().enumerate() {
+            if v != 0.0 {
+                rgba[c] = rgba[c] + F8::splat(v);
+            }
         }
+        *out = rgba;
     }
 }
 
-/// Diffuse factor and specular term, per RGB channel, at a surface point.
-fn light(
-    lighting: &Lighting,
-    eye: Vec3,
-    pos: Vec3,
-    n: Vec3,
-    spec: f32,
-    shin: f32,
-) -> [[f32; 3]; 2] {
+/// `log2` from the float's bits, exact at powers of two and within 0.09 between: plenty for
+/// choosing a mip level. Tiny and non-finite inputs are clamped.
+#[inline]
+fn fast_log2(x: f32) -> f32 {
+    let x = if x.is_finite() { x.max(1e-20) } else { 1e20 };
+    x.to_bits() as f32 * (1.0 / (1u32 << 23) as f32) - 127.0
+}
+
+/// Three lanes-of-8 coordinates.
+#[derive(Clone, Copy, Debug)]
+struct V3 {
+    x: F8,
+    y: F8,
+    z: F8,
+}
+
+impl V3 {
+    #[inline(always)]
+    fn new(x: F8, y: F8, z: F8) -> Self {
+        V3 { x, y, z }
+    }
+    #[inline(always)]
+    fn splat(v: Vec3) -> Self {
+        V3::new(F8::splat(v.x), F8::splat(v.y), F8::splat(v.z))
+    }
+    #[inline(always)]
+    fn sub(&self, o: &V3) -> V3 {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+    #[inline(always)]
+    fn add(&self, o: &V3) -> V3 {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+    #[inline(always)]
+    fn dot(&self, o: &V3) -> F8 {
+        self.x.mul_add(o.x, self.y.mul_add(o.y, self.z * o.z))
+    }
+    /// Unit length, or zero for a zero vector.
+    #[inline(always)]
+    fn normalize(&self) -> (V3, F8) {
+        let len = self.dot(self).sqrt();
+        let inv = len
+            .gt(F8::splat(0.0))
+            .select(F8::splat(1.0) / len, F8::splat(0.0));
+        (V3::new(self.x * inv, self.y * inv, self.z * inv), len)
+    }
+}
+
+/// Diffuse factor and specular term per RGB channel for 8 surface points: Lambert plus
+/// Blinn-Phong, with Schlick's rational stand-in for `pow(n.h, shininess)`
+/// (`t / (s - s t + t)`), which needs no transcendental per lane.
+fn light8(lighting: &Lighting, eye: Vec3, pos: &V3, n: &V3, spec: f32, shin: f32) -> [[F8; 3]; 2] {
     let a = lighting.ambient;
-    let mut diff = [a.r, a.g, a.b];
-    let mut sp = [0.0; 3];
-    let view = (eye - pos).normalize_or_zero();
+    let zero = F8::splat(0.0);
+    let mut diff = [F8::splat(a.r), F8::splat(a.g), F8::splat(a.b)];
+    let mut sp = [zero; 3];
+    let (view, _) = V3::splat(eye).sub(pos).normalize();
+    let shin = F8::splat(shin.max(0.0));
     for light in &lighting.lights {
         let (l, color, att) = match *light {
-            Light::Directional { direction, color } => (-direction.normalize_or_zero(), color, 1.0),
+            Light::Directional { direction, color } => (
+                V3::splat(-direction.normalize_or_zero()),
+                color,
+                F8::splat(1.0),
+            ),
             Light::Point {
                 position,
                 color,
                 range,
             } => {
-                let d = position - pos;
-                let dist = d.length();
-                let x = (dist / range.max(1e-6)).min(1.0);
-                let falloff = (1.0 - x * x) * (1.0 - x * x) / (1.0 + dist * dist);
-                (d / dist.max(1e-12), color, falloff)
+                let (l, dist) = V3::splat(position).sub(pos).normalize();
+                let x = (dist * F8::splat(1.0 / range.max(1e-6))).min(F8::splat(1.0));
+                let k = F8::splat(1.0) - x * x;
+                (l, color, k * k / dist.mul_add(dist, F8::splat(1.0)))
             }
         };
-        let ndl = n.dot(l);
-        if ndl <= 0.0 || !ndl.is_finite() {
-            continue;
-        }
-        let h = (l + view).normalize_or_zero();
-        let s = spec * n.dot(h).max(0.0).powf(shin) * att;
+        let ndl = n.dot(&l).max(zero);
+        let (h, _) = l.add(&view).normalize();
+        let t = n.dot(&h).max(zero);
+        let lit = ndl.gt(zero);
+        let s = t / (shin - shin * t + t).max(F8::splat(1e-12));
+        let s = lit.select(s * F8::splat(spec) * att, zero);
         let d = ndl * att;
-        diff[0] += color.r * d;
-        diff[1] += color.g * d;
-        diff[2] += color.b * d;
-        sp[0] += color.r * s;
-        sp[1] += color.g * s;
-        sp[2] += color.b * s;
+        for (c, v) in [color.r, color.g, color.b].into_iter().enumerate() {
+            diff[c] = F8::splat(v).mul_add(d, diff[c]);
+            sp[c] = F8::splat(v).mul_add(s, sp[c]);
+        }
     }
     [diff, sp]
 }

@@ -65,6 +65,10 @@ mod imp {
         pub fn gt(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)))
         }
+        #[inline(always)]
+        pub fn sqrt(self) -> Self {
+            avx!(F8(_mm256_sqrt_ps(self.0)))
+        }
         /// Truncating conversion (in range for the callers: values in [0, 2^31)).
         #[inline(always)]
         pub fn to_i32(self) -> I8 {
@@ -221,6 +225,9 @@ mod imp {
         }
         pub fn to_i32(self) -> I8 {
             I8(std::array::from_fn(|l| self.0[l] as i32))
+        }
+        pub fn sqrt(self) -> Self {
+            F8(self.0.map(f32::sqrt))
         }
         pub fn ge(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= o.0[l]))
