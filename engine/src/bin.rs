@@ -1,7 +1,7 @@
 //! Bin stage: sorts each chunk's set-up triangles into per-tile lists.
 //!
 //! Each chunk of triangles (a contiguous range in submission order) bins its own triangles
-//! with a counting sort into `offsets` / `entries`: tile `t`'s triangles are
+//! with a counting sort into `offsets` / `entries` (copies of the triangles): tile `t`'s triangles are
 //! `entries[offsets[t]..offsets[t + 1]]`, in submission order. The rasterizer visits the
 //! chunks in order, so every tile sees its triangles in submission order whatever the
 //! thread count. A triangle goes to every tile its pixel bounding box touches; the
@@ -14,7 +14,11 @@ use crate::target::TILE_SHIFT;
 #[derive(Clone, Debug, Default)]
 pub struct Bins {
     pub offsets: Vec<u32>,
-    pub entries: Vec<u32>,
+    /// Copies of the triangles, grouped by tile: the rasterizer then reads each tile's
+    /// triangles from consecutive memory instead of jumping around the chunk's list (on
+    /// scattered scenes such as `confetti` those jumps were cache misses costing a fifth of
+    /// the frame).
+    pub entries: Vec<Tri>,
     cursor: Vec<u32>,
 }
 
@@ -47,15 +51,17 @@ impl Bins {
         }
         let total = self.offsets[n] as usize;
         self.entries.clear();
-        self.entries.resize(total, 0);
+        if let Some(first) = tris.first() {
+            self.entries.resize(total, *first);
+        }
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.offsets[..n]);
-        for (i, t) in tris.iter().enumerate() {
+        for t in tris {
             let (x0, y0, x1, y1) = tile_range(t);
             for ty in y0..=y1.min(tiles_y - 1) {
                 for tx in x0..=x1.min(tiles_x - 1) {
                     let c = &mut self.cursor[ty * tiles_x + tx];
-                    self.entries[*c as usize] = i as u32;
+                    self.entries[*c as usize] = *t;
                     *c += 1;
                 }
             }
@@ -63,9 +69,9 @@ impl Bins {
         total as u64
     }
 
-    /// The triangles (indices into the chunk's list) binned to tile `tile`.
+    /// The triangles binned to tile `tile`, in submission order.
     #[inline]
-    pub fn tile(&self, tile: usize) -> &[u32] {
+    pub fn tile(&self, tile: usize) -> &[Tri] {
         match (self.offsets.get(tile), self.offsets.get(tile + 1)) {
             (Some(&a), Some(&b)) => &self.entries[a as usize..b as usize],
             _ => &[],
@@ -97,17 +103,21 @@ mod tests {
 
     #[test]
     fn triangles_land_in_every_tile_of_their_box_in_order() {
-        let tris = [
+        let mut tris = [
             tri([0, 0, 10, 10]),
             tri([60, 60, 70, 70]),
             tri([100, 0, 100, 0]),
         ];
+        for (i, t) in tris.iter_mut().enumerate() {
+            t.prim = i as u32;
+        }
+        let ids = |ts: &[Tri]| ts.iter().map(|t| t.prim).collect::<Vec<_>>();
         let mut b = Bins::default();
         assert_eq!(b.build(&tris, 2, 2), 1 + 4 + 1);
-        assert_eq!(b.tile(0), &[0, 1]);
-        assert_eq!(b.tile(1), &[1, 2]);
-        assert_eq!(b.tile(2), &[1]);
-        assert_eq!(b.tile(3), &[1]);
+        assert_eq!(ids(b.tile(0)), [0, 1]);
+        assert_eq!(ids(b.tile(1)), [1, 2]);
+        assert_eq!(ids(b.tile(2)), [1]);
+        assert_eq!(ids(b.tile(3)), [1]);
         assert!(b.tile(9).is_empty());
     }
 }

@@ -305,8 +305,7 @@ impl Renderer {
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;
                     for chunk in chunks {
-                        for &ti in chunk.bins.tile(tile) {
-                            let tri = &chunk.tris[ti as usize];
+                        for tri in chunk.bins.tile(tile) {
                             let info = &infos[tri.draw as usize];
                             let src = if tri.flags & CLIPPED != 0 {
                                 &chunk.extra[..]
