@@ -317,7 +317,12 @@ fn texel_floor(x: f32) -> i64 {
 #[inline]
 fn wrap(i: i64, size: u32, mode: Wrap) -> u32 {
     let n = size as i64;
+    // In range is the common case; powers of two need a mask, not a division.
+    if (0..n).contains(&i) {
+        return i as u32;
+    }
     (match mode {
+        Wrap::Repeat if size.is_power_of_two() => i & (n - 1),
         Wrap::Repeat => i.rem_euclid(n),
         Wrap::Clamp => i.clamp(0, n - 1),
         Wrap::Mirror => {
