@@ -22,6 +22,12 @@ fn every_path_in_the_code_map_exists() {
             }
         }
     }
-    assert!(checked >= 10, "expected the code map to name paths, found {checked}");
-    assert!(missing.is_empty(), "ARCHITECTURE.md names missing paths: {missing:?}");
+    assert!(
+        checked >= 10,
+        "expected the code map to name paths, found {checked}"
+    );
+    assert!(
+        missing.is_empty(),
+        "ARCHITECTURE.md names missing paths: {missing:?}"
+    );
 }
