@@ -349,7 +349,7 @@ pub fn raster_tri<S: FragShader>(
                 }
                 local.fragments_shaded += passed as u64;
                 let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-                shader.shade(prepared, tri, &row, &mut out);
+                shader.shade(prepared, tri, &row, m.bits(), &mut out);
                 local.fragments_written += write_row(buf, base, m, &z, &out, mode, soft) as u64;
                 wrote = true;
             }

@@ -51,8 +51,9 @@ pub trait FragShader: Sync {
     /// Per-triangle data, prepared once per triangle and tile.
     type Prepared;
     fn prepare(&self, tri: &Tri, vary: &[f32]) -> Self::Prepared;
-    /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`.
-    fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, out: &mut [Lane; 4]);
+    /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
+    /// `mask` will be used, so a shader may skip per-lane work for the others.
+    fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -74,7 +75,7 @@ impl FragShader for ConstShader {
         }
     }
     #[inline]
-    fn shade(&self, p: &[f32; 4], _: &Tri, _: &Row, out: &mut [Lane; 4]) {
+    fn shade(&self, p: &[f32; 4], _: &Tri, _: &Row, _: u32, out: &mut [Lane; 4]) {
         for c in 0..4 {
             out[c] = F8::splat(p[c]);
         }
@@ -96,7 +97,7 @@ impl FragShader for ColorShader {
         std::array::from_fn(|c| [v(0, c), v(1, c) - v(0, c), v(2, c) - v(0, c)])
     }
     #[inline]
-    fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, out: &mut [Lane; 4]) {
+    fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, _: u32, out: &mut [Lane; 4]) {
         let (l1, l2, _) = barycentrics(tri, row);
         for c in 0..4 {
             let [a0, d1, d2] = p[c];
@@ -138,7 +139,7 @@ impl FragShader for GeneralShader<'_> {
         }
     }
 
-    fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, out: &mut [Lane; 4]) {
+    fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
@@ -160,6 +161,9 @@ impl FragShader for GeneralShader<'_> {
             let (tw, th) = (tex.width() as f32, tex.height() as f32);
             let mut t = [[0.0f32; LANES]; 4];
             for l in 0..LANES {
+                if mask >> l & 1 == 0 {
+                    continue;
+                }
                 // d(l1)/dx = (d(l1/w)/dx - l1 * d(1/w)/dx) * w, and likewise for y and l2.
                 let d = |pl: &Plane, lam: f32| {
                     (

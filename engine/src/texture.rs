@@ -286,20 +286,43 @@ impl Texture {
         let ya = wrap(y0, l.height, s.wrap_v) * l.width;
         let yb = wrap(y0 + 1, l.height, s.wrap_v) * l.width;
         let t = &l.texels;
-        let c00 = self.decode(t[(ya + xa) as usize]);
-        let c10 = self.decode(t[(ya + xb) as usize]);
-        let c01 = self.decode(t[(yb + xa) as usize]);
-        let c11 = self.decode(t[(yb + xb) as usize]);
-        let lerp2 = |a: f32, b: f32, c: f32, d: f32| {
-            let top = a + (b - a) * tx;
-            let bot = c + (d - c) * tx;
-            top + (bot - top) * ty
+        let px = [
+            t[(ya + xa) as usize],
+            t[(ya + xb) as usize],
+            t[(yb + xa) as usize],
+            t[(yb + xb) as usize],
+        ];
+        let w = [
+            (1.0 - tx) * (1.0 - ty),
+            tx * (1.0 - ty),
+            (1.0 - tx) * ty,
+            tx * ty,
+        ];
+        // One table fetch per sample, not per tap; straight texels are premultiplied per tap
+        // so transparent texels do not bleed their colour.
+        let lut = match self.encoding {
+            Encoding::Srgb => srgb_to_linear_lut(),
+            Encoding::Unorm => unorm_lut(),
         };
+        let mut acc = [0.0f32; 4];
+        for k in 0..4 {
+            let [r, g, b, a] = px[k].to_le_bytes();
+            let a = a as f32 * (1.0 / 255.0);
+            let (m, wa) = if self.premultiplied {
+                (w[k], w[k])
+            } else {
+                (w[k] * a, w[k])
+            };
+            acc[0] += lut[r as usize] * m;
+            acc[1] += lut[g as usize] * m;
+            acc[2] += lut[b as usize] * m;
+            acc[3] += a * wa;
+        }
         Premul {
-            r: lerp2(c00.r, c10.r, c01.r, c11.r),
-            g: lerp2(c00.g, c10.g, c01.g, c11.g),
-            b: lerp2(c00.b, c10.b, c01.b, c11.b),
-            a: lerp2(c00.a, c10.a, c01.a, c11.a),
+            r: acc[0],
+            g: acc[1],
+            b: acc[2],
+            a: acc[3],
         }
     }
 }
