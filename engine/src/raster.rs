@@ -168,9 +168,14 @@ struct Edge {
 
 #[inline]
 fn edges(t: &Tri) -> [Edge; 3] {
+    edges_of(&t.x, &t.y)
+}
+
+#[inline]
+fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
     std::array::from_fn(|i| {
         let (p, q) = ([1, 2, 0][i], [2, 0, 1][i]);
-        let (xa, ya, xb, yb) = (t.x[p] as i64, t.y[p] as i64, t.x[q] as i64, t.y[q] as i64);
+        let (xa, ya, xb, yb) = (x[p] as i64, y[p] as i64, x[q] as i64, y[q] as i64);
         let a = ya - yb;
         let b = xb - xa;
         // Gradient (a, b) points inside: a > 0 is a left edge, a == 0 && b > 0 a top edge.
@@ -182,6 +187,17 @@ fn edges(t: &Tri) -> [Edge; 3] {
             bias: if top_left { 0 } else { 1 },
         }
     })
+}
+
+/// Whether a triangle (fixed-point vertices, positive winding) covers the centre of pixel
+/// `(px, py)`, by exactly the rule `raster_tri` applies. Setup uses it to drop triangles
+/// too small to cover any pixel before they are binned.
+#[inline]
+pub(crate) fn covers_pixel(x: &[i32; 3], y: &[i32; 3], px: i64, py: i64) -> bool {
+    let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
+    edges_of(x, y)
+        .iter()
+        .all(|e| e.a * cx + e.b * cy + e.c >= e.bias)
 }
 
 /// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:

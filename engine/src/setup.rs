@@ -158,6 +158,17 @@ pub fn setup(
     if bx0 > bx1 || by0 > by1 {
         return Err(Dropped::Rejected);
     }
+    // Tiny triangles (a handful of candidate pixel centres) that cover none of them are
+    // dropped now rather than binned and rasterized: at 1M triangles and 1920x1080 about a
+    // quarter of the triangles are such slivers.
+    if (bx1 - bx0 + 1) * (by1 - by0 + 1) <= 4 {
+        let (xs, ys) = ([v[0].x, v[1].x, v[2].x], [v[0].y, v[1].y, v[2].y]);
+        let any = (by0..=by1)
+            .any(|py| (bx0..=bx1).any(|px| crate::raster::covers_pixel(&xs, &ys, px, py)));
+        if !any {
+            return Err(Dropped::Rejected);
+        }
+    }
     // Planes in f64, relative to v0, referenced at the bbox corner. They use the exact
     // (unsnapped) positions: snapping moves a vertex by up to 1/512 pixel, which tilts the
     // depth plane of long thin triangles (clipped fans) measurably. Snapped positions are

@@ -18,7 +18,8 @@ pub struct FrameStats {
     /// Triangles dropped as invalid (non-finite positions, zero area, wholly outside the
     /// frustum, or covering no pixel centre).
     pub triangles_rejected: u64,
-    /// Triangles that reached setup and cover at least one pixel's bounding box.
+    /// Triangles set up for binning: their pixel bounding box holds a pixel centre, and
+    /// when it holds at most 4, at least one of them is covered.
     pub triangles_set_up: u64,
     /// (triangle, tile) pairs written to the bins.
     pub triangles_binned: u64,
