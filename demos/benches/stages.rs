@@ -13,31 +13,20 @@
 //! - `stage/blend`: the same triangles alpha-blended (second pass, read-modify-write);
 //! - `stage/texture_sample`: 64k trilinear samples straight from a texture;
 //! - `torus/N/WxH`: the peers' torus, lit and vertex-coloured, at two sizes and two loads;
-//! - `full_frame`: a game-like scene (terrain, trees, rocks, a house, lit, textured,
-//!   alpha-tested and blended objects, a sun and two point lights) at 1280x720.
+//! - `full_frame`: the showcase's built-in scene at 1280x720.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use engine::procedural::{self, Terrain, TreeKind, XorShift};
+use demos::bench::peer_camera;
+use demos::showcase::{self, Showcase};
+use engine::procedural::{self, XorShift};
 use engine::{
-    AlphaMode, BlendMode, Camera, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba,
-    Sampler, Scene, Shading, Target, Texture,
+    BlendMode, Camera, FrameOptions, Material, Mesh, Renderer, Rgba, Sampler, Scene, Target,
+    Texture,
 };
-use glam::{Mat4, Quat, Vec3};
+use glam::{Mat4, Vec3};
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Duration;
-
-fn peer_camera(w: u32, h: u32) -> Camera {
-    Camera::look_at(
-        Vec3::new(0.0, 0.0, 3.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        60f32.to_radians(),
-        1.0,
-    )
-    .with_aspect(w, h)
-    .with_depth_range(0.1, 100.0)
-}
 
 fn one(mesh: Mesh, material: Material, transform: Mat4) -> Scene {
     let mut s = Scene::default();
@@ -234,127 +223,12 @@ fn stages(c: &mut Criterion) {
     g.finish();
 }
 
-/// A game-like scene built from the procedural props.
+/// The showcase's scene (the built-in default scene), seen from the first frame of its
+/// headless camera path.
 fn game_scene() -> (Scene, Camera) {
-    let mut s = Scene::default();
-    let matte = |c: Rgba| Material {
-        shading: Shading::Lit {
-            specular: 0.05,
-            shininess: 8.0,
-        },
-        ..Material::lit(c)
-    };
-    let terrain = Terrain::default();
-    s.add(terrain.mesh(), matte(Rgba::WHITE), Mat4::IDENTITY);
-    s.add(
-        procedural::torus(1.1, 0.38, 96, 48),
-        Material::lit(Rgba::WHITE),
-        Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0)) * Mat4::from_rotation_x(1.1),
-    );
-    let mut ball = procedural::uv_sphere(1.0, 24, 48);
-    ball.colors.clear();
-    s.add(
-        ball.clone(),
-        Material::lit(Rgba::new(0.8, 0.1, 0.1, 1.0)),
-        Mat4::from_translation(Vec3::new(-4.0, 1.0, 2.0)),
-    );
-    let checker = Arc::new(Texture::checker(
-        256,
-        8,
-        Rgba::WHITE,
-        Rgba::new(0.3, 0.3, 0.3, 1.0),
-    ));
-    let mut plaza = procedural::plane(14.0, 14.0, 4, 4);
-    plaza.colors.clear();
-    s.add(
-        plaza,
-        matte(Rgba::WHITE).with_texture(checker.clone()),
-        Mat4::from_translation(Vec3::Y * 0.02),
-    );
-    let mut crate_box = procedural::cuboid(Vec3::ONE);
-    crate_box.colors.clear();
-    s.add(
-        crate_box,
-        matte(Rgba::WHITE).with_texture(checker.clone()),
-        Mat4::from_scale_rotation_translation(
-            Vec3::splat(1.4),
-            Quat::from_rotation_y(0.4),
-            Vec3::new(3.5, 0.7, 3.0),
-        ),
-    );
-    let mut card = procedural::quad(2.0, 1.3);
-    card.colors.clear();
-    s.add(
-        card,
-        Material {
-            alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
-            ..matte(Rgba::WHITE).with_texture(checker).double_sided(true)
-        },
-        Mat4::from_translation(Vec3::new(0.0, 0.7, -6.0)),
-    );
-    s.add(
-        ball,
-        Material {
-            alpha_mode: AlphaMode::Blend,
-            ..Material::lit(Rgba::new(0.4, 0.9, 0.6, 0.3))
-        },
-        Mat4::from_translation(Vec3::new(1.5, 0.9, 4.0)),
-    );
-    s.add(
-        procedural::house(4.0, 3.2, 2.4, 1.6),
-        matte(Rgba::WHITE),
-        Mat4::from_translation(Vec3::new(-9.0, 0.0, -2.0)),
-    );
-    let mut rng = XorShift::new(5);
-    for k in 0..40u64 {
-        let a = rng.range(0.0, std::f32::consts::TAU);
-        let r = rng.range(16.0, 36.0);
-        let (x, z) = (r * a.cos(), r * a.sin());
-        let kind = if k.is_multiple_of(2) {
-            TreeKind::Pine
-        } else {
-            TreeKind::Broadleaf
-        };
-        let mesh = if k.is_multiple_of(5) {
-            procedural::rock(0.8, k)
-        } else {
-            procedural::tree(kind, 5.0, k)
-        };
-        s.add(
-            mesh,
-            matte(Rgba::WHITE),
-            Mat4::from_translation(Vec3::new(x, terrain.height_at(x, z), z)),
-        );
-    }
-    s.lighting = Lighting {
-        ambient: Rgba::new(0.2, 0.23, 0.3, 1.0),
-        lights: vec![
-            Light::Directional {
-                direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
-                color: Rgba::new(1.05, 0.97, 0.86, 1.0),
-            },
-            Light::Point {
-                position: Vec3::new(2.0, 1.6, 2.0),
-                color: Rgba::new(3.0, 1.8, 0.7, 1.0),
-                range: 7.0,
-            },
-            Light::Point {
-                position: Vec3::new(-8.0, 1.9, 0.5),
-                color: Rgba::new(0.6, 1.0, 3.0, 1.0),
-                range: 6.0,
-            },
-        ],
-    };
-    let camera = Camera::look_at(
-        Vec3::new(12.0, 5.0, 10.0),
-        Vec3::new(0.0, 1.2, 0.0),
-        Vec3::Y,
-        1.05,
-        1.0,
-    )
-    .with_aspect(1280, 720)
-    .with_depth_range(0.1, 250.0);
-    (s, camera)
+    let show = Showcase::new();
+    let (eye, target) = show.path(0, 60);
+    (show.scene, showcase::camera(eye, target, 1280, 720))
 }
 
 fn full_frame(c: &mut Criterion) {
