@@ -632,6 +632,40 @@ fn rich_glb_attributes_are_read() {
     assert_eq!(s.instances[0].transform, want);
 }
 
+/// A deterministic xorshift generator for the mutation tests: `rand(n)` is in `0..n`.
+fn fuzz_rng(mut seed: u64) -> impl FnMut(usize) -> usize {
+    move |n: usize| {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed % n as u64) as usize
+    }
+}
+
+/// Mutation rounds: `default`, or `PARALLAX_FUZZ_ROUNDS=n` for more.
+fn fuzz_rounds(default: usize) -> usize {
+    std::env::var("PARALLAX_FUZZ_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Counts a mutated file's outcome: a loaded scene must be valid, an error must name the file.
+fn tally(r: Result<Loaded, LoadError>, file: &str, ok: &mut u32, err: &mut u32) {
+    match r {
+        Ok(l) => {
+            *ok += 1;
+            for m in &l.scene.meshes {
+                m.validate().unwrap();
+            }
+        }
+        Err(e) => {
+            *err += 1;
+            assert!(e.to_string().contains(file), "{e}");
+        }
+    }
+}
+
 /// Thousands of deterministic mutations of a valid GLB (numbers in the JSON replaced by
 /// awkward values, bytes of the binary chunk flipped): the loader may succeed or fail but
 /// must never panic, and what it returns must be valid. `PARALLAX_FUZZ_ROUNDS=n` runs more.
@@ -639,13 +673,7 @@ fn rich_glb_attributes_are_read() {
 fn mutated_glb_files_never_panic() {
     let t = Tmp::new("mutate");
     let (json, bin) = rich_glb();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut rand = move |n: usize| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed % n as u64) as usize
-    };
+    let mut rand = fuzz_rng(0x9e37_79b9_7f4a_7c15);
     let numbers: Vec<(usize, usize)> = {
         let b = json.as_bytes();
         let mut v = Vec::new();
@@ -690,11 +718,7 @@ fn mutated_glb_files_never_panic() {
         "0.5",
     ];
     let (mut ok, mut err) = (0, 0);
-    // More with PARALLAX_FUZZ_ROUNDS=n.
-    let rounds = std::env::var("PARALLAX_FUZZ_ROUNDS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(3000);
+    let rounds = fuzz_rounds(3000);
     for round in 0..rounds {
         let mut j = json.clone();
         let mut b = bin.clone();
@@ -711,18 +735,7 @@ fn mutated_glb_files_never_panic() {
             }
         }
         let p = t.write("m.glb", glb(&j, &b));
-        match load::gltf(&p) {
-            Ok(l) => {
-                ok += 1;
-                for m in &l.scene.meshes {
-                    m.validate().unwrap();
-                }
-            }
-            Err(e) => {
-                err += 1;
-                assert!(e.to_string().contains("m.glb"), "{e}");
-            }
-        }
+        tally(load::gltf(&p), "m.glb", &mut ok, &mut err);
     }
     println!("{ok} loaded, {err} refused");
     assert!(ok > 0 && err > 0);
@@ -763,13 +776,7 @@ fn mutated_obj_files_never_panic() {
         "newmtl",
         "",
     ];
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut rand = move |n: usize| {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed % n as u64) as usize
-    };
+    let mut rand = fuzz_rng(0x2545_f491_4f6c_dd1d);
     let mutate = |text: &str, rand: &mut dyn FnMut(usize) -> usize| {
         let mut lines: Vec<Vec<String>> = text
             .lines()
@@ -794,25 +801,11 @@ fn mutated_obj_files_never_panic() {
         lines.iter().map(|l| l.join(" ") + "\n").collect::<String>()
     };
     let (mut ok, mut err) = (0, 0);
-    let rounds = std::env::var("PARALLAX_FUZZ_ROUNDS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(2000);
+    let rounds = fuzz_rounds(2000);
     for _ in 0..rounds {
         t.write("m.mtl", mutate(mtl, &mut rand));
         let p = t.write("m.obj", mutate(obj, &mut rand));
-        match load::obj(&p) {
-            Ok(l) => {
-                ok += 1;
-                for m in &l.scene.meshes {
-                    m.validate().unwrap();
-                }
-            }
-            Err(e) => {
-                err += 1;
-                assert!(e.to_string().contains("m.obj"), "{e}");
-            }
-        }
+        tally(load::obj(&p), "m.obj", &mut ok, &mut err);
     }
     println!("{ok} loaded, {err} refused");
     assert!(ok > 0 && err > 0);
