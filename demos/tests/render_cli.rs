@@ -1,7 +1,7 @@
 //! The `render` binary end to end: face ids and vertex colours in the PNG, depth file size
 //! and coverage, the timing line's format, and one-line errors (no panics) on bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const W: u32 = 64;
@@ -79,13 +79,9 @@ fn assert_depth_matches_coverage(img: &image::RgbaImage, d: &[f32]) {
     assert!(covered > 100, "quad covers only {covered} pixels");
 }
 
-#[test]
-fn faceid_and_vertex_images_and_depth() {
-    let t = Tmp::new("images");
-    let obj = t.path("quad.obj");
-    std::fs::write(&obj, QUAD).unwrap();
+/// Renders `obj` at W x H with `shading` into a PNG and a depth file; asserts success.
+fn render_to(obj: &Path, shading: &str, png: &Path, dep: &Path) {
     let (w, h) = (W.to_string(), H.to_string());
-    let (png, dep) = (t.path("faceid.png"), t.path("faceid.f32"));
     let out = render(&[
         "--obj",
         obj.to_str().unwrap(),
@@ -94,13 +90,22 @@ fn faceid_and_vertex_images_and_depth() {
         "-H",
         &h,
         "--shading",
-        "faceid",
+        shading,
         "--png",
         png.to_str().unwrap(),
         "--depth",
         dep.to_str().unwrap(),
     ]);
     assert_ok(&out);
+}
+
+#[test]
+fn faceid_and_vertex_images_and_depth() {
+    let t = Tmp::new("images");
+    let obj = t.path("quad.obj");
+    std::fs::write(&obj, QUAD).unwrap();
+    let (png, dep) = (t.path("faceid.png"), t.path("faceid.f32"));
+    render_to(&obj, "faceid", &png, &dep);
     let img = rgba(&png);
     assert_eq!(img.dimensions(), (W, H));
     // Right of and below the centre: world x > 0, y < 0, so y < x: triangle 1.
@@ -116,21 +121,7 @@ fn faceid_and_vertex_images_and_depth() {
     assert!((d[(30 * W + 40) as usize] - (0.5 * ndc + 0.5)).abs() < 1e-5);
 
     let (png, dep) = (t.path("vertex.png"), t.path("vertex.f32"));
-    let out = render(&[
-        "--obj",
-        obj.to_str().unwrap(),
-        "-W",
-        &w,
-        "-H",
-        &h,
-        "--shading",
-        "vertex",
-        "--png",
-        png.to_str().unwrap(),
-        "--depth",
-        dep.to_str().unwrap(),
-    ]);
-    assert_ok(&out);
+    render_to(&obj, "vertex", &png, &dep);
     let img = rgba(&png);
     assert_depth_matches_coverage(&img, &depth(&dep));
     // Near the bottom-right corner (vertex 2, green) the colour is mostly green.
