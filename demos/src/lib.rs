@@ -8,3 +8,16 @@ pub mod chart;
 pub mod font;
 pub mod showcase;
 pub mod timing;
+
+/// Sets the global rayon pool to `threads` workers (when given); a failure is reported on
+/// stderr as `PROGRAM: ...` and the default pool is kept.
+pub fn set_threads(program: &str, threads: Option<usize>) {
+    if let Some(n) = threads {
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+        {
+            eprintln!("{program}: cannot set {n} threads: {e}");
+        }
+    }
+}

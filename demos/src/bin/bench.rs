@@ -52,14 +52,7 @@ struct Common {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if let Some(n) = cli.threads {
-        if let Err(e) = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-        {
-            eprintln!("bench: cannot set {n} threads: {e}");
-        }
-    }
+    demos::set_threads("bench", cli.threads);
     let result = match &cli.sweep {
         Sweep::Raster(c) => raster(c),
     };
