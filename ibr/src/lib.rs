@@ -3,5 +3,20 @@
 //!
 //! Rules: `ibr` builds on `engine` and never the reverse. IBR *data* (an impostor atlas, a
 //! depth image) is kept apart from the code that bakes or draws it through the engine, so
-//! the data can be built and tested without the rasterizer. The techniques land issue by
-//! issue; until then this crate only fixes its place in the workspace.
+//! the data can be built and tested without the rasterizer. Every technique turns into
+//! ordinary [`engine::Draw`]s: the renderer knows nothing of billboards.
+//!
+//! - [`billboard`]: screen, world and axial billboards, batched into one mesh per frame.
+//! - [`laser`]: dual-billboard beams with glowing end caps.
+//! - [`flare`]: lens flare with depth-buffer occlusion and a temporal fade.
+//! - [`effects`]: animated sprite sheets and particle emitters (explosions, smoke, sparks).
+//! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
+//!   sprites of meshes).
+
+pub mod billboard;
+pub mod effects;
+pub mod flare;
+pub mod laser;
+pub mod sprites;
+
+pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};

@@ -1,0 +1,1 @@
+//! Sprite effects (in progress).

@@ -1,0 +1,1 @@
+//! Lens flare (in progress).

@@ -1,0 +1,156 @@
+//! Dual-billboard lasers: a beam from A to B drawn as two quads that contain the beam axis,
+//! turned about it to face the viewer, with glowing end caps, blended additively.
+//!
+//! The first quad's normal is the view vector projected onto the plane perpendicular to the
+//! axis, so the beam shows its full width from any side; the second quad is at 90 degrees
+//! to it. Seen end-on the projection vanishes: the quads then take a fixed direction from
+//! the camera (still finite, full-size quads, seen edge-on), fade out with the sine of the
+//! angle to the axis, and the end caps (screen-facing glows) carry the look.
+
+use crate::billboard::{push_quad, Billboard, BillboardBatch, Facing, UvRect, View};
+use crate::sprites;
+use engine::{BlendMode, Draw, Material, Mesh, Rgba};
+use glam::{Mat4, Vec2, Vec3};
+use std::sync::Arc;
+
+/// One beam.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Laser {
+    pub a: Vec3,
+    pub b: Vec3,
+    /// Full width of the glow across the beam, world units.
+    pub width: f32,
+    /// Straight linear colour.
+    pub color: Rgba,
+    /// Brightness multiplier of the colour (additive, so > 1 saturates toward white).
+    pub intensity: f32,
+}
+
+/// Cap glow diameter as a multiple of the beam width.
+pub const CAP_SCALE: f32 = 2.5;
+
+/// The beam's two quads for a viewer at `eye` (camera up `view_up` for the end-on case) and
+/// the fade of the beam quads (sine of the angle between the view vector and the axis).
+/// `None` for a zero-length or non-finite beam (its caps are still drawn).
+pub fn beam_quads(
+    l: &Laser,
+    eye: Vec3,
+    view_up: Vec3,
+    view_right: Vec3,
+) -> Option<([[Vec3; 4]; 2], f32)> {
+    let axis = l.b - l.a;
+    let len = axis.length();
+    if !(len > 1e-6 && len.is_finite() && l.width.is_finite()) {
+        return None;
+    }
+    let d = axis / len;
+    // View vector from the closest point of the beam to the eye.
+    let t = (eye - l.a).dot(d).clamp(0.0, len);
+    let v = eye - (l.a + d * t);
+    let perp = v - d * v.dot(d);
+    let fade = if v.length() > 0.0 {
+        (perp.length() / v.length()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let n1 = perp
+        .try_normalize()
+        .or_else(|| (view_up - d * view_up.dot(d)).try_normalize())
+        .or_else(|| (view_right - d * view_right.dot(d)).try_normalize())
+        .unwrap_or_else(|| d.any_orthonormal_vector());
+    let across1 = d.cross(n1) * (0.5 * l.width);
+    let across2 = n1 * (0.5 * l.width);
+    let quad = |w: Vec3| [l.a - w, l.a + w, l.b + w, l.b - w];
+    let q = [quad(across1), quad(across2)];
+    q.iter()
+        .flatten()
+        .all(|p| p.is_finite())
+        .then_some((q, fade))
+}
+
+/// A set of lasers: one additive draw for the beams, one for the end caps.
+#[derive(Clone, Debug)]
+pub struct LaserBatch {
+    pub lasers: Vec<Laser>,
+    beams: Mesh,
+    beam_material: Material,
+    caps: BillboardBatch,
+}
+
+impl Default for LaserBatch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl LaserBatch {
+    /// A batch with generated beam and glow textures.
+    pub fn new() -> Self {
+        let material = |t: Arc<engine::Texture>| {
+            let mut m = Material::unlit(Rgba::WHITE)
+                .with_texture(t)
+                .blended(BlendMode::Additive)
+                .double_sided(true);
+            m.name = "laser".into();
+            m
+        };
+        LaserBatch {
+            lasers: Vec::new(),
+            beams: Mesh::default(),
+            beam_material: material(Arc::new(sprites::beam(64))),
+            caps: BillboardBatch::new(material(Arc::new(sprites::glow(64)))),
+        }
+    }
+
+    /// Writes both meshes for `view`. Returns the number of beam quads.
+    pub fn build(&mut self, view: &View) -> usize {
+        let m = &mut self.beams;
+        m.positions.clear();
+        m.uvs.clear();
+        m.colors.clear();
+        m.indices.clear();
+        self.caps.clear();
+        for l in &self.lasers {
+            let tint = Rgba::new(
+                l.color.r * l.intensity,
+                l.color.g * l.intensity,
+                l.color.b * l.intensity,
+                1.0,
+            );
+            if let Some((quads, fade)) = beam_quads(l, view.eye, view.up, view.right) {
+                for q in quads {
+                    push_quad(m, q, UvRect::FULL, tint, fade);
+                }
+            }
+            for end in [l.a, l.b] {
+                let mut cap = Billboard::new(end, Facing::Screen, Vec2::splat(l.width * CAP_SCALE));
+                cap.tint = tint;
+                self.caps.push(cap);
+            }
+        }
+        self.caps.build(view);
+        m.positions.len() / 4
+    }
+
+    /// The beam mesh of the last build (world space).
+    pub fn beam_mesh(&self) -> &Mesh {
+        &self.beams
+    }
+
+    /// The cap mesh of the last build (world space).
+    pub fn cap_mesh(&self) -> &Mesh {
+        self.caps.mesh()
+    }
+
+    /// The two draws (beams, caps).
+    pub fn draws(&self) -> [Draw<'_>; 2] {
+        [
+            Draw {
+                mesh: &self.beams,
+                material: &self.beam_material,
+                transform: Mat4::IDENTITY,
+            },
+            self.caps.draw(),
+        ]
+    }
+}
