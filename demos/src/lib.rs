@@ -4,6 +4,7 @@
 //! ([`bench`], [`chart`]). Binaries stay thin; what they do is here, where tests reach it.
 
 pub mod bench;
+pub mod bench_billboards;
 pub mod chart;
 pub mod font;
 pub mod showcase;

@@ -10,6 +10,7 @@
 //! - [`laser`]: dual-billboard beams with glowing end caps.
 //! - [`flare`]: lens flare with depth-buffer occlusion and a temporal fade.
 //! - [`effects`]: animated sprite sheets and particle emitters (explosions, smoke, sparks).
+//! - [`metrics`]: image error against a ground-truth render (PSNR, mean and max error).
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
 
@@ -17,6 +18,7 @@ pub mod billboard;
 pub mod effects;
 pub mod flare;
 pub mod laser;
+pub mod metrics;
 pub mod sprites;
 
 pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};

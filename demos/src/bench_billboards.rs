@@ -1,0 +1,1 @@
+//! The `bench billboards` sweep (in progress).

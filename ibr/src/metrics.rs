@@ -1,0 +1,1 @@
+//! Image error metrics (in progress).
