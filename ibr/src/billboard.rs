@@ -415,3 +415,6 @@ pub fn push_quad(m: &mut Mesh, q: [Vec3; 4], region: UvRect, tint: Rgba, fade: f
     m.indices
         .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
 }
+
+#[cfg(test)]
+mod tests;
