@@ -1,1 +1,344 @@
-//! Image error metrics (in progress).
+//! Image error of a render against a ground-truth render of the same size: PSNR, mean and
+//! largest error, the share of visibly wrong pixels, and where the two disagree on coverage.
+//!
+//! What is compared: the colour each image stores, as 8-bit values in [0, 255] per RGB
+//! channel. For an engine [`Target`] that is [`Target::to_rgba8_premultiplied`]: premultiplied
+//! by alpha and in the target's encoding (sRGB for [`Target::new`]), i.e. the image
+//! composited over black. For opaque pixels these are the plain 8-bit sRGB colours an image
+//! file would hold; for partly transparent ones a missing faint fringe counts as a faint
+//! error, not as a full colour difference. Alpha itself only decides coverage.
+//!
+//! - `mse` is the mean of the squared channel differences over the RGB channels of the
+//!   compared pixels, and `psnr_db = 10 log10(255^2 / mse)`: `f64::INFINITY` when the
+//!   images are identical there (see [`ImageError::psnr_capped`] for charts and tables).
+//!   A constant error of `k` levels on every channel gives `20 log10(255 / k)`.
+//! - `mean_abs` is the mean absolute channel difference (levels), `max_abs` the largest.
+//! - `frac_over` is the fraction of compared pixels whose largest channel difference
+//!   exceeds [`Options::threshold`] levels.
+//! - `coverage_mismatch` is the fraction of compared pixels covered in exactly one image,
+//!   where "covered" is [`Coverage::Alpha`] (stored alpha above 0: render with a
+//!   transparent clear colour) or [`Coverage::Background`] (RGB differs from a known
+//!   background colour: opaque clears).
+//!
+//! The comparison can be restricted to a rectangle or a mask ([`Region`]), e.g. the
+//! [`covered_rect`] of both images so an empty background does not dilute the error.
+//! Nothing here renders: the functions read images and are exact integer sums up to the
+//! final divisions, so their answers can be checked by hand.
+
+use engine::Target;
+use std::fmt;
+
+/// Default [`Options::threshold`]: an error of more than 8 levels (about 3%) is visible.
+pub const DEFAULT_THRESHOLD: u8 = 8;
+
+/// A pixel rectangle: columns `x .. x + width`, rows `y .. y + height`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Rect {
+    pub x: u32,
+    pub y: u32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Rect {
+    pub fn new(x: u32, y: u32, width: u32, height: u32) -> Self {
+        Rect {
+            x,
+            y,
+            width,
+            height,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.width == 0 || self.height == 0
+    }
+
+    /// The smallest rectangle holding both (an empty one adds nothing).
+    pub fn union(self, other: Rect) -> Rect {
+        if self.is_empty() {
+            return other;
+        }
+        if other.is_empty() {
+            return self;
+        }
+        let x0 = self.x.min(other.x);
+        let y0 = self.y.min(other.y);
+        let x1 = (self.x + self.width).max(other.x + other.width);
+        let y1 = (self.y + self.height).max(other.y + other.height);
+        Rect::new(x0, y0, x1 - x0, y1 - y0)
+    }
+
+    /// The part inside a `width` x `height` image (possibly empty).
+    pub fn clip(self, width: u32, height: u32) -> Rect {
+        let x0 = self.x.min(width);
+        let y0 = self.y.min(height);
+        let x1 = self.x.saturating_add(self.width).min(width);
+        let y1 = self.y.saturating_add(self.height).min(height);
+        Rect::new(x0, y0, x1 - x0, y1 - y0)
+    }
+
+    /// This rectangle grown by `margin` pixels on every side, clipped to the image.
+    pub fn grow(self, margin: u32, width: u32, height: u32) -> Rect {
+        let x0 = self.x.saturating_sub(margin);
+        let y0 = self.y.saturating_sub(margin);
+        let x1 = self.x.saturating_add(self.width).saturating_add(margin);
+        let y1 = self.y.saturating_add(self.height).saturating_add(margin);
+        Rect::new(x0, y0, x1 - x0, y1 - y0).clip(width, height)
+    }
+}
+
+/// When a pixel counts as covered (drawn on).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Coverage {
+    /// Stored alpha above 0 (images rendered over a transparent clear colour).
+    #[default]
+    Alpha,
+    /// RGB differs from this background colour (8-bit values as compared).
+    Background([u8; 3]),
+}
+
+/// Which pixels are compared.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Region<'a> {
+    /// Every pixel.
+    #[default]
+    All,
+    /// The pixels of a rectangle (clipped to the image).
+    Rect(Rect),
+    /// The pixels whose entry is `true`: one entry per pixel, row-major, top row first.
+    Mask(&'a [bool]),
+}
+
+/// How to compare.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options<'a> {
+    /// A pixel is "over" when its largest channel difference exceeds this many levels.
+    pub threshold: u8,
+    pub coverage: Coverage,
+    pub region: Region<'a>,
+}
+
+impl Default for Options<'_> {
+    fn default() -> Self {
+        Options {
+            threshold: DEFAULT_THRESHOLD,
+            coverage: Coverage::Alpha,
+            region: Region::All,
+        }
+    }
+}
+
+/// The error of one image against another over the compared pixels (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageError {
+    /// `10 log10(255^2 / mse)`; `f64::INFINITY` when `mse` is 0.
+    pub psnr_db: f64,
+    /// Mean squared channel difference (levels squared).
+    pub mse: f64,
+    /// Mean absolute channel difference (levels).
+    pub mean_abs: f64,
+    /// Largest channel difference (levels).
+    pub max_abs: u8,
+    /// Fraction of pixels whose largest channel difference exceeds the threshold.
+    pub frac_over: f64,
+    /// Fraction of pixels covered in exactly one of the two images.
+    pub coverage_mismatch: f64,
+    /// Pixels compared.
+    pub pixels: u64,
+}
+
+impl ImageError {
+    /// PSNR no higher than `cap_db` (finite for tables and charts when images match).
+    pub fn psnr_capped(&self, cap_db: f64) -> f64 {
+        self.psnr_db.min(cap_db)
+    }
+}
+
+/// Why two images could not be compared.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MetricsError {
+    /// The images differ in size.
+    SizeMismatch { a: (u32, u32), b: (u32, u32) },
+    /// A raw image's byte count is not `width * height * 4`.
+    BufferLength { width: u32, height: u32, len: usize },
+    /// A mask's length is not the image's pixel count.
+    MaskLength { expected: usize, len: usize },
+    /// No pixel to compare (an empty image, rectangle or mask).
+    Empty,
+}
+
+impl fmt::Display for MetricsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MetricsError::SizeMismatch { a, b } => write!(
+                f,
+                "images differ in size: {}x{} against {}x{}",
+                a.0, a.1, b.0, b.1
+            ),
+            MetricsError::BufferLength { width, height, len } => write!(
+                f,
+                "a {width}x{height} RGBA8 image needs {} bytes, got {len}",
+                *width as usize * *height as usize * 4
+            ),
+            MetricsError::MaskLength { expected, len } => {
+                write!(f, "the mask has {len} entries for {expected} pixels")
+            }
+            MetricsError::Empty => write!(f, "no pixel to compare"),
+        }
+    }
+}
+
+impl std::error::Error for MetricsError {}
+
+/// A borrowed row-major RGBA8 image, top row first (premultiplied, as targets store it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Image<'a> {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: &'a [u8],
+}
+
+impl<'a> Image<'a> {
+    /// Checks that `rgba` holds `width * height` pixels.
+    pub fn new(width: u32, height: u32, rgba: &'a [u8]) -> Result<Self, MetricsError> {
+        if rgba.len() != width as usize * height as usize * 4 {
+            return Err(MetricsError::BufferLength {
+                width,
+                height,
+                len: rgba.len(),
+            });
+        }
+        Ok(Image {
+            width,
+            height,
+            rgba,
+        })
+    }
+
+    fn px(&self, x: u32, y: u32) -> [u8; 4] {
+        let i = (y as usize * self.width as usize + x as usize) * 4;
+        [
+            self.rgba[i],
+            self.rgba[i + 1],
+            self.rgba[i + 2],
+            self.rgba[i + 3],
+        ]
+    }
+}
+
+fn covered(c: Coverage, p: [u8; 4]) -> bool {
+    match c {
+        Coverage::Alpha => p[3] > 0,
+        Coverage::Background(bg) => p[..3] != bg,
+    }
+}
+
+/// The error of `a` against `b` (the reference): two targets of the same size.
+pub fn compare(a: &Target, b: &Target, opts: &Options) -> Result<ImageError, MetricsError> {
+    if (a.width(), a.height()) != (b.width(), b.height()) {
+        return Err(MetricsError::SizeMismatch {
+            a: (a.width(), a.height()),
+            b: (b.width(), b.height()),
+        });
+    }
+    let (pa, pb) = (a.to_rgba8_premultiplied(), b.to_rgba8_premultiplied());
+    compare_rgba8(
+        Image::new(a.width(), a.height(), &pa)?,
+        Image::new(b.width(), b.height(), &pb)?,
+        opts,
+    )
+}
+
+/// The error of raw image `a` against `b` (the reference).
+pub fn compare_rgba8(a: Image, b: Image, opts: &Options) -> Result<ImageError, MetricsError> {
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(MetricsError::SizeMismatch {
+            a: (a.width, a.height),
+            b: (b.width, b.height),
+        });
+    }
+    let (w, h) = (a.width, a.height);
+    let full = Rect::new(0, 0, w, h);
+    let (rect, mask) = match opts.region {
+        Region::All => (full, None),
+        Region::Rect(r) => (r.clip(w, h), None),
+        Region::Mask(m) => {
+            let expected = w as usize * h as usize;
+            if m.len() != expected {
+                return Err(MetricsError::MaskLength {
+                    expected,
+                    len: m.len(),
+                });
+            }
+            (full, Some(m))
+        }
+    };
+    let (mut pixels, mut sq, mut abs, mut over, mut mismatch) = (0u64, 0u64, 0u64, 0u64, 0u64);
+    let mut max_abs = 0u8;
+    for y in rect.y..rect.y + rect.height {
+        for x in rect.x..rect.x + rect.width {
+            if mask.is_some_and(|m| !m[y as usize * w as usize + x as usize]) {
+                continue;
+            }
+            let (p, q) = (a.px(x, y), b.px(x, y));
+            let mut worst = 0u8;
+            for c in 0..3 {
+                let d = p[c].abs_diff(q[c]);
+                worst = worst.max(d);
+                abs += d as u64;
+                sq += d as u64 * d as u64;
+            }
+            max_abs = max_abs.max(worst);
+            over += (worst > opts.threshold) as u64;
+            mismatch += (covered(opts.coverage, p) != covered(opts.coverage, q)) as u64;
+            pixels += 1;
+        }
+    }
+    if pixels == 0 {
+        return Err(MetricsError::Empty);
+    }
+    let n = pixels as f64;
+    let mse = sq as f64 / (3.0 * n);
+    Ok(ImageError {
+        psnr_db: if sq == 0 {
+            f64::INFINITY
+        } else {
+            10.0 * (255.0f64 * 255.0 / mse).log10()
+        },
+        mse,
+        mean_abs: abs as f64 / (3.0 * n),
+        max_abs,
+        frac_over: over as f64 / n,
+        coverage_mismatch: mismatch as f64 / n,
+        pixels,
+    })
+}
+
+/// The bounding rectangle of a target's covered pixels (`None` when nothing is covered).
+pub fn covered_rect(t: &Target, coverage: Coverage) -> Option<Rect> {
+    let px = t.to_rgba8_premultiplied();
+    covered_rect_rgba8(
+        Image::new(t.width(), t.height(), &px).expect("a target's own size"),
+        coverage,
+    )
+}
+
+/// The bounding rectangle of a raw image's covered pixels (`None` when nothing is covered).
+pub fn covered_rect_rgba8(image: Image, coverage: Coverage) -> Option<Rect> {
+    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+    for y in 0..image.height {
+        for x in 0..image.width {
+            if covered(coverage, image.px(x, y)) {
+                x0 = x0.min(x);
+                y0 = y0.min(y);
+                x1 = x1.max(x + 1);
+                y1 = y1.max(y + 1);
+            }
+        }
+    }
+    (x1 > x0).then(|| Rect::new(x0, y0, x1 - x0, y1 - y0))
+}
+
+#[cfg(test)]
+mod tests;
