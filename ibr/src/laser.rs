@@ -154,3 +154,6 @@ impl LaserBatch {
         ]
     }
 }
+
+#[cfg(test)]
+mod tests;
