@@ -53,8 +53,10 @@ pub fn beam_quads(
     } else {
         0.0
     };
-    let n1 = perp
-        .try_normalize()
+    // Below a relative 1e-4 the projection is rounding noise, not a direction.
+    let n1 = (perp.length() > 1e-4 * v.length())
+        .then(|| perp.try_normalize())
+        .flatten()
         .or_else(|| (view_up - d * view_up.dot(d)).try_normalize())
         .or_else(|| (view_right - d * view_right.dot(d)).try_normalize())
         .unwrap_or_else(|| d.any_orthonormal_vector());
