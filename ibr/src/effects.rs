@@ -1,1 +1,695 @@
-//! Sprite effects (in progress).
+//! Particle effects on billboards: animated sprite sheets, particle emitters, and the
+//! explosion / smoke / sparks presets the showcase draws through three batches.
+//!
+//! An [`Emitter`] is plain data stepped by [`Emitter::update`]: deterministic for a seed and
+//! a sequence of time steps, allocation-free once its particle `Vec` has reached its peak,
+//! and indifferent to odd input (non-positive or NaN steps are ignored, huge ones capped,
+//! particle counts capped by `max_particles`). [`Emitter::emit`] turns live particles into
+//! billboards. An [`Effect`] is a few emitters, each tagged with the [`Layer`] (texture and
+//! blend mode) it draws in; [`Effects`] owns the generated textures, one
+//! [`BillboardBatch`] per layer, and the running effects, and drops finished ones.
+
+use crate::billboard::{AxialFallback, Billboard, BillboardBatch, Facing, Size, UvRect, View};
+use engine::procedural::XorShift;
+use engine::{BlendMode, Draw, Material, Rgba, Sampler, Wrap};
+use glam::{Vec2, Vec3};
+use std::f32::consts::{PI, TAU};
+use std::sync::Arc;
+
+mod textures;
+pub use textures::{explosion_sheet, smoke_puff, spark};
+
+/// A grid of animation frames in one texture, played at `fps` from a particle's age.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpriteSheet {
+    pub cols: u32,
+    pub rows: u32,
+    /// Frames used, row-major from the top-left cell (at most `cols * rows`).
+    pub frames: u32,
+    pub fps: f32,
+    /// Wrap to the first frame after the last; otherwise hold the last frame.
+    pub looping: bool,
+}
+
+/// The layout of [`explosion_sheet`] as [`Effects`] generates it: 4 x 4 frames.
+pub const EXPLOSION_SHEET: SpriteSheet = SpriteSheet {
+    cols: 4,
+    rows: 4,
+    frames: 16,
+    fps: 14.0,
+    looping: false,
+};
+
+impl SpriteSheet {
+    /// Columns and rows clamped to 1..=1024 and the frame count to 1..=cols*rows.
+    fn grid(&self) -> (u32, u32, u32) {
+        let (c, r) = (self.cols.clamp(1, 1024), self.rows.clamp(1, 1024));
+        (c, r, self.frames.clamp(1, c * r))
+    }
+
+    /// Frame shown at `age` seconds (0 for negative or NaN ages and non-positive fps).
+    pub fn frame(&self, age: f32) -> u32 {
+        let (_, _, n) = self.grid();
+        let f = (age * self.fps).floor();
+        if f.is_nan() || f <= 0.0 {
+            return 0;
+        }
+        if self.looping {
+            // Infinity gives NaN here, which casts to 0.
+            (f % n as f32) as u32 % n
+        } else {
+            f.min((n - 1) as f32) as u32
+        }
+    }
+
+    /// The texture region of the frame shown at `age` seconds.
+    pub fn region(&self, age: f32) -> UvRect {
+        let (c, r, _) = self.grid();
+        UvRect::cell(c, r, self.frame(age))
+    }
+
+    /// Seconds to play every frame once.
+    pub fn duration(&self) -> f32 {
+        self.grid().2 as f32 / self.fps
+    }
+}
+
+/// Hard limit on any emitter's particle count, whatever its configuration says.
+pub const MAX_PARTICLES: u32 = 1 << 16;
+
+/// Longest time step an update integrates; longer steps are shortened to this.
+pub const MAX_STEP: f32 = 0.25;
+
+/// How an emitter spawns, moves and draws its particles. Ranges are `(lo, hi)`, sampled
+/// uniformly per particle; `(start, end)` pairs are interpolated linearly over its life.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmitterConfig {
+    /// Particles per second while the emitter runs.
+    pub rate: f32,
+    /// Particles spawned at once when the emitter is made.
+    pub burst: u32,
+    /// Seconds the emitter spawns at `rate` (`f32::INFINITY`: until stopped).
+    pub duration: f32,
+    /// Seconds each particle lives.
+    pub lifetime: (f32, f32),
+    /// Initial speed, world units per second.
+    pub speed: (f32, f32),
+    /// Centre of the cone of initial directions, and the cone's half angle in radians
+    /// (0: a jet, PI: every direction).
+    pub direction: Vec3,
+    pub spread: f32,
+    /// Particles start uniformly inside a ball of this radius around the emitter.
+    pub spawn_radius: f32,
+    /// Constant acceleration (gravity, buoyancy, wind), world units per second squared.
+    pub acceleration: Vec3,
+    /// Velocity decays as `exp(-drag * t)`.
+    pub drag: f32,
+    /// World size (side of the quad).
+    pub size: (f32, f32),
+    /// Straight linear tint times the texture; alpha is the opacity. Components above 1
+    /// brighten additive layers.
+    pub color: (Rgba, Rgba),
+    /// Seconds over which a new particle's alpha rises from 0 (0: none).
+    pub fade_in: f32,
+    /// Angular speed about the view axis, radians per second (start angle is random).
+    pub spin: (f32, f32),
+    /// Animated particles: the frame comes from the particle's age. `None`: whole texture.
+    pub sheet: Option<SpriteSheet>,
+    /// When > 0, particles are streaks along their velocity (axial billboards) of length
+    /// `size + speed * stretch`, instead of screen-facing squares.
+    pub stretch: f32,
+    /// Spawns beyond this many live particles are dropped (also capped by
+    /// [`MAX_PARTICLES`]).
+    pub max_particles: u32,
+}
+
+impl Default for EmitterConfig {
+    fn default() -> Self {
+        EmitterConfig {
+            rate: 10.0,
+            burst: 0,
+            duration: f32::INFINITY,
+            lifetime: (1.0, 1.0),
+            speed: (1.0, 1.0),
+            direction: Vec3::Y,
+            spread: 0.0,
+            spawn_radius: 0.0,
+            acceleration: Vec3::ZERO,
+            drag: 0.0,
+            size: (1.0, 1.0),
+            color: (Rgba::WHITE, Rgba::WHITE),
+            fade_in: 0.0,
+            spin: (0.0, 0.0),
+            sheet: None,
+            stretch: 0.0,
+            max_particles: 1024,
+        }
+    }
+}
+
+/// One live particle (world space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Particle {
+    pub position: Vec3,
+    pub velocity: Vec3,
+    pub age: f32,
+    pub lifetime: f32,
+    pub rotation: f32,
+    pub spin: f32,
+}
+
+/// A particle source at `position`. Particles live in world space: moving the emitter
+/// leaves the existing ones where they are.
+#[derive(Clone, Debug)]
+pub struct Emitter {
+    pub config: EmitterConfig,
+    pub position: Vec3,
+    /// Live particles, oldest first.
+    pub particles: Vec<Particle>,
+    rng: XorShift,
+    /// Fraction of a particle owed by the rate, carried to the next update.
+    carry: f32,
+    elapsed: f32,
+    stopped: bool,
+}
+
+/// A sample of `(lo, hi)`, 0 when not finite. Always draws one number, so the stream of
+/// random numbers does not depend on the values.
+fn pick(rng: &mut XorShift, (lo, hi): (f32, f32)) -> f32 {
+    let v = rng.range(lo, hi);
+    if v.is_finite() {
+        v
+    } else {
+        0.0
+    }
+}
+
+/// A uniformly distributed unit vector within `spread` radians of `axis`.
+fn cone(rng: &mut XorShift, axis: Vec3, spread: f32) -> Vec3 {
+    let axis = axis.normalize_or(Vec3::Y);
+    let spread = if spread.is_finite() {
+        spread.clamp(0.0, PI)
+    } else {
+        0.0
+    };
+    let cos = 1.0 - rng.next_f32() * (1.0 - spread.cos());
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let (s, c) = (rng.next_f32() * TAU).sin_cos();
+    let (u, v) = axis.any_orthonormal_pair();
+    (u * c + v * s) * sin + axis * cos
+}
+
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    a + (b - a) * t
+}
+
+/// Advances one particle by `dt` (semi-implicit Euler).
+fn step(p: &mut Particle, c: &EmitterConfig, dt: f32) {
+    p.velocity += c.acceleration * dt;
+    if c.drag > 0.0 {
+        p.velocity *= (-c.drag * dt).exp();
+    }
+    p.position += p.velocity * dt;
+    p.rotation = (p.rotation + p.spin * dt).rem_euclid(TAU);
+    p.age += dt;
+}
+
+fn alive(p: &Particle) -> bool {
+    p.age < p.lifetime && p.position.is_finite() && p.velocity.is_finite()
+}
+
+impl Emitter {
+    /// An emitter with its own random stream, after spawning `config.burst` particles.
+    pub fn new(config: EmitterConfig, position: Vec3, seed: u64) -> Self {
+        let mut e = Emitter {
+            config,
+            position,
+            particles: Vec::new(),
+            rng: XorShift::new(seed),
+            carry: 0.0,
+            elapsed: 0.0,
+            stopped: false,
+        };
+        // At most rate * longest lifetime + 1 rate-spawned particles are alive at once.
+        let longest = config.lifetime.0.max(config.lifetime.1);
+        let steady = if e.rate() > 0.0 && longest.is_finite() {
+            (e.rate() * longest.max(0.0))
+                .ceil()
+                .min(MAX_PARTICLES as f32) as usize
+                + 2
+        } else {
+            0
+        };
+        e.particles
+            .reserve((steady + config.burst as usize).min(e.max_particles()));
+        e.burst(config.burst);
+        e
+    }
+
+    fn max_particles(&self) -> usize {
+        self.config.max_particles.min(MAX_PARTICLES) as usize
+    }
+
+    fn rate(&self) -> f32 {
+        let r = self.config.rate;
+        if r > 0.0 && r.is_finite() {
+            r
+        } else {
+            0.0
+        }
+    }
+
+    /// Spawns one particle and advances it by `age` seconds (its time since birth).
+    fn spawn(&mut self, age: f32) {
+        if self.particles.len() >= self.max_particles() {
+            return;
+        }
+        let (c, rng) = (&self.config, &mut self.rng);
+        let lifetime = pick(rng, c.lifetime);
+        let speed = pick(rng, c.speed);
+        let direction = cone(rng, c.direction, c.spread);
+        let radius = if c.spawn_radius > 0.0 {
+            c.spawn_radius
+        } else {
+            0.0
+        };
+        let offset = cone(rng, Vec3::Y, PI) * (radius * rng.next_f32().cbrt());
+        let rotation = rng.next_f32() * TAU;
+        let spin = pick(rng, c.spin);
+        let mut p = Particle {
+            position: self.position + offset,
+            velocity: direction * speed,
+            age: 0.0,
+            lifetime,
+            rotation,
+            spin,
+        };
+        step(&mut p, c, age);
+        if alive(&p) {
+            self.particles.push(p);
+        }
+    }
+
+    /// Spawns `n` particles at once (fewer if that would pass `max_particles`).
+    pub fn burst(&mut self, n: u32) {
+        let room = self.max_particles().saturating_sub(self.particles.len());
+        for _ in 0..(n as usize).min(room) {
+            self.spawn(0.0);
+        }
+    }
+
+    /// Advances time by `dt` seconds: moves and ages the particles, removes dead ones, and
+    /// spawns at the rate (a fractional particle is carried over; each new particle is
+    /// born at its exact time within the step). Steps that are not positive are ignored;
+    /// steps over [`MAX_STEP`] are shortened to it.
+    pub fn update(&mut self, dt: f32) {
+        if dt.is_nan() || dt <= 0.0 {
+            return;
+        }
+        let dt = dt.min(MAX_STEP);
+        let c = &self.config;
+        self.particles.retain_mut(|p| {
+            step(p, c, dt);
+            alive(p)
+        });
+        let remaining = self.config.duration - self.elapsed;
+        let window = if self.stopped || remaining.is_nan() || remaining <= 0.0 {
+            0.0
+        } else {
+            remaining.min(dt)
+        };
+        self.elapsed += dt;
+        let rate = self.rate();
+        if rate > 0.0 && window > 0.0 {
+            let c0 = self.carry;
+            let total = c0 + rate * window;
+            let whole = total.floor();
+            self.carry = (total - whole).clamp(0.0, 1.0);
+            let room = self.max_particles().saturating_sub(self.particles.len());
+            let n = (whole as u64).min(room as u64) as u32;
+            for j in 1..=n {
+                // Particle j was due when the carried count reached j.
+                let born = ((j as f32 - c0) / rate).clamp(0.0, dt);
+                self.spawn(dt - born);
+            }
+        }
+    }
+
+    /// Stops spawning at the rate; live particles play out.
+    pub fn stop(&mut self) {
+        self.stopped = true;
+    }
+
+    /// Still spawning at the rate.
+    pub fn is_spawning(&self) -> bool {
+        !self.stopped && self.rate() > 0.0 && self.elapsed < self.config.duration
+    }
+
+    /// Not spawning and no live particles: it will draw nothing again.
+    pub fn is_finished(&self) -> bool {
+        !self.is_spawning() && self.particles.is_empty()
+    }
+
+    /// Pushes one billboard per live particle, with size, tint, rotation and sprite-sheet
+    /// frame for its age.
+    pub fn emit(&self, batch: &mut BillboardBatch) {
+        let c = &self.config;
+        for p in &self.particles {
+            let t = (p.age / p.lifetime).clamp(0.0, 1.0);
+            let size = lerp(c.size.0, c.size.1, t);
+            let (a, b) = c.color;
+            let mut tint = Rgba::new(
+                lerp(a.r, b.r, t),
+                lerp(a.g, b.g, t),
+                lerp(a.b, b.b, t),
+                lerp(a.a, b.a, t),
+            );
+            if c.fade_in > 0.0 {
+                tint.a *= (p.age / c.fade_in).min(1.0);
+            }
+            let speed = p.velocity.length();
+            let (facing, dims, rotation) = if c.stretch > 0.0 && speed > 1e-4 {
+                let streak = Facing::Axial {
+                    axis: p.velocity / speed,
+                    fallback: AxialFallback {
+                        fade_start: 60.0,
+                        fade_end: 85.0,
+                        top: None,
+                    },
+                };
+                (streak, Vec2::new(size, size + speed * c.stretch), 0.0)
+            } else {
+                (Facing::Screen, Vec2::splat(size), p.rotation)
+            };
+            batch.push(Billboard {
+                position: p.position,
+                facing,
+                size: Size::World(dims),
+                pivot: Vec2::splat(0.5),
+                rotation,
+                tint,
+                region: c.sheet.map_or(UvRect::FULL, |s| s.region(p.age)),
+            });
+        }
+    }
+}
+
+/// Which batch (texture and blend mode) an emitter draws in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layer {
+    /// The explosion sprite sheet, alpha blended.
+    Fire,
+    /// Smoke puffs, alpha blended, soft against opaque surfaces.
+    Smoke,
+    /// Sparks, additive.
+    Sparks,
+}
+
+/// A few emitters that make one effect.
+#[derive(Clone, Debug)]
+pub struct Effect {
+    pub emitters: Vec<(Layer, Emitter)>,
+}
+
+impl Effect {
+    /// A one-shot explosion: a burst of animated fireballs, fast sparks falling under
+    /// gravity, and smoke that keeps rising for a while. Finished after about 4 seconds.
+    pub fn explosion(position: Vec3, seed: u64) -> Effect {
+        let fire = EmitterConfig {
+            rate: 0.0,
+            burst: 10,
+            lifetime: (0.9, 1.2),
+            speed: (0.5, 2.0),
+            spread: PI,
+            spawn_radius: 0.3,
+            acceleration: Vec3::new(0.0, 0.8, 0.0),
+            drag: 2.0,
+            size: (2.0, 4.2),
+            color: (Rgba::WHITE, Rgba::new(1.0, 1.0, 1.0, 0.0)),
+            spin: (-1.0, 1.0),
+            sheet: Some(EXPLOSION_SHEET),
+            max_particles: 64,
+            ..Default::default()
+        };
+        let smoke = EmitterConfig {
+            rate: 14.0,
+            burst: 4,
+            duration: 1.2,
+            lifetime: (1.8, 2.8),
+            speed: (0.3, 1.0),
+            spread: 0.8,
+            spawn_radius: 0.6,
+            acceleration: Vec3::new(0.0, 0.6, 0.0),
+            drag: 0.8,
+            size: (1.2, 3.5),
+            color: (
+                Rgba::new(0.12, 0.11, 0.1, 0.75),
+                Rgba::new(0.3, 0.3, 0.3, 0.0),
+            ),
+            fade_in: 0.3,
+            spin: (-0.5, 0.5),
+            max_particles: 64,
+            ..Default::default()
+        };
+        let sparks = EmitterConfig {
+            rate: 0.0,
+            burst: 40,
+            ..spark_config()
+        };
+        Effect {
+            emitters: vec![
+                (Layer::Smoke, Emitter::new(smoke, position, seed ^ 0x51)),
+                (Layer::Fire, Emitter::new(fire, position, seed ^ 0xf1)),
+                (Layer::Sparks, Emitter::new(sparks, position, seed ^ 0x5a)),
+            ],
+        }
+    }
+
+    /// A continuous column of rising grey puffs, until stopped.
+    pub fn smoke(position: Vec3, seed: u64) -> Effect {
+        let smoke = EmitterConfig {
+            rate: 6.0,
+            lifetime: (3.0, 4.5),
+            speed: (0.4, 0.8),
+            spread: 0.35,
+            spawn_radius: 0.2,
+            acceleration: Vec3::new(0.15, 0.3, 0.0),
+            drag: 0.5,
+            size: (0.8, 3.0),
+            color: (
+                Rgba::new(0.55, 0.55, 0.55, 0.55),
+                Rgba::new(0.7, 0.7, 0.7, 0.0),
+            ),
+            fade_in: 0.4,
+            spin: (-0.4, 0.4),
+            max_particles: 128,
+            ..Default::default()
+        };
+        Effect {
+            emitters: vec![(Layer::Smoke, Emitter::new(smoke, position, seed))],
+        }
+    }
+
+    /// A continuous fountain of hot additive streaks falling under gravity, until stopped.
+    pub fn sparks(position: Vec3, seed: u64) -> Effect {
+        let sparks = EmitterConfig {
+            rate: 60.0,
+            speed: (4.0, 7.0),
+            spread: 0.5,
+            ..spark_config()
+        };
+        Effect {
+            emitters: vec![(Layer::Sparks, Emitter::new(sparks, position, seed))],
+        }
+    }
+
+    pub fn update(&mut self, dt: f32) {
+        for (_, e) in &mut self.emitters {
+            e.update(dt);
+        }
+    }
+
+    /// Stops every emitter spawning; the effect finishes when its particles die.
+    pub fn stop(&mut self) {
+        for (_, e) in &mut self.emitters {
+            e.stop();
+        }
+    }
+
+    /// Moves every emitter (live particles stay where they are).
+    pub fn set_position(&mut self, position: Vec3) {
+        for (_, e) in &mut self.emitters {
+            e.position = position;
+        }
+    }
+
+    pub fn is_finished(&self) -> bool {
+        self.emitters.iter().all(|(_, e)| e.is_finished())
+    }
+
+    pub fn particle_count(&self) -> usize {
+        self.emitters.iter().map(|(_, e)| e.particles.len()).sum()
+    }
+}
+
+/// Sparks: small, very bright (additive) orange streaks under gravity.
+fn spark_config() -> EmitterConfig {
+    EmitterConfig {
+        lifetime: (0.4, 0.9),
+        speed: (6.0, 12.0),
+        spread: PI,
+        acceleration: Vec3::new(0.0, -9.8, 0.0),
+        drag: 1.0,
+        size: (0.12, 0.05),
+        color: (
+            Rgba::new(4.0, 2.2, 0.8, 1.0),
+            Rgba::new(1.5, 0.3, 0.05, 0.0),
+        ),
+        stretch: 0.04,
+        max_particles: 512,
+        ..Default::default()
+    }
+}
+
+/// A handle to an effect added to [`Effects`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct EffectId(pub u64);
+
+/// Running effects and the three batches they draw through.
+///
+/// Per frame: [`Effects::update`], then [`Effects::build`] with the camera's view, then
+/// hand [`Effects::draws`] to the renderer with the frame's other draws.
+#[derive(Clone, Debug)]
+pub struct Effects {
+    effects: Vec<(EffectId, Effect)>,
+    /// Indexed by [`Layer`]: fire, smoke, sparks.
+    batches: [BillboardBatch; 3],
+    rng: XorShift,
+    next_id: u64,
+}
+
+impl Effects {
+    /// Generates the textures; `seed` drives the seeds of the effects spawned later.
+    pub fn new(seed: u64) -> Self {
+        let material = |name: &str, texture: engine::Texture, blend: BlendMode, soft: f32| {
+            let mut m = Material::unlit(Rgba::WHITE)
+                .with_texture(Arc::new(texture))
+                .blended(blend);
+            m.name = name.into();
+            m.soft_distance = soft;
+            m.sampler = Sampler {
+                wrap_u: Wrap::Clamp,
+                wrap_v: Wrap::Clamp,
+                ..Sampler::default()
+            };
+            BillboardBatch::new(m)
+        };
+        let sheet = &EXPLOSION_SHEET;
+        Effects {
+            effects: Vec::new(),
+            batches: [
+                material(
+                    "effects-fire",
+                    explosion_sheet(64, sheet.cols, sheet.rows, 7),
+                    BlendMode::Alpha,
+                    0.3,
+                ),
+                material("effects-smoke", smoke_puff(64, 11), BlendMode::Alpha, 0.5),
+                material("effects-sparks", spark(32), BlendMode::Additive, 0.0),
+            ],
+            rng: XorShift::new(seed),
+            next_id: 0,
+        }
+    }
+
+    /// Adds an effect; it is dropped once finished.
+    pub fn add(&mut self, effect: Effect) -> EffectId {
+        let id = EffectId(self.next_id);
+        self.next_id += 1;
+        self.effects.push((id, effect));
+        id
+    }
+
+    /// Adds [`Effect::explosion`] with the next seed.
+    pub fn spawn_explosion(&mut self, position: Vec3) -> EffectId {
+        let seed = self.rng.next_u64();
+        self.add(Effect::explosion(position, seed))
+    }
+
+    /// Adds [`Effect::smoke`] with the next seed.
+    pub fn add_smoke(&mut self, position: Vec3) -> EffectId {
+        let seed = self.rng.next_u64();
+        self.add(Effect::smoke(position, seed))
+    }
+
+    /// Adds [`Effect::sparks`] with the next seed.
+    pub fn add_sparks(&mut self, position: Vec3) -> EffectId {
+        let seed = self.rng.next_u64();
+        self.add(Effect::sparks(position, seed))
+    }
+
+    /// The running effect `id` (`None` once finished and dropped).
+    pub fn get_mut(&mut self, id: EffectId) -> Option<&mut Effect> {
+        self.effects
+            .iter_mut()
+            .find(|(i, _)| *i == id)
+            .map(|(_, e)| e)
+    }
+
+    /// The running effects, oldest first.
+    pub fn iter(&self) -> impl Iterator<Item = (EffectId, &Effect)> {
+        self.effects.iter().map(|(i, e)| (*i, e))
+    }
+
+    pub fn len(&self) -> usize {
+        self.effects.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.effects.is_empty()
+    }
+
+    pub fn particle_count(&self) -> usize {
+        self.effects.iter().map(|(_, e)| e.particle_count()).sum()
+    }
+
+    /// Advances every effect by `dt` seconds and drops the finished ones.
+    pub fn update(&mut self, dt: f32) {
+        for (_, e) in &mut self.effects {
+            e.update(dt);
+        }
+        self.effects.retain(|(_, e)| !e.is_finished());
+    }
+
+    /// Writes the batches' meshes for `view`. Returns the number of quads.
+    pub fn build(&mut self, view: &View) -> usize {
+        for b in &mut self.batches {
+            b.clear();
+        }
+        for (_, effect) in &self.effects {
+            for (layer, e) in &effect.emitters {
+                e.emit(&mut self.batches[*layer as usize]);
+            }
+        }
+        self.batches.iter_mut().map(|b| b.build(view)).sum()
+    }
+
+    /// The batch of `layer` (its material and last mesh).
+    pub fn batch(&self, layer: Layer) -> &BillboardBatch {
+        &self.batches[layer as usize]
+    }
+
+    /// The three draws (smoke, fire, sparks); empty batches draw nothing.
+    pub fn draws(&self) -> [Draw<'_>; 3] {
+        [Layer::Smoke, Layer::Fire, Layer::Sparks].map(|l| self.batch(l).draw())
+    }
+}
+
+impl Default for Effects {
+    fn default() -> Self {
+        Self::new(0)
+    }
+}
+
+#[cfg(test)]
+mod tests;
