@@ -304,3 +304,129 @@ pub fn triangles_chart(path: &Path, rows: &[Row]) -> Result<Drawn, Error> {
         },
     )
 }
+
+/// One named series of a [`lines_chart`]: points joined by a line, optionally labelled
+/// (`labels` empty, or one per point). Points with a non-finite coordinate (or, on a log
+/// axis, one at or below zero) are left out.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Line {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    pub labels: Vec<String>,
+}
+
+/// A chart of several lines sharing two axes (colours in order, repeating after four).
+#[derive(Clone, Debug)]
+pub struct Lines {
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub lines: Vec<Line>,
+    pub log_x: bool,
+    pub log_y: bool,
+    /// Where the legend goes.
+    pub legend: SeriesLabelPosition,
+}
+
+/// A line with the points (and their labels) that can be drawn on the chart's axes.
+type Drawable<'a> = (&'a Line, Vec<(f64, f64)>, Vec<&'a str>);
+
+fn draw_lines(path: &Path, spec: &Lines, text: bool) -> Result<(), Error> {
+    let keep = |x: f64, log: bool| x.is_finite() && (!log || x > 0.0);
+    let lines: Vec<Drawable> = spec
+        .lines
+        .iter()
+        .map(|l| {
+            let mut pts = Vec::new();
+            let mut labels = Vec::new();
+            for (i, &(x, y)) in l.points.iter().enumerate() {
+                if keep(x, spec.log_x) && keep(y, spec.log_y) {
+                    pts.push((x, y));
+                    labels.push(l.labels.get(i).map_or("", |s| s.as_str()));
+                }
+            }
+            (l, pts, labels)
+        })
+        .collect();
+    let all = lines.iter().flat_map(|(_, p, _)| p.iter().copied());
+    let (x0, x1) = range(all.clone().map(|p| p.0), spec.log_x);
+    let (y0, y1) = range(all.map(|p| p.1), spec.log_y);
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut builder = ChartBuilder::on(&root);
+    builder.margin(16);
+    if text {
+        builder
+            .caption(spec.title.as_str(), ("sans-serif", 24))
+            .x_label_area_size(48)
+            .y_label_area_size(64);
+    }
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            let mut mesh = chart.configure_mesh();
+            if text {
+                mesh.x_desc(spec.x_desc.as_str())
+                    .y_desc(spec.y_desc.as_str())
+                    .x_label_formatter(&|x: &f64| short(*x))
+                    .y_label_formatter(&|y: &f64| short(*y));
+            } else {
+                mesh.x_labels(0).y_labels(0);
+            }
+            mesh.draw()?;
+            for (k, (line, pts, labels)) in lines.iter().enumerate() {
+                let c = SERIES[k % SERIES.len()];
+                let s = chart.draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))?;
+                if text && !line.name.is_empty() {
+                    s.label(line.name.as_str()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    });
+                }
+                chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+                if text {
+                    chart.draw_series(
+                        pts.iter()
+                            .zip(labels)
+                            .filter(|(_, l)| !l.is_empty())
+                            .map(|(&p, l)| {
+                                Text::new(l.to_string(), p, ("sans-serif", 14).into_font())
+                            }),
+                    )?;
+                }
+            }
+            if text && lines.iter().any(|(l, _, _)| !l.name.is_empty()) {
+                chart
+                    .configure_series_labels()
+                    .position(spec.legend.clone())
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .draw()?;
+            }
+        }};
+    }
+    match (spec.log_x, spec.log_y) {
+        (true, true) => {
+            body!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?)
+        }
+        (true, false) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?),
+        (false, true) => body!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?),
+        (false, false) => body!(builder.build_cartesian_2d(x0..x1, y0..y1)?),
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// Draws a [`Lines`] chart as a PNG, with text when a font is usable (see the module docs).
+pub fn lines_chart(path: &Path, spec: &Lines) -> Result<Drawn, Error> {
+    if !font_ready() {
+        draw_lines(path, spec, false)?;
+        return Ok(Drawn::WithoutText);
+    }
+    match draw_lines(path, spec, true) {
+        Ok(()) => Ok(Drawn::WithText),
+        Err(_) => {
+            draw_lines(path, spec, false)?;
+            Ok(Drawn::WithoutText)
+        }
+    }
+}

@@ -1,4 +1,4 @@
-//! Runs the `bench` binary's smallest sweep end to end and checks what it writes: a CSV
+//! Runs the `bench` binary's smallest sweeps end to end and checks what they write: a CSV
 //! with a header and rows, and charts that are real PNG images.
 
 use std::path::PathBuf;
@@ -45,9 +45,130 @@ fn raster_sweep_writes_csv_and_png_charts() {
 
     for name in ["raster_resolution.png", "raster_triangles.png"] {
         let bytes = std::fs::read(dir.join(name)).expect("chart written");
-        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name} is a PNG");
-        let img = image::load_from_memory(&bytes).expect("chart decodes");
-        assert!(img.width() >= 400 && img.height() >= 300);
+        assert_chart(name, &bytes);
+    }
+}
+
+/// Asserts that `bytes` is a PNG chart of a sensible size.
+fn assert_chart(name: &str, bytes: &[u8]) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name} is a PNG");
+    let img = image::load_from_memory(bytes).expect("chart decodes");
+    assert!(img.width() >= 400 && img.height() >= 300);
+}
+
+#[test]
+fn billboards_sweep_writes_csv_and_png_charts() {
+    let dir = out_dir("bench_smoke_billboards");
+    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
+        .args(["billboards", "--quick", "--tiny", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("bench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "bench failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let csv = std::fs::read_to_string(dir.join("billboards.csv")).expect("billboards.csv written");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(&header[..3], ["series", "param", "value"]);
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no {name} column"))
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &[&str], name: &str| -> f64 {
+        r[col(name)]
+            .parse()
+            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
+    };
+    let series = |name: &str| -> Vec<&Vec<&str>> { rows.iter().filter(|r| r[0] == name).collect() };
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "{r:?}");
+    }
+
+    // Timed series: finite positive times, build and render apart, something drawn.
+    for name in ["count", "resolution", "trees_mesh", "trees_billboard"] {
+        let timed = series(name);
+        assert!(timed.len() >= 2, "{name}: {csv}");
+        for r in timed {
+            for c in ["build_ms", "render_ms", "median_ms", "min_ms", "p90_ms"] {
+                let t = num(r, c);
+                assert!(t.is_finite() && t >= 0.0, "{c} of {r:?}");
+            }
+            assert!(
+                num(r, "render_ms") > 0.0 && num(r, "median_ms") > 0.0,
+                "{r:?}"
+            );
+            assert!(
+                num(r, "median_ms") >= num(r, "render_ms").max(num(r, "build_ms")),
+                "{r:?}"
+            );
+            assert!(num(r, "fragments_shaded") > 0.0, "{r:?}");
+            assert!(num(r, "triangles") > 0.0, "{r:?}");
+            assert!(
+                r[col("psnr_db")].is_empty(),
+                "timed rows carry no error: {r:?}"
+            );
+        }
+    }
+    // More billboards, more triangles; billboard trees submit far fewer than mesh trees.
+    let count = series("count");
+    assert!(num(count[1], "triangles") > num(count[0], "triangles"));
+    let (mesh, bb) = (series("trees_mesh"), series("trees_billboard"));
+    for (m, b) in mesh.iter().zip(&bb) {
+        assert_eq!(num(m, "value"), num(b, "value"));
+        assert!(
+            num(b, "triangles") * 10.0 < num(m, "triangles"),
+            "{m:?} {b:?}"
+        );
+    }
+
+    // Accuracy: errors, no times; the upright billboard's error grows from level views
+    // to views from above, where it has faded out and the top-down sprite does better.
+    let (fade, top) = (series("accuracy_fade"), series("accuracy_top"));
+    assert!(fade.len() >= 3 && fade.len() == top.len(), "{csv}");
+    for r in fade.iter().chain(&top) {
+        assert!(r[col("median_ms")].is_empty(), "{r:?}");
+        let psnr = num(r, "psnr_db");
+        let mae = num(r, "mae");
+        assert!(psnr.is_finite() && psnr > 0.0, "{r:?}");
+        assert!(mae > 0.0 && mae < 255.0, "{r:?}");
+    }
+    let (level, above) = (fade[0], fade[fade.len() - 1]);
+    assert_eq!(num(level, "value"), 0.0);
+    assert!(num(above, "value") >= 60.0);
+    assert!(
+        num(level, "psnr_db") > num(above, "psnr_db"),
+        "{level:?} {above:?}"
+    );
+    assert!(num(level, "mae") < num(above, "mae"), "{level:?} {above:?}");
+    assert!(
+        num(level, "coverage_mismatch") < num(above, "coverage_mismatch"),
+        "{level:?} {above:?}"
+    );
+    let top_above = top[top.len() - 1];
+    assert!(
+        num(top_above, "psnr_db") > num(above, "psnr_db"),
+        "{top_above:?}"
+    );
+    // Below the fade the two variants draw the same thing.
+    assert_eq!(num(top[0], "psnr_db"), num(level, "psnr_db"));
+
+    for name in [
+        "billboards_count.png",
+        "billboards_resolution.png",
+        "billboards_accuracy_psnr.png",
+        "billboards_accuracy_mae.png",
+        "billboards_trees.png",
+    ] {
+        let bytes = std::fs::read(dir.join(name)).expect("chart written");
+        assert_chart(name, &bytes);
     }
 }
 

@@ -153,6 +153,46 @@ impl ImageError {
     pub fn psnr_capped(&self, cap_db: f64) -> f64 {
         self.psnr_db.min(cap_db)
     }
+
+    /// The error over the union of several comparisons' pixels, as if they were one image
+    /// (means weighted by pixel count, PSNR from the pooled `mse`, the largest `max_abs`):
+    /// e.g. one figure for several views of an object. `None` when there are no pixels.
+    pub fn pooled<'a>(errors: impl IntoIterator<Item = &'a ImageError>) -> Option<ImageError> {
+        let (mut pixels, mut mse, mut mae, mut over, mut cov) = (0u64, 0.0, 0.0, 0.0, 0.0);
+        let mut max_abs = 0u8;
+        for e in errors {
+            let n = e.pixels as f64;
+            pixels += e.pixels;
+            mse += e.mse * n;
+            mae += e.mean_abs * n;
+            over += e.frac_over * n;
+            cov += e.coverage_mismatch * n;
+            max_abs = max_abs.max(e.max_abs);
+        }
+        if pixels == 0 {
+            return None;
+        }
+        let n = pixels as f64;
+        let mse = mse / n;
+        Some(ImageError {
+            psnr_db: psnr(mse),
+            mse,
+            mean_abs: mae / n,
+            max_abs,
+            frac_over: over / n,
+            coverage_mismatch: cov / n,
+            pixels,
+        })
+    }
+}
+
+/// `10 log10(255^2 / mse)`, infinite for a zero `mse`.
+fn psnr(mse: f64) -> f64 {
+    if mse <= 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64 * 255.0 / mse).log10()
+    }
 }
 
 /// Why two images could not be compared.
@@ -301,11 +341,7 @@ pub fn compare_rgba8(a: Image, b: Image, opts: &Options) -> Result<ImageError, M
     let n = pixels as f64;
     let mse = sq as f64 / (3.0 * n);
     Ok(ImageError {
-        psnr_db: if sq == 0 {
-            f64::INFINITY
-        } else {
-            10.0 * (255.0f64 * 255.0 / mse).log10()
-        },
+        psnr_db: if sq == 0 { f64::INFINITY } else { psnr(mse) },
         mse,
         mean_abs: abs as f64 / (3.0 * n),
         max_abs,

@@ -5,9 +5,14 @@
 //! - `raster`: frame time against resolution (torus 100k, 320x240 to 3840x2160) and
 //!   against triangle count (torus 1k to 2M, and the shared models when their folder
 //!   exists) at 1280x720.
+//! - `billboards`: particle frame time against billboard count and resolution (build and
+//!   render timed apart), billboard-tree error against view elevation (PSNR, mean error),
+//!   and frame time of billboard trees against mesh trees as the forest grows
+//!   (`demos::bench_billboards`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan, Step};
+use demos::bench_billboards as bb;
 use demos::chart::{self, Drawn};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -28,6 +33,22 @@ struct Cli {
 enum Sweep {
     /// Frame time against resolution and against triangle count.
     Raster(Common),
+    /// Billboard frame time against count and resolution, billboard-tree error against
+    /// view elevation, and billboard against mesh trees.
+    Billboards(Small),
+}
+
+#[derive(Args, Debug)]
+struct Small {
+    /// Folder for SWEEP.csv and the charts (created if missing).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// A reduced sweep (every point, few frames): about a minute at most.
+    #[arg(long)]
+    quick: bool,
+    /// A seconds-long smoke run for tests: tiny sizes and counts.
+    #[arg(long, hide = true)]
+    tiny: bool,
 }
 
 #[derive(Args, Debug)]
@@ -55,6 +76,7 @@ fn main() -> ExitCode {
     demos::set_threads("bench", cli.threads);
     let result = match &cli.sweep {
         Sweep::Raster(c) => raster(c),
+        Sweep::Billboards(c) => billboards(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -104,6 +126,87 @@ fn load_models(c: &Common) -> Vec<(String, engine::Scene)> {
     out
 }
 
+/// The progress bar every sweep shows.
+fn progress_bar() -> ProgressBar {
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}
+
+/// Draws one chart, saying so when it had to go without text.
+fn drawn(path: &Path, result: Result<Drawn, Box<dyn std::error::Error>>) -> Result<(), String> {
+    match result {
+        Ok(Drawn::WithText) => Ok(()),
+        Ok(Drawn::WithoutText) => {
+            println!(
+                "bench: no usable font found; {} was drawn without text",
+                path.display()
+            );
+            Ok(())
+        }
+        Err(e) => Err(format!("cannot draw {}: {e}", path.display())),
+    }
+}
+
+fn billboards(c: &Small) -> Result<(), String> {
+    let plan = if c.tiny {
+        bb::Plan::tiny()
+    } else if c.quick {
+        bb::Plan::quick()
+    } else {
+        bb::Plan::full()
+    };
+    std::fs::create_dir_all(&c.out)
+        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
+    let start = Instant::now();
+    let bar = progress_bar();
+    let rows = bb::run(&plan, |i, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(i as u64);
+        bar.set_message(what.to_string());
+    });
+    bar.finish_and_clear();
+    for r in &rows {
+        let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
+        match (&r.times, &r.error) {
+            (Some(t), _) => println!(
+                "{what} {:>4}x{:<4} {:>9} tris  build {:>8.3} ms  render {:>8.3} ms  total {:>8.3} ms ({} frames)",
+                r.width, r.height, r.triangles, t.build.median_ms, t.render.median_ms, t.total.median_ms, t.total.frames
+            ),
+            (None, Some(e)) => println!(
+                "{what} {:>4}x{:<4} PSNR {:>6.2} dB  MAE {:>6.2}  max {:>3}  over {:>5.1}%  coverage {:>5.1}%",
+                r.width,
+                r.height,
+                e.psnr_db,
+                e.mean_abs,
+                e.max_abs,
+                e.frac_over * 100.0,
+                e.coverage_mismatch * 100.0
+            ),
+            (None, None) => println!("{what} (nothing measured)"),
+        }
+    }
+    let csv = c.out.join("billboards.csv");
+    bb::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (name, spec) in bb::charts(&rows) {
+        let path = c.out.join(name);
+        drawn(&path, chart::lines_chart(&path, &spec))?;
+    }
+    println!(
+        "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/billboards_*.png",
+        rows.len(),
+        start.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        csv.display(),
+        c.out.display()
+    );
+    Ok(())
+}
+
 fn raster(c: &Common) -> Result<(), String> {
     let plan = if c.tiny {
         Plan::tiny()
@@ -120,12 +223,7 @@ fn raster(c: &Common) -> Result<(), String> {
         Vec::new()
     };
     let start = Instant::now();
-    let bar = ProgressBar::new(1);
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
+    let bar = progress_bar();
     let rows = bench::raster(&plan, &models, |i, total, step: &Step| {
         bar.set_length(total as u64);
         bar.set_position(i as u64);
@@ -158,14 +256,7 @@ fn raster(c: &Common) -> Result<(), String> {
     ];
     for (name, draw) in charts {
         let path = c.out.join(name);
-        match draw(&path, &rows) {
-            Ok(Drawn::WithText) => {}
-            Ok(Drawn::WithoutText) => println!(
-                "bench: no usable font found; {} was drawn without text",
-                path.display()
-            ),
-            Err(e) => return Err(format!("cannot draw {}: {e}", path.display())),
-        }
+        drawn(&path, draw(&path, &rows))?;
     }
     println!(
         "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/raster_*.png",

@@ -261,3 +261,23 @@ fn rectangles_union_clip_and_grow() {
         Some(Rect::new(0, 0, 6, 6))
     );
 }
+
+#[test]
+fn pooled_errors_weigh_each_comparison_by_its_pixels() {
+    // 10 pixels off by 10 levels and 30 identical pixels: one image of 40 pixels.
+    let (a, b) = (
+        solid(5, 2, [60, 60, 60, 255]),
+        solid(5, 2, [50, 50, 50, 255]),
+    );
+    let off = cmp(5, 2, &a, &b, &Options::default());
+    let c = solid(6, 5, [9, 9, 9, 255]);
+    let same = cmp(6, 5, &c, &c, &Options::default());
+    let p = ImageError::pooled([&off, &same]).unwrap();
+    assert_eq!((p.pixels, p.max_abs), (40, 10));
+    assert!(close(p.mean_abs, 2.5));
+    assert!(close(p.mse, 25.0));
+    assert!(close(p.psnr_db, 20.0 * (255.0f64 / 5.0).log10()));
+    assert!(close(p.frac_over, 0.25));
+    assert_eq!(ImageError::pooled([&same]).unwrap().psnr_db, f64::INFINITY);
+    assert_eq!(ImageError::pooled([]), None);
+}
