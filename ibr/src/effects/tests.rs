@@ -360,8 +360,6 @@ fn explosion_renders_then_disappears() {
     assert!(black, "nothing left after the effect's lifetime");
 }
 
-const HASH_TAG: &str = "effects-render-hash:";
-
 fn explosion_hash() -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     for img in render_explosion(&[0.05, 0.3, 0.8, 2.0]) {
@@ -372,46 +370,17 @@ fn explosion_hash() -> u64 {
     h
 }
 
-/// Run by `rendering_is_the_same_at_1_and_2_threads` in a child process whose global
-/// rayon pool has the thread count set by `RAYON_NUM_THREADS` (ibr does not depend on
-/// rayon, so it cannot build a pool itself).
-#[test]
-#[ignore = "child of rendering_is_the_same_at_1_and_2_threads"]
-fn render_hash_child() {
-    println!("{HASH_TAG}{}", explosion_hash());
-}
-
+/// The explosion renders to the same pixels in 1- and 2-thread pools.
 #[test]
 fn rendering_is_the_same_at_1_and_2_threads() {
-    let exe = std::env::current_exe().expect("test binary");
-    let hash_with = |threads: &str| {
-        let out = std::process::Command::new(&exe)
-            .args([
-                "effects::tests::render_hash_child",
-                "--exact",
-                "--ignored",
-                "--nocapture",
-                "--test-threads=1",
-            ])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .expect("runs the test binary");
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let hash = stdout
-            .lines()
-            .find_map(|l| Some(l.split_once(HASH_TAG)?.1))
-            .unwrap_or_else(|| panic!("no hash from the child: {stdout}"));
-        let digits = hash
-            .trim_start()
-            .split(|c: char| !c.is_ascii_digit())
-            .next();
-        digits
-            .and_then(|d| d.parse::<u64>().ok())
-            .expect("a number")
+    let in_pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(explosion_hash)
     };
-    let one = hash_with("1");
-    assert_eq!(one, hash_with("2"));
-    assert_eq!(one, explosion_hash(), "and the same in this process's pool");
+    assert_eq!(in_pool(1), in_pool(2));
 }
 
 /// Mean alpha-weighted luminance (sRGB bytes) and mean alpha of frame `f` of the sheet.
