@@ -4,7 +4,7 @@
 //! The first quad's normal is the view vector projected onto the plane perpendicular to the
 //! axis, so the beam shows its full width from any side; the second quad is at 90 degrees
 //! to it. Seen end-on the projection vanishes: the quads then take a fixed direction from
-//! the camera (still finite, full-size quads, seen edge-on), fade out with the sine of the
+//! the camera (still finite, full-size quads, seen edge-on), fade out within a few degrees
 //! angle to the axis, and the end caps (screen-facing glows) carry the look.
 
 use crate::billboard::{push_quad, Billboard, BillboardBatch, Facing, UvRect, View};
@@ -26,11 +26,15 @@ pub struct Laser {
     pub intensity: f32,
 }
 
+/// Within this angle of the beam axis the beam quads fade out.
+pub const END_ON_DEGREES: f32 = 4.0;
+
 /// Cap glow diameter as a multiple of the beam width.
 pub const CAP_SCALE: f32 = 2.5;
 
 /// The beam's two quads for a viewer at `eye` (camera up `view_up` for the end-on case) and
-/// the fade of the beam quads (sine of the angle between the view vector and the axis).
+/// the fade of the beam quads: 1 except within [`END_ON_DEGREES`] of the axis, where it
+/// falls smoothly to 0 (there the quads are edge-on slivers and the caps carry the glow).
 /// `None` for a zero-length or non-finite beam (its caps are still drawn).
 pub fn beam_quads(
     l: &Laser,
@@ -48,11 +52,13 @@ pub fn beam_quads(
     let t = (eye - l.a).dot(d).clamp(0.0, len);
     let v = eye - (l.a + d * t);
     let perp = v - d * v.dot(d);
-    let fade = if v.length() > 0.0 {
+    let sin = if v.length() > 0.0 {
         (perp.length() / v.length()).clamp(0.0, 1.0)
     } else {
         0.0
     };
+    let t = (sin / END_ON_DEGREES.to_radians().sin()).min(1.0);
+    let fade = t * t * (3.0 - 2.0 * t);
     // Below a relative 1e-4 the projection is rounding noise, not a direction.
     let n1 = (perp.length() > 1e-4 * v.length())
         .then(|| perp.try_normalize())
