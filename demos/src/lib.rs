@@ -1,5 +1,5 @@
-//! Shared code of the Parallax binaries: the showcase scene and fly camera
-//! ([`showcase`]), frame-time statistics ([`timing`]), a tiny bitmap font for on-screen
+//! Shared code of the Parallax binaries: the showcase scene, its image-based layer and fly
+//! camera ([`showcase`], [`showcase_ibr`]), frame-time statistics ([`timing`]), a tiny bitmap font for on-screen
 //! readouts ([`font`]), and the benchmark sweeps and charts behind the `bench` CLI
 //! ([`bench`], [`chart`]). Binaries stay thin; what they do is here, where tests reach it.
 
@@ -8,6 +8,7 @@ pub mod bench_billboards;
 pub mod chart;
 pub mod font;
 pub mod showcase;
+pub mod showcase_ibr;
 pub mod timing;
 
 /// Sets the global rayon pool to `threads` workers (when given); a failure is reported on

@@ -5,12 +5,15 @@
 //! vertex-coloured spinning torus on a pedestal, lit spheres, crates with a generated wood
 //! texture, a checker-textured plaza, an alpha-tested lattice fence (`AlphaMode::Mask`),
 //! blended glass (`AlphaMode::Blend`), a house, trees and rocks, lit by a sun and two point
-//! lights (one orbiting the torus, marked by a glowing lamp).
+//! lights (one orbiting the torus, marked by a glowing lamp). Its image-based layer
+//! ([`crate::showcase_ibr`]) adds a billboard forest, a laser exchange with explosions and
+//! the sun's lens flare.
 
+use crate::showcase_ibr::IbrLayer;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
-    AlphaMode, Camera, Encoding, Instance, Light, Lighting, Material, Mesh, Rgba, Scene, Shading,
-    Texture,
+    AlphaMode, Camera, Encoding, FrameOptions, FrameStats, Instance, Light, Lighting, Material,
+    Mesh, Renderer, Rgba, Scene, Shading, Target, Texture,
 };
 use glam::{Mat4, Quat, Vec3};
 use std::sync::Arc;
@@ -27,6 +30,8 @@ pub const FAR: f32 = 250.0;
 pub struct Showcase {
     pub scene: Scene,
     pub terrain: Terrain,
+    /// Billboards, lasers, effects and the lens flare.
+    pub ibr: IbrLayer,
     torus: usize,
     lamp: usize,
     lamp_light: usize,
@@ -38,8 +43,10 @@ impl Showcase {
         build()
     }
 
-    /// Poses the animated parts at time `t` seconds: the torus spins, the lamp orbits.
+    /// Poses the animated parts at time `t` seconds: the torus spins, the lamp orbits, the
+    /// lasers fire and the effects advance.
     pub fn animate(&mut self, t: f32) {
+        self.ibr.pose(t);
         let s = &mut self.scene;
         s.instances[self.torus].transform = Mat4::from_translation(Vec3::new(0.0, 2.1, 0.0))
             * Mat4::from_rotation_y(t * 0.7)
@@ -53,16 +60,101 @@ impl Showcase {
 }
 
 impl Showcase {
-    /// The headless camera path: frame `i` of `n` circles the plaza once, bobbing up and
-    /// down, always at least 2.5 units above the ground. Returns `(eye, target)`.
+    /// The headless camera path, `(eye, target)` at frame `i` of `n`. The first half
+    /// circles the plaza once, bobbing up and down; the second half rises over the
+    /// billboard forest (looking down on the trees, past their fade to top-down sprites),
+    /// comes back to look along the laser from just behind turret B, turns up toward the
+    /// sun (lens flare) and returns to the start. The eye stays 2.5 units above the ground.
     pub fn path(&self, i: usize, n: usize) -> (Vec3, Vec3) {
-        let f = i as f32 / n.max(1) as f32;
+        let f = (i % n.max(1)) as f32 / n.max(1) as f32;
+        let (eye, target) = if f < 0.5 {
+            self.circle(f * 2.0)
+        } else {
+            let keys = self.flight_keys();
+            let u = (f - 0.5) * 2.0 * (keys.len() - 1) as f32;
+            let k = (u.floor() as usize).min(keys.len() - 2);
+            let t = u - k as f32;
+            let at = |j: isize| keys[j.clamp(0, keys.len() as isize - 1) as usize];
+            let k = k as isize;
+            let (p0, p1, p2, p3) = (at(k - 1), at(k), at(k + 1), at(k + 2));
+            (
+                catmull_rom(p0.0, p1.0, p2.0, p3.0, t),
+                catmull_rom(p0.1, p1.1, p2.1, p3.1, t),
+            )
+        };
+        let ground = self.terrain.height_at(eye.x, eye.z) + 2.5;
+        (Vec3::new(eye.x, eye.y.max(ground), eye.z), target)
+    }
+
+    /// The plaza circle at fraction `f` of a turn.
+    fn circle(&self, f: f32) -> (Vec3, Vec3) {
         let a = std::f32::consts::TAU * f + 0.6;
         let r = 17.0 + 1.5 * (2.0 * a).sin();
         let (x, z) = (r * a.cos(), r * a.sin());
-        let y = (4.8 + 1.4 * a.sin()).max(self.terrain.height_at(x, z) + 2.5);
-        (Vec3::new(x, y, z), Vec3::new(0.0, 1.2, 0.0))
+        (
+            Vec3::new(x, 4.8 + 1.4 * a.sin(), z),
+            Vec3::new(0.0, 1.2, 0.0),
+        )
     }
+
+    /// Key poses of the flight: from the circle's end over the forest, along the laser,
+    /// toward the sun and back to the circle's start.
+    fn flight_keys(&self) -> Vec<(Vec3, Vec3)> {
+        let [a, b] = self.ibr.turrets;
+        let along = (b - a).normalize();
+        let side = along.cross(Vec3::Y).normalize();
+        let sun = self
+            .scene
+            .lighting
+            .lights
+            .iter()
+            .find_map(|l| match l {
+                Light::Directional { direction, .. } => Some(-*direction),
+                _ => None,
+            })
+            .unwrap_or(Vec3::Y);
+        let sun_eye = Vec3::new(-14.0, 9.0, -16.0);
+        let start = self.circle(0.0);
+        vec![
+            start,
+            (Vec3::new(22.0, 13.0, 22.0), Vec3::new(34.0, 3.0, 32.0)),
+            (Vec3::new(36.0, 24.0, 36.0), Vec3::new(41.0, 4.0, 40.0)),
+            (Vec3::new(44.0, 22.0, 26.0), Vec3::new(48.0, 2.0, 20.0)),
+            (Vec3::new(12.0, 14.0, 34.0), Vec3::new(-6.0, 4.0, 14.0)),
+            // From behind turret B, down the beam toward A, where B's bolts explode.
+            // (beside the turret's head, so the beam is seen nearly end-on).
+            (b + along * 7.0 + side * 1.5 + Vec3::Y * 1.2, a),
+            (b + along * 2.5 + side * 0.8 + Vec3::Y * 0.3, a + side * 0.3),
+            // The sun about 20 degrees above the image centre, over the forest.
+            (
+                sun_eye,
+                sun_eye + Vec3::new(sun.x, sun.y * 0.4, sun.z) * 10.0,
+            ),
+            (Vec3::new(2.0, 8.0, -22.0), Vec3::new(0.0, 1.2, 0.0)),
+            start,
+        ]
+    }
+
+    /// Renders the scene and its image-based layer for `camera` (two passes: the scene
+    /// with billboards, lasers and effects, then the lens flare).
+    pub fn render(
+        &mut self,
+        renderer: &mut Renderer,
+        camera: &Camera,
+        target: &mut Target,
+        opts: &FrameOptions,
+    ) -> FrameStats {
+        self.ibr.render(&self.scene, renderer, camera, target, opts)
+    }
+}
+
+/// Uniform Catmull-Rom interpolation between `p1` and `p2`.
+fn catmull_rom(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, t: f32) -> Vec3 {
+    let (t2, t3) = (t * t, t * t * t);
+    0.5 * ((2.0 * p1)
+        + (p2 - p0) * t
+        + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+        + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
 }
 
 impl Default for Showcase {
@@ -434,9 +526,11 @@ fn build() -> Showcase {
             },
         ],
     };
+    let ibr = IbrLayer::new(&mut s, &terrain);
     let mut show = Showcase {
         scene: s,
         terrain,
+        ibr,
         torus,
         lamp,
         lamp_light: 1,

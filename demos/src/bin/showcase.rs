@@ -30,7 +30,7 @@ struct Args {
     #[arg(long, value_name = "DIR", num_args = 0..=1, default_missing_value = "out/showcase")]
     headless: Option<PathBuf>,
     /// Frames to render in headless mode.
-    #[arg(long, default_value_t = 60)]
+    #[arg(long, default_value_t = 120)]
     frames: usize,
     /// Image width (headless default 640, window default 960).
     #[arg(short = 'W', long)]
@@ -106,7 +106,7 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
         let (eye, look) = show.path(i, n);
         let camera = showcase::camera(eye, look, w, h);
         let start = Instant::now();
-        stats = renderer.render_scene(&show.scene, &camera, &mut target, &opts);
+        stats = show.render(&mut renderer, &camera, &mut target, &opts);
         times.push(start.elapsed());
         if !args.no_save {
             let path = dir.join(format!("frame_{i:04}.png"));
@@ -222,7 +222,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
         show.animate(start.elapsed().as_secs_f32());
         let camera = fly.camera(ww, wh);
         let t0 = Instant::now();
-        let stats = renderer.render_scene(&show.scene, &camera, &mut target, &opts);
+        let stats = show.render(&mut renderer, &camera, &mut target, &opts);
         recent.push(t0.elapsed());
         target.write_rgb_u32(&mut pixels);
         if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
