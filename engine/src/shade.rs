@@ -11,6 +11,7 @@
 use crate::light::{Light, Lighting};
 use crate::material::{Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
+use crate::texture::Filter;
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::Vec3;
 use std::ops::{Div, Mul};
@@ -154,43 +155,50 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         if let Some(tex) = &m.base_texture {
-            let (u, v) = (at(UV).to_array(), at(UV + 1).to_array());
-            let (l1a, l2a, wa) = (l1.to_array(), l2.to_array(), w.to_array());
             let [_, du1, du2] = p.attr[UV];
             let [_, dv1, dv2] = p.attr[UV + 1];
-            let (tw, th) = (tex.width() as f32, tex.height() as f32);
-            let mut t = [[0.0f32; LANES]; 4];
-            for l in 0..LANES {
-                if mask >> l & 1 == 0 {
-                    continue;
-                }
-                // d(l1)/dx = (d(l1/w)/dx - l1 * d(1/w)/dx) * w, and likewise for y and l2.
-                let d = |pl: &Plane, lam: f32| {
+            // One level of detail for the row: the largest footprint among the kept lanes
+            // (GPUs share one per 2x2 quad). d(l1)/dx = (d(l1/w)/dx - l1 d(1/w)/dx) w, and
+            // likewise for y and l2.
+            let lod = if m.sampler.filter == Filter::Trilinear {
+                let d = |pl: &Plane, lam: F8| {
                     (
-                        (pl.dx - lam * tri.iw.dx) * wa[l],
-                        (pl.dy - lam * tri.iw.dy) * wa[l],
+                        (F8::splat(pl.dx) - lam * F8::splat(tri.iw.dx)) * w,
+                        (F8::splat(pl.dy) - lam * F8::splat(tri.iw.dy)) * w,
                     )
                 };
-                let (a1x, a1y) = d(&tri.l1, l1a[l]);
-                let (a2x, a2y) = d(&tri.l2, l2a[l]);
-                let dudx = (a1x * du1 + a2x * du2) * tw;
-                let dvdx = (a1x * dv1 + a2x * dv2) * th;
-                let dudy = (a1y * du1 + a2y * du2) * tw;
-                let dvdy = (a1y * dv1 + a2y * dv2) * th;
-                let rho2 = (dudx * dudx + dvdx * dvdx).max(dudy * dudy + dvdy * dvdy);
-                let c = tex.sample(&m.sampler, u[l], v[l], 0.5 * fast_log2(rho2));
-                t[0][l] = c.r;
-                t[1][l] = c.g;
-                t[2][l] = c.b;
-                t[3][l] = c.a;
-            }
+                let (a1x, a1y) = d(&tri.l1, l1);
+                let (a2x, a2y) = d(&tri.l2, l2);
+                let (tw, th) = (
+                    F8::splat(tex.width() as f32),
+                    F8::splat(tex.height() as f32),
+                );
+                let (du1, du2) = (F8::splat(du1), F8::splat(du2));
+                let (dv1, dv2) = (F8::splat(dv1), F8::splat(dv2));
+                let dudx = a1x.mul_add(du1, a2x * du2) * tw;
+                let dvdx = a1x.mul_add(dv1, a2x * dv2) * th;
+                let dudy = a1y.mul_add(du1, a2y * du2) * tw;
+                let dvdy = a1y.mul_add(dv1, a2y * dv2) * th;
+                let rho2 = dudx
+                    .mul_add(dudx, dvdx * dvdx)
+                    .max(dudy.mul_add(dudy, dvdy * dvdy))
+                    .to_array();
+                let widest = (0..LANES)
+                    .filter(|l| mask >> l & 1 != 0)
+                    .map(|l| rho2[l])
+                    .fold(0.0f32, f32::max);
+                0.5 * fast_log2(widest)
+            } else {
+                0.0
+            };
+            let t = tex.sample8(&m.sampler, at(UV), at(UV + 1), lod);
             // Samples are premultiplied; the shader works in straight colour.
-            let a = F8::from_array(t[3]);
+            let a = t[3];
             let inv = a
                 .gt(F8::splat(0.0))
                 .select(F8::splat(1.0) / a, F8::splat(0.0));
             for c in 0..3 {
-                rgba[c] = rgba[c] * F8::from_array(t[c]) * inv;
+                rgba[c] = rgba[c] * t[c] * inv;
             }
             rgba[3] = rgba[3] * a;
         }
