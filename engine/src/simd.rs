@@ -146,7 +146,7 @@ mod imp {
         }
         /// Low 32 bits of the lane products.
         #[inline(always)]
-        pub fn mul(self, o: Self) -> Self {
+        pub fn mul_lo(self, o: Self) -> Self {
             avx!(I8(_mm256_mullo_epi32(self.0, o.0)))
         }
         #[inline(always)]
@@ -309,7 +309,7 @@ mod imp {
         pub fn max(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l].max(o.0[l])))
         }
-        pub fn mul(self, o: Self) -> Self {
+        pub fn mul_lo(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l].wrapping_mul(o.0[l])))
         }
         pub fn and(self, o: Self) -> Self {

@@ -330,7 +330,7 @@ impl Texture {
             l.height,
             s.wrap_v,
         );
-        let idx = y.mul(I8::splat(l.width as i32)) + x;
+        let idx = y.mul_lo(I8::splat(l.width as i32)) + x;
         let one = F8::splat(1.0);
         self.taps(
             0,
@@ -352,8 +352,8 @@ impl Texture {
         let xa = wrap8(x0, l.width, s.wrap_u);
         let xb = wrap8(x0 + one, l.width, s.wrap_u);
         let w = I8::splat(l.width as i32);
-        let ya = wrap8(y0, l.height, s.wrap_v).mul(w);
-        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul(w);
+        let ya = wrap8(y0, l.height, s.wrap_v).mul_lo(w);
+        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul_lo(w);
         let (sx, sy) = (one - tx, one - ty);
         self.taps(
             level,
