@@ -11,6 +11,7 @@
 //! - [`flare`]: lens flare with depth-buffer occlusion and a temporal fade.
 //! - [`effects`]: animated sprite sheets and particle emitters (explosions, smoke, sparks).
 //! - [`metrics`]: image error against a ground-truth render (PSNR, mean and max error).
+//! - [`subject`]: what an image can stand in for (mesh groups, particle clouds).
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
 
@@ -20,5 +21,6 @@ pub mod flare;
 pub mod laser;
 pub mod metrics;
 pub mod sprites;
+pub mod subject;
 
 pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};
