@@ -201,6 +201,19 @@ impl Target {
         Texture::from_packed(self.width, self.height, texels, self.encoding, true)
     }
 
+    /// Copies the colour into `tex` (premultiplied, same encoding) in `tex`'s own memory
+    /// (see [`Texture::refill`]); `false` for a 0-sized target.
+    pub fn copy_to_texture(&self, tex: &mut Texture) -> bool {
+        let w = self.width as usize;
+        tex.refill(self.width, self.height, self.encoding, true, |out| {
+            for (y, row) in out.chunks_exact_mut(w.max(1)).enumerate() {
+                for (x, px) in row.iter_mut().enumerate() {
+                    *px = self.color[self.index(x as u32, y as u32)];
+                }
+            }
+        })
+    }
+
     /// The tile-major colour and depth storage, for the renderer to split into tiles.
     pub(crate) fn storage_mut(&mut self) -> (&mut [u32], &mut [f32]) {
         (&mut self.color, &mut self.depth)
@@ -218,6 +231,18 @@ mod tests {
         assert!(t.pixel(0, 0).is_none());
         assert!(t.to_rgba8().is_empty());
         assert!(t.to_texture().is_none());
+    }
+
+    #[test]
+    fn copy_to_texture_matches_to_texture() {
+        let mut t = Target::new(70, 9);
+        for (i, px) in t.color.iter_mut().enumerate() {
+            *px = (i as u32).wrapping_mul(0x9e37_79b9);
+        }
+        let mut tex = Texture::solid(Rgba::WHITE);
+        assert!(t.copy_to_texture(&mut tex));
+        assert_eq!(Some(tex), t.to_texture());
+        assert!(!Target::new(0, 3).copy_to_texture(&mut Texture::solid(Rgba::WHITE)));
     }
 
     #[test]

@@ -155,40 +155,72 @@ impl Texture {
             premultiplied,
             linear: Vec::new(),
         };
-        t.build_mips();
-        t.linear = t
-            .levels
-            .iter()
-            .map(|l| {
-                let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u32;
-                let (mut rg, mut ba) = (Vec::new(), Vec::new());
-                for &px in &l.texels {
-                    let c = t.decode(px);
-                    rg.push(q(c.r) | q(c.g) << 16);
-                    ba.push(q(c.b) | q(c.a) << 16);
-                }
-                LinearLevel { rg, ba }
-            })
-            .collect();
+        t.rebuild();
         t
     }
 
-    /// Box-filtered mip chain, averaged as premultiplied linear colour.
-    fn build_mips(&mut self) {
-        let enc = crate::color::Encoder::new(self.encoding);
-        while let Some(prev) = self.levels.last() {
-            if prev.width == 1 && prev.height == 1 {
+    /// Replaces the image with `width` x `height` texels written by `fill` (row-major, top
+    /// row first, packed in `encoding`, premultiplied or straight), then rebuilds the mip
+    /// chain, all in the texture's own memory: refilling a texture with an image of the
+    /// same size allocates nothing. Returns `false`, leaving the texture as it was, for a
+    /// side of 0 or over [`MAX_TEXTURE_SIZE`].
+    pub fn refill(
+        &mut self,
+        width: u32,
+        height: u32,
+        encoding: Encoding,
+        premultiplied: bool,
+        fill: impl FnOnce(&mut [u32]),
+    ) -> bool {
+        if width == 0 || height == 0 || width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
+            return false;
+        }
+        self.encoding = encoding;
+        self.premultiplied = premultiplied;
+        let l = &mut self.levels[0];
+        l.width = width;
+        l.height = height;
+        l.texels.resize(width as usize * height as usize, 0);
+        fill(&mut l.texels);
+        self.rebuild();
+        true
+    }
+
+    /// Recomputes the box-filtered mip chain (averaged as premultiplied linear colour) and
+    /// the 16-bit linear copy from level 0, reusing the existing levels' memory.
+    fn rebuild(&mut self) {
+        let (encoding, premultiplied) = (self.encoding, self.premultiplied);
+        let enc = crate::color::Encoder::new(encoding);
+        let mut k = 1;
+        loop {
+            let (pw, ph) = (self.levels[k - 1].width, self.levels[k - 1].height);
+            if pw == 1 && ph == 1 {
                 break;
             }
-            let (w, h) = ((prev.width / 2).max(1), (prev.height / 2).max(1));
-            let mut texels = Vec::with_capacity((w * h) as usize);
+            let (w, h) = ((pw / 2).max(1), (ph / 2).max(1));
+            if self.levels.len() == k {
+                self.levels.push(MipLevel {
+                    width: w,
+                    height: h,
+                    texels: Vec::new(),
+                });
+            }
+            let (done, rest) = self.levels.split_at_mut(k);
+            let (prev, cur) = (&done[k - 1], &mut rest[0]);
+            cur.width = w;
+            cur.height = h;
+            cur.texels.clear();
             for y in 0..h {
                 for x in 0..w {
                     let mut acc = [0.0f32; 4];
                     for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                        let sx = (2 * x + dx).min(prev.width - 1);
-                        let sy = (2 * y + dy).min(prev.height - 1);
-                        let c = self.decode(prev.texels[(sy * prev.width + sx) as usize]);
+                        let sx = (2 * x + dx).min(pw - 1);
+                        let sy = (2 * y + dy).min(ph - 1);
+                        let c = decode(
+                            encoding,
+                            premultiplied,
+                            prev.texels[(sy * pw + sx) as usize],
+                        );
                         acc[0] += c.r;
                         acc[1] += c.g;
                         acc[2] += c.b;
@@ -200,19 +232,27 @@ impl Texture {
                         b: acc[2] * 0.25,
                         a: acc[3] * 0.25,
                     };
-                    let c = if self.premultiplied {
+                    let c = if premultiplied {
                         c.to_array()
                     } else {
                         c.unpremultiply().to_array()
                     };
-                    texels.push(enc.pack(c[0], c[1], c[2], c[3]));
+                    cur.texels.push(enc.pack(c[0], c[1], c[2], c[3]));
                 }
             }
-            self.levels.push(MipLevel {
-                width: w,
-                height: h,
-                texels,
-            });
+            k += 1;
+        }
+        self.levels.truncate(k);
+        self.linear.resize_with(k, LinearLevel::default);
+        let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u32;
+        for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
+            lin.rg.clear();
+            lin.ba.clear();
+            for &px in &level.texels {
+                let c = decode(encoding, premultiplied, px);
+                lin.rg.push(q(c.r) | q(c.g) << 16);
+                lin.ba.push(q(c.b) | q(c.a) << 16);
+            }
         }
     }
 
@@ -235,21 +275,7 @@ impl Texture {
     /// One stored texel as premultiplied linear colour.
     #[inline]
     pub fn decode(&self, px: u32) -> Premul {
-        if self.premultiplied {
-            return unpack(self.encoding, px);
-        }
-        let lut = match self.encoding {
-            Encoding::Srgb => srgb_to_linear_lut(),
-            Encoding::Unorm => unorm_lut(),
-        };
-        let [r, g, b, a] = px.to_le_bytes();
-        let a = a as f32 * (1.0 / 255.0);
-        Premul {
-            r: lut[r as usize] * a,
-            g: lut[g as usize] * a,
-            b: lut[b as usize] * a,
-            a,
-        }
+        decode(self.encoding, self.premultiplied, px)
     }
 
     /// Texel `(x, y)` of level `level`, premultiplied linear (coordinates clamped).
@@ -442,6 +468,26 @@ impl Texture {
             b: acc[2],
             a: acc[3],
         }
+    }
+}
+
+/// A packed texel as premultiplied linear colour.
+#[inline]
+fn decode(encoding: Encoding, premultiplied: bool, px: u32) -> Premul {
+    if premultiplied {
+        return unpack(encoding, px);
+    }
+    let lut = match encoding {
+        Encoding::Srgb => srgb_to_linear_lut(),
+        Encoding::Unorm => unorm_lut(),
+    };
+    let [r, g, b, a] = px.to_le_bytes();
+    let a = a as f32 * (1.0 / 255.0);
+    Premul {
+        r: lut[r as usize] * a,
+        g: lut[g as usize] * a,
+        b: lut[b as usize] * a,
+        a,
     }
 }
 
@@ -652,6 +698,29 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn refilling_matches_a_new_texture_and_reuses_memory() {
+        let bytes: Vec<u32> = (0..12 * 5)
+            .map(|i| 0x80c0_4020u32.wrapping_mul(i + 1))
+            .collect();
+        let fresh = Texture::from_packed(12, 5, bytes.clone(), Encoding::Srgb, true).unwrap();
+        let mut t = Texture::checker(12, 3, Rgba::WHITE, Rgba::BLACK);
+        assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out
+            .copy_from_slice(&bytes)));
+        assert_eq!(t, fresh);
+        let ptrs: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
+        assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out.fill(7)));
+        let again: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
+        assert_eq!(ptrs, again, "same size: same memory");
+        assert!(!t.refill(0, 5, Encoding::Srgb, true, |_| {}));
+        assert_eq!(t.width(), 12, "a refused refill changes nothing");
+        // Shrinking drops levels; growing adds them.
+        assert!(t.refill(2, 2, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
+        assert_eq!(t.levels().len(), 2);
+        assert!(t.refill(16, 16, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
+        assert_eq!(t.levels().len(), 5);
     }
 
     #[test]
