@@ -7,19 +7,25 @@
 //! ordinary [`engine::Draw`]s: the renderer knows nothing of billboards.
 //!
 //! - [`billboard`]: screen, world and axial billboards, batched into one mesh per frame.
+//! - [`impostor`]: runtime impostors refreshed when their predicted error is too large.
+//! - [`cloud`]: cumulus particle clouds lit by a precomputed light pass (Harris and Lastra).
 //! - [`laser`]: dual-billboard beams with glowing end caps.
 //! - [`flare`]: lens flare with depth-buffer occlusion and a temporal fade.
 //! - [`effects`]: animated sprite sheets and particle emitters (explosions, smoke, sparks).
+//! - [`octahedral`]: baked octahedral impostors (N x N views in one atlas, three-frame blend).
 //! - [`metrics`]: image error against a ground-truth render (PSNR, mean and max error).
 //! - [`subject`]: what an image can stand in for (mesh groups, particle clouds).
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
 
 pub mod billboard;
+pub mod cloud;
 pub mod effects;
 pub mod flare;
+pub mod impostor;
 pub mod laser;
 pub mod metrics;
+pub mod octahedral;
 pub mod sprites;
 pub mod subject;
 

@@ -1,0 +1,592 @@
+//! Dynamic impostors (Schaufler 1995; Harris and Lastra 2001): a subject rendered offscreen
+//! from the current eye into an image fitted to its bounding sphere, drawn as a quad
+//! through its centre facing the capture eye, and re-rendered only when its predicted
+//! error grows too large.
+//!
+//! Per frame, [`ImpostorSet::update`] predicts each impostor's error without rendering:
+//! - *parallax*: the angle at the eye between the stored near and far points of the
+//!   subject (the ends of its bounding sphere's diameter along the capture ray); 0 from
+//!   the capture eye, growing as the eye translates. Rotating in place changes nothing.
+//! - *resolution*: the power-of-two texture side the subject needs now against the one
+//!   its image has, in octaves.
+//!
+//! An impostor whose error reaches its tolerance is invalid. Invalid impostors are
+//! re-rendered largest error first within a per-frame budget; the others keep drawing
+//! their (stale) image. With the eye inside a subject's sphere, or no image to show (never
+//! captured, texture pool exhausted), the subject is drawn as geometry. Within a band just
+//! outside the sphere the image is refreshed every frame, so the switch to geometry does
+//! not pop. Textures come from a [`Pool`]; impostors culled for long release theirs.
+
+mod capture;
+mod pool;
+
+pub use capture::{capture_camera, Capture};
+pub use pool::Pool;
+
+use crate::billboard::{push_quad, UvRect};
+use crate::metrics::{self, ImageError, Options, Rect, Region};
+use crate::subject::Subject;
+use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Projection, Renderer, Rgba, Target};
+use glam::{Mat4, Vec3, Vec4};
+use std::time::{Duration, Instant};
+
+/// When an impostor is invalid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// Largest parallax angle, degrees (the SkyWorks default 0.125).
+    pub degrees: f32,
+    /// If set, the parallax limit in screen pixels instead (at the image centre).
+    pub pixels: Option<f32>,
+    /// Largest resolution mismatch, octaves (1: the needed side is another power of two).
+    pub octaves: f32,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            degrees: 0.125,
+            pixels: None,
+            octaves: 1.0,
+        }
+    }
+}
+
+/// How much re-rendering a frame may do.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// Most impostors re-rendered per frame.
+    pub refreshes: usize,
+    /// Stop starting refreshes once this much time has gone (interactive use; makes the
+    /// refresh schedule depend on the machine, so tests and benchmarks leave it `None`).
+    pub time: Option<Duration>,
+}
+
+/// Settings of an [`ImpostorSet`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    pub tolerance: Tolerance,
+    pub budget: Budget,
+    /// Smallest and largest texture side.
+    pub min_side: u32,
+    pub max_side: u32,
+    /// Textures the pool may hold.
+    pub pool_slots: usize,
+    /// Frames an impostor may stay culled before its texture goes back to the pool.
+    pub release_after: u32,
+    /// Within this many radii of the centre the image is refreshed every frame (the
+    /// approach to the switch to geometry, which happens at 1 radius).
+    pub transition: f32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            tolerance: Tolerance::default(),
+            budget: Budget {
+                refreshes: 8,
+                time: None,
+            },
+            min_side: 16,
+            max_side: 512,
+            pool_slots: 256,
+            release_after: 120,
+            transition: 1.25,
+        }
+    }
+}
+
+/// The predicted error of one impostor this frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Predicted {
+    /// Parallax angle at the eye between the stored near and far points, degrees.
+    pub degrees: f32,
+    /// The same angle in pixels at the image centre.
+    pub pixels: f32,
+    /// The texture side the subject needs now.
+    pub needed_side: u32,
+    /// `|log2(needed / current)|`.
+    pub octaves: f32,
+    /// The larger of the two errors over their tolerances: invalid at 1 and above
+    /// (infinite when the subject changed or was never captured).
+    pub ratio: f32,
+}
+
+/// How an impostor's subject is drawn this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Its image.
+    Image,
+    /// As geometry, and why.
+    Geometry(Fallback),
+    /// Not at all: outside the view.
+    #[default]
+    Culled,
+}
+
+/// Why a subject is drawn as geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fallback {
+    /// The eye is inside its bounding sphere.
+    Inside,
+    /// It has no image yet and the budget or the pool had no room for one.
+    NoImage,
+}
+
+/// One impostor's state.
+#[derive(Debug, Default)]
+pub struct Impostor {
+    capture: Option<Capture>,
+    slot: Option<usize>,
+    culled_frames: u32,
+    pub predicted: Predicted,
+    pub mode: Mode,
+    /// Times re-rendered.
+    pub refreshes: u64,
+    quad: Mesh,
+}
+
+impl Impostor {
+    pub fn capture(&self) -> Option<&Capture> {
+        self.capture.as_ref()
+    }
+    pub fn has_texture(&self) -> bool {
+        self.slot.is_some()
+    }
+}
+
+/// What one [`ImpostorSet::update`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Report {
+    pub refreshes: usize,
+    /// Invalid impostors left stale (over budget or out of textures).
+    pub stale: usize,
+    pub images: usize,
+    pub geometry: usize,
+    pub culled: usize,
+    /// Largest and mean predicted error ratio over the drawn images.
+    pub max_ratio: f32,
+    pub mean_ratio: f32,
+    /// Triangles rendered by the refreshes.
+    pub capture_triangles: u64,
+    /// Textures in use and in the pool.
+    pub pool_used: usize,
+    pub pool_size: usize,
+}
+
+/// Impostors for a list of subjects (one per subject, same order).
+#[derive(Debug)]
+pub struct ImpostorSet {
+    pub config: Config,
+    pub impostors: Vec<Impostor>,
+    pool: Pool,
+    renderer: Renderer,
+    scratch: Target,
+    /// Colour impostors by predicted error (green 0, yellow at the tolerance, red at 2x).
+    pub debug_tint: bool,
+    order: Vec<(f32, usize)>,
+}
+
+impl ImpostorSet {
+    pub fn new(config: Config, count: usize) -> Self {
+        ImpostorSet {
+            pool: Pool::new(config.pool_slots),
+            config,
+            impostors: (0..count).map(|_| Impostor::default()).collect(),
+            renderer: Renderer::new(),
+            scratch: Target::new(0, 0),
+            debug_tint: false,
+            order: Vec::new(),
+        }
+    }
+
+    pub fn pool(&self) -> &Pool {
+        &self.pool
+    }
+
+    /// Predicts every impostor's error for `camera` (an image `height` pixels tall),
+    /// refreshes the worst within the budget, and decides how each subject is drawn.
+    /// Subjects drawn as geometry are prepared for `camera`.
+    pub fn update<S: Subject>(
+        &mut self,
+        subjects: &mut [S],
+        camera: &Camera,
+        height: u32,
+        lighting: &Lighting,
+    ) -> Report {
+        let start = Instant::now();
+        let n = subjects.len().min(self.impostors.len());
+        let eye = camera.eye();
+        let frustum = Frustum::new(camera.clip_from_world());
+        let px_per_radian = pixels_per_radian(camera, height);
+        let cfg = self.config;
+        self.order.clear();
+        for (i, (imp, s)) in self.impostors.iter_mut().zip(subjects.iter()).enumerate() {
+            let b = s.bounds();
+            if !frustum.sees(b.center, b.radius) {
+                imp.mode = Mode::Culled;
+                imp.culled_frames = imp.culled_frames.saturating_add(1);
+                if imp.culled_frames > cfg.release_after {
+                    if let Some(slot) = imp.slot.take() {
+                        self.pool.release(slot);
+                        imp.capture = None;
+                    }
+                }
+                continue;
+            }
+            imp.culled_frames = 0;
+            let dist = eye.distance(b.center);
+            if !(dist > b.radius) {
+                imp.mode = Mode::Geometry(Fallback::Inside);
+                imp.predicted = Predicted::default();
+                continue;
+            }
+            let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
+            imp.predicted = predict(imp.capture.as_ref(), s, eye, needed, px_per_radian, &cfg);
+            imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
+                Mode::Image
+            } else {
+                Mode::Geometry(Fallback::NoImage)
+            };
+            let near = dist < b.radius * cfg.transition;
+            if imp.predicted.ratio >= 1.0 || near {
+                let priority = if near { f32::MAX } else { imp.predicted.ratio };
+                self.order.push((priority, i));
+            }
+        }
+        // Largest error first; ties by index so the schedule is deterministic.
+        self.order
+            .sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let mut report = Report::default();
+        for k in 0..self.order.len() {
+            let i = self.order[k].1;
+            let over_time = cfg.budget.time.is_some_and(|t| start.elapsed() >= t);
+            if report.refreshes >= cfg.budget.refreshes || over_time || i >= n {
+                report.stale += 1;
+                continue;
+            }
+            if self.refresh(i, &mut subjects[i], eye, lighting, &mut report) {
+                report.refreshes += 1;
+            } else {
+                report.stale += 1;
+            }
+        }
+        let mut ratio_sum = 0.0;
+        for (imp, s) in self.impostors.iter_mut().zip(subjects.iter_mut()) {
+            match imp.mode {
+                Mode::Image => {
+                    report.images += 1;
+                    report.max_ratio = report.max_ratio.max(imp.predicted.ratio);
+                    ratio_sum += imp.predicted.ratio;
+                    if let Some(slot) = imp.slot {
+                        let tint = if self.debug_tint {
+                            error_color(imp.predicted.ratio)
+                        } else {
+                            Rgba::WHITE
+                        };
+                        self.pool.set_tint(slot, tint);
+                    }
+                }
+                Mode::Geometry(_) => {
+                    report.geometry += 1;
+                    s.prepare(camera, height);
+                }
+                Mode::Culled => report.culled += 1,
+            }
+        }
+        report.mean_ratio = ratio_sum / report.images.max(1) as f32;
+        (report.pool_used, report.pool_size) = self.pool.usage();
+        report
+    }
+
+    /// Re-renders impostor `i` from `eye`. Returns `false` when there was no texture for it
+    /// (pool exhausted); it then keeps any old image.
+    fn refresh<S: Subject>(
+        &mut self,
+        i: usize,
+        subject: &mut S,
+        eye: Vec3,
+        lighting: &Lighting,
+        report: &mut Report,
+    ) -> bool {
+        let b = subject.bounds();
+        let imp = &mut self.impostors[i];
+        let side = imp.predicted.needed_side.max(1);
+        let Some(capture) = Capture::new(eye, b.center, b.radius, side, subject.version()) else {
+            return false;
+        };
+        // Keep the current texture when it has the right size; else trade it in.
+        let slot = match imp.slot {
+            Some(s) if imp.capture.as_ref().is_some_and(|c| c.side == side) => s,
+            old => {
+                let Some(new) = self.pool.acquire(side) else {
+                    return false;
+                };
+                if let Some(old) = old {
+                    self.pool.release(old);
+                }
+                new
+            }
+        };
+        imp.slot = Some(slot);
+        let camera = capture.camera();
+        subject.prepare(&camera, side);
+        let mut draws = Vec::new();
+        subject.draws(&mut draws);
+        self.scratch.resize(side, side);
+        let clear = FrameOptions {
+            clear: Some(Rgba::new(0.0, 0.0, 0.0, 0.0)),
+            ..Default::default()
+        };
+        let stats = self
+            .renderer
+            .render(draws, &camera, lighting, &mut self.scratch, &clear);
+        report.capture_triangles += stats.triangles_set_up;
+        if let Some(tex) = self.pool.texture_mut(slot) {
+            self.scratch.copy_to_texture(tex);
+        }
+        let m = &mut imp.quad;
+        m.positions.clear();
+        m.uvs.clear();
+        m.colors.clear();
+        m.indices.clear();
+        push_quad(m, capture.corners, UvRect::FULL, Rgba::WHITE, 1.0);
+        m.colors.clear();
+        imp.capture = Some(capture);
+        imp.mode = Mode::Image;
+        imp.refreshes += 1;
+        imp.predicted.ratio = 0.0;
+        imp.predicted.degrees = 0.0;
+        imp.predicted.pixels = 0.0;
+        imp.predicted.octaves = 0.0;
+        true
+    }
+
+    /// Appends this frame's draws: images as quads, the rest as their subjects' geometry.
+    pub fn draws<'a, S: Subject>(&'a self, subjects: &'a [S], out: &mut Vec<Draw<'a>>) {
+        for (imp, s) in self.impostors.iter().zip(subjects) {
+            match imp.mode {
+                Mode::Image => {
+                    if let Some(material) = imp.slot.and_then(|s| self.pool.material(s)) {
+                        out.push(Draw {
+                            mesh: &imp.quad,
+                            material,
+                            transform: Mat4::IDENTITY,
+                        });
+                    }
+                }
+                Mode::Geometry(_) => s.draws(out),
+                Mode::Culled => {}
+            }
+        }
+    }
+
+    /// The measured error of impostor `i` this frame: its image and its subject rendered
+    /// as geometry from `camera` into `width` x `height` images, compared over the
+    /// subject's screen rectangle. `None` unless it is drawn as an image this frame.
+    pub fn measure<S: Subject>(
+        &mut self,
+        i: usize,
+        subject: &mut S,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        lighting: &Lighting,
+    ) -> Option<ImageError> {
+        let imp = self.impostors.get(i)?;
+        if imp.mode != Mode::Image {
+            return None;
+        }
+        let material = self.pool.material(imp.slot?)?.clone();
+        let material = engine::Material {
+            base_color: Rgba::WHITE,
+            ..material
+        };
+        let clear = FrameOptions {
+            clear: Some(Rgba::new(0.0, 0.0, 0.0, 0.0)),
+            ..Default::default()
+        };
+        let mut truth = Target::new(width, height);
+        subject.prepare(camera, height);
+        let mut draws = Vec::new();
+        subject.draws(&mut draws);
+        self.renderer
+            .render(draws, camera, lighting, &mut truth, &clear);
+        let mut image = Target::new(width, height);
+        let quad = Draw {
+            mesh: &imp.quad,
+            material: &material,
+            transform: Mat4::IDENTITY,
+        };
+        self.renderer
+            .render([quad], camera, lighting, &mut image, &clear);
+        let b = subject.bounds();
+        let rect = screen_rect(camera, b.center, b.radius, width, height)?;
+        let opts = Options {
+            region: Region::Rect(rect),
+            ..Options::default()
+        };
+        metrics::compare(&truth, &image, &opts).ok()
+    }
+}
+
+/// The error of a captured impostor seen from `eye`, needing a `needed`-side texture.
+fn predict<S: Subject>(
+    capture: Option<&Capture>,
+    subject: &S,
+    eye: Vec3,
+    needed: u32,
+    px_per_radian: f32,
+    cfg: &Config,
+) -> Predicted {
+    let Some(c) = capture else {
+        return Predicted {
+            needed_side: needed,
+            ratio: f32::INFINITY,
+            ..Default::default()
+        };
+    };
+    // atan2(|a x b|, a . b): well conditioned for the tiny angles that matter here.
+    let (a, b) = (c.near - eye, c.far - eye);
+    let radians = a.cross(b).length().atan2(a.dot(b));
+    let degrees = radians.to_degrees();
+    let pixels = radians * px_per_radian;
+    let octaves = (needed as f32 / c.side as f32).log2().abs();
+    let t = cfg.tolerance;
+    let parallax = match t.pixels {
+        Some(px) => pixels / px.max(1e-6),
+        None => degrees / t.degrees.max(1e-6),
+    };
+    let b = subject.bounds();
+    let moved = b.center.distance(c.center) > 1e-3 * c.radius.max(1e-6)
+        || (b.radius - c.radius).abs() > 1e-3 * c.radius.max(1e-6);
+    let ratio = if subject.version() != c.version || moved {
+        f32::INFINITY
+    } else {
+        parallax.max(octaves / t.octaves.max(1e-6))
+    };
+    Predicted {
+        degrees,
+        pixels,
+        needed_side: needed,
+        octaves,
+        ratio: if ratio.is_nan() { f32::INFINITY } else { ratio },
+    }
+}
+
+/// Pixels per radian at the centre of an image `height` pixels tall.
+fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
+    match camera.projection {
+        Projection::Perspective { fov_y, .. } => {
+            height as f32 * 0.5 / (fov_y * 0.5).tan().max(1e-6)
+        }
+        Projection::Orthographic { .. } => height as f32,
+    }
+}
+
+/// The power-of-two texture side for a sphere of `radius` at `dist` (its screen diameter
+/// rounded up), clamped to `[min, max]`.
+pub fn needed_side(radius: f32, dist: f32, px_per_radian: f32, min: u32, max: u32) -> u32 {
+    let px = 2.0 * px_per_radian * (radius / dist.max(1e-6)).min(1e3);
+    let px = if px.is_finite() {
+        px.ceil() as u32
+    } else {
+        max
+    };
+    px.max(1)
+        .checked_next_power_of_two()
+        .unwrap_or(max)
+        .clamp(min.max(1), max.max(min.max(1)))
+}
+
+/// Green at 0, yellow at the tolerance, red at twice it and beyond.
+pub fn error_color(ratio: f32) -> Rgba {
+    let t = if ratio.is_finite() {
+        ratio.clamp(0.0, 2.0)
+    } else {
+        2.0
+    };
+    if t <= 1.0 {
+        Rgba::new(t, 1.0, 0.1, 1.0)
+    } else {
+        Rgba::new(1.0, 2.0 - t, 0.1, 1.0)
+    }
+}
+
+/// The pixel rectangle covering a sphere's projection (grown by 2 pixels), or `None` when
+/// it is behind the eye or off the image.
+pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -> Option<Rect> {
+    let m = camera.clip_from_world();
+    let right = camera.view.inverse().x_axis.truncate().normalize_or_zero();
+    let up = camera.view.inverse().y_axis.truncate().normalize_or_zero();
+    let fwd = camera.forward();
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for corner in [-1.0f32, 1.0] {
+        for sx in [-1.0f32, 1.0] {
+            for sy in [-1.0f32, 1.0] {
+                let p = center + (right * sx + up * sy + fwd * corner) * radius;
+                let c = m * p.extend(1.0);
+                if c.w <= 1e-6 {
+                    return Some(Rect::new(0, 0, w, h));
+                }
+                let ndc = glam::Vec2::new(c.x, c.y) / c.w;
+                let px = glam::Vec2::new(
+                    (ndc.x * 0.5 + 0.5) * w as f32,
+                    (0.5 - ndc.y * 0.5) * h as f32,
+                );
+                lo = lo.min(px);
+                hi = hi.max(px);
+            }
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite())
+        || hi.x < 0.0
+        || hi.y < 0.0
+        || lo.x > w as f32
+        || lo.y > h as f32
+    {
+        return None;
+    }
+    let x0 = lo.x.max(0.0) as u32;
+    let y0 = lo.y.max(0.0) as u32;
+    let x1 = (hi.x.ceil().max(0.0) as u32).min(w);
+    let y1 = (hi.y.ceil().max(0.0) as u32).min(h);
+    Some(Rect::new(x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)).grow(2, w, h))
+}
+
+/// The six planes of a view frustum (Gribb and Hartmann), for sphere tests.
+struct Frustum([Vec4; 6]);
+
+impl Frustum {
+    fn new(m: Mat4) -> Self {
+        let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
+        let planes = [
+            r[3] + r[0],
+            r[3] - r[0],
+            r[3] + r[1],
+            r[3] - r[1],
+            r[2],
+            r[3] - r[2],
+        ];
+        Frustum(planes.map(|p| {
+            let n = p.truncate().length();
+            if n > 0.0 {
+                p / n
+            } else {
+                p
+            }
+        }))
+    }
+
+    /// Whether a sphere is at least partly inside (conservative).
+    fn sees(&self, c: Vec3, r: f32) -> bool {
+        if !(c.is_finite() && r.is_finite()) {
+            return false;
+        }
+        self.0.iter().all(|p| p.truncate().dot(c) + p.w >= -r)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,125 @@
+//! The impostor texture pool: square power-of-two textures, each with the material that
+//! draws it, handed out to impostors and taken back, so refreshing an impostor rewrites an
+//! existing texture instead of allocating one.
+
+use engine::{BlendMode, Encoding, Filter, Material, Rgba, Sampler, Texture, Wrap};
+use std::sync::Arc;
+
+/// One pooled texture and its material (the material holds the only `Arc` to the texture,
+/// so the pool can rewrite it in place).
+#[derive(Debug)]
+struct Slot {
+    side: u32,
+    material: Material,
+    in_use: bool,
+}
+
+/// A bounded set of impostor textures.
+#[derive(Debug)]
+pub struct Pool {
+    slots: Vec<Slot>,
+    /// The most textures the pool will hold.
+    pub max_slots: usize,
+}
+
+impl Pool {
+    pub fn new(max_slots: usize) -> Self {
+        Pool {
+            slots: Vec::new(),
+            max_slots,
+        }
+    }
+
+    /// A free texture of `side` x `side`: a free one of that size, else a new one while the
+    /// pool has room, else a free one of another size (resized on its next refill). `None`
+    /// when every texture is in use and the pool is full.
+    pub fn acquire(&mut self, side: u32) -> Option<usize> {
+        let free = |s: &Slot| !s.in_use;
+        let pick = self
+            .slots
+            .iter()
+            .position(|s| free(s) && s.side == side)
+            .or_else(|| {
+                (self.slots.len() < self.max_slots).then(|| {
+                    self.slots.push(Slot {
+                        side,
+                        material: material(side),
+                        in_use: false,
+                    });
+                    self.slots.len() - 1
+                })
+            })
+            .or_else(|| self.slots.iter().position(free))?;
+        self.slots[pick].in_use = true;
+        Some(pick)
+    }
+
+    pub fn release(&mut self, slot: usize) {
+        if let Some(s) = self.slots.get_mut(slot) {
+            s.in_use = false;
+        }
+    }
+
+    /// The texture of `slot`, to be rewritten (the pool's material holds the only
+    /// reference, so this never fails for a slot the pool made).
+    pub fn texture_mut(&mut self, slot: usize) -> Option<&mut Texture> {
+        let s = self.slots.get_mut(slot)?;
+        let tex = Arc::get_mut(s.material.base_texture.as_mut()?)?;
+        s.side = tex.width();
+        Some(tex)
+    }
+
+    pub fn material(&self, slot: usize) -> Option<&Material> {
+        self.slots.get(slot).map(|s| &s.material)
+    }
+
+    /// Sets the tint of `slot`'s material (the debug view colours impostors by error).
+    pub fn set_tint(&mut self, slot: usize, tint: Rgba) {
+        if let Some(s) = self.slots.get_mut(slot) {
+            s.material.base_color = tint;
+        }
+    }
+
+    /// Textures in use and in the pool.
+    pub fn usage(&self) -> (usize, usize) {
+        (
+            self.slots.iter().filter(|s| s.in_use).count(),
+            self.slots.len(),
+        )
+    }
+
+    /// Bytes of texel memory held (level 0 and mips, packed colour and the linear copy).
+    pub fn bytes(&self) -> usize {
+        self.slots
+            .iter()
+            .map(|s| (s.side as usize).pow(2) * 12 * 4 / 3)
+            .sum()
+    }
+}
+
+/// The material that draws an impostor: its premultiplied image, alpha-blended, unlit,
+/// clamped at the edges, seen from either side.
+fn material(side: u32) -> Material {
+    let texture = Texture::from_packed(
+        side.max(1),
+        side.max(1),
+        vec![0; (side.max(1) as usize).pow(2)],
+        Encoding::Srgb,
+        true,
+    )
+    .expect("a square of at least 1 texel");
+    let mut m = Material::unlit(Rgba::WHITE)
+        .with_texture(Arc::new(texture))
+        .blended(BlendMode::Alpha)
+        .double_sided(true);
+    m.vertex_colors = false;
+    // Bilinear: the resolution predictor keeps the texture near the screen size, where a
+    // trilinear blend toward the next mip would only blur.
+    m.sampler = Sampler {
+        wrap_u: Wrap::Clamp,
+        wrap_v: Wrap::Clamp,
+        filter: Filter::Bilinear,
+    };
+    m.name = "impostor".into();
+    m
+}

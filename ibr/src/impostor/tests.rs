@@ -1,0 +1,338 @@
+//! Impostor captures against geometry, the error predictors against their analytic values,
+//! and the scheduler's budget, priorities, fallbacks and texture pool.
+
+use super::*;
+use crate::subject::MeshGroup;
+use engine::{procedural, Light, Material};
+use std::sync::Arc;
+
+const W: u32 = 96;
+const H: u32 = 72;
+
+fn lighting() -> Lighting {
+    Lighting {
+        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
+        lights: vec![Light::Directional {
+            direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
+            color: Rgba::WHITE,
+        }],
+    }
+}
+
+/// A lit torus standing at `at`, about 1 unit across.
+fn torus(at: Vec3) -> MeshGroup {
+    MeshGroup::new().with(
+        Arc::new(procedural::torus(0.4, 0.15, 32, 16)),
+        Arc::new(Material::lit(Rgba::new(0.8, 0.4, 0.2, 1.0))),
+        Mat4::from_translation(at) * Mat4::from_rotation_x(1.0),
+    )
+}
+
+fn camera(eye: Vec3, target: Vec3) -> Camera {
+    Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
+}
+
+fn set(n: usize, refreshes: usize) -> ImpostorSet {
+    let mut cfg = Config::default();
+    cfg.budget.refreshes = refreshes;
+    ImpostorSet::new(cfg, n)
+}
+
+#[test]
+fn an_image_seen_from_its_capture_eye_matches_the_geometry() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let cam = camera(Vec3::new(0.5, 0.8, 4.0), Vec3::ZERO);
+    let r = imps.update(&mut subjects, &cam, H, &lighting());
+    assert_eq!((r.refreshes, r.images), (1, 1));
+    let err = imps
+        .measure(0, &mut subjects[0], &cam, (W, H), &lighting())
+        .expect("drawn as an image");
+    // Resampling the image costs a little at the silhouette (a 28-pixel torus here: its
+    // outline is a tenth of its pixels); inside it the picture is the same.
+    assert!(err.psnr_db > 25.0 && err.mean_abs < 4.0, "{err:?}");
+    assert!(err.coverage_mismatch < 0.05, "{err:?}");
+}
+
+#[test]
+fn parallax_is_zero_at_the_capture_eye_and_ignores_rotation() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let eye = Vec3::new(0.0, 0.5, 5.0);
+    imps.update(&mut subjects, &camera(eye, Vec3::ZERO), H, &lighting());
+    // Turning the camera in place (the subject still in view) predicts no error.
+    for look in [Vec3::new(0.3, 0.0, 0.0), Vec3::new(-0.4, 0.2, 0.0)] {
+        let r = imps.update(&mut subjects, &camera(eye, look), H, &lighting());
+        assert_eq!(r.refreshes, 0);
+        let p = imps.impostors[0].predicted;
+        assert!(p.degrees < 1e-3 && p.ratio < 1.0, "{p:?}");
+    }
+}
+
+#[test]
+fn parallax_matches_the_angle_between_the_stored_points() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let eye = Vec3::new(0.0, 0.0, 5.0);
+    imps.update(&mut subjects, &camera(eye, Vec3::ZERO), H, &lighting());
+    imps.config.budget.refreshes = 0;
+    let c = *imps.impostors[0].capture().unwrap();
+    let mut last = 0.0;
+    for step in 1..8 {
+        let moved = eye + Vec3::X * (0.05 * step as f32);
+        imps.update(&mut subjects, &camera(moved, Vec3::ZERO), H, &lighting());
+        let p = imps.impostors[0].predicted;
+        // In f64: acos of a dot product this close to 1 is too coarse in f32.
+        let (a, b) = ((c.near - moved).as_dvec3(), (c.far - moved).as_dvec3());
+        let expect = a.angle_between(b).to_degrees() as f32;
+        assert!(
+            (p.degrees - expect).abs() < 2e-3 * expect,
+            "{} vs {expect}",
+            p.degrees
+        );
+        assert!(p.degrees > last, "grows with the translation");
+        last = p.degrees;
+        let px = p.degrees.to_radians() * H as f32 * 0.5 / (0.45f32).tan();
+        assert!((p.pixels - px).abs() < 1e-3 * px);
+        assert_eq!(
+            p.ratio >= 1.0,
+            p.degrees >= 0.125,
+            "default tolerance 0.125 degrees"
+        );
+    }
+    // In pixels instead of degrees.
+    imps.config.tolerance.pixels = Some(1000.0);
+    imps.update(
+        &mut subjects,
+        &camera(eye + Vec3::X, Vec3::ZERO),
+        H,
+        &lighting(),
+    );
+    assert!(imps.impostors[0].predicted.ratio < 1.0);
+}
+
+#[test]
+fn resolution_error_counts_octaves_of_the_needed_side() {
+    // A sphere of radius 1 at distance d covers 2 * (H/2) / tan(fov/2) / d pixels.
+    let ppr = H as f32 * 0.5 / 0.45f32.tan();
+    for d in [2.0f32, 5.0, 11.0, 40.0] {
+        let px = 2.0 * ppr / d;
+        let side = needed_side(1.0, d, ppr, 1, 4096);
+        assert!(side.is_power_of_two() && side as f32 >= px && (side as f32) < 2.0 * px);
+    }
+    assert_eq!(needed_side(1.0, 1e-9, ppr, 16, 512), 512);
+    assert_eq!(needed_side(1.0, 1e9, ppr, 16, 512), 16);
+    assert_eq!(needed_side(f32::NAN, 1.0, ppr, 16, 512), 512);
+
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    imps.update(
+        &mut subjects,
+        &camera(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO),
+        H,
+        &lighting(),
+    );
+    let side = imps.impostors[0].capture().unwrap().side;
+    // Coming four times closer along the capture ray: no parallax, two octaves.
+    imps.config.budget.refreshes = 0;
+    imps.update(
+        &mut subjects,
+        &camera(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO),
+        H,
+        &lighting(),
+    );
+    let p = imps.impostors[0].predicted;
+    assert!(p.degrees < 1e-3);
+    assert_eq!(p.needed_side, (side * 4).min(512));
+    assert!((p.octaves - 2.0).abs() < 1e-6 && p.ratio >= 1.0);
+}
+
+/// Five subjects in a row; the eye slides sideways so parallax differs per subject.
+fn row() -> Vec<MeshGroup> {
+    (0..5)
+        .map(|k| torus(Vec3::new(k as f32 * 1.5 - 3.0, 0.0, -(k as f32) * 2.0)))
+        .collect()
+}
+
+#[test]
+fn the_budget_refreshes_the_largest_errors_first() {
+    let mut subjects = row();
+    let mut imps = set(5, 2);
+    let eye = Vec3::new(0.0, 1.0, 6.0);
+    let look = Vec3::new(0.0, 0.0, -4.0);
+    // Two per frame: all five captured after three frames, the first two on frame one.
+    let firsts: Vec<usize> = (0..3)
+        .map(|_| {
+            imps.update(&mut subjects, &camera(eye, look), H, &lighting())
+                .refreshes
+        })
+        .collect();
+    assert_eq!(firsts, [2, 2, 1]);
+    assert!(imps.impostors.iter().all(|i| i.capture().is_some()));
+    // Move: every impostor is invalid; the two with the largest predicted error go first.
+    let moved = eye + Vec3::new(1.5, 0.5, 0.0);
+    imps.config.budget.refreshes = 0;
+    imps.update(&mut subjects, &camera(moved, look), H, &lighting());
+    let mut ratios: Vec<(f32, usize)> = imps
+        .impostors
+        .iter()
+        .enumerate()
+        .map(|(i, imp)| (imp.predicted.ratio, i))
+        .collect();
+    assert!(ratios.iter().all(|r| r.0 >= 1.0), "{ratios:?}");
+    ratios.sort_by(|a, b| b.0.total_cmp(&a.0));
+    imps.config.budget.refreshes = 2;
+    let before: Vec<u64> = imps.impostors.iter().map(|i| i.refreshes).collect();
+    let r = imps.update(&mut subjects, &camera(moved, look), H, &lighting());
+    assert_eq!((r.refreshes, r.stale), (2, 3));
+    let refreshed: Vec<usize> = (0..5)
+        .filter(|&i| imps.impostors[i].refreshes > before[i])
+        .collect();
+    let mut worst = vec![ratios[0].1, ratios[1].1];
+    worst.sort();
+    assert_eq!(refreshed, worst);
+    // Stale impostors still draw their old image: no subject goes missing.
+    assert_eq!(r.images, 5);
+}
+
+#[test]
+fn inside_the_sphere_the_subject_is_geometry_and_near_it_refreshes_every_frame() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 4);
+    let r = subjects[0].bounds().radius;
+    // In the transition band (1 to 1.25 radii) every frame refreshes, even standing still.
+    let eye = Vec3::new(0.0, 0.0, r * 1.15);
+    for _ in 0..3 {
+        let rep = imps.update(&mut subjects, &camera(eye, Vec3::ZERO), H, &lighting());
+        assert_eq!((rep.refreshes, rep.images), (1, 1));
+    }
+    let rep = imps.update(
+        &mut subjects,
+        &camera(Vec3::new(0.0, 0.0, r * 0.9), Vec3::ZERO),
+        H,
+        &lighting(),
+    );
+    assert_eq!(imps.impostors[0].mode, Mode::Geometry(Fallback::Inside));
+    assert_eq!((rep.refreshes, rep.geometry), (0, 1));
+    let mut draws = Vec::new();
+    imps.draws(&subjects, &mut draws);
+    assert_eq!(draws.len(), 1, "the torus itself");
+    assert!(std::ptr::eq(draws[0].mesh, &*subjects[0].parts[0].mesh));
+}
+
+#[test]
+fn an_exhausted_pool_falls_back_to_geometry_never_to_nothing() {
+    let mut subjects = row();
+    let mut cfg = Config::default();
+    cfg.pool_slots = 2;
+    let mut imps = ImpostorSet::new(cfg, 5);
+    let cam = camera(Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.0, -4.0));
+    let r = imps.update(&mut subjects, &cam, H, &lighting());
+    assert_eq!((r.refreshes, r.images, r.geometry, r.culled), (2, 2, 3, 0));
+    assert_eq!((r.pool_used, r.pool_size), (2, 2));
+    let mut draws = Vec::new();
+    imps.draws(&subjects, &mut draws);
+    assert_eq!(draws.len(), 5, "two images and three tori");
+}
+
+#[test]
+fn culled_impostors_give_their_textures_back() {
+    let mut subjects = row();
+    let mut cfg = Config::default();
+    cfg.release_after = 3;
+    let mut imps = ImpostorSet::new(cfg, 5);
+    let look = Vec3::new(0.0, 0.0, -4.0);
+    let eye = Vec3::new(0.0, 1.0, 6.0);
+    imps.update(&mut subjects, &camera(eye, look), H, &lighting());
+    assert_eq!(imps.pool().usage(), (5, 5));
+    // Look away: everything is culled; after `release_after` frames the pool is free.
+    let away = camera(eye, eye + Vec3::Z);
+    for frame in 0..5 {
+        let r = imps.update(&mut subjects, &away, H, &lighting());
+        assert_eq!(r.culled, 5);
+        assert_eq!(r.pool_used, if frame < 3 { 5 } else { 0 }, "frame {frame}");
+    }
+    // Looking back recaptures into the same textures: the pool does not grow.
+    imps.update(&mut subjects, &camera(eye, look), H, &lighting());
+    assert_eq!(imps.pool().usage(), (5, 5));
+}
+
+#[test]
+fn a_changed_subject_is_recaptured() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let cam = camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO);
+    imps.update(&mut subjects, &cam, H, &lighting());
+    assert_eq!(
+        imps.update(&mut subjects, &cam, H, &lighting()).refreshes,
+        0
+    );
+    subjects[0].version += 1;
+    assert_eq!(
+        imps.update(&mut subjects, &cam, H, &lighting()).refreshes,
+        1
+    );
+    // Moving it (without a version bump) is noticed through its bounds.
+    subjects[0].parts[0].transform = Mat4::from_translation(Vec3::X * 0.2);
+    assert_eq!(
+        imps.update(&mut subjects, &cam, H, &lighting()).refreshes,
+        1
+    );
+}
+
+/// Without refreshes, the measured error grows as the eye moves away from the capture
+/// eye, and so does the predicted error.
+#[test]
+fn measured_error_grows_with_predicted_error() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let eye = Vec3::new(0.0, 0.3, 4.0);
+    imps.update(&mut subjects, &camera(eye, Vec3::ZERO), H, &lighting());
+    imps.config.budget.refreshes = 0;
+    let mut rows = Vec::new();
+    for a in [0.0f32, 4.0, 12.0, 30.0] {
+        let e = Mat4::from_rotation_y(a.to_radians()).transform_point3(eye);
+        let cam = camera(e, Vec3::ZERO);
+        imps.update(&mut subjects, &cam, H, &lighting());
+        let m = imps
+            .measure(0, &mut subjects[0], &cam, (W, H), &lighting())
+            .unwrap();
+        rows.push((imps.impostors[0].predicted.degrees, m.mean_abs));
+    }
+    for w in rows.windows(2) {
+        assert!(w[1].0 > w[0].0 && w[1].1 > w[0].1, "{rows:?}");
+    }
+}
+
+#[test]
+fn odd_cameras_and_subjects_do_not_break_the_set() {
+    let mut subjects = [
+        torus(Vec3::ZERO),
+        MeshGroup::new(),
+        torus(Vec3::splat(f32::NAN)),
+    ];
+    let mut imps = set(3, 3);
+    for cam in [
+        camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),
+        camera(Vec3::splat(f32::NAN), Vec3::ZERO),
+        camera(Vec3::ZERO, Vec3::Z),
+    ] {
+        let r = imps.update(&mut subjects, &cam, H, &lighting());
+        assert!(r.max_ratio.is_finite() || r.images == 0);
+        let mut draws = Vec::new();
+        imps.draws(&subjects, &mut draws);
+        for d in draws {
+            assert!(
+                d.mesh.positions.iter().all(|p| p.is_finite())
+                    || d.mesh.positions.is_empty()
+                    || std::ptr::eq(d.mesh, &*subjects[2].parts[0].mesh)
+            );
+        }
+    }
+    let _ = imps.update(
+        &mut subjects,
+        &camera(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO),
+        0,
+        &lighting(),
+    );
+}
