@@ -235,7 +235,7 @@ impl ImpostorSet {
             }
             imp.culled_frames = 0;
             let dist = eye.distance(b.center);
-            if !(dist > b.radius) {
+            if dist.partial_cmp(&b.radius) != Some(std::cmp::Ordering::Greater) {
                 imp.mode = Mode::Geometry(Fallback::Inside);
                 imp.predicted = Predicted::default();
                 continue;

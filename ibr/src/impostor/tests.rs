@@ -223,8 +223,10 @@ fn inside_the_sphere_the_subject_is_geometry_and_near_it_refreshes_every_frame()
 #[test]
 fn an_exhausted_pool_falls_back_to_geometry_never_to_nothing() {
     let mut subjects = row();
-    let mut cfg = Config::default();
-    cfg.pool_slots = 2;
+    let cfg = Config {
+        pool_slots: 2,
+        ..Config::default()
+    };
     let mut imps = ImpostorSet::new(cfg, 5);
     let cam = camera(Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, 0.0, -4.0));
     let r = imps.update(&mut subjects, &cam, H, &lighting());
@@ -238,8 +240,10 @@ fn an_exhausted_pool_falls_back_to_geometry_never_to_nothing() {
 #[test]
 fn culled_impostors_give_their_textures_back() {
     let mut subjects = row();
-    let mut cfg = Config::default();
-    cfg.release_after = 3;
+    let cfg = Config {
+        release_after: 3,
+        ..Config::default()
+    };
     let mut imps = ImpostorSet::new(cfg, 5);
     let look = Vec3::new(0.0, 0.0, -4.0);
     let eye = Vec3::new(0.0, 1.0, 6.0);
