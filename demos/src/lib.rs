@@ -1,11 +1,14 @@
 //! Shared code of the Parallax binaries: the showcase scene, its image-based layer and fly
-//! camera ([`showcase`], [`showcase_ibr`]), frame-time statistics ([`timing`]), a tiny bitmap font for on-screen
-//! readouts ([`font`]), and the benchmark sweeps and charts behind the `bench` CLI
-//! ([`bench`], [`chart`]). Binaries stay thin; what they do is here, where tests reach it.
+//! camera ([`showcase`], [`showcase_ibr`]), frame-time statistics ([`timing`]), a tiny
+//! bitmap font for on-screen readouts ([`font`]), the scalable city of the impostor
+//! benchmarks ([`city`]), and the benchmark sweeps and charts behind the `bench` CLI
+//! ([`bench`], [`bench_billboards`], [`chart`]). Binaries stay thin; what they do is here,
+//! where tests reach it.
 
 pub mod bench;
 pub mod bench_billboards;
 pub mod chart;
+pub mod city;
 pub mod font;
 pub mod showcase;
 pub mod showcase_ibr;
