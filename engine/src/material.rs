@@ -33,6 +33,10 @@ pub enum AlphaMode {
     Mask { cutoff: f32 },
     /// Blended in the second pass, back to front, without depth writes.
     Blend,
+    /// Screen-door transparency: a fragment is kept where its alpha exceeds a 4 x 4 ordered
+    /// dither threshold at its pixel; opaque pass, with depth writes. Fades alpha-tested
+    /// things (a billboard handing over to its fallback) smoothly without sorting.
+    Dither,
 }
 
 /// How a blended fragment combines with the target (premultiplied colour).

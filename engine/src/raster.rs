@@ -379,6 +379,23 @@ pub fn raster_tri<S: FragShader>(
     *stats += local;
 }
 
+/// Thresholds of the 4 x 4 Bayer matrix, `(rank + 0.5) / 16`, one row of 8 lanes per pixel
+/// row mod 4 (the pattern repeated twice across the lanes).
+const DITHER: [[f32; LANES]; 4] = {
+    const RANK: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+    let mut t = [[0.0; LANES]; 4];
+    let mut y = 0;
+    while y < 4 {
+        let mut x = 0;
+        while x < LANES {
+            t[y][x] = (RANK[y][x % 4] as f32 + 0.5) / 16.0;
+            x += 1;
+        }
+        y += 1;
+    }
+    t
+};
+
 /// Writes the lanes of `m` that survive the alpha test; returns how many.
 #[inline(always)]
 fn write_row(
@@ -398,9 +415,14 @@ fn write_row(
         &mut a[base..],
     );
     match mode.alpha {
-        AlphaMode::Opaque | AlphaMode::Mask { .. } => {
+        AlphaMode::Opaque | AlphaMode::Mask { .. } | AlphaMode::Dither => {
             if let AlphaMode::Mask { cutoff } = mode.alpha {
                 m = m.and(out[3].ge(F8::splat(cutoff)));
+            }
+            if mode.alpha == AlphaMode::Dither {
+                // Tiles and blocks start on multiples of 8, so the pixel's y mod 4 is the
+                // row in the block mod 4 and x mod 4 is the lane mod 4.
+                m = m.and(out[3].gt(F8::from_array(DITHER[(base / LANES) % 4])));
             }
             out[0].blend_into(m, r);
             out[1].blend_into(m, g);

@@ -152,3 +152,41 @@ fn additive_blending_adds_in_linear_space() {
         check_uniform(&format!("additive, {encoding:?}"), &scene, encoding, want);
     }
 }
+
+/// Screen-door transparency: at alpha `k / 16` exactly `k` pixels of every aligned 4 x 4
+/// block are drawn (the ordered dither's thresholds are `(rank + 0.5) / 16`), and the
+/// drawn ones write depth like opaque pixels.
+#[test]
+fn dithered_alpha_covers_its_fraction_of_every_4x4_block() {
+    for k in [0u32, 1, 4, 7, 12, 16] {
+        let mut scene = Scene::default();
+        let a = k as f32 / 16.0;
+        layer(&mut scene, -1.0, Rgba::new(1.0, 1.0, 1.0, a), None);
+        scene.materials[0].alpha_mode = engine::AlphaMode::Dither;
+        let (target, _) = render(
+            &scene,
+            &pixel_camera(W, H),
+            W,
+            H,
+            Encoding::Unorm,
+            Cull::None,
+        );
+        for by in (0..H).step_by(4) {
+            for bx in (0..W).step_by(4) {
+                let drawn = (0..16)
+                    .filter(|i| {
+                        let (x, y) = (bx + i % 4, by + i / 4);
+                        target.pixel(x, y).unwrap() & 0xff == 0xff
+                    })
+                    .count() as u32;
+                assert_eq!(drawn, k, "alpha {a} at block ({bx}, {by})");
+                for i in 0..16 {
+                    let (x, y) = (bx + i % 4, by + i / 4);
+                    let written = target.depth_gl(x, y).unwrap() < 1.0;
+                    let lit = target.pixel(x, y).unwrap() & 0xff == 0xff;
+                    assert_eq!(written, lit, "depth only where drawn");
+                }
+            }
+        }
+    }
+}
