@@ -207,7 +207,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
         let sprite = bake(kind, seed);
         let material = Material {
-            alpha_mode: AlphaMode::Mask { cutoff: 0.45 },
+            alpha_mode: AlphaMode::Dither,
             vertex_colors: true,
             ..Material::unlit(Rgba::WHITE).with_texture(sprite.texture.clone())
         };
