@@ -1,0 +1,190 @@
+//! Frame cost follows pixels, not triangles, once impostors stand in for the geometry:
+//! the work counters of impostor frames that refresh nothing are the same for a city of
+//! 1k, 30k and 1M triangles (same silhouettes, same screen coverage) and grow with the
+//! pixel count when the resolution doubles, while geometry frames set up triangles in
+//! proportion to the scene. Counters only, no wall-clock timing (`bench scaling` times
+//! the same frames).
+
+// The benchmark's city, compiled into this test (the tests crate does not depend on
+// `demos`): its own unit tests run here too.
+#[path = "../../demos/src/city.rs"]
+#[allow(dead_code)]
+mod city;
+
+use city::{City, Path};
+use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
+use ibr::impostor::{Config, ImpostorSet, Mode};
+use ibr::subject::Subject;
+
+const GRID: u32 = 8;
+const SIZES: [(u32, u32); 3] = [(160, 90), (320, 180), (640, 360)];
+/// Where on the orbit the camera is (as in `bench scaling`).
+const T: f32 = 0.125;
+
+fn camera(city: &City, t: f32, turn: f32, (w, h): (u32, u32)) -> Camera {
+    let (eye, target) = city.path(Path::Orbit, t);
+    let dir = glam::Quat::from_rotation_y(turn.to_radians()) * (target - eye);
+    Camera::look_at(eye, eye + dir, glam::Vec3::Y, 50f32.to_radians(), 1.0)
+        .with_aspect(w, h)
+        .with_depth_range(0.5, city.half_extent * 8.0)
+}
+
+fn opts() -> FrameOptions {
+    FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..Default::default()
+    }
+}
+
+/// Counters of the frames of one city at one size.
+#[derive(Debug)]
+struct Frames {
+    triangles: usize,
+    size: (u32, u32),
+    /// Impostor frames without refreshes: from the capture pose, and with the eye turned
+    /// in place by 4 degrees (no parallax: nothing to refresh).
+    impostors: [FrameStats; 2],
+    geometry: FrameStats,
+}
+
+fn frames(renderer: &mut Renderer, city: &mut City, size: (u32, u32)) -> Frames {
+    let mut target = Target::new(size.0, size.1);
+    // Warm up: everything in view captured for this image height.
+    let config = Config {
+        budget: ibr::impostor::Budget {
+            refreshes: usize::MAX,
+            time: None,
+        },
+        ..Config::default()
+    };
+    let mut set = ImpostorSet::new(config, city.buildings.len());
+    let cam = camera(city, T, 0.0, size);
+    let warm = set.update(&mut city.buildings, &cam, size.1, &city.lighting);
+    assert!(warm.refreshes > 0 && warm.stale == 0, "{warm:?}");
+
+    let mut impostors = [FrameStats::default(); 2];
+    for (k, turn) in [0.0, 4.0].into_iter().enumerate() {
+        let cam = camera(city, T, turn, size);
+        let report = set.update(&mut city.buildings, &cam, size.1, &city.lighting);
+        assert_eq!(report.refreshes, 0, "a steady frame: {report:?}");
+        assert_eq!((report.geometry, report.stale), (0, 0), "{report:?}");
+        assert!(report.images > GRID as usize, "{report:?}");
+        assert!(set
+            .impostors
+            .iter()
+            .all(|i| matches!(i.mode, Mode::Image | Mode::Culled)));
+        let mut draws: Vec<Draw> = Vec::new();
+        city.ground.draws(&mut draws);
+        set.draws(&city.buildings, &mut draws);
+        assert_eq!(draws.len(), 1 + report.images);
+        impostors[k] = renderer.render(draws, &cam, &city.lighting, &mut target, &opts());
+    }
+
+    let mut draws: Vec<Draw> = Vec::new();
+    city.ground.draws(&mut draws);
+    for b in &city.buildings {
+        b.draws(&mut draws);
+    }
+    let geometry = renderer.render(draws, &cam, &city.lighting, &mut target, &opts());
+    Frames {
+        triangles: city.triangle_count(),
+        size,
+        impostors,
+        geometry,
+    }
+}
+
+/// `a` and `b` within `rel` of each other.
+fn close(a: u64, b: u64, rel: f64) -> bool {
+    (a as f64 - b as f64).abs() <= rel * a.max(b) as f64
+}
+
+#[test]
+fn impostor_frames_cost_pixels_not_triangles() {
+    let mut renderer = Renderer::new();
+    // cities[c][s]: city c (about 1k, 30k, 1M triangles) at size s.
+    let cities: Vec<Vec<Frames>> = [1_000, 30_000, 1_000_000]
+        .into_iter()
+        .map(|n| {
+            let mut city = City::with_triangles(GRID, n, 7);
+            SIZES
+                .iter()
+                .map(|&size| frames(&mut renderer, &mut city, size))
+                .collect()
+        })
+        .collect();
+    let (small, large) = (&cities[0], &cities[2]);
+    assert!(small[0].triangles < 1_500 && large[0].triangles > 900_000);
+
+    for s in 0..SIZES.len() {
+        let first = &cities[0][s];
+        for f in &cities[1..] {
+            let f = &f[s];
+            for (a, b) in first.impostors.iter().zip(&f.impostors) {
+                let what = format!(
+                    "{} vs {} triangles at {:?}: {a:?} {b:?}",
+                    first.triangles, f.triangles, f.size
+                );
+                // Same quads, whatever the buildings' triangles: equal set-up, and the
+                // same fragments up to the images' silhouette pixels.
+                assert_eq!(a.triangles_in, b.triangles_in, "{what}");
+                assert_eq!(a.triangles_set_up, b.triangles_set_up, "{what}");
+                assert!(
+                    close(a.fragments_shaded, b.fragments_shaded, 0.002),
+                    "{what}"
+                );
+                assert!(
+                    close(a.fragments_written, b.fragments_written, 0.002),
+                    "{what}"
+                );
+            }
+        }
+        // Geometry submits every triangle and sets up more the finer the city, over the
+        // same screen coverage.
+        for f in &cities {
+            let g = f[s].geometry;
+            assert_eq!(g.triangles_in, f[s].triangles as u64);
+            assert!(f[s].impostors[0].triangles_in < 2 * 64 + 4);
+            assert!(
+                close(g.fragments_shaded, small[s].geometry.fragments_shaded, 0.01),
+                "{g:?} {:?}",
+                small[s].geometry
+            );
+        }
+        assert!(
+            cities[1][s].geometry.triangles_set_up > 10 * small[s].geometry.triangles_set_up,
+            "{:?} {:?}",
+            small[s].geometry,
+            cities[1][s].geometry
+        );
+    }
+    // At the largest size, 1M against 1k triangles: over 100 times the set-up work.
+    let last = SIZES.len() - 1;
+    assert!(
+        large[last].geometry.triangles_set_up > 100 * small[last].geometry.triangles_set_up,
+        "{:?} {:?}",
+        small[last].geometry,
+        large[last].geometry
+    );
+
+    // Doubling the resolution in each axis: 4x the fragments, the same triangles.
+    for city in &cities {
+        for pair in city.windows(2) {
+            for k in 0..2 {
+                let (a, b) = (pair[0].impostors[k], pair[1].impostors[k]);
+                let what = format!(
+                    "{} triangles, {:?} -> {:?}: {a:?} {b:?}",
+                    pair[0].triangles, pair[0].size, pair[1].size
+                );
+                assert_eq!(a.triangles_set_up, b.triangles_set_up, "{what}");
+                for (x, y) in [
+                    (a.fragments_shaded, b.fragments_shaded),
+                    (a.fragments_written, b.fragments_written),
+                ] {
+                    let ratio = y as f64 / x.max(1) as f64;
+                    assert!((3.2..=4.8).contains(&ratio), "{ratio}: {what}");
+                }
+            }
+        }
+    }
+}
