@@ -184,3 +184,112 @@ fn unknown_sweeps_and_missing_out_are_usage_errors() {
         .unwrap();
     assert!(!unknown.status.success());
 }
+
+#[test]
+fn scaling_sweep_writes_csv_and_png_charts() {
+    let dir = out_dir("bench_smoke_scaling");
+    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
+        .args(["scaling", "--quick", "--tiny", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("bench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "bench failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let csv = std::fs::read_to_string(dir.join("scaling.csv")).expect("scaling.csv written");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(&header[..3], ["series", "mode", "triangles"]);
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no {name} column"))
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |r: &[&str], name: &str| -> f64 {
+        r[col(name)]
+            .parse()
+            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
+    };
+    let of = |series: &str, mode: &str| -> Vec<&Vec<&str>> {
+        rows.iter()
+            .filter(|r| r[0] == series && r[1] == mode)
+            .collect()
+    };
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "{r:?}");
+    }
+
+    // Measured points: finite times, steady frames, something drawn.
+    for series in ["triangles", "resolution"] {
+        for mode in ["geometry", "impostors"] {
+            let pts = of(series, mode);
+            assert!(pts.len() >= 2, "{series} {mode}: {csv}");
+            for r in pts {
+                assert!(num(r, "frames") >= 1.0, "steady frames: {r:?}");
+                for c in ["median_ms", "min_ms", "p90_ms", "render_ms"] {
+                    let t = num(r, c);
+                    assert!(t.is_finite() && t > 0.0, "{c} of {r:?}");
+                }
+                assert!(num(r, "fragments_shaded") > 0.0, "{r:?}");
+                assert!(r[col("r2")].is_empty(), "{r:?}");
+            }
+        }
+        // One fit row per mode, with a slope, an intercept and R^2 in [0, 1].
+        for mode in ["geometry", "impostors"] {
+            let fit = of(&format!("{series}_fit"), mode);
+            assert_eq!(fit.len(), 1, "{csv}");
+            let r2 = num(fit[0], "r2");
+            assert!((0.0..=1.0 + 1e-9).contains(&r2), "{:?}", fit[0]);
+            assert!(num(fit[0], "slope_ns").is_finite() && num(fit[0], "intercept_ms").is_finite());
+            assert!(fit[0][col("median_ms")].is_empty());
+        }
+    }
+
+    // Pixels, not triangles: over the same screen, impostor frames set up the same
+    // triangles and shade the same fragments at every triangle count; geometry sets up
+    // more and more.
+    let (geo, imp) = (of("triangles", "geometry"), of("triangles", "impostors"));
+    assert!(num(geo[1], "triangles") > 10.0 * num(geo[0], "triangles"));
+    for (g, i) in geo.iter().zip(&imp) {
+        assert_eq!(num(g, "triangles"), num(i, "triangles"));
+        assert_eq!(
+            num(i, "triangles_set_up"),
+            num(imp[0], "triangles_set_up"),
+            "{i:?}"
+        );
+        assert_eq!(
+            num(i, "fragments_shaded"),
+            num(imp[0], "fragments_shaded"),
+            "{i:?}"
+        );
+        assert!(num(i, "images") > 0.0 && num(g, "images") == 0.0);
+    }
+    assert!(
+        num(geo[1], "triangles_set_up") > 5.0 * num(geo[0], "triangles_set_up"),
+        "{geo:?}"
+    );
+    assert!(num(imp[0], "triangles_set_up") < num(geo[0], "triangles_set_up"));
+    // Twice the resolution each way: about 4x the impostor fragments, the same triangles.
+    let res = of("resolution", "impostors");
+    let ratio = num(res[1], "fragments_shaded") / num(res[0], "fragments_shaded");
+    assert!(
+        num(res[1], "pixels") == 4.0 * num(res[0], "pixels"),
+        "{res:?}"
+    );
+    assert!((3.2..=4.8).contains(&ratio), "{ratio} {res:?}");
+    assert_eq!(
+        num(res[0], "triangles_set_up"),
+        num(res[1], "triangles_set_up")
+    );
+
+    for name in ["scaling_triangles.png", "scaling_resolution.png"] {
+        let bytes = std::fs::read(dir.join(name)).expect("chart written");
+        assert_chart(name, &bytes);
+    }
+}

@@ -9,10 +9,14 @@
 //!   render timed apart), billboard-tree error against view elevation (PSNR, mean error),
 //!   and frame time of billboard trees against mesh trees as the forest grows
 //!   (`demos::bench_billboards`).
+//! - `scaling`: the city at 1k to 2M triangles and at 320x180 to 3840x2160, drawn as
+//!   geometry and through runtime impostors: frame time against triangles and against
+//!   pixels, with fitted lines (`demos::bench_scaling`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan, Step};
 use demos::bench_billboards as bb;
+use demos::bench_scaling as scaling;
 use demos::chart::{self, Drawn};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -36,6 +40,9 @@ enum Sweep {
     /// Billboard frame time against count and resolution, billboard-tree error against
     /// view elevation, and billboard against mesh trees.
     Billboards(Small),
+    /// The city as geometry and through impostors: frame time against triangles and
+    /// against pixels, with fitted lines.
+    Scaling(Small),
 }
 
 #[derive(Args, Debug)]
@@ -77,6 +84,7 @@ fn main() -> ExitCode {
     let result = match &cli.sweep {
         Sweep::Raster(c) => raster(c),
         Sweep::Billboards(c) => billboards(c),
+        Sweep::Scaling(c) => scaling_sweep(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -260,6 +268,83 @@ fn raster(c: &Common) -> Result<(), String> {
     }
     println!(
         "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/raster_*.png",
+        rows.len(),
+        start.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        csv.display(),
+        c.out.display()
+    );
+    Ok(())
+}
+
+fn scaling_sweep(c: &Small) -> Result<(), String> {
+    let plan = if c.tiny {
+        scaling::Plan::tiny()
+    } else if c.quick {
+        scaling::Plan::quick()
+    } else {
+        scaling::Plan::full()
+    };
+    std::fs::create_dir_all(&c.out)
+        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
+    let start = Instant::now();
+    let bar = progress_bar();
+    let rows = scaling::run(&plan, |i, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(i as u64);
+        bar.set_message(what.to_string());
+    });
+    bar.finish_and_clear();
+    for r in &rows {
+        let what = format!(
+            "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
+            r.series, r.mode, r.triangles, r.width, r.height
+        );
+        match (&r.timing, &r.fit) {
+            (Some(t), _) => println!(
+                "{what} median {:>9.3} ms  p90 {:>9.3}  update {:>6.3}  render {:>9.3}  ({} frames; {} with refreshes, median {:.3} ms)  set up {:>8}  shaded {:>9}",
+                t.steady.median_ms,
+                t.steady.p90_ms,
+                t.update.median_ms,
+                t.render.median_ms,
+                t.steady.frames,
+                t.refresh.frames,
+                t.refresh.median_ms,
+                r.stats.triangles_set_up,
+                r.stats.fragments_shaded
+            ),
+            (None, Some(f)) => println!(
+                "{what} fit: {:.4} ms + {:.6} ns per {}, R^2 {:.4}",
+                f.intercept,
+                f.slope * 1e6,
+                if r.series == "triangles_fit" { "triangle" } else { "pixel" },
+                f.r2
+            ),
+            (None, None) => println!("{what} (nothing measured)"),
+        }
+    }
+    type Pick = fn(&scaling::Timing) -> f64;
+    let parts: [(&str, Pick); 3] = [
+        ("frame", |t| t.steady.median_ms),
+        ("update", |t| t.update.median_ms),
+        ("draw list + render", |t| t.render.median_ms),
+    ];
+    for (part, pick) in parts {
+        if let Some((lo, hi, change)) = scaling::impostor_change(&rows, 1_500_000, pick) {
+            println!(
+                "bench: impostor {part} median (frames without refreshes) from {lo} to {hi} triangles: {:+.1}%",
+                change * 100.0
+            );
+        }
+    }
+    let csv = c.out.join("scaling.csv");
+    scaling::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (name, spec) in scaling::charts(&rows) {
+        let path = c.out.join(name);
+        drawn(&path, chart::lines_chart(&path, &spec))?;
+    }
+    println!(
+        "bench: {} rows in {:.1} s on {} threads; wrote {} and {}/scaling_*.png",
         rows.len(),
         start.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
