@@ -4,9 +4,10 @@
 //! The scene is the [`City`] of [`Plan::grid`] x [`Plan::grid`] buildings (one subject
 //! each, on a ground plate), its faces split finer and finer so its triangle count grows
 //! over three orders of magnitude with the same silhouettes and screen coverage. The camera
-//! flies a short segment of the [`Path::Orbit`] path: [`Plan::frames`] poses evenly spaced
-//! from [`Plan::path_start`] over [`Plan::path_span`] of the orbit, 50 degree vertical
-//! field of view.
+//! flies a short segment of the [`Path::Orbit`] path, 50 degree vertical field of view:
+//! [`Plan::frames`] poses from [`Plan::path_start`], [`Plan::path_step`] of the orbit apart
+//! (the full plan: 1e-4 of the orbit, 0.036 units, a hundredth of a building's width, per
+//! frame).
 //!
 //! Two series, one CSV row per point and mode ([`Row::HEADER`]):
 //! - `triangles`: a city of each of [`Plan::triangle_counts`] at [`Plan::fixed_resolution`].
@@ -26,15 +27,19 @@
 //!   draw list and render. Frames whose update refreshed nothing are the *steady* frames
 //!   (`median_ms`, `min_ms`, `p90_ms`, the counters); frames with refreshes are summarised
 //!   apart (`refresh_frames`, `refresh_median_ms`), since their cost is the capture's, which
-//!   does grow with the triangles (`capture_triangles`). `update_ms` is the median update
-//!   part of the steady frames.
+//!   does grow with the triangles (`capture_triangles`). `update_ms` and `render_ms` are
+//!   the medians of the update part and of the rest (draw list and render) of the steady
+//!   frames; geometry's `render_ms` is its whole frame.
 //!
 //! Interleaving: the machine is noisy, so the points of a series are measured in
 //! [`Plan::rounds`] rounds; each round measures every point in turn, geometry then
-//! impostors, over the next `frames / rounds` poses of the segment. Before its timed frames
-//! a round does, untimed: one update with an unlimited refresh budget at its first pose
-//! (everything captured for this camera and image height), then [`Plan::warmup`] frames of
-//! each mode at that pose.
+//! impostors, over the next `frames / rounds` poses of the segment (a *chunk*). Before its
+//! timed frames a chunk does, untimed: [`Plan::warmup`] geometry frames at its first pose;
+//! a fresh [`ImpostorSet`] updated once at that pose with an unlimited refresh budget
+//! (everything in view captured for this camera and image height: [`warm_up`]); then
+//! `warmup` impostor frames at that pose. So every chunk starts from the same state, and
+//! the impostors refresh as the eye moves on (at the default 0.125 degree tolerance, from
+//! the fifth frame of a chunk in the full plan), whatever was measured before.
 //!
 //! Counters (`triangles_set_up`, `fragments_shaded`, `fragments_written`, `images`) are those
 //! of the last steady frame.
@@ -64,11 +69,11 @@ pub struct Plan {
     /// Target sizes of the `resolution` series, city of `resolution_triangles`.
     pub resolutions: Vec<(u32, u32)>,
     pub resolution_triangles: usize,
-    /// The camera path, where the timed segment starts on it, and how much of it the
-    /// segment covers (both in the path's [0, 1] parameter).
+    /// The camera path, where the timed segment starts on it, and how far the camera moves
+    /// along it per frame (both in the path's [0, 1] parameter).
     pub path: Path,
     pub path_start: f32,
-    pub path_span: f32,
+    pub path_step: f32,
     /// Impostor settings (tolerance, refresh budget, texture sides).
     pub impostors: Config,
     /// Untimed frames of each mode per round.
@@ -96,19 +101,20 @@ impl Plan {
             resolution_triangles: 1_000_000,
             path: Path::Orbit,
             path_start: 0.125,
-            path_span: 0.001,
+            path_step: 1e-4,
             impostors: Config::default(),
-            warmup: 2,
+            warmup: 1,
             frames: 30,
-            rounds: 3,
+            rounds: 6,
         }
     }
 
-    /// Every point of the full sweep with fewer frames: about a minute.
+    /// Every point of the full sweep with fewer frames (two rounds of five): about a
+    /// minute.
     pub fn quick() -> Plan {
         Plan {
-            warmup: 1,
-            frames: 12,
+            frames: 10,
+            rounds: 2,
             ..Plan::full()
         }
     }
@@ -365,15 +371,15 @@ impl Samples {
     }
 }
 
-/// Pose `i` of `n` along the plan's segment.
-fn pose(plan: &Plan, i: usize, n: usize) -> f32 {
-    plan.path_start + plan.path_span * i as f32 / (n.max(2) - 1) as f32
+/// The path parameter of pose `i`.
+pub fn pose(plan: &Plan, i: usize) -> f32 {
+    plan.path_start + plan.path_step * i as f32
 }
 
 /// Measures `points` (cities and sizes) in interleaved rounds.
 fn measure(
     plan: &Plan,
-    cities: &mut [(City, ImpostorSet)],
+    cities: &mut [City],
     points: &mut [Point],
     renderer: &mut Renderer,
     tick: &mut dyn FnMut(String),
@@ -383,7 +389,7 @@ fn measure(
     for round in 0..rounds {
         let poses = (round * frames / rounds)..((round + 1) * frames / rounds);
         for p in points.iter_mut() {
-            let (city, set) = &mut cities[p.city_index];
+            let city = &mut cities[p.city_index];
             tick(format!(
                 "{} tris {}x{} round {}/{rounds}",
                 approx(city.triangle_count() as u64),
@@ -392,24 +398,25 @@ fn measure(
                 round + 1
             ));
             let mut target = Target::new(p.size.0, p.size.1);
-            let first = camera(city, plan.path, pose(plan, poses.start, frames), p.size);
-            warm_up(city, set, &first, p.size.1);
+            let first = camera(city, plan.path, pose(plan, poses.start), p.size);
             for _ in 0..plan.warmup {
                 geometry_frame(renderer, city, &first, &mut target);
             }
             for i in poses.clone() {
-                let cam = camera(city, plan.path, pose(plan, i, frames), p.size);
+                let cam = camera(city, plan.path, pose(plan, i), p.size);
                 let t0 = Instant::now();
                 let stats = geometry_frame(renderer, city, &cam, &mut target);
                 p.geometry.steady.push(t0.elapsed());
                 p.geometry.render.push(t0.elapsed());
                 p.geometry.stats = stats;
             }
+            let set = &mut ImpostorSet::new(plan.impostors, city.buildings.len());
+            warm_up(city, set, &first, p.size.1);
             for _ in 0..plan.warmup {
                 impostor_frame(renderer, city, set, &first, &mut target);
             }
             for i in poses.clone() {
-                let cam = camera(city, plan.path, pose(plan, i, frames), p.size);
+                let cam = camera(city, plan.path, pose(plan, i), p.size);
                 let t0 = Instant::now();
                 let (report, stats, update) =
                     impostor_frame(renderer, city, set, &cam, &mut target);
@@ -435,14 +442,14 @@ fn measure(
 fn rows_of(
     series: &'static str,
     points: &[Point],
-    cities: &[(City, ImpostorSet)],
+    cities: &[City],
     threads: usize,
     x: fn(&Row) -> f64,
     rows: &mut Vec<Row>,
 ) {
     let start = rows.len();
     for p in points {
-        let triangles = cities[p.city_index].0.triangle_count() as u64;
+        let triangles = cities[p.city_index].triangle_count() as u64;
         for (mode, s) in [("geometry", &p.geometry), ("impostors", &p.impostors)] {
             rows.push(Row {
                 series,
@@ -502,14 +509,10 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
         step += 1;
     };
 
-    let mut cities: Vec<(City, ImpostorSet)> = plan
+    let mut cities: Vec<City> = plan
         .triangle_counts
         .iter()
-        .map(|&n| {
-            let city = City::with_triangles(plan.grid, n, SEED);
-            let set = ImpostorSet::new(plan.impostors, city.buildings.len());
-            (city, set)
-        })
+        .map(|&n| City::with_triangles(plan.grid, n, SEED))
         .collect();
     let mut points: Vec<Point> = (0..cities.len())
         .map(|i| Point {
@@ -530,9 +533,11 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
     );
     drop(cities);
 
-    let city = City::with_triangles(plan.grid, plan.resolution_triangles, SEED);
-    let set = ImpostorSet::new(plan.impostors, city.buildings.len());
-    let mut cities = vec![(city, set)];
+    let mut cities = vec![City::with_triangles(
+        plan.grid,
+        plan.resolution_triangles,
+        SEED,
+    )];
     let mut points: Vec<Point> = plan
         .resolutions
         .iter()
@@ -577,16 +582,18 @@ pub fn impostor_change(
 /// A count with up to three decimals of thousands or millions: 642, 9.002k, 1.024M.
 pub fn approx(n: u64) -> String {
     let v = n as f64;
-    if v >= 1e6 {
-        format!("{:.3}M", v / 1e6)
+    let (scaled, unit) = if v >= 1e6 {
+        (v / 1e6, "M")
     } else if v >= 1e3 {
-        format!("{:.3}k", v / 1e3)
+        (v / 1e3, "k")
     } else {
         return n.to_string();
-    }
-    .trim_end_matches('0')
-    .trim_end_matches('.')
-    .to_string()
+    };
+    let digits = format!("{scaled:.3}");
+    format!(
+        "{}{unit}",
+        digits.trim_end_matches('0').trim_end_matches('.')
+    )
 }
 
 /// The sweep's charts: file name and chart, ready for [`crate::chart::lines_chart`].
