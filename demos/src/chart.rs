@@ -430,3 +430,88 @@ pub fn lines_chart(path: &Path, spec: &Lines) -> Result<Drawn, Error> {
         }
     }
 }
+
+/// Draws a [`Lines`] chart's points as dots, not joined (a scatter: one colour per line,
+/// repeating after four), as a PNG with text when a font is usable (see the module docs).
+/// Points with a non-finite coordinate (or, on a log axis, one at or below zero) are left
+/// out.
+pub fn scatter_chart(path: &Path, spec: &Lines) -> Result<Drawn, Error> {
+    let draw = |text: bool| -> Result<(), Error> {
+        let keep = |x: f64, log: bool| x.is_finite() && (!log || x > 0.0);
+        let sets: Vec<(&str, Vec<(f64, f64)>)> = spec
+            .lines
+            .iter()
+            .map(|l| {
+                let pts = l.points.iter().copied();
+                let pts = pts.filter(|&(x, y)| keep(x, spec.log_x) && keep(y, spec.log_y));
+                (l.name.as_str(), pts.collect())
+            })
+            .collect();
+        let all = sets.iter().flat_map(|(_, p)| p.iter().copied());
+        let (x0, x1) = range(all.clone().map(|p| p.0), spec.log_x);
+        let (y0, y1) = range(all.map(|p| p.1), spec.log_y);
+        let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut builder = ChartBuilder::on(&root);
+        builder.margin(16);
+        if text {
+            builder
+                .caption(spec.title.as_str(), ("sans-serif", 24))
+                .x_label_area_size(48)
+                .y_label_area_size(64);
+        }
+        macro_rules! body {
+            ($chart:expr) => {{
+                let mut chart = $chart;
+                let mut mesh = chart.configure_mesh();
+                if text {
+                    mesh.x_desc(spec.x_desc.as_str())
+                        .y_desc(spec.y_desc.as_str())
+                        .x_label_formatter(&|x: &f64| short(*x))
+                        .y_label_formatter(&|y: &f64| short(*y));
+                } else {
+                    mesh.x_labels(0).y_labels(0);
+                }
+                mesh.draw()?;
+                for (k, (name, pts)) in sets.iter().enumerate() {
+                    let c = SERIES[k % SERIES.len()];
+                    let s =
+                        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
+                    if text && !name.is_empty() {
+                        s.label(*name)
+                            .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.filled()));
+                    }
+                }
+                if text && sets.iter().any(|(n, _)| !n.is_empty()) {
+                    chart
+                        .configure_series_labels()
+                        .position(spec.legend.clone())
+                        .background_style(WHITE.mix(0.85))
+                        .border_style(BLACK)
+                        .draw()?;
+                }
+            }};
+        }
+        match (spec.log_x, spec.log_y) {
+            (true, true) => {
+                body!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?)
+            }
+            (true, false) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?),
+            (false, true) => body!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?),
+            (false, false) => body!(builder.build_cartesian_2d(x0..x1, y0..y1)?),
+        }
+        root.present()?;
+        Ok(())
+    };
+    if !font_ready() {
+        draw(false)?;
+        return Ok(Drawn::WithoutText);
+    }
+    match draw(true) {
+        Ok(()) => Ok(Drawn::WithText),
+        Err(_) => {
+            draw(false)?;
+            Ok(Drawn::WithoutText)
+        }
+    }
+}

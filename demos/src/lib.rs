@@ -7,6 +7,7 @@
 
 pub mod bench;
 pub mod bench_billboards;
+pub mod bench_impostors;
 pub mod bench_scaling;
 pub mod chart;
 pub mod city;

@@ -9,6 +9,11 @@
 //!   render timed apart), billboard-tree error against view elevation (PSNR, mean error),
 //!   and frame time of billboard trees against mesh trees as the forest grows
 //!   (`demos::bench_billboards`).
+//! - `impostors`: runtime impostors on the city: frame time, refreshes per frame and
+//!   measured error against the parallax tolerance on translation-only and rotation-only
+//!   paths; error-driven against fixed-interval refresh at equal refresh counts; predicted
+//!   against measured error; runtime against baked octahedral impostors against geometry
+//!   (`demos::bench_impostors`).
 //! - `scaling`: the city at 1k to 2M triangles and at 320x180 to 3840x2160, drawn as
 //!   geometry and through runtime impostors: frame time against triangles and against
 //!   pixels, with fitted lines (`demos::bench_scaling`).
@@ -16,6 +21,7 @@
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan, Step};
 use demos::bench_billboards as bb;
+use demos::bench_impostors as bi;
 use demos::bench_scaling as scaling;
 use demos::chart::{self, Drawn};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -40,6 +46,9 @@ enum Sweep {
     /// Billboard frame time against count and resolution, billboard-tree error against
     /// view elevation, and billboard against mesh trees.
     Billboards(Small),
+    /// Runtime impostors: frame time, refreshes and measured error against the parallax
+    /// tolerance; fixed-interval refresh; predicted against measured error; octahedral.
+    Impostors(Small),
     /// The city as geometry and through impostors: frame time against triangles and
     /// against pixels, with fitted lines.
     Scaling(Small),
@@ -84,6 +93,7 @@ fn main() -> ExitCode {
     let result = match &cli.sweep {
         Sweep::Raster(c) => raster(c),
         Sweep::Billboards(c) => billboards(c),
+        Sweep::Impostors(c) => impostors(c),
         Sweep::Scaling(c) => scaling_sweep(c),
     };
     match result {
@@ -345,6 +355,52 @@ fn scaling_sweep(c: &Small) -> Result<(), String> {
     }
     println!(
         "bench: {} rows in {:.1} s on {} threads; wrote {} and {}/scaling_*.png",
+        rows.len(),
+        start.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        csv.display(),
+        c.out.display()
+    );
+    Ok(())
+}
+
+fn impostors(c: &Small) -> Result<(), String> {
+    let plan = if c.tiny {
+        bi::Plan::tiny()
+    } else if c.quick {
+        bi::Plan::quick()
+    } else {
+        bi::Plan::full()
+    };
+    std::fs::create_dir_all(&c.out)
+        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
+    let start = Instant::now();
+    let bar = progress_bar();
+    let rows = bi::run(&plan, |i, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(i as u64);
+        bar.set_message(what.to_string());
+    });
+    bar.finish_and_clear();
+    for r in rows.iter().filter(|r| r.series != "calibration") {
+        bi::print_row(r);
+    }
+    if let Some(s) = bi::calibration_summary(&rows) {
+        println!("{s}");
+    }
+    let csv = c.out.join("impostors.csv");
+    bi::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (name, spec) in bi::charts(&rows) {
+        let path = c.out.join(name);
+        drawn(&path, chart::lines_chart(&path, &spec))?;
+    }
+    let path = c.out.join("impostors_calibration.png");
+    drawn(
+        &path,
+        chart::scatter_chart(&path, &bi::calibration_chart(&rows)),
+    )?;
+    println!(
+        "bench: {} rows in {:.1} s on {} threads; wrote {} and {}/impostors_*.png",
         rows.len(),
         start.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
