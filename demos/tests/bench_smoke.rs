@@ -293,3 +293,122 @@ fn scaling_sweep_writes_csv_and_png_charts() {
         assert_chart(name, &bytes);
     }
 }
+
+#[test]
+fn impostors_sweep_writes_csv_and_png_charts() {
+    let dir = out_dir("bench_smoke_impostors");
+    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
+        .args(["impostors", "--quick", "--tiny", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("bench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "bench failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let csv = std::fs::read_to_string(dir.join("impostors.csv")).expect("impostors.csv written");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    assert_eq!(&header[..4], ["series", "path", "policy", "tolerance_deg"]);
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no {name} column"))
+    };
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    for r in &rows {
+        assert_eq!(r.len(), header.len(), "{r:?}");
+    }
+    let num = |r: &[&str], name: &str| -> f64 {
+        r[col(name)]
+            .parse()
+            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
+    };
+    let of = |series: &str, path: &str| -> Vec<&Vec<&str>> {
+        rows.iter()
+            .filter(|r| r[0] == series && r[1] == path)
+            .collect()
+    };
+
+    // Every impostor run is timed and measured: finite times, errors in range.
+    for r in rows.iter().filter(|r| r[0] == "sweep" || r[0] == "fixed") {
+        let median = num(r, "median_ms");
+        assert!(median > 0.0 && median.is_finite(), "{r:?}");
+        assert!(num(r, "images_per_frame") > 0.0, "{r:?}");
+        let (mean, worst) = (num(r, "mae_mean"), num(r, "mae_max"));
+        assert!(mean > 0.0 && mean <= worst && worst < 255.0, "{r:?}");
+        assert!(num(r, "worst_mae") >= worst, "{r:?}");
+        assert!(num(r, "psnr_db") > 15.0, "{r:?}");
+    }
+    let (translate, rotate) = (of("sweep", "translate"), of("sweep", "rotate"));
+    assert!(
+        translate.len() >= 3 && translate.len() == rotate.len(),
+        "{csv}"
+    );
+    let (fine, coarse) = (translate[0], translate[translate.len() - 1]);
+    assert!(num(fine, "tolerance_deg") < num(coarse, "tolerance_deg"));
+    // Translating: a finer tolerance refreshes more and errs less.
+    assert!(
+        num(fine, "refreshes") > 2.0 * num(coarse, "refreshes"),
+        "{fine:?} {coarse:?}"
+    );
+    assert!(
+        num(coarse, "mae_mean") >= num(fine, "mae_mean"),
+        "{fine:?} {coarse:?}"
+    );
+    assert!(num(coarse, "predicted_deg_mean") > num(fine, "predicted_deg_mean"));
+    // Rotating in place causes no parallax: after warm-up nothing is re-rendered (only
+    // buildings coming into view take a first image), whatever the tolerance.
+    for r in &rotate {
+        assert_eq!(num(r, "refreshes"), num(r, "new_captures"), "{r:?}");
+        assert!(num(r, "predicted_deg_max") < 1e-3, "rounding only: {r:?}");
+    }
+    // Fixed interval: the error-driven run's refresh count.
+    let fixed = of("fixed", "translate");
+    assert_eq!(fixed.len(), translate.len());
+    for (f, e) in fixed.iter().zip(&translate) {
+        assert_eq!(num(f, "tolerance_deg"), num(e, "tolerance_deg"));
+        let (nf, ne) = (num(f, "refreshes"), num(e, "refreshes"));
+        assert!((nf - ne).abs() <= 0.05 * ne + 1.0, "{f:?} {e:?}");
+    }
+    // Calibration: images age without refresh, so the error grows with the parallax.
+    let calibration = of("calibration", "translate");
+    assert!(calibration.len() >= 10, "{csv}");
+    let (young, old): (Vec<_>, Vec<_>) = calibration
+        .iter()
+        .partition(|r| num(r, "frame") <= num(calibration[calibration.len() - 1], "frame") / 2.0);
+    let mean =
+        |v: &[&&Vec<&str>], c: &str| v.iter().map(|r| num(r, c)).sum::<f64>() / v.len() as f64;
+    assert!(mean(&old, "predicted_deg_mean") > mean(&young, "predicted_deg_mean"));
+    assert!(mean(&old, "mae_mean") > mean(&young, "mae_mean"), "{csv}");
+    // Methods: geometry is its own reference; both kinds of impostor are measured.
+    let methods = of("method", "orbit");
+    let policy = |p: &str| methods.iter().find(|r| r[2].starts_with(p)).copied();
+    let geometry = policy("geometry").expect("geometry row");
+    assert_eq!(num(geometry, "mae_mean"), 0.0);
+    for p in ["runtime", "octahedral_"] {
+        let r = policy(p).unwrap_or_else(|| panic!("{p} row: {csv}"));
+        assert!(
+            num(r, "mae_mean") > 0.0 && num(r, "memory_bytes") > 0.0,
+            "{r:?}"
+        );
+        assert!(num(r, "median_ms") > 0.0, "{r:?}");
+    }
+    assert!(num(policy("octahedral_").unwrap(), "setup_ms") > 0.0);
+
+    for name in [
+        "impostors_error.png",
+        "impostors_refreshes.png",
+        "impostors_frame_time.png",
+        "impostors_fixed.png",
+        "impostors_calibration.png",
+        "impostors_methods.png",
+    ] {
+        let bytes = std::fs::read(dir.join(name)).expect("chart written");
+        assert_chart(name, &bytes);
+    }
+}
