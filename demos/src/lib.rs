@@ -14,6 +14,7 @@ pub mod city;
 pub mod font;
 pub mod showcase;
 pub mod showcase_ibr;
+pub mod showcase_impostors;
 pub mod timing;
 
 /// Sets the global rayon pool to `threads` workers (when given); a failure is reported on

@@ -6,10 +6,12 @@
 //! texture, a checker-textured plaza, an alpha-tested lattice fence (`AlphaMode::Mask`),
 //! blended glass (`AlphaMode::Blend`), a house, trees and rocks, lit by a sun and two point
 //! lights (one orbiting the torus, marked by a glowing lamp). Its image-based layer
-//! ([`crate::showcase_ibr`]) adds a billboard forest, a laser exchange with explosions and
-//! the sun's lens flare.
+//! ([`crate::showcase_ibr`]) adds a billboard forest, a laser exchange with explosions,
+//! the sun's lens flare, and a sky of clouds and a city district drawn through runtime
+//! impostors ([`crate::showcase_impostors`]).
 
 use crate::showcase_ibr::IbrLayer;
+use crate::showcase_impostors::{self, CITY_CENTER};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     AlphaMode, Camera, Encoding, FrameOptions, FrameStats, Instance, Light, Lighting, Material,
@@ -60,18 +62,20 @@ impl Showcase {
 }
 
 impl Showcase {
-    /// The headless camera path, `(eye, target)` at frame `i` of `n`. The first half
-    /// circles the plaza once, bobbing up and down; the second half rises over the
-    /// billboard forest (looking down on the trees, past their fade to top-down sprites),
-    /// comes back to look along the laser from just behind turret B, turns up toward the
-    /// sun (lens flare) and returns to the start. The eye stays 2.5 units above the ground.
+    /// The headless camera path, `(eye, target)` at frame `i` of `n`. The first third
+    /// circles the plaza once, bobbing up and down; the rest rises over the billboard
+    /// forest (looking down on the trees, past their fade to top-down sprites), comes back
+    /// to look along the laser from just behind turret B, turns up toward the sun (lens
+    /// flare), flies over the city district, climbs into a cloud and through it, and
+    /// returns to the start. The eye stays 2.5 units above the ground.
     pub fn path(&self, i: usize, n: usize) -> (Vec3, Vec3) {
+        const CIRCLE: f32 = 1.0 / 3.0;
         let f = (i % n.max(1)) as f32 / n.max(1) as f32;
-        let (eye, target) = if f < 0.5 {
-            self.circle(f * 2.0)
+        let (eye, target) = if f < CIRCLE {
+            self.circle(f / CIRCLE)
         } else {
             let keys = self.flight_keys();
-            let u = (f - 0.5) * 2.0 * (keys.len() - 1) as f32;
+            let u = (f - CIRCLE) / (1.0 - CIRCLE) * (keys.len() - 1) as f32;
             let k = (u.floor() as usize).min(keys.len() - 2);
             let t = u - k as f32;
             let at = |j: isize| keys[j.clamp(0, keys.len() as isize - 1) as usize];
@@ -98,7 +102,7 @@ impl Showcase {
     }
 
     /// Key poses of the flight: from the circle's end over the forest, along the laser,
-    /// toward the sun and back to the circle's start.
+    /// toward the sun, over the city, through a cloud and back to the circle's start.
     fn flight_keys(&self) -> Vec<(Vec3, Vec3)> {
         let [a, b] = self.ibr.turrets;
         let along = (b - a).normalize();
@@ -115,6 +119,12 @@ impl Showcase {
             .unwrap_or(Vec3::Y);
         let sun_eye = Vec3::new(-14.0, 9.0, -16.0);
         let start = self.circle(0.0);
+        let city = Vec3::new(CITY_CENTER.x, 4.0, CITY_CENTER.y);
+        // The cloud is entered from the south (over the city) at its centre's height and
+        // left to the north: `2.2` radii out, so the approach starts outside the band in
+        // which its impostor is refreshed every frame.
+        let cloud = self.ibr.impostors.path_cloud();
+        let (cc, reach) = (cloud.center, 2.2 * cloud.radius);
         vec![
             start,
             (Vec3::new(22.0, 13.0, 22.0), Vec3::new(34.0, 3.0, 32.0)),
@@ -130,7 +140,20 @@ impl Showcase {
                 sun_eye,
                 sun_eye + Vec3::new(sun.x, sun.y * 0.4, sun.z) * 10.0,
             ),
-            (Vec3::new(2.0, 8.0, -22.0), Vec3::new(0.0, 1.2, 0.0)),
+            // Over the city, looking down on its impostored buildings.
+            (Vec3::new(-18.0, 12.0, -24.0), city),
+            (
+                city + Vec3::new(3.0, 15.0, -9.0),
+                city + Vec3::new(-4.0, -2.0, 8.0),
+            ),
+            // Into the cloud and out of it.
+            (cc - Vec3::Z * reach, cc),
+            (cc, cc + Vec3::Z * reach),
+            (
+                cc + Vec3::new(0.0, 0.5, reach),
+                cc + Vec3::new(6.0, -6.0, 2.0 * reach),
+            ),
+            (Vec3::new(-12.0, 14.0, 28.0), Vec3::new(0.0, 1.2, 0.0)),
             start,
         ]
     }
@@ -460,6 +483,9 @@ fn build() -> Showcase {
         let r = rng.range(21.0, 44.0);
         let (x, z) = (r * a.cos(), r * a.sin());
         let h = rng.range(3.5, 7.0);
+        if showcase_impostors::in_city(x, z, 2.0) {
+            continue;
+        }
         let y = terrain.height_at(x, z) - 0.1;
         let v = variants[(rng.next_u64() % variants.len() as u64) as usize];
         let xf = Mat4::from_scale_rotation_translation(
@@ -499,6 +525,9 @@ fn build() -> Showcase {
         };
         let (x, z) = (r * a.cos(), r * a.sin());
         let size = rng.range(0.3, 1.2);
+        if showcase_impostors::in_city(x, z, 1.0) {
+            continue;
+        }
         let xf = Mat4::from_scale_rotation_translation(
             Vec3::splat(size),
             Quat::from_rotation_y(rng.range(0.0, 6.0)),

@@ -1,11 +1,13 @@
 //! The showcase's image-based layer: a forest of axial-billboard trees baked from the tree
-//! meshes, a laser exchange between two turrets with explosions where the bolts hit, and a
-//! sun with a lens flare occluded by whatever is drawn in front of it.
+//! meshes, a laser exchange between two turrets with explosions where the bolts hit, a sun
+//! with a lens flare occluded by whatever is drawn in front of it, and the impostored sky
+//! of clouds and city district ([`crate::showcase_impostors`]).
 //!
 //! Everything here is driven by absolute time, so a headless run is deterministic: bolts
 //! are fired on a fixed schedule and the effects are stepped by the time since the last
 //! pose.
 
+use crate::showcase_impostors::{self, Impostors};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     AlphaMode, Camera, FrameOptions, FrameStats, Light, Material, Mesh, Renderer, Rgba, Scene,
@@ -36,6 +38,8 @@ pub struct IbrLayer {
     effects: Effects,
     flare: LensFlare,
     sun: FlareSource,
+    /// The clouds and the city, drawn through runtime impostors.
+    pub impostors: Impostors,
     /// Emitter positions of turret A (beam source) and turret B (bolt source).
     pub turrets: [Vec3; 2],
     t: f32,
@@ -67,6 +71,7 @@ impl IbrLayer {
             effects: Effects::new(77),
             flare: LensFlare::default(),
             sun: FlareSource::Directional(sun),
+            impostors: Impostors::new(terrain, &scene.lighting),
             turrets,
             t: 0.0,
             dt: 0.0,
@@ -85,6 +90,13 @@ impl IbrLayer {
     /// The number of billboard trees.
     pub fn tree_count(&self) -> usize {
         self.forest.iter().map(|b| b.items.len()).sum()
+    }
+
+    /// Where the billboard trees stand.
+    pub fn tree_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.forest
+            .iter()
+            .flat_map(|b| b.items.iter().map(|t| t.position))
     }
 
     /// Moves to time `t` seconds: lasers pulse, bolts fly, arriving bolts explode. Time
@@ -129,8 +141,9 @@ impl IbrLayer {
         self.effects.update(self.dt);
     }
 
-    /// Renders `scene` with the layer: the opaque and blended passes with the billboards,
-    /// lasers and effects, then the lens flare over the result.
+    /// Renders `scene` with the layer: updates the impostors (refreshing the worst within
+    /// their budgets), then the opaque and blended passes with the billboards, lasers,
+    /// effects, clouds and buildings, then the lens flare over the result.
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -145,11 +158,16 @@ impl IbrLayer {
         }
         self.lasers.build(&view);
         self.effects.build(&view);
+        self.impostors
+            .update(camera, target.height(), &scene.lighting);
+        let mut impostored = Vec::new();
+        self.impostors.draws(&mut impostored);
         let draws = scene
             .draws()
             .chain(self.forest.iter().map(BillboardBatch::draw))
             .chain(self.lasers.draws())
-            .chain(self.effects.draws());
+            .chain(self.effects.draws())
+            .chain(impostored);
         let mut stats = renderer.render(draws, camera, &scene.lighting, target, opts);
         self.flare
             .update(camera, target, self.sun, self.dt.max(1.0 / 60.0));
@@ -189,7 +207,8 @@ fn add_turret(scene: &mut Scene, base: Vec3) {
 
 /// The billboard forest: sprites baked from a pine and a broadleaf tree (side view plus a
 /// top view for the over-the-top fallback), alpha-tested so the trees write depth (they
-/// hide the sun's flare and take the soft smoke's fade), placed on the hills.
+/// hide the sun's flare and take the soft smoke's fade), placed on the hills outside the
+/// city district.
 fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     let bake = |kind: TreeKind, seed: u64| -> BakedSprite {
         let mesh: Mesh = procedural::tree(kind, 1.0, seed);
@@ -219,11 +238,14 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
             },
         };
         let mut batch = BillboardBatch::new(material);
-        for _ in 0..FOREST_TREES / 2 {
+        while batch.items.len() < FOREST_TREES / 2 {
             let a = rng.range(0.0, std::f32::consts::TAU);
             let r = rng.range(27.0, 58.0);
             let (x, z) = (r * a.cos(), r * a.sin());
             let h = rng.range(3.5, 7.5);
+            if showcase_impostors::in_city(x, z, 2.0) {
+                continue;
+            }
             let shade = rng.range(0.85, 1.1);
             batch.push(Billboard {
                 pivot: sprite.pivot,
