@@ -68,3 +68,57 @@ fn headless_frames_do_not_depend_on_thread_count() {
         run("showcase_threads_2", "2")
     );
 }
+
+#[test]
+fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
+    let run = |name: &str, debug: bool| {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_showcase"));
+        cmd.arg("--headless")
+            .arg(&dir)
+            .args(["--frames", "3", "-W", "160", "-H", "90"]);
+        if debug {
+            cmd.arg("--debug-impostors");
+        }
+        let out = cmd.output().expect("showcase runs");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success(),
+            "{stdout}\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let frame = image::open(dir.join("frame_0000.png"))
+            .expect("frame decodes")
+            .to_rgba8();
+        (stdout, frame)
+    };
+    let (stdout, tinted) = run("showcase_debug_impostors", true);
+    for words in [
+        "impostors: 14 clouds, 25 buildings (debug view",
+        "refreshes: total",
+        "per frame, peak",
+        "predicted error ratio (1 = tolerance): max",
+        "last frame: IMPOSTORS",
+        "median",
+    ] {
+        assert!(stdout.contains(words), "missing {words:?} in:\n{stdout}");
+    }
+    // Impostors were refreshed: the first frame captures the visible ones.
+    let total: usize = stdout
+        .split("refreshes: total ")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .and_then(|s| s.trim().parse().ok())
+        .expect("a total");
+    assert!(total > 0, "{stdout}");
+    // The first frame sees the city behind the house: its fresh images turn green.
+    let (plain_out, plain) = run("showcase_plain_impostors", false);
+    assert!(!plain_out.contains("debug view"));
+    let greener = plain
+        .pixels()
+        .zip(tinted.pixels())
+        .filter(|(p, q)| q[1] as i32 - q[0] as i32 > 40 && (p[1] as i32 - p[0] as i32) < 40)
+        .count();
+    assert!(greener > 20, "{greener} pixels turned green");
+}

@@ -2,18 +2,20 @@
 //! fence, blended glass, trees, a house, a sun and point lights) drawn by the CPU rasterizer.
 //!
 //! With a display it opens a window (`minifb`) with a fly camera: WASD move, mouse drag or
-//! arrow keys look, Q / E down / up, Shift faster, Esc quits; the frame time is shown in
-//! the title and in the corner of the image. Without a display (no `DISPLAY` /
+//! arrow keys look, Q / E down / up, Shift faster, I toggles the impostor debug view
+//! (images tinted by predicted error), Esc quits; the frame time and the impostor readout
+//! (refreshes this frame, images, geometry fallbacks, largest predicted error) are shown
+//! in the title and in the corner of the image. Without a display (no `DISPLAY` /
 //! `WAYLAND_DISPLAY`, or the window cannot be opened), or with `--headless`, it renders a
-//! deterministic camera path to `DIR/frame_0000.png ...` and prints frame-time statistics
-//! and the last frame's counters.
+//! deterministic camera path to `DIR/frame_0000.png ...` and prints frame-time and
+//! impostor statistics and the last frame's counters.
 
 use clap::Parser;
 use demos::font;
 use demos::showcase::{self, FlyCamera, FlyInput, Showcase, SKY};
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
-use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
+use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -44,6 +46,10 @@ struct Args {
     /// Headless: time the frames but do not write PNG files.
     #[arg(long)]
     no_save: bool,
+    /// Start with the impostor debug view: images tinted by their predicted error (green
+    /// 0, yellow at the tolerance, red at twice it). The I key toggles it in the window.
+    #[arg(long)]
+    debug_impostors: bool,
 }
 
 fn main() -> ExitCode {
@@ -87,6 +93,7 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     }
     let mut show = Showcase::new();
+    show.ibr.impostors.set_debug(args.debug_impostors);
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
     let opts = FrameOptions {
@@ -94,9 +101,11 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
         ..Default::default()
     };
     println!(
-        "showcase: {} triangles in {} draws, {n} frames at {w}x{h} on {} threads",
+        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind impostors), \
+         {n} frames at {w}x{h} on {} threads",
         show.scene.triangle_count(),
         show.scene.instances.len(),
+        show.ibr.impostors.triangle_count(),
         rayon::current_num_threads()
     );
     let mut times = Vec::with_capacity(n);
@@ -123,6 +132,30 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
         summary.p90_ms,
         1e3 / summary.median_ms.max(1e-9)
     );
+    let imp = show.ibr.impostors.run_stats();
+    println!(
+        "impostors: {} clouds, {} buildings{}",
+        show.ibr.impostors.clouds.clouds.len(),
+        show.ibr.impostors.buildings.len(),
+        if args.debug_impostors {
+            " (debug view: images tinted by predicted error)"
+        } else {
+            ""
+        }
+    );
+    println!(
+        "  refreshes: total {}, mean {:.2} per frame, peak {}; {} left stale over the budget",
+        imp.refreshes,
+        imp.mean_refreshes(),
+        imp.peak_refreshes,
+        imp.stale
+    );
+    println!(
+        "  predicted error ratio (1 = tolerance): max {:.3}, mean {:.3}",
+        imp.max_ratio,
+        imp.mean_ratio()
+    );
+    println!("  last frame: {}", show.ibr.impostors.readout().line());
     println!("last frame: {stats:#?}");
     if !args.no_save {
         println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
@@ -193,6 +226,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let quit = Arc::new(AtomicBool::new(false));
     window.set_input_callback(Box::new(QuitOnEscape(quit.clone())));
     let mut show = Showcase::new();
+    show.ibr.impostors.set_debug(args.debug_impostors);
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -214,6 +248,10 @@ fn window(args: &Args) -> Result<(), WindowError> {
         last = now;
         let input = read_input(&window, &mut last_mouse, dt);
         fly.update(&input, dt);
+        if window.is_key_pressed(Key::I, KeyRepeat::No) {
+            let on = !show.ibr.impostors.debug();
+            show.ibr.impostors.set_debug(on);
+        }
         let (ww, wh) = window.get_size();
         let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);
         if (ww, wh) != (target.width(), target.height()) {
@@ -225,18 +263,29 @@ fn window(args: &Args) -> Result<(), WindowError> {
         let stats = show.render(&mut renderer, &camera, &mut target, &opts);
         recent.push(t0.elapsed());
         target.write_rgb_u32(&mut pixels);
+        let readout = show.ibr.impostors.readout();
         if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
             shown = Summary::of(&recent);
             recent.clear();
             title_at = Instant::now();
             window.set_title(&format!(
-                "Parallax showcase - {:.1} ms ({:.0} fps) - {}x{} - {} tris, {} shaded px",
+                "Parallax showcase - {:.1} ms ({:.0} fps) - {}x{} - {} tris, {} shaded px - \
+                 impostors: {} refreshed, {} images, {} geometry, max error {:.2}{}",
                 shown.median_ms,
                 1e3 / shown.median_ms.max(1e-9),
                 ww,
                 wh,
                 tris,
-                stats.fragments_shaded
+                stats.fragments_shaded,
+                readout.refreshes(),
+                readout.images(),
+                readout.geometry(),
+                readout.max_ratio(),
+                if show.ibr.impostors.debug() {
+                    " (debug view)"
+                } else {
+                    ""
+                }
             ));
         }
         let text = format!(
@@ -248,6 +297,13 @@ fn window(args: &Args) -> Result<(), WindowError> {
         );
         let (bw, bh) = (ww as usize, wh as usize);
         font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
+        let debug = if show.ibr.impostors.debug() {
+            "  DEBUG"
+        } else {
+            ""
+        };
+        let line = format!("{}{debug}", readout.line());
+        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &line, 0x0080_ffc0);
         font::draw_text(
             &mut pixels,
             bw,
@@ -255,7 +311,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
             6,
             bh.saturating_sub(18),
             2,
-            "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  ESC QUIT",
+            "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  ESC QUIT",
             0x00e0_e0e0,
         );
         window
