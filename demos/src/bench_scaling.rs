@@ -31,15 +31,16 @@
 //!   the medians of the update part and of the rest (draw list and render) of the steady
 //!   frames; geometry's `render_ms` is its whole frame.
 //!
-//! Interleaving: the machine is noisy, so the points of a series are measured in
-//! [`Plan::rounds`] rounds; each round measures every point in turn, geometry then
-//! impostors, over the next `frames / rounds` poses of the segment (a *chunk*). Before its
-//! timed frames a chunk does, untimed: [`Plan::warmup`] geometry frames at its first pose;
-//! a fresh [`ImpostorSet`] updated once at that pose with an unlimited refresh budget
-//! (everything in view captured for this camera and image height: [`warm_up`]); then
-//! `warmup` impostor frames at that pose. So every chunk starts from the same state, and
-//! the impostors refresh as the eye moves on (at the default 0.125 degree tolerance, from
-//! the fifth frame of a chunk in the full plan), whatever was measured before.
+//! Interleaving: the machine is noisy (other work comes and goes), so every point of a
+//! series sees the same conditions: the timed poses are split into [`Plan::rounds`] rounds
+//! of `frames / rounds` consecutive poses, and within a round each pose is rendered for
+//! every point in turn (geometry frame, then impostor frame) before the camera moves on.
+//! Untimed, at the start of a round, for each point: [`Plan::warmup`] geometry frames at
+//! the round's first pose, then a fresh [`ImpostorSet`] updated once there with an
+//! unlimited refresh budget (everything in view captured for this camera and image
+//! height: [`warm_up`]), then `warmup` impostor frames there. So every round starts from
+//! the same impostor state, and the impostors refresh as the eye moves on (at the default
+//! 0.125 degree tolerance, from the fifth frame of a round in the full plan).
 //!
 //! Counters (`triangles_set_up`, `fragments_shaded`, `fragments_written`, `images`) are those
 //! of the last steady frame.
@@ -134,9 +135,9 @@ impl Plan {
         }
     }
 
-    /// Measurements the sweep makes (progress steps): rounds x points.
+    /// Progress steps: the poses of the two series.
     pub fn steps(&self) -> usize {
-        self.rounds.max(1) * (self.triangle_counts.len() + self.resolutions.len())
+        2 * self.frames.max(self.rounds.max(1))
     }
 }
 
@@ -376,9 +377,10 @@ pub fn pose(plan: &Plan, i: usize) -> f32 {
     plan.path_start + plan.path_step * i as f32
 }
 
-/// Measures `points` (cities and sizes) in interleaved rounds.
+/// Measures `points` (cities and sizes) in rounds, frame by frame in turn.
 fn measure(
     plan: &Plan,
+    series: &str,
     cities: &mut [City],
     points: &mut [Point],
     renderer: &mut Renderer,
@@ -388,38 +390,39 @@ fn measure(
     let frames = plan.frames.max(rounds);
     for round in 0..rounds {
         let poses = (round * frames / rounds)..((round + 1) * frames / rounds);
-        for p in points.iter_mut() {
-            let city = &mut cities[p.city_index];
-            tick(format!(
-                "{} tris {}x{} round {}/{rounds}",
-                approx(city.triangle_count() as u64),
-                p.size.0,
-                p.size.1,
-                round + 1
-            ));
-            let mut target = Target::new(p.size.0, p.size.1);
-            let first = camera(city, plan.path, pose(plan, poses.start), p.size);
-            for _ in 0..plan.warmup {
-                geometry_frame(renderer, city, &first, &mut target);
-            }
-            for i in poses.clone() {
+        // Set up every point of the round: targets, warm-up frames at the first pose, and a
+        // fresh impostor set with everything in view captured there.
+        let mut live: Vec<(Target, ImpostorSet)> = points
+            .iter()
+            .map(|p| {
+                let city = &mut cities[p.city_index];
+                let mut target = Target::new(p.size.0, p.size.1);
+                let first = camera(city, plan.path, pose(plan, poses.start), p.size);
+                for _ in 0..plan.warmup {
+                    geometry_frame(renderer, city, &first, &mut target);
+                }
+                let mut set = ImpostorSet::new(plan.impostors, city.buildings.len());
+                warm_up(city, &mut set, &first, p.size.1);
+                for _ in 0..plan.warmup {
+                    impostor_frame(renderer, city, &mut set, &first, &mut target);
+                }
+                (target, set)
+            })
+            .collect();
+        for i in poses {
+            tick(format!("{series}: frame {}/{frames}", i + 1));
+            for (p, (target, set)) in points.iter_mut().zip(&mut live) {
+                let city = &mut cities[p.city_index];
                 let cam = camera(city, plan.path, pose(plan, i), p.size);
                 let t0 = Instant::now();
-                let stats = geometry_frame(renderer, city, &cam, &mut target);
-                p.geometry.steady.push(t0.elapsed());
-                p.geometry.render.push(t0.elapsed());
+                let stats = geometry_frame(renderer, city, &cam, target);
+                let took = t0.elapsed();
+                p.geometry.steady.push(took);
+                p.geometry.render.push(took);
                 p.geometry.stats = stats;
-            }
-            let set = &mut ImpostorSet::new(plan.impostors, city.buildings.len());
-            warm_up(city, set, &first, p.size.1);
-            for _ in 0..plan.warmup {
-                impostor_frame(renderer, city, set, &first, &mut target);
-            }
-            for i in poses.clone() {
-                let cam = camera(city, plan.path, pose(plan, i), p.size);
+
                 let t0 = Instant::now();
-                let (report, stats, update) =
-                    impostor_frame(renderer, city, set, &cam, &mut target);
+                let (report, stats, update) = impostor_frame(renderer, city, set, &cam, target);
                 let took = t0.elapsed();
                 let s = &mut p.impostors;
                 s.refreshes += report.refreshes as u64;
@@ -522,7 +525,14 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
             impostors: Samples::default(),
         })
         .collect();
-    measure(plan, &mut cities, &mut points, &mut renderer, &mut tick);
+    measure(
+        plan,
+        "triangles",
+        &mut cities,
+        &mut points,
+        &mut renderer,
+        &mut tick,
+    );
     rows_of(
         "triangles",
         &points,
@@ -548,7 +558,14 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
             impostors: Samples::default(),
         })
         .collect();
-    measure(plan, &mut cities, &mut points, &mut renderer, &mut tick);
+    measure(
+        plan,
+        "resolution",
+        &mut cities,
+        &mut points,
+        &mut renderer,
+        &mut tick,
+    );
     rows_of(
         "resolution",
         &points,
