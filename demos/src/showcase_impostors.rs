@@ -157,16 +157,13 @@ impl Impostors {
     /// ground in front of its walls, and the foundations it shows below the ground line
     /// are only the little they are sunk.
     pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        let mut k = out.len();
-        self.city_set.draws(&self.buildings, out);
-        let imps = self.city_set.impostors.iter().zip(&self.buildings);
-        for ((imp, b), &half) in imps.zip(&self.footprints) {
-            match imp.mode {
+        let buildings = self.buildings.iter().zip(&self.footprints).enumerate();
+        for (i, (b, &half)) in buildings {
+            match self.city_set.impostors[i].mode {
                 Mode::Culled => {}
-                Mode::Geometry(_) => k += b.parts.len(),
+                Mode::Geometry(_) => b.draws(out),
                 Mode::Image => {
-                    if let Some(d) = out.get_mut(k) {
-                        debug_assert!(d.material.is_blended() && d.mesh.indices.len() == 6);
+                    if let Some(mut d) = self.city_set.image_draw(i) {
                         let to = b.bounds().center - self.eye;
                         let dist = to.length().max(1e-3);
                         let dir = to / dist;
@@ -174,10 +171,9 @@ impl Impostors {
                         let s = ((dist - pull) / dist).clamp(0.05, 1.0);
                         d.transform = Mat4::from_translation(self.eye)
                             * Mat4::from_scale(Vec3::splat(s))
-                            * Mat4::from_translation(-self.eye)
-                            * d.transform;
+                            * Mat4::from_translation(-self.eye);
+                        out.push(d);
                     }
-                    k += 1;
                 }
             }
         }

@@ -363,21 +363,28 @@ impl ImpostorSet {
 
     /// Appends this frame's draws: images as quads, the rest as their subjects' geometry.
     pub fn draws<'a, S: Subject>(&'a self, subjects: &'a [S], out: &mut Vec<Draw<'a>>) {
-        for (imp, s) in self.impostors.iter().zip(subjects) {
+        for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
             match imp.mode {
-                Mode::Image => {
-                    if let Some(material) = imp.slot.and_then(|s| self.pool.material(s)) {
-                        out.push(Draw {
-                            mesh: &imp.quad,
-                            material,
-                            transform: Mat4::IDENTITY,
-                        });
-                    }
-                }
+                Mode::Image => out.extend(self.image_draw(i)),
                 Mode::Geometry(_) => s.draws(out),
                 Mode::Culled => {}
             }
         }
+    }
+
+    /// The quad that draws impostor `i`'s image (world space, identity transform), when it
+    /// is drawn as an image this frame. Callers may change the transform, e.g. scale the
+    /// quad about the eye to move it nearer in depth without changing its pixels.
+    pub fn image_draw(&self, i: usize) -> Option<Draw<'_>> {
+        let imp = self.impostors.get(i)?;
+        if imp.mode != Mode::Image {
+            return None;
+        }
+        Some(Draw {
+            mesh: &imp.quad,
+            material: self.pool.material(imp.slot?)?,
+            transform: Mat4::IDENTITY,
+        })
     }
 
     /// The measured error of impostor `i` this frame: its image and its subject rendered
