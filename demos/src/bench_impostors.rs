@@ -11,11 +11,11 @@
 //! 51.6 degrees in place (1.29 per frame) and the `orbit` eye circles 15 degrees of its
 //! 22.8-unit circle (0.15 units per frame).
 //!
-//! **Frame time** (`median_ms`, `p90_ms`, `mean_ms`): [`ImpostorSet::update`] (prediction,
-//! scheduling and the refresh renders) plus `Renderer::render` of the frame (ground plus
-//! one draw per impostor image or per subject drawn as geometry, clear included), timed
-//! together per frame with `std::time::Instant`; `update_ms` is the mean of the update part.
-//! Measuring the error is not timed.
+//! **Frame time** (`median_ms`, `p90_ms`, `min_ms`, `mean_ms`): [`ImpostorSet::update`]
+//! (prediction, scheduling and the refresh renders) plus `Renderer::render` of the frame
+//! (ground plus one draw per impostor image or per subject drawn as geometry, clear
+//! included), timed together per frame with `std::time::Instant`; `update_ms` is the mean
+//! of the update part. Measuring the error is not timed.
 //!
 //! **Measured error.** After each timed frame, every impostor drawn as an image is measured
 //! with [`ImpostorSet::measure`]: its image (the textured quad) and its building rendered as
@@ -43,6 +43,9 @@
 //!   impostor is refreshed in the frame it becomes invalid: the error reflects the
 //!   tolerance alone. `new_captures` counts images taken for impostors that had none
 //!   (buildings entering the view); the rest of `refreshes` re-render stale images.
+//!   `capture_kpx_per_frame`: thousands of pixels the refreshes render per frame (each a
+//!   `side` x `side` capture, `side` the power of two at or above the building's screen
+//!   diameter): the refresh work, independent of the machine's load.
 //! - `geometry`: the same paths with every building drawn as geometry (frame time only).
 //! - `fixed`: for each `sweep` tolerance on `translate`, a fixed-interval policy given the
 //!   same number of refreshes. The [`ImpostorSet`] runs with infinite tolerances (it never
@@ -239,6 +242,8 @@ pub struct Row {
     /// Refreshes after warm-up, and how many of them were first images.
     pub refreshes: u64,
     pub new_captures: u64,
+    /// Pixels rendered by the refreshes after warm-up (each a `side` x `side` capture).
+    pub capture_px: Option<u64>,
     pub interval_frames: Option<f64>,
     pub time: Option<Summary>,
     pub update_ms: Option<f64>,
@@ -251,7 +256,7 @@ pub struct Row {
 }
 
 impl Row {
-    pub const HEADER: &'static str = "series,path,policy,tolerance_deg,frame,impostor,width,height,impostors,frames,refreshes,refreshes_per_frame,new_captures,interval_frames,median_ms,p90_ms,mean_ms,update_ms,images_per_frame,mae_mean,mae_max,worst_mae,psnr_db,psnr_min_db,max_abs,frac_over,coverage_mismatch,predicted_deg_mean,predicted_deg_max,predicted_px_mean,memory_bytes,setup_ms,triangles";
+    pub const HEADER: &'static str = "series,path,policy,tolerance_deg,frame,impostor,width,height,impostors,frames,refreshes,refreshes_per_frame,new_captures,capture_kpx_per_frame,interval_frames,median_ms,p90_ms,min_ms,mean_ms,update_ms,images_per_frame,mae_mean,mae_max,worst_mae,psnr_db,psnr_min_db,max_abs,frac_over,coverage_mismatch,predicted_deg_mean,predicted_deg_max,predicted_px_mean,memory_bytes,setup_ms,triangles";
 
     /// Refreshes per frame after warm-up.
     pub fn refreshes_per_frame(&self) -> f64 {
@@ -266,8 +271,11 @@ impl Row {
             v.map_or(String::new(), |v| format!("{v:.digits$}"))
         }
         let time = match &self.time {
-            Some(t) => format!("{:.4},{:.4},{:.4}", t.median_ms, t.p90_ms, t.mean_ms),
-            None => ",,".into(),
+            Some(t) => format!(
+                "{:.4},{:.4},{:.4},{:.4}",
+                t.median_ms, t.p90_ms, t.min_ms, t.mean_ms
+            ),
+            None => ",,,".into(),
         };
         let errors = match &self.errors {
             Some(e) => {
@@ -292,7 +300,7 @@ impl Row {
             None => ",,".into(),
         };
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{:.4},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{}",
             self.series,
             self.path,
             self.policy,
@@ -306,6 +314,11 @@ impl Row {
             self.refreshes,
             self.refreshes_per_frame(),
             self.new_captures,
+            f(
+                self.capture_px
+                    .map(|p| p as f64 / 1e3 / self.frames.max(1) as f64),
+                2
+            ),
             f(self.interval_frames, 3),
             time,
             f(self.update_ms, 4),
@@ -429,6 +442,7 @@ struct RunOut {
     predicted: Vec<(f32, f32)>,
     refreshes: u64,
     new_captures: u64,
+    capture_px: u64,
     memory: u64,
     triangles: u64,
 }
@@ -460,6 +474,7 @@ fn run_impostors(
         predicted: Vec::new(),
         refreshes: 0,
         new_captures: 0,
+        capture_px: 0,
         memory: 0,
         triangles: 0,
     };
@@ -478,10 +493,10 @@ fn run_impostors(
             Policy::Frozen if f == 1 => set.config.budget.refreshes = 0,
             _ => {}
         }
-        let had: Vec<bool> = set
+        let had: Vec<(bool, u64)> = set
             .impostors
             .iter()
-            .map(|i| i.capture().is_some())
+            .map(|i| (i.capture().is_some(), i.refreshes))
             .collect();
         let t0 = Instant::now();
         let report = set.update(&mut city.buildings, &camera, size.1, &lighting);
@@ -501,8 +516,15 @@ fn run_impostors(
             .impostors
             .iter()
             .zip(&had)
-            .filter(|(i, &h)| !h && i.capture().is_some())
+            .filter(|(i, h)| !h.0 && i.capture().is_some())
             .count() as u64;
+        out.capture_px += set
+            .impostors
+            .iter()
+            .zip(&had)
+            .filter(|(i, h)| i.refreshes > h.1)
+            .filter_map(|(i, _)| i.capture().map(|c| (c.side as u64).pow(2)))
+            .sum::<u64>();
         out.triangles = stats.triangles_set_up;
         let mut frame = Vec::new();
         for i in 0..n {
@@ -598,6 +620,7 @@ fn impostor_row(
         frames: run.times.len(),
         refreshes: run.refreshes,
         new_captures: run.new_captures,
+        capture_px: Some(run.capture_px),
         interval_frames: None,
         time: Some(Summary::of(&run.times)),
         update_ms: Some(mean_ms(&run.update)),
@@ -631,6 +654,7 @@ fn geometry_row(
         frames: times.len(),
         refreshes: 0,
         new_captures: 0,
+        capture_px: None,
         interval_frames: None,
         time: Some(Summary::of(times)),
         update_ms: None,
@@ -737,6 +761,7 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
                 frames: 1,
                 refreshes: 0,
                 new_captures: 0,
+                capture_px: None,
                 interval_frames: None,
                 time: None,
                 update_ms: None,
@@ -906,6 +931,7 @@ fn octahedral_methods(
             frames: times.len(),
             refreshes: recomposed,
             new_captures: 0,
+            capture_px: None,
             interval_frames: None,
             time: Some(Summary::of(&times)),
             update_ms: Some(mean_ms(&update)),
@@ -1233,9 +1259,13 @@ pub fn print_row(r: &Row) {
         String::new()
     } else {
         format!(
-            "  refreshes/frame {:>6.2} (new {:>3})",
+            "  refreshes/frame {:>6.2} (new {:>3}{})",
             r.refreshes_per_frame(),
-            r.new_captures
+            r.new_captures,
+            r.capture_px.map_or(String::new(), |p| format!(
+                ", {:.0} kpx",
+                p as f64 / 1e3 / r.frames.max(1) as f64
+            ))
         )
     };
     let error = r
