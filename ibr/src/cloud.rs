@@ -32,7 +32,7 @@
 //! previous direction (initially straight down).
 
 use crate::billboard::{Billboard, BillboardBatch, Facing, View};
-use crate::subject::Subject;
+use crate::subject::{enclose, Subject};
 use engine::procedural::{value_noise, XorShift};
 use engine::{
     BlendMode, Camera, Draw, Encoding, Material, Projection, Rgba, Sphere, Texture, Wrap,
@@ -234,28 +234,6 @@ pub fn cumulus(center: Vec3, size: Vec3, count: usize, seed: u64) -> Vec<CloudPa
         });
     }
     out
-}
-
-const NO_BOUNDS: Sphere = Sphere {
-    center: Vec3::ZERO,
-    radius: 0.0,
-};
-
-/// A sphere around spheres (centred on their bounding box), without allocating.
-fn enclose<I: Iterator<Item = Sphere> + Clone>(spheres: I) -> Sphere {
-    let (lo, hi) = spheres
-        .clone()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), s| {
-            (lo.min(s.center - s.radius), hi.max(s.center + s.radius))
-        });
-    let center = lo * 0.5 + hi * 0.5;
-    if lo.x > hi.x || !center.is_finite() {
-        return NO_BOUNDS;
-    }
-    let radius = spheres
-        .map(|s| s.center.distance(center) + s.radius)
-        .fold(0.0, f32::max);
-    Sphere { center, radius }
 }
 
 /// A cloud: particles, their light, and the batch that draws them. See the module docs.

@@ -44,6 +44,41 @@ pub struct Part {
     pub mesh: Arc<Mesh>,
     pub material: Arc<Material>,
     pub transform: Mat4,
+    /// The mesh's object-space bounding sphere, and which mesh it was computed for (by
+    /// address): bounds are asked for every frame, and a mesh may have a million vertices.
+    local: (usize, Sphere),
+}
+
+impl Part {
+    pub fn new(mesh: Arc<Mesh>, material: Arc<Material>, transform: Mat4) -> Self {
+        let local = (Arc::as_ptr(&mesh) as usize, mesh.bounding_sphere());
+        Part {
+            mesh,
+            material,
+            transform,
+            local,
+        }
+    }
+
+    /// World-space bounding sphere (the cached one unless `mesh` was replaced).
+    pub fn bounds(&self) -> Sphere {
+        let s = if self.local.0 == Arc::as_ptr(&self.mesh) as usize {
+            self.local.1
+        } else {
+            self.mesh.bounding_sphere()
+        };
+        let t = self.transform;
+        let scale = t
+            .x_axis
+            .truncate()
+            .length()
+            .max(t.y_axis.truncate().length())
+            .max(t.z_axis.truncate().length());
+        Sphere {
+            center: t.transform_point3(s.center),
+            radius: s.radius * scale,
+        }
+    }
 }
 
 impl MeshGroup {
@@ -53,37 +88,19 @@ impl MeshGroup {
 
     /// Adds a part; returns `self` for chaining.
     pub fn with(mut self, mesh: Arc<Mesh>, material: Arc<Material>, transform: Mat4) -> Self {
-        self.parts.push(Part {
-            mesh,
-            material,
-            transform,
-        });
+        self.parts.push(Part::new(mesh, material, transform));
         self
     }
 }
 
 impl Subject for MeshGroup {
     fn bounds(&self) -> Sphere {
-        let spheres: Vec<Sphere> = self
-            .parts
-            .iter()
-            .map(|p| {
-                let s = p.mesh.bounding_sphere();
-                let t = p.transform;
-                let scale = t
-                    .x_axis
-                    .truncate()
-                    .length()
-                    .max(t.y_axis.truncate().length())
-                    .max(t.z_axis.truncate().length());
-                Sphere {
-                    center: t.transform_point3(s.center),
-                    radius: s.radius * scale,
-                }
-            })
-            .filter(|s| s.center.is_finite() && s.radius.is_finite())
-            .collect();
-        enclose(&spheres)
+        enclose(
+            self.parts
+                .iter()
+                .map(Part::bounds)
+                .filter(|s| s.center.is_finite() && s.radius.is_finite()),
+        )
     }
 
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
@@ -103,25 +120,60 @@ impl Subject for MeshGroup {
     }
 }
 
-/// A sphere around `spheres` (centred on their bounding box; a unit sphere at the origin
-/// for none).
-pub fn enclose(spheres: &[Sphere]) -> Sphere {
-    if spheres.is_empty() {
+/// A sphere around `spheres` (centred on their bounding box; radius 0 at the origin for
+/// none). Takes the spheres twice (box, then radius), so pass a cheap iterator.
+pub fn enclose(spheres: impl Iterator<Item = Sphere> + Clone) -> Sphere {
+    let (lo, hi) = spheres.clone().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), s| (lo.min(s.center - s.radius), hi.max(s.center + s.radius)),
+    );
+    if lo.x > hi.x {
         return Sphere {
             center: Vec3::ZERO,
             radius: 0.0,
         };
     }
-    let lo = spheres
-        .iter()
-        .fold(Vec3::splat(f32::INFINITY), |a, s| a.min(s.center - s.radius));
-    let hi = spheres
-        .iter()
-        .fold(Vec3::splat(f32::NEG_INFINITY), |a, s| a.max(s.center + s.radius));
     let center = (lo + hi) * 0.5;
+    if !center.is_finite() {
+        return Sphere {
+            center: Vec3::ZERO,
+            radius: 0.0,
+        };
+    }
     let radius = spheres
-        .iter()
         .map(|s| s.center.distance(center) + s.radius)
         .fold(0.0, f32::max);
     Sphere { center, radius }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use engine::procedural;
+
+    #[test]
+    fn group_bounds_follow_transforms_and_replaced_meshes() {
+        let unit = Arc::new(procedural::uv_sphere(1.0, 8, 16));
+        let m = Arc::new(Material::default());
+        let mut g = MeshGroup::new()
+            .with(
+                unit.clone(),
+                m.clone(),
+                Mat4::from_translation(Vec3::X * 3.0),
+            )
+            .with(unit, m, Mat4::from_scale(Vec3::splat(2.0)));
+        let b = g.bounds();
+        // Spheres at x = 3 (radius 1) and 0 (radius 2): box x in [-2, 4], centre x = 1.
+        assert!((b.center - Vec3::X).length() < 1e-3, "{b:?}");
+        assert!((b.radius - 3.0).abs() < 1e-3, "{b:?}");
+        g.parts[0].transform = Mat4::from_translation(Vec3::X * 5.0);
+        assert!((g.bounds().radius - 4.0).abs() < 1e-3);
+        g.parts[0].mesh = Arc::new(procedural::uv_sphere(3.0, 8, 16));
+        let b = g.bounds();
+        assert!(
+            (b.center - Vec3::X * 3.0).length() < 1e-3 && (b.radius - 5.0).abs() < 1e-3,
+            "{b:?}"
+        );
+        assert_eq!(MeshGroup::new().bounds().radius, 0.0);
+    }
 }
