@@ -349,7 +349,23 @@ impl ImpostorSet {
         m.uvs.clear();
         m.colors.clear();
         m.indices.clear();
-        push_quad(m, capture.corners, UvRect::FULL, Rgba::WHITE, 1.0);
+        // Trim the quad to the covered part of the image (one texel of margin for the
+        // bilinear fringe): tall or flat subjects leave much of the square empty, and every
+        // empty texel on screen would still be shaded and blended.
+        if let Some(r) = metrics::covered_rect(&self.scratch, metrics::Coverage::Alpha) {
+            let r = r.grow(1, side, side);
+            let f = |p: u32| p as f32 / side as f32;
+            let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));
+            let [_, _, tr, tl] = capture.corners;
+            let down = capture.corners[0] - tl;
+            let at = |u: f32, v: f32| tl + (tr - tl) * u + down * v;
+            let quad = [at(u0, v1), at(u1, v1), at(u1, v0), at(u0, v0)];
+            let uv = UvRect {
+                min: glam::Vec2::new(u0, v0),
+                max: glam::Vec2::new(u1, v1),
+            };
+            push_quad(m, quad, uv, Rgba::WHITE, 1.0);
+        }
         m.colors.clear();
         imp.capture = Some(capture);
         imp.mode = Mode::Image;
