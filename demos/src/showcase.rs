@@ -107,16 +107,7 @@ impl Showcase {
         let [a, b] = self.ibr.turrets;
         let along = (b - a).normalize();
         let side = along.cross(Vec3::Y).normalize();
-        let sun = self
-            .scene
-            .lighting
-            .lights
-            .iter()
-            .find_map(|l| match l {
-                Light::Directional { direction, .. } => Some(-*direction),
-                _ => None,
-            })
-            .unwrap_or(Vec3::Y);
+        let sun = self.scene.lighting.sun().map_or(Vec3::Y, |(d, _)| -d);
         let sun_eye = Vec3::new(-14.0, 9.0, -16.0);
         let start = self.circle(0.0);
         let city = Vec3::new(CITY_CENTER.x, 4.0, CITY_CENTER.y);

@@ -10,8 +10,7 @@
 use crate::showcase_impostors::{self, Impostors};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
-    AlphaMode, Camera, FrameOptions, FrameStats, Light, Material, Mesh, Renderer, Rgba, Scene,
-    Target,
+    AlphaMode, Camera, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene, Target,
 };
 use glam::{Mat4, Vec2, Vec3};
 use ibr::effects::Effects;
@@ -56,15 +55,7 @@ impl IbrLayer {
             add_turret(scene, base);
             base + Vec3::Y * TURRET_HEIGHT
         });
-        let sun = scene
-            .lighting
-            .lights
-            .iter()
-            .find_map(|l| match l {
-                Light::Directional { direction, .. } => Some(-*direction),
-                _ => None,
-            })
-            .unwrap_or(Vec3::Y);
+        let sun = scene.lighting.sun().map_or(Vec3::Y, |(d, _)| -d);
         let mut layer = IbrLayer {
             forest: forest(scene, terrain),
             lasers: LaserBatch::new(),

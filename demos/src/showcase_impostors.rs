@@ -22,7 +22,7 @@
 
 use crate::city;
 use engine::procedural::{Terrain, XorShift};
-use engine::{Camera, Draw, Light, Lighting, Material, Rgba, Shading, Sphere};
+use engine::{Camera, Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
 use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Report};
@@ -91,7 +91,7 @@ impl Impostors {
             CLOUD_PARTICLES,
             2718,
         );
-        if let Some((dir, color)) = sun(lighting) {
+        if let Some((dir, color)) = lighting.sun() {
             clouds.relight(dir, color);
         }
         let buildings = buildings(terrain);
@@ -131,7 +131,7 @@ impl Impostors {
     /// refreshes the worst within each set's budget and decides how each cloud and
     /// building is drawn this frame. Counts the frame in [`Impostors::run_stats`].
     pub fn update(&mut self, camera: &Camera, height: u32, lighting: &Lighting) -> Readout {
-        if let Some((dir, color)) = sun(lighting) {
+        if let Some((dir, color)) = lighting.sun() {
             // Reruns the light pass only if the sun moved.
             self.clouds.relight(dir, color);
         }
@@ -228,14 +228,6 @@ impl Impostors {
         let city = self.buildings.iter().map(Subject::triangle_count);
         clouds.chain(city).sum()
     }
-}
-
-/// The direction of travel and colour of `lighting`'s first directional light.
-fn sun(lighting: &Lighting) -> Option<(Vec3, Rgba)> {
-    lighting.lights.iter().find_map(|l| match l {
-        Light::Directional { direction, color } => Some((*direction, *color)),
-        _ => None,
-    })
 }
 
 /// The district: a grid of box buildings, taller toward the middle, each standing on the

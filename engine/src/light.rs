@@ -35,3 +35,14 @@ impl Default for Lighting {
         }
     }
 }
+
+impl Lighting {
+    /// The first directional light (the sun): the direction its light travels, and its
+    /// colour.
+    pub fn sun(&self) -> Option<(Vec3, Rgba)> {
+        self.lights.iter().find_map(|l| match *l {
+            Light::Directional { direction, color } => Some((direction, color)),
+            Light::Point { .. } => None,
+        })
+    }
+}

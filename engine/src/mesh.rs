@@ -28,6 +28,16 @@ pub struct Sphere {
 }
 
 impl Mesh {
+    /// Empties every attribute array and the indices, keeping their memory (meshes
+    /// rewritten every frame, such as billboard batches, reuse it).
+    pub fn clear(&mut self) {
+        self.positions.clear();
+        self.normals.clear();
+        self.uvs.clear();
+        self.colors.clear();
+        self.indices.clear();
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }

@@ -354,11 +354,7 @@ impl BillboardBatch {
     /// Writes the quads for `view` into the batch's mesh. Returns the number of quads.
     pub fn build(&mut self, view: &View) -> usize {
         let m = &mut self.mesh;
-        m.positions.clear();
-        m.uvs.clear();
-        m.colors.clear();
-        m.indices.clear();
-        m.normals.clear();
+        m.clear();
         self.order.clear();
         self.order.extend(
             self.items

@@ -359,11 +359,7 @@ impl LensFlare {
     /// Writes one quad per element for the current state.
     fn build(&mut self, camera: &Camera, width: u32, height: u32) {
         let m = &mut self.mesh;
-        m.positions.clear();
-        m.normals.clear();
-        m.uvs.clear();
-        m.colors.clear();
-        m.indices.clear();
+        m.clear();
         let Some(light) = self.state.light else {
             return;
         };

@@ -345,10 +345,7 @@ impl ImpostorSet {
             self.scratch.copy_to_texture(tex);
         }
         let m = &mut imp.quad;
-        m.positions.clear();
-        m.uvs.clear();
-        m.colors.clear();
-        m.indices.clear();
+        m.clear();
         // Trim the quad to the covered part of the image (one texel of margin for the
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
         // empty texel on screen would still be shaded and blended.

@@ -113,10 +113,7 @@ impl LaserBatch {
     /// Writes both meshes for `view`. Returns the number of beam quads.
     pub fn build(&mut self, view: &View) -> usize {
         let m = &mut self.beams;
-        m.positions.clear();
-        m.uvs.clear();
-        m.colors.clear();
-        m.indices.clear();
+        m.clear();
         self.caps.clear();
         for l in &self.lasers {
             let tint = Rgba::new(
