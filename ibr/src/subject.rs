@@ -4,7 +4,7 @@
 //! Impostors (runtime and baked) capture a subject by rendering its draws offscreen; the
 //! frame falls back to the same draws when an image will not do.
 
-use engine::{Camera, Draw, Material, Mesh, Sphere};
+use engine::{Camera, Draw, Material, Mesh, Scene, Sphere};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
@@ -84,6 +84,36 @@ impl Part {
 impl MeshGroup {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A group of some of a scene's instances (a loaded glTF's node subtree, say: its
+    /// instances' indices), each mesh and material copied once into shared storage.
+    /// Indices out of range are skipped.
+    pub fn from_scene(scene: &Scene, instances: impl IntoIterator<Item = usize>) -> Self {
+        let mut meshes: Vec<Option<Arc<Mesh>>> = vec![None; scene.meshes.len()];
+        let mut materials: Vec<Option<Arc<Material>>> = vec![None; scene.materials.len()];
+        let mut group = MeshGroup::new();
+        for i in instances {
+            let Some(inst) = scene.instances.get(i) else {
+                continue;
+            };
+            let (Some(mesh), Some(material)) = (
+                scene.meshes.get(inst.mesh).map(|m| {
+                    meshes[inst.mesh]
+                        .get_or_insert_with(|| Arc::new(m.clone()))
+                        .clone()
+                }),
+                scene.materials.get(inst.material).map(|m| {
+                    materials[inst.material]
+                        .get_or_insert_with(|| Arc::new(m.clone()))
+                        .clone()
+                }),
+            ) else {
+                continue;
+            };
+            group.parts.push(Part::new(mesh, material, inst.transform));
+        }
+        group
     }
 
     /// Adds a part; returns `self` for chaining.
@@ -175,5 +205,33 @@ mod tests {
             "{b:?}"
         );
         assert_eq!(MeshGroup::new().bounds().radius, 0.0);
+    }
+
+    #[test]
+    fn a_group_from_scene_instances_shares_their_meshes() {
+        let mut scene = Scene::default();
+        let a = scene.add(
+            procedural::cuboid(Vec3::ONE),
+            Material::default(),
+            Mat4::IDENTITY,
+        );
+        let b = scene.add(
+            procedural::uv_sphere(1.0, 4, 8),
+            Material::default(),
+            Mat4::IDENTITY,
+        );
+        // A second instance of the cube, moved: the group shares one copy of the mesh.
+        scene.instances.push(engine::Instance {
+            transform: Mat4::from_translation(Vec3::X * 4.0),
+            ..scene.instances[a]
+        });
+        let g = MeshGroup::from_scene(&scene, [a, 2, 99]);
+        assert_eq!(g.parts.len(), 2, "index 99 skipped");
+        assert!(Arc::ptr_eq(&g.parts[0].mesh, &g.parts[1].mesh));
+        assert_eq!(g.triangle_count(), 24);
+        let mut draws = Vec::new();
+        g.draws(&mut draws);
+        assert_eq!(draws[1].transform, scene.instances[2].transform);
+        let _ = b;
     }
 }
