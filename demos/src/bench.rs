@@ -9,16 +9,16 @@
 //! material; shared models are framed by their bounding sphere and keep their own
 //! materials.
 
+use crate::chart::{self, Chart};
+use crate::sweep::{timed_frames, CsvRow};
 use crate::timing::Summary;
 use engine::procedural;
 use engine::{Camera, FrameOptions, FrameStats, Material, Renderer, Rgba, Scene, Target};
 use glam::{Mat4, Vec3};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-/// Fewest timed frames of a measurement, whatever the budget.
-pub const MIN_FRAMES: usize = 2;
+pub use crate::sweep::MIN_FRAMES;
 
 /// How much a sweep measures.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,10 +99,10 @@ pub struct Row {
     pub stats: FrameStats,
 }
 
-impl Row {
-    pub const HEADER: &'static str = "series,mesh,triangles,width,height,threads,median_ms,min_ms,p90_ms,mean_ms,frames,triangles_set_up,fragments_shaded";
+impl CsvRow for Row {
+    const HEADER: &'static str = "series,mesh,triangles,width,height,threads,median_ms,min_ms,p90_ms,mean_ms,frames,triangles_set_up,fragments_shaded";
 
-    pub fn csv(&self) -> String {
+    fn csv(&self) -> String {
         format!(
             "{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{},{},{}",
             self.series,
@@ -122,14 +122,12 @@ impl Row {
     }
 }
 
-/// Writes rows as CSV with a header row.
-pub fn write_csv(path: &Path, rows: &[Row]) -> std::io::Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(f, "{}", Row::HEADER)?;
-    for r in rows {
-        writeln!(f, "{}", r.csv())?;
-    }
-    f.flush()
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
+    vec![
+        ("raster_resolution.png", chart::resolution_chart(rows)),
+        ("raster_triangles.png", chart::triangles_chart(rows)),
+    ]
 }
 
 /// Short names for triangle counts: 1k, 100k, 2M.
@@ -195,20 +193,13 @@ pub fn measure(
         clear: Some(Rgba::new(0.1, 0.1, 0.12, 1.0)),
         ..Default::default()
     };
-    for _ in 0..plan.warmup {
-        renderer.render_scene(scene, camera, &mut target, &opts);
-    }
-    let mut times = Vec::with_capacity(plan.frames);
-    let mut stats = FrameStats::default();
-    let start = Instant::now();
-    while times.len() < plan.frames.max(MIN_FRAMES) {
+    let frames = timed_frames(plan.warmup, plan.frames, plan.budget, || {
         let t0 = Instant::now();
-        stats = renderer.render_scene(scene, camera, &mut target, &opts);
-        times.push(t0.elapsed());
-        if times.len() >= MIN_FRAMES && start.elapsed() >= plan.budget {
-            break;
-        }
-    }
+        let stats = renderer.render_scene(scene, camera, &mut target, &opts);
+        (t0.elapsed(), stats)
+    });
+    let times: Vec<Duration> = frames.iter().map(|f| f.0).collect();
+    let stats = frames.last().map_or_else(FrameStats::default, |f| f.1);
     (Summary::of(&times), stats)
 }
 

@@ -37,7 +37,8 @@
 //! columns.
 
 use crate::bench::count_name;
-use crate::chart::{Line, Lines};
+use crate::chart::{Chart, Line, Lines};
+use crate::sweep::{ticker, timed_frames, CsvRow};
 use crate::timing::Summary;
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{
@@ -49,13 +50,10 @@ use ibr::metrics::{self, Coverage, ImageError, Options, Region};
 use ibr::sprites::{self, BakedSprite};
 use ibr::{AxialFallback, Billboard, BillboardBatch, Facing, Size, View};
 use plotters::prelude::SeriesLabelPosition;
-use std::io::Write;
-use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Fewest timed frames of a measurement, whatever the budget.
-pub const MIN_FRAMES: usize = 2;
+pub use crate::sweep::MIN_FRAMES;
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]
@@ -183,9 +181,37 @@ pub struct Row {
 }
 
 impl Row {
-    pub const HEADER: &'static str = "series,param,value,width,height,items,triangles,threads,frames,build_ms,render_ms,median_ms,min_ms,p90_ms,triangles_set_up,fragments_shaded,psnr_db,mae,max_abs,frac_over,coverage_mismatch";
+    /// A timing row (no error columns) of `items` billboards or trees in `triangles`, at
+    /// `value` of `param`.
+    fn timed(
+        series: &'static str,
+        param: &'static str,
+        value: f64,
+        (width, height): (u32, u32),
+        items: u64,
+        triangles: u64,
+        (times, stats): (Times, FrameStats),
+    ) -> Row {
+        Row {
+            series,
+            param,
+            value,
+            width,
+            height,
+            items,
+            triangles,
+            threads: rayon::current_num_threads(),
+            times: Some(times),
+            stats,
+            error: None,
+        }
+    }
+}
 
-    pub fn csv(&self) -> String {
+impl CsvRow for Row {
+    const HEADER: &'static str = "series,param,value,width,height,items,triangles,threads,frames,build_ms,render_ms,median_ms,min_ms,p90_ms,triangles_set_up,fragments_shaded,psnr_db,mae,max_abs,frac_over,coverage_mismatch";
+
+    fn csv(&self) -> String {
         let times = match &self.times {
             Some(t) => format!(
                 "{},{:.4},{:.4},{:.4},{:.4},{:.4}",
@@ -223,16 +249,6 @@ impl Row {
     }
 }
 
-/// Writes rows as CSV with a header row.
-pub fn write_csv(path: &Path, rows: &[Row]) -> std::io::Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(f, "{}", Row::HEADER)?;
-    for r in rows {
-        writeln!(f, "{}", r.csv())?;
-    }
-    f.flush()
-}
-
 /// Times frames of `fixed` draws plus `batches` rebuilt every frame for `camera`.
 fn measure(
     renderer: &mut Renderer,
@@ -247,7 +263,7 @@ fn measure(
         clear: Some(Rgba::new(0.05, 0.06, 0.09, 1.0)),
         ..Default::default()
     };
-    let mut frame = |renderer: &mut Renderer, target: &mut Target| {
+    let frames = timed_frames(plan.warmup, plan.frames, plan.budget, || {
         let t0 = Instant::now();
         let view = View::new(camera, target.height());
         for b in batches.iter_mut() {
@@ -260,29 +276,19 @@ fn measure(
             .chain(batches.iter().map(|b| b.draw()));
         let stats = renderer.render(draws, camera, lighting, target, &opts);
         (t1 - t0, t1.elapsed(), stats)
+    });
+    let summary = |part: fn(&(Duration, Duration, FrameStats)) -> Duration| {
+        Summary::of(&frames.iter().map(part).collect::<Vec<_>>())
     };
-    for _ in 0..plan.warmup {
-        frame(renderer, target);
-    }
-    let (mut build, mut render, mut total) = (Vec::new(), Vec::new(), Vec::new());
-    let mut stats = FrameStats::default();
-    let start = Instant::now();
-    while total.len() < plan.frames.max(MIN_FRAMES) {
-        let (b, r, s) = frame(renderer, target);
-        build.push(b);
-        render.push(r);
-        total.push(b + r);
-        stats = s;
-        if total.len() >= MIN_FRAMES && start.elapsed() >= plan.budget {
-            break;
-        }
-    }
     let times = Times {
-        build: Summary::of(&build),
-        render: Summary::of(&render),
-        total: Summary::of(&total),
+        build: summary(|f| f.0),
+        render: summary(|f| f.1),
+        total: summary(|f| f.0 + f.1),
     };
-    (times, stats)
+    (
+        times,
+        frames.last().map_or_else(FrameStats::default, |f| f.2),
+    )
 }
 
 /// The particle camera: at the origin looking down -Z, 60 degrees, 0.5 - 100.
@@ -485,7 +491,6 @@ fn append_transformed(out: &mut Mesh, mesh: &Mesh, m: Mat4) {
 fn trees(
     plan: &Plan,
     renderer: &mut Renderer,
-    threads: usize,
     progress: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
 ) {
@@ -525,7 +530,7 @@ fn trees(
             transform: Mat4::IDENTITY,
         }));
         let triangles = fixed.iter().map(|d| d.mesh.triangle_count() as u64).sum();
-        let (times, stats) = measure(
+        let measured = measure(
             renderer,
             &mut target,
             &camera,
@@ -534,19 +539,18 @@ fn trees(
             &mut [],
             plan,
         );
-        rows.push(Row {
-            series: "trees_mesh",
-            param: "trees",
-            value: n as f64,
-            width: w,
-            height: h,
-            items: n as u64,
-            triangles,
-            threads,
-            times: Some(times),
-            stats,
-            error: None,
-        });
+        let row = |series, triangles, measured| {
+            Row::timed(
+                series,
+                "trees",
+                n as f64,
+                (w, h),
+                n as u64,
+                triangles,
+                measured,
+            )
+        };
+        rows.push(row("trees_mesh", triangles, measured));
         drop(fixed);
         drop(merged);
 
@@ -564,7 +568,7 @@ fn trees(
             material: &ground_material,
             transform: ground_at,
         }];
-        let (times, stats) = measure(
+        let measured = measure(
             renderer,
             &mut target,
             &camera,
@@ -578,116 +582,76 @@ fn trees(
                 .iter()
                 .map(|b| b.mesh().triangle_count() as u64)
                 .sum::<u64>();
-        rows.push(Row {
-            series: "trees_billboard",
-            param: "trees",
-            value: n as f64,
-            width: w,
-            height: h,
-            items: n as u64,
-            triangles,
-            threads,
-            times: Some(times),
-            stats,
-            error: None,
-        });
+        rows.push(row("trees_billboard", triangles, measured));
     }
 }
 
 /// Runs the whole sweep; `progress` is called before each measurement with its 0-based
 /// index, the total, and what it is.
 pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
-    let total = plan.steps();
-    let mut rows = Vec::with_capacity(total);
+    let mut rows = Vec::with_capacity(plan.steps());
+    let mut tick = ticker(plan.steps(), &mut progress);
     let mut renderer = Renderer::new();
     let threads = rayon::current_num_threads();
     let lighting = Lighting::default();
-    let mut step = 0;
-    let mut tick = |what: String| {
-        progress(step, total, &what);
-        step += 1;
+    // Times a batch of particles into `target`: the batch's triangles and the measurement.
+    let mut particles_in = |target: &mut Target, batch: &mut [BillboardBatch; 1]| {
+        let camera = particle_camera(target.width(), target.height());
+        let measured = measure(&mut renderer, target, &camera, &lighting, &[], batch, plan);
+        (batch[0].mesh().triangle_count() as u64, measured)
     };
 
-    let (w, h) = plan.count_size;
-    let mut target = Target::new(w, h);
+    let size = plan.count_size;
+    let mut target = Target::new(size.0, size.1);
     for &n in &plan.counts {
         tick(format!("count {}", count_name(n as u64)));
-        let mut batch = [particles(n, 1)];
-        let camera = particle_camera(w, h);
-        let (times, stats) = measure(
-            &mut renderer,
-            &mut target,
-            &camera,
-            &lighting,
-            &[],
-            &mut batch,
-            plan,
-        );
-        rows.push(Row {
-            series: "count",
-            param: "billboards",
-            value: n as f64,
-            width: w,
-            height: h,
-            items: n as u64,
-            triangles: batch[0].mesh().triangle_count() as u64,
-            threads,
-            times: Some(times),
-            stats,
-            error: None,
-        });
+        let (triangles, measured) = particles_in(&mut target, &mut [particles(n, 1)]);
+        let value = n as f64;
+        rows.push(Row::timed(
+            "count",
+            "billboards",
+            value,
+            size,
+            n as u64,
+            triangles,
+            measured,
+        ));
     }
     drop(target);
 
     let mut batch = [particles(plan.resolution_count, 1)];
     for &(w, h) in &plan.resolutions {
         tick(format!("resolution {w}x{h}"));
-        let mut target = Target::new(w, h);
-        let camera = particle_camera(w, h);
-        let (times, stats) = measure(
-            &mut renderer,
-            &mut target,
-            &camera,
-            &lighting,
-            &[],
-            &mut batch,
-            plan,
-        );
-        rows.push(Row {
-            series: "resolution",
-            param: "pixels",
-            value: w as f64 * h as f64,
-            width: w,
-            height: h,
-            items: plan.resolution_count as u64,
-            triangles: batch[0].mesh().triangle_count() as u64,
-            threads,
-            times: Some(times),
-            stats,
-            error: None,
-        });
+        let (triangles, measured) = particles_in(&mut Target::new(w, h), &mut batch);
+        let n = plan.resolution_count as u64;
+        let value = w as f64 * h as f64;
+        rows.push(Row::timed(
+            "resolution",
+            "pixels",
+            value,
+            (w, h),
+            n,
+            triangles,
+            measured,
+        ));
     }
     drop(batch);
 
     accuracy(plan, &mut renderer, threads, &mut tick, &mut rows);
-    trees(plan, &mut renderer, threads, &mut tick, &mut rows);
+    trees(plan, &mut renderer, &mut tick, &mut rows);
     rows
 }
 
 /// Highest PSNR drawn in charts (identical images have an infinite PSNR).
 pub const PSNR_CAP_DB: f64 = 99.0;
 
-/// The sweep's charts: file name and chart, ready for [`crate::chart::lines_chart`].
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let of = |series: &'static str| rows.iter().filter(move |r| r.series == series);
-    let times =
-        |series: &'static str, x: fn(&Row) -> f64, pick: fn(&Times) -> f64, name: &str| Line {
-            name: name.to_string(),
-            points: of(series)
-                .filter_map(|r| Some((x(r), pick(r.times.as_ref()?))))
-                .collect(),
-            labels: Vec::new(),
-        };
+    let times = |series: &'static str, x: fn(&Row) -> f64, pick: fn(&Times) -> f64, name: &str| {
+        let points = of(series).filter_map(|r| Some((x(r), pick(r.times.as_ref()?))));
+        Line::new(name, points.collect())
+    };
     let parts = |series: &'static str, x: fn(&Row) -> f64| {
         vec![
             times(series, x, |t| t.total.median_ms, "build + render"),
@@ -700,105 +664,84 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
             .next()
             .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height))
     };
-    let mut out = Vec::new();
-    out.push((
-        "billboards_count.png",
-        Lines {
-            title: format!("Blended particles: frame time vs count{}", size_of("count")),
-            x_desc: "billboards".into(),
-            y_desc: "median time (ms)".into(),
-            lines: parts("count", |r| r.value),
-            log_x: true,
-            log_y: true,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    ));
     let mut res = parts("resolution", |r| r.value / 1e6);
     res[0].labels = of("resolution")
         .map(|r| format!("{}x{}", r.width, r.height))
         .collect();
     let n = of("resolution").next().map_or(0, |r| r.items);
-    out.push((
-        "billboards_resolution.png",
-        Lines {
-            title: format!(
-                "Blended particles: frame time vs resolution ({})",
-                count_name(n)
-            ),
-            x_desc: "megapixels".into(),
-            y_desc: "median time (ms)".into(),
-            lines: res,
-            log_x: false,
-            log_y: false,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    ));
-    let error = |series: &'static str, name: &str, pick: fn(&ImageError) -> f64| Line {
-        name: name.to_string(),
-        points: of(series)
-            .filter_map(|r| Some((r.value, pick(r.error.as_ref()?))))
-            .collect(),
-        labels: Vec::new(),
+    let accuracy = |name: &str, y_desc: &str, pick: fn(&ImageError) -> f64| {
+        let line = |series: &'static str, label: &str| {
+            let points = of(series).filter_map(|r| Some((r.value, pick(r.error.as_ref()?))));
+            Line::new(label, points.collect())
+        };
+        Lines::new(
+            format!("Billboard trees against meshes: {name} vs view elevation"),
+            "view elevation (degrees)",
+            y_desc,
+            vec![
+                line("accuracy_fade", "fade out (Facing::UPRIGHT)"),
+                line("accuracy_top", "fade to top-down sprite"),
+            ],
+        )
     };
-    let psnr = |e: &ImageError| e.psnr_capped(PSNR_CAP_DB);
-    out.push((
-        "billboards_accuracy_psnr.png",
-        Lines {
-            title: "Billboard trees against meshes: PSNR vs view elevation".into(),
-            x_desc: "view elevation (degrees)".into(),
-            y_desc: "PSNR (dB)".into(),
-            lines: vec![
-                error("accuracy_fade", "fade out (Facing::UPRIGHT)", psnr),
-                error("accuracy_top", "fade to top-down sprite", psnr),
-            ],
-            log_x: false,
-            log_y: false,
-            legend: SeriesLabelPosition::LowerLeft,
-        },
-    ));
-    out.push((
-        "billboards_accuracy_mae.png",
-        Lines {
-            title: "Billboard trees against meshes: mean error vs view elevation".into(),
-            x_desc: "view elevation (degrees)".into(),
-            y_desc: "mean absolute error (8-bit levels)".into(),
-            lines: vec![
-                error("accuracy_fade", "fade out (Facing::UPRIGHT)", |e| {
-                    e.mean_abs
-                }),
-                error("accuracy_top", "fade to top-down sprite", |e| e.mean_abs),
-            ],
-            log_x: false,
-            log_y: false,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    ));
-    out.push((
-        "billboards_trees.png",
-        Lines {
-            title: format!("Forest: frame time vs trees{}", size_of("trees_mesh")),
-            x_desc: "trees".into(),
-            y_desc: "median frame time (ms)".into(),
-            lines: vec![
-                times(
-                    "trees_mesh",
-                    |r| r.value,
-                    |t| t.total.median_ms,
-                    "mesh trees",
+    let total = |t: &Times| t.total.median_ms;
+    let value = |r: &Row| r.value;
+    vec![
+        (
+            "billboards_count.png",
+            Lines::new(
+                format!("Blended particles: frame time vs count{}", size_of("count")),
+                "billboards",
+                "median time (ms)",
+                parts("count", value),
+            )
+            .log(true, true),
+        ),
+        (
+            "billboards_resolution.png",
+            Lines::new(
+                format!(
+                    "Blended particles: frame time vs resolution ({})",
+                    count_name(n)
                 ),
-                times(
-                    "trees_billboard",
-                    |r| r.value,
-                    |t| t.total.median_ms,
-                    "billboard trees (build + render)",
-                ),
-            ],
-            log_x: true,
-            log_y: true,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    ));
-    out
+                "megapixels",
+                "median time (ms)",
+                res,
+            ),
+        ),
+        (
+            "billboards_accuracy_psnr.png",
+            accuracy("PSNR", "PSNR (dB)", |e| e.psnr_capped(PSNR_CAP_DB))
+                .legend(SeriesLabelPosition::LowerLeft),
+        ),
+        (
+            "billboards_accuracy_mae.png",
+            accuracy("mean error", "mean absolute error (8-bit levels)", |e| {
+                e.mean_abs
+            }),
+        ),
+        (
+            "billboards_trees.png",
+            Lines::new(
+                format!("Forest: frame time vs trees{}", size_of("trees_mesh")),
+                "trees",
+                "median frame time (ms)",
+                vec![
+                    times("trees_mesh", value, total, "mesh trees"),
+                    times(
+                        "trees_billboard",
+                        value,
+                        total,
+                        "billboard trees (build + render)",
+                    ),
+                ],
+            )
+            .log(true, true),
+        ),
+    ]
+    .into_iter()
+    .map(|(name, lines)| (name, Chart::Lines(lines)))
+    .collect()
 }
 
 #[cfg(test)]

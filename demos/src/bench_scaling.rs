@@ -45,14 +45,13 @@
 //! Counters (`triangles_set_up`, `fragments_shaded`, `fragments_written`, `images`) are those
 //! of the last steady frame.
 
-use crate::chart::{Line, Lines};
+use crate::chart::{Chart, Line, Lines};
 use crate::city::{City, Path};
+use crate::sweep::{ticker, CsvRow};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::{Config, ImpostorSet};
 use ibr::subject::Subject;
-use plotters::prelude::SeriesLabelPosition;
-use std::io::Write;
 use std::time::{Duration, Instant};
 
 /// The city's seed (same buildings at every triangle count).
@@ -222,13 +221,15 @@ pub struct Row {
 }
 
 impl Row {
-    pub const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2";
-
     pub fn pixels(&self) -> u64 {
         self.width as u64 * self.height as u64
     }
+}
 
-    pub fn csv(&self) -> String {
+impl CsvRow for Row {
+    const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2";
+
+    fn csv(&self) -> String {
         let timing = match &self.timing {
             Some(t) => format!(
                 "{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.4},{},{},{},{},{},{}",
@@ -267,16 +268,6 @@ impl Row {
             fit
         )
     }
-}
-
-/// Writes rows as CSV with a header row.
-pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> std::io::Result<()> {
-    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
-    writeln!(f, "{}", Row::HEADER)?;
-    for r in rows {
-        writeln!(f, "{}", r.csv())?;
-    }
-    f.flush()
 }
 
 /// The sweep's camera at `t` along `path` for a `width` x `height` image.
@@ -502,15 +493,10 @@ fn rows_of(
 /// Runs the sweep; `progress` is called before each measurement with its 0-based index,
 /// the total, and what it is.
 pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
-    let total = plan.steps();
     let threads = rayon::current_num_threads();
     let mut renderer = Renderer::new();
     let mut rows = Vec::new();
-    let mut step = 0;
-    let mut tick = |what: String| {
-        progress(step, total, &what);
-        step += 1;
-    };
+    let mut tick = ticker(plan.steps(), &mut progress);
 
     let mut cities: Vec<City> = plan
         .triangle_counts
@@ -613,23 +599,19 @@ pub fn approx(n: u64) -> String {
     )
 }
 
-/// The sweep's charts: file name and chart, ready for [`crate::chart::lines_chart`].
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let of = |series: &'static str, mode: &'static str| {
         rows.iter()
             .filter(move |r| r.series == series && r.mode == mode)
     };
-    let measured =
-        |series: &'static str, mode: &'static str, x: fn(&Row) -> f64, name: String| Line {
-            name,
-            points: of(series, mode)
-                .filter_map(|r| {
-                    let t = r.timing?;
-                    (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
-                })
-                .collect(),
-            labels: Vec::new(),
-        };
+    let measured = |series: &'static str, mode: &'static str, x: fn(&Row) -> f64, name: String| {
+        let points = of(series, mode).filter_map(|r| {
+            let t = r.timing?;
+            (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
+        });
+        Line::new(name, points.collect())
+    };
     let fit_of = |series: &'static str, mode: &'static str| {
         rows.iter()
             .find(|r| r.series == series && r.mode == mode)
@@ -638,8 +620,8 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
     let size = of("triangles", "geometry")
         .next()
         .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height));
-    let fit_name = |f: Option<Fit>, unit: &str| {
-        f.map_or(String::new(), |f| {
+    let fit_name = |series: &'static str, mode: &'static str, unit: &str| {
+        fit_of(series, mode).map_or(String::new(), |f| {
             format!(
                 ": {:.3} ms + {:.4} ns/{unit}, R2 {:.3}",
                 f.intercept,
@@ -656,7 +638,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
             tri,
             format!(
                 "geometry{}",
-                fit_name(fit_of("triangles_fit", "geometry"), "triangle")
+                fit_name("triangles_fit", "geometry", "triangle")
             ),
         ),
         measured(
@@ -665,53 +647,41 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
             tri,
             format!(
                 "impostors, frames without refreshes{}",
-                fit_name(fit_of("triangles_fit", "impostors"), "triangle")
+                fit_name("triangles_fit", "impostors", "triangle")
             ),
         ),
     ];
-    let refresh = Line {
-        name: "impostors, frames with refreshes".into(),
-        points: of("triangles", "impostors")
-            .filter_map(|r| {
-                let t = r.timing?;
-                (t.refresh.frames > 0).then(|| (tri(r), t.refresh.median_ms))
-            })
-            .collect(),
-        labels: Vec::new(),
-    };
+    let refresh = of("triangles", "impostors").filter_map(|r| {
+        let t = r.timing?;
+        (t.refresh.frames > 0).then(|| (tri(r), t.refresh.median_ms))
+    });
+    let refresh = Line::new("impostors, frames with refreshes", refresh.collect());
     if !refresh.points.is_empty() {
         lines.push(refresh);
     }
-    let mut out = vec![(
-        "scaling_triangles.png",
-        Lines {
-            title: format!("City: frame time vs triangles{size}"),
-            x_desc: "triangles".into(),
-            y_desc: "median frame time (ms)".into(),
-            lines,
-            log_x: true,
-            log_y: true,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    )];
+    let by_triangles = Lines::new(
+        format!("City: frame time vs triangles{size}"),
+        "triangles",
+        "median frame time (ms)",
+        lines,
+    )
+    .log(true, true);
 
     let mpx = |r: &Row| r.pixels() as f64 / 1e6;
-    let fitted = |mode: &'static str, name: String| {
+    let fitted = |mode: &'static str| {
         let xs: Vec<f64> = of("resolution", mode).map(mpx).collect();
         let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        Line {
-            name,
-            points: fit_of("resolution_fit", mode)
-                .filter(|_| lo < hi)
-                .map_or(Vec::new(), |f| {
-                    [lo, hi]
-                        .iter()
-                        .map(|&x| (x, f.intercept + f.slope * x * 1e6))
-                        .collect()
-                }),
-            labels: Vec::new(),
-        }
+        let points = fit_of("resolution_fit", mode)
+            .filter(|_| lo < hi)
+            .map_or(Vec::new(), |f| {
+                [lo, hi]
+                    .iter()
+                    .map(|&x| (x, f.intercept + f.slope * x * 1e6))
+                    .collect()
+            });
+        let name = fit_name("resolution_fit", mode, "pixel");
+        Line::new(format!("{mode}, fit{name}"), points)
     };
     let mut imp = measured(
         "resolution",
@@ -726,36 +696,21 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Lines)> {
     let tris = of("resolution", "impostors")
         .next()
         .map_or(String::new(), |r| approx(r.triangles));
-    out.push((
-        "scaling_resolution.png",
-        Lines {
-            title: format!("City of {tris} triangles: frame time vs pixels"),
-            x_desc: "megapixels".into(),
-            y_desc: "median frame time (ms)".into(),
-            lines: vec![
-                imp,
-                fitted(
-                    "impostors",
-                    format!(
-                        "impostors, fit{}",
-                        fit_name(fit_of("resolution_fit", "impostors"), "pixel")
-                    ),
-                ),
-                measured("resolution", "geometry", mpx, "geometry (measured)".into()),
-                fitted(
-                    "geometry",
-                    format!(
-                        "geometry, fit{}",
-                        fit_name(fit_of("resolution_fit", "geometry"), "pixel")
-                    ),
-                ),
-            ],
-            log_x: false,
-            log_y: false,
-            legend: SeriesLabelPosition::UpperLeft,
-        },
-    ));
-    out
+    let by_pixels = Lines::new(
+        format!("City of {tris} triangles: frame time vs pixels"),
+        "megapixels",
+        "median frame time (ms)",
+        vec![
+            imp,
+            fitted("impostors"),
+            measured("resolution", "geometry", mpx, "geometry (measured)".into()),
+            fitted("geometry"),
+        ],
+    );
+    vec![
+        ("scaling_triangles.png", Chart::Lines(by_triangles)),
+        ("scaling_resolution.png", Chart::Lines(by_pixels)),
+    ]
 }
 
 #[cfg(test)]

@@ -15,6 +15,7 @@ pub mod font;
 pub mod showcase;
 pub mod showcase_ibr;
 pub mod showcase_impostors;
+pub mod sweep;
 pub mod timing;
 
 /// Sets the global rayon pool to `threads` workers (when given); a failure is reported on

@@ -19,11 +19,12 @@
 //!   pixels, with fitted lines (`demos::bench_scaling`).
 
 use clap::{Args, Parser, Subcommand};
-use demos::bench::{self, Plan, Step};
+use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
 use demos::bench_scaling as scaling;
-use demos::chart::{self, Drawn};
+use demos::chart::{self, Chart, Drawn};
+use demos::sweep::{self, CsvRow};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -62,22 +63,15 @@ struct Small {
     /// A reduced sweep (every point, few frames): about a minute at most.
     #[arg(long)]
     quick: bool,
-    /// A seconds-long smoke run for tests: tiny sizes and counts.
+    /// A seconds-long smoke run for tests: tiny sizes and counts (and no models).
     #[arg(long, hide = true)]
     tiny: bool,
 }
 
 #[derive(Args, Debug)]
 struct Common {
-    /// Folder for SWEEP.csv and the charts (created if missing).
-    #[arg(long, value_name = "DIR")]
-    out: PathBuf,
-    /// A reduced sweep (every point, few frames): about a minute at most.
-    #[arg(long)]
-    quick: bool,
-    /// A seconds-long smoke run for tests: tiny sizes, no models.
-    #[arg(long, hide = true)]
-    tiny: bool,
+    #[command(flatten)]
+    run: Small,
     /// Folder of shared models (default: $PARALLAX_ASSETS, ../shared/assets beside the
     /// workspace, or /work/shared/assets).
     #[arg(long, value_name = "DIR")]
@@ -85,6 +79,19 @@ struct Common {
     /// Skip the shared models.
     #[arg(long)]
     no_models: bool,
+}
+
+impl Small {
+    /// The plan the flags ask for: tiny, quick or full.
+    fn plan<P>(&self, tiny: fn() -> P, quick: fn() -> P, full: fn() -> P) -> P {
+        if self.tiny {
+            tiny()
+        } else if self.quick {
+            quick()
+        } else {
+            full()
+        }
+    }
 }
 
 fn main() -> ExitCode {
@@ -144,20 +151,9 @@ fn load_models(c: &Common) -> Vec<(String, engine::Scene)> {
     out
 }
 
-/// The progress bar every sweep shows.
-fn progress_bar() -> ProgressBar {
-    let bar = ProgressBar::new(1);
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar
-}
-
 /// Draws one chart, saying so when it had to go without text.
-fn drawn(path: &Path, result: Result<Drawn, Box<dyn std::error::Error>>) -> Result<(), String> {
-    match result {
+fn drawn(path: &Path, chart: &Chart) -> Result<(), String> {
+    match chart::draw(path, chart) {
         Ok(Drawn::WithText) => Ok(()),
         Ok(Drawn::WithoutText) => {
             println!(
@@ -170,242 +166,225 @@ fn drawn(path: &Path, result: Result<Drawn, Box<dyn std::error::Error>>) -> Resu
     }
 }
 
-fn billboards(c: &Small) -> Result<(), String> {
-    let plan = if c.tiny {
-        bb::Plan::tiny()
-    } else if c.quick {
-        bb::Plan::quick()
-    } else {
-        bb::Plan::full()
-    };
+/// What a sweep is called and how it is run, reported and charted.
+struct Steps<R, Run, Report> {
+    /// `NAME.csv` and `NAME_*.png`.
+    name: &'static str,
+    /// What its rows are: `measurements` or `rows`.
+    rows: &'static str,
+    /// Runs the sweep, reporting progress (index, total, what).
+    run: Run,
+    /// Prints the rows.
+    report: Report,
+    charts: fn(&[R]) -> Vec<(&'static str, Chart)>,
+}
+
+/// Runs one sweep under a progress bar, prints its rows, writes `OUT/NAME.csv` and the
+/// charts, and says what it wrote.
+fn sweep<R, Run, Report>(c: &Small, s: Steps<R, Run, Report>) -> Result<(), String>
+where
+    R: CsvRow,
+    Run: FnOnce(&mut dyn FnMut(usize, usize, &str)) -> Vec<R>,
+    Report: FnOnce(&[R]),
+{
     std::fs::create_dir_all(&c.out)
         .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
     let start = Instant::now();
-    let bar = progress_bar();
-    let rows = bb::run(&plan, |i, total, what| {
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let rows = (s.run)(&mut |i, total, what| {
         bar.set_length(total as u64);
         bar.set_position(i as u64);
         bar.set_message(what.to_string());
     });
     bar.finish_and_clear();
-    for r in &rows {
-        let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
-        match (&r.times, &r.error) {
-            (Some(t), _) => println!(
-                "{what} {:>4}x{:<4} {:>9} tris  build {:>8.3} ms  render {:>8.3} ms  total {:>8.3} ms ({} frames)",
-                r.width, r.height, r.triangles, t.build.median_ms, t.render.median_ms, t.total.median_ms, t.total.frames
-            ),
-            (None, Some(e)) => println!(
-                "{what} {:>4}x{:<4} PSNR {:>6.2} dB  MAE {:>6.2}  max {:>3}  over {:>5.1}%  coverage {:>5.1}%",
-                r.width,
-                r.height,
-                e.psnr_db,
-                e.mean_abs,
-                e.max_abs,
-                e.frac_over * 100.0,
-                e.coverage_mismatch * 100.0
-            ),
-            (None, None) => println!("{what} (nothing measured)"),
-        }
-    }
-    let csv = c.out.join("billboards.csv");
-    bb::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    for (name, spec) in bb::charts(&rows) {
-        let path = c.out.join(name);
-        drawn(&path, chart::lines_chart(&path, &spec))?;
+    (s.report)(&rows);
+    let csv = c.out.join(format!("{}.csv", s.name));
+    sweep::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (name, chart) in (s.charts)(&rows) {
+        drawn(&c.out.join(name), &chart)?;
     }
     println!(
-        "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/billboards_*.png",
+        "bench: {} {} in {:.1} s on {} threads; wrote {} and {}/{}_*.png",
         rows.len(),
+        s.rows,
         start.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
         csv.display(),
-        c.out.display()
+        c.out.display(),
+        s.name
     );
     Ok(())
 }
 
 fn raster(c: &Common) -> Result<(), String> {
-    let plan = if c.tiny {
-        Plan::tiny()
-    } else if c.quick {
-        Plan::quick()
-    } else {
-        Plan::full()
-    };
-    std::fs::create_dir_all(&c.out)
-        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
+    let plan = c.run.plan(Plan::tiny, Plan::quick, Plan::full);
     let models = if plan.models && !c.no_models {
         load_models(c)
     } else {
         Vec::new()
     };
-    let start = Instant::now();
-    let bar = progress_bar();
-    let rows = bench::raster(&plan, &models, |i, total, step: &Step| {
-        bar.set_length(total as u64);
-        bar.set_position(i as u64);
-        bar.set_message(format!(
-            "{} {} {}x{}",
-            step.series, step.mesh, step.size.0, step.size.1
-        ));
-    });
-    bar.finish_and_clear();
-    for r in &rows {
-        println!(
-            "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
-            r.series,
-            r.mesh,
-            r.triangles,
-            r.width,
-            r.height,
-            r.time.median_ms,
-            r.time.min_ms,
-            r.time.p90_ms,
-            r.time.frames
-        );
-    }
-    let csv = c.out.join("raster.csv");
-    bench::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    type Draw = fn(&Path, &[bench::Row]) -> Result<Drawn, Box<dyn std::error::Error>>;
-    let charts: [(&str, Draw); 2] = [
-        ("raster_resolution.png", chart::resolution_chart),
-        ("raster_triangles.png", chart::triangles_chart),
-    ];
-    for (name, draw) in charts {
-        let path = c.out.join(name);
-        drawn(&path, draw(&path, &rows))?;
-    }
-    println!(
-        "bench: {} measurements in {:.1} s on {} threads; wrote {} and {}/raster_*.png",
-        rows.len(),
-        start.elapsed().as_secs_f64(),
-        rayon::current_num_threads(),
-        csv.display(),
-        c.out.display()
-    );
-    Ok(())
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| {
+        bench::raster(&plan, &models, |i, total, step| {
+            let (w, h) = step.size;
+            progress(i, total, &format!("{} {} {w}x{h}", step.series, step.mesh));
+        })
+    };
+    let report = |rows: &[bench::Row]| {
+        for r in rows {
+            println!(
+                "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
+                r.series,
+                r.mesh,
+                r.triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.time.min_ms,
+                r.time.p90_ms,
+                r.time.frames
+            );
+        }
+    };
+    let (name, rows, charts) = ("raster", "measurements", bench::charts);
+    sweep(
+        &c.run,
+        Steps {
+            name,
+            rows,
+            run,
+            report,
+            charts,
+        },
+    )
+}
+
+fn billboards(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bb::Plan::tiny, bb::Plan::quick, bb::Plan::full);
+    let report = |rows: &[bb::Row]| {
+        for r in rows {
+            let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
+            match (&r.times, &r.error) {
+                (Some(t), _) => println!(
+                    "{what} {:>4}x{:<4} {:>9} tris  build {:>8.3} ms  render {:>8.3} ms  total {:>8.3} ms ({} frames)",
+                    r.width, r.height, r.triangles, t.build.median_ms, t.render.median_ms, t.total.median_ms, t.total.frames
+                ),
+                (None, Some(e)) => println!(
+                    "{what} {:>4}x{:<4} PSNR {:>6.2} dB  MAE {:>6.2}  max {:>3}  over {:>5.1}%  coverage {:>5.1}%",
+                    r.width,
+                    r.height,
+                    e.psnr_db,
+                    e.mean_abs,
+                    e.max_abs,
+                    e.frac_over * 100.0,
+                    e.coverage_mismatch * 100.0
+                ),
+                (None, None) => println!("{what} (nothing measured)"),
+            }
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bb::run(&plan, progress);
+    let (name, rows, charts) = ("billboards", "measurements", bb::charts);
+    sweep(
+        c,
+        Steps {
+            name,
+            rows,
+            run,
+            report,
+            charts,
+        },
+    )
 }
 
 fn scaling_sweep(c: &Small) -> Result<(), String> {
-    let plan = if c.tiny {
-        scaling::Plan::tiny()
-    } else if c.quick {
-        scaling::Plan::quick()
-    } else {
-        scaling::Plan::full()
-    };
-    std::fs::create_dir_all(&c.out)
-        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
-    let start = Instant::now();
-    let bar = progress_bar();
-    let rows = scaling::run(&plan, |i, total, what| {
-        bar.set_length(total as u64);
-        bar.set_position(i as u64);
-        bar.set_message(what.to_string());
-    });
-    bar.finish_and_clear();
-    for r in &rows {
-        let what = format!(
-            "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
-            r.series, r.mode, r.triangles, r.width, r.height
-        );
-        match (&r.timing, &r.fit) {
-            (Some(t), _) => println!(
-                "{what} median {:>9.3} ms  p90 {:>9.3}  update {:>6.3}  render {:>9.3}  ({} frames; {} with refreshes, median {:.3} ms)  set up {:>8}  shaded {:>9}",
-                t.steady.median_ms,
-                t.steady.p90_ms,
-                t.update.median_ms,
-                t.render.median_ms,
-                t.steady.frames,
-                t.refresh.frames,
-                t.refresh.median_ms,
-                r.stats.triangles_set_up,
-                r.stats.fragments_shaded
-            ),
-            (None, Some(f)) => println!(
-                "{what} fit: {:.4} ms + {:.6} ns per {}, R^2 {:.4}",
-                f.intercept,
-                f.slope * 1e6,
-                if r.series == "triangles_fit" { "triangle" } else { "pixel" },
-                f.r2
-            ),
-            (None, None) => println!("{what} (nothing measured)"),
-        }
-    }
-    type Pick = fn(&scaling::Timing) -> f64;
-    let parts: [(&str, Pick); 3] = [
-        ("frame", |t| t.steady.median_ms),
-        ("update", |t| t.update.median_ms),
-        ("draw list + render", |t| t.render.median_ms),
-    ];
-    for (part, pick) in parts {
-        if let Some((lo, hi, change)) = scaling::impostor_change(&rows, 1_500_000, pick) {
-            println!(
-                "bench: impostor {part} median (frames without refreshes) from {lo} to {hi} triangles: {:+.1}%",
-                change * 100.0
-            );
-        }
-    }
-    let csv = c.out.join("scaling.csv");
-    scaling::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    for (name, spec) in scaling::charts(&rows) {
-        let path = c.out.join(name);
-        drawn(&path, chart::lines_chart(&path, &spec))?;
-    }
-    println!(
-        "bench: {} rows in {:.1} s on {} threads; wrote {} and {}/scaling_*.png",
-        rows.len(),
-        start.elapsed().as_secs_f64(),
-        rayon::current_num_threads(),
-        csv.display(),
-        c.out.display()
+    let plan = c.plan(
+        scaling::Plan::tiny,
+        scaling::Plan::quick,
+        scaling::Plan::full,
     );
-    Ok(())
+    let report = |rows: &[scaling::Row]| {
+        for r in rows {
+            let what = format!(
+                "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
+                r.series, r.mode, r.triangles, r.width, r.height
+            );
+            match (&r.timing, &r.fit) {
+                (Some(t), _) => println!(
+                    "{what} median {:>9.3} ms  p90 {:>9.3}  update {:>6.3}  render {:>9.3}  ({} frames; {} with refreshes, median {:.3} ms)  set up {:>8}  shaded {:>9}",
+                    t.steady.median_ms,
+                    t.steady.p90_ms,
+                    t.update.median_ms,
+                    t.render.median_ms,
+                    t.steady.frames,
+                    t.refresh.frames,
+                    t.refresh.median_ms,
+                    r.stats.triangles_set_up,
+                    r.stats.fragments_shaded
+                ),
+                (None, Some(f)) => println!(
+                    "{what} fit: {:.4} ms + {:.6} ns per {}, R^2 {:.4}",
+                    f.intercept,
+                    f.slope * 1e6,
+                    if r.series == "triangles_fit" { "triangle" } else { "pixel" },
+                    f.r2
+                ),
+                (None, None) => println!("{what} (nothing measured)"),
+            }
+        }
+        type Pick = fn(&scaling::Timing) -> f64;
+        let parts: [(&str, Pick); 3] = [
+            ("frame", |t| t.steady.median_ms),
+            ("update", |t| t.update.median_ms),
+            ("draw list + render", |t| t.render.median_ms),
+        ];
+        for (part, pick) in parts {
+            if let Some((lo, hi, change)) = scaling::impostor_change(rows, 1_500_000, pick) {
+                println!(
+                    "bench: impostor {part} median (frames without refreshes) from {lo} to {hi} triangles: {:+.1}%",
+                    change * 100.0
+                );
+            }
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| scaling::run(&plan, progress);
+    let (name, rows, charts) = ("scaling", "rows", scaling::charts);
+    sweep(
+        c,
+        Steps {
+            name,
+            rows,
+            run,
+            report,
+            charts,
+        },
+    )
 }
 
 fn impostors(c: &Small) -> Result<(), String> {
-    let plan = if c.tiny {
-        bi::Plan::tiny()
-    } else if c.quick {
-        bi::Plan::quick()
-    } else {
-        bi::Plan::full()
+    let plan = c.plan(bi::Plan::tiny, bi::Plan::quick, bi::Plan::full);
+    let report = |rows: &[bi::Row]| {
+        for r in rows.iter().filter(|r| r.series != "calibration") {
+            bi::print_row(r);
+        }
+        if let Some(s) = bi::calibration_summary(rows) {
+            println!("{s}");
+        }
     };
-    std::fs::create_dir_all(&c.out)
-        .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
-    let start = Instant::now();
-    let bar = progress_bar();
-    let rows = bi::run(&plan, |i, total, what| {
-        bar.set_length(total as u64);
-        bar.set_position(i as u64);
-        bar.set_message(what.to_string());
-    });
-    bar.finish_and_clear();
-    for r in rows.iter().filter(|r| r.series != "calibration") {
-        bi::print_row(r);
-    }
-    if let Some(s) = bi::calibration_summary(&rows) {
-        println!("{s}");
-    }
-    let csv = c.out.join("impostors.csv");
-    bi::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    for (name, spec) in bi::charts(&rows) {
-        let path = c.out.join(name);
-        drawn(&path, chart::lines_chart(&path, &spec))?;
-    }
-    let path = c.out.join("impostors_calibration.png");
-    drawn(
-        &path,
-        chart::scatter_chart(&path, &bi::calibration_chart(&rows)),
-    )?;
-    println!(
-        "bench: {} rows in {:.1} s on {} threads; wrote {} and {}/impostors_*.png",
-        rows.len(),
-        start.elapsed().as_secs_f64(),
-        rayon::current_num_threads(),
-        csv.display(),
-        c.out.display()
-    );
-    Ok(())
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bi::run(&plan, progress);
+    let (name, rows, charts) = ("impostors", "rows", bi::charts);
+    sweep(
+        c,
+        Steps {
+            name,
+            rows,
+            run,
+            report,
+            charts,
+        },
+    )
 }

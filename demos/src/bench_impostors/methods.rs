@@ -1,0 +1,183 @@
+//! The `method` series on the orbit: geometry (measured against itself), runtime
+//! impostors, and baked octahedral impostors.
+
+use super::row::{geometry_row, impostor_row, mean_ms, Errors, Row};
+use super::scene::{
+    frame_camera, frame_options, measure_draws, run_geometry, run_impostors, Policy,
+};
+use super::Plan;
+use crate::city::{City, Path as CityPath};
+use crate::timing::Summary;
+use engine::{Renderer, Target};
+use ibr::impostor;
+use ibr::octahedral::{Layout, OctahedralImpostor};
+use ibr::subject::Subject;
+use std::time::Instant;
+
+/// The `method` rows: geometry, runtime impostors at each of
+/// [`Plan::method_tolerances`], and each octahedral configuration of [`Plan::octahedral`].
+pub(super) fn methods(
+    plan: &Plan,
+    city: &mut City,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    let path = CityPath::Orbit;
+    let n = city.buildings.len();
+    tick("method geometry".into());
+    let (times, tris) = run_geometry(city, path, plan.orbit_span, plan.frames, plan.size);
+    let mut row = geometry_row("method", path, plan, n, &times, tris);
+    // The reference against itself, measured like every other method.
+    let mut renderer = Renderer::new();
+    let mut frames = Vec::new();
+    for f in 1..plan.frames {
+        let camera = frame_camera(city, path, plan.orbit_span, f, plan.frames, plan.size);
+        let mut frame = Vec::new();
+        for b in &city.buildings {
+            let (mut truth, mut image) = (Vec::new(), Vec::new());
+            b.draws(&mut truth);
+            b.draws(&mut image);
+            if let Some(e) = measure_draws(
+                &mut renderer,
+                truth,
+                image,
+                &camera,
+                plan.size,
+                &city.lighting,
+                b.bounds(),
+            ) {
+                frame.push(e);
+            }
+        }
+        frames.push(frame);
+    }
+    row.errors = Some(Errors::of_frames(&frames));
+    rows.push(row);
+    for &tol in &plan.method_tolerances {
+        tick(format!("method runtime {tol} deg"));
+        let out = run_impostors(
+            city,
+            path,
+            plan.orbit_span,
+            plan.frames,
+            plan.size,
+            Policy::Error(tol),
+        );
+        rows.push(impostor_row(
+            "method",
+            path,
+            "runtime".into(),
+            Some(tol),
+            plan,
+            n,
+            &out,
+        ));
+    }
+    octahedral_methods(plan, city, tick, rows);
+}
+
+/// The octahedral `method` rows: every building baked ([`Layout::Hemi`]) for each
+/// configuration of [`Plan::octahedral`], then flown like the runtime impostors. An
+/// impostor whose bounding sphere is off the image ([`impostor::screen_rect`]) is neither
+/// updated nor drawn. `refreshes` counts recomposed images.
+fn octahedral_methods(
+    plan: &Plan,
+    city: &mut City,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    let path = CityPath::Orbit;
+    let span = plan.span(path);
+    let n = city.buildings.len();
+    let (w, h) = plan.size;
+    let lighting = city.lighting.clone();
+    let opts = frame_options();
+    for &(grid, px) in &plan.octahedral {
+        tick(format!("method octahedral {grid}x{grid} views of {px} px"));
+        let t0 = Instant::now();
+        let mut imps: Vec<OctahedralImpostor> = city
+            .buildings
+            .iter_mut()
+            .map(|b| OctahedralImpostor::bake(b, &lighting, grid, px, Layout::Hemi))
+            .collect();
+        let bake = t0.elapsed();
+        let memory: usize = imps.iter().map(|i| i.bytes()).sum();
+        let (mut renderer, mut measurer) = (Renderer::new(), Renderer::new());
+        let mut target = Target::new(w, h);
+        let (mut times, mut update, mut frames) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut recomposed, mut triangles) = (0u64, 0u64);
+        for f in 0..plan.frames {
+            let camera = frame_camera(city, path, span, f, plan.frames, plan.size);
+            let t0 = Instant::now();
+            let mut seen = vec![false; n];
+            let mut fresh = 0u64;
+            for ((imp, b), seen) in imps.iter_mut().zip(&city.buildings).zip(&mut seen) {
+                let s = b.bounds();
+                *seen = impostor::screen_rect(&camera, s.center, s.radius, w, h).is_some();
+                if *seen && imp.update(&camera) {
+                    fresh += 1;
+                }
+            }
+            let t1 = Instant::now();
+            let mut draws = Vec::new();
+            city.ground.draws(&mut draws);
+            draws.extend(
+                imps.iter()
+                    .zip(&seen)
+                    .filter(|(_, s)| **s)
+                    .map(|(i, _)| i.draw()),
+            );
+            let stats = renderer.render(draws, &camera, &lighting, &mut target, &opts);
+            let t2 = Instant::now();
+            if f == 0 {
+                continue;
+            }
+            times.push(t2 - t0);
+            update.push(t1 - t0);
+            recomposed += fresh;
+            triangles = stats.triangles_set_up;
+            let mut frame = Vec::new();
+            for ((imp, b), _) in imps.iter().zip(&city.buildings).zip(&seen).filter(|x| *x.1) {
+                let mut truth = Vec::new();
+                b.draws(&mut truth);
+                if let Some(e) = measure_draws(
+                    &mut measurer,
+                    truth,
+                    [imp.draw()],
+                    &camera,
+                    plan.size,
+                    &lighting,
+                    b.bounds(),
+                ) {
+                    frame.push(e);
+                }
+            }
+            frames.push(frame);
+        }
+        rows.push(Row {
+            frames: times.len(),
+            refreshes: recomposed,
+            time: Some(Summary::of(&times)),
+            update_ms: Some(mean_ms(&update)),
+            errors: Some(Errors::of_frames(&frames)),
+            memory_bytes: Some(memory as u64),
+            setup_ms: Some(bake.as_secs_f64() * 1e3),
+            triangles,
+            ..Row::empty("method", path, format!("octahedral_{grid}x{px}"), plan, n)
+        });
+    }
+}
+
+/// A method row's short name: `geometry`, `runtime 0.125 deg`, `octahedral 8x64`.
+pub fn method_label(r: &Row) -> String {
+    match (r.policy.as_str(), r.tolerance_deg) {
+        ("runtime", Some(t)) => format!("runtime {t} deg"),
+        (p, _) if p.starts_with("octahedral_") => {
+            let (grid, px) = p["octahedral_".len()..]
+                .split_once('x')
+                .unwrap_or(("?", "?"));
+            format!("octahedral {grid}x{grid}x{px}px")
+        }
+        (p, _) => p.replace('_', " "),
+    }
+}

@@ -1,0 +1,62 @@
+//! The tolerance sweep (error-driven refresh at each tolerance, beside geometry, on
+//! `translate` and `rotate`) and the fixed-interval refresh matched to it.
+
+use super::row::{geometry_row, impostor_row, Row};
+use super::scene::{path_name, run_geometry, run_impostors, Policy};
+use super::Plan;
+use crate::city::{City, Path as CityPath};
+
+/// The `geometry` reference and the `sweep` rows on `translate` and `rotate`.
+pub(super) fn sweep(
+    plan: &Plan,
+    city: &mut City,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    let n = city.buildings.len();
+    for path in [CityPath::Translate, CityPath::Rotate] {
+        tick(format!("geometry {}", path_name(path)));
+        let (times, tris) = run_geometry(city, path, plan.span(path), plan.frames, plan.size);
+        rows.push(geometry_row("geometry", path, plan, n, &times, tris));
+        for &tol in &plan.tolerances {
+            tick(format!("sweep {} {tol} deg", path_name(path)));
+            let policy = Policy::Error(tol);
+            let out = run_impostors(city, path, plan.span(path), plan.frames, plan.size, policy);
+            let row = impostor_row("sweep", path, "error".into(), Some(tol), plan, n, &out);
+            rows.push(row);
+        }
+    }
+}
+
+/// The `fixed` rows: a fixed-interval policy at each `translate` sweep run's refresh
+/// count.
+pub(super) fn fixed(
+    plan: &Plan,
+    city: &mut City,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    let n = city.buildings.len();
+    let translate: Vec<(f32, u64, usize)> = rows
+        .iter()
+        .filter(|r| r.series == "sweep" && r.path == "translate")
+        .map(|r| (r.tolerance_deg.unwrap_or(0.0) as f32, r.refreshes, r.frames))
+        .collect();
+    let path = CityPath::Translate;
+    for (tol, refreshes, frames) in translate {
+        tick(format!("fixed interval matching {tol} deg"));
+        let rate = refreshes as f64 / frames.max(1) as f64;
+        let policy = Policy::Fixed { rate };
+        let out = run_impostors(
+            city,
+            path,
+            plan.translate_span,
+            plan.frames,
+            plan.size,
+            policy,
+        );
+        let mut row = impostor_row("fixed", path, "fixed".into(), Some(tol), plan, n, &out);
+        row.interval_frames = (rate > 0.0).then(|| n as f64 / rate);
+        rows.push(row);
+    }
+}

@@ -1,0 +1,91 @@
+//! What every benchmark sweep shares: CSV rows and their file, progress steps, and the
+//! warm-up-then-timed-frames loop under a time budget.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Fewest timed frames of a measurement, whatever the budget.
+pub const MIN_FRAMES: usize = 2;
+
+/// A row of a sweep's CSV file.
+pub trait CsvRow {
+    /// The header row: column names, comma-separated.
+    const HEADER: &'static str;
+    /// The row's fields, comma-separated, in the header's order.
+    fn csv(&self) -> String;
+}
+
+/// Writes rows as CSV with a header row.
+pub fn write_csv<R: CsvRow>(path: &Path, rows: &[R]) -> std::io::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(f, "{}", R::HEADER)?;
+    for r in rows {
+        writeln!(f, "{}", r.csv())?;
+    }
+    f.flush()
+}
+
+/// Numbers a sweep's progress steps: each call reports the step's 0-based index, the
+/// total, and what it is to `progress`, then counts it.
+pub fn ticker<'a>(
+    total: usize,
+    progress: &'a mut dyn FnMut(usize, usize, &str),
+) -> impl FnMut(String) + 'a {
+    let mut step = 0;
+    move |what: String| {
+        progress(step, total, &what);
+        step += 1;
+    }
+}
+
+/// Runs `warmup` untimed frames, then timed frames until there are `frames` of them (at
+/// least [`MIN_FRAMES`]) or, once there are `MIN_FRAMES`, `budget` has passed since the
+/// first; what each timed `frame` returned, in order.
+pub fn timed_frames<T>(
+    warmup: usize,
+    frames: usize,
+    budget: Duration,
+    mut frame: impl FnMut() -> T,
+) -> Vec<T> {
+    for _ in 0..warmup {
+        frame();
+    }
+    let mut out = Vec::with_capacity(frames);
+    let start = Instant::now();
+    while out.len() < frames.max(MIN_FRAMES) {
+        out.push(frame());
+        if out.len() >= MIN_FRAMES && start.elapsed() >= budget {
+            break;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timed_frames_stop_at_the_count_or_after_the_budget() {
+        let mut calls = 0;
+        let out = timed_frames(2, 5, Duration::from_secs(60), || {
+            calls += 1;
+            calls
+        });
+        assert_eq!(out, [3, 4, 5, 6, 7]);
+        let out = timed_frames(0, 50, Duration::ZERO, || ());
+        assert_eq!(out.len(), MIN_FRAMES);
+    }
+
+    #[test]
+    fn the_ticker_counts_steps() {
+        let mut seen = Vec::new();
+        let mut progress = |i: usize, n: usize, what: &str| seen.push((i, n, what.to_string()));
+        let mut tick = ticker(2, &mut progress);
+        tick("a".into());
+        tick("b".into());
+        drop(tick);
+        assert_eq!(seen, [(0, 2, "a".into()), (1, 2, "b".into())]);
+    }
+}
