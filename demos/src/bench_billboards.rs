@@ -507,6 +507,12 @@ fn trees(
     let (w, h) = plan.tree_size;
     let camera = forest_camera(w, h);
     let mut target = Target::new(w, h);
+    let time = |renderer: &mut Renderer,
+                target: &mut Target,
+                fixed: &[Draw],
+                batches: &mut [BillboardBatch]| {
+        measure(renderer, target, &camera, &lighting, fixed, batches, plan)
+    };
     for &n in &plan.tree_counts {
         let trees = forest(n, 5);
         // Meshes: one merged mesh per kind (static batching).
@@ -530,15 +536,7 @@ fn trees(
             transform: Mat4::IDENTITY,
         }));
         let triangles = fixed.iter().map(|d| d.mesh.triangle_count() as u64).sum();
-        let measured = measure(
-            renderer,
-            &mut target,
-            &camera,
-            &lighting,
-            &fixed,
-            &mut [],
-            plan,
-        );
+        let measured = time(renderer, &mut target, &fixed, &mut []);
         let row = |series, triangles, measured| {
             Row::timed(
                 series,
@@ -568,15 +566,7 @@ fn trees(
             material: &ground_material,
             transform: ground_at,
         }];
-        let measured = measure(
-            renderer,
-            &mut target,
-            &camera,
-            &lighting,
-            &fixed,
-            &mut batches,
-            plan,
-        );
+        let measured = time(renderer, &mut target, &fixed, &mut batches);
         let triangles = ground.triangle_count() as u64
             + batches
                 .iter()

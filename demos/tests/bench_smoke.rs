@@ -1,7 +1,7 @@
 //! Runs the `bench` binary's smallest sweeps end to end and checks what they write: a CSV
 //! with a header and rows, and charts that are real PNG images.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn out_dir(name: &str) -> PathBuf {
@@ -10,11 +10,14 @@ fn out_dir(name: &str) -> PathBuf {
     dir
 }
 
-#[test]
-fn raster_sweep_writes_csv_and_png_charts() {
-    let dir = out_dir("bench_smoke_raster");
+/// Runs `bench SWEEP --quick --tiny [extra] --out DIR` and returns DIR and the text of
+/// `DIR/SWEEP.csv`.
+fn run_sweep(sweep: &str, extra: &[&str]) -> (PathBuf, String) {
+    let dir = out_dir(&format!("bench_smoke_{sweep}"));
     let out = Command::new(env!("CARGO_BIN_EXE_bench"))
-        .args(["raster", "--quick", "--tiny", "--no-models", "--out"])
+        .args([sweep, "--quick", "--tiny"])
+        .args(extra)
+        .arg("--out")
         .arg(&dir)
         .output()
         .expect("bench runs");
@@ -24,29 +27,78 @@ fn raster_sweep_writes_csv_and_png_charts() {
         "bench failed:\n{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let csv = std::fs::read_to_string(dir.join(format!("{sweep}.csv")))
+        .unwrap_or_else(|e| panic!("{sweep}.csv written: {e}"));
+    (dir, csv)
+}
 
-    let csv = std::fs::read_to_string(dir.join("raster.csv")).expect("raster.csv written");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    assert_eq!(&header[..3], ["series", "mesh", "triangles"]);
-    assert!(header.contains(&"median_ms") && header.contains(&"fragments_shaded"));
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert!(rows.len() >= 4, "{csv}");
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    for r in &rows {
-        assert_eq!(r.len(), header.len(), "{r:?}");
-        let median: f64 = r[col("median_ms")].parse().unwrap();
-        assert!(median > 0.0 && median.is_finite());
-        let shaded: u64 = r[col("fragments_shaded")].parse().unwrap();
-        assert!(shaded > 0, "the torus is on screen: {r:?}");
+/// A sweep's CSV: the header's columns and the rows' fields, every row as long as the
+/// header.
+struct Table<'a> {
+    header: Vec<&'a str>,
+    rows: Vec<Vec<&'a str>>,
+}
+
+impl<'a> Table<'a> {
+    fn parse(csv: &'a str) -> Table<'a> {
+        let mut lines = csv.lines();
+        let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        for r in &rows {
+            assert_eq!(r.len(), header.len(), "{r:?}");
+        }
+        Table { header, rows }
     }
-    assert!(rows.iter().any(|r| r[0] == "resolution"));
-    assert!(rows.iter().any(|r| r[0] == "triangles"));
 
-    for name in ["raster_resolution.png", "raster_triangles.png"] {
+    fn col(&self, name: &str) -> usize {
+        self.header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no {name} column"))
+    }
+
+    fn num(&self, r: &[&str], name: &str) -> f64 {
+        r[self.col(name)]
+            .parse()
+            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
+    }
+
+    /// The rows whose first two fields are `a` and `b`.
+    fn of(&self, a: &str, b: &str) -> Vec<&Vec<&'a str>> {
+        self.rows
+            .iter()
+            .filter(|r| r[0] == a && r[1] == b)
+            .collect()
+    }
+}
+
+/// Asserts that each of `names` under `dir` is a PNG chart of a sensible size.
+fn assert_charts(dir: &Path, names: &[&str]) {
+    for name in names {
         let bytes = std::fs::read(dir.join(name)).expect("chart written");
         assert_chart(name, &bytes);
     }
+}
+
+#[test]
+fn raster_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("raster", &["--no-models"]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "mesh", "triangles"]);
+    assert!(t.header.contains(&"median_ms") && t.header.contains(&"fragments_shaded"));
+    assert!(t.rows.len() >= 4, "{csv}");
+    for r in &t.rows {
+        let median = t.num(r, "median_ms");
+        assert!(median > 0.0 && median.is_finite());
+        assert!(
+            t.num(r, "fragments_shaded") > 0.0,
+            "the torus is on screen: {r:?}"
+        );
+    }
+    assert!(t.rows.iter().any(|r| r[0] == "resolution"));
+    assert!(t.rows.iter().any(|r| r[0] == "triangles"));
+
+    assert_charts(&dir, &["raster_resolution.png", "raster_triangles.png"]);
 }
 
 /// Asserts that `bytes` is a PNG chart of a sensible size.
@@ -58,39 +110,15 @@ fn assert_chart(name: &str, bytes: &[u8]) {
 
 #[test]
 fn billboards_sweep_writes_csv_and_png_charts() {
-    let dir = out_dir("bench_smoke_billboards");
-    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
-        .args(["billboards", "--quick", "--tiny", "--out"])
-        .arg(&dir)
-        .output()
-        .expect("bench runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "bench failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (dir, csv) = run_sweep("billboards", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "param", "value"]);
+    let (col, num) = (
+        |name: &str| t.col(name),
+        |r: &[&str], name: &str| t.num(r, name),
     );
-
-    let csv = std::fs::read_to_string(dir.join("billboards.csv")).expect("billboards.csv written");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    assert_eq!(&header[..3], ["series", "param", "value"]);
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no {name} column"))
-    };
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    let num = |r: &[&str], name: &str| -> f64 {
-        r[col(name)]
-            .parse()
-            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
-    };
-    let series = |name: &str| -> Vec<&Vec<&str>> { rows.iter().filter(|r| r[0] == name).collect() };
-    for r in &rows {
-        assert_eq!(r.len(), header.len(), "{r:?}");
-    }
+    let series =
+        |name: &str| -> Vec<&Vec<&str>> { t.rows.iter().filter(|r| r[0] == name).collect() };
 
     // Timed series: finite positive times, build and render apart, something drawn.
     for name in ["count", "resolution", "trees_mesh", "trees_billboard"] {
@@ -160,16 +188,16 @@ fn billboards_sweep_writes_csv_and_png_charts() {
     // Below the fade the two variants draw the same thing.
     assert_eq!(num(top[0], "psnr_db"), num(level, "psnr_db"));
 
-    for name in [
-        "billboards_count.png",
-        "billboards_resolution.png",
-        "billboards_accuracy_psnr.png",
-        "billboards_accuracy_mae.png",
-        "billboards_trees.png",
-    ] {
-        let bytes = std::fs::read(dir.join(name)).expect("chart written");
-        assert_chart(name, &bytes);
-    }
+    assert_charts(
+        &dir,
+        &[
+            "billboards_count.png",
+            "billboards_resolution.png",
+            "billboards_accuracy_psnr.png",
+            "billboards_accuracy_mae.png",
+            "billboards_trees.png",
+        ],
+    );
 }
 
 #[test]
@@ -187,43 +215,14 @@ fn unknown_sweeps_and_missing_out_are_usage_errors() {
 
 #[test]
 fn scaling_sweep_writes_csv_and_png_charts() {
-    let dir = out_dir("bench_smoke_scaling");
-    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
-        .args(["scaling", "--quick", "--tiny", "--out"])
-        .arg(&dir)
-        .output()
-        .expect("bench runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "bench failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (dir, csv) = run_sweep("scaling", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "mode", "triangles"]);
+    let (col, num, of) = (
+        |name: &str| t.col(name),
+        |r: &[&str], name: &str| t.num(r, name),
+        |series: &str, mode: &str| t.of(series, mode),
     );
-
-    let csv = std::fs::read_to_string(dir.join("scaling.csv")).expect("scaling.csv written");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    assert_eq!(&header[..3], ["series", "mode", "triangles"]);
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no {name} column"))
-    };
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    let num = |r: &[&str], name: &str| -> f64 {
-        r[col(name)]
-            .parse()
-            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
-    };
-    let of = |series: &str, mode: &str| -> Vec<&Vec<&str>> {
-        rows.iter()
-            .filter(|r| r[0] == series && r[1] == mode)
-            .collect()
-    };
-    for r in &rows {
-        assert_eq!(r.len(), header.len(), "{r:?}");
-    }
 
     // Measured points: finite times, steady frames, something drawn.
     for series in ["triangles", "resolution"] {
@@ -288,51 +287,22 @@ fn scaling_sweep_writes_csv_and_png_charts() {
         num(res[1], "triangles_set_up")
     );
 
-    for name in ["scaling_triangles.png", "scaling_resolution.png"] {
-        let bytes = std::fs::read(dir.join(name)).expect("chart written");
-        assert_chart(name, &bytes);
-    }
+    assert_charts(&dir, &["scaling_triangles.png", "scaling_resolution.png"]);
 }
 
 #[test]
 fn impostors_sweep_writes_csv_and_png_charts() {
-    let dir = out_dir("bench_smoke_impostors");
-    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
-        .args(["impostors", "--quick", "--tiny", "--out"])
-        .arg(&dir)
-        .output()
-        .expect("bench runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "bench failed:\n{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (dir, csv) = run_sweep("impostors", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(
+        &t.header[..4],
+        ["series", "path", "policy", "tolerance_deg"]
     );
-
-    let csv = std::fs::read_to_string(dir.join("impostors.csv")).expect("impostors.csv written");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-    assert_eq!(&header[..4], ["series", "path", "policy", "tolerance_deg"]);
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no {name} column"))
-    };
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    for r in &rows {
-        assert_eq!(r.len(), header.len(), "{r:?}");
-    }
-    let num = |r: &[&str], name: &str| -> f64 {
-        r[col(name)]
-            .parse()
-            .unwrap_or_else(|_| panic!("{name} of {r:?}"))
-    };
-    let of = |series: &str, path: &str| -> Vec<&Vec<&str>> {
-        rows.iter()
-            .filter(|r| r[0] == series && r[1] == path)
-            .collect()
-    };
+    let (rows, num, of) = (
+        &t.rows,
+        |r: &[&str], name: &str| t.num(r, name),
+        |series: &str, path: &str| t.of(series, path),
+    );
 
     // Every impostor run is timed and measured: finite times, errors in range.
     for r in rows.iter().filter(|r| r[0] == "sweep" || r[0] == "fixed") {
@@ -400,15 +370,15 @@ fn impostors_sweep_writes_csv_and_png_charts() {
     }
     assert!(num(policy("octahedral_").unwrap(), "setup_ms") > 0.0);
 
-    for name in [
-        "impostors_error.png",
-        "impostors_refreshes.png",
-        "impostors_frame_time.png",
-        "impostors_fixed.png",
-        "impostors_calibration.png",
-        "impostors_methods.png",
-    ] {
-        let bytes = std::fs::read(dir.join(name)).expect("chart written");
-        assert_chart(name, &bytes);
-    }
+    assert_charts(
+        &dir,
+        &[
+            "impostors_error.png",
+            "impostors_refreshes.png",
+            "impostors_frame_time.png",
+            "impostors_fixed.png",
+            "impostors_calibration.png",
+            "impostors_methods.png",
+        ],
+    );
 }

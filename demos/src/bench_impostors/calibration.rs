@@ -2,7 +2,7 @@
 //! image's predicted parallax is set against its measured error.
 
 use super::row::{Errors, PredictedStats, Row};
-use super::scene::{run_impostors, Policy};
+use super::scene::{fly, Policy};
 use super::Plan;
 use crate::bench_scaling::fit_line;
 use crate::chart::{Line, Lines};
@@ -14,14 +14,7 @@ pub(super) fn run(plan: &Plan, city: &mut City, tick: &mut dyn FnMut(String), ro
     tick("calibration".into());
     let n = city.buildings.len();
     let path = CityPath::Translate;
-    let out = run_impostors(
-        city,
-        path,
-        plan.translate_span,
-        plan.frames,
-        plan.size,
-        Policy::Frozen,
-    );
+    let out = fly(plan, city, path, Policy::Frozen);
     for (k, frame) in out.measured.iter().enumerate() {
         for &(i, deg, px, e) in frame {
             rows.push(Row {

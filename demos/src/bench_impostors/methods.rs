@@ -2,9 +2,7 @@
 //! impostors, and baked octahedral impostors.
 
 use super::row::{geometry_row, impostor_row, mean_ms, Errors, Row};
-use super::scene::{
-    frame_camera, frame_options, measure_draws, run_geometry, run_impostors, Policy,
-};
+use super::scene::{fly, frame_camera, frame_options, measure_draws, run_geometry, Policy};
 use super::Plan;
 use crate::city::{City, Path as CityPath};
 use crate::timing::Summary;
@@ -55,14 +53,7 @@ pub(super) fn methods(
     rows.push(row);
     for &tol in &plan.method_tolerances {
         tick(format!("method runtime {tol} deg"));
-        let out = run_impostors(
-            city,
-            path,
-            plan.orbit_span,
-            plan.frames,
-            plan.size,
-            Policy::Error(tol),
-        );
+        let out = fly(plan, city, path, Policy::Error(tol));
         rows.push(impostor_row(
             "method",
             path,

@@ -1,6 +1,7 @@
 //! What every series shares: the frame camera and clear, measuring an image against its
 //! geometry, and flying a path with runtime impostors or with geometry alone.
 
+use super::Plan;
 use crate::city::{City, Path as CityPath};
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Sphere, Target};
 use ibr::impostor::{self, Budget, Config, ImpostorSet, Mode, Tolerance};
@@ -112,6 +113,11 @@ pub(super) struct RunOut {
     pub(super) capture_px: u64,
     pub(super) memory: u64,
     pub(super) triangles: u64,
+}
+
+/// Flies the plan's run of runtime impostors along `path` (see [`run_impostors`]).
+pub(super) fn fly(plan: &Plan, city: &mut City, path: CityPath, policy: Policy) -> RunOut {
+    run_impostors(city, path, plan.span(path), plan.frames, plan.size, policy)
 }
 
 /// Flies `frames` frames of runtime impostors along the first `span` of `path`.

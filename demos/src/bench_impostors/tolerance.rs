@@ -2,7 +2,7 @@
 //! `translate` and `rotate`) and the fixed-interval refresh matched to it.
 
 use super::row::{geometry_row, impostor_row, Row};
-use super::scene::{path_name, run_geometry, run_impostors, Policy};
+use super::scene::{fly, path_name, run_geometry, Policy};
 use super::Plan;
 use crate::city::{City, Path as CityPath};
 
@@ -21,7 +21,7 @@ pub(super) fn sweep(
         for &tol in &plan.tolerances {
             tick(format!("sweep {} {tol} deg", path_name(path)));
             let policy = Policy::Error(tol);
-            let out = run_impostors(city, path, plan.span(path), plan.frames, plan.size, policy);
+            let out = fly(plan, city, path, policy);
             let row = impostor_row("sweep", path, "error".into(), Some(tol), plan, n, &out);
             rows.push(row);
         }
@@ -47,14 +47,7 @@ pub(super) fn fixed(
         tick(format!("fixed interval matching {tol} deg"));
         let rate = refreshes as f64 / frames.max(1) as f64;
         let policy = Policy::Fixed { rate };
-        let out = run_impostors(
-            city,
-            path,
-            plan.translate_span,
-            plan.frames,
-            plan.size,
-            policy,
-        );
+        let out = fly(plan, city, path, policy);
         let mut row = impostor_row("fixed", path, "fixed".into(), Some(tol), plan, n, &out);
         row.interval_frames = (rate > 0.0).then(|| n as f64 / rate);
         rows.push(row);

@@ -166,27 +166,17 @@ fn drawn(path: &Path, chart: &Chart) -> Result<(), String> {
     }
 }
 
-/// What a sweep is called and how it is run, reported and charted.
-struct Steps<R, Run, Report> {
-    /// `NAME.csv` and `NAME_*.png`.
-    name: &'static str,
-    /// What its rows are: `measurements` or `rows`.
-    rows: &'static str,
-    /// Runs the sweep, reporting progress (index, total, what).
-    run: Run,
-    /// Prints the rows.
-    report: Report,
+/// Runs one sweep (`run`, reporting progress: index, total, what) under a progress bar,
+/// prints its rows (`report`), writes `OUT/NAME.csv` and the `charts`, and says what it
+/// wrote (`rows`: what its rows are, `measurements` or `rows`).
+fn sweep<R: CsvRow>(
+    c: &Small,
+    name: &str,
+    rows: &str,
+    run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> Vec<R>,
+    report: impl FnOnce(&[R]),
     charts: fn(&[R]) -> Vec<(&'static str, Chart)>,
-}
-
-/// Runs one sweep under a progress bar, prints its rows, writes `OUT/NAME.csv` and the
-/// charts, and says what it wrote.
-fn sweep<R, Run, Report>(c: &Small, s: Steps<R, Run, Report>) -> Result<(), String>
-where
-    R: CsvRow,
-    Run: FnOnce(&mut dyn FnMut(usize, usize, &str)) -> Vec<R>,
-    Report: FnOnce(&[R]),
-{
+) -> Result<(), String> {
     std::fs::create_dir_all(&c.out)
         .map_err(|e| format!("cannot create {}: {e}", c.out.display()))?;
     let start = Instant::now();
@@ -196,27 +186,26 @@ where
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let rows = (s.run)(&mut |i, total, what| {
+    let measured = run(&mut |i, total, what| {
         bar.set_length(total as u64);
         bar.set_position(i as u64);
         bar.set_message(what.to_string());
     });
     bar.finish_and_clear();
-    (s.report)(&rows);
-    let csv = c.out.join(format!("{}.csv", s.name));
-    sweep::write_csv(&csv, &rows).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    for (name, chart) in (s.charts)(&rows) {
-        drawn(&c.out.join(name), &chart)?;
+    report(&measured);
+    let csv = c.out.join(format!("{name}.csv"));
+    sweep::write_csv(&csv, &measured)
+        .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (file, chart) in charts(&measured) {
+        drawn(&c.out.join(file), &chart)?;
     }
     println!(
-        "bench: {} {} in {:.1} s on {} threads; wrote {} and {}/{}_*.png",
-        rows.len(),
-        s.rows,
+        "bench: {} {rows} in {:.1} s on {} threads; wrote {} and {}/{name}_*.png",
+        measured.len(),
         start.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
         csv.display(),
         c.out.display(),
-        s.name
     );
     Ok(())
 }
@@ -251,16 +240,7 @@ fn raster(c: &Common) -> Result<(), String> {
         }
     };
     let (name, rows, charts) = ("raster", "measurements", bench::charts);
-    sweep(
-        &c.run,
-        Steps {
-            name,
-            rows,
-            run,
-            report,
-            charts,
-        },
-    )
+    sweep(&c.run, name, rows, run, report, charts)
 }
 
 fn billboards(c: &Small) -> Result<(), String> {
@@ -289,16 +269,7 @@ fn billboards(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bb::run(&plan, progress);
     let (name, rows, charts) = ("billboards", "measurements", bb::charts);
-    sweep(
-        c,
-        Steps {
-            name,
-            rows,
-            run,
-            report,
-            charts,
-        },
-    )
+    sweep(c, name, rows, run, report, charts)
 }
 
 fn scaling_sweep(c: &Small) -> Result<(), String> {
@@ -353,16 +324,7 @@ fn scaling_sweep(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| scaling::run(&plan, progress);
     let (name, rows, charts) = ("scaling", "rows", scaling::charts);
-    sweep(
-        c,
-        Steps {
-            name,
-            rows,
-            run,
-            report,
-            charts,
-        },
-    )
+    sweep(c, name, rows, run, report, charts)
 }
 
 fn impostors(c: &Small) -> Result<(), String> {
@@ -377,14 +339,5 @@ fn impostors(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bi::run(&plan, progress);
     let (name, rows, charts) = ("impostors", "rows", bi::charts);
-    sweep(
-        c,
-        Steps {
-            name,
-            rows,
-            run,
-            report,
-            charts,
-        },
-    )
+    sweep(c, name, rows, run, report, charts)
 }
