@@ -1,5 +1,8 @@
 use super::*;
+use crate::billboard::{BillboardBatch, UvRect, View};
 use engine::{Camera, FrameOptions, Lighting, Renderer, Target};
+use engine::{Material, Rgba};
+use glam::{Vec2, Vec3};
 
 fn sheet(looping: bool) -> SpriteSheet {
     SpriteSheet {
