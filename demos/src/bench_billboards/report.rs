@@ -1,0 +1,109 @@
+//! The sweep's charts.
+
+use super::{Row, Times};
+use crate::bench::count_name;
+use crate::chart::{Chart, Line, Lines};
+use ibr::metrics::ImageError;
+use plotters::prelude::SeriesLabelPosition;
+
+/// Highest PSNR drawn in charts (identical images have an infinite PSNR).
+pub const PSNR_CAP_DB: f64 = 99.0;
+
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
+    let of = |series: &'static str| rows.iter().filter(move |r| r.series == series);
+    let times = |series: &'static str, x: fn(&Row) -> f64, pick: fn(&Times) -> f64, name: &str| {
+        let points = of(series).filter_map(|r| Some((x(r), pick(r.times.as_ref()?))));
+        Line::new(name, points.collect())
+    };
+    let parts = |series: &'static str, x: fn(&Row) -> f64| {
+        vec![
+            times(series, x, |t| t.total.median_ms, "build + render"),
+            times(series, x, |t| t.render.median_ms, "render"),
+            times(series, x, |t| t.build.median_ms, "build (quads + sort)"),
+        ]
+    };
+    let size_of = |series: &'static str| {
+        of(series)
+            .next()
+            .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height))
+    };
+    let mut res = parts("resolution", |r| r.value / 1e6);
+    res[0].labels = of("resolution")
+        .map(|r| format!("{}x{}", r.width, r.height))
+        .collect();
+    let n = of("resolution").next().map_or(0, |r| r.items);
+    let accuracy = |name: &str, y_desc: &str, pick: fn(&ImageError) -> f64| {
+        let line = |series: &'static str, label: &str| {
+            let points = of(series).filter_map(|r| Some((r.value, pick(r.error.as_ref()?))));
+            Line::new(label, points.collect())
+        };
+        Lines::new(
+            format!("Billboard trees against meshes: {name} vs view elevation"),
+            "view elevation (degrees)",
+            y_desc,
+            vec![
+                line("accuracy_fade", "fade out (Facing::UPRIGHT)"),
+                line("accuracy_top", "fade to top-down sprite"),
+            ],
+        )
+    };
+    let total = |t: &Times| t.total.median_ms;
+    let value = |r: &Row| r.value;
+    vec![
+        (
+            "billboards_count.png",
+            Lines::new(
+                format!("Blended particles: frame time vs count{}", size_of("count")),
+                "billboards",
+                "median time (ms)",
+                parts("count", value),
+            )
+            .log(true, true),
+        ),
+        (
+            "billboards_resolution.png",
+            Lines::new(
+                format!(
+                    "Blended particles: frame time vs resolution ({})",
+                    count_name(n)
+                ),
+                "megapixels",
+                "median time (ms)",
+                res,
+            ),
+        ),
+        (
+            "billboards_accuracy_psnr.png",
+            accuracy("PSNR", "PSNR (dB)", |e| e.psnr_capped(PSNR_CAP_DB))
+                .legend(SeriesLabelPosition::LowerLeft),
+        ),
+        (
+            "billboards_accuracy_mae.png",
+            accuracy("mean error", "mean absolute error (8-bit levels)", |e| {
+                e.mean_abs
+            }),
+        ),
+        (
+            "billboards_trees.png",
+            Lines::new(
+                format!("Forest: frame time vs trees{}", size_of("trees_mesh")),
+                "trees",
+                "median frame time (ms)",
+                vec![
+                    times("trees_mesh", value, total, "mesh trees"),
+                    times(
+                        "trees_billboard",
+                        value,
+                        total,
+                        "billboard trees (build + render)",
+                    ),
+                ],
+            )
+            .log(true, true),
+        ),
+    ]
+    .into_iter()
+    .map(|(name, lines)| (name, Chart::Lines(lines)))
+    .collect()
+}

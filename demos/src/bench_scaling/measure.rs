@@ -1,0 +1,166 @@
+//! The interleaved measurement of a series' points (rounds, warm-up, timed frames) and the
+//! rows they come to.
+
+use super::frames::{camera, geometry_frame, impostor_frame, pose, warm_up};
+use super::{fit_line, Plan, Row, Timing};
+use crate::city::City;
+use crate::timing::Summary;
+use engine::{FrameStats, Renderer, Target};
+use ibr::impostor::ImpostorSet;
+use std::time::{Duration, Instant};
+
+/// One point of a series, measured over the rounds.
+pub(super) struct Point {
+    pub(super) city_index: usize,
+    pub(super) size: (u32, u32),
+    pub(super) geometry: Samples,
+    pub(super) impostors: Samples,
+}
+
+/// Frame samples of one point and mode.
+#[derive(Default)]
+pub(super) struct Samples {
+    steady: Vec<Duration>,
+    update: Vec<Duration>,
+    render: Vec<Duration>,
+    refresh: Vec<Duration>,
+    refreshes: u64,
+    capture_triangles: u64,
+    stats: FrameStats,
+    images: usize,
+}
+
+impl Samples {
+    fn timing(&self) -> Timing {
+        Timing {
+            steady: Summary::of(&self.steady),
+            update: Summary::of(&self.update),
+            render: Summary::of(&self.render),
+            refresh: Summary::of(&self.refresh),
+            refreshes: self.refreshes,
+            capture_triangles: self.capture_triangles,
+        }
+    }
+}
+
+/// Measures `points` (cities and sizes) in rounds, frame by frame in turn.
+pub(super) fn measure(
+    plan: &Plan,
+    series: &str,
+    cities: &mut [City],
+    points: &mut [Point],
+    renderer: &mut Renderer,
+    tick: &mut dyn FnMut(String),
+) {
+    let rounds = plan.rounds.max(1);
+    let frames = plan.frames.max(rounds);
+    for round in 0..rounds {
+        let poses = (round * frames / rounds)..((round + 1) * frames / rounds);
+        // Set up every point of the round: targets, warm-up frames at the first pose, and a
+        // fresh impostor set with everything in view captured there.
+        let mut live: Vec<(Target, ImpostorSet)> = points
+            .iter()
+            .map(|p| {
+                let city = &mut cities[p.city_index];
+                let mut target = Target::new(p.size.0, p.size.1);
+                let first = camera(city, plan.path, pose(plan, poses.start), p.size);
+                for _ in 0..plan.warmup {
+                    geometry_frame(renderer, city, &first, &mut target);
+                }
+                let mut set = ImpostorSet::new(plan.impostors, city.buildings.len());
+                warm_up(city, &mut set, &first, p.size.1);
+                for _ in 0..plan.warmup {
+                    impostor_frame(renderer, city, &mut set, &first, &mut target);
+                }
+                (target, set)
+            })
+            .collect();
+        for i in poses {
+            tick(format!("{series}: frame {}/{frames}", i + 1));
+            for (p, (target, set)) in points.iter_mut().zip(&mut live) {
+                let city = &mut cities[p.city_index];
+                let cam = camera(city, plan.path, pose(plan, i), p.size);
+                let t0 = Instant::now();
+                let stats = geometry_frame(renderer, city, &cam, target);
+                let took = t0.elapsed();
+                p.geometry.steady.push(took);
+                p.geometry.render.push(took);
+                p.geometry.stats = stats;
+
+                let t0 = Instant::now();
+                let (report, stats, update) = impostor_frame(renderer, city, set, &cam, target);
+                let took = t0.elapsed();
+                let s = &mut p.impostors;
+                s.refreshes += report.refreshes as u64;
+                s.capture_triangles += report.capture_triangles;
+                if report.refreshes == 0 {
+                    s.steady.push(took);
+                    s.update.push(update);
+                    s.render.push(took.saturating_sub(update));
+                    s.stats = stats;
+                    s.images = report.images;
+                } else {
+                    s.refresh.push(took);
+                }
+            }
+        }
+    }
+}
+
+/// The rows of measured points, then one fit row per mode (`x` picks the fit's x).
+pub(super) fn rows_of(
+    series: &'static str,
+    points: &[Point],
+    cities: &[City],
+    threads: usize,
+    x: fn(&Row) -> f64,
+    rows: &mut Vec<Row>,
+) {
+    let start = rows.len();
+    for p in points {
+        let triangles = cities[p.city_index].triangle_count() as u64;
+        for (mode, s) in [("geometry", &p.geometry), ("impostors", &p.impostors)] {
+            rows.push(Row {
+                series,
+                mode,
+                triangles,
+                width: p.size.0,
+                height: p.size.1,
+                threads,
+                timing: Some(s.timing()),
+                stats: s.stats,
+                images: s.images,
+                fit: None,
+            });
+        }
+    }
+    for mode in ["geometry", "impostors"] {
+        let pts: Vec<(f64, f64)> = rows[start..]
+            .iter()
+            .filter(|r| r.mode == mode)
+            .filter_map(|r| {
+                let t = r.timing?;
+                (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
+            })
+            .collect();
+        let first = &rows[start];
+        let fixed_size = series == "triangles";
+        let fit_row = Row {
+            series: if fixed_size {
+                "triangles_fit"
+            } else {
+                "resolution_fit"
+            },
+            mode,
+            triangles: if fixed_size { 0 } else { first.triangles },
+            width: if fixed_size { first.width } else { 0 },
+            height: if fixed_size { first.height } else { 0 },
+            threads,
+            timing: None,
+            stats: FrameStats::default(),
+            images: 0,
+            fit: fit_line(&pts),
+        };
+        rows.push(fit_row);
+    }
+}

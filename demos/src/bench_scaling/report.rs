@@ -1,0 +1,154 @@
+//! The sweep's charts and the figures its summary prints.
+
+use super::{Row, Timing};
+use crate::chart::{Chart, Line, Lines};
+
+/// The change of a steady impostor median (`pick`: of the whole frame, the update or the
+/// render) from the fewest to the most triangles of the `triangles` series up to `up_to`
+/// (inclusive), as a fraction `(last - first) / first`, with the triangle counts compared.
+pub fn impostor_change(
+    rows: &[Row],
+    up_to: u64,
+    pick: fn(&Timing) -> f64,
+) -> Option<(u64, u64, f64)> {
+    let pts: Vec<(u64, f64)> = rows
+        .iter()
+        .filter(|r| r.series == "triangles" && r.mode == "impostors" && r.triangles <= up_to)
+        .filter_map(|r| Some((r.triangles, pick(&r.timing?))))
+        .filter(|p| p.1 > 0.0)
+        .collect();
+    let lo = pts.iter().min_by_key(|p| p.0)?;
+    let hi = pts.iter().max_by_key(|p| p.0)?;
+    (hi.0 > lo.0).then(|| (lo.0, hi.0, (hi.1 - lo.1) / lo.1))
+}
+
+/// A count with up to three decimals of thousands or millions: 642, 9.002k, 1.024M.
+pub fn approx(n: u64) -> String {
+    let v = n as f64;
+    let (scaled, unit) = if v >= 1e6 {
+        (v / 1e6, "M")
+    } else if v >= 1e3 {
+        (v / 1e3, "k")
+    } else {
+        return n.to_string();
+    };
+    let digits = format!("{scaled:.3}");
+    format!(
+        "{}{unit}",
+        digits.trim_end_matches('0').trim_end_matches('.')
+    )
+}
+
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
+    let of = |series: &'static str, mode: &'static str| {
+        rows.iter()
+            .filter(move |r| r.series == series && r.mode == mode)
+    };
+    let measured = |series: &'static str, mode: &'static str, x: fn(&Row) -> f64, name: String| {
+        let points = of(series, mode).filter_map(|r| {
+            let t = r.timing?;
+            (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
+        });
+        Line::new(name, points.collect())
+    };
+    let fit_of = |series: &'static str, mode: &'static str| {
+        rows.iter()
+            .find(|r| r.series == series && r.mode == mode)
+            .and_then(|r| r.fit)
+    };
+    let size = of("triangles", "geometry")
+        .next()
+        .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height));
+    let fit_name = |series: &'static str, mode: &'static str, unit: &str| {
+        fit_of(series, mode).map_or(String::new(), |f| {
+            format!(
+                ": {:.3} ms + {:.4} ns/{unit}, R2 {:.3}",
+                f.intercept,
+                f.slope * 1e6,
+                f.r2
+            )
+        })
+    };
+    let tri = |r: &Row| r.triangles as f64;
+    let mut lines = vec![
+        measured(
+            "triangles",
+            "geometry",
+            tri,
+            format!(
+                "geometry{}",
+                fit_name("triangles_fit", "geometry", "triangle")
+            ),
+        ),
+        measured(
+            "triangles",
+            "impostors",
+            tri,
+            format!(
+                "impostors, frames without refreshes{}",
+                fit_name("triangles_fit", "impostors", "triangle")
+            ),
+        ),
+    ];
+    let refresh = of("triangles", "impostors").filter_map(|r| {
+        let t = r.timing?;
+        (t.refresh.frames > 0).then(|| (tri(r), t.refresh.median_ms))
+    });
+    let refresh = Line::new("impostors, frames with refreshes", refresh.collect());
+    if !refresh.points.is_empty() {
+        lines.push(refresh);
+    }
+    let by_triangles = Lines::new(
+        format!("City: frame time vs triangles{size}"),
+        "triangles",
+        "median frame time (ms)",
+        lines,
+    )
+    .log(true, true);
+
+    let mpx = |r: &Row| r.pixels() as f64 / 1e6;
+    let fitted = |mode: &'static str| {
+        let xs: Vec<f64> = of("resolution", mode).map(mpx).collect();
+        let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let points = fit_of("resolution_fit", mode)
+            .filter(|_| lo < hi)
+            .map_or(Vec::new(), |f| {
+                [lo, hi]
+                    .iter()
+                    .map(|&x| (x, f.intercept + f.slope * x * 1e6))
+                    .collect()
+            });
+        let name = fit_name("resolution_fit", mode, "pixel");
+        Line::new(format!("{mode}, fit{name}"), points)
+    };
+    let mut imp = measured(
+        "resolution",
+        "impostors",
+        mpx,
+        "impostors (measured)".into(),
+    );
+    imp.labels = of("resolution", "impostors")
+        .filter(|r| r.timing.is_some_and(|t| t.steady.frames > 0))
+        .map(|r| format!("{}x{}", r.width, r.height))
+        .collect();
+    let tris = of("resolution", "impostors")
+        .next()
+        .map_or(String::new(), |r| approx(r.triangles));
+    let by_pixels = Lines::new(
+        format!("City of {tris} triangles: frame time vs pixels"),
+        "megapixels",
+        "median frame time (ms)",
+        vec![
+            imp,
+            fitted("impostors"),
+            measured("resolution", "geometry", mpx, "geometry (measured)".into()),
+            fitted("geometry"),
+        ],
+    );
+    vec![
+        ("scaling_triangles.png", Chart::Lines(by_triangles)),
+        ("scaling_resolution.png", Chart::Lines(by_pixels)),
+    ]
+}
