@@ -42,6 +42,7 @@
 //! [`AxialFallback::top`]: ibr::AxialFallback::top
 //! [`ImageError::pooled`]: ibr::metrics::ImageError::pooled
 //! [`View`]: ibr::View
+//! [`Row::HEADER`]: crate::sweep::CsvRow::HEADER
 
 mod accuracy;
 mod particles;

@@ -47,6 +47,8 @@
 //!
 //! [`ImpostorSet::update`]: ibr::impostor::ImpostorSet::update
 //! [`ImpostorSet::draws`]: ibr::impostor::ImpostorSet::draws
+//! [`ImpostorSet`]: ibr::impostor::ImpostorSet
+//! [`Row::HEADER`]: crate::sweep::CsvRow::HEADER
 
 mod fit;
 mod frames;
