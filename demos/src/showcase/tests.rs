@@ -1,3 +1,5 @@
+//! Tests of the showcase scene, its animation, the fly camera and the headless path.
+
 use super::*;
 use engine::{AlphaMode, Light, Material};
 use glam::Vec3;
