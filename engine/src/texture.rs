@@ -291,19 +291,12 @@ impl Texture {
             Filter::Nearest => self.nearest(s, 0, u, v),
             Filter::Bilinear => self.bilinear(s, 0, u, v),
             Filter::Trilinear => {
-                let max = (self.levels.len() - 1) as f32;
-                let lod = if lod.is_finite() {
-                    lod.clamp(0.0, max)
-                } else {
-                    0.0
-                };
-                let l0 = lod.floor();
-                let t = lod - l0;
-                let a = self.bilinear(s, l0 as usize, u, v);
+                let (l0, t) = self.mip_levels(lod);
+                let a = self.bilinear(s, l0, u, v);
                 if t <= 0.0 {
                     return a;
                 }
-                let b = self.bilinear(s, l0 as usize + 1, u, v);
+                let b = self.bilinear(s, l0 + 1, u, v);
                 Premul {
                     r: a.r + (b.r - a.r) * t,
                     g: a.g + (b.g - a.g) * t,
@@ -312,6 +305,19 @@ impl Texture {
                 }
             }
         }
+    }
+
+    /// The finer of the two mip levels a trilinear lookup at `lod` blends, and the weight
+    /// of the coarser one (`lod` clamped to the chain; non-finite means level 0).
+    fn mip_levels(&self, lod: f32) -> (usize, f32) {
+        let max = (self.levels.len() - 1) as f32;
+        let lod = if lod.is_finite() {
+            lod.clamp(0.0, max)
+        } else {
+            0.0
+        };
+        let l0 = lod.floor();
+        (l0 as usize, lod - l0)
     }
 
     /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
@@ -323,19 +329,12 @@ impl Texture {
             Filter::Nearest => self.nearest8(s, u, v),
             Filter::Bilinear => self.bilinear8(s, 0, u, v),
             Filter::Trilinear => {
-                let max = (self.levels.len() - 1) as f32;
-                let lod = if lod.is_finite() {
-                    lod.clamp(0.0, max)
-                } else {
-                    0.0
-                };
-                let l0 = lod.floor();
-                let t = lod - l0;
-                let a = self.bilinear8(s, l0 as usize, u, v);
+                let (l0, t) = self.mip_levels(lod);
+                let a = self.bilinear8(s, l0, u, v);
                 if t <= 0.0 {
                     return a;
                 }
-                let b = self.bilinear8(s, l0 as usize + 1, u, v);
+                let b = self.bilinear8(s, l0 + 1, u, v);
                 let t = F8::splat(t);
                 std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
             }
