@@ -189,15 +189,23 @@ fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
     })
 }
 
-/// Whether a triangle (fixed-point vertices, positive winding) covers the centre of pixel
-/// `(px, py)`, by exactly the rule `raster_tri` applies. Setup uses it to drop triangles
-/// too small to cover any pixel before they are binned.
+/// Whether a triangle (fixed-point vertices, positive winding) covers the centre of any
+/// pixel of `[px0, px1] x [py0, py1]`, by exactly the rule `raster_tri` applies. Setup uses
+/// it to drop triangles too small to cover any pixel before they are binned.
 #[inline]
-pub(crate) fn covers_pixel(x: &[i32; 3], y: &[i32; 3], px: i64, py: i64) -> bool {
-    let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
-    edges_of(x, y)
-        .iter()
-        .all(|e| e.a * cx + e.b * cy + e.c >= e.bias)
+pub(crate) fn covers_any_pixel(
+    x: &[i32; 3],
+    y: &[i32; 3],
+    (px0, px1): (i64, i64),
+    (py0, py1): (i64, i64),
+) -> bool {
+    let e = edges_of(x, y);
+    (py0..=py1).any(|py| {
+        (px0..=px1).any(|px| {
+            let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
+            e.iter().all(|e| e.a * cx + e.b * cy + e.c >= e.bias)
+        })
+    })
 }
 
 /// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:

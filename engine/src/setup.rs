@@ -163,9 +163,7 @@ pub fn setup(
     // quarter of the triangles are such slivers.
     if (bx1 - bx0 + 1) * (by1 - by0 + 1) <= 4 {
         let (xs, ys) = ([v[0].x, v[1].x, v[2].x], [v[0].y, v[1].y, v[2].y]);
-        let any = (by0..=by1)
-            .any(|py| (bx0..=bx1).any(|px| crate::raster::covers_pixel(&xs, &ys, px, py)));
-        if !any {
+        if !crate::raster::covers_any_pixel(&xs, &ys, (bx0, bx1), (by0, by1)) {
             return Err(Dropped::Rejected);
         }
     }
