@@ -1,0 +1,169 @@
+//! Error prediction without rendering (parallax and resolution against the tolerance),
+//! and the screen geometry the scheduler needs: a sphere's pixel rectangle and the view
+//! frustum test.
+
+use super::{Capture, Config, Predicted};
+use crate::metrics::Rect;
+use crate::subject::Subject;
+use engine::{Camera, Projection, Rgba};
+use glam::{Mat4, Vec3, Vec4};
+
+/// The error of a captured impostor seen from `eye`, needing a `needed`-side texture.
+pub(super) fn predict<S: Subject>(
+    capture: Option<&Capture>,
+    subject: &S,
+    eye: Vec3,
+    needed: u32,
+    px_per_radian: f32,
+    cfg: &Config,
+) -> Predicted {
+    let Some(c) = capture else {
+        return Predicted {
+            needed_side: needed,
+            ratio: f32::INFINITY,
+            ..Default::default()
+        };
+    };
+    // atan2(|a x b|, a . b): well conditioned for the tiny angles that matter here.
+    let (a, b) = (c.near - eye, c.far - eye);
+    let radians = a.cross(b).length().atan2(a.dot(b));
+    let degrees = radians.to_degrees();
+    let pixels = radians * px_per_radian;
+    let octaves = (needed as f32 / c.side as f32).log2().abs();
+    let t = cfg.tolerance;
+    let parallax = match t.pixels {
+        Some(px) => pixels / px.max(1e-6),
+        None => degrees / t.degrees.max(1e-6),
+    };
+    let b = subject.bounds();
+    let moved = b.center.distance(c.center) > 1e-3 * c.radius.max(1e-6)
+        || (b.radius - c.radius).abs() > 1e-3 * c.radius.max(1e-6);
+    let ratio = if subject.version() != c.version || moved {
+        f32::INFINITY
+    } else {
+        parallax.max(octaves / t.octaves.max(1e-6))
+    };
+    Predicted {
+        degrees,
+        pixels,
+        needed_side: needed,
+        octaves,
+        ratio: if ratio.is_nan() { f32::INFINITY } else { ratio },
+    }
+}
+
+/// Pixels per radian at the centre of an image `height` pixels tall.
+pub(super) fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
+    match camera.projection {
+        Projection::Perspective { fov_y, .. } => {
+            height as f32 * 0.5 / (fov_y * 0.5).tan().max(1e-6)
+        }
+        Projection::Orthographic { .. } => height as f32,
+    }
+}
+
+/// The power-of-two texture side for a sphere of `radius` at `dist` (its screen diameter
+/// rounded up), clamped to `[min, max]`.
+pub fn needed_side(radius: f32, dist: f32, px_per_radian: f32, min: u32, max: u32) -> u32 {
+    let px = 2.0 * px_per_radian * (radius / dist.max(1e-6)).min(1e3);
+    let px = if px.is_finite() {
+        px.ceil() as u32
+    } else {
+        max
+    };
+    px.max(1)
+        .checked_next_power_of_two()
+        .unwrap_or(max)
+        .clamp(min.max(1), max.max(min.max(1)))
+}
+
+/// Green at 0, yellow at the tolerance, red at twice it and beyond.
+pub fn error_color(ratio: f32) -> Rgba {
+    let t = if ratio.is_finite() {
+        ratio.clamp(0.0, 2.0)
+    } else {
+        2.0
+    };
+    if t <= 1.0 {
+        Rgba::new(t, 1.0, 0.1, 1.0)
+    } else {
+        Rgba::new(1.0, 2.0 - t, 0.1, 1.0)
+    }
+}
+
+/// The pixel rectangle covering a sphere's projection (grown by 2 pixels), or `None` when
+/// it is behind the eye or off the image.
+pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -> Option<Rect> {
+    let m = camera.clip_from_world();
+    let right = camera.view.inverse().x_axis.truncate().normalize_or_zero();
+    let up = camera.view.inverse().y_axis.truncate().normalize_or_zero();
+    let fwd = camera.forward();
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for corner in [-1.0f32, 1.0] {
+        for sx in [-1.0f32, 1.0] {
+            for sy in [-1.0f32, 1.0] {
+                let p = center + (right * sx + up * sy + fwd * corner) * radius;
+                let c = m * p.extend(1.0);
+                if c.w <= 1e-6 {
+                    return Some(Rect::new(0, 0, w, h));
+                }
+                let ndc = glam::Vec2::new(c.x, c.y) / c.w;
+                let px = glam::Vec2::new(
+                    (ndc.x * 0.5 + 0.5) * w as f32,
+                    (0.5 - ndc.y * 0.5) * h as f32,
+                );
+                lo = lo.min(px);
+                hi = hi.max(px);
+            }
+        }
+    }
+    if !(lo.is_finite() && hi.is_finite())
+        || hi.x < 0.0
+        || hi.y < 0.0
+        || lo.x > w as f32
+        || lo.y > h as f32
+    {
+        return None;
+    }
+    let x0 = lo.x.max(0.0) as u32;
+    let y0 = lo.y.max(0.0) as u32;
+    let x1 = (hi.x.ceil().max(0.0) as u32).min(w);
+    let y1 = (hi.y.ceil().max(0.0) as u32).min(h);
+    Some(Rect::new(x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)).grow(2, w, h))
+}
+
+/// The six planes of a view frustum (Gribb and Hartmann), for sphere tests.
+pub(super) struct Frustum([Vec4; 6]);
+
+impl Frustum {
+    pub(super) fn new(m: Mat4) -> Self {
+        let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
+        let planes = [
+            r[3] + r[0],
+            r[3] - r[0],
+            r[3] + r[1],
+            r[3] - r[1],
+            r[2],
+            r[3] - r[2],
+        ];
+        Frustum(planes.map(|p| {
+            let n = p.truncate().length();
+            if n > 0.0 {
+                p / n
+            } else {
+                p
+            }
+        }))
+    }
+
+    /// Whether a sphere is at least partly inside (conservative).
+    pub(super) fn sees(&self, c: Vec3, r: f32) -> bool {
+        if !(c.is_finite() && r.is_finite()) {
+            return false;
+        }
+        self.0.iter().all(|p| p.truncate().dot(c) + p.w >= -r)
+    }
+}
