@@ -10,7 +10,7 @@
 //! materials.
 
 use crate::chart::{self, Chart};
-use crate::sweep::{timed_frames, CsvRow};
+use crate::sweep::{CsvRow, Timing};
 use crate::timing::Summary;
 use engine::procedural;
 use engine::{Camera, FrameOptions, FrameStats, Material, Renderer, Rgba, Scene, Target};
@@ -31,11 +31,8 @@ pub struct Plan {
     pub fixed_resolution: (u32, u32),
     /// Whether to render the shared models (when their folder exists).
     pub models: bool,
-    pub warmup: usize,
-    /// Most timed frames per measurement.
-    pub frames: usize,
-    /// Time budget per measurement; measuring stops after it (at least `MIN_FRAMES`).
-    pub budget: Duration,
+    /// How each measurement times its frames.
+    pub timing: Timing,
 }
 
 impl Plan {
@@ -54,18 +51,22 @@ impl Plan {
             triangle_counts: vec![1_000, 10_000, 100_000, 1_000_000, 2_000_000],
             fixed_resolution: (1280, 720),
             models: true,
-            warmup: 3,
-            frames: 31,
-            budget: Duration::from_secs(3),
+            timing: Timing {
+                warmup: 3,
+                frames: 31,
+                budget: Duration::from_secs(3),
+            },
         }
     }
 
     /// Every point of the full sweep with few frames: about a minute at most.
     pub fn quick() -> Plan {
         Plan {
-            warmup: 1,
-            frames: 9,
-            budget: Duration::from_millis(1200),
+            timing: Timing {
+                warmup: 1,
+                frames: 9,
+                budget: Duration::from_millis(1200),
+            },
             ..Plan::full()
         }
     }
@@ -78,9 +79,11 @@ impl Plan {
             triangle_counts: vec![1_000, 10_000],
             fixed_resolution: (320, 240),
             models: false,
-            warmup: 0,
-            frames: 2,
-            budget: Duration::from_millis(200),
+            timing: Timing {
+                warmup: 0,
+                frames: 2,
+                budget: Duration::from_millis(200),
+            },
         }
     }
 }
@@ -193,7 +196,7 @@ pub fn measure(
         clear: Some(Rgba::new(0.1, 0.1, 0.12, 1.0)),
         ..Default::default()
     };
-    let frames = timed_frames(plan.warmup, plan.frames, plan.budget, || {
+    let frames = plan.timing.run(|| {
         let t0 = Instant::now();
         let stats = renderer.render_scene(scene, camera, &mut target, &opts);
         (t0.elapsed(), stats)

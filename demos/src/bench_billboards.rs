@@ -57,7 +57,7 @@ pub use row::{Row, Times};
 pub use trees::forest_camera;
 
 use crate::bench::count_name;
-use crate::sweep::ticker;
+use crate::sweep::{ticker, Timing};
 use accuracy::accuracy;
 use engine::{Lighting, Renderer, Target};
 use ibr::BillboardBatch;
@@ -86,11 +86,8 @@ pub struct Plan {
     /// Tree counts of the `trees_*` series, at `tree_size`.
     pub tree_counts: Vec<usize>,
     pub tree_size: (u32, u32),
-    pub warmup: usize,
-    /// Most timed frames per measurement.
-    pub frames: usize,
-    /// Time budget per measurement; measuring stops after it (at least [`MIN_FRAMES`]).
-    pub budget: Duration,
+    /// How each measurement times its frames.
+    pub timing: Timing,
 }
 
 impl Plan {
@@ -114,18 +111,22 @@ impl Plan {
             bake_px: 256,
             tree_counts: vec![100, 1_000, 10_000, 50_000],
             tree_size: (1280, 720),
-            warmup: 2,
-            frames: 21,
-            budget: Duration::from_secs(2),
+            timing: Timing {
+                warmup: 2,
+                frames: 21,
+                budget: Duration::from_secs(2),
+            },
         }
     }
 
     /// Every point of the full sweep with few frames: about a minute at most.
     pub fn quick() -> Plan {
         Plan {
-            warmup: 1,
-            frames: 5,
-            budget: Duration::from_millis(600),
+            timing: Timing {
+                warmup: 1,
+                frames: 5,
+                budget: Duration::from_millis(600),
+            },
             ..Plan::full()
         }
     }
@@ -143,9 +144,11 @@ impl Plan {
             bake_px: 96,
             tree_counts: vec![50, 200],
             tree_size: (320, 240),
-            warmup: 0,
-            frames: 2,
-            budget: Duration::from_millis(100),
+            timing: Timing {
+                warmup: 0,
+                frames: 2,
+                budget: Duration::from_millis(100),
+            },
         }
     }
 

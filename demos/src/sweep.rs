@@ -39,27 +39,34 @@ pub fn ticker<'a>(
     }
 }
 
-/// Runs `warmup` untimed frames, then timed frames until there are `frames` of them (at
-/// least [`MIN_FRAMES`]) or, once there are `MIN_FRAMES`, `budget` has passed since the
-/// first; what each timed `frame` returned, in order.
-pub fn timed_frames<T>(
-    warmup: usize,
-    frames: usize,
-    budget: Duration,
-    mut frame: impl FnMut() -> T,
-) -> Vec<T> {
-    for _ in 0..warmup {
-        frame();
-    }
-    let mut out = Vec::with_capacity(frames);
-    let start = Instant::now();
-    while out.len() < frames.max(MIN_FRAMES) {
-        out.push(frame());
-        if out.len() >= MIN_FRAMES && start.elapsed() >= budget {
-            break;
+/// How a measurement times its frames: `warmup` untimed frames, then timed frames until
+/// there are `frames` of them (at least [`MIN_FRAMES`]) or, once there are `MIN_FRAMES`,
+/// `budget` has passed since the first.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    pub warmup: usize,
+    /// Most timed frames per measurement.
+    pub frames: usize,
+    /// Time budget per measurement.
+    pub budget: Duration,
+}
+
+impl Timing {
+    /// Runs the frames; what each timed `frame` returned, in order.
+    pub fn run<T>(&self, mut frame: impl FnMut() -> T) -> Vec<T> {
+        for _ in 0..self.warmup {
+            frame();
         }
+        let mut out = Vec::with_capacity(self.frames);
+        let start = Instant::now();
+        while out.len() < self.frames.max(MIN_FRAMES) {
+            out.push(frame());
+            if out.len() >= MIN_FRAMES && start.elapsed() >= self.budget {
+                break;
+            }
+        }
+        out
     }
-    out
 }
 
 #[cfg(test)]
@@ -69,12 +76,17 @@ mod tests {
     #[test]
     fn timed_frames_stop_at_the_count_or_after_the_budget() {
         let mut calls = 0;
-        let out = timed_frames(2, 5, Duration::from_secs(60), || {
+        let timing = |warmup, frames, budget| Timing {
+            warmup,
+            frames,
+            budget,
+        };
+        let out = timing(2, 5, Duration::from_secs(60)).run(|| {
             calls += 1;
             calls
         });
         assert_eq!(out, [3, 4, 5, 6, 7]);
-        let out = timed_frames(0, 50, Duration::ZERO, || ());
+        let out = timing(0, 50, Duration::ZERO).run(|| ());
         assert_eq!(out.len(), MIN_FRAMES);
     }
 

@@ -2,7 +2,6 @@
 //! the `count` and `resolution` series.
 
 use super::{Plan, Times};
-use crate::sweep::timed_frames;
 use crate::timing::Summary;
 use engine::procedural::XorShift;
 use engine::{
@@ -28,7 +27,7 @@ pub(super) fn measure(
         clear: Some(Rgba::new(0.05, 0.06, 0.09, 1.0)),
         ..Default::default()
     };
-    let frames = timed_frames(plan.warmup, plan.frames, plan.budget, || {
+    let frames = plan.timing.run(|| {
         let t0 = Instant::now();
         let view = View::new(camera, target.height());
         for b in batches.iter_mut() {
