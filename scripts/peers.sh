@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 P=../shared/peers
-PY=$P/.venv/bin/python
+PY=${PEERS_VENV:-$P/.venv}/bin/python
 ROUNDS=${1:-3}
 FRAMES=${2:-20}
 mkdir -p out/scenes

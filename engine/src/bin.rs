@@ -97,6 +97,7 @@ mod tests {
             prim: 0,
             vary: [0; 3],
             flags: 0,
+            cover: 0,
             color: 0,
         }
     }

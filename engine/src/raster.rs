@@ -16,7 +16,7 @@
 use crate::camera::Camera;
 use crate::color::{unpack, Encoder, Encoding, Premul};
 use crate::material::{AlphaMode, BlendMode};
-use crate::setup::{Tri, ONE};
+use crate::setup::{Tri, ONE, SMALL};
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
 use crate::simd::{F8, I8, M8};
 use std::ops::{Add, Mul, Sub};
@@ -45,6 +45,9 @@ pub struct TileBuf {
     pub color: [Vec<f32>; 4],
     pub depth: Vec<f32>,
     pub block_far: Vec<f32>,
+    /// Blocks whose `block_far` may be lower than it could be (small triangles wrote there
+    /// without recomputing it): still conservative, refreshed when next needed.
+    far_stale: u64,
     touched: u64,
     clear: Premul,
 }
@@ -55,6 +58,7 @@ impl Default for TileBuf {
             color: std::array::from_fn(|_| vec![0.0; TILE_PIXELS]),
             depth: vec![0.0; TILE_PIXELS],
             block_far: vec![0.0; BLOCKS * BLOCKS],
+            far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
         }
@@ -66,6 +70,7 @@ impl TileBuf {
     pub fn clear(&mut self, c: Premul) {
         self.clear = c;
         self.touched = 0;
+        self.far_stale = 0;
         self.block_far.fill(0.0);
     }
 
@@ -118,7 +123,17 @@ impl TileBuf {
         }
     }
 
+    /// The farthest depth in `block`, refreshed first if small triangles left it stale.
+    #[inline]
+    fn far(&mut self, block: usize) -> f32 {
+        if self.far_stale >> block & 1 != 0 {
+            self.update_block_far(block);
+        }
+        self.block_far[block]
+    }
+
     fn update_block_far(&mut self, block: usize) {
+        self.far_stale &= !(1 << block);
         let mut far = F8::splat(f32::INFINITY);
         for row in self.depth[block * BLOCK_PIXELS..(block + 1) * BLOCK_PIXELS].chunks_exact(LANES)
         {
@@ -189,23 +204,31 @@ fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
     })
 }
 
-/// Whether a triangle (fixed-point vertices, positive winding) covers the centre of any
-/// pixel of `[px0, px1] x [py0, py1]`, by exactly the rule `raster_tri` applies. Setup uses
-/// it to drop triangles too small to cover any pixel before they are binned.
+/// Coverage mask of a small triangle (fixed-point vertices, positive winding, spanning
+/// less than `SMALL` pixels each way) over the pixel rectangle `[px0, py0, px1, py1]`
+/// (inclusive, at most `SMALL` x `SMALL`): bit `SMALL * j + i` for pixel `(px0 + i, py0 +
+/// j)`, by exactly the rule the edge walk applies. Setup stores it in [`Tri::cover`].
+///
+/// Within that span every edge value fits `i32` exactly: `|a|, |b| < SMALL * ONE` and the
+/// first centre lies inside the vertices' box, so `|E| < 2 * (2 * SMALL * ONE)^2`.
 #[inline]
-pub(crate) fn covers_any_pixel(
-    x: &[i32; 3],
-    y: &[i32; 3],
-    (px0, px1): (i64, i64),
-    (py0, py1): (i64, i64),
-) -> bool {
+pub(crate) fn small_cover(x: &[i32; 3], y: &[i32; 3], [px0, py0, px1, py1]: [i64; 4]) -> u16 {
+    const _: () = assert!(SMALL == 4, "two rows of four per 8-lane vector");
     let e = edges_of(x, y);
-    (py0..=py1).any(|py| {
-        (px0..=px1).any(|px| {
-            let (cx, cy) = (px * ONE + ONE / 2, py * ONE + ONE / 2);
-            e.iter().all(|e| e.a * cx + e.b * cy + e.c >= e.bias)
-        })
-    })
+    let (cx, cy) = (px0 * ONE + ONE / 2, py0 * ONE + ONE / 2);
+    let di = I8::from_array([0, 1, 2, 3, 0, 1, 2, 3]);
+    let dj = I8::from_array([0, 0, 0, 0, 1, 1, 1, 1]);
+    let (mut top, mut bottom) = (M8::from_bits(0xff), M8::from_bits(0xff));
+    for ed in &e {
+        let v = (ed.a * cx + ed.b * cy + ed.c - ed.bias) as i32;
+        let (a, b) = ((ed.a * ONE) as i32, (ed.b * ONE) as i32);
+        let rows01 = I8::splat(v) + di.mul_lo(I8::splat(a)) + dj.mul_lo(I8::splat(b));
+        top = top.and(rows01.non_negative());
+        bottom = bottom.and((rows01 + I8::splat(2 * b)).non_negative());
+    }
+    let row = (1u32 << (px1 - px0 + 1)) - 1;
+    let rect = (0..=py1 - py0).fold(0, |m, j| m | row << (SMALL as i64 * j));
+    ((top.bits() | bottom.bits() << 8) & rect) as u16
 }
 
 /// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:
@@ -237,6 +260,7 @@ fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
 /// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`. The shader prepares
 /// the triangle (reads its vertices' varyings from `vary`) only once a fragment survives
 /// the depth test, so hidden triangles never touch their vertex data.
+#[allow(clippy::too_many_arguments)] // reason: the stage's inputs, passed through as they are
 pub fn raster_tri<S: FragShader>(
     buf: &mut TileBuf,
     ox: i32,
@@ -255,136 +279,234 @@ pub fn raster_tri<S: FragShader>(
     if x0 > x1 || y0 > y1 {
         return;
     }
-    let e = edges(tri);
-    // Whole-rectangle test first: big triangles often cover the tile's part entirely. A
-    // rectangle within one block is classified by the block loop anyway.
-    let mut tile_inside = [false; 3];
-    if x0 >> 3 != x1 >> 3 || y0 >> 3 != y1 >> 3 {
-        for i in 0..3 {
-            match classify(&e[i], x0, y0, x1, y1) {
-                Some(false) => return,
-                Some(true) => tile_inside[i] = true,
-                None => {}
-            }
-        }
+    let mut rows = Rows {
+        ox,
+        oy,
+        tri,
+        shader,
+        vary,
+        mode,
+        soft,
+        prepared: None,
+        out: [F8::splat(0.0); 4],
+        local: FrameStats::default(),
+    };
+    if tri.cover != 0 {
+        rows.small(buf, [x0, y0, x1, y1]);
+    } else {
+        rows.walk(buf, [x0, y0, x1, y1]);
     }
-    let mut prepared: Option<S::Prepared> = None;
-    let all_inside = tile_inside.iter().all(|&b| b);
-    // Counters live in registers during the walk and are added once at the end.
-    let mut local = FrameStats::default();
-    let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
-    let mut out: [Lane; 4] = [F8::splat(0.0); 4];
-    let mut by = y0 & !(BLOCK - 1);
-    while by <= y1 {
-        let mut bx = x0 & !(BLOCK - 1);
-        while bx <= x1 {
-            let lx0 = (x0 - bx).max(0);
-            let lx1 = (x1 - bx).min(BLOCK - 1);
-            let rows = (y0.max(by), y1.min(by + BLOCK - 1));
-            // Classify the block against the edges not already known to contain it.
-            let mut full = true;
-            let mut outside = false;
-            let mut thr = [i32::MIN + 1; 3];
-            let mut ea = [0i32; 3];
-            let mut eb = [0i32; 3];
-            if !all_inside {
-                let px = bx as i64 * ONE + ONE / 2;
-                let py = by as i64 * ONE + ONE / 2;
-                for i in 0..3 {
-                    if tile_inside[i] {
+    *stats += rows.local;
+}
+
+/// One triangle's pass over one tile: what every covered row needs.
+struct Rows<'a, S: FragShader> {
+    ox: i32,
+    oy: i32,
+    tri: &'a Tri,
+    shader: &'a S,
+    vary: &'a [f32],
+    mode: &'a PixelMode,
+    soft: &'a DepthToView,
+    prepared: Option<S::Prepared>,
+    out: [Lane; 4],
+    /// Counters live here during the pass and are added to the tile's once at the end.
+    local: FrameStats,
+}
+
+impl<S: FragShader> Rows<'_, S> {
+    /// Index of the block whose top-left pixel is `(bx, by)`.
+    #[inline(always)]
+    fn block(&self, bx: i32, by: i32) -> usize {
+        ((by - self.oy) as usize / LANES) * BLOCKS + (bx - self.ox) as usize / LANES
+    }
+
+    /// Small triangles: coverage comes from the set-up mask, one 4-bit row at a time shifted
+    /// into the lanes of each block it overlaps. No edge work, no hierarchical depth test
+    /// (a per-pixel test of a few pixels costs no more); the blocks' farthest depth is
+    /// marked stale instead of recomputed.
+    #[inline]
+    fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
+        let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
+        let cover = self.tri.cover as u32;
+        let mut by = y0 & !(BLOCK - 1);
+        while by <= y1 {
+            let mut bx = x0 & !(BLOCK - 1);
+            while bx <= x1 {
+                let block = self.block(bx, by);
+                let shift = rx - bx;
+                let (mut reached, mut wrote) = (false, false);
+                for y in y0.max(by)..=y1.min(by + BLOCK - 1) {
+                    let bits = cover >> (SMALL * (y - ry)) & ((1 << SMALL) - 1);
+                    let lanes = if shift >= 0 {
+                        bits << shift
+                    } else {
+                        bits >> -shift
+                    } & ((1 << LANES) - 1);
+                    if lanes == 0 {
                         continue;
                     }
-                    let ed = &e[i];
-                    match classify(ed, bx + lx0, rows.0, bx + lx1, rows.1) {
-                        Some(false) => {
-                            outside = true;
-                            break;
-                        }
-                        Some(true) => continue,
-                        None => {}
+                    if !reached {
+                        reached = true;
+                        buf.touch(block);
+                        self.local.blocks_partial += 1;
                     }
-                    full = false;
-                    // i * a + j * b >= ceil((bias - v) / ONE), v = E at the block's first centre
-                    let v = ed.a * px + ed.b * py + ed.c;
-                    let t = -(v - ed.bias).div_euclid(ONE);
-                    thr[i] = t.clamp(i32::MIN as i64 + 1, i32::MAX as i64) as i32;
-                    ea[i] = ed.a as i32;
-                    eb[i] = ed.b as i32;
+                    wrote |= self.row(buf, block, bx, y - by, M8::from_bits(lanes));
+                }
+                if wrote && self.mode.depth_write {
+                    buf.far_stale |= 1 << block;
+                }
+                bx += BLOCK;
+            }
+            by += BLOCK;
+        }
+    }
+
+    /// Other triangles: the 8 x 8 block walk with hierarchical rejection and acceptance.
+    #[inline]
+    fn walk(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
+        let tri = self.tri;
+        let e = edges(tri);
+        // Whole-rectangle test first: big triangles often cover the tile's part entirely.
+        // A rectangle within one block is classified by the block loop anyway.
+        let mut tile_inside = [false; 3];
+        if x0 >> 3 != x1 >> 3 || y0 >> 3 != y1 >> 3 {
+            for i in 0..3 {
+                match classify(&e[i], x0, y0, x1, y1) {
+                    Some(false) => return,
+                    Some(true) => tile_inside[i] = true,
+                    None => {}
                 }
             }
-            if outside {
-                bx += BLOCK;
-                continue;
-            }
-            // Hierarchical depth: the nearest the triangle gets in this block, against the
-            // farthest depth stored there. A small relative margin keeps the test
-            // conservative under f32 rounding of the per-pixel planes.
-            let block = ((by - oy) as usize / LANES) * BLOCKS + (bx - ox) as usize / LANES;
-            if mode.depth_test {
-                let z = &tri.z;
-                let near = z.c
-                    + z.dx * (bx - rx) as f32
-                    + z.dy * (by - ry) as f32
-                    + (z.dx.max(0.0) + z.dy.max(0.0)) * (BLOCK - 1) as f32;
-                let near = near + near.abs() * 1e-5 + 1e-7;
-                if near <= buf.block_far[block] {
-                    local.blocks_hiz_rejected += 1;
+        }
+        let all_inside = tile_inside.iter().all(|&b| b);
+        let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
+        let mut by = y0 & !(BLOCK - 1);
+        while by <= y1 {
+            let mut bx = x0 & !(BLOCK - 1);
+            while bx <= x1 {
+                let lx0 = (x0 - bx).max(0);
+                let lx1 = (x1 - bx).min(BLOCK - 1);
+                let rows = (y0.max(by), y1.min(by + BLOCK - 1));
+                // Classify the block against the edges not already known to contain it.
+                let mut full = true;
+                let mut outside = false;
+                let mut thr = [i32::MIN + 1; 3];
+                let mut ea = [0i32; 3];
+                let mut eb = [0i32; 3];
+                if !all_inside {
+                    let px = bx as i64 * ONE + ONE / 2;
+                    let py = by as i64 * ONE + ONE / 2;
+                    for i in 0..3 {
+                        if tile_inside[i] {
+                            continue;
+                        }
+                        let ed = &e[i];
+                        match classify(ed, bx + lx0, rows.0, bx + lx1, rows.1) {
+                            Some(false) => {
+                                outside = true;
+                                break;
+                            }
+                            Some(true) => continue,
+                            None => {}
+                        }
+                        full = false;
+                        // i * a + j * b >= ceil((bias - v) / ONE), v = E at the block's
+                        // first centre
+                        let v = ed.a * px + ed.b * py + ed.c;
+                        let t = -(v - ed.bias).div_euclid(ONE);
+                        thr[i] = t.clamp(i32::MIN as i64 + 1, i32::MAX as i64) as i32;
+                        ea[i] = ed.a as i32;
+                        eb[i] = ed.b as i32;
+                    }
+                }
+                if outside {
                     bx += BLOCK;
                     continue;
                 }
-            }
-            let mut wrote = false;
-            buf.touch(block);
-            if full {
-                local.blocks_full += 1;
-            } else {
-                local.blocks_partial += 1;
-            }
-            let range = I8::lane_range(lx0, lx1);
-            let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
-            for y in rows.0..=rows.1 {
-                let j = y - by;
-                let cov: M8 = if full {
-                    range
-                } else {
-                    let inside =
-                        |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
-                    range.and(inside(0)).and(inside(1)).and(inside(2))
-                };
-                let covered = cov.bits().count_ones();
-                if covered == 0 {
-                    continue;
+                // Hierarchical depth: the nearest the triangle gets in this block, against
+                // the farthest depth stored there. A small relative margin keeps the test
+                // conservative under f32 rounding of the per-pixel planes.
+                let block = self.block(bx, by);
+                if self.mode.depth_test {
+                    let z = &tri.z;
+                    let near = z.c
+                        + z.dx * (bx - rx) as f32
+                        + z.dy * (by - ry) as f32
+                        + (z.dx.max(0.0) + z.dy.max(0.0)) * (BLOCK - 1) as f32;
+                    let near = near + near.abs() * 1e-5 + 1e-7;
+                    if near <= buf.far(block) {
+                        self.local.blocks_hiz_rejected += 1;
+                        bx += BLOCK;
+                        continue;
+                    }
                 }
-                local.fragments_tested += covered as u64;
-                let row = Row {
-                    fx: (bx - rx) as f32,
-                    fy: (y - ry) as f32,
-                };
-                let base = block * LANES * LANES + j as usize * LANES;
-                let z = eval(&tri.z, &row);
-                let m = if mode.depth_test {
-                    cov.and(z.gt(F8::load(&buf.depth[base..])))
+                let mut wrote = false;
+                buf.touch(block);
+                if full {
+                    self.local.blocks_full += 1;
                 } else {
-                    cov
-                };
-                let passed = m.bits().count_ones();
-                if passed == 0 {
-                    continue;
+                    self.local.blocks_partial += 1;
                 }
-                local.fragments_shaded += passed as u64;
-                let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-                shader.shade(prepared, tri, &row, m.bits(), &mut out);
-                local.fragments_written += write_row(buf, base, m, &z, &out, mode, soft) as u64;
-                wrote = true;
+                let range = I8::lane_range(lx0, lx1);
+                let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
+                for y in rows.0..=rows.1 {
+                    let j = y - by;
+                    let cov: M8 = if full {
+                        range
+                    } else {
+                        let inside =
+                            |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
+                        range.and(inside(0)).and(inside(1)).and(inside(2))
+                    };
+                    wrote |= self.row(buf, block, bx, j, cov);
+                }
+                if wrote && self.mode.depth_write {
+                    buf.update_block_far(block);
+                }
+                bx += BLOCK;
             }
-            if wrote && mode.depth_write {
-                buf.update_block_far(block);
-            }
-            bx += BLOCK;
+            by += BLOCK;
         }
-        by += BLOCK;
     }
-    *stats += local;
+
+    /// Depth-tests, shades and writes the covered lanes `cov` of row `j` of the block at
+    /// `(bx, _)`; whether anything was written.
+    #[inline(always)]
+    fn row(&mut self, buf: &mut TileBuf, block: usize, bx: i32, j: i32, cov: M8) -> bool {
+        let covered = cov.bits().count_ones();
+        if covered == 0 {
+            return false;
+        }
+        let tri = self.tri;
+        self.local.fragments_tested += covered as u64;
+        let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
+        let by = (block / BLOCKS * LANES) as i32 + self.oy;
+        let row = Row {
+            fx: (bx - rx) as f32,
+            fy: (by + j - ry) as f32,
+        };
+        let base = block * BLOCK_PIXELS + j as usize * LANES;
+        let z = eval(&tri.z, &row);
+        let m = if self.mode.depth_test {
+            cov.and(z.gt(F8::load(&buf.depth[base..])))
+        } else {
+            cov
+        };
+        let passed = m.bits().count_ones();
+        if passed == 0 {
+            return false;
+        }
+        self.local.fragments_shaded += passed as u64;
+        let (shader, vary) = (self.shader, self.vary);
+        let prepared = self
+            .prepared
+            .get_or_insert_with(|| shader.prepare(tri, vary));
+        shader.shade(prepared, tri, &row, m.bits(), &mut self.out);
+        let written = write_row(buf, base, m, &z, &self.out, self.mode, self.soft);
+        self.local.fragments_written += written as u64;
+        true
+    }
 }
 
 /// Thresholds of the 4 x 4 Bayer matrix, `(rank + 0.5) / 16`, one row of 8 lanes per pixel

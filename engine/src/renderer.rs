@@ -462,7 +462,7 @@ fn front_end(
                 Shading::Flat => flat_color(info.mesh, idx),
                 _ => 0,
             };
-            let stamp = |mut tri: Tri, flags: u32| {
+            let stamp = |mut tri: Tri, flags: u16| {
                 tri.draw = d as u32;
                 tri.prim = info.prim_base.wrapping_add(local as u32);
                 tri.color = color;

@@ -205,6 +205,13 @@ mod imp {
     }
 
     impl M8 {
+        /// Lane `l` set where bit `l` of `bits` is.
+        #[inline(always)]
+        pub fn from_bits(bits: u32) -> Self {
+            let k = avx!(_mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
+            let b = avx!(_mm256_and_si256(_mm256_set1_epi32(bits as i32), k));
+            avx!(M8(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, k))))
+        }
         #[inline(always)]
         pub fn and(self, o: Self) -> Self {
             avx!(M8(_mm256_and_ps(self.0, o.0)))
@@ -359,6 +366,9 @@ mod imp {
     }
 
     impl M8 {
+        pub fn from_bits(bits: u32) -> Self {
+            M8(std::array::from_fn(|l| bits >> l & 1 != 0))
+        }
         pub fn and(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] && o.0[l]))
         }
@@ -445,6 +455,7 @@ mod tests {
             [3.5, 3.5, 3.5, 3.5, 4.0, 5.0, 6.0, 7.0]
         );
         assert_eq!(I8::lane_range(2, 4).bits(), 0b0001_1100);
+        assert_eq!(M8::from_bits(0b1010_0110).bits(), 0b1010_0110);
         assert_eq!(
             (I8::ramp_times(-3) + I8::splat(6)).non_negative().bits(),
             0b0000_0111
