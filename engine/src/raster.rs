@@ -212,23 +212,31 @@ fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
 /// Within that span every edge value fits `i32` exactly: `|a|, |b| < SMALL * ONE` and the
 /// first centre lies inside the vertices' box, so `|E| < 2 * (2 * SMALL * ONE)^2`.
 #[inline]
-pub(crate) fn small_cover(x: &[i32; 3], y: &[i32; 3], [px0, py0, px1, py1]: [i64; 4]) -> u16 {
-    const _: () = assert!(SMALL == 4, "two rows of four per 8-lane vector");
+pub(crate) fn small_cover(x: &[i32; 3], y: &[i32; 3], [px0, py0, px1, py1]: [i64; 4]) -> u64 {
+    const _: () = assert!(SMALL as usize == LANES, "one mask row per 8-lane vector");
     let e = edges_of(x, y);
     let (cx, cy) = (px0 * ONE + ONE / 2, py0 * ONE + ONE / 2);
-    let di = I8::from_array([0, 1, 2, 3, 0, 1, 2, 3]);
-    let dj = I8::from_array([0, 0, 0, 0, 1, 1, 1, 1]);
-    let (mut top, mut bottom) = (M8::from_bits(0xff), M8::from_bits(0xff));
-    for ed in &e {
+    // Each edge's values along the first row, and its step from row to row.
+    let mut value = [I8::splat(0); 3];
+    let mut step = [I8::splat(0); 3];
+    for (k, ed) in e.iter().enumerate() {
         let v = (ed.a * cx + ed.b * cy + ed.c - ed.bias) as i32;
-        let (a, b) = ((ed.a * ONE) as i32, (ed.b * ONE) as i32);
-        let rows01 = I8::splat(v) + di.mul_lo(I8::splat(a)) + dj.mul_lo(I8::splat(b));
-        top = top.and(rows01.non_negative());
-        bottom = bottom.and((rows01 + I8::splat(2 * b)).non_negative());
+        value[k] = I8::splat(v) + I8::ramp_times((ed.a * ONE) as i32);
+        step[k] = I8::splat((ed.b * ONE) as i32);
     }
-    let row = (1u32 << (px1 - px0 + 1)) - 1;
-    let rect = (0..=py1 - py0).fold(0, |m, j| m | row << (SMALL as i64 * j));
-    ((top.bits() | bottom.bits() << 8) & rect) as u16
+    let lanes = I8::lane_range(0, (px1 - px0) as i32);
+    let mut mask = 0u64;
+    for j in 0..=(py1 - py0) as u32 {
+        let m = lanes
+            .and(value[0].non_negative())
+            .and(value[1].non_negative())
+            .and(value[2].non_negative());
+        mask |= (m.bits() as u64) << (SMALL as u32 * j);
+        for k in 0..3 {
+            value[k] = value[k] + step[k];
+        }
+    }
+    mask
 }
 
 /// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:
@@ -321,14 +329,14 @@ impl<S: FragShader> Rows<'_, S> {
         ((by - self.oy) as usize / LANES) * BLOCKS + (bx - self.ox) as usize / LANES
     }
 
-    /// Small triangles: coverage comes from the set-up mask, one 4-bit row at a time shifted
+    /// Small triangles: coverage comes from the set-up mask, one 8-bit row at a time shifted
     /// into the lanes of each block it overlaps. No edge work, no hierarchical depth test
     /// (a per-pixel test of a few pixels costs no more); the blocks' farthest depth is
     /// marked stale instead of recomputed.
     #[inline]
     fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
-        let cover = self.tri.cover as u32;
+        let cover = self.tri.cover;
         let mut by = y0 & !(BLOCK - 1);
         while by <= y1 {
             let mut bx = x0 & !(BLOCK - 1);
@@ -337,7 +345,7 @@ impl<S: FragShader> Rows<'_, S> {
                 let shift = rx - bx;
                 let (mut reached, mut wrote) = (false, false);
                 for y in y0.max(by)..=y1.min(by + BLOCK - 1) {
-                    let bits = cover >> (SMALL * (y - ry)) & ((1 << SMALL) - 1);
+                    let bits = (cover >> (SMALL * (y - ry))) as u32 & ((1 << SMALL) - 1);
                     let lanes = if shift >= 0 {
                         bits << shift
                     } else {

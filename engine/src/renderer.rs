@@ -26,6 +26,9 @@ use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 
+/// How many triangles ahead the tile loop prefetches vertex varyings.
+const PREFETCH_AHEAD: usize = 4;
+
 /// Which faces are culled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Cull {
@@ -249,7 +252,7 @@ impl Renderer {
 
         // Clip, set up and bin, in chunks of triangles.
         let (tiles_x, tiles_y) = (target.tiles_x() as usize, target.tiles_y() as usize);
-        let chunk_size = nt.div_ceil(128).max(1024);
+        let chunk_size = nt.div_ceil(16).max(4096);
         let n_chunks = nt.div_ceil(chunk_size);
         if self.chunks.len() < n_chunks {
             self.chunks.resize_with(n_chunks, Chunk::default);
@@ -305,13 +308,29 @@ impl Renderer {
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;
                     for chunk in chunks {
-                        for tri in chunk.bins.tile(tile) {
-                            let info = &infos[tri.draw as usize];
-                            let src = if tri.flags & CLIPPED != 0 {
+                        let varyings = |tri: &Tri| {
+                            if tri.flags & CLIPPED != 0 {
                                 &chunk.extra[..]
                             } else {
                                 vary
-                            };
+                            }
+                        };
+                        let tris = chunk.bins.tile(tile);
+                        for (i, tri) in tris.iter().enumerate() {
+                            // Scattered triangles' vertices are cache misses: ask for a
+                            // later triangle's while this one is drawn.
+                            if let Some(ahead) = tris.get(i + PREFETCH_AHEAD) {
+                                if infos[ahead.draw as usize].layout != Layout::None {
+                                    let src = varyings(ahead);
+                                    for o in ahead.vary {
+                                        if let Some(x) = src.get(o as usize) {
+                                            crate::simd::prefetch(x);
+                                        }
+                                    }
+                                }
+                            }
+                            let info = &infos[tri.draw as usize];
+                            let src = varyings(tri);
                             let mode = &info.mode;
                             match &info.kind {
                                 Kind::Const(s) => {

@@ -23,7 +23,7 @@ pub const CLIPPED: u16 = 2;
 
 /// Triangles whose vertices span less than `SMALL` pixels each way (so at most `SMALL` x
 /// `SMALL` pixel centres) carry their coverage as a mask ([`Tri::cover`]).
-pub const SMALL: i32 = 4;
+pub const SMALL: i32 = 8;
 
 /// A linear function of screen position: `value = c + dx * (x - rx) + dy * (y - ry)`,
 /// evaluated at pixel centres, where `(rx, ry)` is the triangle's bounding-box corner.
@@ -58,7 +58,7 @@ pub struct Tri {
     pub flags: u16,
     /// Coverage of a small triangle: bit `SMALL * j + i` is pixel `(bbox[0] + i, bbox[1] +
     /// j)`, exactly as the edge walk would find it; 0 for the others, which are walked.
-    pub cover: u16,
+    pub cover: u64,
     /// Packed constant colour for per-face shadings.
     pub color: u32,
 }

@@ -13,7 +13,7 @@ use crate::material::{Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
 use crate::texture::Filter;
 use crate::vertex::{COL, NRM, POS, UV};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use std::ops::{Div, Mul};
 
 use crate::simd::F8;
@@ -90,19 +90,28 @@ pub struct ColorShader {
 }
 
 impl FragShader for ColorShader {
-    /// `[c0, c1 - c0, c2 - c0]` per channel.
-    type Prepared = [[f32; 3]; 4];
+    /// `[c0, c1 - c0, c2 - c0]`, channels in a `Vec4` each (one SSE register: no scalar
+    /// stores that a wide reload would have to wait for).
+    type Prepared = [Vec4; 3];
     #[inline]
     fn prepare(&self, tri: &Tri, vary: &[f32]) -> Self::Prepared {
-        let v = |k: usize, c: usize| vary[tri.vary[k] as usize + c] * self.base[c];
-        std::array::from_fn(|c| [v(0, c), v(1, c) - v(0, c), v(2, c) - v(0, c)])
+        let base = Vec4::from_array(self.base);
+        let v = |k: usize| {
+            let o = tri.vary[k] as usize;
+            vary.get(o..o + 4).map_or(Vec4::ZERO, Vec4::from_slice) * base
+        };
+        let c0 = v(0);
+        [c0, v(1) - c0, v(2) - c0]
     }
     #[inline]
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, _: u32, out: &mut [Lane; 4]) {
         let (l1, l2, _) = barycentrics(tri, row);
+        let [a0, d1, d2] = p.map(|v| v.to_array());
         for c in 0..4 {
-            let [a0, d1, d2] = p[c];
-            out[c] = l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)));
+            out[c] = l1.mul_add(
+                F8::splat(d1[c]),
+                l2.mul_add(F8::splat(d2[c]), F8::splat(a0[c])),
+            );
         }
     }
 }
