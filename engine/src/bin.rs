@@ -94,6 +94,7 @@ mod tests {
             l1: Plane::default(),
             l2: Plane::default(),
             draw: 0,
+            prim: 0,
             vary: [0; 3],
             flags: 0,
             cover: 0,
@@ -109,9 +110,9 @@ mod tests {
             tri([100, 0, 100, 0]),
         ];
         for (i, t) in tris.iter_mut().enumerate() {
-            t.color = i as u32;
+            t.prim = i as u32;
         }
-        let ids = |ts: &[Tri]| ts.iter().map(|t| t.color).collect::<Vec<_>>();
+        let ids = |ts: &[Tri]| ts.iter().map(|t| t.prim).collect::<Vec<_>>();
         let mut b = Bins::default();
         assert_eq!(b.build(&tris, 2, 2), 1 + 4 + 1);
         assert_eq!(ids(b.tile(0)), [0, 1]);

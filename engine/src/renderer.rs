@@ -483,6 +483,7 @@ fn front_end(
             };
             let stamp = |mut tri: Tri, flags: u16| {
                 tri.draw = d as u32;
+                tri.prim = info.prim_base.wrapping_add(local as u32);
                 tri.color = color;
                 tri.flags |= flags;
                 tri

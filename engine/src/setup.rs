@@ -51,6 +51,8 @@ pub struct Tri {
     pub l2: Plane,
     /// Index into the frame's draw list.
     pub draw: u32,
+    /// Triangle index within the frame (submission order), for face ids.
+    pub prim: u32,
     /// Offsets (in floats) of the three vertices' varyings.
     pub vary: [u32; 3],
     pub flags: u16,
@@ -217,6 +219,7 @@ pub fn setup(
         l1: plane(0.0, iw[1], 0.0),
         l2: plane(0.0, 0.0, iw[2]),
         draw: 0,
+        prim: 0,
         vary,
         flags: if front { FRONT } else { 0 },
         cover,
