@@ -50,9 +50,12 @@ impl Bins {
             self.offsets[i + 1] += self.offsets[i];
         }
         let total = self.offsets[n] as usize;
-        self.entries.clear();
-        if let Some(first) = tris.first() {
-            self.entries.resize(total, *first);
+        // Every slot below `total` is written next; slots past it are stale and never read,
+        // so the buffer only grows (filling it each frame cost a whole extra pass).
+        if self.entries.len() < total {
+            if let Some(first) = tris.first() {
+                self.entries.resize(total, *first);
+            }
         }
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.offsets[..n]);
