@@ -265,9 +265,10 @@ fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
     }
 }
 
-/// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`. The shader prepares
-/// the triangle (reads its vertices' varyings from `vary`) only once a fragment survives
-/// the depth test, so hidden triangles never touch their vertex data.
+/// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`. For walked triangles
+/// the shader prepares the triangle (reads its vertices' varyings from `vary`) only once a
+/// fragment survives the depth test, so hidden ones never touch their vertex data; small
+/// ones prepare up front (the renderer prefetches their vertices).
 #[allow(clippy::too_many_arguments)] // reason: the stage's inputs, passed through as they are
 pub fn raster_tri<S: FragShader>(
     buf: &mut TileBuf,
@@ -295,7 +296,6 @@ pub fn raster_tri<S: FragShader>(
         vary,
         mode,
         soft,
-        prepared: None,
         out: [F8::splat(0.0); 4],
         local: FrameStats::default(),
     };
@@ -316,7 +316,6 @@ struct Rows<'a, S: FragShader> {
     vary: &'a [f32],
     mode: &'a PixelMode,
     soft: &'a DepthToView,
-    prepared: Option<S::Prepared>,
     out: [Lane; 4],
     /// Counters live here during the pass and are added to the tile's once at the end.
     local: FrameStats,
@@ -337,6 +336,9 @@ impl<S: FragShader> Rows<'_, S> {
     fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
         let cover = self.tri.cover;
+        // Prepared up front: a small triangle that reaches the raster stage almost always
+        // has a visible pixel, and a known `Some` keeps the row loop free of the check.
+        let mut prepared = Some(self.shader.prepare(self.tri, self.vary));
         let mut by = y0 & !(BLOCK - 1);
         while by <= y1 {
             let mut bx = x0 & !(BLOCK - 1);
@@ -359,7 +361,7 @@ impl<S: FragShader> Rows<'_, S> {
                         buf.touch(block);
                         self.local.blocks_partial += 1;
                     }
-                    wrote |= self.row(buf, block, bx, y - by, M8::from_bits(lanes));
+                    wrote |= self.row(buf, block, bx, y - by, M8::from_bits(lanes), &mut prepared);
                 }
                 if wrote && self.mode.depth_write {
                     buf.far_stale |= 1 << block;
@@ -388,6 +390,7 @@ impl<S: FragShader> Rows<'_, S> {
             }
         }
         let all_inside = tile_inside.iter().all(|&b| b);
+        let mut prepared = None;
         let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
         let mut by = y0 & !(BLOCK - 1);
         while by <= y1 {
@@ -467,7 +470,7 @@ impl<S: FragShader> Rows<'_, S> {
                             |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
                         range.and(inside(0)).and(inside(1)).and(inside(2))
                     };
-                    wrote |= self.row(buf, block, bx, j, cov);
+                    wrote |= self.row(buf, block, bx, j, cov, &mut prepared);
                 }
                 if wrote && self.mode.depth_write {
                     buf.update_block_far(block);
@@ -481,7 +484,15 @@ impl<S: FragShader> Rows<'_, S> {
     /// Depth-tests, shades and writes the covered lanes `cov` of row `j` of the block at
     /// `(bx, _)`; whether anything was written.
     #[inline(always)]
-    fn row(&mut self, buf: &mut TileBuf, block: usize, bx: i32, j: i32, cov: M8) -> bool {
+    fn row(
+        &mut self,
+        buf: &mut TileBuf,
+        block: usize,
+        bx: i32,
+        j: i32,
+        cov: M8,
+        prepared: &mut Option<S::Prepared>,
+    ) -> bool {
         let covered = cov.bits().count_ones();
         if covered == 0 {
             return false;
@@ -507,9 +518,7 @@ impl<S: FragShader> Rows<'_, S> {
         }
         self.local.fragments_shaded += passed as u64;
         let (shader, vary) = (self.shader, self.vary);
-        let prepared = self
-            .prepared
-            .get_or_insert_with(|| shader.prepare(tri, vary));
+        let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         shader.shade(prepared, tri, &row, m.bits(), &mut self.out);
         let written = write_row(buf, base, m, &z, &self.out, self.mode, self.soft);
         self.local.fragments_written += written as u64;

@@ -124,7 +124,7 @@ pub enum Dropped {
 
 /// Sets up one triangle. `vary` are the vertices' varying offsets, `cull_back` drops
 /// back-facing triangles.
-#[inline]
+#[inline(always)]
 pub fn setup(
     v: [ScreenVert; 3],
     vary: [u32; 3],
@@ -199,25 +199,30 @@ pub fn setup(
     };
     let inv_det = 1.0 / det;
     let (rx, ry) = (bx0 as f64 + 0.5 - p0.0, by0 as f64 + 0.5 - p0.1);
-    let plane = |f0: f64, f1: f64, f2: f64| {
-        let (df1, df2) = (f1 - f0, f2 - f0);
+    // The four planes (depth, 1/w, l1, l2) side by side, so the compiler can use 4-wide f64.
+    let iw = [v[0].iw, v[1].iw, v[2].iw];
+    let f0 = [v[0].z, iw[0], 0.0, 0.0];
+    let f1 = [v[1].z, iw[1], iw[1], 0.0];
+    let f2 = [v[2].z, iw[2], 0.0, iw[2]];
+    let mut planes = [Plane::default(); 4];
+    for k in 0..4 {
+        let (df1, df2) = (f1[k] - f0[k], f2[k] - f0[k]);
         let a = (df1 * dy2 - df2 * dy1) * inv_det;
         let b = (dx1 * df2 - dx2 * df1) * inv_det;
-        Plane {
-            c: (f0 + a * rx + b * ry) as f32,
+        planes[k] = Plane {
+            c: (f0[k] + a * rx + b * ry) as f32,
             dx: a as f32,
             dy: b as f32,
-        }
-    };
-    let iw = [v[0].iw, v[1].iw, v[2].iw];
+        };
+    }
     Ok(Tri {
         x: [v[0].x, v[1].x, v[2].x],
         y: [v[0].y, v[1].y, v[2].y],
         bbox: [bx0 as u16, by0 as u16, bx1 as u16, by1 as u16],
-        z: plane(v[0].z, v[1].z, v[2].z),
-        iw: plane(iw[0], iw[1], iw[2]),
-        l1: plane(0.0, iw[1], 0.0),
-        l2: plane(0.0, 0.0, iw[2]),
+        z: planes[0],
+        iw: planes[1],
+        l1: planes[2],
+        l2: planes[3],
         draw: 0,
         prim: 0,
         vary,
