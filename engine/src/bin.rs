@@ -14,6 +14,8 @@ use crate::target::TILE_SHIFT;
 #[derive(Clone, Debug, Default)]
 pub struct Bins {
     pub offsets: Vec<u32>,
+    tiles_x: usize,
+    tiles_y: usize,
     /// Copies of the triangles, grouped by tile: the rasterizer then reads each tile's
     /// triangles from consecutive memory instead of jumping around the chunk's list (on
     /// scattered scenes such as `confetti` those jumps were cache misses costing a fifth of
@@ -33,18 +35,41 @@ fn tile_range(t: &Tri) -> (usize, usize, usize, usize) {
 }
 
 impl Bins {
-    /// Bins `tris` for a grid of `tiles_x` x `tiles_y` tiles. Returns the entry count.
-    pub fn build(&mut self, tris: &[Tri], tiles_x: usize, tiles_y: usize) -> u64 {
-        let n = tiles_x * tiles_y;
+    /// Starts a frame on a grid of `tiles_x` x `tiles_y` tiles.
+    pub fn begin(&mut self, tiles_x: usize, tiles_y: usize) {
+        (self.tiles_x, self.tiles_y) = (tiles_x, tiles_y);
         self.offsets.clear();
-        self.offsets.resize(n + 1, 0);
-        for t in tris {
-            let (x0, y0, x1, y1) = tile_range(t);
-            for ty in y0..=y1.min(tiles_y - 1) {
-                for tx in x0..=x1.min(tiles_x - 1) {
-                    self.offsets[ty * tiles_x + tx + 1] += 1;
-                }
+        self.offsets.resize(tiles_x * tiles_y + 1, 0);
+    }
+
+    /// Counts a triangle that will be in [`Bins::build`]'s list. Setup calls it as it makes
+    /// each triangle, while its box is at hand, so binning needs one pass over the list,
+    /// not two.
+    #[inline]
+    pub fn count(&mut self, t: &Tri) {
+        if self.tiles_x == 0 || self.tiles_y == 0 {
+            return;
+        }
+        let (x0, y0, x1, y1) = tile_range(t);
+        if x0 == x1 && y0 == y1 {
+            if let Some(c) = self.offsets.get_mut(y0 * self.tiles_x + x0 + 1) {
+                *c += 1;
             }
+            return;
+        }
+        for ty in y0..=y1.min(self.tiles_y - 1) {
+            for tx in x0..=x1.min(self.tiles_x - 1) {
+                self.offsets[ty * self.tiles_x + tx + 1] += 1;
+            }
+        }
+    }
+
+    /// Bins `tris`, each of which was counted since [`Bins::begin`]. Returns the entry count.
+    pub fn build(&mut self, tris: &[Tri]) -> u64 {
+        let (tiles_x, tiles_y) = (self.tiles_x, self.tiles_y);
+        let n = tiles_x * tiles_y;
+        if n == 0 {
+            return 0;
         }
         for i in 0..n {
             self.offsets[i + 1] += self.offsets[i];
@@ -117,7 +142,11 @@ mod tests {
         }
         let ids = |ts: &[Tri]| ts.iter().map(|t| t.prim).collect::<Vec<_>>();
         let mut b = Bins::default();
-        assert_eq!(b.build(&tris, 2, 2), 1 + 4 + 1);
+        b.begin(2, 2);
+        for t in &tris {
+            b.count(t);
+        }
+        assert_eq!(b.build(&tris), 1 + 4 + 1);
         assert_eq!(ids(b.tile(0)), [0, 1]);
         assert_eq!(ids(b.tile(1)), [1, 2]);
         assert_eq!(ids(b.tile(2)), [1]);

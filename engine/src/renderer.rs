@@ -264,14 +264,9 @@ impl Renderer {
                 .enumerate()
                 .for_each(|(k, chunk)| {
                     let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
+                    chunk.bins.begin(tiles_x, tiles_y);
                     front_end(chunk, range, infos, pos, vary, &vp);
-                    if tiles_x * tiles_y > 0 {
-                        chunk.stats.triangles_binned =
-                            chunk.bins.build(&chunk.tris, tiles_x, tiles_y);
-                    } else {
-                        chunk.bins.build(&[], 1, 1);
-                        chunk.stats.triangles_binned = 0;
-                    }
+                    chunk.stats.triangles_binned = chunk.bins.build(&chunk.tris);
                 });
         }
 
@@ -496,7 +491,11 @@ fn front_end(
                     info.cull_back,
                     vp,
                 ) {
-                    Ok(tri) => chunk.tris.push(stamp(tri, 0)),
+                    Ok(tri) => {
+                        let tri = stamp(tri, 0);
+                        chunk.bins.count(&tri);
+                        chunk.tris.push(tri);
+                    }
                     Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
                     Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
                 }
@@ -546,7 +545,11 @@ fn front_end(
                     info.cull_back,
                     vp,
                 ) {
-                    Ok(tri) => chunk.tris.push(stamp(tri, CLIPPED)),
+                    Ok(tri) => {
+                        let tri = stamp(tri, CLIPPED);
+                        chunk.bins.count(&tri);
+                        chunk.tris.push(tri);
+                    }
                     Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
                     Err(Dropped::Rejected) => {}
                 }
