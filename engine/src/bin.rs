@@ -1,8 +1,8 @@
 //! Bin stage: sorts each chunk's set-up triangles into per-tile lists.
 //!
 //! Each chunk of triangles (a contiguous range in submission order) bins its own triangles
-//! with a counting sort into `offsets` / `entries` (copies of the triangles): tile `t`'s triangles are
-//! `entries[offsets[t]..offsets[t + 1]]`, in submission order. The rasterizer visits the
+//! with a counting sort into `offsets` / `entries` (indices into the chunk's list): tile
+//! `t`'s triangles are `entries[offsets[t]..offsets[t + 1]]`, in submission order. The rasterizer visits the
 //! chunks in order, so every tile sees its triangles in submission order whatever the
 //! thread count. A triangle goes to every tile its pixel bounding box touches; the
 //! rasterizer rejects the tiles it does not really cover.
@@ -16,11 +16,10 @@ pub struct Bins {
     pub offsets: Vec<u32>,
     tiles_x: usize,
     tiles_y: usize,
-    /// Copies of the triangles, grouped by tile: the rasterizer then reads each tile's
-    /// triangles from consecutive memory instead of jumping around the chunk's list (on
-    /// scattered scenes such as `confetti` those jumps were cache misses costing a fifth of
-    /// the frame).
-    pub entries: Vec<Tri>,
+    /// Indices into the chunk's triangle list, grouped by tile. (Copies of the triangles
+    /// read faster on scattered scenes such as `confetti`, but cost a second write and read
+    /// of every triangle; the rasterizer prefetches the triangles ahead instead.)
+    pub entries: Vec<u32>,
     cursor: Vec<u32>,
 }
 
@@ -78,18 +77,16 @@ impl Bins {
         // Every slot below `total` is written next; slots past it are stale and never read,
         // so the buffer only grows (filling it each frame cost a whole extra pass).
         if self.entries.len() < total {
-            if let Some(first) = tris.first() {
-                self.entries.resize(total, *first);
-            }
+            self.entries.resize(total, 0);
         }
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.offsets[..n]);
-        for t in tris {
+        for (i, t) in tris.iter().enumerate() {
             let (x0, y0, x1, y1) = tile_range(t);
             for ty in y0..=y1.min(tiles_y - 1) {
                 for tx in x0..=x1.min(tiles_x - 1) {
                     let c = &mut self.cursor[ty * tiles_x + tx];
-                    self.entries[*c as usize] = *t;
+                    self.entries[*c as usize] = i as u32;
                     *c += 1;
                 }
             }
@@ -97,9 +94,10 @@ impl Bins {
         total as u64
     }
 
-    /// The triangles binned to tile `tile`, in submission order.
+    /// Indices (into the list given to [`Bins::build`]) of the triangles binned to tile
+    /// `tile`, in submission order.
     #[inline]
-    pub fn tile(&self, tile: usize) -> &[Tri] {
+    pub fn tile(&self, tile: usize) -> &[u32] {
         match (self.offsets.get(tile), self.offsets.get(tile + 1)) {
             (Some(&a), Some(&b)) => &self.entries[a as usize..b as usize],
             _ => &[],
@@ -140,7 +138,11 @@ mod tests {
         for (i, t) in tris.iter_mut().enumerate() {
             t.prim = i as u32;
         }
-        let ids = |ts: &[Tri]| ts.iter().map(|t| t.prim).collect::<Vec<_>>();
+        let ids = |ts: &[u32]| {
+            ts.iter()
+                .map(|&i| tris[i as usize].prim)
+                .collect::<Vec<_>>()
+        };
         let mut b = Bins::default();
         b.begin(2, 2);
         for t in &tris {

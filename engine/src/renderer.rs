@@ -302,30 +302,59 @@ impl Renderer {
                     }
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;
-                    for chunk in chunks {
-                        let varyings = |tri: &Tri| {
-                            if tri.flags & CLIPPED != 0 {
-                                &chunk.extra[..]
-                            } else {
-                                vary
+                    // The triangle `d` places after entry `i` of chunk `c`'s list for this
+                    // tile, looking into the following chunks' lists when needed.
+                    let ahead = |c: usize, i: usize, d: usize| {
+                        let (mut c, mut i) = (c, i + d);
+                        if let Some(chunk) = chunks.get(c) {
+                            if let Some(&k) = chunk.bins.tile(tile).get(i) {
+                                return chunk.tris.get(k as usize).map(|t| (chunk, t));
                             }
-                        };
-                        let tris = chunk.bins.tile(tile);
-                        for (i, tri) in tris.iter().enumerate() {
-                            // Scattered triangles' vertices are cache misses: ask for a
-                            // later triangle's while this one is drawn.
-                            if let Some(ahead) = tris.get(i + PREFETCH_AHEAD) {
-                                if infos[ahead.draw as usize].layout != Layout::None {
-                                    let src = varyings(ahead);
-                                    for o in ahead.vary {
+                        }
+                        #[cold]
+                        fn cold() {}
+                        cold();
+                        while let Some(chunk) = chunks.get(c) {
+                            let list = chunk.bins.tile(tile);
+                            match list.get(i) {
+                                Some(&k) => return chunk.tris.get(k as usize).map(|t| (chunk, t)),
+                                None => (c, i) = (c + 1, i - list.len()),
+                            }
+                        }
+                        None
+                    };
+                    for (c, chunk) in chunks.iter().enumerate() {
+                        let (tris, list) = (&chunk.tris[..], chunk.bins.tile(tile));
+                        for (i, &idx) in list.iter().enumerate() {
+                            // Scattered triangles and their vertices are cache misses: ask
+                            // for later triangles, then for their vertices, while this one
+                            // is drawn.
+                            if let Some((_, t)) = ahead(c, i, 2 * PREFETCH_AHEAD) {
+                                crate::simd::prefetch(t);
+                            }
+                            if let Some((ch, t)) = ahead(c, i, PREFETCH_AHEAD) {
+                                if infos[t.draw as usize].layout != Layout::None {
+                                    let src = if t.flags & CLIPPED != 0 {
+                                        &ch.extra[..]
+                                    } else {
+                                        vary
+                                    };
+                                    for o in t.vary {
                                         if let Some(x) = src.get(o as usize) {
                                             crate::simd::prefetch(x);
                                         }
                                     }
                                 }
                             }
+                            let Some(tri) = tris.get(idx as usize) else {
+                                continue;
+                            };
+                            let src = if tri.flags & CLIPPED != 0 {
+                                &chunk.extra[..]
+                            } else {
+                                vary
+                            };
                             let info = &infos[tri.draw as usize];
-                            let src = varyings(tri);
                             let mode = &info.mode;
                             match &info.kind {
                                 Kind::Const(s) => {

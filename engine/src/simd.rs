@@ -31,12 +31,15 @@ mod imp {
         };
     }
 
-    /// Asks the cache for the line holding `x`, to be read soon.
+    /// Asks the cache for the lines holding `x`, to be read soon.
     #[inline(always)]
-    pub fn prefetch(x: &f32) {
-        // SAFETY: `prefetcht0` only hints the cache: it never faults and reads nothing into
-        // the program, and the address comes from a live reference anyway.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>((x as *const f32).cast::<i8>()) }
+    pub fn prefetch<T>(x: &T) {
+        let first = (x as *const T).cast::<i8>();
+        for line in (0..size_of::<T>().max(1)).step_by(64) {
+            // SAFETY: `prefetcht0` only hints the cache: it never faults and reads nothing
+            // into the program; the addresses lie within `x`, a live reference.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(first.wrapping_add(line)) }
+        }
     }
 
     #[derive(Clone, Copy, Debug)]
@@ -244,7 +247,7 @@ mod imp {
     type A = [f32; LANES];
 
     /// Without AVX2 the build targets no particular CPU: no cache hint.
-    pub fn prefetch(_: &f32) {}
+    pub fn prefetch<T>(_: &T) {}
 
     #[derive(Clone, Copy, Debug)]
     pub struct F8(A);
