@@ -75,17 +75,24 @@ impl TileBuf {
     }
 
     /// Makes block `b` hold real values before it is drawn into.
-    #[inline]
+    #[inline(always)]
     fn touch(&mut self, b: usize) {
         if self.touched >> b & 1 == 0 {
-            self.touched |= 1 << b;
-            let c = self.clear;
-            let r = b * BLOCK_PIXELS..(b + 1) * BLOCK_PIXELS;
-            for (plane, v) in self.color.iter_mut().zip([c.r, c.g, c.b, c.a]) {
-                plane[r.clone()].fill(v);
-            }
-            self.depth[r].fill(0.0);
+            self.fill_block(b);
         }
+    }
+
+    /// Fills block `b` with the clear values: once per block and frame, off the hot path.
+    #[cold]
+    #[inline(never)]
+    fn fill_block(&mut self, b: usize) {
+        self.touched |= 1 << b;
+        let c = self.clear;
+        let r = b * BLOCK_PIXELS..(b + 1) * BLOCK_PIXELS;
+        for (plane, v) in self.color.iter_mut().zip([c.r, c.g, c.b, c.a]) {
+            plane[r.clone()].fill(v);
+        }
+        self.depth[r].fill(0.0);
     }
 
     /// Loads a stored tile (packed colour in `encoding`, reversed depth).
@@ -361,7 +368,7 @@ impl<S: FragShader> Rows<'_, S> {
                         buf.touch(block);
                         self.local.blocks_partial += 1;
                     }
-                    wrote |= self.row(buf, block, bx, y - by, M8::from_bits(lanes), &mut prepared);
+                    wrote |= self.row(buf, block, bx, y - by, lanes, &mut prepared);
                 }
                 if wrote && self.mode.depth_write {
                     buf.far_stale |= 1 << block;
@@ -470,7 +477,7 @@ impl<S: FragShader> Rows<'_, S> {
                             |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
                         range.and(inside(0)).and(inside(1)).and(inside(2))
                     };
-                    wrote |= self.row(buf, block, bx, j, cov, &mut prepared);
+                    wrote |= self.row(buf, block, bx, j, cov.bits(), &mut prepared);
                 }
                 if wrote && self.mode.depth_write {
                     buf.update_block_far(block);
@@ -492,13 +499,14 @@ impl<S: FragShader> Rows<'_, S> {
         block: usize,
         bx: i32,
         j: i32,
-        cov: M8,
+        cov: u32,
         prepared: &mut Option<S::Prepared>,
     ) -> bool {
-        let covered = cov.bits().count_ones();
+        let covered = cov.count_ones();
         if covered == 0 {
             return false;
         }
+        let cov = M8::from_bits(cov);
         let tri = self.tri;
         self.local.fragments_tested += covered as u64;
         let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
