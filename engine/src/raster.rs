@@ -311,7 +311,15 @@ pub fn raster_tri<S: FragShader>(
     } else {
         rows.walk(buf, [x0, y0, x1, y1]);
     }
-    *stats += rows.local;
+    // Field by field: the row kernel stored these one at a time, and a wide reload of the
+    // whole struct would wait for those stores (measured: a third of this function's time).
+    let l = &rows.local;
+    stats.fragments_tested += l.fragments_tested;
+    stats.fragments_shaded += l.fragments_shaded;
+    stats.fragments_written += l.fragments_written;
+    stats.blocks_full += l.blocks_full;
+    stats.blocks_partial += l.blocks_partial;
+    stats.blocks_hiz_rejected += l.blocks_hiz_rejected;
 }
 
 /// One triangle's pass over one tile: what every covered row needs.
