@@ -302,78 +302,15 @@ impl Renderer {
                     }
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;
-                    // The triangle `d` places after entry `i` of chunk `c`'s list for this
-                    // tile, looking into the following chunks' lists when needed.
-                    let ahead = |c: usize, i: usize, d: usize| {
-                        let (mut c, mut i) = (c, i + d);
-                        if let Some(chunk) = chunks.get(c) {
-                            if let Some(&k) = chunk.bins.tile(tile).get(i) {
-                                return chunk.tris.get(k as usize).map(|t| (chunk, t));
-                            }
-                        }
-                        #[cold]
-                        fn cold() {}
-                        cold();
-                        while let Some(chunk) = chunks.get(c) {
-                            let list = chunk.bins.tile(tile);
-                            match list.get(i) {
-                                Some(&k) => return chunk.tris.get(k as usize).map(|t| (chunk, t)),
-                                None => (c, i) = (c + 1, i - list.len()),
-                            }
-                        }
-                        None
+                    let frame = TileFrame {
+                        chunks,
+                        infos,
+                        vary,
+                        lighting,
+                        eye,
+                        soft: &soft,
                     };
-                    for (c, chunk) in chunks.iter().enumerate() {
-                        let (tris, list) = (&chunk.tris[..], chunk.bins.tile(tile));
-                        for (i, &idx) in list.iter().enumerate() {
-                            // Scattered triangles and their vertices are cache misses: ask
-                            // for later triangles, then for their vertices, while this one
-                            // is drawn.
-                            if let Some((_, t)) = ahead(c, i, 2 * PREFETCH_AHEAD) {
-                                crate::simd::prefetch(t);
-                            }
-                            if let Some((ch, t)) = ahead(c, i, PREFETCH_AHEAD) {
-                                if infos[t.draw as usize].layout != Layout::None {
-                                    let src = if t.flags & CLIPPED != 0 {
-                                        &ch.extra[..]
-                                    } else {
-                                        vary
-                                    };
-                                    for o in t.vary {
-                                        if let Some(x) = src.get(o as usize) {
-                                            crate::simd::prefetch(x);
-                                        }
-                                    }
-                                }
-                            }
-                            let Some(tri) = tris.get(idx as usize) else {
-                                continue;
-                            };
-                            let src = if tri.flags & CLIPPED != 0 {
-                                &chunk.extra[..]
-                            } else {
-                                vary
-                            };
-                            let info = &infos[tri.draw as usize];
-                            let mode = &info.mode;
-                            match &info.kind {
-                                Kind::Const(s) => {
-                                    raster_tri(buf, ox, oy, tri, s, src, mode, &soft, stats);
-                                }
-                                Kind::Color(s) => {
-                                    raster_tri(buf, ox, oy, tri, s, src, mode, &soft, stats);
-                                }
-                                Kind::General => {
-                                    let s = GeneralShader {
-                                        material: info.material,
-                                        lighting,
-                                        eye,
-                                    };
-                                    raster_tri(buf, ox, oy, tri, &s, src, mode, &soft, stats);
-                                }
-                            }
-                        }
-                    }
+                    frame.raster(buf, tile, ox, oy, stats);
                     buf.resolve(color, depth, &encoder);
                 });
         }
@@ -452,6 +389,74 @@ impl Renderer {
                 j = self.sort_keys[j].1 as usize;
             }
             infos.swap(i, j);
+        }
+    }
+}
+
+/// What the raster stage reads for every tile of a frame.
+struct TileFrame<'f, 'a> {
+    chunks: &'f [Chunk],
+    infos: &'f [DrawInfo<'a>],
+    vary: &'f [f32],
+    lighting: &'f Lighting,
+    eye: Vec3,
+    soft: &'f DepthToView,
+}
+
+impl TileFrame<'_, '_> {
+    /// The varyings a triangle of `chunk` indexes.
+    #[inline]
+    fn varyings<'s>(&'s self, chunk: &'s Chunk, tri: &Tri) -> &'s [f32] {
+        if tri.flags & CLIPPED != 0 {
+            &chunk.extra[..]
+        } else {
+            self.vary
+        }
+    }
+
+    /// Rasterizes every triangle binned to `tile` (top-left pixel `(ox, oy)`), chunk by
+    /// chunk, so in submission order.
+    fn raster(&self, buf: &mut TileBuf, tile: usize, ox: i32, oy: i32, stats: &mut FrameStats) {
+        let binned = || {
+            self.chunks.iter().flat_map(move |chunk| {
+                let list = chunk.bins.tile(tile);
+                list.iter()
+                    .filter_map(move |&k| Some((chunk, chunk.tris.get(k as usize)?)))
+            })
+        };
+        // Scattered triangles and their vertices are cache misses: two cursors run ahead of
+        // the one drawn, asking for the triangles, then for their vertices.
+        let mut far = binned().skip(2 * PREFETCH_AHEAD);
+        let mut near = binned().skip(PREFETCH_AHEAD);
+        for (chunk, tri) in binned() {
+            if let Some((_, t)) = far.next() {
+                crate::simd::prefetch(t);
+            }
+            if let Some((c, t)) = near.next() {
+                if self.infos[t.draw as usize].layout != Layout::None {
+                    let src = self.varyings(c, t);
+                    for o in t.vary {
+                        if let Some(x) = src.get(o as usize) {
+                            crate::simd::prefetch(x);
+                        }
+                    }
+                }
+            }
+            let src = self.varyings(chunk, tri);
+            let info = &self.infos[tri.draw as usize];
+            let (mode, soft) = (&info.mode, self.soft);
+            match &info.kind {
+                Kind::Const(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
+                Kind::Color(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
+                Kind::General => {
+                    let s = GeneralShader {
+                        material: info.material,
+                        lighting: self.lighting,
+                        eye: self.eye,
+                    };
+                    raster_tri(buf, ox, oy, tri, &s, src, mode, soft, stats);
+                }
+            }
         }
     }
 }
