@@ -31,6 +31,7 @@ pub mod bin;
 pub mod camera;
 pub mod clip;
 pub mod color;
+mod front;
 pub mod light;
 pub mod load;
 pub mod material;
@@ -45,6 +46,7 @@ pub mod simd;
 pub mod stats;
 pub mod target;
 pub mod texture;
+pub mod tile;
 pub mod vertex;
 
 pub use camera::{Camera, Projection};

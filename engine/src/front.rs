@@ -1,0 +1,171 @@
+//! Front end: clips, sets up and bins one chunk of triangles (a contiguous range in
+//! submission order), writing only that chunk's buffers, so chunks run in parallel.
+
+use crate::bin::Bins;
+use crate::clip::{clip_triangle, ClipVert, MAX_POLY};
+use crate::color::Rgba;
+use crate::material::Shading;
+use crate::mesh::Mesh;
+use crate::renderer::DrawInfo;
+use crate::setup::{setup, Dropped, ScreenVert, Tri, Viewport, CLIPPED};
+use crate::stats::FrameStats;
+use crate::vertex::{VertexPos, MAX_VARYINGS, NOT_FINITE};
+use glam::Vec3;
+
+/// One chunk of triangles' front-end output.
+#[derive(Debug, Default)]
+pub(crate) struct Chunk {
+    pub(crate) tris: Vec<Tri>,
+    /// Varyings of vertices made by clipping.
+    pub(crate) extra: Vec<f32>,
+    pub(crate) bins: Bins,
+    pub(crate) stats: FrameStats,
+}
+
+/// The peers' flat rule: mean vertex colour times `0.25 + 0.75 |n . L|`, as unorm bytes.
+fn flat_color(mesh: &Mesh, idx: [usize; 3]) -> u32 {
+    let p = idx.map(|i| mesh.positions[i]);
+    let c = idx.map(|i| mesh.colors.get(i).copied().unwrap_or(Rgba::WHITE));
+    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+    let len = n.length();
+    let n = if len > 0.0 { n / len } else { Vec3::ZERO };
+    let l = Vec3::new(0.35, 0.6, 0.72);
+    let l = l / l.length();
+    let shade = 0.25 + 0.75 * n.dot(l).abs();
+    let q = |x: f32| ((x * shade).clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8;
+    let mean = |f: fn(&Rgba) -> f32| (f(&c[0]) + f(&c[1]) + f(&c[2])) / 3.0;
+    u32::from_le_bytes([q(mean(|c| c.r)), q(mean(|c| c.g)), q(mean(|c| c.b)), 255])
+}
+
+/// Clip, set up and collect the triangles of one chunk.
+pub(crate) fn front_end(
+    chunk: &mut Chunk,
+    range: std::ops::Range<usize>,
+    infos: &[DrawInfo<'_>],
+    pos: &[VertexPos],
+    vary: &[f32],
+    vp: &Viewport,
+) {
+    chunk.tris.clear();
+    chunk.extra.clear();
+    chunk.stats = FrameStats::default();
+    let guard = vp.guard();
+    if range.is_empty() || vp.width == 0 || vp.height == 0 {
+        chunk.stats.triangles_rejected += range.len() as u64;
+        return;
+    }
+    // First draw overlapping the range.
+    let mut d = infos.partition_point(|i| i.tri_base + i.mesh.triangle_count() <= range.start);
+    let mut t = range.start;
+    while t < range.end && d < infos.len() {
+        let info = &infos[d];
+        let count = info.mesh.triangle_count();
+        let end = (info.tri_base + count).min(range.end);
+        let stride = info.layout.stride();
+        let n_vert = info.mesh.positions.len();
+        while t < end {
+            let local = t - info.tri_base;
+            t += 1;
+            let ix = &info.mesh.indices[3 * local..3 * local + 3];
+            if ix.iter().any(|&i| i as usize >= n_vert) {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            let idx = [ix[0] as usize, ix[1] as usize, ix[2] as usize];
+            let v = idx.map(|i| &pos[info.vert_base + i]);
+            let oc = v.map(|v| v.code);
+            if (oc[0] | oc[1] | oc[2]) & NOT_FINITE != 0 {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            let color = match info.material.shading {
+                Shading::FaceId => {
+                    (info.prim_base.wrapping_add(local as u32).wrapping_add(1) & 0xff_ffff)
+                        | 0xff00_0000
+                }
+                Shading::Flat => flat_color(info.mesh, idx),
+                _ => 0,
+            };
+            let stamp = |mut tri: Tri, flags: u16| {
+                tri.draw = d as u32;
+                tri.prim = info.prim_base.wrapping_add(local as u32);
+                tri.color = color;
+                tri.flags |= flags;
+                tri
+            };
+            if oc[0] | oc[1] | oc[2] == 0 {
+                let offs = idx.map(|i| (info.vary_base + i * stride) as u32);
+                match setup(
+                    [v[0].screen, v[1].screen, v[2].screen],
+                    offs,
+                    info.cull_back,
+                    vp,
+                ) {
+                    Ok(tri) => {
+                        let tri = stamp(tri, 0);
+                        chunk.bins.count(&tri);
+                        chunk.tris.push(tri);
+                    }
+                    Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
+                    Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
+                }
+                continue;
+            }
+            if oc[0] & oc[1] & oc[2] != 0 {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            chunk.stats.triangles_clipped += 1;
+            let cv = |k: usize| {
+                let mut c = ClipVert {
+                    pos: v[k].clip,
+                    vary: [0.0; MAX_VARYINGS],
+                };
+                let o = info.vary_base + idx[k] * stride;
+                c.vary[..stride].copy_from_slice(&vary[o..o + stride]);
+                c
+            };
+            let mut poly = [cv(0); MAX_POLY];
+            let n = clip_triangle(
+                [cv(0), cv(1), cv(2)],
+                oc[0] | oc[1] | oc[2],
+                guard,
+                stride,
+                &mut poly,
+            );
+            let mut sv = [ScreenVert::default(); MAX_POLY];
+            let mut offs = [0u32; MAX_POLY];
+            let mut ok = n >= 3;
+            for k in 0..n {
+                match vp.to_screen(poly[k].pos) {
+                    Some(s) => sv[k] = s,
+                    None => ok = false,
+                }
+                offs[k] = chunk.extra.len() as u32;
+                chunk.extra.extend_from_slice(&poly[k].vary[..stride]);
+            }
+            if !ok {
+                chunk.stats.triangles_rejected += 1;
+                continue;
+            }
+            for k in 1..n - 1 {
+                match setup(
+                    [sv[0], sv[k], sv[k + 1]],
+                    [offs[0], offs[k], offs[k + 1]],
+                    info.cull_back,
+                    vp,
+                ) {
+                    Ok(tri) => {
+                        let tri = stamp(tri, CLIPPED);
+                        chunk.bins.count(&tri);
+                        chunk.tris.push(tri);
+                    }
+                    Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
+                    Err(Dropped::Rejected) => {}
+                }
+            }
+        }
+        d += 1;
+    }
+    chunk.stats.triangles_set_up = chunk.tris.len() as u64;
+}
