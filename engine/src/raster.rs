@@ -176,7 +176,6 @@ pub fn raster_tri<S: FragShader>(
         vary,
         mode,
         soft,
-        out: [F8::splat(0.0); 4],
         local: FrameStats::default(),
     };
     if tri.cover != 0 {
@@ -204,7 +203,6 @@ struct Rows<'a, S: FragShader> {
     vary: &'a [f32],
     mode: &'a PixelMode,
     soft: &'a DepthToView,
-    out: [Lane; 4],
     /// Counters live here during the pass and are added to the tile's once at the end.
     local: FrameStats,
 }
@@ -410,8 +408,9 @@ impl<S: FragShader> Rows<'_, S> {
         self.local.fragments_shaded += passed as u64;
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        shader.shade(prepared, tri, &row, m.bits(), &mut self.out);
-        let written = write_row(buf, base, m, &z, &self.out, self.mode, self.soft);
+        let mut out = [F8::splat(0.0); 4];
+        shader.shade(prepared, tri, &row, m.bits(), &mut out);
+        let written = write_row(buf, base, m, &z, &out, self.mode, self.soft);
         self.local.fragments_written += written as u64;
         true
     }
