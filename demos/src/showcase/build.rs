@@ -172,14 +172,15 @@ pub(super) fn build() -> Showcase {
     }
 
     // Blended glass: a tinted cube by the fence and a sphere in front of the plaza.
+    let glass = |tint: Rgba| Material {
+        alpha_mode: AlphaMode::Blend,
+        ..lit(tint, 1.2, 96.0)
+    };
     let mut glass_cube = procedural::cuboid(Vec3::new(1.8, 1.8, 1.8));
     glass_cube.colors.clear();
     s.add(
         glass_cube,
-        Material {
-            alpha_mode: AlphaMode::Blend,
-            ..lit(Rgba::new(0.35, 0.6, 0.95, 0.35), 1.2, 96.0)
-        },
+        glass(Rgba::new(0.35, 0.6, 0.95, 0.35)),
         Mat4::from_scale_rotation_translation(
             Vec3::ONE,
             Quat::from_rotation_y(0.5),
@@ -190,10 +191,7 @@ pub(super) fn build() -> Showcase {
     glass_ball.colors.clear();
     s.add(
         glass_ball,
-        Material {
-            alpha_mode: AlphaMode::Blend,
-            ..lit(Rgba::new(0.5, 0.95, 0.6, 0.3), 1.2, 96.0)
-        },
+        glass(Rgba::new(0.5, 0.95, 0.6, 0.3)),
         Mat4::from_scale_rotation_translation(
             Vec3::splat(0.9),
             Quat::IDENTITY,
