@@ -12,8 +12,10 @@ use crate::stats::FrameStats;
 use crate::vertex::{VertexPos, MAX_VARYINGS, NOT_FINITE};
 use glam::Vec3;
 
-/// One chunk of triangles' front-end output.
+/// One chunk of triangles' front-end output, on cache lines of its own (its vectors'
+/// lengths change with every triangle while another core works on the next chunk).
 #[derive(Debug, Default)]
+#[repr(align(128))]
 pub(crate) struct Chunk {
     pub(crate) tris: Vec<Tri>,
     /// Varyings of vertices made by clipping.

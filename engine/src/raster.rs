@@ -119,6 +119,20 @@ pub(crate) fn small_cover(x: &[i32; 3], y: &[i32; 3], [px0, py0, px1, py1]: [i64
     mask
 }
 
+/// A small triangle's coverage mask ([`Tri::cover`], bit `SMALL * j + i` for pixel `(rx + i,
+/// ry + j)`) moved to the frame of the block whose corner is `(rx - sx, ry - sy)`, where
+/// `|sx|, |sy| < SMALL`: bit `SMALL * j + i` is then the block's pixel `(i, j)`, and pixels
+/// outside the block are dropped.
+#[inline(always)]
+fn block_mask(cover: u64, sx: i32, sy: i32) -> u64 {
+    const ROWS: u64 = u64::MAX / 0xff; // 0x0101...01: one bit at the start of each row
+    let (l, r) = (sx.max(0) as u32, (-sx).max(0) as u32);
+    // Each row's bits that stay inside it, moved right by `r` or left by `l`.
+    let m = ((cover >> r) & (ROWS * (0xff >> r))) << l & (ROWS * ((0xff << l) & 0xff));
+    let (u, d) = (sy.max(0) as u32, (-sy).max(0) as u32);
+    (m >> (SMALL as u32 * d)) << (SMALL as u32 * u)
+}
+
 /// Classifies the rectangle of pixel centres `[px0, px1] x [py0, py1]` against an edge:
 /// `Some(true)` wholly inside, `Some(false)` wholly outside, `None` crossing.
 #[inline]
@@ -206,47 +220,53 @@ impl<S: FragShader> Rows<'_, S> {
         ((by - self.oy) as usize / LANES) * BLOCKS + (bx - self.ox) as usize / LANES
     }
 
-    /// Small triangles: coverage comes from the set-up mask, one 8-bit row at a time shifted
-    /// into the lanes of each block it overlaps. No edge work, no hierarchical depth test
-    /// (a per-pixel test of a few pixels costs no more); the blocks' farthest depth is
-    /// marked stale instead of recomputed.
+    /// Small triangles: coverage comes from the set-up mask, moved into the frame of each
+    /// block the triangle overlaps (at most 2 x 2) with a few shifts, then drawn row by
+    /// non-empty row. No edge work, no hierarchical depth test (a per-pixel test of a few
+    /// pixels costs no more); the blocks' farthest depth is marked stale instead.
     #[inline]
     fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
+        const _: () = assert!(SMALL == BLOCK, "a mask row is a block row");
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
         let cover = self.tri.cover;
         // Prepared up front: a small triangle that reaches the raster stage almost always
         // has a visible pixel, and a known `Some` keeps the row loop free of the check.
         let mut prepared = Some(self.shader.prepare(self.tri, self.vary));
-        let mut by = y0 & !(BLOCK - 1);
-        while by <= y1 {
-            let mut bx = x0 & !(BLOCK - 1);
-            while bx <= x1 {
-                let block = self.block(bx, by);
-                let shift = rx - bx;
-                let (mut reached, mut wrote) = (false, false);
-                for y in y0.max(by)..=y1.min(by + BLOCK - 1) {
-                    let bits = (cover >> (SMALL * (y - ry))) as u32 & ((1 << SMALL) - 1);
-                    let lanes = if shift >= 0 {
-                        bits << shift
-                    } else {
-                        bits >> -shift
-                    } & ((1 << LANES) - 1);
-                    if lanes == 0 {
-                        continue;
+        let (bx0, by0, bx1, by1) = (
+            x0 & !(BLOCK - 1),
+            y0 & !(BLOCK - 1),
+            x1 & !(BLOCK - 1),
+            y1 & !(BLOCK - 1),
+        );
+        let mut by = by0;
+        loop {
+            let mut bx = bx0;
+            loop {
+                let mut m = block_mask(cover, rx - bx, ry - by);
+                if m != 0 {
+                    let block = self.block(bx, by);
+                    buf.touch(block);
+                    self.stats.blocks_partial += 1;
+                    let mut wrote = false;
+                    while m != 0 {
+                        let j = m.trailing_zeros() / SMALL as u32;
+                        let bits = (m >> (SMALL as u32 * j)) as u32 & ((1 << SMALL) - 1);
+                        m &= !(((1u64 << SMALL) - 1) << (SMALL as u32 * j));
+                        wrote |= self.row(buf, block, bx, j as i32, bits, &mut prepared);
                     }
-                    if !reached {
-                        reached = true;
-                        buf.touch(block);
-                        self.stats.blocks_partial += 1;
+                    if wrote && self.mode.depth_write {
+                        buf.mark_far_stale(block);
                     }
-                    wrote |= self.row(buf, block, bx, y - by, lanes, &mut prepared);
                 }
-                if wrote && self.mode.depth_write {
-                    buf.mark_far_stale(block);
+                if bx == bx1 {
+                    break;
                 }
-                bx += BLOCK;
+                bx = bx1;
             }
-            by += BLOCK;
+            if by == by1 {
+                break;
+            }
+            by = by1;
         }
     }
 
@@ -490,4 +510,33 @@ fn write_row(
         z.blend_into(m, &mut buf.depth[base..]);
     }
     m.bits().count_ones()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    proptest::proptest! {
+        /// Moving a mask into a block's frame keeps exactly the pixels inside the block, at
+        /// their block coordinates.
+        #[test]
+        fn block_masks_move_pixels_into_the_block(
+            cover in proptest::num::u64::ANY,
+            sx in -(SMALL - 1)..SMALL,
+            sy in -(SMALL - 1)..SMALL,
+        ) {
+            let got = block_mask(cover, sx, sy);
+            for j in 0..SMALL {
+                for i in 0..SMALL {
+                    // Block pixel (i, j) is mask pixel (i - sx, j - sy).
+                    let (u, v) = (i - sx, j - sy);
+                    let want = (0..SMALL).contains(&u)
+                        && (0..SMALL).contains(&v)
+                        && cover >> (SMALL * v + u) & 1 != 0;
+                    let bit = got >> (SMALL * j + i) & 1 != 0;
+                    proptest::prop_assert_eq!(bit, want, "block pixel ({}, {})", i, j);
+                }
+            }
+        }
+    }
 }

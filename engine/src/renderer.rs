@@ -29,6 +29,14 @@ use std::sync::Mutex;
 /// How many triangles ahead the tile loop prefetches vertex varyings.
 const PREFETCH_AHEAD: usize = 4;
 
+/// One worker thread's tile memory and counters, on cache lines of its own: the raster
+/// stage updates them for every triangle and row, and a neighbour on the same line would
+/// make the other core's reads of its own fields miss. (Counters are integer sums, so
+/// which worker counted a tile does not change the frame's totals.)
+#[derive(Debug, Default)]
+#[repr(align(128))]
+struct Worker(Mutex<(TileBuf, FrameStats)>);
+
 /// Which faces are culled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Cull {
@@ -88,8 +96,7 @@ pub struct Renderer {
     pos: Vec<VertexPos>,
     vary: Vec<f32>,
     chunks: Vec<Chunk>,
-    workers: Vec<Mutex<TileBuf>>,
-    tile_stats: Vec<FrameStats>,
+    workers: Vec<Worker>,
     infos: Vec<DrawInfo<'static>>,
     sort_keys: Vec<(f32, u32)>,
     last: FrameStats,
@@ -237,6 +244,7 @@ impl Renderer {
             self.chunks[..n_chunks]
                 .par_iter_mut()
                 .enumerate()
+                .with_max_len(1) // one chunk per task, for the same reason as the tiles
                 .for_each(|(k, chunk)| {
                     let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
                     chunk.bins.begin(tiles_x, tiles_y);
@@ -248,11 +256,11 @@ impl Renderer {
         // Raster and resolve, one tile per task.
         let threads = rayon::current_num_threads().max(1);
         while self.workers.len() < threads {
-            self.workers.push(Mutex::new(TileBuf::default()));
+            self.workers.push(Worker::default());
         }
-        let n_tiles = target.tile_count();
-        self.tile_stats.clear();
-        self.tile_stats.resize(n_tiles, FrameStats::default());
+        for w in &mut self.workers {
+            w.0.get_mut().unwrap_or_else(|e| e.into_inner()).1 = FrameStats::default();
+        }
         let encoder = Encoder::new(target.encoding());
         let clear = opts.clear.map(|c| c.premultiply());
         let encoding = target.encoding();
@@ -265,12 +273,16 @@ impl Renderer {
             colors
                 .par_chunks_mut(TILE_PIXELS)
                 .zip(depths.par_chunks_mut(TILE_PIXELS))
-                .zip(self.tile_stats.par_iter_mut())
                 .enumerate()
-                .for_each(|(tile, ((color, depth), stats))| {
+                // One tile per task: left to split by halves, rayon gave each thread long
+                // runs of tiles it could no longer share, and one core idled while the other
+                // finished the busier half of the screen (torus 100k at 1920x1080: 4.5 of
+                // 9.4 ms).
+                .with_max_len(1)
+                .for_each(|(tile, (color, depth))| {
                     let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
-                    let mut buf = workers[w].lock().unwrap_or_else(|e| e.into_inner());
-                    let buf = &mut *buf;
+                    let mut state = workers[w].0.lock().unwrap_or_else(|e| e.into_inner());
+                    let (buf, stats) = &mut *state;
                     match clear {
                         Some(c) => buf.clear(c),
                         None => buf.load(color, depth, encoding),
@@ -298,8 +310,8 @@ impl Renderer {
         for c in &self.chunks[..n_chunks] {
             total += c.stats;
         }
-        for s in &self.tile_stats {
-            total += *s;
+        for w in &mut self.workers {
+            total += w.0.get_mut().unwrap_or_else(|e| e.into_inner()).1;
         }
         self.infos = recycle(infos);
         self.last = total;

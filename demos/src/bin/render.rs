@@ -287,7 +287,8 @@ fn summary(times_ms: &[f64]) -> (f64, f64, f64) {
 fn stats_line(s: &FrameStats) -> String {
     format!(
         "render: stats: draws={} triangles_in={} clipped={} culled={} rejected={} set_up={} \
-         binned={} fragments_tested={} shaded={} written={}",
+         binned={} fragments_tested={} shaded={} written={} blocks_full={} blocks_partial={} \
+         blocks_hiz_rejected={}",
         s.draws,
         s.triangles_in,
         s.triangles_clipped,
@@ -297,7 +298,10 @@ fn stats_line(s: &FrameStats) -> String {
         s.triangles_binned,
         s.fragments_tested,
         s.fragments_shaded,
-        s.fragments_written
+        s.fragments_written,
+        s.blocks_full,
+        s.blocks_partial,
+        s.blocks_hiz_rejected
     )
 }
 
