@@ -108,39 +108,16 @@ impl Bins {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::setup::Plane;
-
-    fn tri(bbox: [u16; 4]) -> Tri {
-        Tri {
-            x: [0; 3],
-            y: [0; 3],
-            bbox,
-            z: Plane::default(),
-            iw: Plane::default(),
-            l1: Plane::default(),
-            l2: Plane::default(),
-            draw: 0,
-            prim: 0,
-            vary: [0; 3],
-            flags: 0,
-            cover: 0,
-            color: 0,
-        }
-    }
-
     #[test]
     fn triangles_land_in_every_tile_of_their_box_in_order() {
-        let mut tris = [
-            tri([0, 0, 10, 10]),
-            tri([60, 60, 70, 70]),
-            tri([100, 0, 100, 0]),
+        let tris = [
+            Tri::with_box([0, 0, 10, 10], 0),
+            Tri::with_box([60, 60, 70, 70], 1),
+            Tri::with_box([100, 0, 100, 0], 2),
         ];
-        for (i, t) in tris.iter_mut().enumerate() {
-            t.prim = i as u32;
-        }
         let ids = |ts: &[u32]| {
             ts.iter()
-                .map(|&i| tris[i as usize].prim)
+                .map(|&i| tris[i as usize].vary[0])
                 .collect::<Vec<_>>()
         };
         let mut b = Bins::default();

@@ -88,11 +88,12 @@ pub(crate) fn front_end(
                 Shading::Flat => flat_color(info.mesh, idx),
                 _ => 0,
             };
-            let stamp = |mut tri: Tri, flags: u16| {
-                tri.draw = d as u32;
-                tri.prim = info.prim_base.wrapping_add(local as u32);
-                tri.color = color;
-                tri.flags |= flags;
+            let per_face = matches!(info.material.shading, Shading::FaceId | Shading::Flat);
+            let stamp = |mut tri: Tri, flags: u32| {
+                tri.stamp(d as u32, flags);
+                if per_face {
+                    tri.set_color(color);
+                }
                 tri
             };
             if oc[0] | oc[1] | oc[2] == 0 {

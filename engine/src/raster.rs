@@ -62,11 +62,6 @@ struct Edge {
 }
 
 #[inline]
-fn edges(t: &Tri) -> [Edge; 3] {
-    edges_of(&t.x, &t.y)
-}
-
-#[inline]
 fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
     std::array::from_fn(|i| {
         let (p, q) = ([1, 2, 0][i], [2, 0, 1][i]);
@@ -192,10 +187,9 @@ pub fn raster_tri<S: FragShader>(
         soft,
         stats,
     };
-    if tri.cover != 0 {
-        rows.small(buf, [x0, y0, x1, y1]);
-    } else {
-        rows.walk(buf, [x0, y0, x1, y1]);
+    match tri.vertices() {
+        None => rows.small(buf, [x0, y0, x1, y1]),
+        Some((x, y)) => rows.walk(buf, &edges_of(&x, &y), [x0, y0, x1, y1]),
     }
 }
 
@@ -228,7 +222,7 @@ impl<S: FragShader> Rows<'_, S> {
     fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
         const _: () = assert!(SMALL == BLOCK, "a mask row is a block row");
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
-        let cover = self.tri.cover;
+        let cover = self.tri.cover();
         // Prepared up front: a small triangle that reaches the raster stage almost always
         // has a visible pixel, and a known `Some` keeps the row loop free of the check.
         let mut prepared = Some(self.shader.prepare(self.tri, self.vary));
@@ -272,9 +266,8 @@ impl<S: FragShader> Rows<'_, S> {
 
     /// Other triangles: the 8 x 8 block walk with hierarchical rejection and acceptance.
     #[inline]
-    fn walk(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
+    fn walk(&mut self, buf: &mut TileBuf, e: &[Edge; 3], [x0, y0, x1, y1]: [i32; 4]) {
         let tri = self.tri;
-        let e = edges(tri);
         // Whole-rectangle test first: big triangles often cover the tile's part entirely.
         // A rectangle within one block is classified by the block loop anyway.
         let mut tile_inside = [false; 3];

@@ -394,7 +394,7 @@ impl TileFrame<'_, '_> {
     /// The varyings a triangle of `chunk` indexes.
     #[inline]
     fn varyings<'s>(&'s self, chunk: &'s Chunk, tri: &Tri) -> &'s [f32] {
-        if tri.flags & CLIPPED != 0 {
+        if tri.flags() & CLIPPED != 0 {
             &chunk.extra[..]
         } else {
             self.vary
@@ -420,7 +420,7 @@ impl TileFrame<'_, '_> {
                 crate::simd::prefetch(t);
             }
             if let Some((c, t)) = near.next() {
-                if self.infos[t.draw as usize].layout != Layout::None {
+                if self.infos[t.draw() as usize].layout != Layout::None {
                     let src = self.varyings(c, t);
                     for o in t.vary {
                         if let Some(x) = src.get(o as usize) {
@@ -430,7 +430,7 @@ impl TileFrame<'_, '_> {
                 }
             }
             let src = self.varyings(chunk, tri);
-            let info = &self.infos[tri.draw as usize];
+            let info = &self.infos[tri.draw() as usize];
             let (mode, soft) = (&info.mode, self.soft);
             match &info.kind {
                 Kind::Const(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),

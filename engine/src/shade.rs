@@ -70,7 +70,7 @@ impl FragShader for ConstShader {
     #[inline]
     fn prepare(&self, tri: &Tri, _: &[f32]) -> [f32; 4] {
         if self.per_triangle {
-            tri.color.to_le_bytes().map(|b| b as f32 / 255.0)
+            tri.color().to_le_bytes().map(|b| b as f32 / 255.0)
         } else {
             self.color
         }
@@ -145,7 +145,7 @@ impl FragShader for GeneralShader<'_> {
         GeneralTri {
             attr,
             face_normal: n,
-            front: tri.flags & FRONT != 0,
+            front: tri.flags() & FRONT != 0,
         }
     }
 
