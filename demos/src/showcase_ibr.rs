@@ -153,15 +153,21 @@ impl IbrLayer {
             .update(camera, target.height(), &scene.lighting);
         let mut impostored = Vec::new();
         self.impostors.draws(&mut impostored);
-        let draws = scene
-            .draws()
-            .chain(self.forest.iter().map(BillboardBatch::draw))
-            .chain(self.lasers.draws())
-            .chain(self.effects.draws())
-            .chain(impostored);
-        let mut stats = renderer.render(draws, camera, &scene.lighting, target, opts);
+        let draws = || {
+            scene
+                .draws()
+                .chain(self.forest.iter().map(BillboardBatch::draw))
+                .chain(self.lasers.draws())
+                .chain(self.effects.draws())
+                .chain(impostored.iter().copied())
+        };
+        let mut stats = renderer.render(draws(), camera, &scene.lighting, target, opts);
+        // Blended impostors, clouds and smoke write no depth: the flare renders them once
+        // more around the sun to see how much light they let through.
+        let dt = self.dt.max(1.0 / 60.0);
+        let lighting = &scene.lighting;
         self.flare
-            .update(camera, target, self.sun, self.dt.max(1.0 / 60.0));
+            .update_with_blended(camera, target, self.sun, dt, renderer, lighting, draws());
         if self.flare.quad_count() > 0 {
             let over = FrameOptions {
                 clear: None,

@@ -7,7 +7,7 @@
 //! [0, 1] (near -> 1, far -> 0), so that an `f32` depth buffer keeps its precision far away.
 //! Both describe the same frustum, so the same points are visible either way.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// A projection. Angles in radians; `near` and `far` are positive distances along -Z.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +26,17 @@ pub enum Projection {
         near: f32,
         far: f32,
     },
+    /// An off-axis (sheared) perspective frustum, OpenGL's `glFrustum`: the view-space
+    /// rectangle `[left, right] x [bottom, top]` on the plane at distance `near` is the image.
+    /// A crop of a perspective camera ([`Camera::crop`]), a cube face or a light-slab camera.
+    Frustum {
+        left: f32,
+        right: f32,
+        bottom: f32,
+        top: f32,
+        near: f32,
+        far: f32,
+    },
 }
 
 impl Projection {
@@ -33,6 +44,43 @@ impl Projection {
         match *self {
             Projection::Perspective { near, far, .. } => (near, far),
             Projection::Orthographic { near, far, .. } => (near, far),
+            Projection::Frustum { near, far, .. } => (near, far),
+        }
+    }
+
+    /// Whether points farther away look smaller (every projection but orthographic).
+    pub fn is_perspective(&self) -> bool {
+        !matches!(self, Projection::Orthographic { .. })
+    }
+
+    /// The image rectangle `[left, right, bottom, top]` on the plane at `near` (view space;
+    /// for orthographic projections on every plane).
+    pub fn extents(&self) -> [f32; 4] {
+        match *self {
+            Projection::Perspective {
+                fov_y,
+                aspect,
+                near,
+                ..
+            } => {
+                let top = near * (fov_y * 0.5).tan();
+                let right = top * aspect;
+                [-right, right, -top, top]
+            }
+            Projection::Orthographic {
+                left,
+                right,
+                bottom,
+                top,
+                ..
+            }
+            | Projection::Frustum {
+                left,
+                right,
+                bottom,
+                top,
+                ..
+            } => [left, right, bottom, top],
         }
     }
 
@@ -53,7 +101,26 @@ impl Projection {
                 near,
                 far,
             } => Mat4::orthographic_rh_gl(left, right, bottom, top, near, far),
+            Projection::Frustum { near, far, .. } => {
+                let (a, b) = (
+                    -(far + near) / (far - near),
+                    -2.0 * far * near / (far - near),
+                );
+                self.frustum_matrix(a, b)
+            }
         }
+    }
+
+    /// `glFrustum` with the depth rows `z_clip = a z + b` (view-space z, `w_clip = -z`).
+    fn frustum_matrix(&self, a: f32, b: f32) -> Mat4 {
+        let [l, r, bo, t] = self.extents();
+        let (n, _) = self.near_far();
+        Mat4::from_cols(
+            Vec4::new(2.0 * n / (r - l), 0.0, 0.0, 0.0),
+            Vec4::new(0.0, 2.0 * n / (t - bo), 0.0, 0.0),
+            Vec4::new((r + l) / (r - l), (t + bo) / (t - bo), a, -1.0),
+            Vec4::new(0.0, 0.0, b, 0.0),
+        )
     }
 
     /// Reversed-depth projection (NDC z in [0, 1], near plane -> 1, far plane -> 0).
@@ -74,6 +141,11 @@ impl Projection {
                 near,
                 far,
             } => Mat4::orthographic_rh(left, right, bottom, top, far, near),
+            // Reversed depth n (f + z) / ((f - n) (-z)): near -> 1, far -> 0, as above.
+            Projection::Frustum { near, far, .. } => {
+                let k = near / (far - near);
+                self.frustum_matrix(k, k * far)
+            }
         }
     }
 }
@@ -94,10 +166,12 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A perspective camera looking from `eye` at `target`; `fov_y` in radians.
+    /// A perspective camera looking from `eye` at `target`; `fov_y` in radians. When `up`
+    /// is parallel to the view direction (looking straight down with `up = Y`), or zero,
+    /// another up is chosen ([`stable_up`]) so the view stays a rotation.
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32, aspect: f32) -> Self {
         Camera {
-            view: Mat4::look_at_rh(eye, target, up),
+            view: Mat4::look_at_rh(eye, target, stable_up(target - eye, up)),
             projection: Projection::Perspective {
                 fov_y,
                 aspect,
@@ -115,6 +189,9 @@ impl Camera {
             }
             | Projection::Orthographic {
                 near: n, far: f, ..
+            }
+            | Projection::Frustum {
+                near: n, far: f, ..
             } => {
                 *n = near;
                 *f = far;
@@ -129,6 +206,41 @@ impl Camera {
             *aspect = width.max(1) as f32 / height.max(1) as f32;
         }
         self
+    }
+
+    /// The camera whose image is the pixel rectangle `min..max` (x right, y down) of this
+    /// camera's `width` x `height` image: same eye, same depth range, an off-axis frustum
+    /// (a box for orthographic cameras). A point lands in the crop exactly where it lands in
+    /// the full image, scaled; the rectangle may reach past the image.
+    pub fn crop(&self, min: Vec2, max: Vec2, width: u32, height: u32) -> Camera {
+        let [l, r, b, t] = self.projection.extents();
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let x = |px: f32| l + (r - l) * px / w;
+        let y = |py: f32| t + (b - t) * py / h;
+        let (near, far) = self.near_far();
+        let (left, right, bottom, top) = (x(min.x), x(max.x), y(max.y), y(min.y));
+        let projection = match self.projection {
+            Projection::Orthographic { .. } => Projection::Orthographic {
+                left,
+                right,
+                bottom,
+                top,
+                near,
+                far,
+            },
+            _ => Projection::Frustum {
+                left,
+                right,
+                bottom,
+                top,
+                near,
+                far,
+            },
+        };
+        Camera {
+            view: self.view,
+            projection,
+        }
     }
 
     /// World -> OpenGL clip space (`proj_gl * view`).
@@ -161,7 +273,9 @@ impl Camera {
         let (n, f) = self.near_far();
         match self.projection {
             // reversed d = n (f - w) / (w (f - n))  =>  w = n f / (d (f - n) + n)
-            Projection::Perspective { .. } => n * f / (d * (f - n) + n),
+            Projection::Perspective { .. } | Projection::Frustum { .. } => {
+                n * f / (d * (f - n) + n)
+            }
             Projection::Orthographic { .. } => f - d * (f - n),
         }
     }
@@ -176,6 +290,23 @@ impl Camera {
         let near = near.truncate() / near.w;
         let far = far.truncate() / far.w;
         (near, (far - near).normalize_or_zero())
+    }
+}
+
+/// `up`, or when it is zero or parallel to `forward` (within about 0.06 degrees) another:
+/// for a view along the Y axis `-Z` looking down and `+Z` looking up (the screen's right
+/// stays +X, as for a camera that tilted down or up from facing -Z), otherwise `+Y`.
+pub fn stable_up(forward: Vec3, up: Vec3) -> Vec3 {
+    let f = forward.normalize_or_zero();
+    let u = up.normalize_or_zero();
+    if f == Vec3::ZERO || (u != Vec3::ZERO && f.cross(u).length_squared() > 1e-6) {
+        return up;
+    }
+    let a = f.abs();
+    if a.y >= a.x && a.y >= a.z {
+        Vec3::Z * f.y.signum()
+    } else {
+        Vec3::Y
     }
 }
 
@@ -219,5 +350,76 @@ mod tests {
         let c = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
         assert!((c.eye() - Vec3::new(0.0, 0.0, 3.0)).length() < 1e-5);
         assert!((c.forward() - Vec3::NEG_Z).length() < 1e-5);
+    }
+
+    #[test]
+    fn looking_straight_down_or_up_keeps_a_rotation_and_right_is_x() {
+        for (target, up) in [
+            (Vec3::new(0.0, -5.0, 0.0), Vec3::Y),
+            (Vec3::new(0.0, 5.0, 0.0), Vec3::Y),
+            (Vec3::new(0.0, -5.0, 0.0), Vec3::ZERO),
+            (Vec3::new(0.0, 0.0, -5.0), Vec3::Z),
+            (Vec3::new(3.0, 0.0, 0.0), Vec3::NEG_X),
+        ] {
+            let c = Camera::look_at(Vec3::ZERO, target, up, 1.0, 1.0);
+            assert!(c.view.is_finite(), "{target} {up}");
+            let m = glam::Mat3::from_mat4(c.view);
+            assert!((m.determinant() - 1.0).abs() < 1e-4, "{target} {up}");
+            assert!((c.forward() - target.normalize()).length() < 1e-5);
+        }
+        // Straight down from above: the point below is at the image centre, +X to the right.
+        let c = Camera::look_at(Vec3::new(0.0, 10.0, 0.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+        let ndc = |p: Vec3| c.clip_from_world().project_point3(p);
+        assert!(ndc(Vec3::ZERO).truncate().length() < 1e-5);
+        assert!(ndc(Vec3::X).x > 0.05 && ndc(Vec3::X).y.abs() < 1e-5);
+        assert!(ndc(Vec3::NEG_Z).y > 0.05, "-Z is up on screen");
+    }
+
+    #[test]
+    fn a_crop_shows_its_rectangle_of_the_full_image() {
+        let (w, h) = (320u32, 200u32);
+        for c in [
+            cam(),
+            Camera {
+                view: cam().view,
+                projection: Projection::Orthographic {
+                    left: -2.0,
+                    right: 3.0,
+                    bottom: -1.0,
+                    top: 1.5,
+                    near: 0.5,
+                    far: 50.0,
+                },
+            },
+        ] {
+            let (min, max) = (Vec2::new(100.0, 40.0), Vec2::new(140.0, 90.0));
+            let crop = c.crop(min, max, w, h);
+            let pixel = |cam: &Camera, p: Vec3, w: f32, h: f32| {
+                let q = cam.clip_from_world().project_point3(p);
+                (
+                    Vec2::new(q.x * 0.5 + 0.5, 0.5 - q.y * 0.5) * Vec2::new(w, h),
+                    q.z,
+                )
+            };
+            for p in [
+                Vec3::ZERO,
+                Vec3::new(-0.4, 0.3, 0.5),
+                Vec3::new(2.0, -1.0, -8.0),
+            ] {
+                let (full, z_full) = pixel(&c, p, w as f32, h as f32);
+                let (local, z_crop) = pixel(&crop, p, 40.0, 50.0);
+                assert!((full - (min + local)).length() < 1e-3, "{full} {local}");
+                assert!((z_full - z_crop).abs() < 1e-5, "depth unchanged");
+                let gl = crop.gl_view_proj().project_point3(p);
+                let rev = crop.clip_from_world().project_point3(p);
+                assert!((gl_window_depth(rev.z) - (0.5 * gl.z + 0.5)).abs() < 1e-5);
+            }
+            let d = crop
+                .clip_from_world()
+                .project_point3(Vec3::new(0.1, 0.1, -5.0))
+                .z;
+            let dist = (crop.view * Vec3::new(0.1, 0.1, -5.0).extend(1.0)).z.abs();
+            assert!((crop.view_depth_from_reversed(d) - dist).abs() < 1e-3);
+        }
     }
 }

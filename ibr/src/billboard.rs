@@ -144,6 +144,9 @@ impl View {
         let (world_per_px, perspective) = match camera.projection {
             Projection::Perspective { fov_y, .. } => (2.0 * (fov_y * 0.5).tan() / h, true),
             Projection::Orthographic { bottom, top, .. } => ((top - bottom).abs() / h, false),
+            Projection::Frustum {
+                bottom, top, near, ..
+            } => ((top - bottom).abs() / (near * h), true),
         };
         View {
             eye: world.w_axis.truncate(),

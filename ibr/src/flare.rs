@@ -5,12 +5,21 @@
 //! Frame: render the scene (clearing) -> [`LensFlare::update`] -> render
 //! [`LensFlare::draw`] with the same camera and `FrameOptions { clear: None, .. }`. The
 //! sprites are quads unprojected from pixel positions to world space in front of the eye,
-//! so that camera puts them back exactly on those pixels. All shapes live in one atlas
+//! so that camera puts them back exactly on those pixels. Draws that write no depth
+//! (blended impostors, clouds, glass) hide the light too through
+//! [`LensFlare::update_with_blended`], which renders them into a small [`probe`] around the
+//! light and dims each tap by their opacity. All shapes live in one atlas
 //! generated at start-up ([`atlas`]); the mesh is rewritten in place every frame.
 
+pub mod probe;
+
 use crate::billboard::{push_quad, UvRect};
-use engine::{BlendMode, Camera, Draw, Encoding, Material, Mesh, Rgba, Target, Texture, Wrap};
+use engine::{
+    BlendMode, Camera, Draw, Encoding, Lighting, Material, Mesh, Renderer, Rgba, Target, Texture,
+    Wrap,
+};
 use glam::{Mat4, Vec2, Vec3, Vec4};
+use probe::Probe;
 use std::f32::consts::TAU;
 use std::sync::Arc;
 
@@ -212,29 +221,51 @@ pub fn project(camera: &Camera, source: FlareSource, width: u32, height: u32) ->
 /// count as hidden: a light leaving the screen fades out smoothly instead of staying at full
 /// strength until its centre crosses the edge.
 pub fn occlusion(target: &Target, light: &Projected, samples: u32, radius_px: f32) -> f32 {
+    occlusion_through(target, light, samples, radius_px, |_| 1.0)
+}
+
+/// [`occlusion`] with each visible tap weighted by `transmittance` at its pixel (the light
+/// let through by what the depth buffer does not see).
+pub fn occlusion_through(
+    target: &Target,
+    light: &Projected,
+    samples: u32,
+    radius_px: f32,
+    transmittance: impl Fn(Vec2) -> f32,
+) -> f32 {
     let n = samples.clamp(1, 4096);
-    let radius = if radius_px.is_nan() {
-        0.0
-    } else {
-        radius_px.clamp(0.0, 1e6)
-    };
+    let radius = tap_radius(radius_px);
     let limit = light.depth + light.depth.abs() * 1e-4;
     let golden = TAU * (1.0 - 1.0 / 1.618_034);
-    let visible = (0..n)
-        .filter(|&i| {
+    let visible: f32 = (0..n)
+        .map(|i| {
             let r = radius * ((i as f32 + 0.5) / n as f32).sqrt();
             let (s, c) = (i as f32 * golden).sin_cos();
             let p = light.pixel + Vec2::new(c, s) * r;
             if !(p.x >= 0.0 && p.y >= 0.0) {
-                return false;
+                return 0.0;
             }
             // `as` saturates; `depth_reversed` is `None` off the image.
-            target
+            let open = target
                 .depth_reversed(p.x as u32, p.y as u32)
-                .is_some_and(|d| d <= limit)
+                .is_some_and(|d| d <= limit);
+            if open {
+                transmittance(p).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
         })
-        .count();
-    visible as f32 / n as f32
+        .sum();
+    visible / n as f32
+}
+
+/// The tap disc's radius: NaN as 0, at most 1e6 pixels.
+fn tap_radius(radius_px: f32) -> f32 {
+    if radius_px.is_nan() {
+        0.0
+    } else {
+        radius_px.clamp(0.0, 1e6)
+    }
 }
 
 /// Moves a displayed visibility toward `target` by at most `rate * dt` (linear fade). `dt`
@@ -282,6 +313,7 @@ pub struct LensFlare {
     pub state: FlareState,
     material: Material,
     mesh: Mesh,
+    probe: Probe,
 }
 
 /// Atlas cell size used by [`LensFlare::new`].
@@ -316,13 +348,15 @@ impl LensFlare {
             state: FlareState::default(),
             material,
             mesh: Mesh::default(),
+            probe: Probe::default(),
         }
     }
 
     /// Measures the light's visibility in `target`'s depth buffer (after the opaque pass),
     /// fades the displayed value by `dt` seconds and rewrites the mesh. Returns the displayed
     /// visibility. A light without a projection (behind the eye, NaN...) shows nothing and
-    /// resets the fade, as its screen position is undefined.
+    /// resets the fade, as its screen position is undefined. Only surfaces that wrote depth
+    /// hide the light: a frame with blended draws uses [`LensFlare::update_with_blended`].
     pub fn update(
         &mut self,
         camera: &Camera,
@@ -333,6 +367,53 @@ impl LensFlare {
         let (w, h) = (target.width(), target.height());
         let light = project(camera, source, w, h);
         let measured = light.map_or(0.0, |l| occlusion(target, &l, self.samples, self.radius_px));
+        self.finish(camera, light, measured, dt, w, h)
+    }
+
+    /// [`LensFlare::update`] for a frame with blended draws: `draws` are the frame's draws
+    /// (all of them may be passed; only the alpha-blended, non-additive ones are used), and
+    /// each tap is dimmed by their accumulated opacity there, so an impostor hides the light
+    /// by its coverage and a cloud by its opacity. Costs one render of those draws into a
+    /// [`probe::PROBE_SIDE`]-pixel square target, skipped when the depth taps already see
+    /// the light hidden or absent.
+    pub fn update_with_blended<'a>(
+        &mut self,
+        camera: &Camera,
+        target: &Target,
+        source: FlareSource,
+        dt: f32,
+        renderer: &mut Renderer,
+        lighting: &Lighting,
+        draws: impl IntoIterator<Item = Draw<'a>>,
+    ) -> f32 {
+        let (w, h) = (target.width(), target.height());
+        let light = project(camera, source, w, h);
+        let mut measured = 0.0;
+        if let Some(l) = light {
+            measured = occlusion(target, &l, self.samples, self.radius_px);
+            if measured > 0.0 {
+                let radius = tap_radius(self.radius_px);
+                let probe = &mut self.probe;
+                if probe.render(renderer, draws, lighting, camera, &l, radius, w, h) {
+                    measured = occlusion_through(target, &l, self.samples, radius, |p| {
+                        probe.transmittance(p)
+                    });
+                }
+            }
+        }
+        self.finish(camera, light, measured, dt, w, h)
+    }
+
+    /// Fades toward `measured` and rewrites the mesh.
+    fn finish(
+        &mut self,
+        camera: &Camera,
+        light: Option<Projected>,
+        measured: f32,
+        dt: f32,
+        w: u32,
+        h: u32,
+    ) -> f32 {
         let displayed = match light {
             Some(_) => approach(self.state.displayed, measured, self.fade_per_second, dt),
             None => 0.0,

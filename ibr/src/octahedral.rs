@@ -220,7 +220,7 @@ fn frame_camera(centre: Vec3, r: f32, d: Vec3) -> Camera {
 fn view_dir(camera: &Camera, centre: Vec3) -> Option<Vec3> {
     let d = match camera.projection {
         Projection::Orthographic { .. } => -camera.forward(),
-        Projection::Perspective { .. } => camera.eye() - centre,
+        Projection::Perspective { .. } | Projection::Frustum { .. } => camera.eye() - centre,
     };
     d.try_normalize()
 }

@@ -17,7 +17,7 @@
 //! Both are plain loops over pixels and triangles: slow, but each step is one line of
 //! textbook geometry.
 
-use engine::{Camera, Projection};
+use engine::Camera;
 use glam::{DMat4, DVec3, DVec4, Vec3};
 
 /// Sub-pixel steps per pixel (8 bits).
@@ -311,7 +311,7 @@ impl RayCast {
             height,
             near: near as f64,
             far: far as f64,
-            perspective: matches!(camera.projection, Projection::Perspective { .. }),
+            perspective: camera.projection.is_perspective(),
         }
     }
 

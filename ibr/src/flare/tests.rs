@@ -375,3 +375,105 @@ fn atlas_cells_have_transparent_gutters_and_distinct_shapes() {
         assert_eq!(s.alpha(Vec2::new(0.8, 0.8)), 0.0);
     }
 }
+
+/// A blended sheet in the plane `z` covering the whole view, of opacity `alpha`.
+fn sheet(z: f32) -> Mesh {
+    wall(50.0, z)
+}
+
+fn sheet_material(alpha: f32, blend: BlendMode) -> Material {
+    Material::unlit(Rgba::new(0.9, 0.9, 0.9, alpha))
+        .blended(blend)
+        .double_sided(true)
+}
+
+/// Updates `flare` for `source` with `sheets` (mesh, material) drawn blended over the
+/// opaque `meshes`, as a frame would.
+fn update_blended(
+    flare: &mut LensFlare,
+    meshes: &[Mesh],
+    sheets: &[(Mesh, Material)],
+    source: FlareSource,
+) -> f32 {
+    let cam = camera();
+    let target = scene(meshes, &cam, W, H);
+    let draws = sheets.iter().map(|(mesh, material)| Draw {
+        mesh,
+        material,
+        transform: Mat4::IDENTITY,
+    });
+    let mut renderer = Renderer::new();
+    let lighting = Lighting::default();
+    flare.update_with_blended(
+        &cam,
+        &target,
+        source,
+        f32::INFINITY,
+        &mut renderer,
+        &lighting,
+        draws,
+    );
+    assert_sane(flare);
+    flare.measured()
+}
+
+#[test]
+fn blended_sheets_dim_the_light_by_their_opacity() {
+    let sun = FlareSource::Directional(Vec3::new(0.3, 0.2, -1.0));
+    let mut flare = LensFlare::default();
+    for alpha in [0.0, 0.25, 0.5, 0.8, 1.0] {
+        let sheets = [(sheet(-20.0), sheet_material(alpha, BlendMode::Alpha))];
+        let v = update_blended(&mut flare, &[], &sheets, sun);
+        // Opacity is quantised to 8 bits in the probe.
+        assert!((v - (1.0 - alpha)).abs() < 0.01, "alpha {alpha}: {v}");
+    }
+    // Two sheets stack: transmittance multiplies.
+    let sheets = [
+        (sheet(-20.0), sheet_material(0.3, BlendMode::Alpha)),
+        (sheet(-30.0), sheet_material(0.6, BlendMode::Alpha)),
+    ];
+    let v = update_blended(&mut flare, &[], &sheets, sun);
+    assert!((v - 0.7 * 0.4).abs() < 0.01, "{v}");
+    // Additive sheets emit light and hide nothing.
+    let sheets = [(sheet(-20.0), sheet_material(0.9, BlendMode::Additive))];
+    assert_eq!(update_blended(&mut flare, &[], &sheets, sun), 1.0);
+    // An opaque wall still hides it, with or without sheets.
+    let sheets = [(sheet(-20.0), sheet_material(0.5, BlendMode::Alpha))];
+    assert_eq!(
+        update_blended(&mut flare, &[wall(50.0, -90.0)], &sheets, sun),
+        0.0
+    );
+}
+
+#[test]
+fn only_sheets_in_front_of_a_point_light_dim_it() {
+    let light = FlareSource::Point(LIGHT);
+    let mut flare = LensFlare::default();
+    let behind = [(sheet(-15.0), sheet_material(0.7, BlendMode::Alpha))];
+    assert_eq!(update_blended(&mut flare, &[], &behind, light), 1.0);
+    let front = [(sheet(-5.0), sheet_material(0.7, BlendMode::Alpha))];
+    let v = update_blended(&mut flare, &[], &front, light);
+    assert!((v - 0.3).abs() < 0.01, "{v}");
+}
+
+#[test]
+fn a_half_covering_sheet_dims_half_the_taps() {
+    // A wall in z = -5 ending where the eye's ray to the light crosses it (x = 4): about half
+    // the disc is behind it.
+    let cam = camera();
+    let sun = FlareSource::Point(LIGHT);
+    let light = project(&cam, sun, W, H).expect("in view");
+    let mut flare = LensFlare::default();
+    let opaque = update_blended(&mut flare, &[wall(LIGHT.x * 2.0 / 3.0, -5.0)], &[], sun);
+    let sheets = [(
+        wall(LIGHT.x * 2.0 / 3.0, -5.0),
+        sheet_material(1.0, BlendMode::Alpha),
+    )];
+    let blended = update_blended(&mut flare, &[], &sheets, sun);
+    assert!(
+        (0.3..0.7).contains(&opaque),
+        "{opaque} at {:?}",
+        light.pixel
+    );
+    assert!((opaque - blended).abs() < 0.05, "{opaque} vs {blended}");
+}

@@ -59,6 +59,9 @@ pub(super) fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
             height as f32 * 0.5 / (fov_y * 0.5).tan().max(1e-6)
         }
         Projection::Orthographic { .. } => height as f32,
+        Projection::Frustum {
+            bottom, top, near, ..
+        } => height as f32 * near / (top - bottom).abs().max(1e-6),
     }
 }
 
