@@ -182,6 +182,16 @@ impl IbrLayer {
     pub fn flare_visibility(&self) -> f32 {
         self.flare.visibility()
     }
+
+    /// The lens flare as of the last frame.
+    pub fn flare(&self) -> &LensFlare {
+        &self.flare
+    }
+
+    /// The light the flare follows.
+    pub fn sun(&self) -> FlareSource {
+        self.sun
+    }
 }
 
 /// A turret: a dark pylon with a glowing head.
@@ -259,3 +269,6 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     }
     batches
 }
+
+#[cfg(test)]
+mod tests;

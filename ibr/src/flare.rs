@@ -167,15 +167,15 @@ pub fn sun_elements() -> Vec<FlareElement> {
     use FlareShape::*;
     let c = Rgba::new;
     vec![
-        FlareElement::new(0.0, 0.9, c(1.0, 0.85, 0.6, 0.35), Glow),
-        FlareElement::new(0.0, 0.5, c(1.0, 0.95, 0.85, 0.7), Starburst),
-        FlareElement::new(0.0, 1.2, c(0.9, 0.8, 0.7, 0.12), Halo),
-        FlareElement::new(0.45, 0.08, c(0.6, 0.9, 0.5, 0.25), Ghost),
-        FlareElement::new(0.7, 0.14, c(0.4, 0.6, 1.0, 0.2), Ghost),
-        FlareElement::new(1.25, 0.06, c(1.0, 0.6, 0.3, 0.3), Ghost),
-        FlareElement::new(1.5, 0.3, c(0.5, 0.8, 1.0, 0.15), Ring),
-        FlareElement::new(1.8, 0.18, c(0.8, 0.5, 1.0, 0.18), Ghost),
-        FlareElement::new(2.0, 0.5, c(0.5, 0.7, 1.0, 0.12), Halo),
+        FlareElement::new(0.0, 1.0, c(1.0, 0.85, 0.6, 0.6), Glow),
+        FlareElement::new(0.0, 0.6, c(1.0, 0.95, 0.85, 1.0), Starburst),
+        FlareElement::new(0.0, 1.3, c(0.9, 0.8, 0.7, 0.3), Halo),
+        FlareElement::new(0.45, 0.09, c(0.5, 0.95, 0.4, 0.6), Ghost),
+        FlareElement::new(0.7, 0.15, c(0.4, 0.6, 1.0, 0.75), Ghost),
+        FlareElement::new(1.25, 0.07, c(1.0, 0.55, 0.25, 0.7), Ghost),
+        FlareElement::new(1.5, 0.32, c(0.45, 0.8, 1.0, 0.45), Ring),
+        FlareElement::new(1.8, 0.2, c(0.8, 0.45, 1.0, 0.5), Ghost),
+        FlareElement::new(2.0, 0.55, c(0.5, 0.7, 1.0, 0.3), Halo),
     ]
 }
 

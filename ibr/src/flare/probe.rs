@@ -66,7 +66,7 @@ impl Probe {
             // A point light: nothing behind it may count. Its view distance is the far plane.
             let (near, _) = camera.near_far();
             let far = camera.view_depth_from_reversed(light.depth);
-            if !(far > near) {
+            if far.is_nan() || far <= near {
                 self.target.clear(Rgba::TRANSPARENT);
                 return false;
             }

@@ -477,3 +477,47 @@ fn a_half_covering_sheet_dims_half_the_taps() {
     );
     assert!((opaque - blended).abs() < 0.05, "{opaque} vs {blended}");
 }
+
+/// Mean sRGB byte of a pixel's three channels, as a viewer sees it.
+fn encoded_level(t: &Target, p: Vec2) -> f32 {
+    let px = t.to_rgba8();
+    let i = (p.y as usize * t.width() as usize + p.x as usize) * 4;
+    (px[i] as f32 + px[i + 1] as f32 + px[i + 2] as f32) / 3.0
+}
+
+#[test]
+fn the_sun_preset_stands_out_over_a_pale_sky() {
+    // Over the showcase's pale blue sky the additive sprites near saturation; every ghost
+    // must still be plain to see at full visibility: at least 25 of 255 levels brighter at
+    // its centre than the sky, and the glow at the light at least 40.
+    let cam = camera();
+    let mut sky = Target::new(W, H);
+    Renderer::new().render(
+        std::iter::empty(),
+        &cam,
+        &Lighting::default(),
+        &mut sky,
+        &FrameOptions {
+            clear: Some(Rgba::new(0.42, 0.62, 0.86, 1.0)),
+            ..Default::default()
+        },
+    );
+    let mut flare = LensFlare::default();
+    flare.update(&cam, &sky, FlareSource::Point(LIGHT), f32::INFINITY);
+    let lit = composite(&sky, &flare, &cam);
+    let light = flare.state.light.expect("projected").pixel;
+    let rise = |t: f32| encoded_level(&lit, along(light, t)) - encoded_level(&sky, along(light, t));
+    assert!(rise(0.0) >= 40.0, "glow {}", rise(0.0));
+    for e in flare
+        .elements
+        .iter()
+        .filter(|e| e.shape == FlareShape::Ghost)
+    {
+        assert!(
+            rise(e.position) >= 25.0,
+            "ghost at {}: {}",
+            e.position,
+            rise(e.position)
+        );
+    }
+}

@@ -1,0 +1,46 @@
+use crate::showcase::{camera, Showcase, SKY};
+use engine::{FrameOptions, Renderer, Target};
+use glam::Vec3;
+use ibr::flare::{self, FlareSource};
+
+/// Renders `frames` showcase frames a tenth of a second apart from `eye` looking at the sun;
+/// returns the flare's depth-only visibility of the last frame (what the depth buffer alone
+/// would say), the flare's measured visibility and its quad count.
+fn sun_view(show: &mut Showcase, eye: Vec3, frames: u32) -> (f32, f32, usize) {
+    let FlareSource::Directional(l) = show.ibr.sun() else {
+        panic!("the showcase's sun is directional")
+    };
+    let (w, h) = (320, 200);
+    let cam = camera(eye, eye + l, w, h);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    for k in 0..frames {
+        show.animate(1.0 + 0.1 * k as f32);
+        show.render(&mut renderer, &cam, &mut target, &opts);
+    }
+    let f = show.ibr.flare();
+    let light = flare::project(&cam, show.ibr.sun(), w, h).expect("the sun is in view");
+    let depth_only = flare::occlusion(&target, &light, f.samples, f.radius_px);
+    (depth_only, f.measured(), f.quad_count())
+}
+
+#[test]
+fn the_sun_behind_the_impostored_skyline_shows_no_flare() {
+    let mut show = Showcase::new();
+    // Above the clouds the sun is in open sky: the flare shows.
+    let (_, measured, quads) = sun_view(&mut show, Vec3::new(0.0, 60.0, 0.0), 4);
+    assert!(measured > 0.95 && quads > 0, "{measured} {quads}");
+    // In a street of the city district, low down, the sun stands behind buildings drawn as
+    // impostors, which write no depth: the depth buffer alone sees open sky there.
+    let (depth_only, measured, quads) = sun_view(&mut show, Vec3::new(-43.4, 3.35, -4.53), 6);
+    assert!(
+        depth_only > 0.9,
+        "only impostors stand in front of the sun: {depth_only}"
+    );
+    assert!(measured < 0.02, "{measured}");
+    assert_eq!(quads, 0, "no flare is drawn");
+}
