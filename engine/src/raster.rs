@@ -33,6 +33,9 @@ pub struct PixelMode {
     pub blend: BlendMode,
     /// Soft-particle fade distance (view units); 0 = off.
     pub soft: f32,
+    /// Depth peeling: only fragments strictly behind the tile's peel depth
+    /// ([`TileBuf::peel`]) pass, the second depth compare.
+    pub peel: bool,
 }
 
 /// Converts reversed depth to view distance, for soft particles.
@@ -401,11 +404,15 @@ impl<S: FragShader> Rows<'_, S> {
         };
         let base = block * BLOCK_PIXELS + j as usize * LANES;
         let z = eval(&tri.z, &row);
-        let m = if self.mode.depth_test {
+        let mut m = if self.mode.depth_test {
             cov.and(z.gt(F8::load(&buf.depth[base..])))
         } else {
             cov
         };
+        if self.mode.peel {
+            // Reversed depth: strictly behind is strictly smaller.
+            m = m.and(F8::load(&buf.peel[base..]).gt(z));
+        }
         let passed = m.bits().count_ones();
         if passed == 0 {
             return false;

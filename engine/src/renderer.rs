@@ -165,6 +165,41 @@ impl Renderer {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
+        self.frame(draws, camera, lighting, target, opts, None)
+    }
+
+    /// Depth peeling: renders `draws` keeping, per pixel, only fragments strictly behind the
+    /// depth stored in `behind` (a second depth compare, on top of the usual test against
+    /// `target`'s own depth). With `behind` holding layer k of a scene (the nearest surfaces
+    /// for k = 0), the result is layer k + 1: the nearest surfaces behind it, and cleared
+    /// pixels where no surface is left. Render layer 0 with [`Renderer::render`], then peel
+    /// with the previous layer's target. A `behind` of another size than `target` lets
+    /// nothing through.
+    pub fn render_behind<'a>(
+        &mut self,
+        draws: impl IntoIterator<Item = Draw<'a>>,
+        camera: &Camera,
+        lighting: &Lighting,
+        target: &mut Target,
+        opts: &FrameOptions,
+        behind: &Target,
+    ) -> FrameStats {
+        let same = behind.width() == target.width() && behind.height() == target.height();
+        let peel = if same { behind.depth_storage() } else { &[] };
+        self.frame(draws, camera, lighting, target, opts, Some(peel))
+    }
+
+    /// One frame; `peel` is the tile-major depth fragments must lie strictly behind (an
+    /// empty slice lets nothing through).
+    fn frame<'a>(
+        &mut self,
+        draws: impl IntoIterator<Item = Draw<'a>>,
+        camera: &Camera,
+        lighting: &Lighting,
+        target: &mut Target,
+        opts: &FrameOptions,
+        peel: Option<&[f32]>,
+    ) -> FrameStats {
         let mut infos: Vec<DrawInfo<'a>> = recycle(std::mem::take(&mut self.infos));
         let view_proj = camera.clip_from_world();
         let mut prim_base = 0u32;
@@ -196,6 +231,7 @@ impl Renderer {
                     } else {
                         0.0
                     },
+                    peel: peel.is_some(),
                 },
             });
             prim_base = prim_base.wrapping_add(d.mesh.triangle_count() as u32);
@@ -286,6 +322,18 @@ impl Renderer {
                     match clear {
                         Some(c) => buf.clear(c),
                         None => buf.load(color, depth, encoding),
+                    }
+                    if let Some(peel) = peel {
+                        let range = tile * TILE_PIXELS..(tile + 1) * TILE_PIXELS;
+                        // No peel depth (the sizes differ): -inf, which no fragment lies
+                        // behind, so nothing passes.
+                        match peel.get(range) {
+                            Some(d) => buf.load_peel(d),
+                            None => {
+                                buf.peel.clear();
+                                buf.peel.resize(TILE_PIXELS, f32::NEG_INFINITY);
+                            }
+                        }
                     }
                     let ox = ((tile % tiles_x) * TILE) as i32;
                     let oy = ((tile / tiles_x) * TILE) as i32;

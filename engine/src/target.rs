@@ -214,6 +214,11 @@ impl Target {
         })
     }
 
+    /// The tile-major depth storage, for the renderer to read a peel depth from.
+    pub(crate) fn depth_storage(&self) -> &[f32] {
+        &self.depth
+    }
+
     /// The tile-major colour and depth storage, for the renderer to split into tiles.
     pub(crate) fn storage_mut(&mut self) -> (&mut [u32], &mut [f32]) {
         (&mut self.color, &mut self.depth)

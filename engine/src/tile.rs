@@ -27,6 +27,9 @@ pub struct TileBuf {
     pub color: [Vec<f32>; 4],
     pub depth: Vec<f32>,
     pub block_far: Vec<f32>,
+    /// The depth a peeling frame draws strictly behind (reversed depth, tile layout);
+    /// empty until a peeling frame first needs it.
+    pub peel: Vec<f32>,
     /// Blocks whose `block_far` may be lower than it could be (small triangles wrote there
     /// without recomputing it): still conservative, refreshed when next needed.
     far_stale: u64,
@@ -40,6 +43,7 @@ impl Default for TileBuf {
             color: std::array::from_fn(|_| vec![0.0; TILE_PIXELS]),
             depth: vec![0.0; TILE_PIXELS],
             block_far: vec![0.0; BLOCKS * BLOCKS],
+            peel: Vec::new(),
             far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
@@ -91,6 +95,12 @@ impl TileBuf {
         for b in 0..BLOCKS * BLOCKS {
             self.update_block_far(b);
         }
+    }
+
+    /// Loads the depth a peeling frame draws behind (a stored tile of reversed depth).
+    pub fn load_peel(&mut self, depth: &[f32]) {
+        self.peel.clear();
+        self.peel.extend_from_slice(depth);
     }
 
     /// Encodes colour into packed bytes and copies depth out.

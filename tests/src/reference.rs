@@ -384,6 +384,24 @@ impl RayCast {
         best
     }
 
+    /// Every surface the visible ray segment through `(sx, sy)` crosses, nearest first:
+    /// the view distances of its hits with `tris`, hits closer than `merge` (view units) to
+    /// the previous one counted once (a ray through the edge shared by two triangles of one
+    /// surface hits both). The k-th entry is what depth peeling's layer k shows.
+    pub fn cast_all(&self, sx: f64, sy: f64, tris: &[[DVec3; 3]], merge: f64) -> Vec<f64> {
+        let (a, b) = self.segment(sx, sy);
+        let d = b - a;
+        let mut hits: Vec<f64> = tris
+            .iter()
+            .filter_map(|t| intersect(a, d, *t))
+            .filter(|s| (0.0..=1.0).contains(s))
+            .map(|s| self.view_distance(a + d * s))
+            .collect();
+        hits.sort_by(f64::total_cmp);
+        hits.dedup_by(|later, kept| *later - *kept < merge);
+        hits
+    }
+
     /// [`RayCast::cast`] at the centre of pixel `(x, y)`.
     pub fn cast_pixel(&self, x: u32, y: u32, tris: &[[DVec3; 3]], cull_back: bool) -> Option<Hit> {
         self.cast(x as f64 + 0.5, y as f64 + 0.5, tris, cull_back)
