@@ -6,6 +6,10 @@
 //! the data can be built and tested without the rasterizer. Every technique turns into
 //! ordinary [`engine::Draw`]s: the renderer knows nothing of billboards.
 //!
+//! - [`images`]: images with depth and their camera, layered depth images, atlases (data
+//!   only, no drawing).
+//! - [`capture`]: the one offscreen capture path: any draws from any camera into colour,
+//!   depth, triangle ids or depth-peeled layers; batches over both cores.
 //! - [`billboard`]: screen, world and axial billboards, batched into one mesh per frame.
 //! - [`impostor`]: runtime impostors refreshed when their predicted error is too large.
 //! - [`cloud`]: cumulus particle clouds lit by a precomputed light pass (Harris and Lastra).
@@ -19,9 +23,11 @@
 //!   sprites of meshes).
 
 pub mod billboard;
+pub mod capture;
 pub mod cloud;
 pub mod effects;
 pub mod flare;
+pub mod images;
 pub mod impostor;
 pub mod laser;
 pub mod metrics;
