@@ -2,7 +2,9 @@
 //! textures, cameras and loaders.
 //!
 //! Data flow for one frame: [`Scene`] (or any [`Draw`]s) + [`Camera`] -> `vertex` ->
-//! `clip` -> `setup` -> `bin` -> `raster` + `shade` per tile -> [`Target`]. Rendering cannot
+//! `clip` -> `setup` -> `bin` -> `raster` + `shade` per tile -> [`Target`]. Per-pixel
+//! techniques write colour and depth into a target after it through [`pass`]
+//! ([`run_pass`]), and [`Renderer::render_behind`] peels depth layers. Rendering cannot
 //! fail; only loading can (see `load`). Conventions (right-handed, +Y up, reversed depth
 //! inside, OpenGL depth outside, counter-clockwise front faces, linear colour inside) are in
 //! `ARCHITECTURE.md`.
@@ -36,6 +38,7 @@ pub mod light;
 pub mod load;
 pub mod material;
 pub mod mesh;
+pub mod pass;
 pub mod procedural;
 pub mod raster;
 pub mod renderer;
@@ -55,6 +58,7 @@ pub use light::{Light, Lighting};
 pub use load::{LoadError, Loaded};
 pub use material::{AlphaMode, BlendMode, Material, Shading};
 pub use mesh::{Mesh, Sphere};
+pub use pass::{run_pass, Fragment, PassMode, PixelPass, PixelRect};
 pub use renderer::{Cull, FrameOptions, Renderer};
 pub use scene::{Draw, Instance, Scene};
 pub use stats::FrameStats;
