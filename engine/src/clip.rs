@@ -8,8 +8,9 @@
 //! one whatever the edge's direction, so two triangles sharing a clipped edge get the same
 //! new vertex and no crack.
 
+use crate::space::{distance64, GuardBand, BOTTOM, FAR, LEFT, NEAR, RIGHT, TOP};
 use crate::vertex::MAX_VARYINGS;
-use glam::{DVec4, Vec4};
+use glam::Vec4;
 
 /// A vertex in clip space with its varyings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,53 +21,6 @@ pub struct ClipVert {
 
 /// Most vertices a triangle clipped by six planes can have.
 pub const MAX_POLY: usize = 9;
-
-/// The planes, as bits of an outcode.
-const NEAR: u8 = 1;
-const FAR: u8 = 2;
-const LEFT: u8 = 4;
-const RIGHT: u8 = 8;
-const BOTTOM: u8 = 16;
-const TOP: u8 = 32;
-
-/// Guard band in NDC units per axis (`gx`, `gy`): clip-space `|x| <= gx * w`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GuardBand {
-    pub gx: f32,
-    pub gy: f32,
-}
-
-#[inline]
-fn distance(p: Vec4, plane: u8, g: GuardBand) -> f32 {
-    distance64(p.as_dvec4(), plane, g) as f32
-}
-
-/// The signed distance in f64: differences of f32 values are exact there, which matters
-/// for huge triangles whose w spans millions while the cut lands near w = near.
-#[inline]
-fn distance64(p: DVec4, plane: u8, g: GuardBand) -> f64 {
-    match plane {
-        NEAR => p.w - p.z,
-        FAR => p.z,
-        LEFT => p.x + g.gx as f64 * p.w,
-        RIGHT => g.gx as f64 * p.w - p.x,
-        BOTTOM => p.y + g.gy as f64 * p.w,
-        _ => g.gy as f64 * p.w - p.y,
-    }
-}
-
-/// Bits of the planes a clip-space position is outside of.
-#[inline]
-pub fn outcode(p: Vec4, g: GuardBand) -> u8 {
-    let mut code = 0;
-    for plane in [NEAR, FAR, LEFT, RIGHT, BOTTOM, TOP] {
-        // `!(d >= 0)` also flags NaN distances
-        if distance(p, plane, g) < 0.0 {
-            code |= plane;
-        }
-    }
-    code
-}
 
 /// Clips a triangle against the planes in `planes` (an OR of outcodes). Writes the polygon
 /// into `out` and returns its vertex count (0 when nothing is left). Only the first
@@ -142,6 +96,7 @@ fn lerp(a: ClipVert, b: ClipVert, t: f64, n_vary: usize, plane: u8, g: GuardBand
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::space::outcode;
 
     const G: GuardBand = GuardBand { gx: 4.0, gy: 4.0 };
 

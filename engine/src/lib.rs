@@ -29,28 +29,34 @@
 //! assert_eq!(target.pixel(0, 0), Some(0xff00_0000));
 //! ```
 
-pub mod bin;
-pub mod camera;
-pub mod clip;
-pub mod color;
+// The pipeline's stages, in order, each building only on the ones before it and on the
+// shared modules (`space`, `state`, `simd`); internal to the engine.
+mod bin;
+mod clip;
 mod front;
+mod raster;
+mod setup;
+mod shade;
+mod simd;
+mod space;
+mod state;
+mod tile;
+mod vertex;
+
+// What users see.
+pub mod camera;
+pub mod color;
 pub mod light;
 pub mod load;
 pub mod material;
 pub mod mesh;
 pub mod pass;
 pub mod procedural;
-pub mod raster;
 pub mod renderer;
 pub mod scene;
-pub mod setup;
-pub mod shade;
-pub mod simd;
 pub mod stats;
 pub mod target;
 pub mod texture;
-pub mod tile;
-pub mod vertex;
 
 pub use camera::{Camera, Projection};
 pub use color::{Encoding, Premul, Rgba};

@@ -15,28 +15,16 @@
 
 use crate::camera::Camera;
 use crate::material::{AlphaMode, BlendMode};
-use crate::setup::{Tri, ONE, SMALL};
+use crate::setup::Tri;
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
 use crate::simd::{F8, I8, M8};
+use crate::space::{edges_of, Edge, ONE, SMALL};
+use crate::state::PixelMode;
 use std::ops::{Add, Mul, Sub};
 
 use crate::stats::FrameStats;
 use crate::target::TILE;
 use crate::tile::{TileBuf, BLOCK, BLOCKS, BLOCK_PIXELS};
-
-/// How fragments that survive shading reach the tile.
-#[derive(Clone, Copy, Debug)]
-pub struct PixelMode {
-    pub depth_test: bool,
-    pub depth_write: bool,
-    pub alpha: AlphaMode,
-    pub blend: BlendMode,
-    /// Soft-particle fade distance (view units); 0 = off.
-    pub soft: f32,
-    /// Depth peeling: only fragments strictly behind the tile's peel depth
-    /// ([`TileBuf::peel`]) pass, the second depth compare.
-    pub peel: bool,
-}
 
 /// Converts reversed depth to view distance, for soft particles.
 #[derive(Clone, Copy, Debug)]
@@ -52,69 +40,6 @@ impl DepthToView {
     fn view(&self, d: f32) -> f32 {
         self.camera.view_depth_from_reversed(d)
     }
-}
-
-/// Edge function `E(X, Y) = a X + b Y + c` (fixed-point X, Y), positive inside, and the
-/// value it must reach: 0 on top-left edges, 1 elsewhere.
-#[derive(Clone, Copy, Debug)]
-struct Edge {
-    a: i64,
-    b: i64,
-    c: i64,
-    bias: i64,
-}
-
-#[inline]
-fn edges_of(x: &[i32; 3], y: &[i32; 3]) -> [Edge; 3] {
-    std::array::from_fn(|i| {
-        let (p, q) = ([1, 2, 0][i], [2, 0, 1][i]);
-        let (xa, ya, xb, yb) = (x[p] as i64, y[p] as i64, x[q] as i64, y[q] as i64);
-        let a = ya - yb;
-        let b = xb - xa;
-        // Gradient (a, b) points inside: a > 0 is a left edge, a == 0 && b > 0 a top edge.
-        let top_left = a > 0 || (a == 0 && b > 0);
-        Edge {
-            a,
-            b,
-            c: xa * yb - ya * xb,
-            bias: if top_left { 0 } else { 1 },
-        }
-    })
-}
-
-/// Coverage mask of a small triangle (fixed-point vertices, positive winding, spanning
-/// less than `SMALL` pixels each way) over the pixel rectangle `[px0, py0, px1, py1]`
-/// (inclusive, at most `SMALL` x `SMALL`): bit `SMALL * j + i` for pixel `(px0 + i, py0 +
-/// j)`, by exactly the rule the edge walk applies. Setup stores it in [`Tri::cover`].
-///
-/// Within that span every edge value fits `i32` exactly: `|a|, |b| < SMALL * ONE` and the
-/// first centre lies inside the vertices' box, so `|E| < 2 * (2 * SMALL * ONE)^2`.
-#[inline]
-pub(crate) fn small_cover(x: &[i32; 3], y: &[i32; 3], [px0, py0, px1, py1]: [i64; 4]) -> u64 {
-    const _: () = assert!(SMALL as usize == LANES, "one mask row per 8-lane vector");
-    let e = edges_of(x, y);
-    let (cx, cy) = (px0 * ONE + ONE / 2, py0 * ONE + ONE / 2);
-    // Each edge's values along the first row, and its step from row to row.
-    let mut value = [I8::splat(0); 3];
-    let mut step = [I8::splat(0); 3];
-    for (k, ed) in e.iter().enumerate() {
-        let v = (ed.a * cx + ed.b * cy + ed.c - ed.bias) as i32;
-        value[k] = I8::splat(v) + I8::ramp_times((ed.a * ONE) as i32);
-        step[k] = I8::splat((ed.b * ONE) as i32);
-    }
-    let lanes = I8::lane_range(0, (px1 - px0) as i32);
-    let mut mask = 0u64;
-    for j in 0..=(py1 - py0) as u32 {
-        let m = lanes
-            .and(value[0].non_negative())
-            .and(value[1].non_negative())
-            .and(value[2].non_negative());
-        mask |= (m.bits() as u64) << (SMALL as u32 * j);
-        for k in 0..3 {
-            value[k] = value[k] + step[k];
-        }
-    }
-    mask
 }
 
 /// A small triangle's coverage mask ([`Tri::cover`], bit `SMALL * j + i` for pixel `(rx + i,

@@ -14,15 +14,17 @@ use crate::front::{front_end, Chunk};
 use crate::light::Lighting;
 use crate::material::{AlphaMode, Material, Shading};
 use crate::mesh::Mesh;
-use crate::raster::{raster_tri, DepthToView, PixelMode};
+use crate::raster::{raster_tri, DepthToView};
 use crate::scene::{Draw, Scene};
-use crate::setup::{Tri, Viewport, CLIPPED};
+use crate::setup::{Tri, CLIPPED};
 use crate::shade::{ColorShader, ConstShader, GeneralShader};
+use crate::space::Viewport;
+use crate::state::{DrawInfo, Kind, PixelMode};
 use crate::stats::FrameStats;
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::tile::TileBuf;
 use crate::vertex::{self, Layout, VertexPos};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::Mutex;
 
@@ -64,30 +66,6 @@ impl Default for FrameOptions {
             cull: Cull::PerMaterial,
         }
     }
-}
-
-/// The fragment shader family a draw uses.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Kind {
-    Const(ConstShader),
-    Color(ColorShader),
-    General,
-}
-
-/// What the stages need to know about one draw this frame.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct DrawInfo<'a> {
-    pub(crate) mesh: &'a Mesh,
-    pub(crate) material: &'a Material,
-    pub(crate) transform: Mat4,
-    pub(crate) layout: Layout,
-    pub(crate) kind: Kind,
-    pub(crate) vert_base: usize,
-    pub(crate) vary_base: usize,
-    pub(crate) tri_base: usize,
-    pub(crate) prim_base: u32,
-    pub(crate) cull_back: bool,
-    pub(crate) mode: PixelMode,
 }
 
 /// Renders draws into targets. Keep one alive across frames: it owns the scratch memory.

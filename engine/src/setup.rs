@@ -7,14 +7,7 @@
 //! it was front-facing (counter-clockwise in NDC) before that. Triangles that are degenerate
 //! (zero area) or cover no pixel centre's bounding box are dropped here.
 
-use glam::Vec4;
-
-/// Sub-pixel precision of snapped vertices.
-pub const SUBPIXEL_BITS: u32 = 8;
-/// One pixel in fixed-point units.
-pub const ONE: i64 = 1 << SUBPIXEL_BITS;
-/// Guard band: how far (pixels) outside the target a vertex may lie before x/y clipping.
-pub const GUARD_PX: f32 = 8192.0;
+use crate::space::{small_cover, ScreenVert, Viewport, ONE, SMALL};
 
 /// [`Tri::flags`] bit: the triangle was front-facing.
 pub const FRONT: u32 = 1;
@@ -25,10 +18,6 @@ pub const CLIPPED: u32 = 2;
 const COVER: u32 = 4;
 /// Where the flags sit in [`Tri`]'s draw word.
 const FLAG_SHIFT: u32 = 29;
-
-/// Triangles whose vertices span less than `SMALL` pixels each way (so at most `SMALL` x
-/// `SMALL` pixel centres) carry their coverage as a mask ([`Tri::cover`]).
-pub const SMALL: i32 = 8;
 
 /// A linear function of screen position: `value = c + dx * (x - rx) + dy * (y - ry)`,
 /// evaluated at pixel centres, where `(rx, ry)` is the triangle's bounding-box corner.
@@ -134,58 +123,6 @@ impl Tri {
     }
 }
 
-/// A vertex after the perspective divide: snapped position (coverage), exact position,
-/// depth and 1/w in f64 (interpolation planes).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct ScreenVert {
-    pub x: i32,
-    pub y: i32,
-    pub fx: f64,
-    pub fy: f64,
-    pub z: f64,
-    pub iw: f64,
-}
-
-/// The target's size as the setup stage needs it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Viewport {
-    pub width: u32,
-    pub height: u32,
-}
-
-impl Viewport {
-    /// Perspective divide, viewport transform and snap. `None` for non-finite input.
-    #[inline]
-    pub fn to_screen(&self, p: Vec4) -> Option<ScreenVert> {
-        let p = p.as_dvec4();
-        let iw = 1.0 / p.w;
-        let sx = (p.x * iw * 0.5 + 0.5) * self.width as f64;
-        let sy = (0.5 - p.y * iw * 0.5) * self.height as f64;
-        let z = p.z * iw;
-        if !(sx.is_finite() && sy.is_finite() && z.is_finite() && iw.is_finite()) {
-            return None;
-        }
-        let lim = (crate::target::MAX_TARGET_SIZE as f64 + GUARD_PX as f64 * 2.0) * ONE as f64;
-        let snap = |v: f64| (v * ONE as f64).round().clamp(-lim, lim) as i32;
-        Some(ScreenVert {
-            x: snap(sx),
-            y: snap(sy),
-            fx: sx,
-            fy: sy,
-            z: z.clamp(0.0, 1.0),
-            iw,
-        })
-    }
-
-    /// The guard band in NDC units.
-    pub fn guard(&self) -> crate::clip::GuardBand {
-        crate::clip::GuardBand {
-            gx: 1.0 + 2.0 * GUARD_PX / self.width.max(1) as f32,
-            gy: 1.0 + 2.0 * GUARD_PX / self.height.max(1) as f32,
-        }
-    }
-}
-
 /// Why setup dropped a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dropped {
@@ -243,7 +180,7 @@ pub fn setup(
     let cover = if max_x - min_x < SMALL * ONE as i32 && max_y - min_y < SMALL * ONE as i32 {
         let xs = [v[0].x, v[1].x, v[2].x];
         let ys = [v[0].y, v[1].y, v[2].y];
-        match crate::raster::small_cover(&xs, &ys, [bx0, by0, bx1, by1]) {
+        match small_cover(&xs, &ys, [bx0, by0, bx1, by1]) {
             0 => return Err(Dropped::Rejected),
             m => m,
         }
@@ -308,6 +245,7 @@ pub fn setup(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec4;
 
     const VP: Viewport = Viewport {
         width: 100,

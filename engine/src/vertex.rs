@@ -7,9 +7,8 @@
 //! Runs in parallel over fixed-size chunks of vertices; every output element depends only
 //! on its own vertex, so the result is the same at any thread count.
 
-use crate::clip::outcode;
 use crate::mesh::Mesh;
-use crate::setup::{ScreenVert, Viewport};
+use crate::space::{outcode, ScreenVert, Viewport};
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
