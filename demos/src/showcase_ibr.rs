@@ -10,7 +10,8 @@
 use crate::showcase_impostors::{self, Impostors};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
-    AlphaMode, Camera, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene, Target,
+    AlphaMode, Camera, Draw, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene,
+    Target,
 };
 use glam::{Mat4, Vec2, Vec3};
 use ibr::effects::Effects;
@@ -44,6 +45,8 @@ pub struct IbrLayer {
     t: f32,
     dt: f32,
     bolts_fired: u32,
+    /// The impostors' draw list, kept empty between frames so its memory is reused.
+    scratch: Vec<Draw<'static>>,
 }
 
 impl IbrLayer {
@@ -67,6 +70,7 @@ impl IbrLayer {
             t: 0.0,
             dt: 0.0,
             bolts_fired: 0,
+            scratch: Vec::new(),
         };
         layer
             .effects
@@ -151,7 +155,7 @@ impl IbrLayer {
         self.effects.build(&view);
         self.impostors
             .update(camera, target.height(), &scene.lighting);
-        let mut impostored = Vec::new();
+        let mut impostored = recycle(std::mem::take(&mut self.scratch));
         self.impostors.draws(&mut impostored);
         let draws = || {
             scene
@@ -175,6 +179,7 @@ impl IbrLayer {
             };
             stats += renderer.render([self.flare.draw()], camera, &scene.lighting, target, &over);
         }
+        self.scratch = recycle(impostored);
         stats
     }
 
@@ -192,6 +197,13 @@ impl IbrLayer {
     pub fn sun(&self) -> FlareSource {
         self.sun
     }
+}
+
+/// An emptied draw list with another lifetime, keeping its allocation (draws of every
+/// lifetime have one layout, so the in-place collect reuses the buffer).
+fn recycle<'b>(mut v: Vec<Draw<'_>>) -> Vec<Draw<'b>> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("empty")).collect()
 }
 
 /// A turret: a dark pylon with a glowing head.

@@ -3,6 +3,7 @@
 pub mod assets;
 pub mod busy;
 pub mod compare;
+pub mod counting;
 pub mod golden;
 pub mod reference;
 pub mod scenes;

@@ -5,13 +5,7 @@
 //! proportion to the scene. Counters only, no wall-clock timing (`bench scaling` times
 //! the same frames).
 
-// The benchmark's city, compiled into this test (the tests crate does not depend on
-// `demos`): its own unit tests run here too.
-#[path = "../../demos/src/city.rs"]
-#[allow(dead_code)]
-mod city;
-
-use city::{City, Path};
+use demos::city::{City, Path};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::{Config, ImpostorSet, Mode};
 use ibr::subject::Subject;
