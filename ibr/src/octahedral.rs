@@ -14,9 +14,10 @@
 //! Frame `(i, j)` (index `j * N + i`, atlas column `i`, row `j`) is seen from the decoded
 //! cell centre `((i + 0.5) / N, (j + 0.5) / N) * 2 - 1`.
 //!
-//! **Bake**: per frame, an orthographic render of [`Subject::draws`] from `centre + d * 16r`
-//! ([`BAKE_DISTANCE`]), `2r x 2r` world units, `frame_px` pixels square, transparent clear,
-//! copied premultiplied and sRGB-encoded into its atlas cell. Up is [`basis`]: +Y, or +Z
+//! **Bake**: per frame, an orthographic capture ([`crate::capture::Capturer`]) of
+//! [`Subject::draws`] from `centre + d * 16r` ([`BAKE_DISTANCE`]), `2r x 2r` world units,
+//! `frame_px` pixels square, transparent clear, colour and depth, into its cell of an
+//! [`Atlas`] (image data, apart from the drawing below). Up is [`basis`]: +Y, or +Z
 //! within 2.6 degrees of the poles (no tangent field on a sphere is continuous; the
 //! reprojection below hides the switch).
 //!
@@ -33,20 +34,23 @@
 //! (each to 1/4096) change. [`Blend::Nearest`] shows the heaviest frame alone.
 //!
 //! **Costs**: the bake renders `N^2` frames of `frame_px^2` pixels. The atlas holds
-//! `N^2 frame_px^2` texels, 4 bytes packed and about 16 with the engine's mips and 16-bit
-//! sampling copy ([`OctahedralImpostor::bytes`]): `N = 8, frame_px = 64` is 512 x 512,
-//! about 4 MiB. Views are about `203 / N` degrees apart on the full octahedron and
+//! `N^2 frame_px^2` texels of 20 bytes (linear premultiplied colour and depth, as captured:
+//! the blend reads them without decoding; [`OctahedralImpostor::bytes`]): `N = 8,
+//! frame_px = 64` is 512 x 512, 5 MiB. Views are about `203 / N` degrees apart on the full octahedron and
 //! `144 / N` on the hemi one, 1.4 times finer for the same memory when the underside is
 //! never seen. Per frame: three bilinear taps per texel when the view changes, then one
 //! two-triangle draw whatever the subject's triangle count. The tests measure the error
 //! against the geometry at and between views, blended and nearest, for `N = 4` to `12`.
 
 use crate::billboard::{push_quad, UvRect};
+use crate::capture::Capturer;
+use crate::images::atlas::Atlas;
+use crate::images::DepthImage;
 use crate::subject::Subject;
-use engine::color::{unpack, Encoder};
+use engine::color::Encoder;
 use engine::{
-    BlendMode, Camera, Draw, Encoding, FrameOptions, Lighting, Material, Mesh, Projection,
-    Renderer, Rgba, Sphere, Target, Texture, Wrap,
+    BlendMode, Camera, Draw, Encoding, Lighting, Material, Mesh, Projection, Rgba, Sphere, Texture,
+    Wrap,
 };
 use glam::{IVec2, Mat4, Vec2, Vec3};
 use std::sync::Arc;
@@ -251,8 +255,8 @@ type Key = (Blend, [u32; 3], [u16; 3], [i16; 3]);
 #[derive(Clone, Debug)]
 pub struct OctahedralImpostor {
     info: BakeInfo,
-    /// Premultiplied sRGB frames; level 0's texels are what the CPU blend reads.
-    atlas: Texture,
+    /// The baked frames, linear premultiplied colour and depth, with their cameras.
+    atlas: Atlas,
     /// Unit direction of every frame, by index.
     dirs: Vec<Vec3>,
     blend: Blend,
@@ -283,27 +287,21 @@ impl OctahedralImpostor {
         } else {
             1e-3
         };
-        let side = n * px;
-        let mut texels = vec![0u32; side as usize * side as usize];
+        let mut atlas = Atlas::new(n, n, px, px);
         let mut dirs = Vec::with_capacity((n * n) as usize);
-        let (mut renderer, mut target) = (Renderer::new(), Target::new(px, px));
-        let opts = FrameOptions {
-            clear: Some(Rgba::TRANSPARENT),
-            ..Default::default()
-        };
+        let mut capturer = Capturer::new();
+        let mut cell = DepthImage::new(px, px, frame_camera(center, r, Vec3::Y));
         for k in 0..n * n {
             let (i, j) = (k % n, k / n);
             let d = decode(layout, cell_uv(n, i, j));
             dirs.push(d);
             let camera = frame_camera(center, r, d);
+            // View-dependent subjects (clouds) face each bake camera in turn.
             subject.prepare(&camera, px);
             let mut draws = Vec::new();
             subject.draws(&mut draws);
-            renderer.render(draws, &camera, lighting, &mut target, &opts);
-            for (y, x) in (0..px).flat_map(|y| (0..px).map(move |x| (y, x))) {
-                let at = ((j * px + y) * side + i * px + x) as usize;
-                texels[at] = target.pixel(x, y).unwrap_or(0);
-            }
+            capturer.capture(draws.iter().copied(), &camera, lighting, px, px, &mut cell);
+            atlas.write_cell(k, &cell);
         }
         let texture = |w: u32, t: Vec<u32>| {
             Texture::from_packed(w, w, t, Encoding::Srgb, true)
@@ -325,7 +323,7 @@ impl OctahedralImpostor {
                 bounds,
                 version,
             },
-            atlas: texture(side, texels),
+            atlas,
             dirs,
             blend: Blend::Three,
             frames: ([0; 3], [1.0, 0.0, 0.0]),
@@ -388,12 +386,12 @@ impl OctahedralImpostor {
             let m = [qr.dot(rk), qu.dot(rk), -qr.dot(uk), -qu.dot(uk)];
             (w, origin, m)
         });
-        let atlas = &self.atlas.levels()[0].texels;
+        let atlas = &self.atlas.color;
         let texel = |origin: usize, x: i32, y: i32| {
             let inside = x >= 0 && y >= 0 && x <= last && y <= last;
             let at = inside.then(|| origin + y as usize * side + x as usize);
             let t = at.and_then(|i| atlas.get(i));
-            t.map_or([0.0; 4], |&t| unpack(Encoding::Srgb, t).to_array())
+            t.map_or([0.0; 4], |t| t.to_array())
         };
         let enc = Encoder::new(Encoding::Srgb);
         let fill = |out: &mut [u32]| {
@@ -447,15 +445,15 @@ impl OctahedralImpostor {
         self.blend = blend;
     }
 
-    /// The baked atlas: frame `k` is the `frame_px` square at column `k % grid`, row
-    /// `k / grid`; premultiplied, sRGB.
-    pub fn atlas(&self) -> &Texture {
+    /// The baked atlas: frame `k` is the `frame_px` square cell at column `k % grid`, row
+    /// `k / grid`, linear premultiplied colour and depth along its bake camera's axis.
+    pub fn atlas(&self) -> &Atlas {
         &self.atlas
     }
 
     /// The composed image drawn on the quad.
-    pub fn image(&self) -> &Texture {
-        self.material.base_texture.as_deref().unwrap_or(&self.atlas)
+    pub fn image(&self) -> Option<&Texture> {
+        self.material.base_texture.as_deref()
     }
 
     /// Unit direction (towards the viewer) frame `k` was baked from.
@@ -472,13 +470,16 @@ impl OctahedralImpostor {
         self.info.grid * self.info.grid
     }
 
-    /// Bytes held: atlas and scratch textures (mips and linear copies included), frame
-    /// directions and the quad.
+    /// Bytes held: the atlas (colour, depth and cameras), the composed texture (mips and
+    /// linear copies included), frame directions and the quad.
     pub fn bytes(&self) -> usize {
-        let scratch = texture_bytes(self.image());
+        let scratch = self.image().map_or(0, texture_bytes);
         let vertex = size_of::<Vec3>() + size_of::<Vec2>() + size_of::<Rgba>();
         let quad = self.mesh.positions.len() * vertex + self.mesh.indices.len() * 4;
-        texture_bytes(&self.atlas) + scratch + self.dirs.len() * 12 + quad + size_of::<Self>()
+        let atlas = self.atlas.color.len() * size_of::<engine::Premul>()
+            + self.atlas.depth.len() * 4
+            + self.atlas.cameras.len() * size_of::<Option<Camera>>();
+        atlas + scratch + self.dirs.len() * 12 + quad + size_of::<Self>()
     }
 }
 

@@ -1,14 +1,12 @@
 //! Sprite textures made at start-up: analytic glows and beam profiles, and sprites baked
-//! from meshes by rendering them with the engine (the billboard trees' images).
+//! from meshes through the capture service (the billboard trees' images).
 //!
 //! Nothing here reads a file. Generated textures are straight-alpha sRGB-encoded images
 //! with mipmaps; baked sprites are the engine's own premultiplied render of the mesh.
 
 use crate::billboard::UvRect;
-use engine::{
-    Camera, Draw, Encoding, FrameOptions, Lighting, Material, Mesh, Projection, Renderer, Rgba,
-    Target, Texture,
-};
+use crate::capture::Capturer;
+use engine::{Camera, Draw, Encoding, Lighting, Material, Mesh, Projection, Texture};
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
@@ -109,24 +107,19 @@ pub fn bake_upright(
         near: 0.01,
         far: 2.0 * dist + height,
     };
-    let mut renderer = Renderer::new();
+    let mut capturer = Capturer::new();
     let draw = Draw {
         mesh,
         material,
         transform: Mat4::IDENTITY,
     };
     // Left half: the side view (w x px pixels); right half: the top view (w x w pixels).
-    let mut side_img = Target::with_encoding(w, px, Encoding::Srgb);
     let side_cam = Camera {
         view: Mat4::look_at_rh(mid + side * dist, mid, Vec3::Y),
         projection: ortho(radius, height * 0.5),
     };
-    let clear = FrameOptions {
-        clear: Some(Rgba::new(0.0, 0.0, 0.0, 0.0)),
-        ..Default::default()
-    };
-    renderer.render([draw], &side_cam, lighting, &mut side_img, &clear);
-    let mut top_img = Target::with_encoding(w, w.min(px), Encoding::Srgb);
+    let side_img = capturer.render([draw], &side_cam, lighting, w, px, Encoding::Srgb);
+    let side_tex = side_img.to_texture().expect("not empty");
     let top_cam = Camera {
         view: Mat4::look_at_rh(
             Vec3::new(0.0, hi.y + dist, 0.0),
@@ -135,12 +128,11 @@ pub fn bake_upright(
         ),
         projection: ortho(radius, radius * w.min(px) as f32 / w as f32),
     };
-    renderer.render([draw], &top_cam, lighting, &mut top_img, &clear);
+    let top_img = capturer.render([draw], &top_cam, lighting, w, w.min(px), Encoding::Srgb);
+    let top_tex = top_img.to_texture().expect("not empty");
     // Assemble the atlas with a 2-pixel transparent gutter between the halves.
     let (aw, ah) = (w * 2 + 2, px);
     let mut texels = vec![0u32; aw as usize * ah as usize];
-    let side_tex = side_img.to_texture().expect("not empty");
-    let top_tex = top_img.to_texture().expect("not empty");
     blit(
         &mut texels,
         aw,

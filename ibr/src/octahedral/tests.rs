@@ -6,6 +6,7 @@ use super::*;
 use crate::metrics::{compare, covered_rect, Coverage, ImageError, Options, Region};
 use crate::subject::MeshGroup;
 use engine::procedural::{cuboid, torus, XorShift};
+use engine::{FrameOptions, Renderer, Target};
 
 /// `n` roughly uniform unit directions (a Fibonacci sphere), poles included.
 fn directions(n: usize) -> Vec<Vec3> {
@@ -242,7 +243,7 @@ fn baked_views_match_the_geometry() {
     for layout in [Layout::Full, Layout::Hemi] {
         let (s, mut imp) = bake(6, 64, layout);
         assert_eq!(imp.bake_renders(), 36);
-        assert_eq!(imp.atlas().width(), 6 * 64);
+        assert_eq!(imp.atlas().size().0, 6 * 64);
         let (mut psnr, mut ortho) = (Vec::new(), Vec::new());
         for k in [0, 7, 14, 21, 28, 35] {
             let d = imp.frame_direction(k).unwrap();
@@ -315,7 +316,8 @@ fn error_grows_as_the_grid_coarsens() {
 #[test]
 fn the_blended_image_changes_continuously() {
     let (_, mut imp) = bake(5, 48, Layout::Full);
-    let image = |imp: &OctahedralImpostor| imp.image().levels()[0].texels.clone();
+    let image =
+        |imp: &OctahedralImpostor| imp.image().expect("composed").levels()[0].texels.clone();
     let diff = |a: &[u32], b: &[u32]| {
         let sum: u64 = a
             .iter()
@@ -354,7 +356,7 @@ fn warm_updates_do_not_allocate() {
     let (_, mut imp) = bake(4, 32, Layout::Hemi);
     let state = |imp: &OctahedralImpostor| {
         let m = &imp.mesh;
-        let tex = imp.image();
+        let tex = imp.image().expect("composed");
         let levels: Vec<(*const u32, usize)> = tex
             .levels()
             .iter()
@@ -398,7 +400,11 @@ fn identical_at_one_and_two_threads() {
         let cam = far_camera(imp.info().bounds, Vec3::new(0.4, 0.5, 0.7).normalize());
         imp.update(&cam);
         let frame = render(vec![imp.draw()], &cam, 40).to_rgba8_premultiplied();
-        (imp.atlas().clone(), imp.image().clone(), frame)
+        (
+            imp.atlas().clone(),
+            imp.image().expect("composed").clone(),
+            frame,
+        )
     };
     let in_pool = |threads| {
         rayon::ThreadPoolBuilder::new()
@@ -427,7 +433,7 @@ fn odd_inputs_do_not_panic() {
 
     let (_, mut imp) = bake(3, 16, Layout::Full);
     let c = imp.info().bounds.center;
-    let before = (imp.frames(), imp.image().clone());
+    let before = (imp.frames(), imp.image().expect("composed").clone());
     // Eye at the centre, NaN and infinite cameras: the last image stays.
     assert!(!imp.update(&Camera::look_at(c, c + Vec3::Z, Vec3::Y, 1.0, 1.0)));
     let mut nan = Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0);
@@ -435,7 +441,10 @@ fn odd_inputs_do_not_panic() {
     assert!(!imp.update(&nan));
     nan.view = Mat4::from_cols_array(&[f32::INFINITY; 16]);
     assert!(!imp.update(&nan));
-    assert_eq!((imp.frames(), imp.image().clone()), before);
+    assert_eq!(
+        (imp.frames(), imp.image().expect("composed").clone()),
+        before
+    );
     // Straight down on a hemi impostor: the horizon frames; straight up and down on a full
     // one; an orthographic camera uses its view direction.
     let (_, mut hemi) = bake(3, 16, Layout::Hemi);
@@ -475,6 +484,9 @@ fn odd_inputs_do_not_panic() {
     let mut imp = OctahedralImpostor::bake(&mut empty, &light, 2, 4, Layout::Full);
     assert!(imp.info().bounds.radius > 0.0);
     imp.update(&ortho);
-    assert!(imp.image().levels()[0].texels.iter().all(|&t| t == 0));
+    assert!(imp.image().expect("composed").levels()[0]
+        .texels
+        .iter()
+        .all(|&t| t == 0));
     assert!(imp.bytes() > 0 && imp.info().version == 0);
 }
