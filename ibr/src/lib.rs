@@ -1,10 +1,14 @@
 //! Image-based rendering for Parallax: techniques that replace geometry with images where
-//! that is cheaper (billboards, impostors, depth images, layered depth images).
+//! that is cheaper (billboards, lasers, lens flare, effects, runtime and octahedral
+//! impostors, clouds), and the image data later techniques build on: images with depth and
+//! their camera, layered depth images, atlases, and one capture service. (Warping depth
+//! images to new views is not here yet.)
 //!
 //! Rules: `ibr` builds on `engine` and never the reverse. IBR *data* (an impostor atlas, a
 //! depth image) is kept apart from the code that bakes or draws it through the engine, so
 //! the data can be built and tested without the rasterizer. Every technique turns into
-//! ordinary [`engine::Draw`]s: the renderer knows nothing of billboards.
+//! ordinary [`engine::Draw`]s, or into per-pixel image passes ([`engine::pass`]) that write
+//! colour and depth into the target: the renderer knows nothing of billboards.
 //!
 //! - [`images`]: images with depth and their camera, layered depth images, atlases (data
 //!   only, no drawing).
