@@ -171,7 +171,7 @@ impl IbrLayer {
         let dt = self.dt.max(1.0 / 60.0);
         let lighting = &scene.lighting;
         self.flare
-            .update_with_blended(camera, target, self.sun, dt, renderer, lighting, draws());
+            .update_with_blended(camera, target, self.sun, dt, lighting, draws());
         if self.flare.quad_count() > 0 {
             let over = FrameOptions {
                 clear: None,

@@ -9,8 +9,8 @@
 
 use crate::images::{DepthImage, LayeredDepthImage};
 use engine::{
-    Camera, Cull, Draw, Encoding, FrameOptions, Lighting, Material, Projection, Renderer, Rgba,
-    Shading, Target,
+    Camera, Cull, Draw, Encoding, FrameOptions, FrameStats, Lighting, Material, Projection,
+    Renderer, Rgba, Shading, Target,
 };
 use glam::Vec3;
 use rayon::prelude::*;
@@ -43,6 +43,16 @@ impl Default for Capturer {
     }
 }
 
+/// A clone shares nothing but the options: the targets and the renderer are scratch.
+impl Clone for Capturer {
+    fn clone(&self) -> Self {
+        Capturer {
+            options: self.options,
+            ..Capturer::new()
+        }
+    }
+}
+
 impl Capturer {
     pub fn new() -> Self {
         Self::default()
@@ -65,6 +75,16 @@ impl Capturer {
         self.renderer
             .render(draws, camera, lighting, &mut self.target, &opts);
         &self.target
+    }
+
+    /// The target of the last [`Capturer::render`] or id capture.
+    pub fn target(&self) -> &Target {
+        &self.target
+    }
+
+    /// The renderer's counters of the last capture (the last layer's, for layers).
+    pub fn last_stats(&self) -> FrameStats {
+        self.renderer.stats()
     }
 
     /// Captures `draws` seen by `camera` into `out` (resized to `width` x `height`): colour

@@ -7,16 +7,16 @@
 //! sprites are quads unprojected from pixel positions to world space in front of the eye,
 //! so that camera puts them back exactly on those pixels. Draws that write no depth
 //! (blended impostors, clouds, glass) hide the light too through
-//! [`LensFlare::update_with_blended`], which renders them into a small [`probe`] around the
+//! [`LensFlare::update_with_blended`], which captures them into a small [`probe`] around the
 //! light and dims each tap by their opacity. All shapes live in one atlas
 //! generated at start-up ([`atlas`]); the mesh is rewritten in place every frame.
 
 pub mod probe;
 
 use crate::billboard::{push_quad, UvRect};
+use crate::capture::Capturer;
 use engine::{
-    BlendMode, Camera, Draw, Encoding, Lighting, Material, Mesh, Renderer, Rgba, Target, Texture,
-    Wrap,
+    BlendMode, Camera, Draw, Encoding, Lighting, Material, Mesh, Rgba, Target, Texture, Wrap,
 };
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use probe::Probe;
@@ -268,6 +268,47 @@ fn tap_radius(radius_px: f32) -> f32 {
     }
 }
 
+/// The finished frame a flare measures its light in.
+#[derive(Clone, Copy, Debug)]
+pub struct Seen<'s> {
+    /// The frame after its opaque and blended passes.
+    pub target: &'s Target,
+    pub camera: &'s Camera,
+    pub lighting: &'s Lighting,
+}
+
+/// The light's visibility in a finished frame: the depth taps, each dimmed by the blended
+/// `draws` in front of it (captured with `capturer` only when some tap is open).
+pub fn measure<'a>(
+    capturer: &mut Capturer,
+    seen: &Seen<'_>,
+    draws: impl IntoIterator<Item = Draw<'a>>,
+    light: &Projected,
+    samples: u32,
+    radius_px: f32,
+) -> f32 {
+    let depth_only = occlusion(seen.target, light, samples, radius_px);
+    if depth_only == 0.0 {
+        return 0.0;
+    }
+    let size = (seen.target.width(), seen.target.height());
+    let radius = tap_radius(radius_px);
+    match Probe::capture(
+        capturer,
+        draws,
+        seen.lighting,
+        seen.camera,
+        light,
+        radius,
+        size,
+    ) {
+        Some(probe) => occlusion_through(seen.target, light, samples, radius, |p| {
+            probe.transmittance(p)
+        }),
+        None => depth_only,
+    }
+}
+
 /// Moves a displayed visibility toward `target` by at most `rate * dt` (linear fade). `dt`
 /// of 0 (or negative, NaN) leaves it; a rate that is not positive and finite, or a huge
 /// `dt`, snaps. The result stays in [0, 1].
@@ -313,7 +354,8 @@ pub struct LensFlare {
     pub state: FlareState,
     material: Material,
     mesh: Mesh,
-    probe: Probe,
+    /// Captures the blended occluders around the light.
+    capturer: Capturer,
 }
 
 /// Atlas cell size used by [`LensFlare::new`].
@@ -348,7 +390,7 @@ impl LensFlare {
             state: FlareState::default(),
             material,
             mesh: Mesh::default(),
-            probe: Probe::default(),
+            capturer: Capturer::new(),
         }
     }
 
@@ -373,34 +415,29 @@ impl LensFlare {
     /// [`LensFlare::update`] for a frame with blended draws: `draws` are the frame's draws
     /// (all of them may be passed; only the alpha-blended, non-additive ones are used), and
     /// each tap is dimmed by their accumulated opacity there, so an impostor hides the light
-    /// by its coverage and a cloud by its opacity. Costs one render of those draws into a
-    /// [`probe::PROBE_SIDE`]-pixel square target, skipped when the depth taps already see
-    /// the light hidden or absent.
+    /// by its coverage and a cloud by its opacity. Costs one capture of those draws into a
+    /// [`probe::PROBE_SIDE`]-pixel square, skipped when the depth taps already see the light
+    /// hidden or absent.
     pub fn update_with_blended<'a>(
         &mut self,
         camera: &Camera,
         target: &Target,
         source: FlareSource,
         dt: f32,
-        renderer: &mut Renderer,
         lighting: &Lighting,
         draws: impl IntoIterator<Item = Draw<'a>>,
     ) -> f32 {
         let (w, h) = (target.width(), target.height());
         let light = project(camera, source, w, h);
-        let mut measured = 0.0;
-        if let Some(l) = light {
-            measured = occlusion(target, &l, self.samples, self.radius_px);
-            if measured > 0.0 {
-                let radius = tap_radius(self.radius_px);
-                let probe = &mut self.probe;
-                if probe.render(renderer, draws, lighting, camera, &l, radius, w, h) {
-                    measured = occlusion_through(target, &l, self.samples, radius, |p| {
-                        probe.transmittance(p)
-                    });
-                }
-            }
-        }
+        let measured = light.map_or(0.0, |l| {
+            let (samples, radius) = (self.samples, self.radius_px);
+            let seen = Seen {
+                target,
+                camera,
+                lighting,
+            };
+            measure(&mut self.capturer, &seen, draws, &l, samples, radius)
+        });
         self.finish(camera, light, measured, dt, w, h)
     }
 

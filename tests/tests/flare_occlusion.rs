@@ -63,15 +63,7 @@ fn visibility<'a>(draws: impl Iterator<Item = Draw<'a>> + Clone, sun: FlareSourc
     };
     renderer.render(draws.clone(), &cam, &lighting(), &mut target, &opts);
     let mut flare = LensFlare::default();
-    flare.update_with_blended(
-        &cam,
-        &target,
-        sun,
-        f32::INFINITY,
-        &mut renderer,
-        &lighting(),
-        draws,
-    );
+    flare.update_with_blended(&cam, &target, sun, f32::INFINITY, &lighting(), draws);
     flare.measured()
 }
 

@@ -1,7 +1,7 @@
 //! Occlusion through blended draws: the draws that write no depth (impostors, clouds,
-//! glass) rendered once more into a small transparent target that crops the camera's view
-//! to the flare's tap disc, whose alpha then says how much of the light each tap lets
-//! through.
+//! glass) captured once more ([`crate::capture::Capturer`]) into a small transparent image
+//! that crops the camera's view to the flare's tap disc, whose alpha then says how much of
+//! the light each tap lets through.
 //!
 //! The depth taps of [`super::occlusion`] see opaque and alpha-tested surfaces; this pass
 //! sees the rest. Alpha blending accumulates `a + d (1 - a)`, so a pixel's alpha is the
@@ -11,79 +11,63 @@
 //! lies in front of it counts.
 
 use super::Projected;
-use engine::{
-    BlendMode, Camera, Cull, Draw, Encoding, FrameOptions, Lighting, Renderer, Rgba, Target,
-};
+use crate::capture::Capturer;
+use engine::{BlendMode, Camera, Draw, Encoding, Lighting, Target};
 use glam::Vec2;
 
-/// Side of the probe target, pixels (the tap disc's bounding square).
+/// Side of the probe image, pixels (the tap disc's bounding square).
 pub const PROBE_SIDE: u32 = 24;
-
-/// The probe's target, kept between frames.
-#[derive(Clone, Debug)]
-pub struct Probe {
-    target: Target,
-    /// The disc's bounding square in the main image, pixels: `min` and side.
-    min: Vec2,
-    side: f32,
-}
-
-impl Default for Probe {
-    fn default() -> Self {
-        Probe {
-            target: Target::with_encoding(PROBE_SIDE, PROBE_SIDE, Encoding::Unorm),
-            min: Vec2::ZERO,
-            side: 1.0,
-        }
-    }
-}
 
 /// Whether a draw can hide the light without writing depth: alpha-blended, not additive.
 pub fn hides_without_depth(draw: &Draw<'_>) -> bool {
     draw.material.is_blended() && draw.material.blend != BlendMode::Additive
 }
 
-impl Probe {
-    /// Renders the blended, non-additive `draws` (others are skipped) over a transparent
-    /// background, seen by `camera` cropped to the square of half side `radius_px` around
-    /// `light` in a `width` x `height` image. Returns whether anything was drawn.
-    pub fn render<'a>(
-        &mut self,
-        renderer: &mut Renderer,
+/// The blended draws' opacity around a light, as captured.
+#[derive(Debug)]
+pub struct Probe<'c> {
+    image: &'c Target,
+    /// The disc's bounding square in the main image, pixels: `min` and side.
+    min: Vec2,
+    side: f32,
+}
+
+impl<'c> Probe<'c> {
+    /// Captures the blended, non-additive `draws` (others are skipped) with `capturer` over
+    /// a transparent background, seen by `camera` cropped to the square of half side
+    /// `radius_px` around `light` in a `width` x `height` image. `None` when nothing was
+    /// drawn there (or a point light has no depth range in front of it).
+    pub fn capture<'a>(
+        capturer: &'c mut Capturer,
         draws: impl IntoIterator<Item = Draw<'a>>,
         lighting: &Lighting,
         camera: &Camera,
         light: &Projected,
         radius_px: f32,
-        width: u32,
-        height: u32,
-    ) -> bool {
+        (width, height): (u32, u32),
+    ) -> Option<Self> {
         let half = radius_px.max(0.5);
-        self.min = light.pixel - Vec2::splat(half);
-        self.side = 2.0 * half;
-        let mut crop = camera.crop(self.min, self.min + Vec2::splat(self.side), width, height);
+        let (min, side) = (light.pixel - Vec2::splat(half), 2.0 * half);
+        let mut crop = camera.crop(min, min + Vec2::splat(side), width, height);
         if light.depth > 0.0 {
             // A point light: nothing behind it may count. Its view distance is the far plane.
             let (near, _) = camera.near_far();
             let far = camera.view_depth_from_reversed(light.depth);
             if far.is_nan() || far <= near {
-                self.target.clear(Rgba::TRANSPARENT);
-                return false;
+                return None;
             }
             crop = crop.with_depth_range(near, far);
         }
-        let opts = FrameOptions {
-            clear: Some(Rgba::TRANSPARENT),
-            cull: Cull::PerMaterial,
-        };
-        let stats = renderer.render(
-            draws.into_iter().filter(hides_without_depth),
-            &crop,
-            lighting,
-            &mut self.target,
-            &opts,
-        );
-        stats.fragments_shaded > 0
+        let blended = draws.into_iter().filter(hides_without_depth);
+        let (n, enc) = (PROBE_SIDE, Encoding::Unorm);
+        capturer.render(blended, &crop, lighting, n, n, enc);
+        let capturer: &'c Capturer = capturer;
+        let drew = capturer.last_stats().fragments_written > 0;
+        drew.then_some(Probe {
+            image: capturer.target(),
+            min,
+            side,
+        })
     }
 
     /// The fraction of light passing the blended draws at `pixel` of the main image (1 where
@@ -93,7 +77,7 @@ impl Probe {
         if !(p.x >= 0.0 && p.y >= 0.0) {
             return 1.0;
         }
-        self.target
+        self.image
             .color_linear(p.x as u32, p.y as u32)
             .map_or(1.0, |c| (1.0 - c.a).clamp(0.0, 1.0))
     }

@@ -404,15 +404,7 @@ fn update_blended(
     });
     let mut renderer = Renderer::new();
     let lighting = Lighting::default();
-    flare.update_with_blended(
-        &cam,
-        &target,
-        source,
-        f32::INFINITY,
-        &mut renderer,
-        &lighting,
-        draws,
-    );
+    flare.update_with_blended(&cam, &target, source, f32::INFINITY, &lighting, draws);
     assert_sane(flare);
     flare.measured()
 }
