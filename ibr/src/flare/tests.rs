@@ -402,7 +402,6 @@ fn update_blended(
         material,
         transform: Mat4::IDENTITY,
     });
-    let mut renderer = Renderer::new();
     let lighting = Lighting::default();
     flare.update_with_blended(&cam, &target, source, f32::INFINITY, &lighting, draws);
     assert_sane(flare);
