@@ -18,7 +18,8 @@ use ibr::effects::Effects;
 use ibr::flare::{FlareSource, LensFlare};
 use ibr::laser::{Laser, LaserBatch};
 use ibr::sprites::{self, BakedSprite};
-use ibr::{AxialFallback, Billboard, BillboardBatch, Facing, View};
+use ibr::technique::{Counters, Flare, FrameLoop, FrameView, Technique};
+use ibr::{AxialFallback, Billboard, BillboardBatch, Facing};
 
 /// Billboard trees in the forest ring.
 pub const FOREST_TREES: usize = 2400;
@@ -36,8 +37,7 @@ pub struct IbrLayer {
     forest: Vec<BillboardBatch>,
     lasers: LaserBatch,
     effects: Effects,
-    flare: LensFlare,
-    sun: FlareSource,
+    flare: Flare,
     /// The clouds and the city, drawn through runtime impostors.
     pub impostors: Impostors,
     /// Emitter positions of turret A (beam source) and turret B (bolt source).
@@ -45,8 +45,8 @@ pub struct IbrLayer {
     t: f32,
     dt: f32,
     bolts_fired: u32,
-    /// The impostors' draw list, kept empty between frames so its memory is reused.
-    scratch: Vec<Draw<'static>>,
+    /// The frame loop's memory, reused frame to frame.
+    frame: FrameLoop,
 }
 
 impl IbrLayer {
@@ -63,14 +63,16 @@ impl IbrLayer {
             forest: forest(scene, terrain),
             lasers: LaserBatch::new(),
             effects: Effects::new(77),
-            flare: LensFlare::default(),
-            sun: FlareSource::Directional(sun),
+            flare: Flare {
+                lens: LensFlare::default(),
+                source: FlareSource::Directional(sun),
+            },
             impostors: Impostors::new(terrain, &scene.lighting),
             turrets,
             t: 0.0,
             dt: 0.0,
             bolts_fired: 0,
-            scratch: Vec::new(),
+            frame: FrameLoop::new(),
         };
         layer
             .effects
@@ -133,7 +135,6 @@ impl IbrLayer {
             }
         }
         self.lasers.lasers = lasers;
-        self.effects.update(self.dt);
     }
 
     /// Renders `scene` with the layer: updates the impostors (refreshing the worst within
@@ -147,63 +148,75 @@ impl IbrLayer {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
-        let view = View::new(camera, target.height());
-        for batch in &mut self.forest {
-            batch.build(&view);
-        }
-        self.lasers.build(&view);
-        self.effects.build(&view);
-        self.impostors
-            .update(camera, target.height(), &scene.lighting);
-        let mut impostored = recycle(std::mem::take(&mut self.scratch));
-        self.impostors.draws(&mut impostored);
-        let draws = || {
-            scene
-                .draws()
-                .chain(self.forest.iter().map(BillboardBatch::draw))
-                .chain(self.lasers.draws())
-                .chain(self.effects.draws())
-                .chain(impostored.iter().copied())
+        let view = FrameView {
+            camera,
+            width: target.width(),
+            height: target.height(),
+            lighting: &scene.lighting,
+            time: self.t,
+            dt: self.dt,
         };
-        let mut stats = renderer.render(draws(), camera, &scene.lighting, target, opts);
-        // Blended impostors, clouds and smoke write no depth: the flare renders them once
+        // Blended impostors, clouds and smoke write no depth: the flare captures them once
         // more around the sun to see how much light they let through.
-        let dt = self.dt.max(1.0 / 60.0);
-        let lighting = &scene.lighting;
-        self.flare
-            .update_with_blended(camera, target, self.sun, dt, lighting, draws());
-        if self.flare.quad_count() > 0 {
-            let over = FrameOptions {
-                clear: None,
-                ..*opts
-            };
-            stats += renderer.render([self.flare.draw()], camera, &scene.lighting, target, &over);
-        }
-        self.scratch = recycle(impostored);
-        stats
+        let mut techniques: [&mut dyn Technique; 5] = [
+            &mut self.forest,
+            &mut self.lasers,
+            &mut self.effects,
+            &mut self.impostors,
+            &mut self.flare,
+        ];
+        self.frame.render(
+            renderer,
+            scene.draws(),
+            &mut techniques,
+            &view,
+            target,
+            opts,
+        )
+    }
+
+    /// Each technique's work in the last frame: forest, lasers, effects, impostors, flare.
+    pub fn counters(&self) -> &[Counters] {
+        &self.frame.counters
     }
 
     /// The flare's displayed visibility (0 hidden .. 1 in full view).
     pub fn flare_visibility(&self) -> f32 {
-        self.flare.visibility()
+        self.flare.lens.visibility()
     }
 
     /// The lens flare as of the last frame.
     pub fn flare(&self) -> &LensFlare {
-        &self.flare
+        &self.flare.lens
     }
 
     /// The light the flare follows.
     pub fn sun(&self) -> FlareSource {
-        self.sun
+        self.flare.source
     }
 }
 
-/// An emptied draw list with another lifetime, keeping its allocation (draws of every
-/// lifetime have one layout, so the in-place collect reuses the buffer).
-fn recycle<'b>(mut v: Vec<Draw<'_>>) -> Vec<Draw<'b>> {
-    v.clear();
-    v.into_iter().map(|_| unreachable!("empty")).collect()
+/// The impostored clouds and city as one technique (one per frame update of both sets).
+impl Technique for Impostors {
+    fn name(&self) -> &str {
+        "impostors"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.update(view.camera, view.height, view.lighting);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        Impostors::draws(self, out);
+    }
+    fn counters(&self) -> Counters {
+        let r = self.readout();
+        Counters {
+            quads: r.images() as u64,
+            images: r.images() as u64,
+            refreshes: r.refreshes() as u64,
+            geometry: r.geometry() as u64,
+            pixels: 0,
+        }
+    }
 }
 
 /// A turret: a dark pylon with a glowing head.

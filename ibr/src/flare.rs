@@ -441,6 +441,23 @@ impl LensFlare {
         self.finish(camera, light, measured, dt, w, h)
     }
 
+    /// Takes a visibility measured elsewhere (by [`measure`] in a frame loop; `None` when the
+    /// light had no projection), fades toward it by `dt` seconds and rewrites the mesh, as
+    /// [`LensFlare::update`] does after measuring. Returns the displayed visibility.
+    pub fn set_measured(
+        &mut self,
+        camera: &Camera,
+        source: FlareSource,
+        measured: Option<f32>,
+        dt: f32,
+        width: u32,
+        height: u32,
+    ) -> f32 {
+        let light = project(camera, source, width, height);
+        let measured = light.and(measured).unwrap_or(0.0);
+        self.finish(camera, light, measured, dt, width, height)
+    }
+
     /// Fades toward `measured` and rewrites the mesh.
     fn finish(
         &mut self,

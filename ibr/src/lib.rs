@@ -22,6 +22,8 @@
 //! - [`effects`]: animated sprite sheets and particle emitters (explosions, smoke, sparks).
 //! - [`octahedral`]: baked octahedral impostors (N x N views in one atlas, three-frame blend).
 //! - [`metrics`]: image error against a ground-truth render (PSNR, mean and max error).
+//! - [`technique`]: the technique interface every technique implements, and the one frame
+//!   loop ([`technique::FrameLoop`]) that drives them beside a scene's geometry.
 //! - [`subject`]: what an image can stand in for (mesh groups, particle clouds).
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
@@ -38,5 +40,6 @@ pub mod metrics;
 pub mod octahedral;
 pub mod sprites;
 pub mod subject;
+pub mod technique;
 
 pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};

@@ -1,0 +1,373 @@
+//! The technique interface: one shape for every image-based technique's frame, and the one
+//! frame loop ([`FrameLoop::render`]) that drives a list of them beside a scene's geometry.
+//!
+//! A frame, for techniques `t`:
+//! 1. `t.prepare(view)`: update for this camera and time (rebuild meshes, refresh images);
+//! 2. `t.draws(out)`: the draws it adds to the frame; the scene's and all techniques' draws
+//!    are rendered together (opaque, then blended back to front);
+//! 3. `t.passes(view, target)`: per-pixel image passes over the rendered frame;
+//! 4. `t.observe(seen)`: read the finished frame (a lens flare measures its light's
+//!    visibility in it), then `t.resolve(view, value)` takes what it observed, and
+//!    `t.counters()` reports the frame's work;
+//! 5. `t.overlay(out)`: draws rendered over the finished frame (flare sprites).
+//!
+//! Each technique reports its work as [`Counters`], and names the geometry it stands for
+//! ([`Technique::reference`]) so its error can be measured against a render of that geometry.
+//! Techniques are passed as a slice of `&mut dyn Technique`, so their owners keep typed
+//! access to them between frames.
+
+use crate::billboard::{BillboardBatch, View};
+use crate::capture::Capturer;
+use crate::effects::Effects;
+use crate::flare::{self, FlareSource, LensFlare, Seen};
+use crate::laser::LaserBatch;
+use crate::octahedral::OctahedralImpostor;
+use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Renderer, Target};
+use std::ops::AddAssign;
+
+/// What a technique prepares for: the camera, the target's size, the lighting and the time.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameView<'a> {
+    pub camera: &'a Camera,
+    pub width: u32,
+    pub height: u32,
+    pub lighting: &'a Lighting,
+    /// Seconds since the start, and since the previous frame (0 on the first, or when time
+    /// went backwards).
+    pub time: f32,
+    pub dt: f32,
+}
+
+impl FrameView<'_> {
+    /// The billboard view for this camera and height.
+    pub fn billboard_view(&self) -> View {
+        View::new(self.camera, self.height)
+    }
+}
+
+/// Work a technique did for one frame (integer sums, so totals are the same whatever the
+/// order they are added in).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Quads (sprites, impostor images) it drew.
+    pub quads: u64,
+    /// Images it shows in place of geometry.
+    pub images: u64,
+    /// Images it re-rendered this frame.
+    pub refreshes: u64,
+    /// Subjects it drew as their own geometry (fallbacks).
+    pub geometry: u64,
+    /// Pixels it shaded in image passes.
+    pub pixels: u64,
+}
+
+impl AddAssign for Counters {
+    fn add_assign(&mut self, o: Counters) {
+        self.quads += o.quads;
+        self.images += o.images;
+        self.refreshes += o.refreshes;
+        self.geometry += o.geometry;
+        self.pixels += o.pixels;
+    }
+}
+
+/// The finished frame, as a technique observing it sees it.
+#[derive(Debug)]
+pub struct Observed<'s, 'a> {
+    pub target: &'s Target,
+    pub camera: &'s Camera,
+    pub lighting: &'s Lighting,
+    /// Every draw the frame rendered.
+    pub draws: &'s [Draw<'a>],
+    /// Offscreen captures an observer may make (the loop's own, reused).
+    pub capturer: &'s mut Capturer,
+}
+
+/// One image-based technique in a frame (see the module docs for the order of calls).
+pub trait Technique {
+    /// A short name for readouts, CSV rows and charts.
+    fn name(&self) -> &str;
+    /// Updates for this view and time.
+    fn prepare(&mut self, view: &FrameView<'_>);
+    /// Appends the draws it adds to the frame (after `prepare`).
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>);
+    /// Runs its per-pixel image passes over the rendered frame.
+    fn passes(&self, _view: &FrameView<'_>, _target: &mut Target) -> FrameStats {
+        FrameStats::default()
+    }
+    /// Reads the finished frame; what it returns goes to `resolve`.
+    fn observe(&self, _seen: &mut Observed<'_, '_>) -> Option<f32> {
+        None
+    }
+    /// Takes what `observe` returned.
+    fn resolve(&mut self, _view: &FrameView<'_>, _observed: Option<f32>) {}
+    /// Appends draws rendered over the finished frame (no clear).
+    fn overlay<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
+    /// The work of the last frame.
+    fn counters(&self) -> Counters {
+        Counters::default()
+    }
+    /// Appends the geometry it stands for, to render the ground truth its error is measured
+    /// against (nothing for techniques that are their own truth).
+    fn reference<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
+}
+
+/// An emptied draw list with another lifetime, keeping its allocation (draws of every
+/// lifetime have one layout, so the in-place collect reuses the buffer).
+pub fn recycle<'b>(mut v: Vec<Draw<'_>>) -> Vec<Draw<'b>> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("empty")).collect()
+}
+
+/// The frame loop's memory, kept between frames: draw lists, observations and the
+/// observers' capturer.
+#[derive(Debug, Default)]
+pub struct FrameLoop {
+    draws: Vec<Draw<'static>>,
+    observed: Vec<Option<f32>>,
+    capturer: Capturer,
+    /// The techniques' counters of the last frame, in list order.
+    pub counters: Vec<Counters>,
+}
+
+impl FrameLoop {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Renders one frame of `scene` draws with `techniques` (see the module docs). Returns
+    /// the renderer's counters over every pass.
+    pub fn render<'s>(
+        &mut self,
+        renderer: &mut Renderer,
+        scene: impl IntoIterator<Item = Draw<'s>>,
+        techniques: &mut [&mut dyn Technique],
+        view: &FrameView<'_>,
+        target: &mut Target,
+        opts: &FrameOptions,
+    ) -> FrameStats {
+        for t in techniques.iter_mut() {
+            t.prepare(view);
+        }
+        let mut draws = recycle(std::mem::take(&mut self.draws));
+        for d in scene {
+            // One by one: each scene draw shortens to the techniques' borrow.
+            draws.push(d);
+        }
+        for t in techniques.iter() {
+            t.draws(&mut draws);
+        }
+        let mut stats = renderer.render(
+            draws.iter().copied(),
+            view.camera,
+            view.lighting,
+            target,
+            opts,
+        );
+        for t in techniques.iter() {
+            stats += t.passes(view, target);
+        }
+        self.observed.clear();
+        {
+            let mut seen = Observed {
+                target,
+                camera: view.camera,
+                lighting: view.lighting,
+                draws: &draws,
+                capturer: &mut self.capturer,
+            };
+            for t in techniques.iter() {
+                self.observed.push(t.observe(&mut seen));
+            }
+        }
+        let mut over = recycle(draws);
+        self.counters.clear();
+        for (t, o) in techniques.iter_mut().zip(&self.observed) {
+            t.resolve(view, *o);
+            self.counters.push(t.counters());
+        }
+        for t in techniques.iter() {
+            t.overlay(&mut over);
+        }
+        if !over.is_empty() {
+            let opts = FrameOptions {
+                clear: None,
+                ..*opts
+            };
+            stats += renderer.render(
+                over.iter().copied(),
+                view.camera,
+                view.lighting,
+                target,
+                &opts,
+            );
+        }
+        self.draws = recycle(over);
+        stats
+    }
+}
+
+/// Several techniques of one kind as one (a forest of batches): each step forwards to every
+/// member in order and counters add up. Members' observations are not forwarded.
+impl<T: Technique> Technique for Vec<T> {
+    fn name(&self) -> &str {
+        self.first().map_or("none", |t| t.name())
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.iter_mut().for_each(|t| t.prepare(view));
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.iter().for_each(|t| t.draws(out));
+    }
+    fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let mut stats = FrameStats::default();
+        for t in self {
+            stats += t.passes(view, target);
+        }
+        stats
+    }
+    fn overlay<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.iter().for_each(|t| t.overlay(out));
+    }
+    fn counters(&self) -> Counters {
+        let mut c = Counters::default();
+        for t in self {
+            c += t.counters();
+        }
+        c
+    }
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.iter().for_each(|t| t.reference(out));
+    }
+}
+
+impl Technique for BillboardBatch {
+    fn name(&self) -> &str {
+        "billboards"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.build(&view.billboard_view());
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        out.push(self.draw());
+    }
+    fn counters(&self) -> Counters {
+        Counters {
+            quads: self.items.len() as u64,
+            ..Counters::default()
+        }
+    }
+}
+
+impl Technique for LaserBatch {
+    fn name(&self) -> &str {
+        "lasers"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.build(&view.billboard_view());
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        out.extend(LaserBatch::draws(self));
+    }
+    fn counters(&self) -> Counters {
+        Counters {
+            quads: self.lasers.len() as u64,
+            ..Counters::default()
+        }
+    }
+}
+
+impl Technique for Effects {
+    fn name(&self) -> &str {
+        "effects"
+    }
+    /// Steps the particles by the frame's `dt`, then faces them to the camera.
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.update(view.dt);
+        self.build(&view.billboard_view());
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        out.extend(Effects::draws(self));
+    }
+}
+
+impl Technique for OctahedralImpostor {
+    fn name(&self) -> &str {
+        "octahedral impostor"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.update(view.camera);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        out.push(self.draw());
+    }
+    fn counters(&self) -> Counters {
+        Counters {
+            quads: 1,
+            images: 1,
+            ..Counters::default()
+        }
+    }
+}
+
+/// A lens flare following one light: its visibility is measured in the finished frame
+/// (depth taps dimmed by the blended draws in front of the light) and its sprites drawn
+/// over it.
+#[derive(Clone, Debug)]
+pub struct Flare {
+    pub lens: LensFlare,
+    pub source: FlareSource,
+}
+
+impl Technique for Flare {
+    fn name(&self) -> &str {
+        "lens flare"
+    }
+    fn prepare(&mut self, _view: &FrameView<'_>) {}
+    fn draws<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
+    fn observe(&self, seen: &mut Observed<'_, '_>) -> Option<f32> {
+        let (w, h) = (seen.target.width(), seen.target.height());
+        let light = flare::project(seen.camera, self.source, w, h)?;
+        let frame = Seen {
+            target: seen.target,
+            camera: seen.camera,
+            lighting: seen.lighting,
+        };
+        let (samples, radius) = (self.lens.samples, self.lens.radius_px);
+        let draws = seen.draws.iter().copied();
+        Some(flare::measure(
+            seen.capturer,
+            &frame,
+            draws,
+            &light,
+            samples,
+            radius,
+        ))
+    }
+    /// Fades toward the observed visibility (at least a 60th of a second per frame).
+    fn resolve(&mut self, view: &FrameView<'_>, observed: Option<f32>) {
+        let dt = view.dt.max(1.0 / 60.0);
+        self.lens.set_measured(
+            view.camera,
+            self.source,
+            observed,
+            dt,
+            view.width,
+            view.height,
+        );
+    }
+    fn overlay<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        if self.lens.quad_count() > 0 {
+            out.push(self.lens.draw());
+        }
+    }
+    fn counters(&self) -> Counters {
+        Counters {
+            quads: self.lens.quad_count() as u64,
+            ..Counters::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
