@@ -84,3 +84,33 @@ fn path_stays_above_the_ground() {
         assert!(eye.y > show.terrain.height_at(eye.x, eye.z) + 1.0);
     }
 }
+
+/// A tap shorter than a frame (press and release between two frames) still toggles; a held
+/// key's auto-repeated presses count once; two taps in one frame cancel out.
+#[test]
+fn key_taps_toggle_once_per_press_from_events() {
+    let mut taps = TapCounter::default();
+    // Press and release between two frames: the key is up again when the frame looks.
+    taps.event(true);
+    taps.event(false);
+    let n = taps.take();
+    assert_eq!(n, 1);
+    assert!(toggled(false, n));
+    assert_eq!(taps.take(), 0, "taken once");
+    assert!(!toggled(false, 0));
+    // Held over several frames with auto-repeat: one tap, on the first frame.
+    taps.event(true);
+    assert_eq!(taps.take(), 1);
+    taps.event(true);
+    taps.event(true);
+    assert_eq!(taps.take(), 0);
+    taps.event(false);
+    assert_eq!(taps.take(), 0);
+    // Two quick taps within one frame: toggled twice, back where it was.
+    for down in [true, false, true, false] {
+        taps.event(down);
+    }
+    let n = taps.take();
+    assert_eq!(n, 2);
+    assert!(toggled(true, n));
+}
