@@ -157,7 +157,13 @@ fn inside_a_cloud_is_a_fog_the_scene_shows_through() {
 fn outside_a_cloud_looks_as_before() {
     let mut c = cloud();
     let b = c.bounds();
-    for (dist, yaw) in [(2.2, 0.0f32), (1.5, 2.0), (1.5, 4.0), (1.1, 1.0), (1.02, 5.0)] {
+    for (dist, yaw) in [
+        (2.2, 0.0f32),
+        (1.5, 2.0),
+        (1.5, 4.0),
+        (1.1, 1.0),
+        (1.02, 5.0),
+    ] {
         let eye = b.center + Vec3::new(yaw.sin(), 0.2, yaw.cos()) * b.radius * dist;
         let cam = camera(eye, b.center);
         let old = plain(&c, &cam);
