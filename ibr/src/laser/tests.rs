@@ -174,13 +174,13 @@ fn a_beam_glows_end_on_and_from_the_side() {
     assert!(mid > 0.3 && off < 0.02, "beam row {mid}, away {off}");
 }
 
-/// A cap's sprite lies in front of the whole glow sphere around its end (so a housing
-/// smaller than the glow cannot hide it), at the same place and size on screen as a sprite
-/// at the end itself.
+/// A cap's sprite lies in front of the whole sphere of [`CAP_CLEARANCE`] cap radii around
+/// its end (so a housing or target within it cannot hide it), at the same place and size
+/// on screen as a sprite at the end itself.
 #[test]
 fn caps_sit_in_front_of_their_glow_sphere_at_the_same_place_on_screen() {
     let l = laser();
-    let radius = 0.5 * l.width * CAP_SCALE;
+    let radius = 0.5 * l.width * CAP_SCALE * CAP_CLEARANCE;
     let mut rng = engine::procedural::XorShift::new(5);
     let mut batch = LaserBatch::new();
     batch.lasers.push(l);
@@ -237,12 +237,14 @@ fn caps_sit_in_front_of_their_glow_sphere_at_the_same_place_on_screen() {
     }
 }
 
-/// The showcase's case: a beam whose emitter sits inside an opaque turret head (radius
-/// 0.45 around the emitter point), seen 0, 2 and 4 degrees off its axis from behind the
-/// emitter and from beyond the far end. The beam quads fade out end-on; the glow must still
-/// light pixels at the emitter (the old caps, 2.5 widths across, sat inside the head).
+/// The showcase's case: a beam from an emitter inside an opaque turret head (radius 0.45
+/// around the emitter point) to 0.6 short of the centre of another such head, seen 0, 2
+/// and 4 degrees off its axis from behind either head. The beam quads fade out end-on and
+/// the nearer head hides the beam itself; the caps must still light pixels (the old caps,
+/// 2.5 widths across at the end points, sat inside or behind the heads: nothing lit from
+/// behind either head at any of the three angles).
 #[test]
-fn an_end_on_beam_shows_past_its_emitter_housing() {
+fn an_end_on_beam_shows_past_the_turret_heads() {
     let a = Vec3::new(0.0, 0.0, 0.0);
     let b = Vec3::new(0.0, 0.0, -20.0);
     let l = Laser {
@@ -264,56 +266,35 @@ fn an_end_on_beam_shows_past_its_emitter_housing() {
         clear: Some(Rgba::new(0.0, 0.0, 0.0, 1.0)),
         ..Default::default()
     };
-    let axis = (l.b - l.a).normalize();
     let (mut counts, mut low) = (Vec::new(), false);
     for degrees in [0.0f32, 2.0, 4.0] {
         let off = Vec3::X * degrees.to_radians().sin() + Vec3::Z * degrees.to_radians().cos();
-        // Behind the emitter (looking down the beam through the head), and beyond the far
-        // end looking back at the emitter.
-        for (eye, look) in [(a + off * 6.0, b), (b - off * 6.0, a)] {
+        // Behind the emitter's head looking down the beam, and behind the far head looking
+        // back at the emitter.
+        for (eye, look, seen) in [
+            (a + off * 6.0, b, "behind the emitter"),
+            (b - off * 6.0, a, "behind the far head"),
+        ] {
             let cam = Camera::look_at(eye, look, Vec3::Y, 1.0, 1.0);
-            let view = View::new(&cam, size);
-            batch.build(&view);
+            batch.build(&View::new(&cam, size));
             let [beam, caps] = batch.draws();
-            let housing = Draw {
+            let housing = |at: Vec3| Draw {
                 mesh: &head,
                 material: &black,
-                transform: Mat4::from_translation(a),
+                transform: Mat4::from_translation(at),
             };
-            renderer.render(
-                [housing, beam, caps],
-                &cam,
-                &Lighting::default(),
-                &mut target,
-                &opts,
-            );
-            // Pixels lit within 12 pixels of the emitter's image (end-on, the far end's glow
-            // lands there too: the view from the far end counted 24 to 26 before).
-            let c = cam.clip_from_world() * a.extend(1.0);
-            let (x0, y0) = (
-                (c.x / c.w * 0.5 + 0.5) * size as f32,
-                (0.5 - c.y / c.w * 0.5) * size as f32,
-            );
+            let draws = [housing(a), housing(b), beam, caps];
+            renderer.render(draws, &cam, &Lighting::default(), &mut target, &opts);
             let mut lit = 0;
             for y in 0..size {
                 for x in 0..size {
-                    let d = Vec2::new(x as f32 + 0.5 - x0, y as f32 + 0.5 - y0).length();
-                    let px = target.color_linear(x, y).unwrap();
-                    if d < 12.0 && px.r > 0.1 {
-                        lit += 1;
-                    }
+                    lit += (target.color_linear(x, y).unwrap().r > 0.1) as u32;
                 }
             }
-            let seen = if (eye - a).dot(axis) < 0.0 {
-                "behind the emitter"
-            } else {
-                "from the far end"
-            };
             counts.push(format!("{degrees} degrees {seen}: {lit}"));
             low |= lit < 20;
         }
     }
-    // Measured: 32 to 36 pixels in every case (0 behind the emitter end-on before the caps
-    // moved to the front of their glow).
-    assert!(!low, "pixels lit at the emitter: {counts:?}");
+    println!("pixels lit: {counts:?}");
+    assert!(!low, "pixels lit: {counts:?}");
 }
