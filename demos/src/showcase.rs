@@ -15,7 +15,7 @@ mod fly;
 mod path;
 mod textures;
 
-pub use fly::{FlyCamera, FlyInput};
+pub use fly::{toggled, FlyCamera, FlyInput, TapCounter};
 pub use textures::{crate_texture, lattice_texture};
 
 use crate::showcase_ibr::IbrLayer;

@@ -34,7 +34,10 @@ pub struct AxialFallback {
     pub fade_start: f32,
     pub fade_end: f32,
     /// Also draw a quad lying across the axis (a top-down sprite, fixed in the world) with
-    /// this texture region, fading in as the upright quad fades out.
+    /// this texture region, fading in as the upright quad fades out. The two overlap
+    /// rather than cross-fade (see [`fade_pair`]): one of them is always fully opaque, so
+    /// a dithered or alpha-tested fade never opens holes onto the background where both
+    /// are drawn.
     pub top: Option<UvRect>,
 }
 
@@ -239,22 +242,52 @@ pub fn orient(facing: Facing, view: &View, position: Vec3) -> Basis {
     }
 }
 
+/// The share of an axial fade band over which each of the upright quad and the top sprite
+/// fades (the upright quad at the band's far end, the top sprite at its near end); in
+/// between both are drawn fully opaque, overlapping.
+pub const HANDOVER: f32 = 0.25;
+
+/// The opacities of an axial billboard's upright quad and of its top sprite at the
+/// orientation fade `fade` (1 upright .. 0 over the top). Without a top sprite the upright
+/// quad simply fades. With one, they overlap instead of cross-fading: the top sprite fades
+/// in over the first [`HANDOVER`] of the band, the upright quad fades out over the last,
+/// and both are opaque in between. A cross-fade `fade` / `1 - fade` with screen-door
+/// (dithered) alpha leaves both quads out on the same pixels, since both compare against
+/// one threshold pattern: a stipple of holes onto the background over the whole tree and
+/// the whole band. Overlapped, only one quad is ever partly drawn, over the other, and
+/// only over a quarter of the band each.
+pub fn fade_pair(fade: f32, has_top: bool) -> (f32, f32) {
+    let f = if fade.is_finite() {
+        fade.clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    if has_top {
+        ((f / HANDOVER).min(1.0), ((1.0 - f) / HANDOVER).min(1.0))
+    } else {
+        (f, 0.0)
+    }
+}
+
+/// Whether `facing` has a top sprite.
+fn has_top(facing: Facing) -> bool {
+    matches!(facing, Facing::Axial { fallback, .. } if fallback.top.is_some())
+}
+
 /// The four corners of a billboard (bottom-left, bottom-right, top-right, top-left as
-/// seen) and its opacity factor, or `None` when it cannot be drawn (behind a perspective
-/// eye with a pixel size, non-finite input, or fully faded).
+/// seen) and its opacity factor ([`fade_pair`]), or `None` when it cannot be drawn (behind
+/// a perspective eye with a pixel size, non-finite input, or fully faded).
 pub fn corners(b: &Billboard, view: &View) -> Option<([Vec3; 4], f32)> {
     let basis = orient(b.facing, view, b.position);
-    if basis.fade <= 0.0 || !b.position.is_finite() {
+    let opacity = fade_pair(basis.fade, has_top(b.facing)).0;
+    if opacity <= 0.0 || !b.position.is_finite() {
         return None;
     }
     let size = match b.size {
         Size::World(s) => s,
         Size::Pixels(px) => px * view.pixel_size_at(b.position)?,
     };
-    Some((
-        quad(b.position, basis, size, b.pivot, b.rotation)?,
-        basis.fade,
-    ))
+    Some((quad(b.position, basis, size, b.pivot, b.rotation)?, opacity))
 }
 
 /// Corners of a quad of `size` placed with its `pivot` at `position`, spanned by the basis
@@ -276,14 +309,14 @@ fn quad(position: Vec3, basis: Basis, size: Vec2, pivot: Vec2, rotation: f32) ->
 }
 
 /// The top-down sprite of an axial billboard: a quad across the axis through the
-/// billboard's centre, fixed in the world, with the opacity left over by the fade.
+/// billboard's centre, fixed in the world, with its opacity from [`fade_pair`].
 fn top_sprite(b: &Billboard, view: &View) -> Option<([Vec3; 4], f32, UvRect)> {
     let Facing::Axial { axis, fallback } = b.facing else {
         return None;
     };
     let region = fallback.top?;
     let basis = orient(b.facing, view, b.position);
-    let alpha = 1.0 - basis.fade;
+    let alpha = fade_pair(basis.fade, true).1;
     let Size::World(size) = b.size else {
         return None;
     };
@@ -415,5 +448,7 @@ pub fn push_quad(m: &mut Mesh, q: [Vec3; 4], region: UvRect, tint: Rgba, fade: f
         .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
 }
 
+#[cfg(test)]
+mod fade_tests;
 #[cfg(test)]
 mod tests;

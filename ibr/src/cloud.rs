@@ -27,21 +27,27 @@
 //! `3/4 (1 + cos² θ)` is [`Phase::Rayleigh`]; symmetric about 90°, it has no silver lining.
 //! All are normalised to a mean of 1 over the sphere, so tints above 1 are allowed.
 //!
+//! Seen from close by or from inside ([`fog`]), particles near the eye fade out and the
+//! opacity they lose is drawn as a fog over the view, so the inside of a cloud is a fog
+//! in the cloud's colours rather than a wall of screen-filling billboards.
+//!
 //! Allocation-free once warm (the light pass and the batch reuse their buffers); particles
 //! with non-finite fields or non-positive radii are skipped, a non-finite sun keeps the
 //! previous direction (initially straight down).
 
 mod field;
+mod fog;
 mod shading;
 mod shape;
 
 pub use field::CloudField;
+pub use fog::{coverage, near_fade, FOG_MAX, NEAR_FADE};
 pub use shading::{CloudShading, Phase, LIGHT_RES};
 pub use shape::{cumulus, puff_profile, puff_texture, CloudParticle, MAX_PARTICLES};
 
 use crate::billboard::{Billboard, BillboardBatch, Facing, View};
 use crate::subject::{enclose, Subject};
-use engine::{BlendMode, Camera, Draw, Material, Projection, Rgba, Sphere, Texture, Wrap};
+use engine::{BlendMode, Camera, Draw, Material, Mesh, Projection, Rgba, Sphere, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
@@ -67,6 +73,9 @@ pub struct Cloud {
     stale: bool,
     version: u64,
     batch: BillboardBatch,
+    /// The fog seen from inside (one quad in front of the view, or nothing).
+    fog: Mesh,
+    fog_material: Material,
     buffer: Vec<f32>,
     order: Vec<(f32, u32)>,
 }
@@ -94,6 +103,14 @@ impl Cloud {
             stale: true,
             version: 0,
             batch: BillboardBatch::new(material),
+            fog: Mesh::default(),
+            fog_material: {
+                let mut m = Material::unlit(Rgba::WHITE)
+                    .blended(BlendMode::Alpha)
+                    .double_sided(true);
+                m.name = "cloud fog".into();
+                m
+            },
             buffer: Vec::new(),
             order: Vec::new(),
         };
@@ -222,7 +239,8 @@ impl Subject for Cloud {
     }
 
     /// Reruns a stale light pass, then writes one screen-facing quad per particle, tinted
-    /// for this view, sorted back to front.
+    /// for this view and faded near the eye, sorted back to front, and the fog of the
+    /// faded particles (see [`fog`]).
     fn prepare(&mut self, camera: &Camera, height: u32) {
         if self.stale {
             self.light_pass();
@@ -230,23 +248,57 @@ impl Subject for Cloud {
         let view = View::new(camera, height);
         let ortho = matches!(camera.projection, Projection::Orthographic { .. });
         self.batch.clear();
+        let mut fog = fog::Fog::default();
+        let (mut radii, mut count) = (0.0, 0usize);
         for (i, p) in self.particles.iter().enumerate().filter(|(_, p)| p.valid()) {
             let to_eye = match ortho {
                 true => -view.forward,
                 false => (view.eye - p.position).normalize_or_zero(),
             };
+            let mut tint = self.particle_color(i, to_eye);
+            radii += p.radius;
+            count += 1;
+            if !ortho {
+                let d = view.eye.distance(p.position) / p.radius;
+                let fade = near_fade(d);
+                if fade < 1.0 {
+                    fog.add(d, fade, tint.a, self.particle_color(i, -view.forward));
+                    tint.a *= fade;
+                }
+                if tint.a <= 0.0 {
+                    continue;
+                }
+            }
             let mut b = Billboard::new(p.position, Facing::Screen, Vec2::splat(2.0 * p.radius));
             // Golden-angle rotations, so neighbouring puffs do not repeat one silhouette.
             b.rotation = (i % 256) as f32 * 2.399_963;
-            b.tint = self.particle_color(i, to_eye);
+            b.tint = tint;
             self.batch.push(b);
         }
         self.batch.build(&view);
+        // The fog grows from nothing on the bounding sphere to full one mean particle
+        // radius inside it.
+        let inside = if ortho || count == 0 {
+            0.0
+        } else {
+            let bounds = self.bounds();
+            let depth = bounds.radius - view.eye.distance(bounds.center);
+            depth / (radii / count as f32)
+        };
+        let near = camera.near_far().0;
+        fog::fog_quad(&mut self.fog, &view, 1.5 * near, fog.color(inside));
     }
 
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
         if !self.batch.mesh().indices.is_empty() {
             out.push(self.batch.draw());
+        }
+        if !self.fog.indices.is_empty() {
+            out.push(Draw {
+                mesh: &self.fog,
+                material: &self.fog_material,
+                transform: glam::Mat4::IDENTITY,
+            });
         }
     }
 

@@ -6,6 +6,13 @@
 //! to it. Seen end-on the projection vanishes: the quads then take a fixed direction from
 //! the camera (still finite, full-size quads, seen edge-on), fade out within a few degrees
 //! angle to the axis, and the end caps (screen-facing glows) carry the look.
+//!
+//! A cap is a glow around the beam's end (a muzzle flash at the emitter, an impact glow at
+//! the far end): its sprite is drawn in front of everything within [`CAP_CLEARANCE`] cap
+//! radii of the end, moved toward the viewer along the ray through the end point (so it
+//! keeps its place and size on screen). The emitter's housing around the start (a turret
+//! head) and the target the beam strikes then never hide the caps, and a beam seen end-on,
+//! from either end, still shows.
 
 use crate::billboard::{push_quad, Billboard, BillboardBatch, Facing, UvRect, View};
 use crate::sprites;
@@ -30,7 +37,35 @@ pub struct Laser {
 pub const END_ON_DEGREES: f32 = 4.0;
 
 /// Cap glow diameter as a multiple of the beam width.
-pub const CAP_SCALE: f32 = 2.5;
+pub const CAP_SCALE: f32 = 3.0;
+
+/// How far in front of its end a cap is drawn, in cap radii (`CAP_SCALE / 2` beam widths):
+/// for the showcase's 0.35 wide beam, 1.31, clearing the turret head (radius 0.45) around
+/// its emitter and the one its far end stops 0.6 short of (0.6 + 0.45 = 1.05).
+pub const CAP_CLEARANCE: f32 = 2.5;
+
+/// Where a cap glow at `end` is drawn for `view` so that it is in front of everything
+/// within `clearance` of `end`, and the factor on its size: on the ray from the eye through
+/// `end`, `clearance` nearer in view depth (in front of every point of that sphere; a
+/// screen-facing quad is at one depth), scaled so its size on screen stays that of a glow
+/// at `end`. An end within twice the clearance of the eye moves half its depth; an end at
+/// or behind the eye stays. Orthographic views move along the view direction, at
+/// unchanged size.
+pub fn cap_placement(view: &View, end: Vec3, clearance: f32) -> (Vec3, f32) {
+    let depth = view.depth(end);
+    if !(clearance > 0.0 && clearance.is_finite() && depth.is_finite()) {
+        return (end, 1.0);
+    }
+    // A perspective view has no pixel size at its own eye; an orthographic one has.
+    if view.pixel_size_at(view.eye).is_some() {
+        return (end - view.forward * clearance, 1.0);
+    }
+    if depth <= 0.0 {
+        return (end, 1.0);
+    }
+    let s = (clearance / depth).min(0.5);
+    (end + (view.eye - end) * s, 1.0 - s)
+}
 
 /// The beam's two quads for a viewer at `eye` (camera up `view_up` for the end-on case) and
 /// the fade of the beam quads: 1 except within [`END_ON_DEGREES`] of the axis, where it
@@ -127,8 +162,10 @@ impl LaserBatch {
                     push_quad(m, q, UvRect::FULL, tint, fade);
                 }
             }
+            let size = l.width * CAP_SCALE;
             for end in [l.a, l.b] {
-                let mut cap = Billboard::new(end, Facing::Screen, Vec2::splat(l.width * CAP_SCALE));
+                let (at, scale) = cap_placement(view, end, 0.5 * size * CAP_CLEARANCE);
+                let mut cap = Billboard::new(at, Facing::Screen, Vec2::splat(size * scale));
                 cap.tint = tint;
                 self.caps.push(cap);
             }

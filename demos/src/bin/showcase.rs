@@ -12,14 +12,13 @@
 
 use clap::Parser;
 use demos::font;
-use demos::showcase::{self, FlyCamera, FlyInput, Showcase, SKY};
+use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
-use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
+use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 #[derive(Parser, Debug)]
@@ -169,17 +168,28 @@ enum WindowError {
     Update(minifb::Error),
 }
 
-/// Latches Esc presses from the window's key events, so a tap shorter than a frame (which
-/// polling `is_key_pressed` between frames can miss) still quits.
-#[derive(Debug)]
-struct QuitOnEscape(Arc<AtomicBool>);
+/// Key events as they arrive from the window: Esc latches quitting, and taps of `I` are
+/// counted, so a tap shorter than a frame (which the key state polled once a frame, as
+/// `is_key_pressed` and `get_keys_pressed` read it, misses) still counts.
+#[derive(Debug, Default)]
+struct KeyEvents {
+    quit: bool,
+    debug_taps: TapCounter,
+}
 
-impl minifb::InputCallback for QuitOnEscape {
+/// The window's input callback, sharing [`KeyEvents`] with the frame loop.
+#[derive(Debug)]
+struct KeyLatch(Arc<Mutex<KeyEvents>>);
+
+impl minifb::InputCallback for KeyLatch {
     fn add_char(&mut self, _: u32) {}
 
     fn set_key_state(&mut self, key: Key, down: bool) {
-        if key == Key::Escape && down {
-            self.0.store(true, Ordering::Relaxed);
+        let mut events = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match key {
+            Key::Escape if down => events.quit = true,
+            Key::I => events.debug_taps.event(down),
+            _ => {}
         }
     }
 }
@@ -223,8 +233,8 @@ fn window(args: &Args) -> Result<(), WindowError> {
     )
     .map_err(WindowError::Open)?;
     window.set_target_fps(0);
-    let quit = Arc::new(AtomicBool::new(false));
-    window.set_input_callback(Box::new(QuitOnEscape(quit.clone())));
+    let keys = Arc::new(Mutex::new(KeyEvents::default()));
+    window.set_input_callback(Box::new(KeyLatch(keys.clone())));
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
     let mut fly = FlyCamera::default();
@@ -242,15 +252,22 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let mut recent: Vec<Duration> = Vec::new();
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
-    while window.is_open() && !window.is_key_down(Key::Escape) && !quit.load(Ordering::Relaxed) {
+    loop {
+        let (quit, taps) = {
+            let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
+            (events.quit, events.debug_taps.take())
+        };
+        if !window.is_open() || window.is_key_down(Key::Escape) || quit {
+            break;
+        }
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
         last = now;
         let input = read_input(&window, &mut last_mouse, dt);
         fly.update(&input, dt);
-        if window.is_key_pressed(Key::I, KeyRepeat::No) {
-            let on = !show.ibr.impostors.debug();
-            show.ibr.impostors.set_debug(on);
+        let on = show.ibr.impostors.debug();
+        if toggled(on, taps) != on {
+            show.ibr.impostors.set_debug(!on);
         }
         let (ww, wh) = window.get_size();
         let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);

@@ -70,3 +70,32 @@ impl FlyCamera {
         camera(self.position, self.position + self.forward(), width, height)
     }
 }
+
+/// Counts taps of one key from the window's key events (press and release as they arrive,
+/// not the key state sampled once a frame), so a tap shorter than a frame is still seen.
+/// A held key's auto-repeated presses (down events while already down) count once.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TapCounter {
+    down: bool,
+    taps: u32,
+}
+
+impl TapCounter {
+    /// Records one key event: `down` true for a press (or auto-repeat), false for a release.
+    pub fn event(&mut self, down: bool) {
+        if down && !self.down {
+            self.taps = self.taps.saturating_add(1);
+        }
+        self.down = down;
+    }
+
+    /// The taps since the last call, resetting the count (the key's state is kept).
+    pub fn take(&mut self) -> u32 {
+        std::mem::take(&mut self.taps)
+    }
+}
+
+/// A toggle after `taps` taps: each tap flips it.
+pub fn toggled(on: bool, taps: u32) -> bool {
+    on ^ (taps % 2 == 1)
+}

@@ -4,6 +4,16 @@
 use super::Showcase;
 use crate::showcase_impostors::CITY_CENTER;
 use glam::Vec3;
+use std::f32::consts::{PI, TAU};
+
+/// Height of the eye above the highest ground within [`GROUND_RADIUS`] of it, at least.
+pub const GROUND_CLEARANCE: f32 = 2.5;
+/// Radius around the eye over which the ground clearance is kept.
+pub const GROUND_RADIUS: f32 = 1.5;
+/// Largest pitch of the flight's view up or down, radians (80 degrees).
+pub const MAX_PITCH: f32 = 1.4;
+/// Distance from the eye of the returned look-at target.
+const LOOK_DISTANCE: f32 = 10.0;
 
 impl Showcase {
     /// The headless camera path, `(eye, target)` at frame `i` of `n`. The first third
@@ -11,32 +21,61 @@ impl Showcase {
     /// forest (looking down on the trees, past their fade to top-down sprites), comes back
     /// to look along the laser from just behind turret B, turns up toward the sun (lens
     /// flare), flies over the city district, climbs into a cloud and through it, and
-    /// returns to the start. The eye stays 2.5 units above the ground.
+    /// returns to the start. The eye stays [`GROUND_CLEARANCE`] above the ground around it,
+    /// and the view never pitches past [`MAX_PITCH`].
     pub fn path(&self, i: usize, n: usize) -> (Vec3, Vec3) {
         const CIRCLE: f32 = 1.0 / 3.0;
         let f = (i % n.max(1)) as f32 / n.max(1) as f32;
-        let (eye, target) = if f < CIRCLE {
-            self.circle(f / CIRCLE)
+        let (eye, dir) = if f < CIRCLE {
+            let (eye, target) = self.circle(f / CIRCLE);
+            (eye, (target - eye).normalize_or(Vec3::NEG_Z))
         } else {
+            // The view turns by its yaw and pitch, not by a target point: between two
+            // keys looking different ways a target sweeps past the eye, and the view
+            // through it dives toward the ground (the old frame 43).
             let keys = self.flight_keys();
-            let u = (f - CIRCLE) / (1.0 - CIRCLE) * (keys.len() - 1) as f32;
-            let k = (u.floor() as usize).min(keys.len() - 2);
+            let mut poses: Vec<(Vec3, Vec3)> = Vec::with_capacity(keys.len());
+            for &(eye, target) in &keys {
+                let (yaw, pitch) = yaw_pitch(target - eye);
+                // Yaw unwrapped so that each turn goes the short way round.
+                let yaw = poses
+                    .last()
+                    .map_or(yaw, |p| p.1.x + (yaw - p.1.x + PI).rem_euclid(TAU) - PI);
+                poses.push((eye, Vec3::new(yaw, pitch, 0.0)));
+            }
+            let u = (f - CIRCLE) / (1.0 - CIRCLE) * (poses.len() - 1) as f32;
+            let k = (u.floor() as usize).min(poses.len() - 2);
             let t = u - k as f32;
-            let at = |j: isize| keys[j.clamp(0, keys.len() as isize - 1) as usize];
+            let at = |j: isize| poses[j.clamp(0, poses.len() as isize - 1) as usize];
             let k = k as isize;
             let (p0, p1, p2, p3) = (at(k - 1), at(k), at(k + 1), at(k + 2));
+            let angles = catmull_rom(p0.1, p1.1, p2.1, p3.1, t);
+            let pitch = angles.y.clamp(-MAX_PITCH, MAX_PITCH);
             (
                 catmull_rom(p0.0, p1.0, p2.0, p3.0, t),
-                catmull_rom(p0.1, p1.1, p2.1, p3.1, t),
+                direction(angles.x, pitch),
             )
         };
-        let ground = self.terrain.height_at(eye.x, eye.z) + 2.5;
-        (Vec3::new(eye.x, eye.y.max(ground), eye.z), target)
+        let eye = Vec3::new(eye.x, eye.y.max(self.clearance_floor(eye)), eye.z);
+        (eye, eye + dir * LOOK_DISTANCE)
+    }
+
+    /// The lowest the eye may be at `eye`'s x, z: [`GROUND_CLEARANCE`] above the highest
+    /// terrain within [`GROUND_RADIUS`] (so a slope beside the eye stays out of the near
+    /// plane too).
+    pub fn clearance_floor(&self, eye: Vec3) -> f32 {
+        let ring = (0..8).map(|k| {
+            let a = k as f32 * TAU / 8.0;
+            let (s, c) = a.sin_cos();
+            self.terrain
+                .height_at(eye.x + GROUND_RADIUS * c, eye.z + GROUND_RADIUS * s)
+        });
+        ring.fold(self.terrain.height_at(eye.x, eye.z), f32::max) + GROUND_CLEARANCE
     }
 
     /// The plaza circle at fraction `f` of a turn.
     fn circle(&self, f: f32) -> (Vec3, Vec3) {
-        let a = std::f32::consts::TAU * f + 0.6;
+        let a = TAU * f + 0.6;
         let r = 17.0 + 1.5 * (2.0 * a).sin();
         let (x, z) = (r * a.cos(), r * a.sin());
         (
@@ -92,6 +131,20 @@ impl Showcase {
             start,
         ]
     }
+}
+
+/// Yaw (radians about +Y, 0 looking down -Z) and pitch of direction `d`, packed as the
+/// fly camera's angles.
+fn yaw_pitch(d: Vec3) -> (f32, f32) {
+    let d = d.normalize_or(Vec3::NEG_Z);
+    ((-d.x).atan2(-d.z), d.y.clamp(-1.0, 1.0).asin())
+}
+
+/// Unit direction of `yaw` and `pitch` (the inverse of [`yaw_pitch`]).
+fn direction(yaw: f32, pitch: f32) -> Vec3 {
+    let (sy, cy) = yaw.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    Vec3::new(-sy * cp, sp, -cy * cp)
 }
 
 /// Uniform Catmull-Rom interpolation between `p1` and `p2`.

@@ -2,7 +2,7 @@
 
 use super::*;
 use engine::{AlphaMode, Light, Material};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 #[test]
 fn scene_is_valid_and_has_every_feature() {
@@ -76,11 +76,97 @@ fn fly_camera_moves_where_it_looks() {
     assert!(c.pitch <= 1.5);
 }
 
+/// The whole headless path, sampled 20 times as densely as the default 120 frames: the eye
+/// stays above the ground around it by a margin, out of the turrets, the trees and the
+/// city's buildings, and the view never dives steeper than the path's limit (the old
+/// frame 43 looked straight down from a target sweeping under the eye).
 #[test]
-fn path_stays_above_the_ground() {
+fn path_stays_clear_of_the_ground_and_obstacles() {
+    use crate::showcase::path::MAX_PITCH;
+    use ibr::subject::Subject;
     let show = Showcase::new();
-    for i in 0..120 {
-        let (eye, _) = show.path(i, 120);
-        assert!(eye.y > show.terrain.height_at(eye.x, eye.z) + 1.0);
+    let trees: Vec<Vec3> = show.ibr.tree_positions().collect();
+    let buildings: Vec<_> = show
+        .ibr
+        .impostors
+        .buildings
+        .iter()
+        .map(|b| b.bounds())
+        .collect();
+    let n = 2400;
+    let mut lowest = f32::INFINITY;
+    for i in 0..n {
+        let (eye, target) = show.path(i, n);
+        let dir = (target - eye).normalize();
+        assert!(eye.is_finite() && dir.is_finite(), "sample {i}");
+        // Ground: over a disc of radius 1.5 around the eye.
+        let mut ground = f32::NEG_INFINITY;
+        for r in [0.0, 0.5, 1.0, 1.5] {
+            for k in 0..16 {
+                let (s, c) = (k as f32 * std::f32::consts::TAU / 16.0).sin_cos();
+                ground = ground.max(show.terrain.height_at(eye.x + r * c, eye.z + r * s));
+            }
+        }
+        lowest = lowest.min(eye.y - ground);
+        assert!(
+            eye.y > ground + 2.0,
+            "sample {i}: eye {eye} over ground {ground}"
+        );
+        assert!(
+            dir.y >= -MAX_PITCH.sin() - 1e-4,
+            "sample {i}: looks down at {:.1} degrees",
+            dir.y.asin().to_degrees()
+        );
+        // Turrets: a pylon of radius 0.35 up to the head, a head of radius 0.45.
+        for t in show.ibr.turrets {
+            let across = Vec2::new(eye.x - t.x, eye.z - t.z).length();
+            assert!(eye.distance(t) > 1.0, "sample {i}: in turret head {t}");
+            assert!(
+                across > 1.0 || eye.y > t.y + 0.5,
+                "sample {i}: in pylon {t}"
+            );
+        }
+        // Trees (3.5 to 7.5 tall): not within a trunk's reach below their tops.
+        for t in &trees {
+            let across = Vec2::new(eye.x - t.x, eye.z - t.z).length();
+            assert!(across > 1.0 || eye.y > t.y + 7.5, "sample {i}: in tree {t}");
+        }
+        for b in &buildings {
+            assert!(
+                eye.distance(b.center) > b.radius,
+                "sample {i}: in building {b:?}"
+            );
+        }
     }
+    println!("lowest eye over the ground within 1.5: {lowest:.2}");
+}
+
+/// A tap shorter than a frame (press and release between two frames) still toggles; a held
+/// key's auto-repeated presses count once; two taps in one frame cancel out.
+#[test]
+fn key_taps_toggle_once_per_press_from_events() {
+    let mut taps = TapCounter::default();
+    // Press and release between two frames: the key is up again when the frame looks.
+    taps.event(true);
+    taps.event(false);
+    let n = taps.take();
+    assert_eq!(n, 1);
+    assert!(toggled(false, n));
+    assert_eq!(taps.take(), 0, "taken once");
+    assert!(!toggled(false, 0));
+    // Held over several frames with auto-repeat: one tap, on the first frame.
+    taps.event(true);
+    assert_eq!(taps.take(), 1);
+    taps.event(true);
+    taps.event(true);
+    assert_eq!(taps.take(), 0);
+    taps.event(false);
+    assert_eq!(taps.take(), 0);
+    // Two quick taps within one frame: toggled twice, back where it was.
+    for down in [true, false, true, false] {
+        taps.event(down);
+    }
+    let n = taps.take();
+    assert_eq!(n, 2);
+    assert!(toggled(true, n));
 }

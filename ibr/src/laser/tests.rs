@@ -2,7 +2,8 @@
 //! the glow seen when looking down the beam.
 
 use super::*;
-use engine::{Camera, FrameOptions, Lighting, Renderer, Target};
+use engine::{Camera, Draw, FrameOptions, Lighting, Material, Renderer, Target};
+use glam::Mat4;
 
 const EPS: f32 = 1e-4;
 
@@ -171,4 +172,129 @@ fn a_beam_glows_end_on_and_from_the_side() {
         .sum::<f32>()
         / 40.0;
     assert!(mid > 0.3 && off < 0.02, "beam row {mid}, away {off}");
+}
+
+/// A cap's sprite lies in front of the whole sphere of [`CAP_CLEARANCE`] cap radii around
+/// its end (so a housing or target within it cannot hide it), at the same place and size
+/// on screen as a sprite at the end itself.
+#[test]
+fn caps_sit_in_front_of_their_glow_sphere_at_the_same_place_on_screen() {
+    let l = laser();
+    let radius = 0.5 * l.width * CAP_SCALE * CAP_CLEARANCE;
+    let mut rng = engine::procedural::XorShift::new(5);
+    let mut batch = LaserBatch::new();
+    batch.lasers.push(l);
+    for _ in 0..100 {
+        let eye = Vec3::new(
+            rng.range(-9.0, 9.0),
+            rng.range(-9.0, 9.0),
+            rng.range(-9.0, 9.0),
+        );
+        let look = (l.a + l.b) * 0.5 + Vec3::new(rng.range(-1.0, 1.0), 0.0, 0.0);
+        if eye.distance(l.a).min(eye.distance(l.b)) < 2.0 * radius + 0.1 {
+            continue;
+        }
+        let view = View::new(&Camera::look_at(eye, look, Vec3::Y, 1.0, 1.0), 64);
+        batch.build(&view);
+        let caps = &batch.cap_mesh().positions;
+        assert_eq!(caps.len(), 8);
+        let screen = |p: Vec3| {
+            let d = view.depth(p);
+            Vec2::new((p - eye).dot(view.right), (p - eye).dot(view.up)) / d
+        };
+        for quad in caps.chunks(4) {
+            // Blended billboards are sorted back to front: find the quad's end on screen.
+            let mid = quad.iter().copied().sum::<Vec3>() * 0.25;
+            let end = [l.a, l.b]
+                .into_iter()
+                .min_by(|x, y| {
+                    screen(*x)
+                        .distance(screen(mid))
+                        .total_cmp(&screen(*y).distance(screen(mid)))
+                })
+                .unwrap();
+            if view.depth(end) <= 2.0 * radius {
+                continue;
+            }
+            for p in quad {
+                let d = view.depth(*p);
+                assert!(
+                    d <= view.depth(end) - radius + 1e-3,
+                    "in front of the sphere"
+                );
+                assert!(d > 0.0, "in front of the eye");
+            }
+            let q: Vec<Vec2> = quad.iter().map(|p| screen(*p)).collect();
+            let centre = (q[0] + q[1] + q[2] + q[3]) * 0.25;
+            assert!(centre.distance(screen(end)) < 1e-4, "same place on screen");
+            let side = q[0].distance(q[1]).max(q[0].distance(q[3]));
+            let expected = l.width * CAP_SCALE / view.depth(end);
+            assert!(
+                (side - expected).abs() < 1e-3 * expected.max(1.0),
+                "same size"
+            );
+        }
+    }
+}
+
+/// The showcase's case: a beam from an emitter inside an opaque turret head (radius 0.45
+/// around the emitter point) to 0.6 short of the centre of another such head, seen 0, 2
+/// and 4 degrees off its axis from behind either head. The beam quads fade out end-on and
+/// the nearer head hides the beam itself; the caps must still light pixels (the old caps,
+/// 2.5 widths across at the end points, sat inside or behind the heads: nothing lit from
+/// behind either head at any of the three angles).
+#[test]
+fn an_end_on_beam_shows_past_the_turret_heads() {
+    let a = Vec3::new(0.0, 0.0, 0.0);
+    let b = Vec3::new(0.0, 0.0, -20.0);
+    let l = Laser {
+        a,
+        b: b - (b - a).normalize() * 0.6,
+        width: 0.35,
+        color: Rgba::new(1.0, 0.25, 0.15, 1.0),
+        intensity: 1.2,
+    };
+    let mut head = engine::procedural::uv_sphere(0.45, 10, 20);
+    head.colors.clear();
+    let black = Material::unlit(Rgba::new(0.0, 0.0, 0.0, 1.0));
+    let mut batch = LaserBatch::new();
+    batch.lasers.push(l);
+    let mut renderer = Renderer::new();
+    let size = 96;
+    let mut target = Target::new(size, size);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.0, 0.0, 0.0, 1.0)),
+        ..Default::default()
+    };
+    let (mut counts, mut low) = (Vec::new(), false);
+    for degrees in [0.0f32, 2.0, 4.0] {
+        let off = Vec3::X * degrees.to_radians().sin() + Vec3::Z * degrees.to_radians().cos();
+        // Behind the emitter's head looking down the beam, and behind the far head looking
+        // back at the emitter.
+        for (eye, look, seen) in [
+            (a + off * 6.0, b, "behind the emitter"),
+            (b - off * 6.0, a, "behind the far head"),
+        ] {
+            let cam = Camera::look_at(eye, look, Vec3::Y, 1.0, 1.0);
+            batch.build(&View::new(&cam, size));
+            let [beam, caps] = batch.draws();
+            let housing = |at: Vec3| Draw {
+                mesh: &head,
+                material: &black,
+                transform: Mat4::from_translation(at),
+            };
+            let draws = [housing(a), housing(b), beam, caps];
+            renderer.render(draws, &cam, &Lighting::default(), &mut target, &opts);
+            let mut lit = 0;
+            for y in 0..size {
+                for x in 0..size {
+                    lit += (target.color_linear(x, y).unwrap().r > 0.1) as u32;
+                }
+            }
+            counts.push(format!("{degrees} degrees {seen}: {lit}"));
+            low |= lit < 20;
+        }
+    }
+    println!("pixels lit: {counts:?}");
+    assert!(!low, "pixels lit: {counts:?}");
 }
