@@ -20,6 +20,10 @@
 //! and its headless statistics; [`Impostors::set_debug`] colours each image by its
 //! predicted error (green 0, yellow at the tolerance, red at twice it).
 
+mod chart;
+
+pub use chart::tour_chart;
+
 use crate::city;
 use engine::procedural::{Terrain, XorShift};
 use engine::{Camera, Draw, Lighting, Material, Rgba, Shading, Sphere};
@@ -113,6 +117,9 @@ impl Impostors {
                 time: None,
             },
             max_side,
+            // The showcase shows no image over its tolerance: a subject the budget could
+            // not refresh is drawn as its (cheap) geometry until it can be.
+            fallback_ratio: 1.0,
             ..Config::default()
         };
         Impostors {
@@ -180,6 +187,12 @@ impl Impostors {
         self.cloud_set.draws(&self.clouds.clouds, out);
     }
 
+    /// Gives both sets a time budget for their refreshes each frame (`None`: counts only).
+    pub fn set_time_budget(&mut self, time: Option<std::time::Duration>) {
+        self.cloud_set.config.budget.time = time;
+        self.city_set.config.budget.time = time;
+    }
+
     /// The debug view: impostor images tinted by their predicted error.
     pub fn set_debug(&mut self, on: bool) {
         self.cloud_set.debug_tint = on;
@@ -196,8 +209,8 @@ impl Impostors {
     }
 
     /// Totals over every update so far.
-    pub fn run_stats(&self) -> RunStats {
-        self.run
+    pub fn run_stats(&self) -> &RunStats {
+        &self.run
     }
 
     /// The index of the cloud the headless path flies through: the one nearest the
@@ -301,6 +314,18 @@ impl Readout {
     pub fn stale(&self) -> usize {
         self.clouds.stale + self.city.stale
     }
+    /// Images drawn with a predicted error over their tolerance.
+    pub fn over_tolerance(&self) -> usize {
+        self.clouds.over_tolerance + self.city.over_tolerance
+    }
+    /// Subjects drawn as geometry because their image was too stale to show.
+    pub fn stale_fallbacks(&self) -> usize {
+        self.clouds.stale_fallbacks + self.city.stale_fallbacks
+    }
+    /// Refreshes of subjects about to come into view.
+    pub fn prewarmed(&self) -> usize {
+        self.clouds.prewarmed + self.city.prewarmed
+    }
     /// Largest predicted error ratio over the drawn images (1 is the tolerance).
     pub fn max_ratio(&self) -> f32 {
         self.clouds.max_ratio.max(self.city.max_ratio)
@@ -332,8 +357,11 @@ impl Readout {
     }
 }
 
+/// Frames whose per-frame figures [`RunStats::per_frame`] keeps (the first ones).
+pub const HISTORY: usize = 1 << 14;
+
 /// Impostor statistics over a run of frames.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunStats {
     pub frames: usize,
     pub refreshes: usize,
@@ -343,6 +371,15 @@ pub struct RunStats {
     pub stale: usize,
     /// Largest predicted error ratio of a drawn image over the run.
     pub max_ratio: f32,
+    /// Frames that showed an image over its tolerance, and over twice it.
+    pub frames_over: usize,
+    pub frames_over_twice: usize,
+    /// Stale images replaced by geometry, summed over the frames; pre-warming refreshes.
+    pub stale_fallbacks: usize,
+    pub prewarmed: usize,
+    /// Per frame (the first [`HISTORY`]): the largest predicted error ratio shown, and the
+    /// refreshes.
+    pub per_frame: Vec<(f32, usize)>,
     /// Sum over the frames of the mean predicted ratio, and the frames with images.
     ratio_sum: f64,
     ratio_frames: usize,
@@ -355,6 +392,15 @@ impl RunStats {
         self.peak_refreshes = self.peak_refreshes.max(r.refreshes());
         self.stale += r.stale();
         self.max_ratio = self.max_ratio.max(r.max_ratio());
+        self.frames_over += (r.max_ratio() > 1.0) as usize;
+        self.frames_over_twice += (r.max_ratio() > 2.0) as usize;
+        self.stale_fallbacks += r.stale_fallbacks();
+        self.prewarmed += r.prewarmed();
+        if self.per_frame.len() < HISTORY {
+            // Reserved once, so recording never reallocates mid-run.
+            self.per_frame.reserve_exact(HISTORY - self.per_frame.len());
+            self.per_frame.push((r.max_ratio(), r.refreshes()));
+        }
         if r.images() > 0 {
             self.ratio_sum += r.mean_ratio() as f64;
             self.ratio_frames += 1;
@@ -371,6 +417,5 @@ impl RunStats {
     }
 }
 
-#[cfg(test)]
 #[cfg(test)]
 mod tests;

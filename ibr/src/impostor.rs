@@ -11,11 +11,17 @@
 //!   its image has, in octaves.
 //!
 //! An impostor whose error reaches its tolerance is invalid. Invalid impostors are
-//! re-rendered largest error first within a per-frame budget; the others keep drawing
-//! their (stale) image. With the eye inside a subject's sphere, or no image to show (never
-//! captured, texture pool exhausted), the subject is drawn as geometry. Within a band just
-//! outside the sphere the image is refreshed every frame, so the switch to geometry does
-//! not pop. Textures come from a [`Pool`]; impostors culled for long release theirs.
+//! re-rendered largest error first within a per-frame budget (a count, and optionally
+//! milliseconds: the count the measured cost of recent refreshes fits in), the frame's
+//! refreshes rendered side by side on the thread pool; subjects just outside the view
+//! (within [`Config::prewarm`]) are refreshed after them when the budget has room, so they
+//! come into view with a fresh image. The others keep drawing their (stale) image, but
+//! never one whose predicted error is over [`Config::fallback_ratio`] times the tolerance:
+//! that subject is drawn as geometry until it can be refreshed ([`Fallback::Stale`]).
+//! With the eye inside a subject's sphere, or no image to show (never captured, texture
+//! pool exhausted), the subject is drawn as geometry. Within a band just outside the
+//! sphere the image is refreshed every frame, so the switch to geometry does not pop.
+//! Textures come from a [`Pool`]; impostors culled for long release theirs.
 
 mod capture;
 mod pool;
@@ -30,8 +36,10 @@ use predict::{pixels_per_radian, predict, Frustum};
 use crate::billboard::{push_quad, UvRect};
 use crate::metrics::{self, ImageError, Options, Region};
 use crate::subject::Subject;
-use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
-use glam::{Mat4, Vec3};
+use crate::technique::recycle;
+use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Rgba, Target};
+use glam::{Mat4, Vec3, Vec4};
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// When an impostor is invalid.
@@ -60,8 +68,9 @@ impl Default for Tolerance {
 pub struct Budget {
     /// Most impostors re-rendered per frame.
     pub refreshes: usize,
-    /// Stop starting refreshes once this much time has gone (interactive use; makes the
-    /// refresh schedule depend on the machine, so tests and benchmarks leave it `None`).
+    /// Time the frame's refreshes may take: at most as many refreshes as the measured cost
+    /// of recent ones fits in, and at least one (interactive use; makes the refresh schedule
+    /// depend on the machine, so tests and benchmarks leave it `None`).
     pub time: Option<Duration>,
 }
 
@@ -80,6 +89,13 @@ pub struct Config {
     /// Within this many radii of the centre the image is refreshed every frame (the
     /// approach to the switch to geometry, which happens at 1 radius).
     pub transition: f32,
+    /// An image whose predicted error ratio is above this after the frame's refreshes is
+    /// not shown: its subject is drawn as geometry ([`Fallback::Stale`]). Infinity never
+    /// falls back.
+    pub fallback_ratio: f32,
+    /// Subjects within this fraction of the view's half-width beyond its edges are
+    /// refreshed ahead of coming into view, after every visible one.
+    pub prewarm: f32,
 }
 
 impl Default for Config {
@@ -95,6 +111,8 @@ impl Default for Config {
             pool_slots: 256,
             release_after: 120,
             transition: 1.25,
+            fallback_ratio: 2.0,
+            prewarm: 0.25,
         }
     }
 }
@@ -134,6 +152,9 @@ pub enum Fallback {
     Inside,
     /// It has no image yet and the budget or the pool had no room for one.
     NoImage,
+    /// Its image is too stale to show (over [`Config::fallback_ratio`]) and the budget had
+    /// no room to refresh it.
+    Stale,
 }
 
 /// One impostor's state.
@@ -170,6 +191,12 @@ pub struct Report {
     /// Largest and mean predicted error ratio over the drawn images.
     pub max_ratio: f32,
     pub mean_ratio: f32,
+    /// Images drawn with a predicted error over the tolerance (ratio above 1).
+    pub over_tolerance: usize,
+    /// Subjects drawn as geometry because their image was too stale ([`Fallback::Stale`]).
+    pub stale_fallbacks: usize,
+    /// Refreshes of subjects just outside the view (pre-warming).
+    pub prewarmed: usize,
     /// Triangles rendered by the refreshes.
     pub capture_triangles: u64,
     /// Textures in use and in the pool.
@@ -184,10 +211,44 @@ pub struct ImpostorSet {
     pub impostors: Vec<Impostor>,
     pool: Pool,
     renderer: Renderer,
-    scratch: Target,
+    /// One renderer and target per refresh of a frame, run side by side.
+    workers: Vec<Worker>,
+    /// The frame's refreshes (reused).
+    jobs: Vec<Job>,
+    /// Measured milliseconds per refresh, a running mean (for a time budget).
+    refresh_ms: f32,
     /// Colour impostors by predicted error (green 0, yellow at the tolerance, red at 2x).
     pub debug_tint: bool,
-    order: Vec<(f32, usize)>,
+    /// Refresh candidates: (visible, priority, index).
+    order: Vec<(bool, f32, usize)>,
+}
+
+/// A refresh's own renderer, target and draw list.
+#[derive(Debug)]
+struct Worker {
+    renderer: Renderer,
+    target: Target,
+    draws: Vec<Draw<'static>>,
+    stats: FrameStats,
+}
+
+impl Default for Worker {
+    fn default() -> Self {
+        Worker {
+            renderer: Renderer::new(),
+            target: Target::new(0, 0),
+            draws: Vec::new(),
+            stats: FrameStats::default(),
+        }
+    }
+}
+
+/// One refresh of a frame: which impostor, from where, into which texture.
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    i: usize,
+    capture: Capture,
+    slot: usize,
 }
 
 impl ImpostorSet {
@@ -197,7 +258,9 @@ impl ImpostorSet {
             config,
             impostors: (0..count).map(|_| Impostor::default()).collect(),
             renderer: Renderer::new(),
-            scratch: Target::new(0, 0),
+            workers: Vec::new(),
+            jobs: Vec::new(),
+            refresh_ms: 1.0,
             debug_tint: false,
             order: Vec::new(),
         }
@@ -208,25 +271,29 @@ impl ImpostorSet {
     }
 
     /// Predicts every impostor's error for `camera` (an image `height` pixels tall),
-    /// refreshes the worst within the budget, and decides how each subject is drawn.
-    /// Subjects drawn as geometry are prepared for `camera`.
-    pub fn update<S: Subject>(
+    /// refreshes the worst within the budget (and pre-warms subjects about to come into
+    /// view), and decides how each subject is drawn. Subjects drawn as geometry are
+    /// prepared for `camera`.
+    pub fn update<S: Subject + Send>(
         &mut self,
         subjects: &mut [S],
         camera: &Camera,
         height: u32,
         lighting: &Lighting,
     ) -> Report {
-        let start = Instant::now();
         let n = subjects.len().min(self.impostors.len());
         let eye = camera.eye();
-        let frustum = Frustum::new(camera.clip_from_world());
+        let clip = camera.clip_from_world();
+        let frustum = Frustum::new(clip);
+        let widen = 1.0 / (1.0 + self.config.prewarm.max(0.0));
+        let wide = Frustum::new(Mat4::from_diagonal(Vec4::new(widen, widen, 1.0, 1.0)) * clip);
         let px_per_radian = pixels_per_radian(camera, height);
         let cfg = self.config;
         self.order.clear();
         for (i, (imp, s)) in self.impostors.iter_mut().zip(subjects.iter()).enumerate() {
             let b = s.bounds();
-            if !frustum.sees(b.center, b.radius) {
+            let visible = frustum.sees(b.center, b.radius);
+            if !visible {
                 imp.mode = Mode::Culled;
                 imp.culled_frames = imp.culled_frames.saturating_add(1);
                 if imp.culled_frames > cfg.release_after {
@@ -235,51 +302,83 @@ impl ImpostorSet {
                         imp.capture = None;
                     }
                 }
-                continue;
+                if !wide.sees(b.center, b.radius) {
+                    continue;
+                }
+            } else {
+                imp.culled_frames = 0;
             }
-            imp.culled_frames = 0;
             let dist = eye.distance(b.center);
             if dist.partial_cmp(&b.radius) != Some(std::cmp::Ordering::Greater) {
-                imp.mode = Mode::Geometry(Fallback::Inside);
+                if visible {
+                    imp.mode = Mode::Geometry(Fallback::Inside);
+                }
                 imp.predicted = Predicted::default();
                 continue;
             }
             let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
             imp.predicted = predict(imp.capture.as_ref(), s, eye, needed, px_per_radian, &cfg);
-            imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
-                Mode::Image
-            } else {
-                Mode::Geometry(Fallback::NoImage)
-            };
-            let near = dist < b.radius * cfg.transition;
+            if visible {
+                imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
+                    Mode::Image
+                } else {
+                    Mode::Geometry(Fallback::NoImage)
+                };
+            }
+            let near = visible && dist < b.radius * cfg.transition;
             if imp.predicted.ratio >= 1.0 || near {
                 let priority = if near { f32::MAX } else { imp.predicted.ratio };
-                self.order.push((priority, i));
+                self.order.push((visible, priority, i));
             }
         }
-        // Largest error first; ties by index so the schedule is deterministic.
+        // Visible before pre-warmed, largest error first; ties by index, so the schedule
+        // is deterministic.
         self.order
-            .sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+            .sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)));
         let mut report = Report::default();
+        let mut budget = cfg.budget.refreshes;
+        if let Some(t) = cfg.budget.time {
+            let fits = (t.as_secs_f32() * 1e3 / self.refresh_ms.max(1e-3)).floor() as usize;
+            budget = budget.min(fits.max(1));
+        }
+        self.jobs.clear();
         for k in 0..self.order.len() {
-            let i = self.order[k].1;
-            let over_time = cfg.budget.time.is_some_and(|t| start.elapsed() >= t);
-            if report.refreshes >= cfg.budget.refreshes || over_time || i >= n {
-                report.stale += 1;
+            let (visible, _, i) = self.order[k];
+            if self.jobs.len() >= budget || i >= n {
+                report.stale += visible as usize;
                 continue;
             }
-            if self.refresh(i, &mut subjects[i], eye, lighting, &mut report) {
-                report.refreshes += 1;
-            } else {
-                report.stale += 1;
+            match self.begin_refresh(i, &subjects[i], eye) {
+                Some(job) => {
+                    self.jobs.push(job);
+                    report.prewarmed += !visible as usize;
+                }
+                None => report.stale += visible as usize,
             }
+        }
+        report.refreshes = self.jobs.len();
+        let start = Instant::now();
+        self.render_jobs(subjects, lighting);
+        if !self.jobs.is_empty() {
+            let ms = start.elapsed().as_secs_f32() * 1e3 / self.jobs.len() as f32;
+            self.refresh_ms = 0.8 * self.refresh_ms + 0.2 * ms;
+        }
+        for k in 0..self.jobs.len() {
+            let job = self.jobs[k];
+            report.capture_triangles += self.workers[k].stats.triangles_set_up;
+            self.finish_refresh(job, k);
         }
         let mut ratio_sum = 0.0;
         for (imp, s) in self.impostors.iter_mut().zip(subjects.iter_mut()) {
+            if imp.mode == Mode::Image && imp.predicted.ratio > cfg.fallback_ratio {
+                imp.mode = Mode::Geometry(Fallback::Stale);
+                report.stale_fallbacks += 1;
+            }
             match imp.mode {
                 Mode::Image => {
                     report.images += 1;
                     report.max_ratio = report.max_ratio.max(imp.predicted.ratio);
+                    report.over_tolerance += (imp.predicted.ratio > 1.0) as usize;
                     ratio_sum += imp.predicted.ratio;
                     if let Some(slot) = imp.slot {
                         let tint = if self.debug_tint {
@@ -302,29 +401,18 @@ impl ImpostorSet {
         report
     }
 
-    /// Re-renders impostor `i` from `eye`. Returns `false` when there was no texture for it
-    /// (pool exhausted); it then keeps any old image.
-    fn refresh<S: Subject>(
-        &mut self,
-        i: usize,
-        subject: &mut S,
-        eye: Vec3,
-        lighting: &Lighting,
-        report: &mut Report,
-    ) -> bool {
+    /// Where and into which texture impostor `i` is re-rendered from `eye`; `None` when
+    /// there is no texture for it (pool exhausted: it keeps any old image).
+    fn begin_refresh<S: Subject>(&mut self, i: usize, subject: &S, eye: Vec3) -> Option<Job> {
         let b = subject.bounds();
         let imp = &mut self.impostors[i];
         let side = imp.predicted.needed_side.max(1);
-        let Some(capture) = Capture::new(eye, b.center, b.radius, side, subject.version()) else {
-            return false;
-        };
+        let capture = Capture::new(eye, b.center, b.radius, side, subject.version())?;
         // Keep the current texture when it has the right size; else trade it in.
         let slot = match imp.slot {
             Some(s) if imp.capture.as_ref().is_some_and(|c| c.side == side) => s,
             old => {
-                let Some(new) = self.pool.acquire(side) else {
-                    return false;
-                };
+                let new = self.pool.acquire(side)?;
                 if let Some(old) = old {
                     self.pool.release(old);
                 }
@@ -332,28 +420,73 @@ impl ImpostorSet {
             }
         };
         imp.slot = Some(slot);
-        let camera = capture.camera();
-        subject.prepare(&camera, side);
-        let mut draws = Vec::new();
-        subject.draws(&mut draws);
-        self.scratch.resize(side, side);
+        Some(Job { i, capture, slot })
+    }
+
+    /// Renders the frame's refreshes, one worker each, side by side on the thread pool
+    /// (each writes only its own target, so the images do not depend on the thread count).
+    fn render_jobs<S: Subject + Send>(&mut self, subjects: &mut [S], lighting: &Lighting) {
+        if self.jobs.is_empty() {
+            return;
+        }
+        while self.workers.len() < self.jobs.len() {
+            self.workers.push(Worker::default());
+        }
+        // The jobs' subjects, in the jobs' order (indices are distinct).
+        self.jobs.sort_by_key(|j| j.i);
+        let mut wanted = self.jobs.iter().map(|j| j.i).peekable();
+        let mut chosen: Vec<&mut S> = Vec::with_capacity(self.jobs.len());
+        for (i, s) in subjects.iter_mut().enumerate() {
+            if wanted.peek() == Some(&i) {
+                wanted.next();
+                chosen.push(s);
+            }
+        }
+        self.jobs.truncate(chosen.len());
         let clear = FrameOptions {
-            clear: Some(Rgba::new(0.0, 0.0, 0.0, 0.0)),
+            clear: Some(Rgba::TRANSPARENT),
             ..Default::default()
         };
-        let stats = self
-            .renderer
-            .render(draws, &camera, lighting, &mut self.scratch, &clear);
-        report.capture_triangles += stats.triangles_set_up;
+        self.jobs
+            .par_iter()
+            .zip(chosen.par_iter_mut())
+            .zip(self.workers.par_iter_mut())
+            .with_max_len(1)
+            .for_each(|((job, subject), w)| {
+                let camera = job.capture.camera();
+                let side = job.capture.side;
+                subject.prepare(&camera, side);
+                let mut draws = recycle(std::mem::take(&mut w.draws));
+                subject.draws(&mut draws);
+                if w.target.width() != side || w.target.height() != side {
+                    w.target.resize(side, side);
+                }
+                w.stats = w.renderer.render(
+                    draws.iter().copied(),
+                    &camera,
+                    lighting,
+                    &mut w.target,
+                    &clear,
+                );
+                w.draws = recycle(draws);
+            });
+    }
+
+    /// Copies worker `k`'s image into the job's texture and trims the quad to it.
+    fn finish_refresh(&mut self, job: Job, k: usize) {
+        let Job { i, capture, slot } = job;
+        let target = &self.workers[k].target;
+        let side = capture.side;
         if let Some(tex) = self.pool.texture_mut(slot) {
-            self.scratch.copy_to_texture(tex);
+            target.copy_to_texture(tex);
         }
+        let imp = &mut self.impostors[i];
         let m = &mut imp.quad;
         m.clear();
         // Trim the quad to the covered part of the image (one texel of margin for the
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
         // empty texel on screen would still be shaded and blended.
-        if let Some(r) = metrics::covered_rect(&self.scratch, metrics::Coverage::Alpha) {
+        if let Some(r) = metrics::covered_rect(target, metrics::Coverage::Alpha) {
             let r = r.grow(1, side, side);
             let f = |p: u32| p as f32 / side as f32;
             let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));
@@ -369,13 +502,15 @@ impl ImpostorSet {
         }
         m.colors.clear();
         imp.capture = Some(capture);
-        imp.mode = Mode::Image;
+        // A pre-warmed subject stays culled until it comes into view.
+        if imp.mode != Mode::Culled {
+            imp.mode = Mode::Image;
+        }
         imp.refreshes += 1;
         imp.predicted.ratio = 0.0;
         imp.predicted.degrees = 0.0;
         imp.predicted.pixels = 0.0;
         imp.predicted.octaves = 0.0;
-        true
     }
 
     /// Appends this frame's draws: images as quads, the rest as their subjects' geometry.

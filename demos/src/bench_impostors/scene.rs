@@ -83,9 +83,12 @@ pub(super) enum Policy {
 }
 
 /// The set's configuration for a tolerance (degrees; infinite: never refresh on its
-/// own) with an unlimited budget.
+/// own) with an unlimited budget. Stale images are shown however stale (no fallback to
+/// geometry, no pre-warming): the sweep measures the images' own error as they age.
 pub(super) fn config(degrees: f32, octaves: f32) -> Config {
     Config {
+        fallback_ratio: f32::INFINITY,
+        prewarm: 0.0,
         tolerance: Tolerance {
             degrees,
             pixels: None,

@@ -150,10 +150,31 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
         imp.stale
     );
     println!(
-        "  predicted error ratio (1 = tolerance): max {:.3}, mean {:.3}",
+        "  predicted error ratio (1 = tolerance) of the images shown: max {:.3}, mean {:.3}",
         imp.max_ratio,
         imp.mean_ratio()
     );
+    let pct = |k: usize| 100.0 * k as f64 / imp.frames.max(1) as f64;
+    println!(
+        "  frames showing an impostor over its tolerance: {} ({:.1}%), over twice it: {} \
+         ({:.1}%); stale images drawn as geometry instead: {}; pre-warmed refreshes: {}",
+        imp.frames_over,
+        pct(imp.frames_over),
+        imp.frames_over_twice,
+        pct(imp.frames_over_twice),
+        imp.stale_fallbacks,
+        imp.prewarmed
+    );
+    if !args.no_save {
+        let path = dir.join("impostor_error.png");
+        match demos::showcase_impostors::tour_chart(imp, &times, &path) {
+            Ok(()) => println!(
+                "  chart of error, refreshes and frame time over the tour: {}",
+                path.display()
+            ),
+            Err(e) => eprintln!("  could not write {}: {e}", path.display()),
+        }
+    }
     println!("  last frame: {}", show.ibr.impostors.readout().line());
     println!("last frame: {stats:#?}");
     if !args.no_save {
@@ -220,6 +241,9 @@ fn read_input(window: &Window, last_mouse: &mut Option<(f32, f32)>, dt: f32) -> 
     input
 }
 
+/// Milliseconds of impostor refreshes per frame in the window, for each of the two sets.
+const REFRESH_MS: u64 = 3;
+
 fn window(args: &Args) -> Result<(), WindowError> {
     let (w, h) = (args.width.unwrap_or(960), args.height.unwrap_or(540));
     let mut window = Window::new(
@@ -237,6 +261,11 @@ fn window(args: &Args) -> Result<(), WindowError> {
     window.set_input_callback(Box::new(KeyLatch(keys.clone())));
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
+    // Interactive: refreshes get a time budget per frame (what recent ones cost fits in),
+    // not a fixed count; headless runs keep counts so their frames are reproducible.
+    show.ibr
+        .impostors
+        .set_time_budget(Some(Duration::from_millis(REFRESH_MS)));
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);

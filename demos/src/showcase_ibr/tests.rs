@@ -44,3 +44,36 @@ fn the_sun_behind_the_impostored_skyline_shows_no_flare() {
     assert!(measured < 0.02, "{measured}");
     assert_eq!(quads, 0, "no flare is drawn");
 }
+
+/// The default headless tour (120 frames, as `showcase --headless` renders it, here at
+/// 320x180): no frame shows an impostor over its tolerance, every stale one the budget could
+/// not refresh is drawn as geometry instead, and subjects about to come into view are
+/// refreshed ahead.
+#[test]
+fn the_tour_never_shows_an_impostor_over_its_tolerance() {
+    let mut show = Showcase::new();
+    let (w, h, n) = (320, 180, 120);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    for i in 0..n {
+        show.animate(i as f32 / 30.0);
+        let (eye, look) = show.path(i, n);
+        let cam = camera(eye, look, w, h);
+        show.render(&mut renderer, &cam, &mut target, &opts);
+    }
+    let run = show.ibr.impostors.run_stats();
+    assert_eq!(run.frames, n);
+    assert_eq!(run.frames_over_twice, 0, "{run:?}");
+    assert!(
+        run.frames_over * 100 <= n,
+        "{} of {n} frames over",
+        run.frames_over
+    );
+    assert!(run.max_ratio <= 1.0, "{}", run.max_ratio);
+    assert!(run.stale_fallbacks > 0 && run.prewarmed > 0, "{run:?}");
+    assert!(run.refreshes > n, "{run:?}");
+}

@@ -191,8 +191,88 @@ fn the_budget_refreshes_the_largest_errors_first() {
     let mut worst = vec![ratios[0].1, ratios[1].1];
     worst.sort();
     assert_eq!(refreshed, worst);
-    // Stale impostors still draw their old image: no subject goes missing.
-    assert_eq!(r.images, 5);
+    // Stale impostors still draw their old image, or their geometry when the image is
+    // over twice the tolerance: no subject goes missing, no badly stale image is shown.
+    assert_eq!(r.images + r.geometry, 5);
+    for imp in &imps.impostors {
+        match imp.mode {
+            Mode::Image => assert!(imp.predicted.ratio <= 2.0, "{:?}", imp.predicted),
+            Mode::Geometry(f) => {
+                assert_eq!(f, Fallback::Stale);
+                assert!(imp.predicted.ratio > 2.0);
+            }
+            Mode::Culled => panic!("all five are in view"),
+        }
+    }
+    assert_eq!(r.stale_fallbacks, r.geometry);
+    assert_eq!(
+        r.over_tolerance,
+        r.images - 2,
+        "all but the two refreshed are over"
+    );
+}
+
+#[test]
+fn a_badly_stale_image_is_never_shown_and_comes_back_once_refreshed() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    let look = Vec3::ZERO;
+    let eye = Vec3::new(0.0, 0.3, 4.0);
+    imps.update(&mut subjects, &camera(eye, look), H, &lighting());
+    imps.config.budget.refreshes = 0;
+    // Walk around the subject without refreshing: the image is shown while its predicted
+    // error is at most twice the tolerance, the geometry after that.
+    let mut seen = Vec::new();
+    for a in 0..40 {
+        let e = Mat4::from_rotation_y((a as f32 * 0.05).to_radians()).transform_point3(eye);
+        let r = imps.update(&mut subjects, &camera(e, look), H, &lighting());
+        let imp = &imps.impostors[0];
+        match imp.mode {
+            Mode::Image => assert!(imp.predicted.ratio <= 2.0),
+            Mode::Geometry(Fallback::Stale) => assert!(imp.predicted.ratio > 2.0),
+            m => panic!("{m:?}"),
+        }
+        assert_eq!(r.stale_fallbacks, (imp.mode != Mode::Image) as usize);
+        seen.push(imp.mode);
+    }
+    assert_eq!(seen[0], Mode::Image);
+    assert_eq!(
+        seen[39],
+        Mode::Geometry(Fallback::Stale),
+        "walked far enough"
+    );
+    // With budget again, it is refreshed and shown as an image.
+    imps.config.budget.refreshes = 1;
+    let e = Mat4::from_rotation_y(2.0f32.to_radians()).transform_point3(eye);
+    let r = imps.update(&mut subjects, &camera(e, look), H, &lighting());
+    assert_eq!((r.refreshes, r.images, r.stale_fallbacks), (1, 1, 0));
+}
+
+#[test]
+fn subjects_about_to_come_into_view_are_prewarmed_after_the_visible_ones() {
+    // One torus in view, one just beyond the right edge, one far outside.
+    let look = Vec3::new(0.0, 0.0, -4.0);
+    let cam = camera(Vec3::new(0.0, 0.0, 6.0), look);
+    let edge = {
+        // Just past the right edge at the subjects' depth: about 1.1 half-widths out.
+        let p = cam
+            .clip_from_world()
+            .inverse()
+            .project_point3(Vec3::new(1.15, 0.0, 0.99));
+        let dir = (p - cam.eye()).normalize();
+        cam.eye() + dir * 10.0
+    };
+    let mut subjects = [torus(look), torus(edge), torus(Vec3::new(60.0, 0.0, -4.0))];
+    let mut imps = set(3, 1);
+    let r = imps.update(&mut subjects, &cam, H, &lighting());
+    assert_eq!((r.refreshes, r.prewarmed, r.images, r.culled), (1, 0, 1, 2));
+    assert_eq!(imps.impostors[0].refreshes, 1, "the visible one first");
+    imps.config.budget.refreshes = 3;
+    let r = imps.update(&mut subjects, &cam, H, &lighting());
+    assert_eq!((r.refreshes, r.prewarmed, r.culled), (1, 1, 2), "{r:?}");
+    assert_eq!(imps.impostors[1].refreshes, 1, "pre-warmed, still culled");
+    assert_eq!(imps.impostors[1].mode, Mode::Culled);
+    assert_eq!(imps.impostors[2].refreshes, 0, "too far outside");
 }
 
 #[test]
@@ -293,6 +373,8 @@ fn measured_error_grows_with_predicted_error() {
     let eye = Vec3::new(0.0, 0.3, 4.0);
     imps.update(&mut subjects, &camera(eye, Vec3::ZERO), H, &lighting());
     imps.config.budget.refreshes = 0;
+    // Keep showing the stale image however stale, to measure it.
+    imps.config.fallback_ratio = f32::INFINITY;
     let mut rows = Vec::new();
     for a in [0.0f32, 4.0, 12.0, 30.0] {
         let e = Mat4::from_rotation_y(a.to_radians()).transform_point3(eye);
