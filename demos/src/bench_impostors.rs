@@ -81,8 +81,8 @@ mod scene;
 mod tolerance;
 
 pub use calibration::{
-    calibration_bins, calibration_chart, calibration_per_impostor, calibration_points,
-    calibration_summary, correlation, slope,
+    calibration_bins, calibration_chart, calibration_levels, calibration_levels_chart,
+    calibration_per_impostor, calibration_points, calibration_summary, correlation, slope,
 };
 pub use methods::method_label;
 pub use report::{charts, print_row, PSNR_CAP_DB};

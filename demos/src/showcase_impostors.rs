@@ -29,7 +29,7 @@ use engine::procedural::{Terrain, XorShift};
 use engine::{Camera, Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Report};
+use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Report, Tolerance};
 use ibr::subject::{MeshGroup, Subject};
 use std::sync::Arc;
 
@@ -117,6 +117,12 @@ impl Impostors {
                 time: None,
             },
             max_side,
+            // Tolerance in image units: staleness may add a predicted mean absolute error of
+            // 1.5 levels over the subject (the calibrated prediction, `bench impostors`).
+            tolerance: Tolerance {
+                levels: Some(TOLERANCE_LEVELS),
+                ..Tolerance::default()
+            },
             // The showcase shows no image over its tolerance: a subject the budget could
             // not refresh is drawn as its (cheap) geometry until it can be.
             fallback_ratio: 1.0,
@@ -356,6 +362,9 @@ impl Readout {
         .to_uppercase()
     }
 }
+
+/// The impostors' tolerance: predicted mean absolute 8-bit error over the subject.
+pub const TOLERANCE_LEVELS: f32 = 1.5;
 
 /// Frames whose per-frame figures [`RunStats::per_frame`] keeps (the first ones).
 pub const HISTORY: usize = 1 << 14;

@@ -49,6 +49,10 @@ pub struct Tolerance {
     pub degrees: f32,
     /// If set, the parallax limit in screen pixels instead (at the image centre).
     pub pixels: Option<f32>,
+    /// If set, the limit on the image error staleness adds instead ([`Predicted::levels`]
+    /// less what a fresh image predicts: mean absolute 8-bit error over the subject's
+    /// screen rectangle); takes precedence.
+    pub levels: Option<f32>,
     /// Largest resolution mismatch, octaves (1: the needed side is another power of two).
     pub octaves: f32,
 }
@@ -58,6 +62,7 @@ impl Default for Tolerance {
         Tolerance {
             degrees: 0.125,
             pixels: None,
+            levels: None,
             octaves: 1.0,
         }
     }
@@ -124,6 +129,11 @@ pub struct Predicted {
     pub degrees: f32,
     /// The same angle in pixels at the image centre.
     pub pixels: f32,
+    /// The image error it makes, predicted: mean absolute 8-bit error over the subject's
+    /// screen rectangle, from the parallax in pixels and how busy the image is
+    /// ([`Capture::gradient`], per screen pixel), calibrated so that the measured error is
+    /// at most this on most images (`bench impostors`, the calibration series).
+    pub levels: f32,
     /// The texture side the subject needs now.
     pub needed_side: u32,
     /// `|log2(needed / current)|`.
@@ -480,6 +490,12 @@ impl ImpostorSet {
         if let Some(tex) = self.pool.texture_mut(slot) {
             target.copy_to_texture(tex);
         }
+        let (gradient, depth_gradient) = gradients(target, &capture);
+        let capture = Capture {
+            gradient,
+            depth_gradient,
+            ..capture
+        };
         let imp = &mut self.impostors[i];
         let m = &mut imp.quad;
         m.clear();
@@ -585,6 +601,44 @@ impl ImpostorSet {
         };
         metrics::compare(&truth, &image, &opts).ok()
     }
+}
+
+/// The mean absolute difference between horizontally and vertically neighbouring texels
+/// of `t`, over RGB of the stored 8-bit values ([`Capture::gradient`]), and the same with
+/// each difference weighted by its surface's distance from the quad's plane in radii
+/// ([`Capture::depth_gradient`]; the nearer texel of a pair that holds a surface).
+fn gradients(t: &Target, c: &Capture) -> (f32, f32) {
+    let (w, h) = (t.width(), t.height());
+    let camera = c.camera();
+    let plane = c.eye.distance(c.center);
+    let px = |x: u32, y: u32| t.pixel(x, y).unwrap_or(0).to_le_bytes();
+    // Distance from the plane in radii, 0 where nothing was drawn.
+    let off = |x: u32, y: u32| {
+        let d = t.depth_reversed(x, y).unwrap_or(0.0);
+        if d > 0.0 {
+            ((camera.view_depth_from_reversed(d) - plane).abs() / c.radius).min(1.0)
+        } else {
+            0.0
+        }
+    };
+    let (mut sum, mut weighted, mut n) = (0u64, 0f64, 0u64);
+    for y in 0..h {
+        for x in 0..w {
+            let (p, dp) = (px(x, y), off(x, y));
+            for (qx, qy) in [(x + 1, y), (x, y + 1)] {
+                if qx >= w || qy >= h {
+                    continue;
+                }
+                let q = px(qx, qy);
+                let diff = (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>();
+                sum += diff;
+                weighted += diff as f64 * dp.max(off(qx, qy)) as f64;
+                n += 3;
+            }
+        }
+    }
+    let n = n.max(1);
+    (sum as f32 / n as f32, (weighted / n as f64) as f32)
 }
 
 #[cfg(test)]

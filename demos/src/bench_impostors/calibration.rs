@@ -16,16 +16,17 @@ pub(super) fn run(plan: &Plan, city: &mut City, tick: &mut dyn FnMut(String), ro
     let path = CityPath::Translate;
     let out = fly(plan, city, path, Policy::Frozen);
     for (k, frame) in out.measured.iter().enumerate() {
-        for &(i, deg, px, e) in frame {
+        for &(i, p, e) in frame {
             rows.push(Row {
                 frame: Some(k + 1),
                 impostor: Some(i),
                 frames: 1,
                 errors: Some(Errors::of_frames(&[vec![e]])),
                 predicted: Some(PredictedStats {
-                    deg_mean: deg as f64,
-                    deg_max: deg as f64,
-                    px_mean: px as f64,
+                    deg_mean: p.degrees as f64,
+                    deg_max: p.degrees as f64,
+                    px_mean: p.pixels as f64,
+                    levels_mean: p.levels as f64,
                 }),
                 ..Row::empty("calibration", path, "frozen".into(), plan, n)
             });
@@ -153,5 +154,44 @@ pub fn calibration_summary(rows: &[Row]) -> Option<String> {
     for (x, y, n) in calibration_bins(&pts, 8) {
         s += &format!("\n  predicted {x:>7.3} deg: measured MAE {y:>7.3} ({n} images)");
     }
+    let lv = calibration_levels(rows);
+    let under = lv.iter().filter(|p| p.1 <= p.0).count();
+    s += &format!(
+        "\n  in image units: Pearson r (predicted MAE, measured MAE) = {}; measured at most \
+         predicted on {under} of {} images ({:.1}%)",
+        correlation(&lv).map_or("n/a".into(), |r| format!("{r:.3}")),
+        lv.len(),
+        100.0 * under as f64 / lv.len().max(1) as f64
+    );
     Some(s)
+}
+
+/// The calibration rows' (predicted image error, measured mean absolute error) pairs, both
+/// in 8-bit levels.
+pub fn calibration_levels(rows: &[Row]) -> Vec<(f64, f64)> {
+    rows.iter()
+        .filter(|r| r.series == "calibration")
+        .filter_map(|r| Some((r.predicted?.levels_mean, r.errors?.mae_mean)))
+        .collect()
+}
+
+/// The calibration in image units: each image's predicted against measured error, with
+/// the line where they are equal (the prediction should lie above almost every point).
+pub fn calibration_levels_chart(rows: &[Row]) -> Lines {
+    let pts = calibration_levels(rows);
+    let hi = pts.iter().map(|p| p.0.max(p.1)).fold(0.0, f64::max);
+    Lines::new(
+        "Predicted vs measured image error (translate, no refresh after warm-up)",
+        "predicted mean abs. error (8-bit levels)",
+        "measured mean abs. error (8-bit levels)",
+        vec![
+            Line::new("one image in one frame", pts),
+            Line::new(
+                "measured = predicted",
+                (0..=60)
+                    .map(|k| (hi * k as f64 / 60.0, hi * k as f64 / 60.0))
+                    .collect(),
+            ),
+        ],
+    )
 }

@@ -1,6 +1,6 @@
 //! The sweep's charts and its printed summary.
 
-use super::calibration::calibration_chart;
+use super::calibration::{calibration_chart, calibration_levels_chart};
 use super::methods::method_label;
 use super::row::Row;
 use crate::chart::{Chart, Line, Lines};
@@ -123,6 +123,10 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         (
             "impostors_calibration.png",
             Chart::Scatter(calibration_chart(rows)),
+        ),
+        (
+            "impostors_calibration_levels.png",
+            Chart::Scatter(calibration_levels_chart(rows)),
         ),
     ]
 }

@@ -6,6 +6,7 @@ use super::Plan;
 use crate::city::Path as CityPath;
 use crate::sweep::CsvRow;
 use crate::timing::Summary;
+use ibr::impostor::Predicted;
 use ibr::metrics::ImageError;
 use std::time::Duration;
 
@@ -54,6 +55,8 @@ pub struct PredictedStats {
     pub deg_mean: f64,
     pub deg_max: f64,
     pub px_mean: f64,
+    /// Predicted image error (mean absolute 8-bit levels).
+    pub levels_mean: f64,
 }
 
 /// One CSV row.
@@ -133,7 +136,7 @@ impl Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,path,policy,tolerance_deg,frame,impostor,width,height,impostors,frames,refreshes,refreshes_per_frame,new_captures,capture_kpx_per_frame,interval_frames,median_ms,p90_ms,min_ms,mean_ms,update_ms,images_per_frame,mae_mean,mae_max,worst_mae,psnr_db,psnr_min_db,max_abs,frac_over,coverage_mismatch,predicted_deg_mean,predicted_deg_max,predicted_px_mean,memory_bytes,setup_ms,triangles";
+    const HEADER: &'static str = "series,path,policy,tolerance_deg,frame,impostor,width,height,impostors,frames,refreshes,refreshes_per_frame,new_captures,capture_kpx_per_frame,interval_frames,median_ms,p90_ms,min_ms,mean_ms,update_ms,images_per_frame,mae_mean,mae_max,worst_mae,psnr_db,psnr_min_db,max_abs,frac_over,coverage_mismatch,predicted_deg_mean,predicted_deg_max,predicted_px_mean,predicted_levels_mean,memory_bytes,setup_ms,triangles";
 
     fn csv(&self) -> String {
         fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
@@ -168,8 +171,11 @@ impl CsvRow for Row {
             None => ",,,,,,,,".into(),
         };
         let predicted = match &self.predicted {
-            Some(p) => format!("{:.5},{:.5},{:.4}", p.deg_mean, p.deg_max, p.px_mean),
-            None => ",,".into(),
+            Some(p) => format!(
+                "{:.5},{:.5},{:.4},{:.4}",
+                p.deg_mean, p.deg_max, p.px_mean, p.levels_mean
+            ),
+            None => ",,,".into(),
         };
         format!(
             "{},{},{},{},{},{},{},{},{},{},{},{:.4},{},{},{},{},{},{},{},{},{},{}",
@@ -212,12 +218,14 @@ pub(super) fn mean_ms(d: &[Duration]) -> f64 {
     d.iter().map(|d| d.as_secs_f64() * 1e3).sum::<f64>() / d.len().max(1) as f64
 }
 
-pub(super) fn predicted_stats(p: &[(f32, f32)]) -> PredictedStats {
+pub(super) fn predicted_stats(p: &[Predicted]) -> PredictedStats {
     let n = p.len().max(1) as f64;
+    let mean = |f: fn(&Predicted) -> f32| p.iter().map(|x| f(x) as f64).sum::<f64>() / n;
     PredictedStats {
-        deg_mean: p.iter().map(|x| x.0 as f64).sum::<f64>() / n,
-        deg_max: p.iter().map(|x| x.0 as f64).fold(0.0, f64::max),
-        px_mean: p.iter().map(|x| x.1 as f64).sum::<f64>() / n,
+        deg_mean: mean(|x| x.degrees),
+        deg_max: p.iter().map(|x| x.degrees as f64).fold(0.0, f64::max),
+        px_mean: mean(|x| x.pixels),
+        levels_mean: mean(|x| x.levels),
     }
 }
 
@@ -234,7 +242,7 @@ pub(super) fn impostor_row(
     let frames: Vec<Vec<ImageError>> = run
         .measured
         .iter()
-        .map(|f| f.iter().map(|m| m.3).collect())
+        .map(|f| f.iter().map(|m| m.2).collect())
         .collect();
     Row {
         tolerance_deg: tolerance.map(deg),

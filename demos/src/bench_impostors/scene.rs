@@ -4,7 +4,7 @@
 use super::Plan;
 use crate::city::{City, Path as CityPath};
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Sphere, Target};
-use ibr::impostor::{self, Budget, Config, ImpostorSet, Mode, Tolerance};
+use ibr::impostor::{self, Budget, Config, ImpostorSet, Mode, Predicted, Tolerance};
 use ibr::metrics::{self, ImageError, Options, Region};
 use ibr::subject::Subject;
 use std::time::{Duration, Instant};
@@ -92,6 +92,7 @@ pub(super) fn config(degrees: f32, octaves: f32) -> Config {
         tolerance: Tolerance {
             degrees,
             pixels: None,
+            levels: None,
             octaves,
         },
         budget: Budget {
@@ -106,11 +107,10 @@ pub(super) fn config(degrees: f32, octaves: f32) -> Config {
 pub(super) struct RunOut {
     pub(super) times: Vec<Duration>,
     pub(super) update: Vec<Duration>,
-    /// Per frame after warm-up: (impostor, predicted degrees, predicted pixels, error)
-    /// of every measured image.
-    pub(super) measured: Vec<Vec<(usize, f32, f32, ImageError)>>,
-    /// Per frame after warm-up: predicted degrees and pixels of every drawn image.
-    pub(super) predicted: Vec<(f32, f32)>,
+    /// Per frame after warm-up: every measured image and its prediction.
+    pub(super) measured: Vec<Vec<(usize, Predicted, ImageError)>>,
+    /// Per frame after warm-up: the prediction of every drawn image.
+    pub(super) predicted: Vec<Predicted>,
     pub(super) refreshes: u64,
     pub(super) new_captures: u64,
     pub(super) capture_px: u64,
@@ -208,9 +208,9 @@ pub(super) fn run_impostors(
                 continue;
             }
             let p = set.impostors[i].predicted;
-            out.predicted.push((p.degrees, p.pixels));
+            out.predicted.push(p);
             if let Some(e) = set.measure(i, &mut city.buildings[i], &camera, size, &lighting) {
-                frame.push((i, p.degrees, p.pixels, e));
+                frame.push((i, p, e));
             }
         }
         out.measured.push(frame);

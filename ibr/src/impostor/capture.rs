@@ -23,6 +23,15 @@ pub struct Capture {
     pub corners: [Vec3; 4],
     /// Half the capture camera's field of view, radians.
     pub half_fov: f32,
+    /// How busy the image is: the mean absolute difference between neighbouring texels,
+    /// 8-bit levels per texel (RGB, over the whole square). A displacement of `d` texels
+    /// changes the image by about `d` times this: what turns parallax in pixels into an
+    /// image error ([`super::Predicted::levels`]). Set when the image is rendered.
+    pub gradient: f32,
+    /// The same differences, each weighted by how far its surface lies from the quad's
+    /// plane (in radii, 0 to 1): parallax moves a texel in proportion to that distance, so
+    /// this times half the parallax in texels is the error the parallax makes.
+    pub depth_gradient: f32,
 }
 
 impl Capture {
@@ -59,6 +68,8 @@ impl Capture {
             version,
             corners,
             half_fov,
+            gradient: 0.0,
+            depth_gradient: 0.0,
         })
     }
 
