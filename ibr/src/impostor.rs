@@ -34,10 +34,13 @@ pub use predict::{error_color, needed_side, screen_rect};
 use predict::{pixels_per_radian, predict, Frustum};
 
 use crate::billboard::{push_quad, UvRect};
+use crate::capture::Capturer;
 use crate::metrics::{self, ImageError, Options, Region};
 use crate::subject::Subject;
 use crate::technique::recycle;
-use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Rgba, Target};
+use engine::{
+    Camera, Draw, Encoding, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Rgba, Target,
+};
 use glam::{Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -221,7 +224,7 @@ pub struct ImpostorSet {
     pub impostors: Vec<Impostor>,
     pool: Pool,
     renderer: Renderer,
-    /// One renderer and target per refresh of a frame, run side by side.
+    /// One capturer per refresh of a frame, run side by side.
     workers: Vec<Worker>,
     /// The frame's refreshes (reused).
     jobs: Vec<Job>,
@@ -233,24 +236,12 @@ pub struct ImpostorSet {
     order: Vec<(bool, f32, usize)>,
 }
 
-/// A refresh's own renderer, target and draw list.
-#[derive(Debug)]
+/// A refresh's own capturer (renderer and target) and draw list.
+#[derive(Debug, Default)]
 struct Worker {
-    renderer: Renderer,
-    target: Target,
+    capturer: Capturer,
     draws: Vec<Draw<'static>>,
     stats: FrameStats,
-}
-
-impl Default for Worker {
-    fn default() -> Self {
-        Worker {
-            renderer: Renderer::new(),
-            target: Target::new(0, 0),
-            draws: Vec::new(),
-            stats: FrameStats::default(),
-        }
-    }
 }
 
 /// One refresh of a frame: which impostor, from where, into which texture.
@@ -453,10 +444,6 @@ impl ImpostorSet {
             }
         }
         self.jobs.truncate(chosen.len());
-        let clear = FrameOptions {
-            clear: Some(Rgba::TRANSPARENT),
-            ..Default::default()
-        };
         self.jobs
             .par_iter()
             .zip(chosen.par_iter_mut())
@@ -468,16 +455,9 @@ impl ImpostorSet {
                 subject.prepare(&camera, side);
                 let mut draws = recycle(std::mem::take(&mut w.draws));
                 subject.draws(&mut draws);
-                if w.target.width() != side || w.target.height() != side {
-                    w.target.resize(side, side);
-                }
-                w.stats = w.renderer.render(
-                    draws.iter().copied(),
-                    &camera,
-                    lighting,
-                    &mut w.target,
-                    &clear,
-                );
+                let (drawn, enc) = (draws.iter().copied(), Encoding::Srgb);
+                w.capturer.render(drawn, &camera, lighting, side, side, enc);
+                w.stats = w.capturer.last_stats();
                 w.draws = recycle(draws);
             });
     }
@@ -485,7 +465,7 @@ impl ImpostorSet {
     /// Copies worker `k`'s image into the job's texture and trims the quad to it.
     fn finish_refresh(&mut self, job: Job, k: usize) {
         let Job { i, capture, slot } = job;
-        let target = &self.workers[k].target;
+        let target = self.workers[k].capturer.target();
         let side = capture.side;
         if let Some(tex) = self.pool.texture_mut(slot) {
             target.copy_to_texture(tex);

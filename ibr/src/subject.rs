@@ -30,6 +30,26 @@ pub trait Subject {
     fn triangle_count(&self) -> usize;
 }
 
+/// A boxed subject is a subject, so one impostor set can hold subjects of several kinds
+/// (`Vec<Box<dyn Subject + Send>>`: buildings and clouds under one budget).
+impl<T: Subject + ?Sized> Subject for Box<T> {
+    fn bounds(&self) -> Sphere {
+        (**self).bounds()
+    }
+    fn prepare(&mut self, camera: &Camera, height: u32) {
+        (**self).prepare(camera, height);
+    }
+    fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
+        (**self).draws(out);
+    }
+    fn version(&self) -> u64 {
+        (**self).version()
+    }
+    fn triangle_count(&self) -> usize {
+        (**self).triangle_count()
+    }
+}
+
 /// A group of meshes placed in the world: a building, a tree, a statue.
 #[derive(Clone, Debug, Default)]
 pub struct MeshGroup {
