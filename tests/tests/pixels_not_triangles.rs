@@ -3,12 +3,15 @@
 //! 1k, 30k and 1M triangles (same silhouettes, same screen coverage) and grow with the
 //! pixel count when the resolution doubles, while geometry frames set up triangles in
 //! proportion to the scene. Counters only, no wall-clock timing (`bench scaling` times
-//! the same frames).
+//! the same frames). The impostor frames run through the one frame loop
+//! (`ibr::technique::FrameLoop`, the city behind `Impostored`); the ground truth renders the
+//! geometry the technique names as its reference.
 
 use demos::city::{City, Path};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
-use ibr::impostor::{Config, ImpostorSet, Mode};
-use ibr::subject::Subject;
+use ibr::impostor::{Config, Impostored, Mode};
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::{FrameLoop, FrameView, Technique};
 
 const GRID: u32 = 8;
 const SIZES: [(u32, u32); 3] = [(160, 90), (320, 180), (640, 360)];
@@ -51,35 +54,59 @@ fn frames(renderer: &mut Renderer, city: &mut City, size: (u32, u32)) -> Frames 
         },
         ..Config::default()
     };
-    let mut set = ImpostorSet::new(config, city.buildings.len());
+    let buildings = std::mem::take(&mut city.buildings);
+    let mut imp = Impostored::new("city", config, buildings);
+    let mut ground: Vec<Draw> = Vec::new();
+    city.ground.draws(&mut ground);
+    let mut frame_loop = FrameLoop::new();
+    // One frame of the loop: the ground plus the city's impostors.
+    let mut frame = |imp: &mut Impostored<MeshGroup>, cam: &Camera, target: &mut Target| {
+        let view = FrameView {
+            camera: cam,
+            width: size.0,
+            height: size.1,
+            lighting: &city.lighting,
+            time: 0.0,
+            dt: 0.0,
+        };
+        let mut list: [&mut dyn Technique; 1] = [imp];
+        frame_loop.render(
+            renderer,
+            ground.iter().copied(),
+            &mut list,
+            &view,
+            target,
+            &opts(),
+        )
+    };
     let cam = camera(city, T, 0.0, size);
-    let warm = set.update(&mut city.buildings, &cam, size.1, &city.lighting);
+    frame(&mut imp, &cam, &mut target);
+    let warm = imp.report;
     assert!(warm.refreshes > 0 && warm.stale == 0, "{warm:?}");
 
     let mut impostors = [FrameStats::default(); 2];
     for (k, turn) in [0.0, 4.0].into_iter().enumerate() {
         let cam = camera(city, T, turn, size);
-        let report = set.update(&mut city.buildings, &cam, size.1, &city.lighting);
+        let stats = frame(&mut imp, &cam, &mut target);
+        let report = imp.report;
         assert_eq!(report.refreshes, 0, "a steady frame: {report:?}");
         assert_eq!((report.geometry, report.stale), (0, 0), "{report:?}");
         assert!(report.images > GRID as usize, "{report:?}");
-        assert!(set
+        assert!(imp
+            .set
             .impostors
             .iter()
             .all(|i| matches!(i.mode, Mode::Image | Mode::Culled)));
-        let mut draws: Vec<Draw> = Vec::new();
-        city.ground.draws(&mut draws);
-        set.draws(&city.buildings, &mut draws);
-        assert_eq!(draws.len(), 1 + report.images);
-        impostors[k] = renderer.render(draws, &cam, &city.lighting, &mut target, &opts());
+        assert_eq!(stats.draws as usize, 1 + report.images);
+        impostors[k] = stats;
     }
 
-    let mut draws: Vec<Draw> = Vec::new();
-    city.ground.draws(&mut draws);
-    for b in &city.buildings {
-        b.draws(&mut draws);
-    }
+    // The ground truth: the geometry the impostors stand for.
+    let mut draws = ground.clone();
+    imp.reference(&mut draws);
     let geometry = renderer.render(draws, &cam, &city.lighting, &mut target, &opts());
+    drop(ground);
+    city.buildings = imp.subjects;
     Frames {
         triangles: city.triangle_count(),
         size,

@@ -4,6 +4,7 @@
 use super::*;
 use crate::subject::MeshGroup;
 use engine::{procedural, Light, Material};
+use glam::Vec3;
 use std::sync::Arc;
 
 const W: u32 = 96;

@@ -1,0 +1,57 @@
+//! Impostors as a technique of the frame loop: a set and the subjects it stands in for.
+
+use super::{Config, ImpostorSet, Report};
+use crate::subject::Subject;
+use crate::technique::{Counters, FrameView, Technique};
+use engine::Draw;
+
+/// Subjects drawn through an [`ImpostorSet`] (one impostor each), as one
+/// [`Technique`]: `prepare` predicts, refreshes within the budget and decides what is drawn;
+/// `draws` gives images and fallback geometry; `reference` the subjects' geometry.
+#[derive(Debug)]
+pub struct Impostored<S> {
+    pub set: ImpostorSet,
+    pub subjects: Vec<S>,
+    /// What the last `prepare` did.
+    pub report: Report,
+    name: String,
+}
+
+impl<S: Subject> Impostored<S> {
+    /// `subjects` behind impostors configured by `config`, named `name` in readouts.
+    pub fn new(name: impl Into<String>, config: Config, subjects: Vec<S>) -> Self {
+        Impostored {
+            set: ImpostorSet::new(config, subjects.len()),
+            subjects,
+            report: Report::default(),
+            name: name.into(),
+        }
+    }
+}
+
+impl<S: Subject + Send> Technique for Impostored<S> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.report = self
+            .set
+            .update(&mut self.subjects, view.camera, view.height, view.lighting);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.set.draws(&self.subjects, out);
+    }
+    fn counters(&self) -> Counters {
+        let r = &self.report;
+        Counters {
+            quads: r.images as u64,
+            images: r.images as u64,
+            refreshes: r.refreshes as u64,
+            geometry: r.geometry as u64,
+            pixels: 0,
+        }
+    }
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.subjects.iter().for_each(|s| s.draws(out));
+    }
+}
