@@ -104,6 +104,38 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         ),
     ]
     .into_iter()
+    .chain([("billboards_trees_error_time.png", trees_error_time(rows))])
     .map(|(name, lines)| (name, Chart::Lines(lines)))
     .collect()
+}
+
+/// Speed against accuracy on the same frames: each forest's median frame time and its
+/// error against the mesh forest (the meshes are the reference, error 0), one point per
+/// tree count, labelled with it.
+fn trees_error_time(rows: &[Row]) -> Lines {
+    let line = |series: &str, name: &str| {
+        let (mut points, mut labels) = (Vec::new(), Vec::new());
+        for r in rows.iter().filter(|r| r.series == series) {
+            if let (Some(t), Some(e)) = (&r.times, &r.error) {
+                points.push((t.total.median_ms, e.mean_abs));
+                labels.push(format!("{} trees", count_name(r.items)));
+            }
+        }
+        Line {
+            name: name.into(),
+            points,
+            labels,
+        }
+    };
+    Lines::new(
+        "Forest: error against frame time (billboards vs the mesh trees they replace)",
+        "median frame time (ms)",
+        "mean absolute error vs mesh forest (8-bit levels)",
+        vec![
+            line("trees_mesh", "mesh trees (the reference)"),
+            line("trees_billboard", "billboard trees"),
+        ],
+    )
+    .log(true, false)
+    .legend(SeriesLabelPosition::UpperLeft)
 }

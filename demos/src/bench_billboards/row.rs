@@ -35,7 +35,8 @@ pub struct Row {
     /// Counters of the last timed frame (accuracy rows: the pine billboard's image at
     /// azimuth 0).
     pub stats: FrameStats,
-    /// `None` for timing rows.
+    /// `None` for the particle rows; the forest rows' error against the mesh forest on the
+    /// same frame (the meshes' own: 0).
     pub error: Option<ImageError>,
 }
 

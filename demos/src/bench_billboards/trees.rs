@@ -7,6 +7,7 @@ use crate::bench::count_name;
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{AlphaMode, Camera, Draw, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};
+use ibr::metrics::{self, Options};
 use ibr::sprites::{self, BakedSprite};
 use ibr::{Billboard, BillboardBatch, Facing, Size};
 
@@ -146,7 +147,11 @@ pub(super) fn trees(
                 measured,
             )
         };
-        rows.push(row("trees_mesh", triangles, measured));
+        // The mesh forest is the ground truth of the billboard forest, on the same frame.
+        let truth = target.clone();
+        let mut mesh_row = row("trees_mesh", triangles, measured);
+        mesh_row.error = metrics::compare(&truth, &truth, &Options::default()).ok();
+        rows.push(mesh_row);
         drop(fixed);
         drop(merged);
 
@@ -170,6 +175,8 @@ pub(super) fn trees(
                 .iter()
                 .map(|b| b.mesh().triangle_count() as u64)
                 .sum::<u64>();
-        rows.push(row("trees_billboard", triangles, measured));
+        let mut billboard_row = row("trees_billboard", triangles, measured);
+        billboard_row.error = metrics::compare(&target, &truth, &Options::default()).ok();
+        rows.push(billboard_row);
     }
 }
