@@ -276,6 +276,10 @@ fn scaling_sweep_writes_csv_and_png_charts() {
             "{i:?}"
         );
         assert!(num(i, "images") > 0.0 && num(g, "images") == 0.0);
+        // Error against the geometry frames at the same poses: none for the geometry,
+        // some (less than a level or so on average) for the images.
+        assert_eq!(num(g, "mae"), 0.0, "{g:?}");
+        assert!(num(i, "mae") > 0.0 && num(i, "mae") < 16.0, "{i:?}");
     }
     assert!(
         num(geo[1], "triangles_set_up") > 5.0 * num(geo[0], "triangles_set_up"),
@@ -295,7 +299,14 @@ fn scaling_sweep_writes_csv_and_png_charts() {
         num(res[1], "triangles_set_up")
     );
 
-    assert_charts(&dir, &["scaling_triangles.png", "scaling_resolution.png"]);
+    assert_charts(
+        &dir,
+        &[
+            "scaling_triangles.png",
+            "scaling_resolution.png",
+            "scaling_error_time.png",
+        ],
+    );
 }
 
 #[test]

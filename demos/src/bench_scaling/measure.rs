@@ -7,6 +7,7 @@ use crate::city::City;
 use crate::timing::Summary;
 use engine::{FrameStats, Renderer, Target};
 use ibr::impostor::ImpostorSet;
+use ibr::metrics::{self, Options};
 use std::time::{Duration, Instant};
 
 /// One point of a series, measured over the rounds.
@@ -28,6 +29,8 @@ pub(super) struct Samples {
     capture_triangles: u64,
     stats: FrameStats,
     images: usize,
+    /// Per steady frame: mean absolute error against the geometry frame at the same pose.
+    errors: Vec<f64>,
 }
 
 impl Samples {
@@ -39,6 +42,8 @@ impl Samples {
             refresh: Summary::of(&self.refresh),
             refreshes: self.refreshes,
             capture_triangles: self.capture_triangles,
+            mae: (!self.errors.is_empty())
+                .then(|| self.errors.iter().sum::<f64>() / self.errors.len() as f64),
         }
     }
 }
@@ -86,6 +91,9 @@ pub(super) fn measure(
                 p.geometry.steady.push(took);
                 p.geometry.render.push(took);
                 p.geometry.stats = stats;
+                p.geometry.errors.push(0.0);
+                // The geometry frame is the ground truth of the impostor frame that follows.
+                let truth = target.clone();
 
                 let t0 = Instant::now();
                 let (report, stats, update) = impostor_frame(renderer, city, set, &cam, target);
@@ -99,6 +107,9 @@ pub(super) fn measure(
                     s.render.push(took.saturating_sub(update));
                     s.stats = stats;
                     s.images = report.images;
+                    if let Ok(e) = metrics::compare(target, &truth, &Options::default()) {
+                        s.errors.push(e.mean_abs);
+                    }
                 } else {
                     s.refresh.push(took);
                 }

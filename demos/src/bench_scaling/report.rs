@@ -147,8 +147,35 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             fitted("geometry"),
         ],
     );
+    // Speed against accuracy on the same poses: each city's steady frame time and its
+    // error against the geometry frames (geometry: 0), labelled with its triangles.
+    let error_time = |mode: &'static str, name: &str| {
+        let (mut points, mut labels) = (Vec::new(), Vec::new());
+        for r in of("triangles", mode) {
+            if let Some(t) = r.timing.filter(|t| t.steady.frames > 0) {
+                points.push((t.steady.median_ms, t.mae.unwrap_or(f64::NAN)));
+                labels.push(approx(r.triangles));
+            }
+        }
+        Line {
+            name: name.into(),
+            points,
+            labels,
+        }
+    };
+    let by_error = Lines::new(
+        format!("City: error against frame time{size}"),
+        "median frame time (ms)",
+        "mean absolute error vs geometry (8-bit levels)",
+        vec![
+            error_time("geometry", "geometry (the reference)"),
+            error_time("impostors", "impostors, frames without refreshes"),
+        ],
+    )
+    .log(true, false);
     vec![
         ("scaling_triangles.png", Chart::Lines(by_triangles)),
         ("scaling_resolution.png", Chart::Lines(by_pixels)),
+        ("scaling_error_time.png", Chart::Lines(by_error)),
     ]
 }

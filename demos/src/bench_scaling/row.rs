@@ -19,6 +19,9 @@ pub struct Timing {
     /// Impostors refreshed over the timed frames, and the triangles those captures drew.
     pub refreshes: u64,
     pub capture_triangles: u64,
+    /// Mean absolute error of the steady frames against the geometry frames at the same
+    /// poses (8-bit levels; geometry: 0).
+    pub mae: Option<f64>,
 }
 
 /// One CSV row: a measured point (`timing`) or a fitted line (`fit`).
@@ -50,7 +53,7 @@ impl Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2";
+    const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2,mae";
 
     fn csv(&self) -> String {
         let timing = match &self.timing {
@@ -78,8 +81,12 @@ impl CsvRow for Row {
             Some(f) => format!("{:.6},{:.4},{:.5}", f.slope * 1e6, f.intercept, f.r2),
             None => ",,".to_string(),
         };
+        let mae = self
+            .timing
+            .and_then(|t| t.mae)
+            .map_or(String::new(), |e| format!("{e:.4}"));
         format!(
-            "{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{}",
             self.series,
             self.mode,
             self.triangles,
@@ -88,7 +95,8 @@ impl CsvRow for Row {
             self.pixels(),
             self.threads,
             timing,
-            fit
+            fit,
+            mae
         )
     }
 }
