@@ -98,6 +98,15 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let refresh = Line::new("impostors, frames with refreshes", refresh.collect());
     if !refresh.points.is_empty() {
         lines.push(refresh);
+        // What a run costs on average: steady and refreshing frames by their counts.
+        let all = of("triangles", "impostors").filter_map(|r| {
+            let t = r.timing?;
+            let n = (t.steady.frames + t.refresh.frames) as f64;
+            let sum = t.steady.mean_ms * t.steady.frames as f64
+                + t.refresh.mean_ms * t.refresh.frames as f64;
+            (n > 0.0).then(|| (tri(r), sum / n))
+        });
+        lines.push(Line::new("impostors, mean over all frames", all.collect()));
     }
     let by_triangles = Lines::new(
         format!("City: frame time vs triangles{size}"),
