@@ -158,10 +158,87 @@ pub(super) fn labels<'a, X: Axis, Y: Axis>(
     chart: &mut Context<X, Y>,
     labelled: impl Iterator<Item = ((f64, f64), &'a str)>,
 ) -> Result<(), Error> {
-    chart.draw_series(
-        labelled
-            .filter(|(_, l)| !l.is_empty())
-            .map(|(p, l)| Text::new(l.to_string(), p, ("sans-serif", 14).into_font())),
-    )?;
+    let area = chart.plotting_area().get_pixel_range();
+    let area = [area.0.start, area.1.start, area.0.end, area.1.end];
+    let labelled: Vec<((f64, f64), &str)> = labelled.filter(|(_, l)| !l.is_empty()).collect();
+    let anchors: Vec<((i32, i32), usize)> = labelled
+        .iter()
+        .map(|(p, l)| (chart.backend_coord(p), l.chars().count()))
+        .collect();
+    let boxes = place_labels(&anchors, area);
+    chart.draw_series(labelled.iter().zip(&anchors).zip(boxes).filter_map(
+        |(((p, l), ((x, y), _)), b)| {
+            let b = b?;
+            let offset = (b[0] - x, b[1] - y);
+            Some(
+                EmptyElement::at(*p)
+                    + Text::new(l.to_string(), offset, ("sans-serif", 14).into_font()),
+            )
+        },
+    ))?;
     Ok(())
+}
+
+/// Where each label goes, as a pixel box `[x0, y0, x1, y1]`: beside its anchor point
+/// (`chars` characters of 14-pixel text, 8 pixels each), inside `area`, overlapping no
+/// label placed before it. Four places are tried (right above, right below, left above,
+/// left below); a label with no free place is left out (`None`) rather than drawn over
+/// another.
+pub(super) fn place_labels(
+    anchors: &[((i32, i32), usize)],
+    area: [i32; 4],
+) -> Vec<Option<[i32; 4]>> {
+    let mut placed: Vec<[i32; 4]> = Vec::new();
+    anchors
+        .iter()
+        .map(|&((x, y), chars)| {
+            let (w, h) = (chars as i32 * 8, 16);
+            let spots = [(6, -h - 2), (6, 4), (-w - 6, -h - 2), (-w - 6, 4)];
+            let free = spots
+                .iter()
+                .map(|&(dx, dy)| [x + dx, y + dy, x + dx + w, y + dy + h])
+                .find(|b| {
+                    let inside =
+                        b[0] >= area[0] && b[2] <= area[2] && b[1] >= area[1] && b[3] <= area[3];
+                    inside && placed.iter().all(|o| !overlap(b, o))
+                });
+            if let Some(b) = free {
+                placed.push(b);
+            }
+            free
+        })
+        .collect()
+}
+
+fn overlap(a: &[i32; 4], b: &[i32; 4]) -> bool {
+    !(a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_never_overlap_and_stay_inside() {
+        let area = [50, 20, 900, 560];
+        // Crowded: twenty points along a line a few pixels apart, and some on the edges.
+        let mut anchors: Vec<((i32, i32), usize)> =
+            (0..20).map(|k| ((60 + 4 * k, 540 - 3 * k), 8)).collect();
+        anchors.extend([((895, 25), 10), ((52, 555), 7), ((400, 300), 0)]);
+        let boxes = place_labels(&anchors, area);
+        let placed: Vec<[i32; 4]> = boxes.iter().flatten().copied().collect();
+        assert!(placed.len() >= 4, "some labels fit: {placed:?}");
+        assert!(placed.len() < anchors.len(), "crowded ones are left out");
+        for (i, a) in placed.iter().enumerate() {
+            assert!(a[0] >= area[0] && a[2] <= area[2] && a[1] >= area[1] && a[3] <= area[3]);
+            for b in &placed[i + 1..] {
+                assert!(!overlap(a, b), "{a:?} {b:?}");
+            }
+        }
+        // Apart, every label is placed, right above its point.
+        let apart = [((100, 300), 5), ((400, 300), 5), ((700, 300), 5)];
+        let boxes = place_labels(&apart, area);
+        assert!(boxes.iter().all(Option::is_some));
+        assert_eq!(boxes[0], Some([106, 282, 146, 298]));
+    }
 }
