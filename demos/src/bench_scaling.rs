@@ -13,6 +13,8 @@
 //! - `triangles`: a city of each of [`Plan::triangle_counts`] at [`Plan::fixed_resolution`].
 //! - `resolution`: the city of [`Plan::resolution_triangles`] at each of
 //!   [`Plan::resolutions`].
+//! - `subjects`: cities of more and more buildings ([`Plan::subject_grids`]) of about
+//!   [`Plan::subject_triangles`] triangles each, at [`Plan::fixed_resolution`].
 //!
 //! and, per series and mode, a least-squares line (`time = a + b x`, x the triangles or the
 //! pixels) in a `triangles_fit` or `resolution_fit` row: `slope` (ns per triangle or per
@@ -82,6 +84,13 @@ pub struct Plan {
     /// Target sizes of the `resolution` series, city of `resolution_triangles`.
     pub resolutions: Vec<(u32, u32)>,
     pub resolution_triangles: usize,
+    /// The `subjects` series: cities of `grid x grid` buildings for each of
+    /// `subject_grids`, about `subject_triangles` triangles each, at `fixed_resolution`.
+    pub subject_grids: Vec<u32>,
+    pub subject_triangles: usize,
+    /// The parallax tolerance of the `subjects` series' impostors, degrees (the other
+    /// settings as [`Plan::impostors`]).
+    pub subject_tolerance_deg: f32,
     /// The camera path, where the timed segment starts on it, and how far the camera moves
     /// along it per frame (both in the path's [0, 1] parameter).
     pub path: Path,
@@ -112,6 +121,9 @@ impl Plan {
                 (3840, 2160),
             ],
             resolution_triangles: 1_000_000,
+            subject_grids: vec![2, 3, 4],
+            subject_triangles: 64_000,
+            subject_tolerance_deg: 0.5,
             path: Path::Orbit,
             path_start: 0.125,
             path_step: 1e-4,
@@ -140,6 +152,9 @@ impl Plan {
             fixed_resolution: (160, 90),
             resolutions: vec![(160, 90), (320, 180)],
             resolution_triangles: 20_000,
+            subject_grids: vec![1, 2],
+            subject_triangles: 2_000,
+            subject_tolerance_deg: 0.5,
             warmup: 0,
             frames: 4,
             rounds: 2,
@@ -147,9 +162,9 @@ impl Plan {
         }
     }
 
-    /// Progress steps: the poses of the two series.
+    /// Progress steps: the poses of the three series.
     pub fn steps(&self) -> usize {
-        2 * self.frames.max(self.rounds.max(1))
+        3 * self.frames.max(self.rounds.max(1))
     }
 }
 
@@ -188,6 +203,40 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
         &cities,
         threads,
         |r| r.triangles as f64,
+        &mut rows,
+    );
+    drop(cities);
+
+    // Few large subjects against many: the same triangles a subject, more of them.
+    let mut cities: Vec<City> = plan
+        .subject_grids
+        .iter()
+        .map(|&g| City::with_triangles(g, plan.subject_triangles * (g * g) as usize, SEED))
+        .collect();
+    let mut points: Vec<Point> = (0..cities.len())
+        .map(|i| Point {
+            city_index: i,
+            size: plan.fixed_resolution,
+            geometry: Samples::default(),
+            impostors: Samples::default(),
+        })
+        .collect();
+    let mut subject_plan = plan.clone();
+    subject_plan.impostors.tolerance.degrees = plan.subject_tolerance_deg;
+    measure(
+        &subject_plan,
+        "subjects",
+        &mut cities,
+        &mut points,
+        &mut renderer,
+        &mut tick,
+    );
+    rows_of(
+        "subjects",
+        &points,
+        &cities,
+        threads,
+        |r| r.subjects as f64,
         &mut rows,
     );
     drop(cities);
@@ -262,6 +311,7 @@ mod tests {
             timing: Some(Timing::default()),
             stats: FrameStats::default(),
             images: 3,
+            subjects: 4,
             fit: None,
         };
         assert_eq!(timed.csv().split(',').count(), n);

@@ -305,6 +305,7 @@ fn scaling_sweep_writes_csv_and_png_charts() {
             "scaling_triangles.png",
             "scaling_resolution.png",
             "scaling_error_time.png",
+            "scaling_subjects.png",
         ],
     );
 }

@@ -141,6 +141,7 @@ pub(super) fn rows_of(
                 timing: Some(s.timing()),
                 stats: s.stats,
                 images: s.images,
+                subjects: cities[p.city_index].buildings.len(),
                 fit: None,
             });
         }
@@ -155,12 +156,12 @@ pub(super) fn rows_of(
             })
             .collect();
         let first = &rows[start];
-        let fixed_size = series == "triangles";
+        let fixed_size = series != "resolution";
         let fit_row = Row {
-            series: if fixed_size {
-                "triangles_fit"
-            } else {
-                "resolution_fit"
+            series: match series {
+                "triangles" => "triangles_fit",
+                "subjects" => "subjects_fit",
+                _ => "resolution_fit",
             },
             mode,
             triangles: if fixed_size { 0 } else { first.triangles },
@@ -170,6 +171,7 @@ pub(super) fn rows_of(
             timing: None,
             stats: FrameStats::default(),
             images: 0,
+            subjects: 0,
             fit: fit_line(&pts),
         };
         rows.push(fit_row);

@@ -182,9 +182,37 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         ],
     )
     .log(true, false);
+    // Many subjects of the same size: where impostors cross geometry as subjects are added.
+    let count = |r: &Row| r.subjects as f64;
+    let mean_all = of("subjects", "impostors").filter_map(|r| {
+        let t = r.timing?;
+        let n = (t.steady.frames + t.refresh.frames) as f64;
+        let sum =
+            t.steady.mean_ms * t.steady.frames as f64 + t.refresh.mean_ms * t.refresh.frames as f64;
+        (n > 0.0).then(|| (count(r), sum / n))
+    });
+    let per = of("subjects", "geometry")
+        .find(|r| r.subjects > 0)
+        .map_or(String::new(), |r| approx(r.triangles / r.subjects as u64));
+    let by_subjects = Lines::new(
+        format!("City of {per}-triangle buildings: frame time vs buildings{size}"),
+        "buildings (subjects)",
+        "frame time (ms)",
+        vec![
+            measured("subjects", "geometry", count, "geometry, median".into()),
+            measured(
+                "subjects",
+                "impostors",
+                count,
+                "impostors, median of frames without refreshes".into(),
+            ),
+            Line::new("impostors, mean over all frames", mean_all.collect()),
+        ],
+    );
     vec![
         ("scaling_triangles.png", Chart::Lines(by_triangles)),
         ("scaling_resolution.png", Chart::Lines(by_pixels)),
         ("scaling_error_time.png", Chart::Lines(by_error)),
+        ("scaling_subjects.png", Chart::Lines(by_subjects)),
     ]
 }

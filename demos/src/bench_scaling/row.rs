@@ -42,6 +42,8 @@ pub struct Row {
     pub stats: FrameStats,
     /// Buildings drawn as images in the last steady frame (geometry: 0).
     pub images: usize,
+    /// Buildings in the city (fit rows: 0).
+    pub subjects: usize,
     /// Fit rows: slope in ns per triangle or per pixel, intercept in ms.
     pub fit: Option<Fit>,
 }
@@ -53,7 +55,7 @@ impl Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2,mae";
+    const HEADER: &'static str = "series,mode,triangles,width,height,pixels,threads,frames,median_ms,min_ms,p90_ms,mean_ms,update_ms,render_ms,refresh_frames,refresh_median_ms,refreshes,capture_triangles,images,triangles_set_up,fragments_shaded,fragments_written,slope_ns,intercept_ms,r2,mae,subjects";
 
     fn csv(&self) -> String {
         let timing = match &self.timing {
@@ -86,7 +88,7 @@ impl CsvRow for Row {
             .and_then(|t| t.mae)
             .map_or(String::new(), |e| format!("{e:.4}"));
         format!(
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             self.series,
             self.mode,
             self.triangles,
@@ -96,7 +98,8 @@ impl CsvRow for Row {
             self.threads,
             timing,
             fit,
-            mae
+            mae,
+            self.subjects
         )
     }
 }
