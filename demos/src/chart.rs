@@ -1,17 +1,17 @@
 //! PNG charts of benchmark rows, drawn with plotters' bitmap backend.
 //!
-//! Text is drawn by plotters' pure-Rust `ab_glyph` renderer, from a TrueType font found at
-//! run time ([`font_file`]: `$PARALLAX_FONT`, else DejaVu Sans, Liberation Sans or any
-//! `.ttf` under the usual font folders), so building needs no font libraries. When no font
-//! can be found or read, the chart is drawn without any text (axes, grid, series and
-//! points only) rather than failing, and the caller is told so it can say it.
+//! Text is drawn by plotters' pure-Rust `ab_glyph` renderer with DejaVu Sans embedded in
+//! the binary ([`font_bytes`]; `$PARALLAX_FONT` may name another TrueType file), so building
+//! needs no font libraries and every chart has its titles, axes and legends on any machine.
+//! Should drawing with text still fail, the chart is drawn without it (axes, grid, series
+//! and points) rather than not at all, and the caller is told.
 
 mod font;
 mod lines;
 mod plot;
 mod raster;
 
-pub use font::font_file;
+pub use font::font_bytes;
 pub use lines::{Line, Lines};
 pub use raster::{resolution_chart, triangles_chart, LineAndDots};
 
@@ -79,5 +79,37 @@ fn with_fallback(mut draw: impl FnMut(bool) -> Result<(), Error>) -> Result<Draw
             draw(false)?;
             Ok(Drawn::WithoutText)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Text comes from the embedded font, whatever fonts the machine has: a chart's title
+    /// band holds dark text pixels.
+    #[test]
+    fn charts_always_have_text() {
+        assert!(font_bytes().len() > 100_000, "a whole TrueType font");
+        let dir = std::env::temp_dir().join(format!("parallax-chart-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("text.png");
+        let lines = Lines::new(
+            "A title to read",
+            "x",
+            "y",
+            vec![Line::new("a line", vec![(0.0, 1.0), (1.0, 2.0)])],
+        );
+        assert_eq!(
+            draw(&path, &Chart::Lines(lines)).expect("drawn"),
+            Drawn::WithText
+        );
+        let img = image::open(&path).expect("a PNG").to_rgb8();
+        let dark = (0..40)
+            .flat_map(|y| (0..img.width()).map(move |x| (x, y)))
+            .filter(|&(x, y)| img.get_pixel(x, y).0.iter().all(|&c| c < 100))
+            .count();
+        assert!(dark > 100, "{dark} dark pixels in the title band");
+        std::fs::remove_dir_all(&dir).ok();
     }
 }
