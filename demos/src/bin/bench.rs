@@ -157,7 +157,7 @@ fn drawn(path: &Path, chart: &Chart) -> Result<(), String> {
         Ok(Drawn::WithText) => Ok(()),
         Ok(Drawn::WithoutText) => {
             println!(
-                "bench: no usable font found; {} was drawn without text",
+                "bench: the chart font could not be used; {} was drawn without text",
                 path.display()
             );
             Ok(())
