@@ -171,108 +171,73 @@ impl Plan {
 /// Runs the sweep; `progress` is called before each measurement with its 0-based index,
 /// the total, and what it is.
 pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
-    let threads = rayon::current_num_threads();
     let mut renderer = Renderer::new();
     let mut rows = Vec::new();
     let mut tick = ticker(plan.steps(), &mut progress);
-
-    let mut cities: Vec<City> = plan
-        .triangle_counts
-        .iter()
+    let mut measured = |plan: &Plan, name, cities, sizes: &[(u32, u32)], x| {
+        series(
+            plan,
+            name,
+            cities,
+            sizes,
+            x,
+            &mut renderer,
+            &mut tick,
+            &mut rows,
+        );
+    };
+    let fixed = [plan.fixed_resolution];
+    let by_triangles = plan.triangle_counts.iter();
+    let cities = by_triangles
         .map(|&n| City::with_triangles(plan.grid, n, SEED))
         .collect();
-    let mut points: Vec<Point> = (0..cities.len())
-        .map(|i| Point {
-            city_index: i,
-            size: plan.fixed_resolution,
-            geometry: Samples::default(),
-            impostors: Samples::default(),
-        })
-        .collect();
-    measure(
-        plan,
-        "triangles",
-        &mut cities,
-        &mut points,
-        &mut renderer,
-        &mut tick,
-    );
-    rows_of(
-        "triangles",
-        &points,
-        &cities,
-        threads,
-        |r| r.triangles as f64,
-        &mut rows,
-    );
-    drop(cities);
-
+    measured(plan, "triangles", cities, &fixed, |r| r.triangles as f64);
     // Few large subjects against many: the same triangles a subject, more of them.
-    let mut cities: Vec<City> = plan
-        .subject_grids
-        .iter()
-        .map(|&g| City::with_triangles(g, plan.subject_triangles * (g * g) as usize, SEED))
-        .collect();
-    let mut points: Vec<Point> = (0..cities.len())
-        .map(|i| Point {
-            city_index: i,
-            size: plan.fixed_resolution,
-            geometry: Samples::default(),
-            impostors: Samples::default(),
-        })
-        .collect();
     let mut subject_plan = plan.clone();
     subject_plan.impostors.tolerance.degrees = plan.subject_tolerance_deg;
-    measure(
-        &subject_plan,
-        "subjects",
-        &mut cities,
-        &mut points,
-        &mut renderer,
-        &mut tick,
-    );
-    rows_of(
-        "subjects",
-        &points,
-        &cities,
-        threads,
-        |r| r.subjects as f64,
-        &mut rows,
-    );
-    drop(cities);
-
-    let mut cities = vec![City::with_triangles(
+    let per = plan.subject_triangles;
+    let by_count = plan.subject_grids.iter();
+    let cities = by_count
+        .map(|&g| City::with_triangles(g, per * (g * g) as usize, SEED))
+        .collect();
+    measured(&subject_plan, "subjects", cities, &fixed, |r| {
+        r.subjects as f64
+    });
+    let cities = vec![City::with_triangles(
         plan.grid,
         plan.resolution_triangles,
         SEED,
     )];
-    let mut points: Vec<Point> = plan
-        .resolutions
-        .iter()
-        .map(|&size| Point {
-            city_index: 0,
+    measured(plan, "resolution", cities, &plan.resolutions, |r| {
+        r.pixels() as f64
+    });
+    rows
+}
+
+/// Measures one series: every city at every size (or each city at the one size), then its
+/// rows and fits (`x` picks the fit's x).
+fn series(
+    plan: &Plan,
+    name: &'static str,
+    mut cities: Vec<City>,
+    sizes: &[(u32, u32)],
+    x: fn(&Row) -> f64,
+    renderer: &mut Renderer,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    let mut points: Vec<Point> = (0..cities.len())
+        .flat_map(|i| sizes.iter().map(move |&size| (i, size)))
+        .map(|(city_index, size)| Point {
+            city_index,
             size,
             geometry: Samples::default(),
             impostors: Samples::default(),
         })
         .collect();
-    measure(
-        plan,
-        "resolution",
-        &mut cities,
-        &mut points,
-        &mut renderer,
-        &mut tick,
-    );
-    rows_of(
-        "resolution",
-        &points,
-        &cities,
-        threads,
-        |r| r.pixels() as f64,
-        &mut rows,
-    );
-    rows
+    measure(plan, name, &mut cities, &mut points, renderer, tick);
+    let threads = rayon::current_num_threads();
+    rows_of(name, &points, &cities, threads, x, rows);
 }
 
 #[cfg(test)]

@@ -245,3 +245,15 @@ pub fn red_bytes(t: &Target) -> Vec<u8> {
     }
     out
 }
+
+/// The subjects' lighting of the impostor and flare tests: grey ambient and a white sun from
+/// above and slightly behind.
+pub fn sun_lighting() -> engine::Lighting {
+    engine::Lighting {
+        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
+        lights: vec![engine::Light::Directional {
+            direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
+            color: Rgba::WHITE,
+        }],
+    }
+}

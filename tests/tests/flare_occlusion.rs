@@ -2,7 +2,7 @@
 //! writes depth: an impostor hides it as the geometry it stands for does, and a cloud dims
 //! it by its opacity, measured independently in a full-resolution render of the cloud alone.
 
-use engine::{procedural, Camera, Draw, FrameOptions, Light, Lighting, Material, Renderer};
+use engine::{procedural, Camera, Draw, FrameOptions, Lighting, Material, Renderer};
 use engine::{Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::Cloud;
@@ -16,13 +16,7 @@ const H: u32 = 200;
 const EYE: Vec3 = Vec3::new(0.0, 1.5, 16.0);
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    tests::scenes::sun_lighting()
 }
 
 fn camera() -> Camera {

@@ -5,7 +5,7 @@
 //! error on most samples. (The angle alone does not: the same angle means very different
 //! errors on different subjects.) `bench impostors` charts the same on the city.
 
-use engine::{procedural, Camera, Light, Lighting, Material, Mesh, Rgba};
+use engine::{procedural, Camera, Lighting, Material, Mesh, Rgba};
 use glam::{Mat4, Vec3};
 use ibr::impostor::{Config, ImpostorSet, Mode};
 use ibr::subject::MeshGroup;
@@ -15,34 +15,12 @@ const W: u32 = 160;
 const H: u32 = 120;
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    tests::scenes::sun_lighting()
 }
 
 fn group(mut mesh: Mesh, color: Rgba, at: Mat4) -> MeshGroup {
     mesh.colors.clear();
     MeshGroup::new().with(Arc::new(mesh), Arc::new(Material::lit(color)), at)
-}
-
-/// Pearson's correlation.
-fn pearson(p: &[(f64, f64)]) -> f64 {
-    let n = p.len() as f64;
-    let (mx, my) = (
-        p.iter().map(|a| a.0).sum::<f64>() / n,
-        p.iter().map(|a| a.1).sum::<f64>() / n,
-    );
-    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for &(x, y) in p {
-        sxy += (x - mx) * (y - my);
-        sxx += (x - mx) * (x - mx);
-        syy += (y - my) * (y - my);
-    }
-    sxy / (sxx * syy).sqrt()
 }
 
 #[test]
@@ -103,7 +81,7 @@ fn predicted_image_error_bounds_the_measured_error_across_subjects() {
             per_subject_slopes.push(y / x.max(1e-9));
         }
     }
-    let r = pearson(&samples);
+    let r = demos::bench_impostors::correlation(&samples).expect("varied samples");
     let under = samples.iter().filter(|s| s.1 <= s.0).count();
     let spread = per_subject_slopes.iter().copied().fold(0.0, f64::max)
         / per_subject_slopes

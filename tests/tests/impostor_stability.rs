@@ -3,7 +3,7 @@
 //! pool. Each frame is rendered both ways (impostors, and everything as geometry) and
 //! compared: no NaN, no panic, and never a hole where the object should be.
 
-use engine::{procedural, Camera, FrameOptions, Light, Lighting, Material, Renderer, Rgba, Target};
+use engine::{procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};
 use ibr::impostor::{Config, Fallback, ImpostorSet, Mode};
 use ibr::metrics::{self, Options};
@@ -14,13 +14,7 @@ const W: u32 = 120;
 const H: u32 = 90;
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    tests::scenes::sun_lighting()
 }
 
 fn group(mesh: engine::Mesh, color: Rgba, at: Mat4) -> MeshGroup {
