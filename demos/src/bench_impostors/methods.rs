@@ -154,6 +154,7 @@ fn octahedral_methods(
             memory_bytes: Some(memory as u64),
             setup_ms: Some(bake.as_secs_f64() * 1e3),
             triangles,
+            octahedral: Some((grid, px)),
             ..Row::empty("method", path, format!("octahedral_{grid}x{px}"), plan, n)
         });
     }
@@ -161,14 +162,34 @@ fn octahedral_methods(
 
 /// A method row's short name: `geometry`, `runtime 0.125 deg`, `octahedral 8x64`.
 pub fn method_label(r: &Row) -> String {
-    match (r.policy.as_str(), r.tolerance_deg) {
-        ("runtime", Some(t)) => format!("runtime {t} deg"),
-        (p, _) if p.starts_with("octahedral_") => {
-            let (grid, px) = p["octahedral_".len()..]
-                .split_once('x')
-                .unwrap_or(("?", "?"));
-            format!("octahedral {grid}x{grid}x{px}px")
-        }
-        (p, _) => p.replace('_', " "),
+    match (r.octahedral, r.tolerance_deg) {
+        (Some((grid, px)), _) => format!("octahedral {grid}x{grid}x{px}px"),
+        (None, Some(t)) if r.policy == "runtime" => format!("runtime {t} deg"),
+        (None, _) => r.policy.replace('_', " "),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_come_from_the_rows_parameters() {
+        let plan = Plan::tiny();
+        let base = Row::empty("method", CityPath::Orbit, "geometry".into(), &plan, 9);
+        assert_eq!(method_label(&base), "geometry");
+        let runtime = Row {
+            policy: "runtime".into(),
+            tolerance_deg: Some(0.125),
+            ..base.clone()
+        };
+        assert_eq!(method_label(&runtime), "runtime 0.125 deg");
+        // The parameters, not the policy's spelling, make the label.
+        let octahedral = Row {
+            policy: "anything".into(),
+            octahedral: Some((8, 64)),
+            ..base
+        };
+        assert_eq!(method_label(&octahedral), "octahedral 8x8x64px");
     }
 }

@@ -70,6 +70,9 @@ pub struct Row {
     /// `octahedral_NxP` (N x N views of P pixels).
     pub policy: String,
     pub tolerance_deg: Option<f64>,
+    /// Octahedral method rows: views per side and frame pixels (the parameters as data;
+    /// `policy` spells them for the CSV).
+    pub octahedral: Option<(u32, u32)>,
     /// Calibration rows: which frame and which impostor.
     pub frame: Option<usize>,
     pub impostor: Option<usize>,
@@ -109,6 +112,7 @@ impl Row {
             path: path_name(path),
             policy,
             tolerance_deg: None,
+            octahedral: None,
             frame: None,
             impostor: None,
             width: plan.size.0,
