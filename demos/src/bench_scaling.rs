@@ -219,7 +219,7 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
 fn series(
     plan: &Plan,
     name: &'static str,
-    mut cities: Vec<City>,
+    cities: Vec<City>,
     sizes: &[(u32, u32)],
     x: fn(&Row) -> f64,
     renderer: &mut Renderer,
@@ -235,7 +235,7 @@ fn series(
             impostors: Samples::default(),
         })
         .collect();
-    measure(plan, name, &mut cities, &mut points, renderer, tick);
+    measure(plan, name, &cities, &mut points, renderer, tick);
     let threads = rayon::current_num_threads();
     rows_of(name, &points, &cities, threads, x, rows);
 }

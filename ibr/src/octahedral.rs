@@ -46,6 +46,7 @@ use crate::billboard::{push_quad, UvRect};
 use crate::capture::Capturer;
 use crate::images::atlas::Atlas;
 use crate::images::DepthImage;
+use crate::impostor::screen_rect;
 use crate::subject::Subject;
 use engine::color::Encoder;
 use engine::{
@@ -265,6 +266,9 @@ pub struct OctahedralImpostor {
     /// The composed image lives in `material.base_texture`.
     material: Material,
     mesh: Mesh,
+    /// What the last [`OctahedralImpostor::update_in_view`] found: on the image, recomposed.
+    in_view: bool,
+    recomposed: bool,
 }
 
 impl OctahedralImpostor {
@@ -330,6 +334,8 @@ impl OctahedralImpostor {
             key: None,
             material,
             mesh: Mesh::default(),
+            in_view: true,
+            recomposed: false,
         };
         push_quad(&mut imp.mesh, [center; 4], UvRect::FULL, Rgba::WHITE, 1.0);
         imp.look_from(Vec3::Y);
@@ -341,6 +347,27 @@ impl OctahedralImpostor {
     /// non-finite matrices keeps the last image.
     pub fn update(&mut self, camera: &Camera) -> bool {
         view_dir(camera, self.info.bounds.center).is_some_and(|v| self.look_from(v))
+    }
+
+    /// Culls and updates for a `width` x `height` image from `camera`: an impostor whose
+    /// bounding sphere is off the image ([`crate::impostor::screen_rect`]) is not updated;
+    /// one on it is ([`OctahedralImpostor::update`]). See [`OctahedralImpostor::in_view`]
+    /// and [`OctahedralImpostor::recomposed`].
+    pub fn update_in_view(&mut self, camera: &Camera, width: u32, height: u32) {
+        let s = self.info.bounds;
+        self.in_view = screen_rect(camera, s.center, s.radius, width, height).is_some();
+        self.recomposed = self.in_view && self.update(camera);
+    }
+
+    /// Whether the last [`OctahedralImpostor::update_in_view`] found it on the image (true
+    /// until the first).
+    pub fn in_view(&self) -> bool {
+        self.in_view
+    }
+
+    /// Whether the last [`OctahedralImpostor::update_in_view`] recomposed the image.
+    pub fn recomposed(&self) -> bool {
+        self.recomposed
     }
 
     /// [`OctahedralImpostor::update`] for a unit direction `v` from the centre to the viewer.

@@ -18,12 +18,13 @@
 
 use crate::billboard::{BillboardBatch, View};
 use crate::capture::Capturer;
-use crate::effects::Effects;
+use crate::effects::{Effects, Layer};
 use crate::flare::{self, FlareSource, LensFlare, Seen};
 use crate::laser::LaserBatch;
 use crate::octahedral::OctahedralImpostor;
-use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Renderer, Target};
+use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Target};
 use std::ops::AddAssign;
+use std::time::{Duration, Instant};
 
 /// What a technique prepares for: the camera, the target's size, the lighting and the time.
 #[derive(Clone, Copy, Debug)]
@@ -119,6 +120,16 @@ pub fn recycle<'b>(mut v: Vec<Draw<'_>>) -> Vec<Draw<'b>> {
     v.into_iter().map(|_| unreachable!("empty")).collect()
 }
 
+/// Where the last frame's time went, for benchmarks (tests check work counters instead:
+/// wall-clock time is noise on a shared machine).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameTimes {
+    /// In the techniques' `prepare` (impostor refreshes, billboard rebuilds).
+    pub prepare: Duration,
+    /// The whole frame, `prepare` included.
+    pub total: Duration,
+}
+
 /// The frame loop's memory, kept between frames: draw lists, observations and the
 /// observers' capturer.
 #[derive(Debug, Default)]
@@ -128,6 +139,8 @@ pub struct FrameLoop {
     capturer: Capturer,
     /// The techniques' counters of the last frame, in list order.
     pub counters: Vec<Counters>,
+    /// The last frame's times.
+    pub times: FrameTimes,
 }
 
 impl FrameLoop {
@@ -146,9 +159,11 @@ impl FrameLoop {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
+        let start = Instant::now();
         for t in techniques.iter_mut() {
             t.prepare(view);
         }
+        let prepared = Instant::now();
         let mut draws = recycle(std::mem::take(&mut self.draws));
         for d in scene {
             // One by one: each scene draw shortens to the techniques' borrow.
@@ -203,6 +218,10 @@ impl FrameLoop {
             );
         }
         self.draws = recycle(over);
+        self.times = FrameTimes {
+            prepare: prepared - start,
+            total: start.elapsed(),
+        };
         stats
     }
 }
@@ -251,9 +270,10 @@ impl Technique for BillboardBatch {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         out.push(self.draw());
     }
+    /// Quads of the last build (an item may make none, or several).
     fn counters(&self) -> Counters {
         Counters {
-            quads: self.items.len() as u64,
+            quads: quads(self.mesh()),
             ..Counters::default()
         }
     }
@@ -269,9 +289,10 @@ impl Technique for LaserBatch {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         out.extend(LaserBatch::draws(self));
     }
+    /// Beam and cap quads of the last build.
     fn counters(&self) -> Counters {
         Counters {
-            quads: self.lasers.len() as u64,
+            quads: quads(self.beam_mesh()) + quads(self.cap_mesh()),
             ..Counters::default()
         }
     }
@@ -289,22 +310,40 @@ impl Technique for Effects {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         out.extend(Effects::draws(self));
     }
+    /// Particle quads of the last build.
+    fn counters(&self) -> Counters {
+        let layers = [Layer::Smoke, Layer::Fire, Layer::Sparks];
+        Counters {
+            quads: layers.iter().map(|&l| quads(self.batch(l).mesh())).sum(),
+            ..Counters::default()
+        }
+    }
 }
 
+/// The quads of a mesh of quads (four vertices each).
+fn quads(mesh: &Mesh) -> u64 {
+    (mesh.positions.len() / 4) as u64
+}
+
+/// Culled while its bounding sphere is off the image: then neither updated nor drawn.
 impl Technique for OctahedralImpostor {
     fn name(&self) -> &str {
         "octahedral impostor"
     }
     fn prepare(&mut self, view: &FrameView<'_>) {
-        self.update(view.camera);
+        self.update_in_view(view.camera, view.width, view.height);
     }
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        out.push(self.draw());
+        if self.in_view() {
+            out.push(self.draw());
+        }
     }
     fn counters(&self) -> Counters {
+        let shown = u64::from(self.in_view());
         Counters {
-            quads: 1,
-            images: 1,
+            quads: shown,
+            images: shown,
+            refreshes: u64::from(self.recomposed()),
             ..Counters::default()
         }
     }

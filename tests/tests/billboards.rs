@@ -14,6 +14,7 @@ use ibr::effects::Effects;
 use ibr::flare::{FlareSource, LensFlare};
 use ibr::laser::{Laser, LaserBatch};
 use ibr::sprites::{self, BakedSprite};
+use ibr::technique::{Flare, FrameLoop, FrameView, Technique};
 use ibr::{AxialFallback, Billboard, BillboardBatch, Facing, Size, View};
 use tests::scenes::Rng;
 
@@ -517,10 +518,12 @@ fn sun() -> Vec3 {
     -direction
 }
 
-/// One frame: ground, billboard forest (with top sprites), a beam and a bolt, an explosion
-/// 0.4 s old next to continuous smoke, and the sun's lens flare drawn over it in a second
-/// render. Everything (baking included) runs on the current rayon pool.
-fn full_frame() -> (Vec<u8>, FrameStats, usize, f32) {
+/// Frames of 1/30 s through the frame loop until an explosion is 0.4 s old: ground,
+/// billboard forest (with top sprites), a beam and a bolt, the explosion next to continuous
+/// smoke, and the sun's lens flare measured in the finished frame and drawn over it. The
+/// last frame's pixels and counters, its quads and the flare's visibility. Everything
+/// (baking included) runs on the current rayon pool.
+fn full_frame() -> (Vec<u8>, FrameStats, u64, f32) {
     let sprites = bake_sprites();
     let trees = forest_layout();
     let mut forest = billboard_forest(&sprites, &trees, WITH_TOP);
@@ -545,10 +548,16 @@ fn full_frame() -> (Vec<u8>, FrameStats, usize, f32) {
         effects.update(1.0 / 30.0);
     }
     effects.spawn_explosion(Vec3::new(1.0, 1.5, -3.0));
-    for _ in 0..12 {
-        effects.update(1.0 / 30.0);
-    }
+    let mut flare = Flare {
+        lens: LensFlare::default(),
+        source: FlareSource::Directional(sun()),
+    };
     let (ground_mesh, ground_mat) = ground();
+    let ground = Draw {
+        mesh: &ground_mesh,
+        material: &ground_mat,
+        transform: Mat4::IDENTITY,
+    };
     let cam = Camera::look_at(
         Vec3::new(0.0, 1.5, -10.0),
         Vec3::new(0.0, 1.5, -10.0) + Vec3::new(0.25, 0.35, 1.0),
@@ -557,34 +566,36 @@ fn full_frame() -> (Vec<u8>, FrameStats, usize, f32) {
         W as f32 / H as f32,
     )
     .with_depth_range(0.1, 200.0);
-    let view = View::new(&cam, H);
-    let mut quads = 0;
-    for b in &mut forest {
-        quads += b.build(&view);
-    }
-    quads += lasers.build(&view);
-    quads += effects.build(&view);
     let lighting = Lighting::default();
     let mut renderer = Renderer::new();
+    let mut frame_loop = FrameLoop::new();
     let mut target = Target::new(W, H);
-    let draws = std::iter::once(Draw {
-        mesh: &ground_mesh,
-        material: &ground_mat,
-        transform: Mat4::IDENTITY,
-    })
-    .chain(forest.iter().map(BillboardBatch::draw))
-    .chain(lasers.draws())
-    .chain(effects.draws());
-    let mut stats = renderer.render(draws, &cam, &lighting, &mut target, &sky_opts());
-    let mut flare = LensFlare::default();
-    let visibility = flare.update(&cam, &target, FlareSource::Directional(sun()), 1.0);
-    let over = FrameOptions {
-        clear: None,
-        ..Default::default()
-    };
-    stats += renderer.render([flare.draw()], &cam, &lighting, &mut target, &over);
+    let mut stats = FrameStats::default();
+    for f in 1..=12 {
+        let view = FrameView {
+            camera: &cam,
+            width: W,
+            height: H,
+            lighting: &lighting,
+            time: f as f32 / 30.0,
+            dt: 1.0 / 30.0,
+        };
+        let mut techniques: [&mut dyn Technique; 4] =
+            [&mut forest, &mut lasers, &mut effects, &mut flare];
+        stats = frame_loop.render(
+            &mut renderer,
+            [ground],
+            &mut techniques,
+            &view,
+            &mut target,
+            &sky_opts(),
+        );
+    }
+    let quads = frame_loop.counters.iter().map(|c| c.quads).sum::<u64>();
+    // The flare's own quads are not scene quads.
+    let quads = quads - frame_loop.counters[3].quads;
     assert_valid("full frame", &target);
-    (target.to_rgba8(), stats, quads, visibility)
+    (target.to_rgba8(), stats, quads, flare.lens.visibility())
 }
 
 #[test]

@@ -9,11 +9,13 @@ use engine::{
 };
 use glam::{Vec2, Vec3};
 use ibr::sprites;
-use ibr::{Billboard, BillboardBatch, Facing, View};
+use ibr::technique::{FrameLoop, FrameView, Technique};
+use ibr::{Billboard, BillboardBatch, Facing};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// Times frames of `fixed` draws plus `batches` rebuilt every frame for `camera`.
+/// Times frames of `fixed` draws plus `batches` rebuilt every frame for `camera`, the
+/// batches as techniques of the [`FrameLoop`] (`build` is their `prepare`).
 pub(super) fn measure(
     renderer: &mut Renderer,
     target: &mut Target,
@@ -27,19 +29,24 @@ pub(super) fn measure(
         clear: Some(Rgba::new(0.05, 0.06, 0.09, 1.0)),
         ..Default::default()
     };
+    let mut frame_loop = FrameLoop::new();
+    let mut techniques: Vec<&mut dyn Technique> = batches
+        .iter_mut()
+        .map(|b| b as &mut dyn Technique)
+        .collect();
     let frames = plan.timing.run(|| {
-        let t0 = Instant::now();
-        let view = View::new(camera, target.height());
-        for b in batches.iter_mut() {
-            b.build(&view);
-        }
-        let t1 = Instant::now();
-        let draws = fixed
-            .iter()
-            .copied()
-            .chain(batches.iter().map(|b| b.draw()));
-        let stats = renderer.render(draws, camera, lighting, target, &opts);
-        (t1 - t0, t1.elapsed(), stats)
+        let view = FrameView {
+            camera,
+            width: target.width(),
+            height: target.height(),
+            lighting,
+            time: 0.0,
+            dt: 0.0,
+        };
+        let draws = fixed.iter().copied();
+        let stats = frame_loop.render(renderer, draws, &mut techniques, &view, target, &opts);
+        let t = frame_loop.times;
+        (t.prepare, t.total.saturating_sub(t.prepare), stats)
     });
     let summary = |part: fn(&(Duration, Duration, FrameStats)) -> Duration| {
         Summary::of(&frames.iter().map(part).collect::<Vec<_>>())

@@ -2,14 +2,16 @@
 //! impostors, and baked octahedral impostors.
 
 use super::row::{geometry_row, impostor_row, mean_ms, Errors, Row};
-use super::scene::{fly, frame_camera, frame_options, measure_draws, run_geometry, Policy};
+use super::scene::{
+    fly, frame_camera, frame_options, frame_view, measure_draws, run_geometry, Policy,
+};
 use super::Plan;
 use crate::city::{City, Path as CityPath};
 use crate::timing::Summary;
 use engine::{Renderer, Target};
-use ibr::impostor;
 use ibr::octahedral::{Layout, OctahedralImpostor};
 use ibr::subject::Subject;
+use ibr::technique::FrameLoop;
 use std::time::Instant;
 
 /// The `method` rows: geometry, runtime impostors at each of
@@ -68,9 +70,10 @@ pub(super) fn methods(
 }
 
 /// The octahedral `method` rows: every building baked ([`Layout::Hemi`]) for each
-/// configuration of [`Plan::octahedral`], then flown like the runtime impostors. An
-/// impostor whose bounding sphere is off the image ([`impostor::screen_rect`]) is neither
-/// updated nor drawn. `refreshes` counts recomposed images.
+/// configuration of [`Plan::octahedral`], then flown like the runtime impostors, the
+/// impostors as one technique of the [`FrameLoop`]. An impostor whose bounding sphere is
+/// off the image is neither updated nor drawn ([`OctahedralImpostor::update_in_view`]).
+/// `refreshes` counts recomposed images.
 fn octahedral_methods(
     plan: &Plan,
     city: &mut City,
@@ -80,9 +83,10 @@ fn octahedral_methods(
     let path = CityPath::Orbit;
     let span = plan.span(path);
     let n = city.buildings.len();
-    let (w, h) = plan.size;
     let lighting = city.lighting.clone();
     let opts = frame_options();
+    let mut ground = Vec::new();
+    city.ground.draws(&mut ground);
     for &(grid, px) in &plan.octahedral {
         tick(format!("method octahedral {grid}x{grid} views of {px} px"));
         let t0 = Instant::now();
@@ -94,41 +98,30 @@ fn octahedral_methods(
         let bake = t0.elapsed();
         let memory: usize = imps.iter().map(|i| i.bytes()).sum();
         let (mut renderer, mut measurer) = (Renderer::new(), Renderer::new());
-        let mut target = Target::new(w, h);
+        let mut frame_loop = FrameLoop::new();
+        let mut target = Target::new(plan.size.0, plan.size.1);
         let (mut times, mut update, mut frames) = (Vec::new(), Vec::new(), Vec::new());
         let (mut recomposed, mut triangles) = (0u64, 0u64);
         for f in 0..plan.frames {
             let camera = frame_camera(city, path, span, f, plan.frames, plan.size);
-            let t0 = Instant::now();
-            let mut seen = vec![false; n];
-            let mut fresh = 0u64;
-            for ((imp, b), seen) in imps.iter_mut().zip(&city.buildings).zip(&mut seen) {
-                let s = b.bounds();
-                *seen = impostor::screen_rect(&camera, s.center, s.radius, w, h).is_some();
-                if *seen && imp.update(&camera) {
-                    fresh += 1;
-                }
-            }
-            let t1 = Instant::now();
-            let mut draws = Vec::new();
-            city.ground.draws(&mut draws);
-            draws.extend(
-                imps.iter()
-                    .zip(&seen)
-                    .filter(|(_, s)| **s)
-                    .map(|(i, _)| i.draw()),
+            let view = frame_view(&camera, &lighting, plan.size);
+            let stats = frame_loop.render(
+                &mut renderer,
+                ground.iter().copied(),
+                &mut [&mut imps],
+                &view,
+                &mut target,
+                &opts,
             );
-            let stats = renderer.render(draws, &camera, &lighting, &mut target, &opts);
-            let t2 = Instant::now();
             if f == 0 {
                 continue;
             }
-            times.push(t2 - t0);
-            update.push(t1 - t0);
-            recomposed += fresh;
+            times.push(frame_loop.times.total);
+            update.push(frame_loop.times.prepare);
+            recomposed += frame_loop.counters[0].refreshes;
             triangles = stats.triangles_set_up;
             let mut frame = Vec::new();
-            for ((imp, b), _) in imps.iter().zip(&city.buildings).zip(&seen).filter(|x| *x.1) {
+            for (imp, b) in imps.iter().zip(&city.buildings).filter(|x| x.0.in_view()) {
                 let mut truth = Vec::new();
                 b.draws(&mut truth);
                 if let Some(e) = measure_draws(

@@ -4,10 +4,11 @@
 use super::Plan;
 use crate::city::{City, Path as CityPath};
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Sphere, Target};
-use ibr::impostor::{self, Budget, Config, ImpostorSet, Mode, Predicted, Tolerance};
+use ibr::impostor::{self, Budget, Config, Impostored, Mode, Predicted, Tolerance};
 use ibr::metrics::{self, ImageError, Options, Region};
 use ibr::subject::Subject;
-use std::time::{Duration, Instant};
+use ibr::technique::{FrameLoop, FrameView};
+use std::time::Duration;
 
 /// The path's name in rows.
 pub fn path_name(p: CityPath) -> &'static str {
@@ -42,7 +43,7 @@ pub(super) fn frame_options() -> FrameOptions {
     }
 }
 
-/// The error of `image` against `truth`, measured exactly as [`ImpostorSet::measure`]
+/// The error of `image` against `truth`, measured exactly as [`impostor::ImpostorSet::measure`]
 /// measures an impostor: each rendered alone over a transparent clear into a `width` x
 /// `height` target from `camera`, compared over the screen rectangle of the sphere
 /// `bounds` ([`impostor::screen_rect`]). `None` when the sphere is off the image.
@@ -119,13 +120,31 @@ pub(super) struct RunOut {
 }
 
 /// Flies the plan's run of runtime impostors along `path` (see [`run_impostors`]).
-pub(super) fn fly(plan: &Plan, city: &mut City, path: CityPath, policy: Policy) -> RunOut {
+pub(super) fn fly(plan: &Plan, city: &City, path: CityPath, policy: Policy) -> RunOut {
     run_impostors(city, path, plan.span(path), plan.frames, plan.size, policy)
 }
 
-/// Flies `frames` frames of runtime impostors along the first `span` of `path`.
+/// The frame's view of `camera` for a `size` image (a static scene: no time).
+pub(super) fn frame_view<'a>(
+    camera: &'a Camera,
+    lighting: &'a Lighting,
+    size: (u32, u32),
+) -> FrameView<'a> {
+    FrameView {
+        camera,
+        width: size.0,
+        height: size.1,
+        lighting,
+        time: 0.0,
+        dt: 0.0,
+    }
+}
+
+/// Flies `frames` frames of runtime impostors along the first `span` of `path`: the
+/// ground as scene geometry and the buildings behind one [`Impostored`] technique, through
+/// the [`FrameLoop`].
 pub(super) fn run_impostors(
-    city: &mut City,
+    city: &City,
     path: CityPath,
     span: f32,
     frames: usize,
@@ -138,11 +157,14 @@ pub(super) fn run_impostors(
         Policy::Fixed { .. } => config(f32::INFINITY, f32::INFINITY),
         Policy::Frozen => config(Tolerance::default().degrees, 1.0),
     };
-    let mut set = ImpostorSet::new(cfg, n);
-    let mut renderer = Renderer::new();
+    // The subjects are shared meshes, so the copy is cheap; versions bumped here stay here.
+    let mut imp = Impostored::new("runtime impostors", cfg, city.buildings.clone());
+    let mut ground = Vec::new();
+    city.ground.draws(&mut ground);
+    let (mut renderer, mut frame_loop) = (Renderer::new(), FrameLoop::new());
     let mut target = Target::new(size.0, size.1);
     let opts = frame_options();
-    let lighting = city.lighting.clone();
+    let lighting = &city.lighting;
     let mut out = RunOut {
         times: Vec::new(),
         update: Vec::new(),
@@ -161,33 +183,36 @@ pub(super) fn run_impostors(
             Policy::Fixed { rate } if f > 0 => {
                 credit += rate;
                 while credit >= 1.0 - 1e-9 && n > 0 {
-                    city.buildings[next].version += 1;
+                    imp.subjects[next].version += 1;
                     next = (next + 1) % n;
                     credit -= 1.0;
                 }
             }
-            Policy::Frozen if f == 1 => set.config.budget.refreshes = 0,
+            Policy::Frozen if f == 1 => imp.set.config.budget.refreshes = 0,
             _ => {}
         }
-        let had: Vec<(bool, u64)> = set
+        let had: Vec<(bool, u64)> = imp
+            .set
             .impostors
             .iter()
             .map(|i| (i.capture().is_some(), i.refreshes))
             .collect();
-        let t0 = Instant::now();
-        let report = set.update(&mut city.buildings, &camera, size.1, &lighting);
-        let t1 = Instant::now();
-        let mut draws = Vec::new();
-        city.ground.draws(&mut draws);
-        set.draws(&city.buildings, &mut draws);
-        let stats = renderer.render(draws, &camera, &lighting, &mut target, &opts);
-        let t2 = Instant::now();
+        let view = frame_view(&camera, lighting, size);
+        let stats = frame_loop.render(
+            &mut renderer,
+            ground.iter().copied(),
+            &mut [&mut imp],
+            &view,
+            &mut target,
+            &opts,
+        );
         if f == 0 {
             continue;
         }
-        out.times.push(t2 - t0);
-        out.update.push(t1 - t0);
-        out.refreshes += report.refreshes as u64;
+        out.times.push(frame_loop.times.total);
+        out.update.push(frame_loop.times.prepare);
+        out.refreshes += imp.report.refreshes as u64;
+        let set = &mut imp.set;
         out.new_captures += set
             .impostors
             .iter()
@@ -209,18 +234,18 @@ pub(super) fn run_impostors(
             }
             let p = set.impostors[i].predicted;
             out.predicted.push(p);
-            if let Some(e) = set.measure(i, &mut city.buildings[i], &camera, size, &lighting) {
+            if let Some(e) = set.measure(i, &mut imp.subjects[i], &camera, size, lighting) {
                 frame.push((i, p, e));
             }
         }
         out.measured.push(frame);
     }
-    out.memory = set.pool().bytes() as u64;
+    out.memory = imp.set.pool().bytes() as u64;
     out
 }
 
-/// Flies `frames` frames with every building drawn as geometry: frame times (warm-up
-/// excluded) and the last frame's triangles.
+/// Flies `frames` frames with every building drawn as geometry (the scene alone through
+/// the [`FrameLoop`]): frame times (warm-up excluded) and the last frame's triangles.
 pub(super) fn run_geometry(
     city: &City,
     path: CityPath,
@@ -228,22 +253,29 @@ pub(super) fn run_geometry(
     frames: usize,
     size: (u32, u32),
 ) -> (Vec<Duration>, u64) {
-    let mut renderer = Renderer::new();
+    let (mut renderer, mut frame_loop) = (Renderer::new(), FrameLoop::new());
     let mut target = Target::new(size.0, size.1);
     let opts = frame_options();
+    let mut scene = Vec::new();
+    city.ground.draws(&mut scene);
+    for b in &city.buildings {
+        b.draws(&mut scene);
+    }
     let mut times = Vec::new();
     let mut triangles = 0;
     for f in 0..frames {
         let camera = frame_camera(city, path, span, f, frames, size);
-        let t0 = Instant::now();
-        let mut draws = Vec::new();
-        city.ground.draws(&mut draws);
-        for b in &city.buildings {
-            b.draws(&mut draws);
-        }
-        let stats = renderer.render(draws, &camera, &city.lighting, &mut target, &opts);
+        let view = frame_view(&camera, &city.lighting, size);
+        let stats = frame_loop.render(
+            &mut renderer,
+            scene.iter().copied(),
+            &mut [],
+            &view,
+            &mut target,
+            &opts,
+        );
         if f > 0 {
-            times.push(t0.elapsed());
+            times.push(frame_loop.times.total);
             triangles = stats.triangles_set_up;
         }
     }
@@ -253,6 +285,7 @@ pub(super) fn run_geometry(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ibr::impostor::ImpostorSet;
 
     #[test]
     fn measure_draws_agrees_with_impostor_set_measure() {

@@ -1,12 +1,12 @@
-//! The sweep's frames: the camera at a pose, one geometry frame, one impostor frame, and
-//! the untimed impostor warm-up.
+//! The sweep's frames, each through the [`FrameLoop`]: the camera at a pose, one geometry
+//! frame, one impostor frame, and the untimed impostor warm-up.
 
 use super::Plan;
 use crate::city::{City, Path};
-use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
-use ibr::impostor::ImpostorSet;
-use ibr::subject::Subject;
-use std::time::{Duration, Instant};
+use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Renderer, Rgba, Target};
+use ibr::impostor::{Budget, Config, Impostored, Report};
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::{FrameLoop, FrameView, Technique};
 
 /// The sweep's camera at `t` along `path` for a `width` x `height` image.
 pub fn camera(city: &City, path: Path, t: f32, (width, height): (u32, u32)) -> Camera {
@@ -24,9 +24,22 @@ fn clear() -> FrameOptions {
     }
 }
 
-/// One geometry frame: the ground and every building's meshes.
+/// The frame's view of `camera` for `target` (a static scene: no time).
+fn view<'a>(camera: &'a Camera, lighting: &'a Lighting, target: &Target) -> FrameView<'a> {
+    FrameView {
+        camera,
+        width: target.width(),
+        height: target.height(),
+        lighting,
+        time: 0.0,
+        dt: 0.0,
+    }
+}
+
+/// One geometry frame: the ground and every building's meshes as the scene, no technique.
 pub fn geometry_frame(
     renderer: &mut Renderer,
+    frame_loop: &mut FrameLoop,
     city: &City,
     camera: &Camera,
     target: &mut Target,
@@ -36,35 +49,44 @@ pub fn geometry_frame(
     for b in &city.buildings {
         b.draws(&mut draws);
     }
-    renderer.render(draws, camera, &city.lighting, target, &clear())
+    let view = view(camera, &city.lighting, target);
+    frame_loop.render(renderer, draws, &mut [], &view, target, &clear())
 }
 
-/// One impostor frame: update the impostors for `camera`, then render the ground and
-/// their draws. Returns the update's report, the counters and the update's duration.
+/// One impostor frame: the ground as the scene and the buildings behind `impostors`
+/// (updated for `camera`, then drawn). Returns the update's report and the counters; the
+/// loop's [`FrameLoop::times`] has the frame's and the update's durations.
 pub fn impostor_frame(
     renderer: &mut Renderer,
-    city: &mut City,
-    set: &mut ImpostorSet,
+    frame_loop: &mut FrameLoop,
+    city: &City,
+    impostors: &mut Impostored<MeshGroup>,
     camera: &Camera,
     target: &mut Target,
-) -> (ibr::impostor::Report, FrameStats, Duration) {
-    let t0 = Instant::now();
-    let report = set.update(&mut city.buildings, camera, target.height(), &city.lighting);
-    let update = t0.elapsed();
-    let mut draws: Vec<Draw> = Vec::with_capacity(city.buildings.len() + 1);
-    city.ground.draws(&mut draws);
-    set.draws(&city.buildings, &mut draws);
-    let stats = renderer.render(draws, camera, &city.lighting, target, &clear());
-    (report, stats, update)
+) -> (Report, FrameStats) {
+    let mut ground: Vec<Draw> = Vec::with_capacity(1);
+    city.ground.draws(&mut ground);
+    let view = view(camera, &city.lighting, target);
+    let stats = frame_loop.render(renderer, ground, &mut [impostors], &view, target, &clear());
+    (impostors.report, stats)
 }
 
-/// Captures every impostor that needs it for `camera` (unlimited budget, untimed).
-pub fn warm_up(city: &mut City, set: &mut ImpostorSet, camera: &Camera, height: u32) {
-    let budget = set.config.budget;
-    set.config.budget.refreshes = usize::MAX;
-    set.config.budget.time = None;
-    set.update(&mut city.buildings, camera, height, &city.lighting);
-    set.config.budget = budget;
+/// The city's buildings behind a fresh impostor set configured by `config`, with every
+/// impostor that needs it captured for `camera` (unlimited budget, untimed).
+pub fn warm_up(
+    city: &City,
+    config: Config,
+    camera: &Camera,
+    target: &Target,
+) -> Impostored<MeshGroup> {
+    let mut impostors = Impostored::new("impostors", config, city.buildings.clone());
+    impostors.set.config.budget = Budget {
+        refreshes: usize::MAX,
+        time: None,
+    };
+    impostors.prepare(&view(camera, &city.lighting, target));
+    impostors.set.config.budget = config.budget;
+    impostors
 }
 
 /// The path parameter of pose `i`.

@@ -6,9 +6,11 @@ use super::{fit_line, Plan, Row, Timing};
 use crate::city::City;
 use crate::timing::Summary;
 use engine::{FrameStats, Renderer, Target};
-use ibr::impostor::ImpostorSet;
+use ibr::impostor::Impostored;
 use ibr::metrics::{self, Options};
-use std::time::{Duration, Instant};
+use ibr::subject::MeshGroup;
+use ibr::technique::FrameLoop;
+use std::time::Duration;
 
 /// One point of a series, measured over the rounds.
 pub(super) struct Point {
@@ -52,42 +54,48 @@ impl Samples {
 pub(super) fn measure(
     plan: &Plan,
     series: &str,
-    cities: &mut [City],
+    cities: &[City],
     points: &mut [Point],
     renderer: &mut Renderer,
     tick: &mut dyn FnMut(String),
 ) {
     let rounds = plan.rounds.max(1);
     let frames = plan.frames.max(rounds);
+    let mut frame_loop = FrameLoop::new();
     for round in 0..rounds {
         let poses = (round * frames / rounds)..((round + 1) * frames / rounds);
         // Set up every point of the round: targets, warm-up frames at the first pose, and a
         // fresh impostor set with everything in view captured there.
-        let mut live: Vec<(Target, ImpostorSet)> = points
+        let mut live: Vec<(Target, Impostored<MeshGroup>)> = points
             .iter()
             .map(|p| {
-                let city = &mut cities[p.city_index];
+                let city = &cities[p.city_index];
                 let mut target = Target::new(p.size.0, p.size.1);
                 let first = camera(city, plan.path, pose(plan, poses.start), p.size);
                 for _ in 0..plan.warmup {
-                    geometry_frame(renderer, city, &first, &mut target);
+                    geometry_frame(renderer, &mut frame_loop, city, &first, &mut target);
                 }
-                let mut set = ImpostorSet::new(plan.impostors, city.buildings.len());
-                warm_up(city, &mut set, &first, p.size.1);
+                let mut imp = warm_up(city, plan.impostors, &first, &target);
                 for _ in 0..plan.warmup {
-                    impostor_frame(renderer, city, &mut set, &first, &mut target);
+                    impostor_frame(
+                        renderer,
+                        &mut frame_loop,
+                        city,
+                        &mut imp,
+                        &first,
+                        &mut target,
+                    );
                 }
-                (target, set)
+                (target, imp)
             })
             .collect();
         for i in poses {
             tick(format!("{series}: frame {}/{frames}", i + 1));
-            for (p, (target, set)) in points.iter_mut().zip(&mut live) {
-                let city = &mut cities[p.city_index];
+            for (p, (target, imp)) in points.iter_mut().zip(&mut live) {
+                let city = &cities[p.city_index];
                 let cam = camera(city, plan.path, pose(plan, i), p.size);
-                let t0 = Instant::now();
-                let stats = geometry_frame(renderer, city, &cam, target);
-                let took = t0.elapsed();
+                let stats = geometry_frame(renderer, &mut frame_loop, city, &cam, target);
+                let took = frame_loop.times.total;
                 p.geometry.steady.push(took);
                 p.geometry.render.push(took);
                 p.geometry.stats = stats;
@@ -95,9 +103,9 @@ pub(super) fn measure(
                 // The geometry frame is the ground truth of the impostor frame that follows.
                 let truth = target.clone();
 
-                let t0 = Instant::now();
-                let (report, stats, update) = impostor_frame(renderer, city, set, &cam, target);
-                let took = t0.elapsed();
+                let (report, stats) =
+                    impostor_frame(renderer, &mut frame_loop, city, imp, &cam, target);
+                let (took, update) = (frame_loop.times.total, frame_loop.times.prepare);
                 let s = &mut p.impostors;
                 s.refreshes += report.refreshes as u64;
                 s.capture_triangles += report.capture_triangles;

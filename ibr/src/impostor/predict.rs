@@ -124,6 +124,11 @@ pub fn error_color(ratio: f32) -> Rgba {
 /// The pixel rectangle covering a sphere's projection (grown by 2 pixels), or `None` when
 /// it is behind the eye or off the image.
 pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -> Option<Rect> {
+    // View space looks down -Z: a sphere wholly at or behind the eye's plane is not seen.
+    let depth = -camera.view.transform_point3(center).z;
+    if depth + radius <= 0.0 {
+        return None;
+    }
     let m = camera.clip_from_world();
     let right = camera.view.inverse().x_axis.truncate().normalize_or_zero();
     let up = camera.view.inverse().y_axis.truncate().normalize_or_zero();

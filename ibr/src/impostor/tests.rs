@@ -448,3 +448,18 @@ fn one_set_holds_subjects_of_several_kinds_under_one_budget() {
     imps.draws(&subjects, &mut draws);
     assert_eq!(draws.len(), 3, "one quad each");
 }
+
+#[test]
+fn screen_rect_is_none_behind_the_eye_and_whole_around_it() {
+    let cam = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0, 1.0);
+    let rect = |z: f32| screen_rect(&cam, Vec3::new(0.0, 0.0, z), 1.0, 64, 64);
+    let ahead = rect(-5.0).expect("ahead");
+    assert!(ahead.width > 0 && ahead.width < 64, "{ahead:?}");
+    assert_eq!(rect(5.0), None, "wholly behind");
+    assert_eq!(rect(1.0), None, "touching the eye's plane from behind");
+    assert_eq!(
+        rect(0.5).map(|r| (r.width, r.height)),
+        Some((64, 64)),
+        "around the eye"
+    );
+}

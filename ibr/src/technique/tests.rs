@@ -134,6 +134,12 @@ fn the_loop_calls_every_step_in_order_and_adds_the_scene() {
         ]
     );
     assert_eq!(a.seen, Some(1.0), "observed the finished frame");
+    // Times are measured (what they are is the benchmarks' business), prepare within total.
+    assert!(
+        frame.times.prepare <= frame.times.total,
+        "{:?}",
+        frame.times
+    );
     // A list of techniques of one kind is one technique.
     log.borrow_mut().clear();
     let mut both = vec![Probe::new("x", &log), Probe::new("y", &log)];
@@ -208,4 +214,56 @@ fn a_flare_in_the_loop_measures_as_update_with_blended_does() {
     renderer.render(draws, &cam, &lighting, &mut plain, &FrameOptions::default());
     alone.update_with_blended(&cam, &plain, source, 1e6, &lighting, draws);
     assert_eq!(alone.measured(), in_loop);
+}
+
+#[test]
+fn an_octahedral_impostor_off_the_image_is_neither_updated_nor_drawn() {
+    let mut subject = crate::subject::MeshGroup::new().with(
+        std::sync::Arc::new(engine::procedural::uv_sphere(1.0, 8, 12)),
+        std::sync::Arc::new(Material::lit(Rgba::new(0.8, 0.3, 0.2, 1.0))),
+        Mat4::IDENTITY,
+    );
+    let lighting = Lighting::default();
+    let mut imp = OctahedralImpostor::bake(
+        &mut subject,
+        &lighting,
+        4,
+        16,
+        crate::octahedral::Layout::Full,
+    );
+    let mut frame = FrameLoop::new();
+    let mut target = Target::new(32, 32);
+    let mut run = |imp: &mut OctahedralImpostor, eye: Vec3, at: Vec3| {
+        let cam = Camera::look_at(eye, at, Vec3::Y, 1.0, 1.0);
+        let view = FrameView {
+            camera: &cam,
+            width: 32,
+            height: 32,
+            lighting: &lighting,
+            time: 0.0,
+            dt: 0.0,
+        };
+        let stats = frame.render(
+            &mut Renderer::new(),
+            [],
+            &mut [imp],
+            &view,
+            &mut target,
+            &FrameOptions::default(),
+        );
+        (stats.draws, frame.counters[0])
+    };
+    // Seen from the side (the bake starts from above): recomposed and drawn.
+    let (draws, c) = run(&mut imp, Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO);
+    assert_eq!((draws, c.images, c.quads, c.refreshes), (1, 1, 1, 1));
+    let frames = imp.frames();
+    // Looking away from another side: culled, and the image keeps its frames.
+    let (draws, c) = run(&mut imp, Vec3::new(4.0, 0.0, 0.0), Vec3::new(8.0, 0.0, 0.0));
+    assert_eq!((draws, c.images, c.quads, c.refreshes), (0, 0, 0, 0));
+    assert!(!imp.in_view());
+    assert_eq!(imp.frames(), frames, "not updated while culled");
+    // Back in view from that side: recomposed for it.
+    let (draws, c) = run(&mut imp, Vec3::new(4.0, 0.0, 0.0), Vec3::ZERO);
+    assert_eq!((draws, c.images, c.refreshes), (1, 1, 1));
+    assert_ne!(imp.frames(), frames);
 }
