@@ -179,7 +179,6 @@ impl Renderer {
         peel: Option<&[f32]>,
     ) -> FrameStats {
         let mut infos: Vec<DrawInfo<'a>> = recycle(std::mem::take(&mut self.infos));
-        let view_proj = camera.clip_from_world();
         let mut prim_base = 0u32;
         for d in draws {
             let (kind, layout) = classify(d.material, d.mesh);
@@ -214,6 +213,22 @@ impl Renderer {
             });
             prim_base = prim_base.wrapping_add(d.mesh.triangle_count() as u32);
         }
+        self.frame_infos(infos, camera, lighting, target, opts, peel)
+    }
+
+    /// The frame's work after its draws are listed: not generic, so the pipeline is
+    /// compiled once, here, whichever crate calls [`Renderer::render`] with whichever
+    /// iterator (its speed does not depend on the caller's code generation).
+    fn frame_infos<'a>(
+        &mut self,
+        mut infos: Vec<DrawInfo<'a>>,
+        camera: &Camera,
+        lighting: &Lighting,
+        target: &mut Target,
+        opts: &FrameOptions,
+        peel: Option<&[f32]>,
+    ) -> FrameStats {
+        let view_proj = camera.clip_from_world();
         self.order_draws(&mut infos, camera);
 
         // Vertex stage.
