@@ -220,3 +220,46 @@ fn errors_are_one_line_without_panics() {
     assert_one_line_error(&[], 2, "required");
     assert_one_line_error(&["--obj", o, "--gltf", o], 2, "cannot be used");
 }
+
+#[test]
+fn an_empty_scene_renders_an_empty_frame_with_a_notice() {
+    let t = Tmp::new("empty");
+    let (gltf, obj) = (t.path("empty.gltf"), t.path("empty.obj"));
+    std::fs::write(
+        &gltf,
+        r#"{"asset":{"version":"2.0"},"scenes":[{}],"scene":0}"#,
+    )
+    .unwrap();
+    std::fs::write(&obj, "# nothing yet\n").unwrap();
+    for (flag, file) in [("--gltf", &gltf), ("--obj", &obj)] {
+        let (png, dep) = (t.path("empty.png"), t.path("empty.f32"));
+        let (w, h) = (W.to_string(), H.to_string());
+        let out = render(&[
+            flag,
+            file.to_str().unwrap(),
+            "-W",
+            &w,
+            "-H",
+            &h,
+            "--png",
+            png.to_str().unwrap(),
+            "--depth",
+            dep.to_str().unwrap(),
+        ]);
+        assert_ok(&out);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("render: notice: the scene has nothing to draw"),
+            "{err}"
+        );
+        let img = rgba(&png);
+        assert!(
+            img.pixels().all(|p| p.0 == [0, 0, 0, 255]),
+            "{flag}: not empty"
+        );
+        assert!(
+            depth(&dep).iter().all(|&d| d == 1.0),
+            "{flag}: depth written"
+        );
+    }
+}

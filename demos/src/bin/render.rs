@@ -323,6 +323,9 @@ fn run(a: &Args) -> Result<(), String> {
         eprintln!("render: warning: {w}");
     }
     let mut scene = loaded.scene;
+    if scene.instances.is_empty() {
+        eprintln!("render: notice: the scene has nothing to draw; the frame is the clear colour");
+    }
     let bounds = if is_obj {
         obj_bounds(path).unwrap_or_else(|| scene_bounds(&scene))
     } else {

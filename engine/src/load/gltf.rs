@@ -16,14 +16,22 @@
 //! KHR_texture_transform baked into the UVs; `alphaMode` / `alphaCutoff`; `doubleSided`;
 //! KHR_materials_unlit -> `Shading::Unlit`, otherwise `Shading::Lit` with
 //! [`Material::lit`]'s highlight (metallic-roughness is not modelled); the emissive factor
-//! -> `emissive`, unless an emissive texture goes with it (the engine has no emission
-//! maps, so emission is then dropped with a warning). Only `TEXCOORD_0` and `COLOR_0`
-//! are read.
+//! times KHR_materials_emissive_strength -> `emissive`, unless an emissive texture goes
+//! with it (the engine has no emission maps, so emission is then dropped with a warning).
+//! Only `TEXCOORD_0` and `COLOR_0` are read. Other extensions are ignored with a warning, or refused when required
+//! ([`GLTF_EXTENSIONS`]).
+//!
+//! Every optional part of the specification may be absent: no `scenes` (every root node
+//! is drawn), a scene without `nodes`, no `meshes` or `materials` (an empty scene loads,
+//! with a warning, and renders as an empty frame); sparse accessors are read.
 
 use super::accessor::{read_f32, read_indices, view_bytes};
 use super::image::{format_from_mime, texture_from_bytes};
-use super::uri::{classify, data_bytes, load_buffers, read_relative, Uri};
-use super::{check_mesh, placeholder_texture, read_file, LoadError, Loaded, MAX_FILE_BYTES};
+use super::uri::{classify, data_bytes, load_buffers, Uri};
+use super::{
+    check_mesh, patch, placeholder_texture, Files, LoadError, Loaded, MAX_BUFFER_BYTES,
+    MAX_FILE_BYTES,
+};
 use crate::color::{Encoding, Rgba};
 use crate::material::{AlphaMode, Material};
 use crate::mesh::Mesh;
@@ -100,9 +108,46 @@ fn precheck(path: &Path, doc: &Document) -> Result<(), LoadError> {
     Ok(())
 }
 
+/// The extensions this loader reads: everything else in `extensionsUsed` is ignored with
+/// a warning, and a file that lists anything else in `extensionsRequired` is refused (the
+/// specification says a loader must not render what it cannot read correctly).
+pub const GLTF_EXTENSIONS: [&str; 3] = [
+    "KHR_materials_emissive_strength",
+    "KHR_materials_unlit",
+    "KHR_texture_transform",
+];
+
+/// Refuses required extensions the loader does not read; warns of used ones it ignores.
+fn extensions(path: &Path, doc: &Document, warnings: &mut Vec<String>) -> Result<(), LoadError> {
+    let root = doc.as_json();
+    if let Some(ext) = root
+        .extensions_required
+        .iter()
+        .find(|e| !GLTF_EXTENSIONS.contains(&e.as_str()))
+    {
+        return Err(LoadError::invalid(
+            path,
+            format!(
+                "requires extension {ext}, which this loader does not read (it reads {})",
+                GLTF_EXTENSIONS.join(", ")
+            ),
+        ));
+    }
+    for ext in &root.extensions_used {
+        if !GLTF_EXTENSIONS.contains(&ext.as_str()) {
+            warnings.push(format!(
+                "{}: extension {ext} is not supported; ignored",
+                path.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Everything the scene walk shares.
 struct Ctx<'a> {
     path: &'a Path,
+    files: &'a dyn Files,
     dir: PathBuf,
     buffers: Vec<Cow<'a, [u8]>>,
     scene: Scene,
@@ -136,9 +181,10 @@ impl Ctx<'_> {
                         mime,
                     }) => data_bytes(base64, payload)
                         .map(|b| (b, hint.or_else(|| mime.and_then(format_from_mime)))),
-                    Ok(Uri::Relative(rel)) => {
-                        read_relative(&self.dir, &rel, None).map(|b| (b, hint))
-                    }
+                    Ok(Uri::Relative(rel)) => self
+                        .files
+                        .read_inside(&self.dir, &rel, None, MAX_BUFFER_BYTES)
+                        .map(|b| (b, hint)),
                     Err(e) => Err(e),
                 };
                 let label = if uri.starts_with("data:") {
@@ -188,7 +234,9 @@ impl Ctx<'_> {
         // The engine's emission is one constant colour. With an emissive texture the
         // factor only scales the texture (usually mostly black), so applying it alone
         // would light the whole surface: emission is dropped instead, with a warning.
-        let e = m.emissive_factor();
+        // KHR_materials_emissive_strength scales the factor past 1 (HDR emission).
+        let strength = m.emissive_strength().filter(|s| s.is_finite() && *s >= 0.0);
+        let e = m.emissive_factor().map(|c| c * strength.unwrap_or(1.0));
         if m.emissive_texture().is_none() {
             out.emissive = Rgba::new(e[0], e[1], e[2], 0.0);
         } else if e != [0.0; 3] {
@@ -394,9 +442,10 @@ fn build_mesh(
     Ok(mesh)
 }
 
-pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
-    let bytes = read_file(path, MAX_FILE_BYTES)?;
+pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
+    let bytes = files.read(path, MAX_FILE_BYTES)?;
     check_glb_header(path, &bytes)?;
+    let bytes = patch::optional_fields(&bytes);
     let gltf_error = |source| LoadError::Gltf {
         file: path.into(),
         source,
@@ -406,18 +455,21 @@ pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
     let ::gltf::Gltf { document, blob } =
         ::gltf::Gltf::from_slice_without_validation(&bytes).map_err(gltf_error)?;
     precheck(path, &document)?;
+    let mut warnings = Vec::new();
+    extensions(path, &document, &mut warnings)?;
     let document = Document::from_json(document.into_json()).map_err(gltf_error)?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let buffers = load_buffers(path, &dir, &document, blob.as_deref())?;
+    let buffers = load_buffers(path, &dir, &document, blob.as_deref(), files)?;
     let mut ctx = Ctx {
         path,
+        files,
         dir,
         buffers,
         scene: Scene::default(),
-        warnings: Vec::new(),
+        warnings,
         meshes: HashMap::new(),
         materials: HashMap::new(),
         images: HashMap::new(),
@@ -458,6 +510,12 @@ pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
         ctx.node(&node, world)?;
         let children: Vec<Node> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
+    }
+    if ctx.scene.instances.is_empty() {
+        ctx.warnings.push(format!(
+            "{}: no node of the scene has a mesh to draw: the scene is empty",
+            path.display()
+        ));
     }
     Ok(Loaded {
         scene: ctx.scene,

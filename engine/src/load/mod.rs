@@ -25,12 +25,17 @@
 
 mod accessor;
 mod error;
+mod files;
+pub mod fuzz;
 mod gltf;
 mod image;
 mod obj;
+mod patch;
 mod uri;
 
 pub use self::error::{FileName, LoadError};
+pub use self::files::{Disk, Files, Memory};
+pub use self::gltf::GLTF_EXTENSIONS;
 pub use self::image::MAX_IMAGE_ALLOC;
 pub use self::uri::MAX_BUFFER_BYTES;
 
@@ -38,7 +43,6 @@ use crate::color::{Encoding, Rgba};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::texture::Texture;
-use std::io::Read;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -61,7 +65,12 @@ pub struct Loaded {
 /// `v x y z r g b` are kept as linear values, exactly as written. Without an MTL
 /// material a model gets `Material::lit(white)` (vertex colours on).
 pub fn obj(path: &Path) -> Result<Loaded, LoadError> {
-    obj::load(path)
+    obj::load(path, &Disk)
+}
+
+/// [`obj`], reading the OBJ, its MTL libraries and textures from `files`.
+pub fn obj_from(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
+    obj::load(path, files)
 }
 
 /// Loads a glTF 2.0 file (`.gltf` with external or `data:` buffers, or `.glb`).
@@ -72,26 +81,45 @@ pub fn obj(path: &Path) -> Result<Loaded, LoadError> {
 /// paths, `..` components and URI schemes other than `data:` are refused before anything
 /// is read.
 pub fn gltf(path: &Path) -> Result<Loaded, LoadError> {
-    gltf::load(path)
+    gltf::load(path, &Disk)
+}
+
+/// [`gltf`], reading the file, its buffers and images from `files`.
+pub fn gltf_from(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
+    gltf::load(path, files)
 }
 
 /// Loads an image file (PNG or JPEG) as a texture whose bytes are in `encoding`
 /// (`Srgb` for colour images, `Unorm` for data).
 pub fn image(path: &Path, encoding: Encoding) -> Result<Texture, LoadError> {
-    let bytes = read_file(path, MAX_FILE_BYTES)?;
+    image_from(path, encoding, &Disk)
+}
+
+/// [`image`], reading the file from `files`.
+pub fn image_from(
+    path: &Path,
+    encoding: Encoding,
+    files: &dyn Files,
+) -> Result<Texture, LoadError> {
+    let bytes = files.read(path, MAX_FILE_BYTES)?;
     image::texture_from_bytes(&bytes, None, encoding).map_err(|e| e.into_load_error(path))
 }
 
 /// Loads a model, choosing the loader from the extension (`.obj`, `.gltf`, `.glb`; any
 /// case).
 pub fn model(path: &Path) -> Result<Loaded, LoadError> {
+    model_from(path, &Disk)
+}
+
+/// [`model`], reading from `files`.
+pub fn model_from(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("obj") => obj(path),
-        Some("gltf") | Some("glb") => gltf(path),
+        Some("obj") => obj::load(path, files),
+        Some("gltf") | Some("glb") => gltf::load(path, files),
         _ => Err(LoadError::Unsupported { file: path.into() }),
     }
 }
@@ -105,29 +133,6 @@ pub fn placeholder_texture() -> Arc<Texture> {
         Rgba::new(1.0, 0.0, 1.0, 1.0),
         Rgba::BLACK,
     ))
-}
-
-/// Reads a whole file, refusing files over `cap` bytes before reading them.
-pub(crate) fn read_file(path: &Path, cap: u64) -> Result<Vec<u8>, LoadError> {
-    let file = std::fs::File::open(path).map_err(|e| LoadError::io(path, e))?;
-    let meta = file.metadata().map_err(|e| LoadError::io(path, e))?;
-    if meta.is_dir() {
-        return Err(LoadError::invalid(path, "is a directory, not a file"));
-    }
-    if meta.len() > cap {
-        return Err(LoadError::invalid(
-            path,
-            format!("file is {} bytes, over the {cap}-byte limit", meta.len()),
-        ));
-    }
-    let mut out = Vec::with_capacity(meta.len() as usize);
-    file.take(cap + 1)
-        .read_to_end(&mut out)
-        .map_err(|e| LoadError::io(path, e))?;
-    if out.len() as u64 > cap {
-        return Err(LoadError::invalid(path, "file grew over the size limit"));
-    }
-    Ok(out)
 }
 
 /// Runs [`Mesh::validate`], turning a failure into an error naming the mesh.

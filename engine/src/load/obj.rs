@@ -6,7 +6,7 @@
 //! index is checked against the vertex counts first, so what reaches `tobj` is sound, and
 //! errors can name the offending line.
 
-use super::{check_mesh, placeholder_texture, read_file, LoadError, Loaded, MAX_FILE_BYTES};
+use super::{check_mesh, placeholder_texture, Files, LoadError, Loaded, MAX_FILE_BYTES};
 use crate::color::{Encoding, Rgba};
 use crate::material::{AlphaMode, Material, Shading};
 use crate::mesh::Mesh;
@@ -28,7 +28,21 @@ struct Scan {
     plain: usize,
     /// `l` (polyline) lines: `tobj` would turn those with 3+ points into triangles.
     lines: usize,
+    /// Lines that are OBJ statements, and lines that are neither statements, comments nor
+    /// blank (a file of only those is not an OBJ).
+    statements: usize,
+    unknown: usize,
+    /// Face texcoord and normal indices that name nothing (the file has no `vt` / `vn`
+    /// lines, or the index is 0): read as absent.
+    ignored: [usize; 2],
 }
+
+/// The OBJ statements (geometry, grouping, display and curve keywords of the format).
+const STATEMENTS: [&str; 30] = [
+    "v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "mg", "usemtl", "mtllib", "usemap",
+    "maplib", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+    "scrv", "sp", "end", "con", "lod",
+];
 
 fn text_of<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a str, LoadError> {
     std::str::from_utf8(bytes).map_err(|e| {
@@ -56,6 +70,12 @@ fn scan(text: &str) -> Result<Scan, String> {
     let mut s = Scan::default();
     for (no, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
+        let first = words.clone().next();
+        match first {
+            Some(w) if STATEMENTS.contains(&w) => s.statements += 1,
+            Some(w) if !w.starts_with('#') => s.unknown += 1,
+            _ => {}
+        }
         match words.next() {
             Some(kind @ ("v" | "vt" | "vn")) => {
                 let k = ["v", "vt", "vn"]
@@ -101,6 +121,12 @@ fn scan(text: &str) -> Result<Scan, String> {
                             ("texcoord", "texcoords"),
                             ("normal", "normals"),
                         ][k];
+                        // A texcoord or normal index in a file with none of them, or 0,
+                        // means "none here" (as `tobj` reads it): ignored, with a warning.
+                        if k > 0 && (totals[k] == 0 || i == 0) {
+                            s.ignored[k - 1] += 1;
+                            continue;
+                        }
                         let ok = if i > 0 {
                             i <= totals[k]
                         } else {
@@ -155,8 +181,10 @@ fn filter(text: &str, drop_colors: bool) -> String {
 
 /// Reads and parses one MTL file. `Kd`-style lines need three numbers (`tobj` would panic
 /// on fewer).
-fn load_mtl(path: &Path) -> Result<tobj::MTLLoadResult, String> {
-    let bytes = read_file(path, MAX_FILE_BYTES).map_err(|e| e.to_string())?;
+fn load_mtl(path: &Path, files: &dyn Files) -> Result<tobj::MTLLoadResult, String> {
+    let bytes = files
+        .read(path, MAX_FILE_BYTES)
+        .map_err(|e| e.to_string())?;
     let text = text_of(path, &bytes).map_err(|e| e.to_string())?;
     for (no, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
@@ -185,17 +213,17 @@ fn texture_name(value: &str) -> String {
 }
 
 /// Loads textures once per file; failures become the placeholder plus a warning.
-#[derive(Default)]
-struct Textures {
+struct Textures<'f> {
+    files: &'f dyn Files,
     cache: HashMap<PathBuf, Arc<Texture>>,
 }
 
-impl Textures {
+impl Textures<'_> {
     fn get(&mut self, path: PathBuf, warnings: &mut Vec<String>) -> Arc<Texture> {
         if let Some(t) = self.cache.get(&path) {
             return t.clone();
         }
-        let t = match super::image(&path, Encoding::Srgb) {
+        let t = match super::image_from(&path, Encoding::Srgb, self.files) {
             Ok(t) => Arc::new(t),
             Err(e) => {
                 warnings.push(format!("texture replaced by a placeholder: {e}"));
@@ -210,7 +238,7 @@ impl Textures {
 fn material(
     mt: &tobj::Material,
     mtl_dir: &Path,
-    textures: &mut Textures,
+    textures: &mut Textures<'_>,
     warnings: &mut Vec<String>,
 ) -> Material {
     let kd = mt.diffuse.unwrap_or([1.0; 3]);
@@ -300,17 +328,37 @@ fn mesh(m: &tobj::Mesh, label: &str, warnings: &mut Vec<String>) -> Mesh {
     out
 }
 
-pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
-    let bytes = read_file(path, MAX_FILE_BYTES)?;
+pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
+    let bytes = files.read(path, MAX_FILE_BYTES)?;
     let text = text_of(path, &bytes)?;
     let s = scan(text).map_err(|r| LoadError::invalid(path, r))?;
-    if s.faces == 0 {
+    if s.statements == 0 && s.unknown > 0 {
         return Err(LoadError::invalid(
             path,
-            "no faces (`f` lines with 3 or more vertices): not an OBJ model",
+            "no OBJ statements: not an OBJ file",
         ));
     }
     let mut warnings = Vec::new();
+    for (n, what) in s.ignored.iter().zip(["texcoord", "normal"]) {
+        if *n > 0 {
+            warnings.push(format!(
+                "{}: {n} face {what} indices name no {what} (the file has none, or the \
+                 index is 0); read as absent",
+                path.display()
+            ));
+        }
+    }
+    if s.faces == 0 {
+        // Valid (points, lines, or nothing at all), but nothing the renderer draws.
+        warnings.push(format!(
+            "{}: no faces (`f` lines with 3 or more vertices): the scene is empty",
+            path.display()
+        ));
+        return Ok(Loaded {
+            scene: crate::scene::Scene::default(),
+            warnings,
+        });
+    }
     let mixed = s.colored > 0 && s.plain > 0;
     if mixed {
         warnings.push(format!(
@@ -342,7 +390,7 @@ pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
     };
     let (models, materials) = tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &opts, |lib| {
         let file = dir.join(lib);
-        match load_mtl(&file) {
+        match load_mtl(&file, files) {
             Ok(Ok(r)) => {
                 let lib_dir = file.parent().unwrap_or(Path::new("")).to_path_buf();
                 libs.borrow_mut().push((lib_dir, r.0.len()));
@@ -375,7 +423,10 @@ pub(crate) fn load(path: &Path) -> Result<Loaded, LoadError> {
     }
 
     let mut scene = crate::scene::Scene::default();
-    let mut textures = Textures::default();
+    let mut textures = Textures {
+        files,
+        cache: HashMap::new(),
+    };
     for (i, model) in models.iter().enumerate() {
         let label = format!("model {i} '{}'", model.name);
         if model.mesh.indices.is_empty() {
@@ -409,11 +460,16 @@ mod tests {
         assert!(scan("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n").is_ok());
         let e = scan("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").unwrap_err();
         assert!(e.contains("line 4") && e.contains("out of range"), "{e}");
-        assert!(scan("v 0 0 0\nf 1/-9223372036854775807 1 1\n").is_err());
+        assert!(scan("v 0 0 0\nvt 0 0\nf 1/-9223372036854775807 1 1\n").is_err());
         assert!(scan("v 0 0 0\nf 0 1 1\n").is_err());
         assert!(scan("v 0 0 0\nf -9223372036854775808 1 1\n").is_err());
         assert!(scan("v 0 0 0\nf 1/1/1/1 1 1\n").is_err());
-        assert!(scan("v 0 0 0\nf 1//1 1 1\n").is_err());
+        assert!(scan("v 0 0 0\nvn 0 0 1\nf 1//2 1 1\n").is_err());
+        assert!(scan("v 0 0 0\nvt 0 0\nf 1/2 1 1\n").is_err());
+        // Texcoord and normal indices with nothing to name are absent, not errors.
+        let s = scan("v 0 0 0\nf 1//1 1/1 1/0/0\n").unwrap();
+        assert_eq!(s.ignored, [2, 2]);
+        assert!(scan("v 0 0 0\nvn 0 0 1\nf 0//1 1//1 1//1\n").is_err());
         assert_eq!(
             scan("v 0 0 0\nvn 0 0 1\nf 1//1 1//1 1//1\n").unwrap().faces,
             1

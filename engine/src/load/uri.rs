@@ -7,10 +7,9 @@
 //! then also refuses a symbolic link that leads out of the folder. [`load_buffers`] does
 //! both for a whole document and checks each declared `byteLength` against the data.
 
-use super::LoadError;
+use super::{Files, LoadError};
 use ::gltf::Document;
 use std::borrow::Cow;
-use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 
 /// The largest glTF buffer accepted (its `byteLength`).
@@ -166,55 +165,13 @@ pub(crate) fn data_bytes(base64: bool, payload: &str) -> Result<Vec<u8>, String>
     }
 }
 
-/// Reads `rel` inside `dir`: the first `need` bytes when given (refusing, before reading,
-/// a file shorter than that), else the whole file up to [`MAX_BUFFER_BYTES`]. Refuses
-/// files that resolve (through links) outside `dir`.
-pub(crate) fn read_relative(dir: &Path, rel: &Path, need: Option<u64>) -> Result<Vec<u8>, String> {
-    let full = dir.join(rel);
-    let shown = full.display().to_string();
-    let canon_dir = dir
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
-    let canon = full.canonicalize().map_err(|e| format!("{shown}: {e}"))?;
-    if !canon.starts_with(&canon_dir) {
-        return Err(format!("{shown} resolves outside the glTF's folder"));
-    }
-    let file = std::fs::File::open(&canon).map_err(|e| format!("{shown}: {e}"))?;
-    let meta = file.metadata().map_err(|e| format!("{shown}: {e}"))?;
-    if !meta.is_file() {
-        return Err(format!("{shown} is not a regular file"));
-    }
-    let len = meta.len();
-    let want = match need {
-        Some(n) if n > len => {
-            return Err(format!(
-                "{shown}: byteLength {n} exceeds the file's {len} bytes"
-            ))
-        }
-        Some(n) => n,
-        None if len > MAX_BUFFER_BYTES => {
-            return Err(format!(
-                "{shown}: {len} bytes, over the {MAX_BUFFER_BYTES}-byte limit"
-            ))
-        }
-        None => len,
-    };
-    let mut out = Vec::with_capacity(want as usize);
-    file.take(want)
-        .read_to_end(&mut out)
-        .map_err(|e| format!("{shown}: {e}"))?;
-    if (out.len() as u64) < want {
-        return Err(format!("{shown}: file shorter than expected"));
-    }
-    Ok(out)
-}
-
 /// Checks every URI and declared buffer size, then reads the buffers.
 pub(crate) fn load_buffers<'b>(
     path: &Path,
     dir: &Path,
     doc: &Document,
     blob: Option<&'b [u8]>,
+    files: &dyn Files,
 ) -> Result<Vec<Cow<'b, [u8]>>, LoadError> {
     let bad = |what: String| LoadError::invalid(path, what);
     let mut uris = Vec::new();
@@ -256,7 +213,8 @@ pub(crate) fn load_buffers<'b>(
                 data_bytes(base64, payload).map_err(|r| bad(format!("buffer {i}: {r}")))?,
             ),
             Some(Uri::Relative(rel)) => Cow::Owned(
-                read_relative(dir, &rel, Some(len as u64))
+                files
+                    .read_inside(dir, &rel, Some(len as u64), MAX_BUFFER_BYTES)
                     .map_err(|r| bad(format!("buffer {i}: {r}")))?,
             ),
         };

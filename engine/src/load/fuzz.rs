@@ -1,0 +1,103 @@
+//! The loaders' fuzzing entry points: each takes arbitrary bytes as one kind of user file,
+//! loads it from memory ([`Memory`]) and checks what a load promises. The `cargo fuzz`
+//! targets under `fuzz/` call these, and the corpus replay test calls them on every saved
+//! input, so both exercise exactly the same code.
+//!
+//! What is checked beyond "no panic": a successful load's meshes pass
+//! [`crate::Mesh::validate`] and every instance names a mesh and material that exist.
+
+use super::{Loaded, Memory};
+use crate::color::Encoding;
+use std::path::Path;
+
+/// A 2 x 2 PNG the models may refer to as `t.png` (so texture paths are exercised).
+const TEXTURE_PNG: &[u8] = &[
+    0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00, 0x00, 0x0D, 0x49, 0x48, 0x44, 0x52,
+    0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x02, 0x00, 0x00, 0x00, 0xFD, 0xD4, 0x9A,
+    0x73, 0x00, 0x00, 0x00, 0x12, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9C, 0x63, 0xF8, 0xCF, 0xC0, 0xC0,
+    0x00, 0xC2, 0x0C, 0xFF, 0x81, 0x00, 0x00, 0x1F, 0xEE, 0x05, 0xFB, 0x0B, 0xD9, 0x68, 0x8B, 0x00,
+    0x00, 0x00, 0x00, 0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82,
+];
+
+/// A small binary buffer the glTF inputs may refer to as `b.bin`.
+fn buffer() -> Vec<u8> {
+    (0..=255u8).cycle().take(1024).collect()
+}
+
+/// Panics when a successful load breaks the loaders' promises.
+fn check(result: Result<Loaded, super::LoadError>) {
+    let Ok(loaded) = result else { return };
+    let scene = &loaded.scene;
+    for (i, m) in scene.meshes.iter().enumerate() {
+        if let Err(e) = m.validate() {
+            panic!("mesh {i} fails validation after a successful load: {e}");
+        }
+    }
+    for inst in &scene.instances {
+        assert!(
+            inst.mesh < scene.meshes.len(),
+            "instance names a missing mesh"
+        );
+        assert!(
+            inst.material < scene.materials.len(),
+            "instance names a missing material"
+        );
+    }
+}
+
+/// An OBJ, and after the first NUL byte (if any) the MTL library `m.mtl` it may use.
+pub fn obj(data: &[u8]) {
+    let (obj, mtl) = match data.iter().position(|&b| b == 0) {
+        Some(i) => (&data[..i], &data[i + 1..]),
+        None => (data, &[][..]),
+    };
+    let files = Memory::default()
+        .with("m.obj", obj)
+        .with("m.mtl", mtl)
+        .with("t.png", TEXTURE_PNG);
+    check(super::obj_from(Path::new("m.obj"), &files));
+}
+
+/// A glTF JSON file, beside `b.bin` and `t.png`.
+pub fn gltf(data: &[u8]) {
+    let files = Memory::default()
+        .with("m.gltf", data)
+        .with("b.bin", buffer())
+        .with("t.png", TEXTURE_PNG);
+    check(super::gltf_from(Path::new("m.gltf"), &files));
+}
+
+/// A GLB file, beside `b.bin` and `t.png`.
+pub fn glb(data: &[u8]) {
+    let files = Memory::default()
+        .with("m.glb", data)
+        .with("b.bin", buffer())
+        .with("t.png", TEXTURE_PNG);
+    check(super::gltf_from(Path::new("m.glb"), &files));
+}
+
+/// An image file through the texture path (format guessed from the bytes), as colour and
+/// as data.
+pub fn image(data: &[u8]) {
+    let files = Memory::default().with("i.png", data);
+    for encoding in [Encoding::Srgb, Encoding::Unorm] {
+        if let Ok(t) = super::image_from(Path::new("i.png"), encoding, &files) {
+            assert!(
+                t.width() > 0 && t.height() > 0,
+                "a decoded texture is empty"
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_built_in_texture_decodes() {
+        let files = Memory::default().with("t.png", TEXTURE_PNG);
+        let t = super::super::image_from(Path::new("t.png"), Encoding::Srgb, &files).unwrap();
+        assert_eq!((t.width(), t.height()), (2, 2));
+    }
+}

@@ -1,0 +1,4 @@
+//! Fuzz target: engine::load::fuzz::image (see that module for the input's shape).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| engine::load::fuzz::image(data));

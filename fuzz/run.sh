@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Long fuzzing runs of the loaders (libFuzzer through cargo-fuzz), two targets at a time.
+#
+#   fuzz/run.sh                    # every target, 10 million executions each
+#   RUNS=100000 fuzz/run.sh obj    # one target, fewer executions
+#
+# Stops a target on a crash, an input taking over 1 s, or over 1 GiB of memory; the input
+# is saved under fuzz/artifacts/<target>/. Inputs that reach new code are merged into
+# fuzz/corpus/<target>/, which the test suite replays (tests/tests/fuzz_corpus.rs). Works
+# on stable Rust: RUSTC_BOOTSTRAP lets cargo-fuzz pass its flags, and `-s none` skips the
+# sanitizers (which need a nightly standard library). Extra seeds come from
+# ../shared/assets when it is there (read, never copied into the corpus as they are).
+set -euo pipefail
+cd "$(dirname "$0")"
+RUNS=${RUNS:-10000000}
+TARGETS=("$@")
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(obj gltf glb image)
+command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
+export RUSTC_BOOTSTRAP=1
+cargo fuzz build -s none
+
+shared_seeds() {
+    local t=$1 out=$2 assets=../../shared/assets
+    [ -d "$assets" ] || return 0
+    case $t in
+        obj) find "$assets" -iname '*.obj' -size -2M ;;
+        gltf) find "$assets" -iname '*.gltf' -size -2M ;;
+        glb) find "$assets" -iname '*.glb' -size -2M ;;
+        image) find "$assets" \( -iname '*.png' -o -iname '*.jpg' -o -iname '*.jpeg' \) -size -512k ;;
+    esac | head -50 | while read -r f; do cp "$f" "$out/shared-$(basename "$f")"; done
+}
+
+run_one() {
+    local t=$1 scratch log
+    scratch=$(mktemp -d)
+    log=logs/$t.log
+    mkdir -p logs "artifacts/$t"
+    shared_seeds "$t" "$scratch"
+    cargo fuzz run -s none "$t" "$scratch" "corpus/$t" -- \
+        -runs="$RUNS" -timeout=1 -rss_limit_mb=1024 -max_len=65536 \
+        -artifact_prefix="artifacts/$t/" -print_final_stats=1 >"$log" 2>&1
+    # Keep only inputs that reach new code (libFuzzer's merge).
+    cargo fuzz run -s none "$t" "corpus/$t" "$scratch" -- -merge=1 >>"$log" 2>&1
+    rm -rf "$scratch"
+    echo "$t: $(grep -E 'stat::number_of_executed_units' "$log" | tail -1)"
+}
+
+i=0
+for t in "${TARGETS[@]}"; do
+    run_one "$t" &
+    i=$((i + 1))
+    if [ $((i % 2)) -eq 0 ]; then wait; fi
+done
+wait

@@ -1,0 +1,52 @@
+//! Replays every saved fuzzing input (`fuzz/corpus/<target>/`) through the same entry
+//! points the `cargo fuzz` targets call (`engine::load::fuzz`), on stable Rust without
+//! libFuzzer, so a loader change that panics on a known input fails the ordinary suite.
+//! The corpora start from `fuzz/seeds.py` and grow with the long runs of `fuzz/run.sh`.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+/// A fuzz target's entry point: takes the raw bytes, must never panic.
+type Target = fn(&[u8]);
+
+const TARGETS: [(&str, Target); 4] = [
+    ("obj", engine::load::fuzz::obj),
+    ("gltf", engine::load::fuzz::gltf),
+    ("glb", engine::load::fuzz::glb),
+    ("image", engine::load::fuzz::image),
+];
+
+fn corpus(target: &str) -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fuzz/corpus")
+        .join(target);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_saved_fuzz_input_loads_or_fails_cleanly() {
+    for (target, run) in TARGETS {
+        let files = corpus(target);
+        assert!(
+            files.iter().any(|f| f
+                .file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("seed-"))),
+            "{target}: no seeds (run fuzz/seeds.py)"
+        );
+        let mut failed = Vec::new();
+        for f in &files {
+            let bytes = std::fs::read(f).expect("read corpus file");
+            if catch_unwind(AssertUnwindSafe(|| run(&bytes))).is_err() {
+                failed.push(f.display().to_string());
+            }
+        }
+        assert!(failed.is_empty(), "{target}: panicked on {failed:?}");
+        println!("{target}: {} inputs replayed", files.len());
+    }
+}
