@@ -216,4 +216,74 @@ IMAGES = {
 for name, data in IMAGES.items():
     write("image", name, data)
 
+
+# --- Depth maps (PFM, OpenEXR) -----------------------------------------------------------
+
+
+def pfm(w, h, values, channels=1, little=True):
+    head = ("Pf" if channels == 1 else "PF") + f"\n{w} {h}\n{-1.0 if little else 1.0}\n"
+    fmt = ("<" if little else ">") + "f" * len(values)
+    return head.encode() + struct.pack(fmt, *values)
+
+
+def attr(name, kind, value):
+    return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(value)) + value
+
+
+def exr(w, h, channels, values):
+    """A minimal single-part scanline OpenEXR file: FLOAT channels, no compression,
+    values[c][y * w + x] per channel (channels sorted by name, as the format stores them)."""
+    chlist = b"".join(n.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for n in channels)
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    header = (attr("channels", "chlist", chlist + b"\0")
+              + attr("compression", "compression", b"\0")
+              + attr("dataWindow", "box2i", box)
+              + attr("displayWindow", "box2i", box)
+              + attr("lineOrder", "lineOrder", b"\0")
+              + attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0, 0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1.0))
+              + b"\0")
+    start = 8 + len(header) + 8 * h
+    blocks, offsets = b"", []
+    for y in range(h):
+        row = b"".join(struct.pack("<" + "f" * w, *values[c][y * w:(y + 1) * w])
+                       for c in range(len(channels)))
+        offsets.append(start + len(blocks))
+        blocks += struct.pack("<ii", y, len(row)) + row
+    return (b"\x76\x2f\x31\x01" + struct.pack("<I", 2) + header
+            + struct.pack("<" + "Q" * h, *offsets) + blocks)
+
+
+INF = float("inf")
+DEPTH = {
+    "small.pfm": pfm(3, 2, [1.0, 2.5, INF, 4.0, 0.5, 1e-3]),
+    "big_endian.pfm": pfm(2, 2, [1, 2, 3, 4], little=False),
+    "rgb.pfm": pfm(1, 2, [7, 0, 0, 9, 0, 0], channels=3),
+    "short.pfm": pfm(4, 4, [1.0] * 3),
+    "grey.exr": exr(2, 2, ["Y"], [[1.0, 2.0, INF, 0.5]]),
+    "rgb.exr": exr(3, 1, ["B", "G", "R"], [[1, 2, 3], [1, 2, 3], [1, 2, 3]]),
+}
+for name, data in DEPTH.items():
+    write("float_image", name, data)
+
+# --- transforms.json captures (the fuzz target's folder holds a.png 2x2, a.pfm 2x2,
+# b.pfm 1x1) ------------------------------------------------------------------------------
+
+POSE = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]]
+FRAME = {"file_path": "./a", "depth_file_path": "a.pfm", "transform_matrix": POSE}
+TRANSFORMS = {
+    "nerf.json": {"camera_angle_x": 0.69, "frames": [FRAME]},
+    "intrinsics.json": {"fl_x": 2.0, "fl_y": 2.1, "cx": 0.9, "cy": 1.1, "w": 2, "h": 2,
+                        "near": 0.1, "far": 10, "frames": [FRAME, dict(FRAME, fl_x=3.0)]},
+    "mismatch.json": {"camera_angle_x": 0.69,
+                      "frames": [dict(FRAME, depth_file_path="b.pfm")]},
+    "escape.json": {"camera_angle_x": 0.69, "frames": [dict(FRAME, file_path="../a.png")]},
+    "singular.json": {"camera_angle_x": 0.69,
+                      "frames": [dict(FRAME, transform_matrix=[[0] * 4] * 3 + [[0, 0, 0, 1]])]},
+    "no_frames.json": {"camera_angle_x": 0.69, "frames": []},
+}
+for name, doc in TRANSFORMS.items():
+    write("transforms", name, json.dumps(doc, indent=1))
+
 print("seeds written under", os.path.join(HERE, "corpus"))

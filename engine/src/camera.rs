@@ -40,7 +40,8 @@ pub enum Projection {
 }
 
 impl Projection {
-    fn near_far(&self) -> (f32, f32) {
+    /// The near and far distances.
+    pub fn near_far(&self) -> (f32, f32) {
         match *self {
             Projection::Perspective { near, far, .. } => (near, far),
             Projection::Orthographic { near, far, .. } => (near, far),

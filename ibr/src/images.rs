@@ -5,6 +5,8 @@
 //! - [`LayeredDepthImage`]: several samples per pixel along the pixel's ray, nearest first
 //!   (Shade, Gortler, He and Szeliski 98), as depth peeling produces them.
 //! - [`atlas::Atlas`]: a grid of equally sized cells in one depth image.
+//! - [`transforms`]: depth images to and from files (`transforms.json` captures, PNG colour,
+//!   PFM or OpenEXR depth).
 //!
 //! Conventions (ARCHITECTURE.md): pixels row-major, top row first, pixel centres at
 //! `(x + 0.5, y + 0.5)`. **Depth is the distance along the camera's optical axis** (view-space
@@ -12,6 +14,7 @@
 //! was drawn. Colour is premultiplied linear, as everywhere in the engine.
 
 pub mod atlas;
+pub mod transforms;
 
 use engine::{Camera, Premul, Target};
 use glam::{Vec3, Vec4};

@@ -9,11 +9,13 @@ use std::path::{Path, PathBuf};
 /// A fuzz target's entry point: takes the raw bytes, must never panic.
 type Target = fn(&[u8]);
 
-const TARGETS: [(&str, Target); 4] = [
+const TARGETS: [(&str, Target); 6] = [
     ("obj", engine::load::fuzz::obj),
     ("gltf", engine::load::fuzz::gltf),
     ("glb", engine::load::fuzz::glb),
     ("image", engine::load::fuzz::image),
+    ("float_image", engine::load::fuzz::float_image),
+    ("transforms", ibr::images::transforms::fuzz),
 ];
 
 fn corpus(target: &str) -> Vec<PathBuf> {
@@ -48,5 +50,29 @@ fn every_saved_fuzz_input_loads_or_fails_cleanly() {
         }
         assert!(failed.is_empty(), "{target}: panicked on {failed:?}");
         println!("{target}: {} inputs replayed", files.len());
+    }
+}
+
+#[test]
+fn the_hand_written_depth_map_seeds_are_valid_files() {
+    // fuzz/seeds.py writes PFM and OpenEXR byte by byte from the formats' specifications;
+    // these must decode to the values it wrote, or the fuzzer starts from nothing useful.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus/float_image");
+    let cases: [(&str, u32, u32, &[f32]); 4] = [
+        // PFM rows run bottom to top in the file: the file's first row is the last here.
+        (
+            "seed-small.pfm",
+            3,
+            2,
+            &[4.0, 0.5, 1e-3, 1.0, 2.5, f32::INFINITY],
+        ),
+        ("seed-big_endian.pfm", 2, 2, &[3.0, 4.0, 1.0, 2.0]),
+        ("seed-grey.exr", 2, 2, &[1.0, 2.0, f32::INFINITY, 0.5]),
+        ("seed-rgb.exr", 3, 1, &[1.0, 2.0, 3.0]),
+    ];
+    for (name, w, h, values) in cases {
+        let img = engine::load::float_image(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((img.width, img.height), (w, h), "{name}");
+        assert_eq!(img.data, values, "{name}");
     }
 }

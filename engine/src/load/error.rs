@@ -61,14 +61,16 @@ pub enum LoadError {
 }
 
 impl LoadError {
-    pub(crate) fn io(file: &Path, source: std::io::Error) -> Self {
+    /// The file could not be opened or read.
+    pub fn io(file: &Path, source: std::io::Error) -> Self {
         LoadError::Io {
             file: file.into(),
             source,
         }
     }
 
-    pub(crate) fn invalid(file: &Path, reason: impl Into<String>) -> Self {
+    /// The file was read but its content is wrong, for `reason`.
+    pub fn invalid(file: &Path, reason: impl Into<String>) -> Self {
         LoadError::Invalid {
             file: file.into(),
             reason: reason.into(),

@@ -24,6 +24,43 @@ pub trait Files {
     ) -> Result<Vec<u8>, String>;
 }
 
+/// A path written in a file (a capture's frame, a material's texture) as a plain path
+/// relative to that file's folder: refuses empty, absolute and drive paths, `..`, URL
+/// schemes and NUL bytes, so what a file names stays inside its folder. Backslashes are
+/// read as separators.
+pub fn inside_path(written: &str) -> Result<PathBuf, String> {
+    let short: String = written.chars().take(80).collect();
+    if written.is_empty() {
+        return Err("empty path".into());
+    }
+    if written.contains('\0') {
+        return Err(format!("path '{short}' contains a NUL byte"));
+    }
+    if written.contains(':') || written.starts_with(['/', '\\']) {
+        return Err(format!(
+            "path '{short}' is absolute or has a scheme; only paths inside the file's folder are allowed"
+        ));
+    }
+    let mut path = PathBuf::new();
+    for c in Path::new(&written.replace('\\', "/")).components() {
+        match c {
+            std::path::Component::Normal(part) => path.push(part),
+            std::path::Component::CurDir => {}
+            _ => {
+                return Err(format!(
+                    "path '{short}' leaves the file's folder; only paths inside it are allowed"
+                ))
+            }
+        }
+    }
+    if path.as_os_str().is_empty() {
+        return Err(format!(
+            "path '{short}' names the folder itself, not a file"
+        ));
+    }
+    Ok(path)
+}
+
 /// The file system.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Disk;
@@ -179,5 +216,25 @@ mod tests {
         assert!(m.read_inside(dir, rel, Some(11), 100).is_err());
         assert!(m.read_inside(dir, rel, None, 9).is_err());
         assert!(m.read_inside(dir, Path::new("x.bin"), None, 9).is_err());
+    }
+
+    #[test]
+    fn inside_paths_stay_inside() {
+        assert_eq!(inside_path("./img/a.png").unwrap(), Path::new("img/a.png"));
+        assert_eq!(inside_path("img\\a.png").unwrap(), Path::new("img/a.png"));
+        for (bad, why) in [
+            ("", "empty"),
+            ("../a.png", "leaves"),
+            ("img/../../a.png", "leaves"),
+            ("/etc/passwd", "absolute"),
+            ("\\\\server\\a.png", "absolute"),
+            ("C:/a.png", "absolute"),
+            ("file:a.png", "scheme"),
+            ("a\0.png", "NUL"),
+            ("./.", "folder itself"),
+        ] {
+            let e = inside_path(bad).unwrap_err();
+            assert!(e.contains(why), "{bad:?}: {e}");
+        }
     }
 }

@@ -11,7 +11,7 @@ use crate::color::Encoding;
 use std::path::Path;
 
 /// A 2 x 2 PNG the models may refer to as `t.png` (so texture paths are exercised).
-const TEXTURE_PNG: &[u8] = &[
+pub const TEXTURE_PNG: &[u8] = &[
     0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00, 0x00, 0x0D, 0x49, 0x48, 0x44, 0x52,
     0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x02, 0x00, 0x00, 0x00, 0xFD, 0xD4, 0x9A,
     0x73, 0x00, 0x00, 0x00, 0x12, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9C, 0x63, 0xF8, 0xCF, 0xC0, 0xC0,
@@ -85,6 +85,21 @@ pub fn image(data: &[u8]) {
             assert!(
                 t.width() > 0 && t.height() > 0,
                 "a decoded texture is empty"
+            );
+        }
+    }
+}
+
+/// A depth map file: PFM, and the same bytes as OpenEXR. A decoded image holds exactly
+/// its width times height values.
+pub fn float_image(data: &[u8]) {
+    let files = Memory::default().with("d.pfm", data).with("d.exr", data);
+    for name in ["d.pfm", "d.exr"] {
+        if let Ok(img) = super::float_image_from(Path::new(name), &files) {
+            assert_eq!(
+                img.data.len() as u64,
+                img.width as u64 * img.height as u64,
+                "a float image's size and data disagree"
             );
         }
     }

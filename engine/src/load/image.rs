@@ -86,3 +86,36 @@ pub(crate) fn texture_from_bytes(
     let rgba = img.into_rgba8();
     Texture::from_rgba8(w, h, rgba.as_raw(), encoding).ok_or(ImageFailure::Size(w, h))
 }
+
+/// Decodes PNG or JPEG bytes (format sniffed) to straight RGBA8, within the loaders'
+/// limits. `file` names the image in errors.
+pub fn rgba8_from_bytes(bytes: &[u8], file: &Path) -> Result<(u32, u32, Vec<u8>), LoadError> {
+    let fail = |e: ImageFailure| e.into_load_error(file);
+    let reader = ImageReader::new(Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| fail(ImageFailure::Decode(e.into())))?;
+    let mut reader = reader;
+    reader.limits(limits());
+    let img = reader.decode().map_err(|e| fail(ImageFailure::Decode(e)))?;
+    let (w, h) = (img.width(), img.height());
+    if w == 0 || h == 0 || w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE {
+        return Err(fail(ImageFailure::Size(w, h)));
+    }
+    Ok((w, h, img.into_rgba8().into_raw()))
+}
+
+/// Writes straight RGBA8 pixels (row-major, top row first) as a PNG file.
+pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), LoadError> {
+    ::image::save_buffer_with_format(
+        path,
+        rgba,
+        width,
+        height,
+        ::image::ColorType::Rgba8,
+        ImageFormat::Png,
+    )
+    .map_err(|source| LoadError::Image {
+        file: path.into(),
+        source,
+    })
+}

@@ -26,6 +26,7 @@
 mod accessor;
 mod error;
 mod files;
+mod float;
 pub mod fuzz;
 mod gltf;
 mod image;
@@ -34,9 +35,12 @@ mod patch;
 mod uri;
 
 pub use self::error::{FileName, LoadError};
-pub use self::files::{Disk, Files, Memory};
+pub use self::files::{inside_path, Disk, Files, Memory};
+pub use self::float::{
+    float_image, float_image_from, parse_pfm, pfm_bytes, write_float_image, FloatImage,
+};
 pub use self::gltf::GLTF_EXTENSIONS;
-pub use self::image::MAX_IMAGE_ALLOC;
+pub use self::image::{rgba8_from_bytes, write_png_rgba8, MAX_IMAGE_ALLOC};
 pub use self::uri::MAX_BUFFER_BYTES;
 
 use crate::color::{Encoding, Rgba};
