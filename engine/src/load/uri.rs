@@ -33,7 +33,12 @@ pub(crate) fn classify(uri: &str) -> Result<Uri<'_>, String> {
     if uri.is_empty() {
         return Err("empty URI".into());
     }
-    if uri.len() >= 5 && uri[..5].eq_ignore_ascii_case("data:") {
+    // Compared as bytes: a URI may have a multi-byte character within its first five.
+    if uri
+        .as_bytes()
+        .get(..5)
+        .is_some_and(|b| b.eq_ignore_ascii_case(b"data:"))
+    {
         let rest = &uri[5..];
         let (head, payload) = rest
             .split_once(',')
@@ -264,6 +269,16 @@ mod tests {
         ] {
             assert!(classify(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn a_multibyte_character_among_the_first_five_bytes_is_no_panic() {
+        // Found by the gltf fuzz target (fuzz/artifacts, 8.4 million executions in): the
+        // "data:" test sliced the URI at byte 5, inside a two-byte character.
+        let uri = "data\u{196}pplication/octet-stream;base64,AAAA";
+        assert!(matches!(classify(uri), Ok(Uri::Relative(_))));
+        assert!(classify("d\u{e9}ta:x").is_err());
+        assert!(matches!(classify("\u{1F600}"), Ok(Uri::Relative(_))));
     }
 
     #[test]
