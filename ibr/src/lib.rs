@@ -1,8 +1,8 @@
 //! Image-based rendering for Parallax: techniques that replace geometry with images where
 //! that is cheaper (billboards, lasers, lens flare, effects, runtime and octahedral
 //! impostors, clouds), and the image data later techniques build on: images with depth and
-//! their camera, layered depth images, atlases, and one capture service. (Warping depth
-//! images to new views is not here yet.)
+//! their camera, layered depth images, atlases, and one capture service; and the 3D warp
+//! of depth images to new views.
 //!
 //! Rules: `ibr` builds on `engine` and never the reverse. IBR *data* (an impostor atlas, a
 //! depth image) is kept apart from the code that bakes or draws it through the engine, so
@@ -24,6 +24,8 @@
 //! - [`metrics`]: image error against a ground-truth render (PSNR, mean and max error).
 //! - [`technique`]: the technique interface every technique implements, and the one frame
 //!   loop ([`technique::FrameLoop`]) that drives them beside a scene's geometry.
+//! - [`warp`]: the 3D warp of depth images to new cameras (McMillan's equation and
+//!   occlusion-compatible order, points or splats, hole counting and filling).
 //! - [`subject`]: what an image can stand in for (mesh groups, particle clouds).
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
@@ -41,5 +43,6 @@ pub mod octahedral;
 pub mod sprites;
 pub mod subject;
 pub mod technique;
+pub mod warp;
 
 pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};

@@ -1,0 +1,422 @@
+//! The 3D warp (McMillan 97): depth images re-projected to a new camera, so a novel view
+//! comes from images alone, with motion parallax.
+//!
+//! Pipeline, one reference at a time into one output image (a [`DepthImage`] at the target
+//! camera, reused frame to frame):
+//! 1. **order** ([`order`]): the reference's pixels in McMillan's occlusion-compatible
+//!    order (sheets around the epipole), or any order when a depth buffer decides;
+//! 2. **warp** ([`equation`]): each sample's target position and depth, incrementally
+//!    along rows, and its footprint: one pixel ([`Reconstruction::Points`]) or a splat sized
+//!    by the warp's local stretch and the surface's slope ([`Reconstruction::Splats`]);
+//! 3. **bin**: in parallel over chunks of the order, samples are listed per band of target
+//!    rows, in order;
+//! 4. **write**: in parallel over bands (disjoint `&mut` rows), each band's samples are
+//!    written chunk by chunk in order: painted over ([`Visibility::Ordered`]) or
+//!    depth-tested ([`Visibility::DepthBuffer`]). The result is the sequential warp's,
+//!    exactly, at any thread count;
+//! 5. **holes** ([`holes`]): counted by kind, then filled (pull-push or from the background
+//!    side) without dragging foreground colour across a depth edge.
+//!
+//! A reference pixel whose colour is fully transparent is empty and skipped; one with
+//! colour and infinite depth is at infinity (sky): it moves with the rotation alone.
+//! Output pixels nothing reached are holes: transparent, depth [`EMPTY`]. Both cameras must
+//! be perspective (symmetric or off-axis); otherwise nothing is warped.
+
+pub mod equation;
+pub mod holes;
+pub mod order;
+
+use crate::images::{DepthImage, EMPTY};
+use engine::{Camera, Premul};
+use equation::Equation;
+use glam::Vec2;
+use order::Run;
+use rayon::prelude::*;
+
+/// How competing samples are resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Visibility {
+    /// McMillan's occlusion-compatible order, painting over: no depth buffer.
+    Ordered,
+    /// A depth buffer decides: a sample replaces what is there unless it is farther by more
+    /// than the edge tolerance. Samples of one surface (within the tolerance) are resolved
+    /// by the order, the later winning as in [`Visibility::Ordered`]; of two surfaces the
+    /// nearer wins (the ε-z-buffer of surface splatting).
+    DepthBuffer,
+}
+
+/// How a sample covers the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reconstruction {
+    /// The one pixel its centre lands in.
+    Points,
+    /// A rectangle the size of its warped footprint (at most `max_splat` pixels a side).
+    Splats,
+}
+
+/// How to warp.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WarpOptions {
+    pub visibility: Visibility,
+    pub reconstruction: Reconstruction,
+    /// The largest splat side, pixels: stretches beyond it are left as holes.
+    pub max_splat: f32,
+    /// Relative depth change between neighbouring samples above which they are taken to be
+    /// on different surfaces (no slope is read across it).
+    pub edge: f32,
+}
+
+impl Default for WarpOptions {
+    fn default() -> Self {
+        WarpOptions {
+            visibility: Visibility::Ordered,
+            reconstruction: Reconstruction::Splats,
+            max_splat: 4.0,
+            edge: 0.05,
+        }
+    }
+}
+
+/// The work of one warp.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WarpStats {
+    /// Reference samples read (non-empty).
+    pub samples: u64,
+    /// Samples that landed at least partly inside the target image.
+    pub warped: u64,
+    /// Samples behind the target eye.
+    pub behind: u64,
+    /// Target pixels written (a pixel written twice counts twice).
+    pub pixels_written: u64,
+}
+
+impl std::ops::AddAssign for WarpStats {
+    fn add_assign(&mut self, o: Self) {
+        self.samples += o.samples;
+        self.warped += o.warped;
+        self.behind += o.behind;
+        self.pixels_written += o.pixels_written;
+    }
+}
+
+/// A warped sample's target rectangle `[x0, x1) x [y0, y1)`, depth and source pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Entry {
+    x0: u16,
+    y0: u16,
+    x1: u16,
+    y1: u16,
+    depth: f32,
+    index: u32,
+}
+
+/// Target rows per band of the write stage.
+const BAND_ROWS: u32 = 16;
+/// Runs (reference rows or half-rows) per chunk of the bin stage.
+const CHUNK_RUNS: usize = 16;
+/// The largest target side (entries hold `u16` coordinates).
+pub const MAX_SIDE: u32 = u16::MAX as u32;
+
+/// Warps depth images to a camera: the output image and the scratch memory, reused.
+#[derive(Debug)]
+pub struct Warper {
+    output: DepthImage,
+    /// An ordered warp of a second reference goes here, then merges by depth.
+    layer: DepthImage,
+    has_content: bool,
+    runs: Vec<Run>,
+    bins: Vec<Vec<Entry>>,
+}
+
+impl Default for Warper {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Warper {
+    pub fn new() -> Self {
+        let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, glam::Vec3::Y, 1.0, 1.0);
+        Warper {
+            output: DepthImage::new(0, 0, camera),
+            layer: DepthImage::new(0, 0, camera),
+            has_content: false,
+            runs: Vec::new(),
+            bins: Vec::new(),
+        }
+    }
+
+    /// Starts an output image of `width` x `height` (each at most [`MAX_SIDE`]) seen by
+    /// `camera`, all holes.
+    pub fn begin(&mut self, camera: &Camera, width: u32, height: u32) {
+        let (w, h) = (width.min(MAX_SIDE), height.min(MAX_SIDE));
+        reset(&mut self.output, camera, w, h);
+        self.has_content = false;
+    }
+
+    /// The output so far.
+    pub fn output(&self) -> &DepthImage {
+        &self.output
+    }
+
+    /// The output, for hole filling.
+    pub fn output_mut(&mut self) -> &mut DepthImage {
+        &mut self.output
+    }
+
+    /// Warps `reference` into the output. Several references composite by depth (the
+    /// nearest sample wins); within one, `options.visibility` decides.
+    pub fn add(&mut self, reference: &DepthImage, options: &WarpOptions) -> WarpStats {
+        let (w2, h2) = (self.output.width(), self.output.height());
+        let camera = self.output.camera;
+        let Some(eq) = Equation::new(
+            &reference.camera,
+            reference.width(),
+            reference.height(),
+            &camera,
+            w2,
+            h2,
+        ) else {
+            return WarpStats::default();
+        };
+        let (epipole, in_front) = eq.epipole_pixel();
+        order::runs(
+            reference.width(),
+            reference.height(),
+            epipole,
+            in_front,
+            &mut self.runs,
+        );
+        let mut stats = bin(&eq, reference, options, &self.runs, &mut self.bins, w2, h2);
+        let merge = options.visibility == Visibility::Ordered && self.has_content;
+        let out = if merge {
+            reset(&mut self.layer, &camera, w2, h2);
+            &mut self.layer
+        } else {
+            &mut self.output
+        };
+        stats.pixels_written = write(out, reference, &self.bins, options.visibility, options.edge);
+        if merge {
+            merge_nearer(&mut self.output, &self.layer);
+        }
+        self.has_content = true;
+        stats
+    }
+}
+
+/// Resizes `image` to `w` x `h` for `camera` and clears it to holes, keeping its memory.
+fn reset(image: &mut DepthImage, camera: &Camera, w: u32, h: u32) {
+    if image.width() != w || image.height() != h {
+        let mut color = std::mem::take(&mut image.color);
+        let mut depth = std::mem::take(&mut image.depth);
+        let n = w as usize * h as usize;
+        color.resize(n, Premul::TRANSPARENT);
+        depth.resize(n, EMPTY);
+        *image = DepthImage::from_planes(w, h, color, depth, *camera)
+            .unwrap_or_else(|| DepthImage::new(w, h, *camera));
+    }
+    image.camera = *camera;
+    image.color.fill(Premul::TRANSPARENT);
+    image.depth.fill(EMPTY);
+}
+
+/// Whether a pixel holds a sample (warped outputs: holes are fully transparent).
+#[inline]
+pub fn is_filled(c: Premul) -> bool {
+    c.a > 0.0
+}
+
+/// Stage 3: every sample's entry, listed per (chunk, band) in order.
+fn bin(
+    eq: &Equation,
+    reference: &DepthImage,
+    options: &WarpOptions,
+    runs: &[Run],
+    bins: &mut Vec<Vec<Entry>>,
+    w2: u32,
+    h2: u32,
+) -> WarpStats {
+    let bands = h2.div_ceil(BAND_ROWS).max(1) as usize;
+    let chunks = runs.len().div_ceil(CHUNK_RUNS);
+    bins.resize_with(chunks * bands, Vec::new);
+    bins.truncate(chunks * bands);
+    bins.par_chunks_mut(bands)
+        .zip(runs.par_chunks(CHUNK_RUNS))
+        .map(|(bins, runs)| {
+            bins.iter_mut().for_each(Vec::clear);
+            let mut stats = WarpStats::default();
+            for run in runs {
+                for x in run.pixels() {
+                    let Some(e) = warp_sample(eq, reference, options, x, run.y, w2, h2, &mut stats)
+                    else {
+                        continue;
+                    };
+                    let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
+                    for b in b0..=b1 {
+                        bins[b as usize].push(e);
+                    }
+                }
+            }
+            stats
+        })
+        .reduce(WarpStats::default, |mut a, b| {
+            a += b;
+            a
+        })
+}
+
+/// Stage 2 for one sample: its entry, or `None` (empty, behind the eye, off the image).
+#[inline]
+fn warp_sample(
+    eq: &Equation,
+    reference: &DepthImage,
+    options: &WarpOptions,
+    x: u32,
+    y: u32,
+    w2: u32,
+    h2: u32,
+    stats: &mut WarpStats,
+) -> Option<Entry> {
+    let w1 = reference.width();
+    let i = (y * w1 + x) as usize;
+    let (z, c) = (reference.depth[i], reference.color[i]);
+    if !is_filled(c) || z.is_nan() || z <= 0.0 {
+        return None;
+    }
+    stats.samples += 1;
+    let disparity = if z.is_finite() { 1.0 / z } else { 0.0 };
+    let base = eq.base(x, y);
+    let Some((p, depth)) = eq.land(base, disparity) else {
+        stats.behind += 1;
+        return None;
+    };
+    let (half_x, half_y) = match options.reconstruction {
+        Reconstruction::Points => (0.5, 0.5),
+        Reconstruction::Splats => {
+            let slope = Vec2::new(
+                slope(reference, x, y, 1, 0, z, options.edge),
+                slope(reference, x, y, 0, 1, z, options.edge),
+            );
+            let (jx, jy) = eq.stretch(base, disparity, slope);
+            let size = Vec2::new(jx.x.abs() + jy.x.abs(), jx.y.abs() + jy.y.abs());
+            let size = size.clamp(Vec2::ONE, Vec2::splat(options.max_splat.max(1.0)));
+            if !size.is_finite() {
+                (0.5, 0.5)
+            } else {
+                (size.x * 0.5, size.y * 0.5)
+            }
+        }
+    };
+    // Pixels whose centres lie within the footprint; at least the one the centre is in.
+    let span = |c: f32, half: f32, n: u32| -> Option<(u16, u16)> {
+        let (lo, hi) = if half <= 0.5 {
+            (c.floor(), c.floor() + 1.0)
+        } else {
+            let lo = (c - half + 0.5).floor();
+            (lo, (c + half + 0.5).floor().max(lo + 1.0))
+        };
+        let (lo, hi) = (lo.max(0.0), hi.min(n as f32));
+        (lo < hi).then_some((lo as u16, hi as u16))
+    };
+    let ((x0, x1), (y0, y1)) = (span(p.x, half_x, w2)?, span(p.y, half_y, h2)?);
+    stats.warped += 1;
+    Some(Entry {
+        x0,
+        y0,
+        x1,
+        y1,
+        depth,
+        index: i as u32,
+    })
+}
+
+/// The change of disparity per pixel step `(dx, dy)` at `(x, y)` of depth `z`: from the
+/// neighbour ahead, else the one behind, when on the same surface; else zero.
+fn slope(r: &DepthImage, x: u32, y: u32, dx: u32, dy: u32, z: f32, edge: f32) -> f32 {
+    if !z.is_finite() {
+        return 0.0;
+    }
+    let near = |n: Option<(Premul, f32)>| {
+        n.filter(|(c, d)| is_filled(*c) && d.is_finite() && (d - z).abs() <= edge * z)
+            .map(|(_, d)| 1.0 / d)
+    };
+    if let Some(ahead) = near(r.get(x + dx, y + dy)) {
+        return ahead - 1.0 / z;
+    }
+    if x >= dx && y >= dy {
+        if let Some(behind) = near(r.get(x - dx, y - dy)) {
+            return 1.0 / z - behind;
+        }
+    }
+    0.0
+}
+
+/// Stage 4: the bins written into `out` band by band, chunks in order. Returns the pixels
+/// written.
+fn write(
+    out: &mut DepthImage,
+    reference: &DepthImage,
+    bins: &[Vec<Entry>],
+    vis: Visibility,
+    edge: f32,
+) -> u64 {
+    let slack = 1.0 + edge.max(0.0);
+    let w = out.width() as usize;
+    let bands = out.height().div_ceil(BAND_ROWS).max(1) as usize;
+    let band_len = BAND_ROWS as usize * w;
+    if w == 0 || bins.is_empty() {
+        return 0;
+    }
+    let chunks = bins.len() / bands;
+    let src_color = &reference.color;
+    out.color
+        .par_chunks_mut(band_len)
+        .zip(out.depth.par_chunks_mut(band_len))
+        .enumerate()
+        .map(|(b, (color, depth))| {
+            let y_base = b * BAND_ROWS as usize;
+            let rows = color.len() / w;
+            let mut written = 0u64;
+            for c in 0..chunks {
+                for e in &bins[c * bands + b] {
+                    let y0 = (e.y0 as usize).max(y_base) - y_base;
+                    let y1 = (e.y1 as usize).min(y_base + rows) - y_base;
+                    let sample = src_color[e.index as usize];
+                    for y in y0..y1 {
+                        for k in y * w + e.x0 as usize..y * w + e.x1 as usize {
+                            let pass = match vis {
+                                Visibility::Ordered => true,
+                                Visibility::DepthBuffer => {
+                                    e.depth <= depth[k] * slack || !is_filled(color[k])
+                                }
+                            };
+                            if pass {
+                                color[k] = sample;
+                                depth[k] = e.depth;
+                                written += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            written
+        })
+        .sum()
+}
+
+/// Copies into `out` every sample of `layer` nearer than what `out` holds there.
+fn merge_nearer(out: &mut DepthImage, layer: &DepthImage) {
+    out.color
+        .par_iter_mut()
+        .zip(out.depth.par_iter_mut())
+        .zip(layer.color.par_iter().zip(layer.depth.par_iter()))
+        .for_each(|((c, d), (lc, ld))| {
+            if is_filled(*lc) && (!is_filled(*c) || *ld < *d) {
+                *c = *lc;
+                *d = *ld;
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests;
