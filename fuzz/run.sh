@@ -1,25 +1,28 @@
 #!/usr/bin/env bash
-# Long fuzzing runs of the loaders (libFuzzer through cargo-fuzz), two targets at a time.
+# Long fuzzing runs of every parser of a user's bytes (libFuzzer through cargo-fuzz), two
+# targets at a time.
 #
 #   fuzz/run.sh                    # every target, 10 million executions each
 #   RUNS=100000 fuzz/run.sh obj    # one target, fewer executions
 #   MAX_LEN=65536 fuzz/run.sh      # longer inputs (default 16384 bytes)
 #
-# Stops a target on a crash, an input taking over 1 s, or over 1 GiB of memory; the input
-# is saved under fuzz/artifacts/<target>/. Inputs that reach new code are merged into
-# fuzz/corpus/<target>/, which the test suite replays (tests/tests/fuzz_corpus.rs). Works
-# on stable Rust: RUSTC_BOOTSTRAP lets cargo-fuzz pass its flags, and `-s none` skips the
-# sanitizers (which need a nightly standard library). Extra seeds come from
-# ../shared/assets when it is there (read, never copied into the corpus as they are).
-set -euo pipefail
+# A target stops on a crash, an input taking over 1 s, or over 1 GiB of memory; the input
+# is saved under fuzz/artifacts/<target>/ and the summary line says CRASH. New inputs
+# collect in fuzz/scratch/<target>/ (kept between runs, so a rerun resumes from them); at
+# the end those that reach new code are merged into fuzz/corpus/<target>/, which the test
+# suite replays (tests/tests/fuzz_corpus.rs). Works on stable Rust: RUSTC_BOOTSTRAP lets
+# cargo-fuzz pass its flags, and `-s none` skips the sanitizers (they need a nightly
+# standard library). Extra seeds come from ../shared/assets when it is there; they are
+# read, never merged into the repository's corpus.
+set -uo pipefail
 cd "$(dirname "$0")"
 RUNS=${RUNS:-10000000}
 MAX_LEN=${MAX_LEN:-16384} # bytes; longer inputs mostly repeat statements and run slowly
 TARGETS=("$@")
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=(obj gltf glb image float_image transforms)
-command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
+command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked || exit 1
 export RUSTC_BOOTSTRAP=1
-cargo fuzz build -s none
+cargo fuzz build -s none || exit 1
 
 shared_seeds() {
     local t=$1 out=$2 assets=../../shared/assets
@@ -35,25 +38,30 @@ shared_seeds() {
 }
 
 run_one() {
-    local t=$1 scratch log
-    scratch=$(mktemp -d)
-    log=logs/$t.log
-    mkdir -p logs "artifacts/$t"
+    local t=$1 scratch=scratch/$1 log=logs/$1.log status
+    mkdir -p logs "artifacts/$t" "$scratch"
     shared_seeds "$t" "$scratch"
     cargo fuzz run -s none "$t" "$scratch" "corpus/$t" -- \
         -runs="$RUNS" -timeout=1 -rss_limit_mb=1024 -max_len="$MAX_LEN" \
         -artifact_prefix="artifacts/$t/" -print_final_stats=1 >"$log" 2>&1
+    status=$?
     # Keep only inputs that reach new code (libFuzzer's merge); the shared assets
     # themselves stay out of the repository.
     rm -f "$scratch"/shared-*
     cargo fuzz run -s none "$t" "corpus/$t" "$scratch" -- -merge=1 >>"$log" 2>&1
-    rm -rf "$scratch"
-    echo "$t: $(grep -E 'stat::number_of_executed_units' "$log" | tail -1)"
+    local runs secs
+    runs=$(grep -E '^stat::number_of_executed_units' "$log" | tail -1 | awk '{print $2}')
+    secs=$(grep -E '^Done [0-9]+ runs in' "$log" | tail -1 | awk '{print $5}')
+    if [ "$status" -eq 0 ]; then
+        echo "$t: ok, ${runs:-?} executions in ${secs:-?} s"
+    else
+        echo "$t: CRASH after ${runs:-?} executions (exit $status): see $log and artifacts/$t/"
+    fi
 }
 
 # Two at a time: the next target starts as soon as one finishes.
 for t in "${TARGETS[@]}"; do
-    [ "$(jobs -rp | wc -l)" -ge 2 ] && wait -n
+    while [ "$(jobs -rp | wc -l)" -ge 2 ]; do wait -n || true; done
     run_one "$t" &
 done
 wait
