@@ -1,6 +1,7 @@
 //! Shared code of the Parallax binaries: the showcase scene, its image-based layer and fly
 //! camera ([`showcase`], [`showcase_ibr`]), frame-time statistics ([`timing`]), a tiny
-//! bitmap font for on-screen readouts ([`font`]), the scalable city of the impostor
+//! bitmap font for on-screen readouts ([`font`]), captures written for the `warp` command
+//! ([`capture`]), the scalable city of the impostor
 //! benchmarks ([`city`]), and the benchmark sweeps and charts behind the `bench` CLI
 //! ([`bench`], [`bench_billboards`], [`chart`]). Binaries stay thin; what they do is here,
 //! where tests reach it.
@@ -9,6 +10,7 @@ pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
 pub mod bench_scaling;
+pub mod capture;
 pub mod chart;
 pub mod city;
 pub mod font;

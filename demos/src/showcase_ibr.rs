@@ -214,7 +214,7 @@ impl Technique for Impostors {
             images: r.images() as u64,
             refreshes: r.refreshes() as u64,
             geometry: r.geometry() as u64,
-            pixels: 0,
+            ..Counters::default()
         }
     }
 }

@@ -281,6 +281,25 @@ impl Camera {
         }
     }
 
+    /// The stored reversed depth of a point at distance `z` along the view direction: the
+    /// inverse of [`Camera::view_depth_from_reversed`]. Points at or beyond the far plane
+    /// (infinity too) map to the smallest positive depth, so they still pass a depth test
+    /// against the cleared value 0; nearer than the near plane, above 1 (clipped away).
+    pub fn reversed_from_view_depth(&self, z: f32) -> f32 {
+        let (n, f) = self.near_far();
+        let d = match self.projection {
+            Projection::Perspective { .. } | Projection::Frustum { .. } => {
+                n * (f - z) / (z * (f - n))
+            }
+            Projection::Orthographic { .. } => (f - z) / (f - n),
+        };
+        if z >= f || d.is_nan() {
+            f32::MIN_POSITIVE
+        } else {
+            d.max(f32::MIN_POSITIVE)
+        }
+    }
+
     /// World-space ray through a pixel centre of a `width` x `height` image: (origin, dir).
     pub fn pixel_ray(&self, x: f32, y: f32, width: u32, height: u32) -> (Vec3, Vec3) {
         let inv = self.gl_view_proj().inverse();
@@ -333,6 +352,35 @@ mod tests {
             let gl_win = 0.5 * gl.z / gl.w + 0.5;
             assert!((gl_window_depth(rev.z / rev.w) - gl_win).abs() < 1e-5);
             assert!((gl.x / gl.w - rev.x / rev.w).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn reversed_depth_of_a_view_depth_is_what_the_projection_stores() {
+        let ortho = Camera {
+            view: Mat4::IDENTITY,
+            projection: Projection::Orthographic {
+                left: -1.0,
+                right: 1.0,
+                bottom: -1.0,
+                top: 1.0,
+                near: 0.5,
+                far: 20.0,
+            },
+        };
+        for c in [cam(), ortho] {
+            for z in [0.5f32, 0.7, 3.0, 19.0] {
+                // A point on the axis at distance z, through the pipeline's projection.
+                let p = c.view.inverse().transform_point3(Vec3::new(0.0, 0.0, -z));
+                let clip = c.clip_from_world() * p.extend(1.0);
+                let want = clip.z / clip.w;
+                let got = c.reversed_from_view_depth(z);
+                assert!((got - want).abs() < 1e-5, "{z}: {got} vs {want}");
+                assert!((c.view_depth_from_reversed(got) - z).abs() < 1e-3 * z);
+            }
+            for far in [100.0, 1e9, f32::INFINITY] {
+                assert_eq!(c.reversed_from_view_depth(far), f32::MIN_POSITIVE);
+            }
         }
     }
 

@@ -60,6 +60,10 @@ pub struct Counters {
     pub geometry: u64,
     /// Pixels it shaded in image passes.
     pub pixels: u64,
+    /// Image samples it warped (3D warps).
+    pub samples: u64,
+    /// Holes left in its warped images before filling.
+    pub holes: u64,
 }
 
 impl AddAssign for Counters {
@@ -69,6 +73,8 @@ impl AddAssign for Counters {
         self.refreshes += o.refreshes;
         self.geometry += o.geometry;
         self.pixels += o.pixels;
+        self.samples += o.samples;
+        self.holes += o.holes;
     }
 }
 

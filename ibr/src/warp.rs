@@ -19,12 +19,15 @@
 //!
 //! A reference pixel whose colour is fully transparent is empty and skipped; one with
 //! colour and infinite depth is at infinity (sky): it moves with the rotation alone.
+//! [`technique::WarpedView`] runs this every frame for the references nearest the eye and
+//! writes the result into the frame by an image pass, depth-tested against the geometry.
 //! Output pixels nothing reached are holes: transparent, depth [`EMPTY`]. Both cameras must
 //! be perspective (symmetric or off-axis); otherwise nothing is warped.
 
 pub mod equation;
 pub mod holes;
 pub mod order;
+pub mod technique;
 
 use crate::images::{DepthImage, EMPTY};
 use engine::{Camera, Premul};

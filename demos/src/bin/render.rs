@@ -1,5 +1,6 @@
 //! `render`: loads an OBJ or glTF, renders it with the peers' camera conventions, and
-//! optionally times frames and writes the colour (PNG) and depth (raw f32) images.
+//! optionally times frames and writes the colour (PNG) and depth (raw f32) images, or a
+//! `transforms.json` capture of one or more views (`--capture DIR --views N`).
 //!
 //! The counterpart of `../shared/peers/llvmpipe_render.py`: same flags, same camera
 //! (`look_at_rh` + `perspective_rh_gl`), same outputs (PNG with a top-left origin; depth as
@@ -98,6 +99,17 @@ struct Args {
     /// Write the depth image as raw little-endian f32 (OpenGL window depth, top row first).
     #[arg(long, value_name = "FILE")]
     depth: Option<PathBuf>,
+    /// Write a capture into DIR: transforms.json (camera-to-world poses, intrinsics),
+    /// images/NNNN.png and depth/NNNN.pfm (distance along the optical axis), one frame per
+    /// view; the `warp` command reads it.
+    #[arg(long, value_name = "DIR")]
+    capture: Option<PathBuf>,
+    /// Views in the capture: eyes on a horizontal arc around --target through --eye.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    views: usize,
+    /// The arc's angle, degrees, centred on --eye.
+    #[arg(long, value_name = "DEG", default_value_t = 20.0)]
+    spread: f32,
 }
 
 fn parse_vec3(s: &str) -> Result<Vec3, String> {
@@ -413,6 +425,20 @@ fn run(a: &Args) -> Result<(), String> {
             .collect();
         std::fs::write(depth, bytes)
             .map_err(|e| format!("{}: cannot write depth: {e}", depth.display()))?;
+    }
+    if let Some(dir) = &a.capture {
+        let cameras: Vec<Camera> = demos::capture::arc(a.eye, a.target, a.up, a.views, a.spread)
+            .into_iter()
+            .map(|eye| Camera {
+                view: Mat4::look_at_rh(eye, a.target, a.up),
+                ..camera
+            })
+            .collect();
+        let n = demos::capture::write(dir, &scene, &cameras, a.width, a.height, &opts)?;
+        eprintln!(
+            "render: wrote a capture of {n} view(s) to {}",
+            dir.display()
+        );
     }
     if a.frames.is_some() {
         let (median, min, p90) = summary(&times);

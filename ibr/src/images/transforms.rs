@@ -158,16 +158,25 @@ fn read_frame(
         }
     };
 
-    // Colour.
+    // Colour and depth.
     let mut colour_rel = file_of("file_path")?.ok_or_else(|| bad("no \"file_path\"".into()))?;
     if colour_rel.extension().is_none() {
         colour_rel.set_extension("png");
     }
-    let colour_path = dir.join(&colour_rel);
-    let colour_bytes = files
-        .read_inside(dir, &colour_rel, None, load::MAX_FILE_BYTES)
-        .map_err(|e| LoadError::invalid(&colour_path, e))?;
-    let (w, h, rgba) = load::rgba8_from_bytes(&colour_bytes, &colour_path)?;
+    let depth_rel = file_of("depth_file_path")?
+        .ok_or_else(|| bad("no \"depth_file_path\": a depth image needs a depth map".into()))?;
+    let (colour_path, depth_path) = (dir.join(&colour_rel), dir.join(&depth_rel));
+    let read = |rel: &Path, full: &Path| {
+        files
+            .read_inside(dir, rel, None, load::MAX_FILE_BYTES)
+            .map_err(|e| LoadError::invalid(full, e))
+    };
+    let (colour_bytes, depth_bytes) = (
+        read(&colour_rel, &colour_path)?,
+        read(&depth_rel, &depth_path)?,
+    );
+    let planes = planes(&colour_path, &colour_bytes, &depth_path, depth_bytes)?;
+    let (w, h) = (planes.width, planes.height);
     for (k, v) in [("w", w), ("h", h)] {
         if let Some(given) = number(k)? {
             if given != v as f32 {
@@ -181,44 +190,7 @@ fn read_frame(
             }
         }
     }
-
-    // Depth.
-    let depth_rel = file_of("depth_file_path")?
-        .ok_or_else(|| bad("no \"depth_file_path\": a depth image needs a depth map".into()))?;
-    let depth_path = dir.join(&depth_rel);
-    let depth_bytes = files
-        .read_inside(dir, &depth_rel, None, load::MAX_FILE_BYTES)
-        .map_err(|e| LoadError::invalid(&depth_path, e))?;
-    let depth = load::float_image_from(
-        &depth_path,
-        &load::Memory::default().with(&depth_path, depth_bytes),
-    )?;
-    if (depth.width, depth.height) != (w, h) {
-        return Err(LoadError::invalid(
-            &depth_path,
-            format!(
-                "depth map is {} x {} but its colour image {} is {w} x {h}",
-                depth.width,
-                depth.height,
-                colour_path.display()
-            ),
-        ));
-    }
-    if let Some((i, d)) = depth
-        .data
-        .iter()
-        .enumerate()
-        .find(|(_, d)| d.is_nan() || **d <= 0.0)
-    {
-        return Err(LoadError::invalid(
-            &depth_path,
-            format!(
-                "depth at pixel ({}, {}) is {d}; depths are positive distances (+inf where nothing was seen)",
-                i as u32 % w,
-                i as u32 / w
-            ),
-        ));
-    }
+    let depth = &planes.depth;
 
     // Camera.
     let intrinsics = match (number("fl_x")?, number("fl_y")?, number("camera_angle_x")?) {
@@ -247,7 +219,6 @@ fn read_frame(
         return Err(bad("focal lengths must be positive".into()));
     }
     let (lo, hi) = depth
-        .data
         .iter()
         .filter(|d| d.is_finite())
         .fold((f32::INFINITY, 0.0f32), |(lo, hi), &d| {
@@ -266,6 +237,65 @@ fn read_frame(
         projection: intrinsics.projection(w, h, near, far),
     };
 
+    Ok(planes.with_camera(camera))
+}
+
+/// A colour image and its depth map, checked against each other.
+struct Planes {
+    width: u32,
+    height: u32,
+    color: Vec<Premul>,
+    depth: Vec<f32>,
+}
+
+impl Planes {
+    fn with_camera(self, camera: Camera) -> DepthImage {
+        let (w, h) = (self.width, self.height);
+        DepthImage::from_planes(w, h, self.color, self.depth, camera)
+            .unwrap_or_else(|| DepthImage::new(w, h, camera))
+    }
+}
+
+/// Decodes a colour image (sRGB, straight alpha) and a depth map (PFM or OpenEXR, by the
+/// extension of `depth_path`), refusing sizes that disagree and depths that are NaN, zero
+/// or negative.
+fn planes(
+    colour_path: &Path,
+    colour_bytes: &[u8],
+    depth_path: &Path,
+    depth_bytes: Vec<u8>,
+) -> Result<Planes, LoadError> {
+    let (w, h, rgba) = load::rgba8_from_bytes(colour_bytes, colour_path)?;
+    let depth = load::float_image_from(
+        depth_path,
+        &load::Memory::default().with(depth_path, depth_bytes),
+    )?;
+    if (depth.width, depth.height) != (w, h) {
+        return Err(LoadError::invalid(
+            depth_path,
+            format!(
+                "depth map is {} x {} but its colour image {} is {w} x {h}",
+                depth.width,
+                depth.height,
+                colour_path.display()
+            ),
+        ));
+    }
+    if let Some((i, d)) = depth
+        .data
+        .iter()
+        .enumerate()
+        .find(|(_, d)| d.is_nan() || **d <= 0.0)
+    {
+        return Err(LoadError::invalid(
+            depth_path,
+            format!(
+                "depth at pixel ({}, {}) is {d}; depths are positive distances (+inf where nothing was seen)",
+                i as u32 % w,
+                i as u32 / w
+            ),
+        ));
+    }
     let lut = srgb_to_linear_lut();
     let color = rgba
         .chunks_exact(4)
@@ -280,8 +310,24 @@ fn read_frame(
             .premultiply()
         })
         .collect();
-    Ok(DepthImage::from_planes(w, h, color, depth.data, camera)
-        .unwrap_or_else(|| DepthImage::new(w, h, camera)))
+    Ok(Planes {
+        width: w,
+        height: h,
+        color,
+        depth: depth.data,
+    })
+}
+
+/// A depth image from a colour file and a depth file given one by one (not through a
+/// `transforms.json`), taken by `camera` (the depth range is kept from it).
+pub fn read_depth_image(
+    colour: &Path,
+    depth: &Path,
+    camera: Camera,
+) -> Result<DepthImage, LoadError> {
+    let colour_bytes = Disk.read(colour, load::MAX_FILE_BYTES)?;
+    let depth_bytes = Disk.read(depth, load::MAX_FILE_BYTES)?;
+    Ok(planes(colour, &colour_bytes, depth, depth_bytes)?.with_camera(camera))
 }
 
 /// The world -> view matrix of a frame's camera-to-world `transform_matrix` (4 rows of 4).
@@ -340,20 +386,7 @@ pub fn write_transforms(dir: &Path, images: &[DepthImage]) -> Result<(), LoadErr
         let (near, far) = image.camera.near_far();
         let colour_rel = format!("images/{i:04}.png");
         let depth_rel = format!("depth/{i:04}.pfm");
-        let rgba: Vec<u8> = image
-            .color
-            .iter()
-            .flat_map(|c| {
-                let s = c.unpremultiply();
-                [
-                    encode_srgb8(s.r),
-                    encode_srgb8(s.g),
-                    encode_srgb8(s.b),
-                    (s.a.clamp(0.0, 1.0) * 255.0).round() as u8,
-                ]
-            })
-            .collect();
-        load::write_png_rgba8(&dir.join(&colour_rel), w, h, &rgba)?;
+        load::write_png_rgba8(&dir.join(&colour_rel), w, h, &srgb8(image))?;
         let depth = load::FloatImage::new(w, h, image.depth.clone())
             .ok_or_else(|| LoadError::invalid(&json_path, "depth plane size"))?;
         load::write_float_image(&dir.join(&depth_rel), &depth)?;
@@ -382,6 +415,23 @@ pub fn write_transforms(dir: &Path, images: &[DepthImage]) -> Result<(), LoadErr
     let text = serde_json::to_string_pretty(&Value::Object(top))
         .map_err(|e| LoadError::invalid(&json_path, e.to_string()))?;
     std::fs::write(&json_path, text).map_err(|e| LoadError::io(&json_path, e))
+}
+
+/// An image's colour as the bytes of an sRGB, straight-alpha RGBA8 file (PNG).
+pub fn srgb8(image: &DepthImage) -> Vec<u8> {
+    image
+        .color
+        .iter()
+        .flat_map(|c| {
+            let s = c.unpremultiply();
+            [
+                encode_srgb8(s.r),
+                encode_srgb8(s.g),
+                encode_srgb8(s.b),
+                (s.a.clamp(0.0, 1.0) * 255.0).round() as u8,
+            ]
+        })
+        .collect()
 }
 
 /// Linear premultiplied colour as the 8-bit sRGB straight colour files hold, and back:

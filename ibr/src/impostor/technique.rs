@@ -48,7 +48,7 @@ impl<S: Subject + Send> Technique for Impostored<S> {
             images: r.images as u64,
             refreshes: r.refreshes as u64,
             geometry: r.geometry as u64,
-            pixels: 0,
+            ..Counters::default()
         }
     }
     fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {

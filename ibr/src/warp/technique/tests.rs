@@ -1,0 +1,92 @@
+use super::*;
+use crate::technique::FrameLoop;
+use engine::{FrameOptions, Lighting, Material, Mesh, Premul, Renderer, Rgba};
+use glam::{Mat4, Vec3};
+
+const W: u32 = 64;
+const H: u32 = 48;
+
+fn camera() -> Camera {
+    Camera::look_at(
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::Y,
+        1.0,
+        W as f32 / H as f32,
+    )
+    .with_depth_range(0.1, 50.0)
+}
+
+/// A green wall at depth 5 filling the reference.
+fn wall() -> DepthImage {
+    let green = Rgba::new(0.1, 0.8, 0.2, 1.0).premultiply();
+    let mut image = DepthImage::new(W, H, camera());
+    image.color.fill(green);
+    image.depth.fill(5.0);
+    image
+}
+
+fn quad_at(x: f32, z: f32) -> Mat4 {
+    Mat4::from_translation(Vec3::new(x, 0.0, z))
+}
+
+#[test]
+fn warped_samples_and_geometry_hide_each_other_by_depth() {
+    let mut view = WarpedView::new("wall", vec![wall()]);
+    let quad: Mesh = engine::procedural::quad(1.0, 1.0);
+    let red = Material::unlit(Rgba::new(1.0, 0.0, 0.0, 1.0));
+    let blue = Material::unlit(Rgba::new(0.0, 0.0, 1.0, 1.0));
+    // A red quad in front of the wall at the centre; a large blue one behind it.
+    let scene = [
+        Draw {
+            mesh: &quad,
+            material: &red,
+            transform: quad_at(0.0, -3.0),
+        },
+        Draw {
+            mesh: &quad,
+            material: &blue,
+            transform: Mat4::from_translation(Vec3::new(-3.0, 0.0, -8.0))
+                * Mat4::from_scale(Vec3::splat(6.0)),
+        },
+    ];
+    let cam = camera();
+    let lighting = Lighting::default();
+    let frame_view = FrameView {
+        camera: &cam,
+        width: W,
+        height: H,
+        lighting: &lighting,
+        time: 0.0,
+        dt: 0.0,
+    };
+    let mut target = Target::new(W, H);
+    let mut frame = FrameLoop::new();
+    let mut list: [&mut dyn Technique; 1] = [&mut view];
+    frame.render(
+        &mut Renderer::new(),
+        scene,
+        &mut list,
+        &frame_view,
+        &mut target,
+        &FrameOptions::default(),
+    );
+    let at = |x: u32, y: u32| target.color_linear(x, y).unwrap_or(Premul::TRANSPARENT);
+    let centre = at(W / 2, H / 2);
+    assert!(
+        centre.r > 0.9 && centre.g < 0.1,
+        "geometry in front shows: {centre:?}"
+    );
+    let left = at(4, H / 2);
+    assert!(
+        left.g > 0.7 && left.b < 0.3,
+        "the wall hides geometry behind it: {left:?}"
+    );
+    // The wall writes its depth: distance 5 along the axis.
+    let d = target.depth_reversed(4, H / 2).unwrap();
+    assert!((cam.view_depth_from_reversed(d) - 5.0).abs() < 1e-3, "{d}");
+    let c = frame.counters[0];
+    assert_eq!(c.samples, (W * H) as u64);
+    assert_eq!(c.pixels, (W * H) as u64);
+    assert_eq!(c.holes, 0);
+}
