@@ -10,6 +10,7 @@ pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
 pub mod bench_scaling;
+pub mod bench_warp;
 pub mod capture;
 pub mod chart;
 pub mod city;

@@ -402,3 +402,58 @@ fn impostors_sweep_writes_csv_and_png_charts() {
         ],
     );
 }
+
+#[test]
+fn warp_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("warp", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "value", "method"]);
+    let rows: Vec<&Vec<&str>> = t.rows.iter().collect();
+    let method = t.col("method");
+    // At the home eye one reference is the truth: warped to itself it is exact.
+    let home: Vec<_> = rows
+        .iter()
+        .filter(|r| {
+            r[0] == "distance"
+                && r[1] == "0"
+                && r[method] != "geometry"
+                && t.num(r, "references") == 1.0
+        })
+        .collect();
+    assert_eq!(home.len(), 2, "{csv}");
+    for r in home {
+        assert_eq!(t.num(r, "psnr_db"), 99.0, "{r:?}");
+        assert_eq!(t.num(r, "holes"), 0.0, "{r:?}");
+    }
+    // Moving away opens holes with one reference; two references close most of them.
+    let holes = |refs: f64| {
+        rows.iter()
+            .filter(|r| {
+                r[0] == "distance"
+                    && r[1] == "0.2"
+                    && r[method] == "splats"
+                    && t.num(r, "references") == refs
+            })
+            .map(|r| t.num(r, "holes"))
+            .next()
+            .expect("a point")
+    };
+    assert!(holes(1.0) > 0.01 && holes(2.0) < holes(1.0) / 2.0, "{csv}");
+    // Every warp point warped samples; every point has a time.
+    for r in &rows {
+        assert!(t.num(r, "median_ms") > 0.0, "{r:?}");
+        if r[method] != "geometry" {
+            assert!(t.num(r, "samples") > 0.0, "{r:?}");
+        }
+    }
+    assert!(rows.iter().any(|r| r[0] == "speed"), "{csv}");
+    assert_charts(
+        &dir,
+        &[
+            "warp_distance.png",
+            "warp_angle.png",
+            "warp_holes.png",
+            "warp_time.png",
+        ],
+    );
+}

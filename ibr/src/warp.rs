@@ -57,11 +57,24 @@ pub enum Reconstruction {
     Splats,
 }
 
+/// How the second and later references of a frame join the output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Composite {
+    /// By depth: a later sample replaces a hole or a sample farther by more than the edge
+    /// tolerance (an occluder only a later reference saw still shows).
+    Depth,
+    /// By priority: later references only fill the holes of earlier ones (the nearer
+    /// reference is trusted wherever it saw something; no bleeding of a farther
+    /// reference's silhouettes).
+    Priority,
+}
+
 /// How to warp.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WarpOptions {
     pub visibility: Visibility,
     pub reconstruction: Reconstruction,
+    pub composite: Composite,
     /// The largest splat side, pixels: stretches beyond it are left as holes.
     pub max_splat: f32,
     /// Relative depth change between neighbouring samples above which they are taken to be
@@ -74,6 +87,7 @@ impl Default for WarpOptions {
         WarpOptions {
             visibility: Visibility::Ordered,
             reconstruction: Reconstruction::Splats,
+            composite: Composite::Depth,
             max_splat: 4.0,
             edge: 0.05,
         }
@@ -167,8 +181,9 @@ impl Warper {
         &mut self.output
     }
 
-    /// Warps `reference` into the output. Several references composite by depth (the
-    /// nearest sample wins); within one, `options.visibility` decides.
+    /// Warps `reference` into the output. Within one reference `options.visibility`
+    /// decides; later references join by `options.composite` (add the references nearest
+    /// the eye first: on a surface both saw, the earlier reference's samples stay).
     pub fn add(&mut self, reference: &DepthImage, options: &WarpOptions) -> WarpStats {
         let (w2, h2) = (self.output.width(), self.output.height());
         let camera = self.output.camera;
@@ -191,7 +206,9 @@ impl Warper {
             &mut self.runs,
         );
         let mut stats = bin(&eq, reference, options, &self.runs, &mut self.bins, w2, h2);
-        let merge = options.visibility == Visibility::Ordered && self.has_content;
+        // A second reference is warped apart and merged, so that where both saw one
+        // surface the first (the nearer to the eye, as callers order them) is kept.
+        let merge = self.has_content;
         let out = if merge {
             reset(&mut self.layer, &camera, w2, h2);
             &mut self.layer
@@ -200,7 +217,12 @@ impl Warper {
         };
         stats.pixels_written = write(out, reference, &self.bins, options.visibility, options.edge);
         if merge {
-            merge_nearer(&mut self.output, &self.layer);
+            let edge = match options.composite {
+                Composite::Depth => options.edge,
+                // Nothing is "clearly nearer" by more than everything: holes only.
+                Composite::Priority => 1.0,
+            };
+            merge_nearer(&mut self.output, &self.layer, edge);
         }
         self.has_content = true;
         stats
@@ -407,14 +429,16 @@ fn write(
         .sum()
 }
 
-/// Copies into `out` every sample of `layer` nearer than what `out` holds there.
-fn merge_nearer(out: &mut DepthImage, layer: &DepthImage) {
+/// Copies into `out` every sample of `layer` where `out` has a hole or a sample farther by
+/// more than `edge` (relative).
+fn merge_nearer(out: &mut DepthImage, layer: &DepthImage, edge: f32) {
+    let keep = 1.0 - edge.clamp(0.0, 1.0);
     out.color
         .par_iter_mut()
         .zip(out.depth.par_iter_mut())
         .zip(layer.color.par_iter().zip(layer.depth.par_iter()))
         .for_each(|((c, d), (lc, ld))| {
-            if is_filled(*lc) && (!is_filled(*c) || *ld < *d) {
+            if is_filled(*lc) && (!is_filled(*c) || *ld < *d * keep) {
                 *c = *lc;
                 *d = *ld;
             }

@@ -17,12 +17,17 @@
 //! - `scaling`: the city at 1k to 2M triangles and at 320x180 to 3840x2160, drawn as
 //!   geometry and through runtime impostors: frame time against triangles and against
 //!   pixels, with fitted lines (`demos::bench_scaling`).
+//! - `warp`: depth images of the city warped to moved eyes (sideways, orbiting) with one,
+//!   two and four references, points and splats: error and holes against the move, error
+//!   against time beside the geometry frame, and the warp's speed at 1920x1080
+//!   (`demos::bench_warp`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
 use demos::bench_scaling as scaling;
+use demos::bench_warp as bw;
 use demos::chart::{self, Chart, Drawn};
 use demos::sweep::{self, CsvRow};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -53,6 +58,8 @@ enum Sweep {
     /// The city as geometry and through impostors: frame time against triangles and
     /// against pixels, with fitted lines.
     Scaling(Small),
+    /// Depth images warped to moved eyes: error, holes and time against geometry.
+    Warp(Small),
 }
 
 #[derive(Args, Debug)]
@@ -102,6 +109,7 @@ fn main() -> ExitCode {
         Sweep::Billboards(c) => billboards(c),
         Sweep::Impostors(c) => impostors(c),
         Sweep::Scaling(c) => scaling_sweep(c),
+        Sweep::Warp(c) => warp(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -339,5 +347,44 @@ fn impostors(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bi::run(&plan, progress);
     let (name, rows, charts) = ("impostors", "rows", bi::charts);
+    sweep(c, name, rows, run, report, charts)
+}
+
+fn warp(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bw::Plan::tiny, bw::Plan::quick, bw::Plan::full);
+    let report = |rows: &[bw::Row]| {
+        for r in rows {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB (seen {:>6.2})  MAE {:>5.2}  over {:>5.1}%",
+                    e.psnr_capped(99.0),
+                    r.psnr_seen.min(99.0),
+                    e.mean_abs,
+                    e.frac_over * 100.0
+                )
+            });
+            let rate = if r.samples > 0 {
+                format!(
+                    "  {:.0} M samples/s",
+                    r.samples as f64 / r.time.median_ms / 1e3
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{:<8} {:>5} {:<8} {} ref  {:>4}x{:<4} median {:>8.3} ms  holes {:>5.2}%  {err}{rate}",
+                r.series,
+                r.value,
+                r.method,
+                r.references,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.holes * 100.0
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bw::run(&plan, progress);
+    let (name, rows, charts) = ("warp", "points", bw::charts);
     sweep(c, name, rows, run, report, charts)
 }

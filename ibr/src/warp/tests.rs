@@ -424,3 +424,40 @@ fn magnification_cracks_points_and_splats_close_them() {
     assert!(p.cracks > p.disocclusions, "{p:?}");
     assert!(s.cracks * 20 < p.cracks, "{s:?} against {p:?}");
 }
+
+#[test]
+fn by_priority_a_reference_at_the_eye_is_shown_as_it_is_and_by_depth_nearly() {
+    // The reference taken from the target eye, added first, then one from elsewhere: by
+    // priority the second only fills holes (there are none), so the view is the first
+    // exactly; by depth the second's samples replace only clearly farther ones, which on
+    // an exact view happens only where its splats spill over silhouettes.
+    let here = camera(Vec3::new(0.3, 0.1, 2.0), Vec3::new(0.0, 0.0, -4.0));
+    let exact = cast(&here, W, H, &boxes());
+    let other = cast(
+        &camera(Vec3::new(-0.6, 0.3, 2.4), Vec3::new(0.0, 0.0, -4.0)),
+        W,
+        H,
+        &boxes(),
+    );
+    for (composite, most) in [(Composite::Priority, 0), (Composite::Depth, W * H / 20)] {
+        let opts = WarpOptions {
+            composite,
+            ..WarpOptions::default()
+        };
+        let mut warper = Warper::new();
+        warper.begin(&here, W, H);
+        warper.add(&exact, &opts);
+        warper.add(&other, &opts);
+        let differ = warper
+            .output()
+            .color
+            .iter()
+            .zip(&exact.color)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(
+            differ <= most as usize,
+            "{composite:?}: {differ} pixels differ"
+        );
+    }
+}

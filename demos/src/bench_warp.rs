@@ -1,0 +1,430 @@
+//! The `bench warp` sweep: depth images of the city warped to eyes moved away from where
+//! they were captured, against a render of the geometry from the same eye.
+//!
+//! References are captured around a home eye looking at the city's centre: one (the home
+//! eye), two (left and right of it) or four (also above and below), each at the sweep's
+//! frame size. Each target eye is the home eye moved sideways (`distance`, a fraction of the
+//! city's half width) or orbited about the centre (`angle`, degrees). For every method
+//! (references x points or splats, later references composited by depth or only into
+//! holes; holes filled by pull-push) a point records the error
+//! against the geometry frame (PSNR over the frame and over the pixels the references saw
+//! before filling, mean error, fraction over the threshold), the holes, and the times of
+//! the warp frame and the geometry frame. A `speed` series times one reference warped with
+//! splats and filled at 1920x1080 (smaller in quick and tiny runs).
+
+mod charts;
+
+pub use charts::charts;
+
+use crate::city::City;
+use crate::sweep::{ticker, CsvRow, Timing as Frames};
+use crate::timing::Summary;
+use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
+use glam::{Quat, Vec3};
+use ibr::images::DepthImage;
+use ibr::metrics::{self, Options, Region};
+use ibr::subject::Subject;
+use ibr::technique::{FrameLoop, FrameView, Technique};
+use ibr::warp::holes::Fill;
+use ibr::warp::technique::WarpedView;
+use ibr::warp::{is_filled, Composite, Reconstruction, Visibility};
+use std::time::{Duration, Instant};
+
+/// The warp methods: (name, reconstruction, how references composite).
+const METHODS: [(&str, Reconstruction, Composite); 3] = [
+    ("points", Reconstruction::Points, Composite::Depth),
+    ("splats", Reconstruction::Splats, Composite::Depth),
+    (
+        "splats-priority",
+        Reconstruction::Splats,
+        Composite::Priority,
+    ),
+];
+
+/// What a run measures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub size: (u32, u32),
+    /// Triangles of the city (its buildings are split to reach them).
+    pub triangles: usize,
+    /// Sideways moves, fractions of the city's half width.
+    pub distances: Vec<f32>,
+    /// Orbits about the centre, degrees.
+    pub angles: Vec<f32>,
+    /// Reference counts to compare.
+    pub references: Vec<usize>,
+    /// The `speed` series' frame size.
+    pub speed_size: (u32, u32),
+    pub frames: Frames,
+}
+
+impl Plan {
+    pub fn full() -> Plan {
+        Plan {
+            size: (640, 360),
+            triangles: 500_000,
+            distances: vec![0.0, 0.05, 0.1, 0.2, 0.4, 0.8],
+            angles: vec![0.0, 2.0, 5.0, 10.0, 20.0, 40.0],
+            references: vec![1, 2, 4],
+            speed_size: (1920, 1080),
+            frames: Frames {
+                warmup: 2,
+                frames: 15,
+                budget: Duration::from_millis(1500),
+            },
+        }
+    }
+
+    /// Every point, fewer frames.
+    pub fn quick() -> Plan {
+        Plan {
+            frames: Frames {
+                warmup: 1,
+                frames: 5,
+                budget: Duration::from_millis(400),
+            },
+            ..Plan::full()
+        }
+    }
+
+    /// Seconds: a small frame, two moves each way.
+    pub fn tiny() -> Plan {
+        Plan {
+            size: (96, 54),
+            triangles: 5_000,
+            distances: vec![0.0, 0.2],
+            angles: vec![5.0],
+            references: vec![1, 2],
+            speed_size: (160, 90),
+            frames: Frames {
+                warmup: 0,
+                frames: 2,
+                budget: Duration::ZERO,
+            },
+        }
+    }
+}
+
+/// One measured point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// `distance`, `angle` or `speed`.
+    pub series: &'static str,
+    /// The move: fraction of the half width, or degrees.
+    pub value: f32,
+    /// `geometry`, or `points` / `splats` / `splats-priority` for a warp.
+    pub method: &'static str,
+    pub references: usize,
+    pub width: u32,
+    pub height: u32,
+    pub triangles: usize,
+    pub time: Summary,
+    /// Error against the geometry frame (geometry rows: none).
+    pub error: Option<metrics::ImageError>,
+    /// PSNR over the pixels the references saw (before filling).
+    pub psnr_seen: f64,
+    /// Holes before filling, as a fraction of the frame, and by kind.
+    pub holes: f64,
+    pub cracks: u64,
+    pub disocclusions: u64,
+    /// Reference samples warped per frame.
+    pub samples: u64,
+}
+
+impl CsvRow for Row {
+    const HEADER: &'static str = "series,value,method,references,width,height,triangles,frames,median_ms,min_ms,p90_ms,psnr_db,psnr_seen_db,mean_abs,frac_over,holes,cracks,disocclusions,samples,msamples_per_s";
+
+    fn csv(&self) -> String {
+        let e = self.error;
+        let f = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
+        let rate = (self.samples > 0 && self.time.median_ms > 0.0)
+            .then(|| self.samples as f64 / self.time.median_ms / 1e3);
+        format!(
+            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{:.5},{},{},{},{}",
+            self.series,
+            self.value,
+            self.method,
+            self.references,
+            self.width,
+            self.height,
+            self.triangles,
+            self.time.frames,
+            self.time.median_ms,
+            self.time.min_ms,
+            self.time.p90_ms,
+            f(e.map(|e| e.psnr_capped(99.0))),
+            f((self.error.is_some()).then_some(self.psnr_seen.min(99.0))),
+            f(e.map(|e| e.mean_abs)),
+            f(e.map(|e| e.frac_over)),
+            self.holes,
+            self.cracks,
+            self.disocclusions,
+            self.samples,
+            f(rate),
+        )
+    }
+}
+
+fn clear() -> FrameOptions {
+    FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..Default::default()
+    }
+}
+
+/// The home eye and the point every camera looks at.
+fn home(city: &City) -> (Vec3, Vec3) {
+    let e = city.half_extent;
+    (Vec3::new(0.0, e * 0.6, e * 1.6), Vec3::new(0.0, 2.0, 0.0))
+}
+
+fn camera(eye: Vec3, at: Vec3, (w, h): (u32, u32), city: &City) -> Camera {
+    Camera::look_at(eye, at, Vec3::Y, 50f32.to_radians(), 1.0)
+        .with_aspect(w, h)
+        .with_depth_range(0.5, city.half_extent * 8.0)
+}
+
+/// Renders the city's geometry from `camera` into `target`.
+fn geometry(
+    renderer: &mut Renderer,
+    frame: &mut FrameLoop,
+    city: &City,
+    camera: &Camera,
+    target: &mut Target,
+) {
+    let mut draws: Vec<Draw> = Vec::with_capacity(city.buildings.len() + 1);
+    city.ground.draws(&mut draws);
+    for b in &city.buildings {
+        b.draws(&mut draws);
+    }
+    let view = FrameView {
+        camera,
+        width: target.width(),
+        height: target.height(),
+        lighting: &city.lighting,
+        time: 0.0,
+        dt: 0.0,
+    };
+    frame.render(renderer, draws, &mut [], &view, target, &clear());
+}
+
+/// The reference eyes: home, then left and right, then above and below.
+fn reference_eyes(city: &City, n: usize) -> Vec<Vec3> {
+    let (eye, _) = home(city);
+    let s = city.half_extent * 0.2;
+    let all = [
+        eye,
+        eye - Vec3::X * s,
+        eye + Vec3::X * s,
+        eye + Vec3::Y * s,
+        eye - Vec3::Y * s,
+    ];
+    match n {
+        1 => vec![all[0]],
+        2 => vec![all[1], all[2]],
+        _ => all[1..5].to_vec(),
+    }
+}
+
+/// A target eye for a series' move.
+fn target_eye(city: &City, series: &str, value: f32) -> Vec3 {
+    let (eye, at) = home(city);
+    match series {
+        "angle" => at + Quat::from_rotation_y(value.to_radians()) * (eye - at),
+        _ => eye + Vec3::X * value * city.half_extent,
+    }
+}
+
+/// Runs the plan; `progress(step, total, what)` before each point.
+pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let city = City::with_triangles(4, plan.triangles, 7);
+    let (_, at) = home(&city);
+    let mut renderer = Renderer::new();
+    let mut frame = FrameLoop::new();
+    let mut target = Target::new(plan.size.0, plan.size.1);
+    let capture =
+        |renderer: &mut Renderer, frame: &mut FrameLoop, target: &mut Target, n: usize| {
+            reference_eyes(&city, n)
+                .into_iter()
+                .map(|eye| {
+                    let cam = camera(eye, at, plan.size, &city);
+                    geometry(renderer, frame, &city, &cam, target);
+                    DepthImage::from_target(target, &cam)
+                })
+                .collect::<Vec<_>>()
+        };
+    let moves: Vec<(&'static str, f32)> = plan
+        .distances
+        .iter()
+        .map(|&d| ("distance", d))
+        .chain(plan.angles.iter().map(|&a| ("angle", a)))
+        .collect();
+    let per_move = 1 + plan.references.len() * METHODS.len();
+    let mut tick = ticker(moves.len() * per_move + 1, progress);
+    let mut rows = Vec::new();
+    let mut views: Vec<(usize, WarpedView)> = plan
+        .references
+        .iter()
+        .map(|&n| {
+            let refs = capture(&mut renderer, &mut frame, &mut target, n);
+            let mut v = WarpedView::new(format!("warp {n}"), refs);
+            v.nearest = n;
+            (n, v)
+        })
+        .collect();
+    let (w, h) = plan.size;
+    let mut truth = Target::new(w, h);
+    for &(series, value) in &moves {
+        let cam = camera(target_eye(&city, series, value), at, plan.size, &city);
+        tick(format!("{series} {value} geometry"));
+        let times = plan.frames.run(|| {
+            let t = Instant::now();
+            geometry(&mut renderer, &mut frame, &city, &cam, &mut truth);
+            t.elapsed()
+        });
+        rows.push(Row {
+            series,
+            value,
+            method: "geometry",
+            references: 0,
+            width: w,
+            height: h,
+            triangles: city.triangle_count(),
+            time: Summary::of(&times),
+            error: None,
+            psnr_seen: f64::INFINITY,
+            holes: 0.0,
+            cracks: 0,
+            disocclusions: 0,
+            samples: 0,
+        });
+        for (n, view) in views.iter_mut() {
+            for (method, rec, composite) in METHODS {
+                if *n == 1 && composite == Composite::Priority {
+                    continue;
+                }
+                tick(format!("{series} {value} {n} refs {method}"));
+                view.options.reconstruction = rec;
+                view.options.composite = composite;
+                view.options.visibility = Visibility::Ordered;
+                let row = measure(
+                    view,
+                    &cam,
+                    &city,
+                    &truth,
+                    &mut frame,
+                    &mut renderer,
+                    &mut target,
+                    plan,
+                );
+                rows.push(Row {
+                    series,
+                    value,
+                    method,
+                    references: *n,
+                    ..row
+                });
+            }
+        }
+    }
+    tick("speed".into());
+    rows.push(speed(plan, &city, &mut renderer, &mut frame));
+    rows
+}
+
+/// One warp point: counted and compared once (untimed), then timed without the hole count.
+fn measure(
+    view: &mut WarpedView,
+    cam: &Camera,
+    city: &City,
+    truth: &Target,
+    frame: &mut FrameLoop,
+    renderer: &mut Renderer,
+    target: &mut Target,
+    plan: &Plan,
+) -> Row {
+    let (w, h) = plan.size;
+    let frame_view = FrameView {
+        camera: cam,
+        width: w,
+        height: h,
+        lighting: &city.lighting,
+        time: 0.0,
+        dt: 0.0,
+    };
+    // Counted: the holes before filling, and the pixels the references saw.
+    view.fill = Fill::None;
+    view.count_holes = true;
+    let counted = view.warp_to(cam, w, h);
+    let seen: Vec<bool> = view.image().color.iter().map(|c| is_filled(*c)).collect();
+    view.fill = Fill::PullPush;
+    view.count_holes = false;
+    let mut list: [&mut dyn Technique; 1] = [view];
+    let times = plan.frames.run(|| {
+        let t = Instant::now();
+        frame.render(renderer, [], &mut list, &frame_view, target, &clear());
+        t.elapsed()
+    });
+    let error = metrics::compare(target, truth, &Options::default()).ok();
+    let seen_err = metrics::compare(
+        target,
+        truth,
+        &Options {
+            region: Region::Mask(&seen),
+            ..Options::default()
+        },
+    )
+    .ok();
+    let pixels = (w as u64 * h as u64).max(1);
+    Row {
+        series: "",
+        value: 0.0,
+        method: "",
+        references: 0,
+        width: w,
+        height: h,
+        triangles: city.triangle_count(),
+        time: Summary::of(&times),
+        error,
+        psnr_seen: seen_err.map_or(f64::NAN, |e| e.psnr_db),
+        holes: counted.holes.total() as f64 / pixels as f64,
+        cracks: counted.holes.cracks,
+        disocclusions: counted.holes.disocclusions,
+        samples: counted.stats.samples,
+    }
+}
+
+/// One reference warped with splats and pull-push fill at the speed size, timed as the
+/// warp alone (no geometry in the frame, no hole count).
+fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoop) -> Row {
+    let (w, h) = plan.speed_size;
+    let (eye, at) = home(city);
+    let mut target = Target::new(w, h);
+    let cam = camera(eye, at, (w, h), city);
+    geometry(renderer, frame, city, &cam, &mut target);
+    let mut view = WarpedView::new("speed", vec![DepthImage::from_target(&target, &cam)]);
+    view.nearest = 1;
+    view.count_holes = false;
+    let moved = camera(target_eye(city, "distance", 0.05), at, (w, h), city);
+    let times = plan.frames.run(|| {
+        let t = Instant::now();
+        view.warp_to(&moved, w, h);
+        t.elapsed()
+    });
+    Row {
+        series: "speed",
+        value: 0.05,
+        method: "splats",
+        references: 1,
+        width: w,
+        height: h,
+        triangles: city.triangle_count(),
+        time: Summary::of(&times),
+        error: None,
+        psnr_seen: f64::NAN,
+        holes: 0.0,
+        cracks: 0,
+        disocclusions: 0,
+        samples: view.last().stats.samples,
+    }
+}
