@@ -1,4 +1,4 @@
 //! Fuzz target: engine::load::fuzz::glb (see that module for the input's shape).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| engine::load::fuzz::glb(data));
+libfuzzer_sys::fuzz_target!(init: engine::load::fuzz::init(), |data: &[u8]| engine::load::fuzz::glb(data));

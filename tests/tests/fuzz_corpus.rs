@@ -76,3 +76,31 @@ fn the_hand_written_depth_map_seeds_are_valid_files() {
         assert_eq!(img.data, values, "{name}");
     }
 }
+
+#[test]
+fn a_decoder_that_panics_gives_an_error_or_a_placeholder_not_a_crash() {
+    // Found by the glb target (7.26 million executions in): a PNG inside a GLB whose
+    // palette makes the png crate (0.18.1) index past a slice. The texture falls back to
+    // the placeholder with a warning naming the failure; the model still loads.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/corpus");
+    let glb = std::fs::read(dir.join("glb/regress-png_palette_panic.glb")).unwrap();
+    let files = engine::load::Memory::default()
+        .with("m.glb", glb)
+        .with("b.bin", vec![0u8; 1024])
+        .with("t.png", engine::load::fuzz::TEXTURE_PNG);
+    match engine::load::gltf_from(Path::new("m.glb"), &files) {
+        Ok(loaded) => assert!(
+            loaded.warnings.iter().any(|w| w.contains("decoder failed")),
+            "{:?}",
+            loaded.warnings
+        ),
+        Err(e) => assert!(e.to_string().contains("decoder failed"), "{e}"),
+    }
+    // Found by the image target: a JPEG that trips an assertion in zune-jpeg's AVX2
+    // upsampler (other machines take another path, which may decode or refuse it).
+    let jpeg = std::fs::read(dir.join("image/regress-jpeg_upsampler_panic.jpg")).unwrap();
+    let files = engine::load::Memory::default().with("i.jpg", jpeg);
+    if let Err(e) = engine::load::image_from(Path::new("i.jpg"), engine::Encoding::Srgb, &files) {
+        assert!(e.to_string().starts_with("i.jpg"), "{e}");
+    }
+}

@@ -146,7 +146,12 @@ fn parse_exr(bytes: &[u8]) -> Result<FloatImage, String> {
     use exr::prelude::*;
     let bad = |e: Error| format!("bad OpenEXR: {e}");
     // The header first: refuse a huge image before anything is allocated for it.
-    let meta = MetaData::read_from_buffered(std::io::Cursor::new(bytes), false).map_err(bad)?;
+    let panicked =
+        |why: String| format!("the OpenEXR decoder failed on this file (it panicked: {why})");
+    let meta =
+        super::image::guarded(|| MetaData::read_from_buffered(std::io::Cursor::new(bytes), false))
+            .map_err(panicked)?
+            .map_err(bad)?;
     for header in meta.headers.iter() {
         let size = header.layer_size;
         if size.0 > MAX_TEXTURE_SIZE as usize || size.1 > MAX_TEXTURE_SIZE as usize {
@@ -159,15 +164,18 @@ fn parse_exr(bytes: &[u8]) -> Result<FloatImage, String> {
             return Err("deep OpenEXR data is not a depth map".into());
         }
     }
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .non_parallel()
-        .from_buffered(std::io::Cursor::new(bytes))
-        .map_err(bad)?;
+    let image = super::image::guarded(|| {
+        read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .first_valid_layer()
+            .all_attributes()
+            .non_parallel()
+            .from_buffered(std::io::Cursor::new(bytes))
+    })
+    .map_err(panicked)?
+    .map_err(bad)?;
     let layer = &image.layer_data;
     let (w, h) = (layer.size.0, layer.size.1);
     let list = &layer.channel_data.list;

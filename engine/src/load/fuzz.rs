@@ -10,6 +10,14 @@ use super::{Loaded, Memory};
 use crate::color::Encoding;
 use std::path::Path;
 
+/// Called once by each fuzz target before fuzzing: puts back Rust's default panic hook in
+/// place of libFuzzer's aborting one, so that a panic inside a third-party decoder, which
+/// the loaders catch and turn into an error, is not counted as a crash. A panic that
+/// escapes a loader still aborts the run (libfuzzer-sys catches it at the target's edge).
+pub fn init() {
+    drop(std::panic::take_hook());
+}
+
 /// A 2 x 2 PNG the models may refer to as `t.png` (so texture paths are exercised).
 pub const TEXTURE_PNG: &[u8] = &[
     0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00, 0x00, 0x0D, 0x49, 0x48, 0x44, 0x52,

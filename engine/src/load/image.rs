@@ -18,6 +18,8 @@ pub const MAX_IMAGE_ALLOC: u64 = 1 << 30;
 pub(crate) enum ImageFailure {
     Decode(::image::ImageError),
     Size(u32, u32),
+    /// The decoder panicked on the bytes (a bug of the decoder, caught: see [`guarded`]).
+    Panic(String),
 }
 
 impl ImageFailure {
@@ -31,6 +33,7 @@ impl ImageFailure {
                 file,
                 format!("image is {w} x {h}; sides must be 1..={MAX_TEXTURE_SIZE}"),
             ),
+            ImageFailure::Panic(why) => LoadError::invalid(file, panic_message(&why)),
         }
     }
 }
@@ -45,8 +48,26 @@ impl std::fmt::Display for ImageFailure {
                     "image is {w} x {h}; sides must be 1..={MAX_TEXTURE_SIZE}"
                 )
             }
+            ImageFailure::Panic(why) => write!(f, "{}", panic_message(why)),
         }
     }
+}
+
+fn panic_message(why: &str) -> String {
+    format!("the image decoder failed on this file (it panicked: {why}); the file is damaged or unusual")
+}
+
+/// Runs a third-party decoder, turning a panic inside it into an error: fuzzing found
+/// inputs that make the `png` and `zune-jpeg` decoders panic (a slice index in palette
+/// expansion, an assertion in the AVX2 upsampler), and a user's file must give an error,
+/// not bring the program down.
+pub(crate) fn guarded<T>(decode: impl FnOnce() -> T) -> Result<T, String> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(decode)).map_err(|e| {
+        e.downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| e.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "no message".into())
+    })
 }
 
 /// The decoder limits every loader uses.
@@ -78,7 +99,9 @@ pub(crate) fn texture_from_bytes(
         .with_guessed_format()
         .map_err(|e| ImageFailure::Decode(e.into()))?;
     reader.limits(limits());
-    let img = reader.decode().map_err(ImageFailure::Decode)?;
+    let img = guarded(|| reader.decode())
+        .map_err(ImageFailure::Panic)?
+        .map_err(ImageFailure::Decode)?;
     let (w, h) = (img.width(), img.height());
     if w == 0 || h == 0 || w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE {
         return Err(ImageFailure::Size(w, h));
@@ -96,7 +119,9 @@ pub fn rgba8_from_bytes(bytes: &[u8], file: &Path) -> Result<(u32, u32, Vec<u8>)
         .map_err(|e| fail(ImageFailure::Decode(e.into())))?;
     let mut reader = reader;
     reader.limits(limits());
-    let img = reader.decode().map_err(|e| fail(ImageFailure::Decode(e)))?;
+    let img = guarded(|| reader.decode())
+        .map_err(|e| fail(ImageFailure::Panic(e)))?
+        .map_err(|e| fail(ImageFailure::Decode(e)))?;
     let (w, h) = (img.width(), img.height());
     if w == 0 || h == 0 || w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE {
         return Err(fail(ImageFailure::Size(w, h)));
