@@ -6,7 +6,8 @@
 //! frame size. Each target eye is the home eye moved sideways (`distance`, a fraction of the
 //! city's half width) or orbited about the centre (`angle`, degrees). For every method
 //! (references x points or splats, later references composited by depth or only into
-//! holes; holes filled by pull-push) a point records the error
+//! holes; and one LDI built from the home view and the four around it; holes filled by
+//! pull-push) a point records the error
 //! against the geometry frame (PSNR over the frame and over the pixels the references saw
 //! before filling, mean error, fraction over the threshold), the holes, and the times of
 //! the warp frame and the geometry frame. A `speed` series times one reference warped with
@@ -26,6 +27,7 @@ use ibr::metrics::{self, Options, Region};
 use ibr::subject::Subject;
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use ibr::warp::holes::Fill;
+use ibr::warp::ldi::LdiBuilder;
 use ibr::warp::technique::WarpedView;
 use ibr::warp::{is_filled, Composite, Reconstruction, Visibility};
 use std::time::{Duration, Instant};
@@ -112,7 +114,9 @@ pub struct Row {
     pub series: &'static str,
     /// The move: fraction of the half width, or degrees.
     pub value: f32,
-    /// `geometry`, or `points` / `splats` / `splats-priority` for a warp.
+    /// `geometry`, or `points` / `splats` / `splats-priority` for a warp of the nearest
+    /// references, or `ldi`: one layered depth image at the home eye built from five views
+    /// (references: 5), splatted.
     pub method: &'static str,
     pub references: usize,
     pub width: u32,
@@ -259,7 +263,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         .map(|&d| ("distance", d))
         .chain(plan.angles.iter().map(|&a| ("angle", a)))
         .collect();
-    let per_move = 1 + plan.references.len() * METHODS.len();
+    let per_move = 2 + plan.references.len() * METHODS.len();
     let mut tick = ticker(moves.len() * per_move + 1, progress);
     let mut rows = Vec::new();
     let mut views: Vec<(usize, WarpedView)> = plan
@@ -272,6 +276,19 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             (n, v)
         })
         .collect();
+    // An LDI at the home eye from the home view and the four around it (the home view
+    // first, so it is the front layer).
+    let mut ldi_view = {
+        let (eye, _) = home(&city);
+        let home_cam = camera(eye, at, plan.size, &city);
+        let mut images = capture(&mut renderer, &mut frame, &mut target, 1);
+        images.extend(capture(&mut renderer, &mut frame, &mut target, 4));
+        let ldi = LdiBuilder::default().build(&home_cam, plan.size.0, plan.size.1, &images, 0.02);
+        let mut v = WarpedView::new("ldi", Vec::new());
+        v.layered.push(ldi);
+        v.nearest = 0;
+        v
+    };
     let (w, h) = plan.size;
     let mut truth = Target::new(w, h);
     for &(series, value) in &moves {
@@ -326,6 +343,25 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 });
             }
         }
+        tick(format!("{series} {value} ldi"));
+        ldi_view.options.reconstruction = Reconstruction::Splats;
+        let row = measure(
+            &mut ldi_view,
+            &cam,
+            &city,
+            &truth,
+            &mut frame,
+            &mut renderer,
+            &mut target,
+            plan,
+        );
+        rows.push(Row {
+            series,
+            value,
+            method: "ldi",
+            references: 5,
+            ..row
+        });
     }
     tick("speed".into());
     rows.push(speed(plan, &city, &mut renderer, &mut frame));

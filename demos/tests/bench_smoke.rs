@@ -447,6 +447,7 @@ fn warp_sweep_writes_csv_and_png_charts() {
         }
     }
     assert!(rows.iter().any(|r| r[0] == "speed"), "{csv}");
+    assert!(rows.iter().any(|r| r[method] == "ldi"), "{csv}");
     assert_charts(
         &dir,
         &[

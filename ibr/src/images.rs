@@ -264,6 +264,46 @@ impl LayeredDepthImage {
         &self.samples[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
+    /// The index of pixel `(x, y)`'s first sample and its samples, nearest first (empty
+    /// outside the image).
+    pub fn samples_at(&self, x: u32, y: u32) -> (u32, &[LdiSample]) {
+        if x >= self.width || y >= self.height {
+            return (0, &[]);
+        }
+        let i = (y * self.width + x) as usize;
+        let (a, b) = (self.offsets[i], self.offsets[i + 1]);
+        (a, &self.samples[a as usize..b as usize])
+    }
+
+    /// Sample `index` of the whole image (as [`LayeredDepthImage::samples_at`] numbers them).
+    pub fn sample(&self, index: u32) -> LdiSample {
+        self.samples[index as usize]
+    }
+
+    /// An image from its packed form: pixel `i`'s samples are `samples[offsets[i] ..
+    /// offsets[i + 1]]`, nearest first. `None` unless `offsets` has `width * height + 1`
+    /// entries, starts at 0, never decreases and ends at `samples.len()`.
+    pub fn from_packed(
+        width: u32,
+        height: u32,
+        offsets: Vec<u32>,
+        samples: Vec<LdiSample>,
+        camera: Camera,
+    ) -> Option<Self> {
+        let n = width as usize * height as usize;
+        let ok = offsets.len() == n + 1
+            && offsets[0] == 0
+            && offsets.windows(2).all(|w| w[0] <= w[1])
+            && offsets[n] as usize == samples.len();
+        ok.then_some(LayeredDepthImage {
+            width,
+            height,
+            offsets,
+            samples,
+            camera,
+        })
+    }
+
     /// Samples in the whole image.
     pub fn sample_count(&self) -> usize {
         self.samples.len()

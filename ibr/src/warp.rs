@@ -26,10 +26,11 @@
 
 pub mod equation;
 pub mod holes;
+pub mod ldi;
 pub mod order;
 pub mod technique;
 
-use crate::images::{DepthImage, EMPTY};
+use crate::images::{DepthImage, LayeredDepthImage, EMPTY};
 use engine::{Camera, Premul};
 use equation::Equation;
 use glam::Vec2;
@@ -185,27 +186,28 @@ impl Warper {
     /// decides; later references join by `options.composite` (add the references nearest
     /// the eye first: on a surface both saw, the earlier reference's samples stay).
     pub fn add(&mut self, reference: &DepthImage, options: &WarpOptions) -> WarpStats {
+        self.add_source(reference, options)
+    }
+
+    /// Warps a layered depth image into the output (Shade et al. 98): its pixels in the
+    /// occlusion-compatible order, each pixel's samples back to front, painted with "over"
+    /// (translucent samples blend), so surfaces the LDI camera saw behind others fill what
+    /// a single depth image would leave as disocclusions. Joins earlier references like
+    /// [`Warper::add`].
+    pub fn add_layered(&mut self, ldi: &LayeredDepthImage, options: &WarpOptions) -> WarpStats {
+        self.add_source(ldi, options)
+    }
+
+    fn add_source<S: Source>(&mut self, source: &S, options: &WarpOptions) -> WarpStats {
         let (w2, h2) = (self.output.width(), self.output.height());
         let camera = self.output.camera;
-        let Some(eq) = Equation::new(
-            &reference.camera,
-            reference.width(),
-            reference.height(),
-            &camera,
-            w2,
-            h2,
-        ) else {
+        let (w1, h1) = source.size();
+        let Some(eq) = Equation::new(source.camera(), w1, h1, &camera, w2, h2) else {
             return WarpStats::default();
         };
         let (epipole, in_front) = eq.epipole_pixel();
-        order::runs(
-            reference.width(),
-            reference.height(),
-            epipole,
-            in_front,
-            &mut self.runs,
-        );
-        let mut stats = bin(&eq, reference, options, &self.runs, &mut self.bins, w2, h2);
+        order::runs(w1, h1, epipole, in_front, &mut self.runs);
+        let mut stats = bin(&eq, source, options, &self.runs, &mut self.bins, w2, h2);
         // A second reference is warped apart and merged, so that where both saw one
         // surface the first (the nearer to the eye, as callers order them) is kept.
         let merge = self.has_content;
@@ -215,7 +217,7 @@ impl Warper {
         } else {
             &mut self.output
         };
-        stats.pixels_written = write(out, reference, &self.bins, options.visibility, options.edge);
+        stats.pixels_written = write(out, source, &self.bins, options.visibility, options.edge);
         if merge {
             let edge = match options.composite {
                 Composite::Depth => options.edge,
@@ -226,6 +228,90 @@ impl Warper {
         }
         self.has_content = true;
         stats
+    }
+}
+
+/// What the warp reads: an image's samples with their camera.
+trait Source: Sync {
+    fn camera(&self) -> &Camera;
+    fn size(&self) -> (u32, u32);
+    /// Calls `f(index, colour, depth)` for each sample of pixel `(x, y)` in painting order
+    /// (back to front); `index` names the sample for [`Source::color`].
+    fn samples(&self, x: u32, y: u32, f: impl FnMut(u32, Premul, f32));
+    fn color(&self, index: u32) -> Premul;
+    /// The change of disparity per pixel in x and y at a sample (the surface's slope).
+    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2;
+}
+
+impl Source for DepthImage {
+    fn camera(&self) -> &Camera {
+        &self.camera
+    }
+    fn size(&self) -> (u32, u32) {
+        (self.width(), self.height())
+    }
+    #[inline]
+    fn samples(&self, x: u32, y: u32, mut f: impl FnMut(u32, Premul, f32)) {
+        let i = y * self.width() + x;
+        f(i, self.color[i as usize], self.depth[i as usize]);
+    }
+    #[inline]
+    fn color(&self, index: u32) -> Premul {
+        self.color[index as usize]
+    }
+    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2 {
+        Vec2::new(
+            slope(self, x, y, 1, 0, z, edge),
+            slope(self, x, y, 0, 1, z, edge),
+        )
+    }
+}
+
+impl Source for LayeredDepthImage {
+    fn camera(&self) -> &Camera {
+        &self.camera
+    }
+    fn size(&self) -> (u32, u32) {
+        (self.width(), self.height())
+    }
+    #[inline]
+    fn samples(&self, x: u32, y: u32, mut f: impl FnMut(u32, Premul, f32)) {
+        let (first, run) = self.samples_at(x, y);
+        for (k, s) in run.iter().enumerate().rev() {
+            f(first + k as u32, s.color, s.depth);
+        }
+    }
+    #[inline]
+    fn color(&self, index: u32) -> Premul {
+        self.sample(index).color
+    }
+    /// From the neighbouring pixels' samples of the same surface (within `edge`), as for a
+    /// depth image.
+    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2 {
+        if !z.is_finite() {
+            return Vec2::ZERO;
+        }
+        let near = |nx: u32, ny: u32| {
+            self.samples_at(nx, ny)
+                .1
+                .iter()
+                .find(|s| {
+                    is_filled(s.color) && s.depth.is_finite() && (s.depth - z).abs() <= edge * z
+                })
+                .map(|s| 1.0 / s.depth)
+        };
+        let axis = |dx: u32, dy: u32| {
+            if let Some(ahead) = near(x + dx, y + dy) {
+                return ahead - 1.0 / z;
+            }
+            if x >= dx && y >= dy {
+                if let Some(behind) = near(x - dx, y - dy) {
+                    return 1.0 / z - behind;
+                }
+            }
+            0.0
+        };
+        Vec2::new(axis(1, 0), axis(0, 1))
     }
 }
 
@@ -252,9 +338,9 @@ pub fn is_filled(c: Premul) -> bool {
 }
 
 /// Stage 3: every sample's entry, listed per (chunk, band) in order.
-fn bin(
+fn bin<S: Source>(
     eq: &Equation,
-    reference: &DepthImage,
+    reference: &S,
     options: &WarpOptions,
     runs: &[Run],
     bins: &mut Vec<Vec<Entry>>,
@@ -272,14 +358,24 @@ fn bin(
             let mut stats = WarpStats::default();
             for run in runs {
                 for x in run.pixels() {
-                    let Some(e) = warp_sample(eq, reference, options, x, run.y, w2, h2, &mut stats)
-                    else {
-                        continue;
-                    };
-                    let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
-                    for b in b0..=b1 {
-                        bins[b as usize].push(e);
-                    }
+                    reference.samples(x, run.y, |index, c, z| {
+                        let sample = Sample {
+                            x,
+                            y: run.y,
+                            index,
+                            c,
+                            z,
+                        };
+                        let Some(e) =
+                            warp_sample(eq, reference, options, sample, w2, h2, &mut stats)
+                        else {
+                            return;
+                        };
+                        let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
+                        for b in b0..=b1 {
+                            bins[b as usize].push(e);
+                        }
+                    });
                 }
             }
             stats
@@ -290,21 +386,27 @@ fn bin(
         })
 }
 
-/// Stage 2 for one sample: its entry, or `None` (empty, behind the eye, off the image).
-#[inline]
-fn warp_sample(
-    eq: &Equation,
-    reference: &DepthImage,
-    options: &WarpOptions,
+/// A sample of a source at pixel `(x, y)`.
+#[derive(Clone, Copy)]
+struct Sample {
     x: u32,
     y: u32,
+    index: u32,
+    c: Premul,
+    z: f32,
+}
+
+/// Stage 2 for one sample: its entry, or `None` (empty, behind the eye, off the image).
+#[inline]
+fn warp_sample<S: Source>(
+    eq: &Equation,
+    reference: &S,
+    options: &WarpOptions,
+    Sample { x, y, index, c, z }: Sample,
     w2: u32,
     h2: u32,
     stats: &mut WarpStats,
 ) -> Option<Entry> {
-    let w1 = reference.width();
-    let i = (y * w1 + x) as usize;
-    let (z, c) = (reference.depth[i], reference.color[i]);
     if !is_filled(c) || z.is_nan() || z <= 0.0 {
         return None;
     }
@@ -318,10 +420,7 @@ fn warp_sample(
     let (half_x, half_y) = match options.reconstruction {
         Reconstruction::Points => (0.5, 0.5),
         Reconstruction::Splats => {
-            let slope = Vec2::new(
-                slope(reference, x, y, 1, 0, z, options.edge),
-                slope(reference, x, y, 0, 1, z, options.edge),
-            );
+            let slope = reference.slope(x, y, z, options.edge);
             let (jx, jy) = eq.stretch(base, disparity, slope);
             let size = Vec2::new(jx.x.abs() + jy.x.abs(), jx.y.abs() + jy.y.abs());
             let size = size.clamp(Vec2::ONE, Vec2::splat(options.max_splat.max(1.0)));
@@ -351,7 +450,7 @@ fn warp_sample(
         x1,
         y1,
         depth,
-        index: i as u32,
+        index,
     })
 }
 
@@ -378,9 +477,9 @@ fn slope(r: &DepthImage, x: u32, y: u32, dx: u32, dy: u32, z: f32, edge: f32) ->
 
 /// Stage 4: the bins written into `out` band by band, chunks in order. Returns the pixels
 /// written.
-fn write(
+fn write<S: Source>(
     out: &mut DepthImage,
-    reference: &DepthImage,
+    reference: &S,
     bins: &[Vec<Entry>],
     vis: Visibility,
     edge: f32,
@@ -393,7 +492,6 @@ fn write(
         return 0;
     }
     let chunks = bins.len() / bands;
-    let src_color = &reference.color;
     out.color
         .par_chunks_mut(band_len)
         .zip(out.depth.par_chunks_mut(band_len))
@@ -406,7 +504,8 @@ fn write(
                 for e in &bins[c * bands + b] {
                     let y0 = (e.y0 as usize).max(y_base) - y_base;
                     let y1 = (e.y1 as usize).min(y_base + rows) - y_base;
-                    let sample = src_color[e.index as usize];
+                    let sample = reference.color(e.index);
+                    let opaque = sample.a >= 1.0;
                     for y in y0..y1 {
                         for k in y * w + e.x0 as usize..y * w + e.x1 as usize {
                             let pass = match vis {
@@ -416,7 +515,11 @@ fn write(
                                 }
                             };
                             if pass {
-                                color[k] = sample;
+                                color[k] = if opaque || vis == Visibility::DepthBuffer {
+                                    sample
+                                } else {
+                                    over(sample, color[k])
+                                };
                                 depth[k] = e.depth;
                                 written += 1;
                             }
@@ -427,6 +530,18 @@ fn write(
             written
         })
         .sum()
+}
+
+/// `a` over `b`, premultiplied.
+#[inline]
+fn over(a: Premul, b: Premul) -> Premul {
+    let k = 1.0 - a.a;
+    Premul {
+        r: a.r + b.r * k,
+        g: a.g + b.g * k,
+        b: a.b + b.b * k,
+        a: a.a + b.a * k,
+    }
 }
 
 /// Copies into `out` every sample of `layer` where `out` has a hole or a sample farther by

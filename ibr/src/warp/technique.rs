@@ -5,7 +5,7 @@
 
 use super::holes::{classify, Fill, Filler, HoleStats};
 use super::{is_filled, WarpOptions, WarpStats, Warper};
-use crate::images::DepthImage;
+use crate::images::{DepthImage, LayeredDepthImage};
 use crate::technique::{Counters, FrameView, Technique};
 use engine::{
     run_pass, Camera, Draw, Fragment, FrameStats, PassMode, PixelPass, PixelRect, Target,
@@ -16,9 +16,12 @@ use engine::{
 pub struct WarpedView {
     name: String,
     pub references: Vec<DepthImage>,
+    /// Layered depth images, warped (all of them) before the nearest references.
+    pub layered: Vec<LayeredDepthImage>,
     pub options: WarpOptions,
     pub fill: Fill,
-    /// How many references, the nearest to the eye first, are warped each frame.
+    /// How many references, the nearest to the eye first, are warped each frame (after the
+    /// layered images).
     pub nearest: usize,
     /// Whether holes are classified each frame (for counters and charts; a full pass over
     /// the image).
@@ -46,6 +49,7 @@ impl WarpedView {
         WarpedView {
             name: name.into(),
             references,
+            layered: Vec::new(),
             options: WarpOptions::default(),
             fill: Fill::PullPush,
             nearest: 2,
@@ -83,7 +87,11 @@ impl WarpedView {
             .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         self.warper.begin(camera, width, height);
         let mut frame = WarpFrame::default();
-        for &(_, i) in self.order.iter().take(self.nearest.max(1)) {
+        for ldi in &self.layered {
+            frame.stats += self.warper.add_layered(ldi, &self.options);
+            frame.references += 1;
+        }
+        for &(_, i) in self.order.iter().take(self.nearest) {
             frame.stats += self.warper.add(&self.references[i], &self.options);
             frame.references += 1;
         }

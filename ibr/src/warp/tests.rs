@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 
 /// A rectangle in the plane `z = z`, facing +z.
 #[derive(Clone, Copy)]
-struct Rect {
+pub(super) struct Rect {
     z: f32,
     min: Vec2,
     max: Vec2,
@@ -35,7 +35,7 @@ fn shade(p: Vec3, red: bool) -> Premul {
 }
 
 /// The wall at z = -6, the floor at y = -1.5 and the rectangles, as the camera sees them.
-fn cast(camera: &Camera, w: u32, h: u32, rects: &[Rect]) -> DepthImage {
+pub(super) fn cast(camera: &Camera, w: u32, h: u32, rects: &[Rect]) -> DepthImage {
     let eye = camera.eye();
     let mut image = DepthImage::new(w, h, *camera);
     for y in 0..h {
@@ -66,7 +66,7 @@ fn cast(camera: &Camera, w: u32, h: u32, rects: &[Rect]) -> DepthImage {
     image
 }
 
-fn boxes() -> Vec<Rect> {
+pub(super) fn boxes() -> Vec<Rect> {
     vec![
         Rect {
             z: -2.0,
@@ -83,14 +83,14 @@ fn boxes() -> Vec<Rect> {
     ]
 }
 
-fn camera(eye: Vec3, at: Vec3) -> Camera {
+pub(super) fn camera(eye: Vec3, at: Vec3) -> Camera {
     Camera::look_at(eye, at, Vec3::Y, 1.0, 4.0 / 3.0).with_depth_range(0.1, 50.0)
 }
 
-const W: u32 = 96;
-const H: u32 = 72;
+pub(super) const W: u32 = 96;
+pub(super) const H: u32 = 72;
 
-fn reference() -> DepthImage {
+pub(super) fn reference() -> DepthImage {
     cast(
         &camera(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -4.0)),
         W,
@@ -136,7 +136,7 @@ fn warping_to_the_reference_camera_gives_the_reference_back() {
 }
 
 /// Fraction of pixels filled in both where the colours differ by more than `tol`.
-fn mismatch(a: &DepthImage, b: &DepthImage, tol: f32) -> (f32, usize) {
+pub(super) fn mismatch(a: &DepthImage, b: &DepthImage, tol: f32) -> (f32, usize) {
     let mut both = 0;
     let mut off = 0;
     for (ca, cb) in a.color.iter().zip(&b.color) {
