@@ -10,7 +10,9 @@
 # is saved under fuzz/artifacts/<target>/ and the summary line says CRASH. New inputs
 # collect in fuzz/scratch/<target>/ (kept between runs, so a rerun resumes from them); at
 # the end those that reach new code are merged into fuzz/corpus/<target>/, which the test
-# suite replays (tests/tests/fuzz_corpus.rs). Works on stable Rust: RUSTC_BOOTSTRAP lets
+# suite replays (tests/tests/fuzz_corpus.rs). The repository keeps a sample of it: the
+# seeds, the regressions, and up to KEEP (default 300) inputs of at most 2 KiB, chosen by
+# name (their hashes), so the replay stays seconds long and the repository small. Works on stable Rust: RUSTC_BOOTSTRAP lets
 # cargo-fuzz pass its flags, and `-s none` skips the sanitizers (they need a nightly
 # standard library). Extra seeds come from ../shared/assets when it is there; they are
 # read, never merged into the repository's corpus.
@@ -18,6 +20,7 @@ set -uo pipefail
 cd "$(dirname "$0")"
 RUNS=${RUNS:-10000000}
 MAX_LEN=${MAX_LEN:-16384} # bytes; longer inputs mostly repeat statements and run slowly
+KEEP=${KEEP:-300}
 TARGETS=("$@")
 [ ${#TARGETS[@]} -eq 0 ] && TARGETS=(obj gltf glb image float_image transforms)
 command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked || exit 1
@@ -37,6 +40,14 @@ shared_seeds() {
     esac | head -50 | while read -r f; do cp "$f" "$out/shared-$(basename "$f")"; done
 }
 
+# Keeps seeds, regressions and the first KEEP small inputs (by name) of a corpus folder.
+prune() {
+    local dir=$1
+    find "$dir" -type f ! -name 'seed-*' ! -name 'regress-*' -size +2k -delete
+    find "$dir" -type f ! -name 'seed-*' ! -name 'regress-*' -printf '%f\n' | sort |
+        tail -n +$((KEEP + 1)) | while read -r f; do rm -f "$dir/$f"; done
+}
+
 run_one() {
     local t=$1 scratch=scratch/$1 log=logs/$1.log status
     mkdir -p logs "artifacts/$t" "$scratch"
@@ -49,6 +60,7 @@ run_one() {
     # themselves stay out of the repository.
     rm -f "$scratch"/shared-*
     cargo fuzz run -s none "$t" "corpus/$t" "$scratch" -- -merge=1 >>"$log" 2>&1
+    prune "corpus/$t"
     local runs secs
     runs=$(grep -E '^stat::number_of_executed_units' "$log" | tail -1 | awk '{print $2}')
     secs=$(grep -E '^Done [0-9]+ runs in' "$log" | tail -1 | awk '{print $5}')

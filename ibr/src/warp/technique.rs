@@ -15,6 +15,7 @@ use engine::{
 #[derive(Debug)]
 pub struct WarpedView {
     name: String,
+    /// The references (after replacing some in place, call [`WarpedView::references_changed`]).
     pub references: Vec<DepthImage>,
     /// Layered depth images, warped (all of them) before the nearest references.
     pub layered: Vec<LayeredDepthImage>,
@@ -29,6 +30,8 @@ pub struct WarpedView {
     warper: Warper,
     filler: Filler,
     order: Vec<(f32, usize)>,
+    /// Each reference's median depth, computed when the references change.
+    reach: Vec<f32>,
     last: WarpFrame,
 }
 
@@ -57,8 +60,14 @@ impl WarpedView {
             warper: Warper::new(),
             filler: Filler::default(),
             order: Vec::new(),
+            reach: Vec::new(),
             last: WarpFrame::default(),
         }
+    }
+
+    /// Forgets what was computed from the references (their median depths).
+    pub fn references_changed(&mut self) {
+        self.reach.clear();
     }
 
     /// The last frame's warped and filled image.
@@ -74,12 +83,16 @@ impl WarpedView {
     pub fn warp_to(&mut self, camera: &Camera, width: u32, height: u32) -> WarpFrame {
         let eye = camera.eye();
         let forward = camera.forward();
+        if self.reach.len() != self.references.len() {
+            self.reach = self.references.iter().map(median_depth).collect();
+        }
         self.order.clear();
+        let reach = &self.reach;
         self.order
             .extend(self.references.iter().enumerate().map(|(i, r)| {
                 // Distance between the eyes, plus the turn between the view directions scaled
                 // by how far the reference sees (a turn moves far samples most).
-                let reach = median_depth(r);
+                let reach = reach[i];
                 let turn = 1.0 - forward.dot(r.camera.forward()).clamp(-1.0, 1.0);
                 ((eye - r.camera.eye()).length() + turn * reach, i)
             }));
