@@ -133,10 +133,12 @@ pub struct Row {
     pub disocclusions: u64,
     /// Reference samples warped per frame.
     pub samples: u64,
+    /// The predicted parallax spread of the nearest reference (pixels).
+    pub predicted_px: f32,
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,value,method,references,width,height,triangles,frames,median_ms,min_ms,p90_ms,psnr_db,psnr_seen_db,mean_abs,frac_over,holes,cracks,disocclusions,samples,msamples_per_s";
+    const HEADER: &'static str = "series,value,method,references,width,height,triangles,frames,median_ms,min_ms,p90_ms,psnr_db,psnr_seen_db,mean_abs,frac_over,holes,cracks,disocclusions,samples,msamples_per_s,predicted_px";
 
     fn csv(&self) -> String {
         let e = self.error;
@@ -144,7 +146,7 @@ impl CsvRow for Row {
         let rate = (self.samples > 0 && self.time.median_ms > 0.0)
             .then(|| self.samples as f64 / self.time.median_ms / 1e3);
         format!(
-            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{:.5},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{:.5},{},{},{},{},{:.3}",
             self.series,
             self.value,
             self.method,
@@ -165,6 +167,7 @@ impl CsvRow for Row {
             self.disocclusions,
             self.samples,
             f(rate),
+            self.predicted_px,
         )
     }
 }
@@ -314,6 +317,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             cracks: 0,
             disocclusions: 0,
             samples: 0,
+            predicted_px: 0.0,
         });
         for (n, view) in views.iter_mut() {
             for (method, rec, composite) in METHODS {
@@ -427,6 +431,7 @@ fn measure(
         cracks: counted.holes.cracks,
         disocclusions: counted.holes.disocclusions,
         samples: counted.stats.samples,
+        predicted_px: counted.predicted_px,
     }
 }
 
@@ -462,5 +467,6 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
         cracks: 0,
         disocclusions: 0,
         samples: view.last().stats.samples,
+        predicted_px: view.last().predicted_px,
     }
 }

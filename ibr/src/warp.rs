@@ -28,6 +28,7 @@ pub mod equation;
 pub mod holes;
 pub mod ldi;
 pub mod order;
+pub mod predict;
 pub mod technique;
 
 use crate::images::{DepthImage, LayeredDepthImage, EMPTY};

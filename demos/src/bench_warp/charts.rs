@@ -76,6 +76,29 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             )),
         ),
     ];
+    // Predicted parallax against measured error, single references (the prediction is the
+    // nearest reference's).
+    let predicted: Vec<Line> = methods(rows)
+        .into_iter()
+        .filter(|&(m, n)| n == 1 && m != "ldi")
+        .map(|(m, n)| {
+            let points = rows
+                .iter()
+                .filter(|r| r.method == m && r.references == n && r.series != "speed")
+                .filter_map(|r| Some((r.predicted_px as f64, r.error?.mean_abs)))
+                .collect();
+            Line::new(name(m, n), points)
+        })
+        .collect();
+    out.push((
+        "warp_predicted.png",
+        Chart::Scatter(Lines::new(
+            format!("Predicted parallax against measured error, one reference{size}"),
+            "predicted parallax spread (pixels)",
+            "mean absolute error (8-bit levels)",
+            predicted,
+        )),
+    ));
     // Error against time: every measured frame of each method, and the geometry's.
     let mut lines: Vec<Line> = methods(rows)
         .into_iter()

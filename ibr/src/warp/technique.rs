@@ -4,6 +4,7 @@
 //! in front hides them and they hide geometry behind).
 
 use super::holes::{classify, Fill, Filler, HoleStats};
+use super::predict::{depth_range, parallax_px};
 use super::{is_filled, WarpOptions, WarpStats, Warper};
 use crate::images::{DepthImage, LayeredDepthImage};
 use crate::technique::{Counters, FrameView, Technique};
@@ -30,13 +31,14 @@ pub struct WarpedView {
     warper: Warper,
     filler: Filler,
     order: Vec<(f32, usize)>,
-    /// Each reference's median depth, computed when the references change.
+    /// Each reference's median depth and depth range, computed when the references change.
     reach: Vec<f32>,
+    ranges: Vec<Option<(f32, f32)>>,
     last: WarpFrame,
 }
 
 /// What the last frame's warp did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WarpFrame {
     pub stats: WarpStats,
     /// Holes before filling (zero when not counted).
@@ -45,6 +47,9 @@ pub struct WarpFrame {
     /// Pixels the image pass offers the target (filled output pixels).
     pub pixels: u64,
     pub references: u64,
+    /// The predicted parallax spread of the nearest reference, pixels
+    /// ([`super::predict::parallax_px`]): the widest a disocclusion can open.
+    pub predicted_px: f32,
 }
 
 impl WarpedView {
@@ -61,11 +66,12 @@ impl WarpedView {
             filler: Filler::default(),
             order: Vec::new(),
             reach: Vec::new(),
+            ranges: Vec::new(),
             last: WarpFrame::default(),
         }
     }
 
-    /// Forgets what was computed from the references (their median depths).
+    /// Forgets what was computed from the references (their depths' median and range).
     pub fn references_changed(&mut self) {
         self.reach.clear();
     }
@@ -85,6 +91,7 @@ impl WarpedView {
         let forward = camera.forward();
         if self.reach.len() != self.references.len() {
             self.reach = self.references.iter().map(median_depth).collect();
+            self.ranges = self.references.iter().map(depth_range).collect();
         }
         self.order.clear();
         let reach = &self.reach;
@@ -103,6 +110,12 @@ impl WarpedView {
         for ldi in &self.layered {
             frame.stats += self.warper.add_layered(ldi, &self.options);
             frame.references += 1;
+        }
+        if let Some(&(_, i)) = self.order.first().filter(|_| self.nearest > 0) {
+            let r = &self.references[i];
+            frame.predicted_px = self.ranges[i].map_or(0.0, |range| {
+                parallax_px(range, &r.camera, camera, width, height)
+            });
         }
         for &(_, i) in self.order.iter().take(self.nearest) {
             frame.stats += self.warper.add(&self.references[i], &self.options);
