@@ -455,6 +455,7 @@ fn warp_sweep_writes_csv_and_png_charts() {
             "warp_angle.png",
             "warp_holes.png",
             "warp_time.png",
+            "warp_predicted.png",
         ],
     );
 }

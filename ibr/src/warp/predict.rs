@@ -48,7 +48,7 @@ pub fn parallax_px(
         return 0.0;
     };
     let (near, far) = range;
-    if !(near > 0.0) {
+    if near.is_nan() || near <= 0.0 {
         return 0.0;
     }
     let inv = 1.0 / near - if far.is_finite() { 1.0 / far } else { 0.0 };
