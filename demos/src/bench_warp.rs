@@ -28,6 +28,7 @@ use ibr::subject::Subject;
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use ibr::warp::holes::Fill;
 use ibr::warp::ldi::LdiBuilder;
+use ibr::warp::mesh::{depth_mesh, depth_mesh_material};
 use ibr::warp::technique::WarpedView;
 use ibr::warp::{is_filled, Composite, Reconstruction, Visibility};
 use std::time::{Duration, Instant};
@@ -116,7 +117,8 @@ pub struct Row {
     pub value: f32,
     /// `geometry`, or `points` / `splats` / `splats-priority` for a warp of the nearest
     /// references, or `ldi`: one layered depth image at the home eye built from five views
-    /// (references: 5), splatted.
+    /// (references: 5), splatted; or `mesh`: the home view as a mesh broken at depth edges,
+    /// drawn by the rasterizer (references: 1).
     pub method: &'static str,
     pub references: usize,
     pub width: u32,
@@ -266,7 +268,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         .map(|&d| ("distance", d))
         .chain(plan.angles.iter().map(|&a| ("angle", a)))
         .collect();
-    let per_move = 2 + plan.references.len() * METHODS.len();
+    let per_move = 3 + plan.references.len() * METHODS.len();
     let mut tick = ticker(moves.len() * per_move + 1, progress);
     let mut rows = Vec::new();
     let mut views: Vec<(usize, WarpedView)> = plan
@@ -291,6 +293,13 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         v.layered.push(ldi);
         v.nearest = 0;
         v
+    };
+    // The home view as a mesh (the third reconstruction), drawn by the rasterizer.
+    let (home_mesh, mesh_material) = {
+        let image = &capture(&mut renderer, &mut frame, &mut target, 1)[0];
+        let (mut mesh, mut index) = (engine::Mesh::default(), Vec::new());
+        depth_mesh(image, 0.05, &mut mesh, &mut index);
+        (mesh, depth_mesh_material())
     };
     let (w, h) = plan.size;
     let mut truth = Target::new(w, h);
@@ -347,6 +356,22 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 });
             }
         }
+        tick(format!("{series} {value} mesh"));
+        rows.push(Row {
+            series,
+            value,
+            ..mesh_point(
+                &home_mesh,
+                &mesh_material,
+                &cam,
+                &city,
+                &truth,
+                &mut frame,
+                &mut renderer,
+                &mut target,
+                plan,
+            )
+        });
         tick(format!("{series} {value} ldi"));
         ldi_view.options.reconstruction = Reconstruction::Splats;
         let row = measure(
@@ -432,6 +457,57 @@ fn measure(
         disocclusions: counted.holes.disocclusions,
         samples: counted.stats.samples,
         predicted_px: counted.predicted_px,
+    }
+}
+
+/// The home view's depth mesh drawn from `cam` (no holes are filled: where the mesh
+/// broke, the sky shows), timed and compared like a warp.
+fn mesh_point(
+    mesh: &engine::Mesh,
+    material: &engine::Material,
+    cam: &Camera,
+    city: &City,
+    truth: &Target,
+    frame: &mut FrameLoop,
+    renderer: &mut Renderer,
+    target: &mut Target,
+    plan: &Plan,
+) -> Row {
+    let (w, h) = plan.size;
+    let view = FrameView {
+        camera: cam,
+        width: w,
+        height: h,
+        lighting: &city.lighting,
+        time: 0.0,
+        dt: 0.0,
+    };
+    let draw = Draw {
+        mesh,
+        material,
+        transform: glam::Mat4::IDENTITY,
+    };
+    let times = plan.frames.run(|| {
+        let t = Instant::now();
+        frame.render(renderer, [draw], &mut [], &view, target, &clear());
+        t.elapsed()
+    });
+    Row {
+        series: "",
+        value: 0.0,
+        method: "mesh",
+        references: 1,
+        width: w,
+        height: h,
+        triangles: city.triangle_count(),
+        time: Summary::of(&times),
+        error: metrics::compare(target, truth, &Options::default()).ok(),
+        psnr_seen: f64::NAN,
+        holes: 0.0,
+        cracks: 0,
+        disocclusions: 0,
+        samples: mesh.positions.len() as u64,
+        predicted_px: 0.0,
     }
 }
 

@@ -27,6 +27,7 @@
 pub mod equation;
 pub mod holes;
 pub mod ldi;
+pub mod mesh;
 pub mod order;
 pub mod predict;
 pub mod technique;
