@@ -449,7 +449,11 @@ fn warp_sweep_writes_csv_and_png_charts() {
     assert!(rows.iter().any(|r| r[0] == "speed"), "{csv}");
     assert!(rows.iter().any(|r| r[method] == "ldi"), "{csv}");
     // The home view's mesh was drawn.
-    assert!(rows.iter().any(|r| r[method] == "mesh" && t.num(r, "samples") > 0.0), "{csv}");
+    assert!(
+        rows.iter()
+            .any(|r| r[method] == "mesh" && t.num(r, "samples") > 0.0),
+        "{csv}"
+    );
     assert_charts(
         &dir,
         &[

@@ -12,12 +12,15 @@ use engine::{Draw, Encoding, FrameStats, Lighting, Rgba, Target};
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// A refresh's own capturer (renderer and target) and draw list.
+/// A refresh's own capturer (renderer and target), draw list, and the image's gradients
+/// ([`gradients`], measured on the worker's thread) with their row scratch.
 #[derive(Debug, Default)]
 pub(super) struct Worker {
     capturer: Capturer,
     draws: Vec<Draw<'static>>,
     pub(super) stats: FrameStats,
+    gradients: (f32, f32),
+    rows: Rows,
 }
 
 /// One refresh of a frame: which impostor, from where, into which texture.
@@ -95,6 +98,7 @@ impl ImpostorSet {
                 w.capturer.render(drawn, &camera, lighting, side, side, enc);
                 w.stats = w.capturer.last_stats();
                 w.draws = recycle(draws);
+                w.gradients = gradients(w.capturer.target(), &job.capture, &mut w.rows);
             });
     }
 
@@ -106,7 +110,7 @@ impl ImpostorSet {
         if let Some(tex) = self.pool.texture_mut(slot) {
             target.copy_to_texture(tex);
         }
-        let (gradient, depth_gradient) = gradients(target, &capture);
+        let (gradient, depth_gradient) = self.workers[k].gradients;
         let capture = Capture {
             gradient,
             depth_gradient,
@@ -146,38 +150,66 @@ impl ImpostorSet {
     }
 }
 
+/// Two rows of an image's stored pixels and of their surfaces' distances from the quad's
+/// plane, reused.
+#[derive(Debug, Default)]
+struct Rows {
+    px: [Vec<[u8; 4]>; 2],
+    off: [Vec<f32>; 2],
+}
+
 /// The mean absolute difference between horizontally and vertically neighbouring texels
 /// of `t`, over RGB of the stored 8-bit values ([`Capture::gradient`]), and the same with
 /// each difference weighted by its surface's distance from the quad's plane in radii
-/// ([`Capture::depth_gradient`]; the nearer texel of a pair that holds a surface).
-fn gradients(t: &Target, c: &Capture) -> (f32, f32) {
+/// ([`Capture::depth_gradient`]; the nearer texel of a pair that holds a surface). Each
+/// texel is read and its distance computed once (two rows at a time).
+fn gradients(t: &Target, c: &Capture, rows: &mut Rows) -> (f32, f32) {
     let (w, h) = (t.width(), t.height());
     let camera = c.camera();
     let plane = c.eye.distance(c.center);
-    let px = |x: u32, y: u32| t.pixel(x, y).unwrap_or(0).to_le_bytes();
-    // Distance from the plane in radii, 0 where nothing was drawn.
-    let off = |x: u32, y: u32| {
-        let d = t.depth_reversed(x, y).unwrap_or(0.0);
-        if d > 0.0 {
-            ((camera.view_depth_from_reversed(d) - plane).abs() / c.radius).min(1.0)
-        } else {
-            0.0
+    // Row y's pixels and distances from the plane in radii (0 where nothing was drawn).
+    let fill = |y: u32, px: &mut Vec<[u8; 4]>, off: &mut Vec<f32>| {
+        px.clear();
+        off.clear();
+        for x in 0..w {
+            px.push(t.pixel(x, y).unwrap_or(0).to_le_bytes());
+            let d = t.depth_reversed(x, y).unwrap_or(0.0);
+            off.push(if d > 0.0 {
+                ((camera.view_depth_from_reversed(d) - plane).abs() / c.radius).min(1.0)
+            } else {
+                0.0
+            });
         }
     };
+    let diff = |p: &[u8; 4], q: &[u8; 4]| (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>();
     let (mut sum, mut weighted, mut n) = (0u64, 0f64, 0u64);
-    for y in 0..h {
-        for x in 0..w {
-            let (p, dp) = (px(x, y), off(x, y));
-            for (qx, qy) in [(x + 1, y), (x, y + 1)] {
-                if qx >= w || qy >= h {
-                    continue;
-                }
-                let q = px(qx, qy);
-                let diff = (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>();
-                sum += diff;
-                weighted += diff as f64 * dp.max(off(qx, qy)) as f64;
-                n += 3;
+    if h > 0 {
+        let [px0, px1] = &mut rows.px;
+        let [off0, off1] = &mut rows.off;
+        fill(0, px0, off0);
+        for y in 0..h {
+            let below = y + 1 < h;
+            if below {
+                fill(y + 1, px1, off1);
             }
+            for x in 0..w as usize {
+                let (p, dp) = (&px0[x], off0[x]);
+                // The same pairs, in the same order, as texel by texel: right, then below.
+                if x + 1 < w as usize {
+                    let d = diff(p, &px0[x + 1]);
+                    sum += d;
+                    weighted += d as f64 * dp.max(off0[x + 1]) as f64;
+                    n += 3;
+                }
+                if below {
+                    let d = diff(p, &px1[x]);
+                    sum += d;
+                    weighted += d as f64 * dp.max(off1[x]) as f64;
+                    n += 3;
+                }
+            }
+            std::mem::swap(px0, px1);
+            std::mem::swap(off0, off1);
         }
     }
     let n = n.max(1);
