@@ -19,8 +19,6 @@ def load(path, keys):
     rows = {}
     with open(path) as f:
         for r in csv.DictReader(f):
-            if not r.get("median_ms"):
-                continue
             rows[tuple(r[k] for k in keys)] = r
     return rows
 
@@ -34,7 +32,7 @@ def main():
         for c in (before, after):
             for r in range(1, rounds + 1):
                 for k, row in load(f"{out}/{c}-r{r}/{sweep}.csv", keys).items():
-                    t = float(row["median_ms"])
+                    t = float(row.get("median_ms") or 0)
                     if t > 0:
                         best.setdefault(c, {})
                         best[c][k] = min(best[c].get(k, math.inf), t)
@@ -47,10 +45,15 @@ def main():
             ratios.append(a / b)
             print(f"  {' '.join(k):<60} before {b:9.3f}  after {a:9.3f}  ratio {a / b:6.3f}")
         gm = math.exp(sum(math.log(x) for x in ratios) / len(ratios)) if ratios else float("nan")
-        same = sum(1 for k in common if errs[before][k] == errs[after][k])
+        # Rows where both builds measured an error (a column may be newer than a build).
+        rows_both = sorted(set(errs[before]) & set(errs[after]))
+        both = [k for k in rows_both
+                if any(x and y for x, y in zip(errs[before][k], errs[after][k]))]
+        same = sum(1 for k in both
+                   if all(x == y for x, y in zip(errs[before][k], errs[after][k]) if x and y))
         print(f"{sweep}: geometric mean ratio after/before {gm:.3f}; "
               f"median ratio {sorted(ratios)[len(ratios) // 2]:.3f}; "
-              f"error columns equal in {same} of {len(common)} rows")
+              f"error columns equal in {same} of the {len(both)} rows both builds measured")
 
 
 if __name__ == "__main__":
