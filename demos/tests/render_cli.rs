@@ -7,28 +7,8 @@ use std::process::{Command, Output};
 const W: u32 = 64;
 const H: u32 = 48;
 
-/// A scratch folder under the system temp dir, removed on drop.
-struct Tmp(PathBuf);
-
-impl Tmp {
-    fn new(name: &str) -> Tmp {
-        let d =
-            std::env::temp_dir().join(format!("parallax-render-cli-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Tmp(d)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Tmp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::Tmp;
 
 /// A unit quad at z = 0 as two triangles with vertex colours: triangle 1 is the half below
 /// the diagonal y = x, triangle 2 the half above.
@@ -101,7 +81,7 @@ fn render_to(obj: &Path, shading: &str, png: &Path, dep: &Path) {
 
 #[test]
 fn faceid_and_vertex_images_and_depth() {
-    let t = Tmp::new("images");
+    let t = Tmp::new("render-cli", "images");
     let obj = t.path("quad.obj");
     std::fs::write(&obj, QUAD).unwrap();
     let (png, dep) = (t.path("faceid.png"), t.path("faceid.f32"));
@@ -131,7 +111,7 @@ fn faceid_and_vertex_images_and_depth() {
 
 #[test]
 fn frames_prints_the_timing_line_last() {
-    let t = Tmp::new("timing");
+    let t = Tmp::new("render-cli", "timing");
     let obj = t.path("quad.obj");
     std::fs::write(&obj, QUAD).unwrap();
     let out = render(&[
@@ -186,7 +166,7 @@ fn assert_one_line_error(args: &[&str], code: i32, needle: &str) {
 
 #[test]
 fn errors_are_one_line_without_panics() {
-    let t = Tmp::new("errors");
+    let t = Tmp::new("render-cli", "errors");
     let obj = t.path("quad.obj");
     std::fs::write(&obj, QUAD).unwrap();
     let o = obj.to_str().unwrap();
@@ -223,7 +203,7 @@ fn errors_are_one_line_without_panics() {
 
 #[test]
 fn an_empty_scene_renders_an_empty_frame_with_a_notice() {
-    let t = Tmp::new("empty");
+    let t = Tmp::new("render-cli", "empty");
     let (gltf, obj) = (t.path("empty.gltf"), t.path("empty.obj"));
     std::fs::write(
         &gltf,

@@ -2,31 +2,11 @@
 //! and warped to a new camera, agreeing with a render from that camera; bad input is a
 //! one-line error naming the file.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-/// A scratch folder under the system temp dir, removed on drop.
-struct Tmp(PathBuf);
-
-impl Tmp {
-    fn new(name: &str) -> Tmp {
-        let d =
-            std::env::temp_dir().join(format!("parallax-warp-cli-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        Tmp(d)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for Tmp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::Tmp;
 
 /// A red square in front of a larger green-and-blue one (vertex colours), so a new view
 /// shows parallax and uncovers some of the back square.
@@ -71,7 +51,7 @@ fn s(p: &Path) -> &str {
 
 #[test]
 fn a_capture_warps_to_what_a_render_from_there_shows() {
-    let tmp = Tmp::new("roundtrip");
+    let tmp = Tmp::new("warp-cli", "roundtrip");
     let obj = tmp.path("scene.obj");
     std::fs::write(&obj, SCENE).unwrap();
     let cap = tmp.path("cap");
@@ -152,7 +132,7 @@ fn a_capture_warps_to_what_a_render_from_there_shows() {
 
 #[test]
 fn bad_input_is_one_line_naming_the_file() {
-    let tmp = Tmp::new("bad");
+    let tmp = Tmp::new("warp-cli", "bad");
     let json = tmp.path("transforms.json");
     std::fs::write(&json, r#"{"camera_angle_x": 1, "frames": []}"#).unwrap();
     let png = tmp.path("o.png");

@@ -319,52 +319,27 @@ fn background(image: &mut DepthImage, best: &mut Vec<Option<usize>>) -> u64 {
     let filled = |i: usize| is_filled(image.color[i]);
     best.clear();
     best.resize(w * h, None);
-    let consider = |best: &mut Vec<Option<usize>>, i: usize, src: Option<usize>| {
-        if let Some(s) = src {
-            if best[i].is_none_or(|b| image.depth[s] > image.depth[b]) {
-                best[i] = Some(s);
+    // One sweep along a line of pixels: each hole considers the last sample passed, and
+    // keeps the farthest of those its sweeps offer.
+    let mut sweep = |line: &mut dyn Iterator<Item = usize>| {
+        let mut last: Option<usize> = None;
+        for i in line {
+            if filled(i) {
+                last = Some(i);
+            } else if let Some(s) = last {
+                if best[i].is_none_or(|b| image.depth[s] > image.depth[b]) {
+                    best[i] = Some(s);
+                }
             }
         }
     };
     for y in 0..h {
-        let mut last = None;
-        for x in 0..w {
-            let i = y * w + x;
-            if filled(i) {
-                last = Some(i);
-            } else {
-                consider(best, i, last);
-            }
-        }
-        let mut last = None;
-        for x in (0..w).rev() {
-            let i = y * w + x;
-            if filled(i) {
-                last = Some(i);
-            } else {
-                consider(best, i, last);
-            }
-        }
+        sweep(&mut (y * w..(y + 1) * w));
+        sweep(&mut (y * w..(y + 1) * w).rev());
     }
     for x in 0..w {
-        let mut last = None;
-        for y in 0..h {
-            let i = y * w + x;
-            if filled(i) {
-                last = Some(i);
-            } else {
-                consider(best, i, last);
-            }
-        }
-        let mut last = None;
-        for y in (0..h).rev() {
-            let i = y * w + x;
-            if filled(i) {
-                last = Some(i);
-            } else {
-                consider(best, i, last);
-            }
-        }
+        sweep(&mut (0..h).map(|y| y * w + x));
+        sweep(&mut (0..h).rev().map(|y| y * w + x));
     }
     let mut count = 0;
     for (i, b) in best.iter().enumerate() {
