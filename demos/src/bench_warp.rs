@@ -139,6 +139,34 @@ pub struct Row {
     pub predicted_px: f32,
 }
 
+impl Row {
+    /// A timed point with nothing else measured yet: no error, no holes, no samples.
+    fn timed(
+        method: &'static str,
+        (width, height): (u32, u32),
+        city: &City,
+        times: &[Duration],
+    ) -> Row {
+        Row {
+            series: "",
+            value: 0.0,
+            method,
+            references: 0,
+            width,
+            height,
+            triangles: city.triangle_count(),
+            time: Summary::of(times),
+            error: None,
+            psnr_seen: f64::NAN,
+            holes: 0.0,
+            cracks: 0,
+            disocclusions: 0,
+            samples: 0,
+            predicted_px: 0.0,
+        }
+    }
+}
+
 impl CsvRow for Row {
     const HEADER: &'static str = "series,value,method,references,width,height,triangles,frames,median_ms,min_ms,p90_ms,psnr_db,psnr_seen_db,mean_abs,frac_over,holes,cracks,disocclusions,samples,msamples_per_s,predicted_px";
 
@@ -314,19 +342,8 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         rows.push(Row {
             series,
             value,
-            method: "geometry",
-            references: 0,
-            width: w,
-            height: h,
-            triangles: city.triangle_count(),
-            time: Summary::of(&times),
-            error: None,
             psnr_seen: f64::INFINITY,
-            holes: 0.0,
-            cracks: 0,
-            disocclusions: 0,
-            samples: 0,
-            predicted_px: 0.0,
+            ..Row::timed("geometry", plan.size, &city, &times)
         });
         for (n, view) in views.iter_mut() {
             for (method, rec, composite) in METHODS {
@@ -442,14 +459,6 @@ fn measure(
     .ok();
     let pixels = (w as u64 * h as u64).max(1);
     Row {
-        series: "",
-        value: 0.0,
-        method: "",
-        references: 0,
-        width: w,
-        height: h,
-        triangles: city.triangle_count(),
-        time: Summary::of(&times),
         error,
         psnr_seen: seen_err.map_or(f64::NAN, |e| e.psnr_db),
         holes: counted.holes.total() as f64 / pixels as f64,
@@ -457,6 +466,7 @@ fn measure(
         disocclusions: counted.holes.disocclusions,
         samples: counted.stats.samples,
         predicted_px: counted.predicted_px,
+        ..Row::timed("", plan.size, city, &times)
     }
 }
 
@@ -493,21 +503,10 @@ fn mesh_point(
         t.elapsed()
     });
     Row {
-        series: "",
-        value: 0.0,
-        method: "mesh",
         references: 1,
-        width: w,
-        height: h,
-        triangles: city.triangle_count(),
-        time: Summary::of(&times),
         error: metrics::compare(target, truth, &Options::default()).ok(),
-        psnr_seen: f64::NAN,
-        holes: 0.0,
-        cracks: 0,
-        disocclusions: 0,
         samples: mesh.positions.len() as u64,
-        predicted_px: 0.0,
+        ..Row::timed("mesh", (w, h), city, &times)
     }
 }
 
@@ -531,18 +530,9 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
     Row {
         series: "speed",
         value: 0.05,
-        method: "splats",
         references: 1,
-        width: w,
-        height: h,
-        triangles: city.triangle_count(),
-        time: Summary::of(&times),
-        error: None,
-        psnr_seen: f64::NAN,
-        holes: 0.0,
-        cracks: 0,
-        disocclusions: 0,
         samples: view.last().stats.samples,
         predicted_px: view.last().predicted_px,
+        ..Row::timed("splats", (w, h), city, &times)
     }
 }
