@@ -221,6 +221,22 @@ fn camera(eye: Vec3, at: Vec3, (w, h): (u32, u32), city: &City) -> Camera {
         .with_depth_range(0.5, city.half_extent * 8.0)
 }
 
+/// The frame view of `camera` over the city at `size` (a still scene: no time).
+fn still_view<'a>(
+    camera: &'a Camera,
+    city: &'a City,
+    (width, height): (u32, u32),
+) -> FrameView<'a> {
+    FrameView {
+        camera,
+        width,
+        height,
+        lighting: &city.lighting,
+        time: 0.0,
+        dt: 0.0,
+    }
+}
+
 /// Renders the city's geometry from `camera` into `target`.
 fn geometry(
     renderer: &mut Renderer,
@@ -234,14 +250,7 @@ fn geometry(
     for b in &city.buildings {
         b.draws(&mut draws);
     }
-    let view = FrameView {
-        camera,
-        width: target.width(),
-        height: target.height(),
-        lighting: &city.lighting,
-        time: 0.0,
-        dt: 0.0,
-    };
+    let view = still_view(camera, city, (target.width(), target.height()));
     frame.render(renderer, draws, &mut [], &view, target, &clear());
 }
 
@@ -426,14 +435,7 @@ fn measure(
     plan: &Plan,
 ) -> Row {
     let (w, h) = plan.size;
-    let frame_view = FrameView {
-        camera: cam,
-        width: w,
-        height: h,
-        lighting: &city.lighting,
-        time: 0.0,
-        dt: 0.0,
-    };
+    let frame_view = still_view(cam, city, (w, h));
     // Counted: the holes before filling, and the pixels the references saw.
     view.fill = Fill::None;
     view.count_holes = true;
@@ -484,14 +486,7 @@ fn mesh_point(
     plan: &Plan,
 ) -> Row {
     let (w, h) = plan.size;
-    let view = FrameView {
-        camera: cam,
-        width: w,
-        height: h,
-        lighting: &city.lighting,
-        time: 0.0,
-        dt: 0.0,
-    };
+    let view = still_view(cam, city, (w, h));
     let draw = Draw {
         mesh,
         material,

@@ -156,28 +156,20 @@ fn references(a: &Args) -> Result<Vec<DepthImage>, String> {
         return Err("give --capture FILE, or --colour FILE --depth FILE".into());
     };
     // The camera's aspect comes from the image, read first.
-    let probe = perspective(
-        a.ref_eye,
-        a.ref_target,
-        a.up,
-        a.ref_fov_y,
-        1,
-        1,
-        a.near,
-        a.far,
-    );
-    let mut image = read_depth_image(colour, depth, probe).map_err(|e| e.to_string())?;
-    let (w, h) = (image.width(), image.height());
-    image.camera = perspective(
-        a.ref_eye,
-        a.ref_target,
-        a.up,
-        a.ref_fov_y,
-        w,
-        h,
-        a.near,
-        a.far,
-    );
+    let camera = |w, h| {
+        perspective(
+            a.ref_eye,
+            a.ref_target,
+            a.up,
+            a.ref_fov_y,
+            w,
+            h,
+            a.near,
+            a.far,
+        )
+    };
+    let mut image = read_depth_image(colour, depth, camera(1, 1)).map_err(|e| e.to_string())?;
+    image.camera = camera(image.width(), image.height());
     Ok(vec![image])
 }
 
