@@ -3,6 +3,7 @@
 //! folder, huge sizes, missing textures, garbage OBJ, ...) give errors naming the file,
 //! never panics.
 
+use engine::load::fuzz::glb_container;
 use engine::load::{self, LoadError, Loaded};
 use engine::{AlphaMode, Encoding, Shading, Wrap};
 use std::path::{Path, PathBuf};
@@ -84,27 +85,8 @@ fn tri_gltf(buffer: &str, prim: &str, extra: &str) -> String {
     )
 }
 
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    j.resize(j.len().div_ceil(4) * 4, b' ');
-    let mut b = bin.to_vec();
-    b.resize(b.len().div_ceil(4) * 4, 0);
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = Vec::new();
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&j);
-    out.extend_from_slice(&(b.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&b);
-    out
-}
-
 fn tri_glb(indices: [u16; 3]) -> Vec<u8> {
-    glb(&tri_gltf(r#"{"byteLength":44}"#, "", ""), &tri_bin(indices))
+    glb_container(&tri_gltf(r#"{"byteLength":44}"#, "", ""), &tri_bin(indices))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -297,7 +279,7 @@ fn strips_and_fans_become_triangles() {
 "buffers":[{{"byteLength":60}}],"bufferViews":[{{"buffer":0,"byteLength":60}}],
 "accessors":[{{"bufferView":0,"componentType":5126,"count":5,"type":"VEC3","min":[0,0,0],"max":[2,1,0]}}]}}"#
         );
-        let p = t.write(&format!("mode{mode}.glb"), glb(&json, &bin));
+        let p = t.write(&format!("mode{mode}.glb"), glb_container(&json, &bin));
         let l = load::gltf(&p).unwrap();
         assert_eq!(l.scene.meshes.len(), 1, "lines primitive skipped");
         assert_eq!(l.scene.meshes[0].indices, want, "mode {mode}");
@@ -378,13 +360,13 @@ fn broken_gltf_files_give_errors_naming_the_file() {
         r#""count":3,"type":"VEC3""#,
         r#""count":4000000000,"type":"VEC3""#,
     );
-    let p = t.write("count.glb", glb(&json, &tri_bin([0, 1, 2])));
+    let p = t.write("count.glb", glb_container(&json, &tri_bin([0, 1, 2])));
     err_naming(load::gltf(&p), &p);
     let json = tri_gltf(r#"{"byteLength":44}"#, "", "").replace(
         r#""byteOffset":36,"byteLength":6"#,
         r#""byteOffset":36,"byteLength":600"#,
     );
-    let p = t.write("view.glb", glb(&json, &tri_bin([0, 1, 2])));
+    let p = t.write("view.glb", glb_container(&json, &tri_bin([0, 1, 2])));
     err_naming(load::gltf(&p), &p);
 
     // Not glTF at all, and a file that does not exist.
@@ -611,7 +593,7 @@ fn rich_glb() -> (String, Vec<u8>) {
 fn rich_glb_attributes_are_read() {
     let t = Tmp::new("rich");
     let (json, bin) = rich_glb();
-    let l = load::gltf(&t.write("rich.glb", glb(&json, &bin))).unwrap();
+    let l = load::gltf(&t.write("rich.glb", glb_container(&json, &bin))).unwrap();
     assert!(l.warnings.is_empty(), "{:?}", l.warnings);
     let s = &l.scene;
     let m = &s.meshes[0];
@@ -733,7 +715,7 @@ fn mutated_glb_files_never_panic() {
                 }
             }
         }
-        let p = t.write("m.glb", glb(&j, &b));
+        let p = t.write("m.glb", glb_container(&j, &b));
         tally(load::gltf(&p), "m.glb", &mut ok, &mut err);
     }
     println!("{ok} loaded, {err} refused");

@@ -4,6 +4,7 @@
 //! without faces. Every file is written here, by hand, from the specifications; loaded
 //! from memory ([`load::Memory`]) and from disk alike.
 
+use engine::load::fuzz::glb_container;
 use engine::load::{self, Loaded, Memory};
 use engine::Rgba;
 use glam::Vec3;
@@ -46,27 +47,6 @@ fn warned(l: &Loaded, what: &str) -> bool {
     l.warnings.iter().any(|w| w.contains(what))
 }
 
-/// A GLB of `json` and a binary chunk.
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut j = json.as_bytes().to_vec();
-    j.resize(j.len().div_ceil(4) * 4, b' ');
-    let mut b = bin.to_vec();
-    b.resize(b.len().div_ceil(4) * 4, 0);
-    let total = 12 + 8 + j.len() + if b.is_empty() { 0 } else { 8 + b.len() };
-    let mut out = b"glTF".to_vec();
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&j);
-    if !b.is_empty() {
-        out.extend_from_slice(&(b.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&b);
-    }
-    out
-}
-
 fn f32s(v: &[f32]) -> Vec<u8> {
     v.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
@@ -93,7 +73,7 @@ fn a_scene_without_nodes_loads_as_an_empty_scene_with_a_notice() {
     let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"name":"empty"}]}"#;
     for (name, bytes) in [
         ("empty.gltf", json.as_bytes().to_vec()),
-        ("empty.glb", glb(json, &[])),
+        ("empty.glb", glb_container(json, &[])),
     ] {
         let l = load_both(name, &[(name, &bytes)]);
         assert!(l.scene.instances.is_empty(), "{name}");
@@ -170,7 +150,7 @@ fn sparse_accessors_replace_the_listed_elements() {
  {"bufferView":4,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[4,1,0],
   "sparse":{"count":1,"indices":{"bufferView":2,"componentType":5121},
             "values":{"bufferView":3}}}]}"#;
-    let file = glb(json, &bin);
+    let file = glb_container(json, &bin);
     let l = load_both("s.glb", &[("s.glb", &file)]);
     let positions: Vec<&[Vec3]> = l
         .scene

@@ -27,6 +27,28 @@ pub const TEXTURE_PNG: &[u8] = &[
     0x00, 0x00, 0x00, 0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82,
 ];
 
+/// A GLB container of `json` and, when not empty, the binary chunk `bin` (each padded to
+/// four bytes: spaces and zeros), as the specification lays it out. For tests and seeds.
+pub fn glb_container(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut j = json.as_bytes().to_vec();
+    j.resize(j.len().div_ceil(4) * 4, b' ');
+    let mut b = bin.to_vec();
+    b.resize(b.len().div_ceil(4) * 4, 0);
+    let total = 12 + 8 + j.len() + if b.is_empty() { 0 } else { 8 + b.len() };
+    let mut out = b"glTF".to_vec();
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(j.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&j);
+    if !b.is_empty() {
+        out.extend_from_slice(&(b.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&b);
+    }
+    out
+}
+
 /// A small binary buffer the glTF inputs may refer to as `b.bin`.
 fn buffer() -> Vec<u8> {
     (0..=255u8).cycle().take(1024).collect()

@@ -63,26 +63,6 @@ fn glb(bytes: &[u8]) -> Option<Vec<u8>> {
 mod tests {
     use super::*;
 
-    fn glb_of(json: &str, bin: &[u8]) -> Vec<u8> {
-        let mut j = json.as_bytes().to_vec();
-        while !j.len().is_multiple_of(4) {
-            j.push(b' ');
-        }
-        let total = 12 + 8 + j.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
-        let mut out = b"glTF".to_vec();
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(j.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&j);
-        if !bin.is_empty() {
-            out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-            out.extend_from_slice(b"BIN\0");
-            out.extend_from_slice(bin);
-        }
-        out
-    }
-
     #[test]
     fn scenes_without_nodes_get_an_empty_list_and_nothing_else_changes() {
         let text = br#"{"asset":{"version":"2.0"},"scenes":[{"name":"a"},{"nodes":[0]}]}"#;
@@ -101,7 +81,8 @@ mod tests {
     #[test]
     fn a_glb_keeps_its_binary_chunk_and_framing() {
         let bin = [1u8, 2, 3, 4, 5, 6, 7, 8];
-        let glb = glb_of(r#"{"asset":{"version":"2.0"},"scenes":[{}]}"#, &bin);
+        let glb =
+            crate::load::fuzz::glb_container(r#"{"asset":{"version":"2.0"},"scenes":[{}]}"#, &bin);
         let out = optional_fields(&glb);
         assert_eq!(u32_at(&out, 8), Some(out.len() as u32));
         let len = u32_at(&out, 12).unwrap() as usize;
