@@ -32,11 +32,19 @@ pub enum Drawn {
 }
 
 const SIZE: (u32, u32) = (960, 600);
-const SERIES: [RGBColor; 4] = [
+/// Series colours in order (the first four as before; ten in all, so a chart of up to ten
+/// lines, such as the warp sweep's methods, tells every line apart).
+const SERIES: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
     RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
 
 /// A chart ready to draw with [`draw`].
@@ -45,7 +53,7 @@ pub enum Chart {
     /// Each line's points joined.
     Lines(Lines),
     /// Each line's points as dots, not joined (a scatter: one colour per line, repeating
-    /// after four).
+    /// after ten).
     Scatter(Lines),
     /// One labelled line and loose labelled dots.
     LineAndDots(LineAndDots),
