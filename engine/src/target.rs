@@ -126,6 +126,35 @@ impl Target {
         (x < self.width && y < self.height).then(|| self.color[self.index(x, y)])
     }
 
+    /// Where row `y` (inside the target) lies in the tiled storage: `(x, at, n)` for each
+    /// run of `n` contiguous values starting at index `at`, pixel `x` first (a block's row,
+    /// 8 values at most), left to right.
+    fn row_runs(&self, y: u32) -> impl Iterator<Item = (usize, usize, usize)> {
+        let w = self.width as usize;
+        let tile_row = (y as usize >> TILE_SHIFT) * self.tiles_x as usize;
+        let inner = offset_in_tile(0, y as usize & (TILE - 1));
+        (0..w).step_by(BLOCK).map(move |x0| {
+            let tile = tile_row + (x0 >> TILE_SHIFT);
+            let at = tile * TILE_PIXELS + inner + ((x0 & (TILE - 1)) / BLOCK) * BLOCK * BLOCK;
+            (x0, at, BLOCK.min(w - x0))
+        })
+    }
+
+    /// Row `y`'s packed colours and reversed depths, left to right, into `color` and
+    /// `depth` (cleared first; left empty for a row outside the target). Copies runs of
+    /// the tiled storage, not a tile lookup per pixel.
+    pub fn read_row(&self, y: u32, color: &mut Vec<u32>, depth: &mut Vec<f32>) {
+        color.clear();
+        depth.clear();
+        if y >= self.height {
+            return;
+        }
+        for (_, at, n) in self.row_runs(y) {
+            color.extend_from_slice(&self.color[at..at + n]);
+            depth.extend_from_slice(&self.depth[at..at + n]);
+        }
+    }
+
     /// Premultiplied linear colour at a pixel.
     pub fn color_linear(&self, x: u32, y: u32) -> Option<Premul> {
         self.pixel(x, y).map(|p| unpack(self.encoding, p))
@@ -146,8 +175,8 @@ impl Target {
     pub fn to_rgba8_premultiplied(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(self.width as usize * self.height as usize * 4);
         for y in 0..self.height {
-            for x in 0..self.width {
-                out.extend_from_slice(&self.color[self.index(x, y)].to_le_bytes());
+            for (_, at, n) in self.row_runs(y) {
+                out.extend(self.color[at..at + n].iter().flat_map(|p| p.to_le_bytes()));
             }
         }
         out
@@ -207,8 +236,8 @@ impl Target {
         let w = self.width as usize;
         tex.refill(self.width, self.height, self.encoding, true, |out| {
             for (y, row) in out.chunks_exact_mut(w.max(1)).enumerate() {
-                for (x, px) in row.iter_mut().enumerate() {
-                    *px = self.color[self.index(x as u32, y as u32)];
+                for (x, at, n) in self.row_runs(y as u32) {
+                    row[x..x + n].copy_from_slice(&self.color[at..at + n]);
                 }
             }
         })
@@ -263,6 +292,27 @@ mod tests {
         }
         assert_eq!(t.tiles_x(), 3);
         assert_eq!(t.tiles_y(), 2);
+    }
+
+    #[test]
+    fn rows_read_as_pixel_by_pixel() {
+        let mut t = Target::new(141, 70);
+        for (i, (px, d)) in t.color.iter_mut().zip(&mut t.depth).enumerate() {
+            *px = (i as u32).wrapping_mul(0x9e37_79b9);
+            *d = i as f32;
+        }
+        let (mut c, mut d) = (Vec::new(), Vec::new());
+        let mut bytes = Vec::new();
+        for y in 0..70 {
+            t.read_row(y, &mut c, &mut d);
+            let px: Vec<u32> = (0..141).map(|x| t.pixel(x, y).unwrap()).collect();
+            let depth: Vec<f32> = (0..141).map(|x| t.depth_reversed(x, y).unwrap()).collect();
+            assert_eq!((&c, &d), (&px, &depth), "row {y}");
+            bytes.extend(px.iter().flat_map(|p| p.to_le_bytes()));
+        }
+        assert_eq!(t.to_rgba8_premultiplied(), bytes);
+        t.read_row(70, &mut c, &mut d);
+        assert!(c.is_empty() && d.is_empty());
     }
 
     #[test]

@@ -60,13 +60,20 @@ impl Pool {
         }
     }
 
-    /// The texture of `slot`, to be rewritten (the pool's material holds the only
-    /// reference, so this never fails for a slot the pool made).
-    pub fn texture_mut(&mut self, slot: usize) -> Option<&mut Texture> {
-        let s = self.slots.get_mut(slot)?;
-        let tex = Arc::get_mut(s.material.base_texture.as_mut()?)?;
-        s.side = tex.width();
-        Some(tex)
+    /// Puts `tex` in `slot` and hands back the texture it held, so the refresh that
+    /// filled `tex` gets the old one's memory to fill next time (the pool's material holds
+    /// the only reference, so this succeeds for every slot the pool made); `false`, with
+    /// nothing swapped, for another slot.
+    pub fn swap_texture(&mut self, slot: usize, tex: &mut Texture) -> bool {
+        let Some(s) = self.slots.get_mut(slot) else {
+            return false;
+        };
+        let Some(held) = s.material.base_texture.as_mut().and_then(Arc::get_mut) else {
+            return false;
+        };
+        std::mem::swap(held, tex);
+        s.side = held.width();
+        true
     }
 
     pub fn material(&self, slot: usize) -> Option<&Material> {

@@ -1,25 +1,28 @@
-//! Refreshing impostor images: a texture and a capture per refresh, the frame's refreshes
-//! captured side by side on the thread pool (one [`Capturer`] each), then copied into their
-//! textures with the quad trimmed to what the image covers.
+//! Refreshing impostor images: a texture and a capture per refresh. The frame's refreshes
+//! run side by side on the thread pool, each on a worker of its own (one [`Capturer`]): it
+//! captures, copies the image into its texture (with mipmaps), and measures what the
+//! image covers and its gradients; the texture is then swapped into the pool and the
+//! quad trimmed to the covered part.
 
 use super::{Capture, ImpostorSet, Mode};
 use crate::billboard::{push_quad, UvRect};
 use crate::capture::Capturer;
-use crate::metrics;
+use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::recycle;
-use engine::{Draw, Encoding, FrameStats, Lighting, Rgba, Target};
+use engine::{Draw, Encoding, FrameStats, Lighting, Rgba, Target, Texture};
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// A refresh's own capturer (renderer and target), draw list, and the image's gradients
-/// ([`gradients`], measured on the worker's thread) with their row scratch.
+/// A refresh's own capturer (renderer and target), draw list, the texture its image is
+/// copied into (traded for the pool's), and what [`measure`] found, with its row scratch.
 #[derive(Debug, Default)]
 pub(super) struct Worker {
     capturer: Capturer,
     draws: Vec<Draw<'static>>,
+    texture: Option<Texture>,
     pub(super) stats: FrameStats,
-    gradients: (f32, f32),
+    measured: Measured,
     rows: Rows,
 }
 
@@ -98,19 +101,26 @@ impl ImpostorSet {
                 w.capturer.render(drawn, &camera, lighting, side, side, enc);
                 w.stats = w.capturer.last_stats();
                 w.draws = recycle(draws);
-                w.gradients = gradients(w.capturer.target(), &job.capture, &mut w.rows);
+                let target = w.capturer.target();
+                let texture = w.texture.get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+                target.copy_to_texture(texture);
+                w.measured = measure(target, &job.capture, &mut w.rows);
             });
     }
 
-    /// Copies worker `k`'s image into the job's texture and trims the quad to it.
+    /// Trades worker `k`'s texture for the job's and trims the quad to the image.
     pub(super) fn finish_refresh(&mut self, job: Job, k: usize) {
         let Job { i, capture, slot } = job;
-        let target = self.workers[k].capturer.target();
-        let side = capture.side;
-        if let Some(tex) = self.pool.texture_mut(slot) {
-            target.copy_to_texture(tex);
+        let w = &mut self.workers[k];
+        if let Some(tex) = w.texture.as_mut() {
+            self.pool.swap_texture(slot, tex);
         }
-        let (gradient, depth_gradient) = self.workers[k].gradients;
+        let side = capture.side;
+        let Measured {
+            gradient,
+            depth_gradient,
+            covered,
+        } = w.measured;
         let capture = Capture {
             gradient,
             depth_gradient,
@@ -122,7 +132,7 @@ impl ImpostorSet {
         // Trim the quad to the covered part of the image (one texel of margin for the
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
         // empty texel on screen would still be shaded and blended.
-        if let Some(r) = metrics::covered_rect(target, metrics::Coverage::Alpha) {
+        if let Some(r) = covered {
             let r = r.grow(1, side, side);
             let f = |p: u32| p as f32 / side as f32;
             let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));
@@ -150,59 +160,78 @@ impl ImpostorSet {
     }
 }
 
-/// Two rows of an image's stored pixels and of their surfaces' distances from the quad's
-/// plane, reused.
-#[derive(Debug, Default)]
-struct Rows {
-    px: [Vec<[u8; 4]>; 2],
-    off: [Vec<f32>; 2],
+/// What a refresh's image holds, besides its texels: the bounds of its covered texels
+/// (alpha above 0, as [`crate::metrics::covered_rect`] finds them) and its gradients.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Measured {
+    pub(super) covered: Option<Rect>,
+    /// [`Capture::gradient`].
+    pub(super) gradient: f32,
+    /// [`Capture::depth_gradient`].
+    pub(super) depth_gradient: f32,
 }
 
-/// The mean absolute difference between horizontally and vertically neighbouring texels
-/// of `t`, over RGB of the stored 8-bit values ([`Capture::gradient`]), and the same with
-/// each difference weighted by its surface's distance from the quad's plane in radii
-/// ([`Capture::depth_gradient`]; the nearer texel of a pair that holds a surface). Each
-/// texel is read and its distance computed once (two rows at a time).
-fn gradients(t: &Target, c: &Capture, rows: &mut Rows) -> (f32, f32) {
-    let (w, h) = (t.width(), t.height());
+/// Two rows of an image's stored pixels and of their surfaces' distances from the quad's
+/// plane, and one row of depths as stored, reused.
+#[derive(Debug, Default)]
+pub(super) struct Rows {
+    px: [Vec<u32>; 2],
+    off: [Vec<f32>; 2],
+    depth: Vec<f32>,
+}
+
+/// Reads `t` once, two rows at a time: the covered texels' bounds, the mean absolute
+/// difference between horizontally and vertically neighbouring texels over RGB of the
+/// stored 8-bit values ([`Capture::gradient`]), and the same with each difference weighted
+/// by its surface's distance from the quad's plane in radii ([`Capture::depth_gradient`];
+/// the nearer texel of a pair that holds a surface).
+pub(super) fn measure(t: &Target, c: &Capture, rows: &mut Rows) -> Measured {
+    let (w, h) = (t.width() as usize, t.height());
     let camera = c.camera();
     let plane = c.eye.distance(c.center);
     // Row y's pixels and distances from the plane in radii (0 where nothing was drawn).
-    let fill = |y: u32, px: &mut Vec<[u8; 4]>, off: &mut Vec<f32>| {
-        px.clear();
+    let fill = |y: u32, px: &mut Vec<u32>, off: &mut Vec<f32>, depth: &mut Vec<f32>| {
+        t.read_row(y, px, depth);
         off.clear();
-        for x in 0..w {
-            px.push(t.pixel(x, y).unwrap_or(0).to_le_bytes());
-            let d = t.depth_reversed(x, y).unwrap_or(0.0);
-            off.push(if d > 0.0 {
+        off.extend(depth.iter().map(|&d| {
+            if d > 0.0 {
                 ((camera.view_depth_from_reversed(d) - plane).abs() / c.radius).min(1.0)
             } else {
                 0.0
-            });
-        }
+            }
+        }));
     };
-    let diff = |p: &[u8; 4], q: &[u8; 4]| (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>();
+    let diff = |p: u32, q: u32| {
+        let (p, q) = (p.to_le_bytes(), q.to_le_bytes());
+        (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>()
+    };
     let (mut sum, mut weighted, mut n) = (0u64, 0f64, 0u64);
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, u32::MAX, 0, 0);
     if h > 0 {
         let [px0, px1] = &mut rows.px;
         let [off0, off1] = &mut rows.off;
-        fill(0, px0, off0);
+        fill(0, px0, off0, &mut rows.depth);
         for y in 0..h {
             let below = y + 1 < h;
             if below {
-                fill(y + 1, px1, off1);
+                fill(y + 1, px1, off1, &mut rows.depth);
             }
-            for x in 0..w as usize {
-                let (p, dp) = (&px0[x], off0[x]);
+            if let Some(first) = px0.iter().position(|p| p >> 24 != 0) {
+                let last = px0.iter().rposition(|p| p >> 24 != 0).unwrap_or(first);
+                (x0, x1) = (x0.min(first), x1.max(last + 1));
+                (y0, y1) = (y0.min(y), y + 1);
+            }
+            for x in 0..w {
+                let (p, dp) = (px0[x], off0[x]);
                 // The same pairs, in the same order, as texel by texel: right, then below.
-                if x + 1 < w as usize {
-                    let d = diff(p, &px0[x + 1]);
+                if x + 1 < w {
+                    let d = diff(p, px0[x + 1]);
                     sum += d;
                     weighted += d as f64 * dp.max(off0[x + 1]) as f64;
                     n += 3;
                 }
                 if below {
-                    let d = diff(p, &px1[x]);
+                    let d = diff(p, px1[x]);
                     sum += d;
                     weighted += d as f64 * dp.max(off1[x]) as f64;
                     n += 3;
@@ -213,5 +242,9 @@ fn gradients(t: &Target, c: &Capture, rows: &mut Rows) -> (f32, f32) {
         }
     }
     let n = n.max(1);
-    (sum as f32 / n as f32, (weighted / n as f64) as f32)
+    Measured {
+        covered: (x1 > 0).then(|| Rect::new(x0 as u32, y0, (x1 - x0) as u32, y1 - y0)),
+        gradient: sum as f32 / n as f32,
+        depth_gradient: (weighted / n as f64) as f32,
+    }
 }

@@ -463,3 +463,53 @@ fn screen_rect_is_none_behind_the_eye_and_whole_around_it() {
         "around the eye"
     );
 }
+
+/// A refresh's single read of its image finds the same covered bounds as
+/// `metrics::covered_rect` and the same gradients as the definition applied texel by texel
+/// (every right and lower neighbour pair, RGB of the stored bytes; weighted by the nearer
+/// surface's distance from the quad's plane in radii, capped at 1).
+#[test]
+fn a_refresh_measures_its_image_as_the_definitions_say() {
+    let subject = torus(Vec3::new(0.1, 0.0, 0.0));
+    let b = subject.bounds();
+    // 100 texels: two tiles across, a partial 8-texel block at the edge.
+    let capture = Capture::new(Vec3::new(0.4, 1.5, 3.0), b.center, b.radius, 100, 0).unwrap();
+    let camera = capture.camera();
+    let mut draws = Vec::new();
+    subject.draws(&mut draws);
+    let mut cap = crate::capture::Capturer::new();
+    let lit = lighting();
+    let t = cap.render(draws, &camera, &lit, 100, 100, engine::Encoding::Srgb);
+    let got = refresh::measure(t, &capture, &mut Default::default());
+    assert_eq!(
+        got.covered,
+        metrics::covered_rect(t, metrics::Coverage::Alpha)
+    );
+    let plane = capture.eye.distance(capture.center);
+    let off = |x: u32, y: u32| {
+        let d = t.depth_reversed(x, y).unwrap();
+        if d > 0.0 {
+            ((camera.view_depth_from_reversed(d) - plane).abs() / capture.radius).min(1.0) as f64
+        } else {
+            0.0
+        }
+    };
+    let rgb = |x: u32, y: u32| t.pixel(x, y).unwrap().to_le_bytes();
+    let (mut sum, mut weighted, mut n) = (0.0f64, 0.0f64, 0.0f64);
+    for y in 0..100 {
+        for x in 0..100 {
+            for (qx, qy) in [(x + 1, y), (x, y + 1)] {
+                if qx < 100 && qy < 100 {
+                    let (p, q) = (rgb(x, y), rgb(qx, qy));
+                    let d: f64 = (0..3).map(|k| p[k].abs_diff(q[k]) as f64).sum();
+                    sum += d;
+                    weighted += d * off(x, y).max(off(qx, qy));
+                    n += 3.0;
+                }
+            }
+        }
+    }
+    assert!(got.gradient > 1.0, "a lit torus has edges: {}", got.gradient);
+    assert!((got.gradient as f64 - sum / n).abs() < 1e-4 * (sum / n));
+    assert!((got.depth_gradient as f64 - weighted / n).abs() < 1e-4 * (weighted / n).max(1e-3));
+}
