@@ -49,11 +49,14 @@ def main():
         rows_both = sorted(set(errs[before]) & set(errs[after]))
         both = [k for k in rows_both
                 if any(x and y for x, y in zip(errs[before][k], errs[after][k]))]
-        same = sum(1 for k in both
-                   if all(x == y for x, y in zip(errs[before][k], errs[after][k]) if x and y))
+        differ = [k for k in both
+                  if any(x != y for x, y in zip(errs[before][k], errs[after][k]) if x and y)]
+        same = len(both) - len(differ)
         print(f"{sweep}: geometric mean ratio after/before {gm:.3f}; "
               f"median ratio {sorted(ratios)[len(ratios) // 2]:.3f}; "
               f"error columns equal in {same} of the {len(both)} rows both builds measured")
+        for k in differ:
+            print(f"  errors differ: {' '.join(k)}: before {errs[before][k]} after {errs[after][k]}")
 
 
 if __name__ == "__main__":
