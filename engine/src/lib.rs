@@ -64,7 +64,9 @@ pub use light::{Light, Lighting};
 pub use load::{LoadError, Loaded};
 pub use material::{AlphaMode, BlendMode, Material, Shading};
 pub use mesh::{Mesh, Sphere};
-pub use pass::{run_pass, Fragment, PassMode, PixelPass, PixelRect};
+pub use pass::{
+    run_packed_pass, run_pass, Fragment, PackedFragment, PackedPass, PassMode, PixelPass, PixelRect,
+};
 pub use renderer::{Cull, FrameOptions, Renderer};
 pub use scene::{Draw, Instance, Scene};
 pub use stats::FrameStats;

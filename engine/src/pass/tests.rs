@@ -202,3 +202,71 @@ fn the_same_pixels_at_any_thread_count() {
     assert_eq!(a.1, b.1);
     assert!(a.1.fragments_written > 0);
 }
+
+/// [`Gradient`] with its colours packed in `encoding` first.
+struct PackedGradient(Encoding);
+
+impl PackedPass for PackedGradient {
+    fn encoding(&self) -> Encoding {
+        self.0
+    }
+    fn shade_span(&self, x0: u32, y: u32, out: &mut [Option<PackedFragment>]) {
+        let mut span = [None; TILE];
+        Gradient.shade_span(x0, y, &mut span[..out.len()]);
+        let enc = Encoder::new(self.0);
+        for (o, f) in out.iter_mut().zip(span) {
+            *o = f.map(|f| PackedFragment {
+                color: enc.pack(f.color.r, f.color.g, f.color.b, f.color.a),
+                depth: f.depth,
+            });
+        }
+    }
+}
+
+#[test]
+fn packed_passes_store_what_a_pass_of_the_same_colours_stores() {
+    // Packed in the target's encoding: the bytes go in as they are, the same bytes the
+    // encoder gives for the unpacked colour. Packed otherwise, or blended: decoded and
+    // re-encoded, so equal to the unpacked pass of the decoded colours.
+    for (target_enc, pass_enc, blend) in [
+        (Encoding::Srgb, Encoding::Srgb, false),
+        (Encoding::Srgb, Encoding::Srgb, true),
+        (Encoding::Unorm, Encoding::Srgb, false),
+    ] {
+        let mode = PassMode {
+            blend,
+            ..PassMode::default()
+        };
+        let run = |packed: bool| {
+            let mut t = scene(&[quad(3.0, -1.0, 1.0)]);
+            t.set_encoding(target_enc);
+            let rect = PixelRect::full(W, H);
+            let s = if packed {
+                run_packed_pass(&mut t, rect, &PackedGradient(pass_enc), mode)
+            } else {
+                run_pass(&mut t, rect, &Decoded(pass_enc), mode)
+            };
+            (t, s)
+        };
+        let (a, b) = (run(true), run(false));
+        assert_eq!(a.1, b.1, "{target_enc:?} {pass_enc:?} {blend}");
+        assert!(a.0 == b.0, "{target_enc:?} {pass_enc:?} {blend}");
+        assert!(a.1.fragments_written > 0);
+    }
+}
+
+/// [`Gradient`]'s colours after a round trip through `encoding`'s bytes.
+struct Decoded(Encoding);
+
+impl PixelPass for Decoded {
+    fn shade_span(&self, x0: u32, y: u32, out: &mut [Option<Fragment>]) {
+        let mut span = [None; TILE];
+        PackedGradient(self.0).shade_span(x0, y, &mut span[..out.len()]);
+        for (o, f) in out.iter_mut().zip(span) {
+            *o = f.map(|f| Fragment {
+                color: unpack(self.0, f.color),
+                depth: f.depth,
+            });
+        }
+    }
+}
