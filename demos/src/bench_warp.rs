@@ -30,7 +30,7 @@ use ibr::warp::holes::Fill;
 use ibr::warp::ldi::LdiBuilder;
 use ibr::warp::mesh::{depth_mesh, depth_mesh_material};
 use ibr::warp::technique::WarpedView;
-use ibr::warp::{is_filled, Composite, Reconstruction, Visibility};
+use ibr::warp::{Composite, Reconstruction, Visibility};
 use std::time::{Duration, Instant};
 
 /// The warp methods: (name, reconstruction, how references composite).
@@ -440,7 +440,7 @@ fn measure(
     view.fill = Fill::None;
     view.count_holes = true;
     let counted = view.warp_to(cam, w, h);
-    let seen: Vec<bool> = view.image().color.iter().map(|c| is_filled(*c)).collect();
+    let seen: Vec<bool> = view.image().disparity.iter().map(|d| *d >= 0.0).collect();
     view.fill = Fill::PullPush;
     view.count_holes = false;
     let mut list: [&mut dyn Technique; 1] = [view];

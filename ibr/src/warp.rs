@@ -1,8 +1,9 @@
 //! The 3D warp (McMillan 97): depth images re-projected to a new camera, so a novel view
 //! comes from images alone, with motion parallax.
 //!
-//! Pipeline, one reference at a time into one output image (a [`DepthImage`] at the target
-//! camera, reused frame to frame):
+//! References are [`Prepared`] first (disparity, surface slope and packed colour per
+//! sample, once per reference). Then, one reference at a time into one output image (a
+//! [`Warped`] at the target camera: packed colour and disparity, reused frame to frame):
 //! 1. **order** ([`order`]): the reference's pixels in McMillan's occlusion-compatible
 //!    order (sheets around the epipole), or any order when a depth buffer decides;
 //! 2. **warp** ([`equation`]): each sample's target position and depth, incrementally
@@ -13,16 +14,20 @@
 //! 4. **write**: in parallel over bands (disjoint `&mut` rows), each band's samples are
 //!    written chunk by chunk in order: painted over ([`Visibility::Ordered`]) or
 //!    depth-tested ([`Visibility::DepthBuffer`]). The result is the sequential warp's,
-//!    exactly, at any thread count;
+//!    exactly, at any thread count.;
 //! 5. **holes** ([`holes`]): counted by kind, then filled (pull-push or from the background
 //!    side) without dragging foreground colour across a depth edge.
 //!
 //! A reference pixel whose colour is fully transparent is empty and skipped; one with
-//! colour and infinite depth is at infinity (sky): it moves with the rotation alone.
+//! colour and infinite depth is at infinity (sky, disparity 0): it moves with the rotation
+//! alone. For a depth image the warp and footprint of a whole row are computed first,
+//! branch-free (so the compiler vectorises them), then its samples are binned in the
+//! traversal's order as 16-byte entries that carry their colour, so the write stage reads
+//! nothing else.
 //! [`technique::WarpedView`] runs this every frame for the references nearest the eye and
 //! writes the result into the frame by an image pass, depth-tested against the geometry.
-//! Output pixels nothing reached are holes: transparent, depth [`EMPTY`]. Both cameras must
-//! be perspective (symmetric or off-axis); otherwise nothing is warped.
+//! Output pixels nothing reached are holes: transparent, disparity [`HOLE`]. Both cameras
+//! must be perspective (symmetric or off-axis); otherwise nothing is warped.
 
 pub mod equation;
 pub mod holes;
@@ -30,14 +35,20 @@ pub mod ldi;
 pub mod mesh;
 pub mod order;
 pub mod predict;
+pub mod prepared;
+mod rows;
 pub mod technique;
+pub mod warped;
 
-use crate::images::{DepthImage, LayeredDepthImage, EMPTY};
+use crate::images::{DepthImage, LayeredDepthImage};
+use engine::color::{unpack, Encoder};
 use engine::{Camera, Premul};
 use equation::Equation;
-use glam::Vec2;
 use order::Run;
+pub use prepared::Prepared;
 use rayon::prelude::*;
+use rows::{Footprints, Lane};
+pub use warped::{Warped, ENCODING, HOLE};
 
 /// How competing samples are resolved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,33 +130,42 @@ impl std::ops::AddAssign for WarpStats {
     }
 }
 
-/// A warped sample's target rectangle `[x0, x1) x [y0, y1)`, depth and source pixel.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A warped sample's target rectangle `[x0, x1) x [y0, y1)`, disparity and colour.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Entry {
     x0: u16,
     y0: u16,
     x1: u16,
     y1: u16,
-    depth: f32,
-    index: u32,
+    disparity: f32,
+    color: u32,
 }
 
 /// Target rows per band of the write stage.
-const BAND_ROWS: u32 = 16;
+const BAND_ROWS: u32 = 32;
 /// Runs (reference rows or half-rows) per chunk of the bin stage.
 const CHUNK_RUNS: usize = 16;
 /// The largest target side (entries hold `u16` coordinates).
 pub const MAX_SIDE: u32 = u16::MAX as u32;
 
+/// One chunk of the bin stage: its entries per band, and its row scratch.
+#[derive(Debug, Default)]
+struct Chunk {
+    bins: Vec<Vec<Entry>>,
+    row: Footprints,
+}
+
 /// Warps depth images to a camera: the output image and the scratch memory, reused.
 #[derive(Debug)]
 pub struct Warper {
-    output: DepthImage,
-    /// An ordered warp of a second reference goes here, then merges by depth.
-    layer: DepthImage,
+    output: Warped,
+    /// A second reference is warped here, then merged by depth.
+    layer: Warped,
     has_content: bool,
     runs: Vec<Run>,
-    bins: Vec<Vec<Entry>>,
+    chunks: Vec<Chunk>,
+    /// A reference prepared by [`Warper::add`] or [`Warper::add_layered`].
+    scratch: Prepared,
 }
 
 impl Default for Warper {
@@ -158,11 +178,12 @@ impl Warper {
     pub fn new() -> Self {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, glam::Vec3::Y, 1.0, 1.0);
         Warper {
-            output: DepthImage::new(0, 0, camera),
-            layer: DepthImage::new(0, 0, camera),
+            output: Warped::new(0, 0, camera),
+            layer: Warped::new(0, 0, camera),
             has_content: false,
             runs: Vec::new(),
-            bins: Vec::new(),
+            chunks: Vec::new(),
+            scratch: Prepared::default(),
         }
     }
 
@@ -170,25 +191,31 @@ impl Warper {
     /// `camera`, all holes.
     pub fn begin(&mut self, camera: &Camera, width: u32, height: u32) {
         let (w, h) = (width.min(MAX_SIDE), height.min(MAX_SIDE));
-        reset(&mut self.output, camera, w, h);
+        self.output.reset(camera, w, h);
         self.has_content = false;
     }
 
     /// The output so far.
-    pub fn output(&self) -> &DepthImage {
+    pub fn output(&self) -> &Warped {
         &self.output
     }
 
     /// The output, for hole filling.
-    pub fn output_mut(&mut self) -> &mut DepthImage {
+    pub fn output_mut(&mut self) -> &mut Warped {
         &mut self.output
     }
 
-    /// Warps `reference` into the output. Within one reference `options.visibility`
-    /// decides; later references join by `options.composite` (add the references nearest
-    /// the eye first: on a surface both saw, the earlier reference's samples stay).
+    /// Warps `reference` into the output (prepared here; warping the same reference
+    /// often, prepare it once and use [`Warper::add_prepared`]). Within one reference
+    /// `options.visibility` decides; later references join by `options.composite` (add
+    /// the references nearest the eye first: on a surface both saw, the earlier
+    /// reference's samples stay).
     pub fn add(&mut self, reference: &DepthImage, options: &WarpOptions) -> WarpStats {
-        self.add_source(reference, options)
+        let mut p = std::mem::take(&mut self.scratch);
+        p.prepare_image(reference, options.edge);
+        let stats = self.add_prepared(&p, options);
+        self.scratch = p;
+        stats
     }
 
     /// Warps a layered depth image into the output (Shade et al. 98): its pixels in the
@@ -197,10 +224,16 @@ impl Warper {
     /// a single depth image would leave as disocclusions. Joins earlier references like
     /// [`Warper::add`].
     pub fn add_layered(&mut self, ldi: &LayeredDepthImage, options: &WarpOptions) -> WarpStats {
-        self.add_source(ldi, options)
+        let mut p = std::mem::take(&mut self.scratch);
+        p.prepare_ldi(ldi, options.edge);
+        let stats = self.add_prepared(&p, options);
+        self.scratch = p;
+        stats
     }
 
-    fn add_source<S: Source>(&mut self, source: &S, options: &WarpOptions) -> WarpStats {
+    /// Warps a prepared depth image or LDI into the output, as [`Warper::add`]. Its slopes
+    /// were read with the edge tolerance it was prepared with.
+    pub fn add_prepared(&mut self, source: &Prepared, options: &WarpOptions) -> WarpStats {
         let (w2, h2) = (self.output.width(), self.output.height());
         let camera = self.output.camera;
         let (w1, h1) = source.size();
@@ -209,17 +242,19 @@ impl Warper {
         };
         let (epipole, in_front) = eq.epipole_pixel();
         order::runs(w1, h1, epipole, in_front, &mut self.runs);
-        let mut stats = bin(&eq, source, options, &self.runs, &mut self.bins, w2, h2);
+        let lane = Lane::new(&eq, options, w2, h2);
         // A second reference is warped apart and merged, so that where both saw one
         // surface the first (the nearer to the eye, as callers order them) is kept.
         let merge = self.has_content;
         let out = if merge {
-            reset(&mut self.layer, &camera, w2, h2);
+            self.layer.reset(&camera, w2, h2);
             &mut self.layer
         } else {
             &mut self.output
         };
-        stats.pixels_written = write(out, source, &self.bins, options.visibility, options.edge);
+        let mut stats = bin(&lane, source, &self.runs, &mut self.chunks, h2);
+        let chunks = &self.chunks[..self.runs.len().div_ceil(CHUNK_RUNS)];
+        stats.pixels_written = write(out, chunks, options.visibility, options.edge);
         if merge {
             let edge = match options.composite {
                 Composite::Depth => options.edge,
@@ -233,106 +268,6 @@ impl Warper {
     }
 }
 
-/// What the warp reads: an image's samples with their camera.
-trait Source: Sync {
-    fn camera(&self) -> &Camera;
-    fn size(&self) -> (u32, u32);
-    /// Calls `f(index, colour, depth)` for each sample of pixel `(x, y)` in painting order
-    /// (back to front); `index` names the sample for [`Source::color`].
-    fn samples(&self, x: u32, y: u32, f: impl FnMut(u32, Premul, f32));
-    fn color(&self, index: u32) -> Premul;
-    /// The change of disparity per pixel in x and y at a sample (the surface's slope).
-    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2;
-}
-
-impl Source for DepthImage {
-    fn camera(&self) -> &Camera {
-        &self.camera
-    }
-    fn size(&self) -> (u32, u32) {
-        (self.width(), self.height())
-    }
-    #[inline]
-    fn samples(&self, x: u32, y: u32, mut f: impl FnMut(u32, Premul, f32)) {
-        let i = y * self.width() + x;
-        f(i, self.color[i as usize], self.depth[i as usize]);
-    }
-    #[inline]
-    fn color(&self, index: u32) -> Premul {
-        self.color[index as usize]
-    }
-    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2 {
-        Vec2::new(
-            slope(self, x, y, 1, 0, z, edge),
-            slope(self, x, y, 0, 1, z, edge),
-        )
-    }
-}
-
-impl Source for LayeredDepthImage {
-    fn camera(&self) -> &Camera {
-        &self.camera
-    }
-    fn size(&self) -> (u32, u32) {
-        (self.width(), self.height())
-    }
-    #[inline]
-    fn samples(&self, x: u32, y: u32, mut f: impl FnMut(u32, Premul, f32)) {
-        let (first, run) = self.samples_at(x, y);
-        for (k, s) in run.iter().enumerate().rev() {
-            f(first + k as u32, s.color, s.depth);
-        }
-    }
-    #[inline]
-    fn color(&self, index: u32) -> Premul {
-        self.sample(index).color
-    }
-    /// From the neighbouring pixels' samples of the same surface (within `edge`), as for a
-    /// depth image.
-    fn slope(&self, x: u32, y: u32, z: f32, edge: f32) -> Vec2 {
-        if !z.is_finite() {
-            return Vec2::ZERO;
-        }
-        let near = |nx: u32, ny: u32| {
-            self.samples_at(nx, ny)
-                .1
-                .iter()
-                .find(|s| {
-                    is_filled(s.color) && s.depth.is_finite() && (s.depth - z).abs() <= edge * z
-                })
-                .map(|s| 1.0 / s.depth)
-        };
-        let axis = |dx: u32, dy: u32| {
-            if let Some(ahead) = near(x + dx, y + dy) {
-                return ahead - 1.0 / z;
-            }
-            if x >= dx && y >= dy {
-                if let Some(behind) = near(x - dx, y - dy) {
-                    return 1.0 / z - behind;
-                }
-            }
-            0.0
-        };
-        Vec2::new(axis(1, 0), axis(0, 1))
-    }
-}
-
-/// Resizes `image` to `w` x `h` for `camera` and clears it to holes, keeping its memory.
-fn reset(image: &mut DepthImage, camera: &Camera, w: u32, h: u32) {
-    if image.width() != w || image.height() != h {
-        let mut color = std::mem::take(&mut image.color);
-        let mut depth = std::mem::take(&mut image.depth);
-        let n = w as usize * h as usize;
-        color.resize(n, Premul::TRANSPARENT);
-        depth.resize(n, EMPTY);
-        *image = DepthImage::from_planes(w, h, color, depth, *camera)
-            .unwrap_or_else(|| DepthImage::new(w, h, *camera));
-    }
-    image.camera = *camera;
-    image.color.fill(Premul::TRANSPARENT);
-    image.depth.fill(EMPTY);
-}
-
 /// Whether a pixel holds a sample (warped outputs: holes are fully transparent).
 #[inline]
 pub fn is_filled(c: Premul) -> bool {
@@ -340,44 +275,58 @@ pub fn is_filled(c: Premul) -> bool {
 }
 
 /// Stage 3: every sample's entry, listed per (chunk, band) in order.
-fn bin<S: Source>(
-    eq: &Equation,
-    reference: &S,
-    options: &WarpOptions,
+fn bin(
+    lane: &Lane,
+    source: &Prepared,
     runs: &[Run],
-    bins: &mut Vec<Vec<Entry>>,
-    w2: u32,
+    chunks: &mut Vec<Chunk>,
     h2: u32,
 ) -> WarpStats {
     let bands = h2.div_ceil(BAND_ROWS).max(1) as usize;
-    let chunks = runs.len().div_ceil(CHUNK_RUNS);
-    bins.resize_with(chunks * bands, Vec::new);
-    bins.truncate(chunks * bands);
-    bins.par_chunks_mut(bands)
+    let n = runs.len().div_ceil(CHUNK_RUNS);
+    if chunks.len() < n {
+        chunks.resize_with(n, Chunk::default);
+    }
+    let w1 = source.size().0 as usize;
+    chunks[..n]
+        .par_iter_mut()
         .zip(runs.par_chunks(CHUNK_RUNS))
-        .map(|(bins, runs)| {
+        .map(|(chunk, runs)| {
+            let Chunk { bins, row } = chunk;
+            bins.resize_with(bands, Vec::new);
+            bins.truncate(bands);
             bins.iter_mut().for_each(Vec::clear);
             let mut stats = WarpStats::default();
+            let mut emit = |e: Entry| {
+                let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
+                bins[b0 as usize].push(e);
+                for b in b0 + 1..=b1 {
+                    bins[b as usize].push(e);
+                }
+            };
             for run in runs {
-                for x in run.pixels() {
-                    reference.samples(x, run.y, |index, c, z| {
-                        let sample = Sample {
-                            x,
-                            y: run.y,
-                            index,
-                            c,
-                            z,
-                        };
-                        let Some(e) =
-                            warp_sample(eq, reference, options, sample, w2, h2, &mut stats)
-                        else {
-                            return;
-                        };
-                        let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
-                        for b in b0..=b1 {
-                            bins[b as usize].push(e);
+                if source.single() {
+                    // The run's pixels lie in one contiguous span of its row.
+                    let (lo, hi) = run.span();
+                    stats += row.compute(lane, source, run.y, lo, hi);
+                    let at = |x: u32| (x - lo) as usize;
+                    let base = run.y as usize * w1;
+                    for x in run.pixels() {
+                        if let Some(e) = row.entry(at(x), source.color[base + x as usize]) {
+                            emit(e);
                         }
-                    });
+                    }
+                } else {
+                    for x in run.pixels() {
+                        let p = run.y as usize * w1 + x as usize;
+                        let (s0, s1) = (source.first[p], source.first[p + 1]);
+                        for s in s0..s1 {
+                            let base = lane.eq.base(x, run.y);
+                            if let Some(e) = lane.sample(source, s as usize, base, &mut stats) {
+                                emit(e);
+                            }
+                        }
+                    }
                 }
             }
             stats
@@ -388,143 +337,53 @@ fn bin<S: Source>(
         })
 }
 
-/// A sample of a source at pixel `(x, y)`.
-#[derive(Clone, Copy)]
-struct Sample {
-    x: u32,
-    y: u32,
-    index: u32,
-    c: Premul,
-    z: f32,
-}
-
-/// Stage 2 for one sample: its entry, or `None` (empty, behind the eye, off the image).
-#[inline]
-fn warp_sample<S: Source>(
-    eq: &Equation,
-    reference: &S,
-    options: &WarpOptions,
-    Sample { x, y, index, c, z }: Sample,
-    w2: u32,
-    h2: u32,
-    stats: &mut WarpStats,
-) -> Option<Entry> {
-    if !is_filled(c) || z.is_nan() || z <= 0.0 {
-        return None;
-    }
-    stats.samples += 1;
-    let disparity = if z.is_finite() { 1.0 / z } else { 0.0 };
-    let base = eq.base(x, y);
-    let Some((p, depth)) = eq.land(base, disparity) else {
-        stats.behind += 1;
-        return None;
-    };
-    let (half_x, half_y) = match options.reconstruction {
-        Reconstruction::Points => (0.5, 0.5),
-        Reconstruction::Splats => {
-            let slope = reference.slope(x, y, z, options.edge);
-            let (jx, jy) = eq.stretch(base, disparity, slope);
-            let size = Vec2::new(jx.x.abs() + jy.x.abs(), jx.y.abs() + jy.y.abs());
-            let size = size.clamp(Vec2::ONE, Vec2::splat(options.max_splat.max(1.0)));
-            if !size.is_finite() {
-                (0.5, 0.5)
-            } else {
-                (size.x * 0.5, size.y * 0.5)
-            }
-        }
-    };
-    // Pixels whose centres lie within the footprint; at least the one the centre is in.
-    let span = |c: f32, half: f32, n: u32| -> Option<(u16, u16)> {
-        let (lo, hi) = if half <= 0.5 {
-            (c.floor(), c.floor() + 1.0)
-        } else {
-            let lo = (c - half + 0.5).floor();
-            (lo, (c + half + 0.5).floor().max(lo + 1.0))
-        };
-        let (lo, hi) = (lo.max(0.0), hi.min(n as f32));
-        (lo < hi).then_some((lo as u16, hi as u16))
-    };
-    let ((x0, x1), (y0, y1)) = (span(p.x, half_x, w2)?, span(p.y, half_y, h2)?);
-    stats.warped += 1;
-    Some(Entry {
-        x0,
-        y0,
-        x1,
-        y1,
-        depth,
-        index,
-    })
-}
-
-/// The change of disparity per pixel step `(dx, dy)` at `(x, y)` of depth `z`: from the
-/// neighbour ahead, else the one behind, when on the same surface; else zero.
-fn slope(r: &DepthImage, x: u32, y: u32, dx: u32, dy: u32, z: f32, edge: f32) -> f32 {
-    if !z.is_finite() {
-        return 0.0;
-    }
-    let near = |n: Option<(Premul, f32)>| {
-        n.filter(|(c, d)| is_filled(*c) && d.is_finite() && (d - z).abs() <= edge * z)
-            .map(|(_, d)| 1.0 / d)
-    };
-    if let Some(ahead) = near(r.get(x + dx, y + dy)) {
-        return ahead - 1.0 / z;
-    }
-    if x >= dx && y >= dy {
-        if let Some(behind) = near(r.get(x - dx, y - dy)) {
-            return 1.0 / z - behind;
-        }
-    }
-    0.0
-}
-
 /// Stage 4: the bins written into `out` band by band, chunks in order. Returns the pixels
 /// written.
-fn write<S: Source>(
-    out: &mut DepthImage,
-    reference: &S,
-    bins: &[Vec<Entry>],
-    vis: Visibility,
-    edge: f32,
-) -> u64 {
+fn write(out: &mut Warped, chunks: &[Chunk], vis: Visibility, edge: f32) -> u64 {
     let slack = 1.0 + edge.max(0.0);
     let w = out.width() as usize;
-    let bands = out.height().div_ceil(BAND_ROWS).max(1) as usize;
     let band_len = BAND_ROWS as usize * w;
-    if w == 0 || bins.is_empty() {
+    if w == 0 || chunks.is_empty() {
         return 0;
     }
-    let chunks = bins.len() / bands;
+    let enc = Encoder::new(ENCODING);
     out.color
         .par_chunks_mut(band_len)
-        .zip(out.depth.par_chunks_mut(band_len))
+        .zip(out.disparity.par_chunks_mut(band_len))
         .enumerate()
-        .map(|(b, (color, depth))| {
+        .map(|(b, (color, disparity))| {
             let y_base = b * BAND_ROWS as usize;
             let rows = color.len() / w;
             let mut written = 0u64;
-            for c in 0..chunks {
-                for e in &bins[c * bands + b] {
+            for chunk in chunks {
+                for e in &chunk.bins[b] {
+                    let opaque = e.color >> 24 == 0xff;
+                    let (x0, x1) = (e.x0 as usize, e.x1 as usize);
                     let y0 = (e.y0 as usize).max(y_base) - y_base;
+                    if opaque && vis == Visibility::Ordered && x1 == x0 + 1 && e.y1 == e.y0 + 1 {
+                        // A point: one pixel, painted over.
+                        let k = y0 * w + x0;
+                        color[k] = e.color;
+                        disparity[k] = e.disparity;
+                        written += 1;
+                        continue;
+                    }
                     let y1 = (e.y1 as usize).min(y_base + rows) - y_base;
-                    let sample = reference.color(e.index);
-                    let opaque = sample.a >= 1.0;
                     for y in y0..y1 {
-                        for k in y * w + e.x0 as usize..y * w + e.x1 as usize {
-                            let pass = match vis {
-                                Visibility::Ordered => true,
-                                Visibility::DepthBuffer => {
-                                    e.depth <= depth[k] * slack || !is_filled(color[k])
-                                }
-                            };
-                            if pass {
-                                color[k] = if opaque || vis == Visibility::DepthBuffer {
-                                    sample
-                                } else {
-                                    over(sample, color[k])
-                                };
-                                depth[k] = e.depth;
-                                written += 1;
+                        let row = y * w + x0..y * w + x1;
+                        for (c, d) in color[row.clone()].iter_mut().zip(&mut disparity[row]) {
+                            // A depth buffer keeps the nearer surface: nearer, or within the
+                            // edge tolerance (a hole's negative disparity always yields).
+                            if vis == Visibility::DepthBuffer && e.disparity * slack < *d {
+                                continue;
                             }
+                            *c = if opaque || vis == Visibility::DepthBuffer {
+                                e.color
+                            } else {
+                                over(e.color, *c, &enc)
+                            };
+                            *d = e.disparity;
+                            written += 1;
                         }
                     }
                 }
@@ -534,28 +393,26 @@ fn write<S: Source>(
         .sum()
 }
 
-/// `a` over `b`, premultiplied.
+/// Packed `a` over packed `b`, premultiplied.
 #[inline]
-fn over(a: Premul, b: Premul) -> Premul {
+fn over(a: u32, b: u32, enc: &Encoder) -> u32 {
+    let (a, b) = (unpack(ENCODING, a), unpack(ENCODING, b));
     let k = 1.0 - a.a;
-    Premul {
-        r: a.r + b.r * k,
-        g: a.g + b.g * k,
-        b: a.b + b.b * k,
-        a: a.a + b.a * k,
-    }
+    enc.pack(a.r + b.r * k, a.g + b.g * k, a.b + b.b * k, a.a + b.a * k)
 }
 
 /// Copies into `out` every sample of `layer` where `out` has a hole or a sample farther by
-/// more than `edge` (relative).
-fn merge_nearer(out: &mut DepthImage, layer: &DepthImage, edge: f32) {
+/// more than `edge` (relative depth).
+fn merge_nearer(out: &mut Warped, layer: &Warped, edge: f32) {
     let keep = 1.0 - edge.clamp(0.0, 1.0);
     out.color
         .par_iter_mut()
-        .zip(out.depth.par_iter_mut())
-        .zip(layer.color.par_iter().zip(layer.depth.par_iter()))
+        .zip(out.disparity.par_iter_mut())
+        .zip(layer.color.par_iter().zip(layer.disparity.par_iter()))
         .for_each(|((c, d), (lc, ld))| {
-            if is_filled(*lc) && (!is_filled(*c) || *ld < *d * keep) {
+            // Farther by more than `edge` in depth is nearer by more than that in disparity:
+            // `d_out < (1 - edge) d_layer`.
+            if *ld >= 0.0 && (*d < 0.0 || *ld * keep > *d) {
                 *c = *lc;
                 *d = *ld;
             }

@@ -18,7 +18,7 @@ use ibr::images::transforms::{read_depth_image, read_transforms, srgb8};
 use ibr::images::DepthImage;
 use ibr::warp::holes::{Fill, Filler};
 use ibr::warp::technique::WarpedView;
-use ibr::warp::{is_filled, Reconstruction, Visibility};
+use ibr::warp::{Reconstruction, Visibility};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -220,18 +220,13 @@ fn run(a: &Args) -> Result<(), String> {
     if let Some(path) = &a.holes {
         let mask: Vec<u8> = view
             .image()
-            .color
+            .disparity
             .iter()
-            .flat_map(|c| {
-                if is_filled(*c) {
-                    [0, 0, 0, 255]
-                } else {
-                    [255; 4]
-                }
-            })
+            .flat_map(|d| if *d >= 0.0 { [0, 0, 0, 255] } else { [255; 4] })
             .collect();
         load::write_png_rgba8(path, w, h, &mask).map_err(|e| e.to_string())?;
     }
+    let image = image.to_depth_image();
     load::write_png_rgba8(&a.png, w, h, &srgb8(&image)).map_err(|e| e.to_string())?;
     if let Some(path) = &a.depth_out {
         let depth = load::FloatImage::new(w, h, image.depth.clone()).ok_or("depth plane size")?;

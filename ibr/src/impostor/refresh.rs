@@ -102,7 +102,9 @@ impl ImpostorSet {
                 w.stats = w.capturer.last_stats();
                 w.draws = recycle(draws);
                 let target = w.capturer.target();
-                let texture = w.texture.get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+                let texture = w
+                    .texture
+                    .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
                 target.copy_to_texture(texture);
                 w.measured = measure(target, &job.capture, &mut w.rows);
             });

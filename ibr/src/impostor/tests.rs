@@ -509,7 +509,11 @@ fn a_refresh_measures_its_image_as_the_definitions_say() {
             }
         }
     }
-    assert!(got.gradient > 1.0, "a lit torus has edges: {}", got.gradient);
+    assert!(
+        got.gradient > 1.0,
+        "a lit torus has edges: {}",
+        got.gradient
+    );
     assert!((got.gradient as f64 - sum / n).abs() < 1e-4 * (sum / n));
     assert!((got.depth_gradient as f64 - weighted / n).abs() < 1e-4 * (weighted / n).max(1e-3));
 }

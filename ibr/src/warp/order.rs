@@ -27,6 +27,16 @@ impl Run {
     pub fn pixels(&self) -> impl Iterator<Item = u32> + '_ {
         (0..self.len).map(move |i| (self.start as i64 + i as i64 * self.step as i64) as u32)
     }
+
+    /// The run's pixels as a span `[lo, hi)` of its row, whatever its direction.
+    pub fn span(&self) -> (u32, u32) {
+        let lo = if self.step > 0 {
+            self.start
+        } else {
+            (self.start + 1).saturating_sub(self.len)
+        };
+        (lo, lo + self.len)
+    }
 }
 
 /// How many pixel centres of `0..n` lie before `e` (`(i + 0.5) < e`), clamped to `0..=n`.

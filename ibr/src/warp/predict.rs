@@ -101,7 +101,7 @@ mod tests {
             for y in 0..H {
                 let mut run = 0;
                 for x in 0..W {
-                    if is_filled(out.color[(y * W + x) as usize]) {
+                    if out.is_filled((y * W + x) as usize) {
                         // A run that started at the left edge is not between samples.
                         if run < x {
                             widest = widest.max(run);

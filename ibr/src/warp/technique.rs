@@ -1,15 +1,17 @@
 //! The warp as a technique: each frame the references nearest the eye are warped to the
 //! frame's camera, holes are filled, and an image pass writes the result into the target,
 //! depth-tested against the geometry drawn there (warped samples write depth, so geometry
-//! in front hides them and they hide geometry behind).
+//! in front hides them and they hide geometry behind). References are prepared for the
+//! warp once, when they change.
 
 use super::holes::{classify, Fill, Filler, HoleStats};
 use super::predict::{depth_range, parallax_px};
-use super::{is_filled, WarpOptions, WarpStats, Warper};
+use super::{Prepared, WarpOptions, WarpStats, Warped, Warper, ENCODING};
 use crate::images::{DepthImage, LayeredDepthImage};
 use crate::technique::{Counters, FrameView, Technique};
 use engine::{
-    run_pass, Camera, Draw, Fragment, FrameStats, PassMode, PixelPass, PixelRect, Target,
+    run_packed_pass, Camera, Draw, Encoding, FrameStats, PackedFragment, PackedPass, PassMode,
+    PixelRect, Projection, Target,
 };
 
 /// Depth images standing in for a scene from any nearby view.
@@ -31,9 +33,12 @@ pub struct WarpedView {
     warper: Warper,
     filler: Filler,
     order: Vec<(f32, usize)>,
-    /// Each reference's median depth and depth range, computed when the references change.
+    /// Each reference's median depth and depth range, and the references and layered
+    /// images prepared for the warp, computed when they change.
     reach: Vec<f32>,
     ranges: Vec<Option<(f32, f32)>>,
+    prepared: Vec<Prepared>,
+    prepared_layered: Vec<Prepared>,
     last: WarpFrame,
 }
 
@@ -67,17 +72,21 @@ impl WarpedView {
             order: Vec::new(),
             reach: Vec::new(),
             ranges: Vec::new(),
+            prepared: Vec::new(),
+            prepared_layered: Vec::new(),
             last: WarpFrame::default(),
         }
     }
 
-    /// Forgets what was computed from the references (their depths' median and range).
+    /// Forgets what was computed from the references and layered images (their depths'
+    /// median and range, their prepared forms).
     pub fn references_changed(&mut self) {
         self.reach.clear();
+        self.prepared_layered.clear();
     }
 
     /// The last frame's warped and filled image.
-    pub fn image(&self) -> &DepthImage {
+    pub fn image(&self) -> &Warped {
         self.warper.output()
     }
 
@@ -89,9 +98,17 @@ impl WarpedView {
     pub fn warp_to(&mut self, camera: &Camera, width: u32, height: u32) -> WarpFrame {
         let eye = camera.eye();
         let forward = camera.forward();
-        if self.reach.len() != self.references.len() {
+        let edge = self.options.edge;
+        let stale = |p: &[Prepared], n: usize| p.len() != n || p.iter().any(|p| p.edge() != edge);
+        if self.reach.len() != self.references.len() || stale(&self.prepared, self.reach.len()) {
             self.reach = self.references.iter().map(median_depth).collect();
             self.ranges = self.references.iter().map(depth_range).collect();
+            let prepare = |r: &DepthImage| Prepared::from_image(r, edge);
+            self.prepared = self.references.iter().map(prepare).collect();
+        }
+        if stale(&self.prepared_layered, self.layered.len()) {
+            let prepare = |l: &LayeredDepthImage| Prepared::from_ldi(l, edge);
+            self.prepared_layered = self.layered.iter().map(prepare).collect();
         }
         self.order.clear();
         let reach = &self.reach;
@@ -107,8 +124,8 @@ impl WarpedView {
             .sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         self.warper.begin(camera, width, height);
         let mut frame = WarpFrame::default();
-        for ldi in &self.layered {
-            frame.stats += self.warper.add_layered(ldi, &self.options);
+        for ldi in &self.prepared_layered {
+            frame.stats += self.warper.add_prepared(ldi, &self.options);
             frame.references += 1;
         }
         if let Some(&(_, i)) = self.order.first().filter(|_| self.nearest > 0) {
@@ -118,7 +135,7 @@ impl WarpedView {
             });
         }
         for &(_, i) in self.order.iter().take(self.nearest) {
-            frame.stats += self.warper.add(&self.references[i], &self.options);
+            frame.stats += self.warper.add_prepared(&self.prepared[i], &self.options);
             frame.references += 1;
         }
         if self.count_holes {
@@ -127,13 +144,7 @@ impl WarpedView {
         frame.filled = self
             .filler
             .fill(self.warper.output_mut(), self.fill, self.options.edge);
-        frame.pixels = self
-            .warper
-            .output()
-            .color
-            .iter()
-            .filter(|c| is_filled(**c))
-            .count() as u64;
+        frame.pixels = self.warper.output().filled();
         self.last = frame;
         frame
     }
@@ -156,34 +167,59 @@ fn median_depth(r: &DepthImage) -> f32 {
     *d.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
-/// Writes a depth image taken by the target's camera into the target: its colour, and its
-/// depth turned into the target's reversed depth. Holes write nothing.
+/// Writes a warped image taken by the target's camera into the target: its packed colour
+/// as it is, and its disparity turned into the target's reversed depth (a multiply-add;
+/// at or beyond the far plane, sky too, the smallest positive depth, as
+/// [`Camera::reversed_from_view_depth`] gives). Holes write nothing.
 #[derive(Debug)]
 pub struct ImagePass<'a> {
-    pub image: &'a DepthImage,
+    image: &'a Warped,
+    /// Reversed depth `scale * disparity - offset` (perspective cameras).
+    scale: f32,
+    offset: f32,
+    /// Disparity of the far plane.
+    far: f32,
 }
 
-impl PixelPass for ImagePass<'_> {
-    fn shade_span(&self, x0: u32, y: u32, out: &mut [Option<Fragment>]) {
+impl<'a> ImagePass<'a> {
+    pub fn new(image: &'a Warped) -> Self {
+        let (n, f) = image.camera.near_far();
+        // reversed = n (f - z) / (z (f - n)) = (n f / (f - n)) / z - n / (f - n).
+        let (scale, offset) = match image.camera.projection {
+            Projection::Orthographic { .. } => (0.0, 0.0),
+            _ => (n * f / (f - n), n / (f - n)),
+        };
+        ImagePass {
+            image,
+            scale,
+            offset,
+            far: 1.0 / f,
+        }
+    }
+}
+
+impl PackedPass for ImagePass<'_> {
+    fn encoding(&self) -> Encoding {
+        ENCODING
+    }
+
+    fn shade_span(&self, x0: u32, y: u32, out: &mut [Option<PackedFragment>]) {
         let w = self.image.width();
-        if y >= self.image.height() {
+        if y >= self.image.height() || x0 >= w {
             return;
         }
-        for (i, o) in out.iter_mut().enumerate() {
-            let x = x0 + i as u32;
-            if x >= w {
-                break;
-            }
-            let k = (y * w + x) as usize;
-            let c = self.image.color[k];
-            if is_filled(c) {
-                *o = Some(Fragment {
-                    color: c,
-                    depth: self
-                        .image
-                        .camera
-                        .reversed_from_view_depth(self.image.depth[k]),
-                });
+        let start = (y * w + x0) as usize;
+        let n = out.len().min((w - x0) as usize);
+        let colors = &self.image.color[start..start + n];
+        let disparities = &self.image.disparity[start..start + n];
+        for ((o, &c), &d) in out.iter_mut().zip(colors).zip(disparities) {
+            if d >= 0.0 {
+                let depth = if d <= self.far {
+                    f32::MIN_POSITIVE
+                } else {
+                    (self.scale * d - self.offset).max(f32::MIN_POSITIVE)
+                };
+                *o = Some(PackedFragment { color: c, depth });
             }
         }
     }
@@ -200,7 +236,7 @@ impl Technique for WarpedView {
     fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
         let image = self.warper.output();
         let rect = PixelRect::full(image.width(), image.height());
-        run_pass(target, rect, &ImagePass { image }, PassMode::default())
+        run_packed_pass(target, rect, &ImagePass::new(image), PassMode::default())
     }
     fn counters(&self) -> Counters {
         Counters {
