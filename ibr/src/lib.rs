@@ -40,6 +40,7 @@ pub mod impostor;
 pub mod laser;
 pub mod metrics;
 pub mod octahedral;
+pub mod portal;
 pub mod sprites;
 pub mod subject;
 pub mod technique;

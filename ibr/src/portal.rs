@@ -1,0 +1,426 @@
+//! LDI portals (Popescu, Lastra, Aliaga and de Oliveira 98): what lies behind a door or
+//! window is drawn from a layered depth image warped to the eye each frame, instead of
+//! its geometry, so the frame's cost follows the pixels the opening covers, not the
+//! triangles behind it.
+//!
+//! Per portal:
+//! 1. **build** (when there is no image, or the eye has left the region it was built
+//!    for, within a per-frame budget): the geometry behind the opening is captured from
+//!    the eye and from eyes spread around it (left, right, up, down by
+//!    [`PortalConfig::reach`]), and the images merged into one LDI seen from the eye
+//!    ([`LdiBuilder`]), prepared for the warp;
+//! 2. **warp**: the LDI is warped to the frame's camera and its holes filled;
+//! 3. **clip**: only pixels inside the opening's outline on screen are kept
+//!    ([`Opening::outline`]), gathered into one image for all portals;
+//! 4. **composite**: an image pass writes them into the frame, depth-tested against the
+//!    near room the rasterizer drew (warped samples carry depth, so a table in front of
+//!    the door hides them).
+//!
+//! Walking up to the opening (within [`PortalConfig::through`] of its plane, over it) or
+//! past it, the portal draws its geometry instead; the LDI built from an eye at the
+//! opening sees what the geometry shows, so the switch does not pop.
+
+pub mod opening;
+
+use crate::capture::capture_batch;
+use crate::images::{DepthImage, LayeredDepthImage};
+use crate::subject::{MeshGroup, Subject};
+use crate::technique::{Counters, FrameView, Technique};
+use crate::warp::holes::{Fill, Filler};
+use crate::warp::ldi::LdiBuilder;
+use crate::warp::technique::ImagePass;
+use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
+use engine::{
+    run_packed_pass, Camera, Draw, FrameStats, Lighting, PassMode, PixelRect, Projection, Target,
+};
+use glam::Vec3;
+pub use opening::{Opening, Outline};
+
+/// How portals are built and drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PortalConfig {
+    /// The LDI's side, pixels.
+    pub side: u32,
+    /// How far (scene units) the eye may move from where an LDI was built before it is
+    /// rebuilt, and how far the side views of a build are from its eye; at most a quarter
+    /// of the eye's distance from the opening's plane (a region is narrower near the
+    /// opening, where the parallax is larger).
+    pub reach: f32,
+    /// Relative depth within which samples of the build's views merge into one.
+    pub tolerance: f32,
+    /// Within this distance of the opening's plane (and over the opening) the portal
+    /// draws its geometry.
+    pub through: f32,
+    /// The most LDIs rebuilt in one frame.
+    pub rebuilds_per_frame: usize,
+    pub fill: Fill,
+    pub options: WarpOptions,
+}
+
+impl Default for PortalConfig {
+    fn default() -> Self {
+        PortalConfig {
+            side: 384,
+            reach: 0.5,
+            tolerance: 0.03,
+            through: 1.0,
+            rebuilds_per_frame: 1,
+            fill: Fill::PullPush,
+            options: WarpOptions::default(),
+        }
+    }
+}
+
+/// How a portal was drawn in the last frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalMode {
+    /// Its opening is not on screen: nothing drawn.
+    Culled,
+    /// Its LDI warped into the opening.
+    Warped,
+    /// Its geometry: the eye is at or past the opening, or no LDI has been built yet.
+    Geometry,
+}
+
+/// A door or window and what lies behind it.
+#[derive(Debug)]
+pub struct Portal {
+    pub opening: Opening,
+    /// The geometry seen through the opening (drawn only when the portal shows geometry).
+    pub behind: MeshGroup,
+    ldi: Option<LayeredDepthImage>,
+    prepared: Prepared,
+    /// The eye the LDI was built from, and the reach of its region.
+    built_at: Option<(Vec3, f32)>,
+    mode: PortalMode,
+    rebuilds: u64,
+}
+
+impl Portal {
+    pub fn new(opening: Opening, behind: MeshGroup) -> Self {
+        Portal {
+            opening,
+            behind,
+            ldi: None,
+            prepared: Prepared::default(),
+            built_at: None,
+            mode: PortalMode::Culled,
+            rebuilds: 0,
+        }
+    }
+
+    pub fn mode(&self) -> PortalMode {
+        self.mode
+    }
+
+    /// The LDI it warps, if built.
+    pub fn ldi(&self) -> Option<&LayeredDepthImage> {
+        self.ldi.as_ref()
+    }
+
+    /// LDIs built so far.
+    pub fn rebuilds(&self) -> u64 {
+        self.rebuilds
+    }
+
+    /// Forgets the LDI (after `behind` changed): the next frame rebuilds it.
+    pub fn invalidate(&mut self) {
+        self.ldi = None;
+        self.built_at = None;
+    }
+
+    /// The reach of a region around `eye` ([`PortalConfig::reach`]).
+    fn reach(&self, eye: Vec3, config: &PortalConfig) -> f32 {
+        config.reach.min(0.25 * self.opening.side(eye).abs())
+    }
+
+    /// Builds the LDI seen from `eye` (see the module docs).
+    fn build(&mut self, eye: Vec3, config: &PortalConfig, lighting: &Lighting, b: &mut LdiBuilder) {
+        let reach = self.reach(eye, config);
+        let cameras = build_cameras(&self.opening, &self.behind, eye, reach);
+        let mut draws = Vec::new();
+        self.behind.draws(&mut draws);
+        let (w, h) = ldi_size(&cameras[0], config.side);
+        let images: Vec<DepthImage> = capture_batch(&draws, &cameras, lighting, w, h);
+        let ldi = b.build(&cameras[0], w, h, &images, config.tolerance);
+        self.prepared.prepare_ldi(&ldi, config.options.edge);
+        self.ldi = Some(ldi);
+        self.built_at = Some((eye, reach));
+        self.rebuilds += 1;
+    }
+}
+
+/// The cameras of a build from `eye`: the eye, then four side eyes `reach` away in the
+/// opening's plane directions. Each looks straight through the opening (along its
+/// inward normal, so the image plane is parallel to the opening, as in Popescu 98) with an
+/// off-axis frustum framing the opening widened by `reach` on every side: every LDI pixel
+/// is one that can be seen through the opening, from anywhere in the region.
+fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -> [Camera; 5] {
+    let n = opening.normal();
+    let up = (Vec3::Y - n * n.y).normalize_or(Vec3::Z);
+    let right = (-n).cross(up);
+    let bounds = behind.bounds();
+    let eyes = [
+        eye,
+        eye - right * reach,
+        eye + right * reach,
+        eye + up * reach,
+        eye - up * reach,
+    ];
+    eyes.map(|e| {
+        let view = glam::Mat4::look_at_rh(e, e - n, up);
+        let dist = opening.side(e).max(1e-4);
+        let near = (dist * 0.5).clamp(1e-3, 0.5);
+        let far = (e.distance(bounds.center) + bounds.radius) * 1.5 + 1.0;
+        // The opening in view space (all at depth `dist`), widened, scaled to the near
+        // plane.
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
+        for c in opening.corners {
+            let v = view.transform_point3(c);
+            let p = glam::Vec2::new(v.x, v.y);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let k = near / dist;
+        let (lo, hi) = (
+            (lo - glam::Vec2::splat(reach)) * k,
+            (hi + glam::Vec2::splat(reach)) * k,
+        );
+        Camera {
+            view,
+            projection: Projection::Frustum {
+                left: lo.x,
+                right: hi.x,
+                bottom: lo.y,
+                top: hi.y,
+                near,
+                far,
+            },
+        }
+    })
+}
+
+/// The LDI's size for `camera` (a frustum): `side` across its wider extent.
+fn ldi_size(camera: &Camera, side: u32) -> (u32, u32) {
+    let [l, r, b, t] = camera.projection.extents();
+    let (w, h) = ((r - l).abs(), (t - b).abs());
+    let side = side.max(1) as f32;
+    if !(w > 0.0 && h > 0.0) {
+        return (side as u32, side as u32);
+    }
+    let (pw, ph) = if w >= h {
+        (side, side * h / w)
+    } else {
+        (side * w / h, side)
+    };
+    (pw.round().max(1.0) as u32, ph.round().max(1.0) as u32)
+}
+
+/// What the portals did in the last frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PortalFrame {
+    /// Portals warped, drawn as geometry, culled.
+    pub warped: u64,
+    pub geometry: u64,
+    pub culled: u64,
+    /// LDIs rebuilt this frame, and portals that wanted a rebuild the budget did not allow.
+    pub rebuilds: u64,
+    pub stale: u64,
+    pub stats: WarpStats,
+    /// Holes inside the openings before filling.
+    pub holes: u64,
+    /// Pixels the image pass offers the frame.
+    pub pixels: u64,
+}
+
+/// A set of portals as one technique.
+#[derive(Debug)]
+pub struct Portals {
+    pub portals: Vec<Portal>,
+    pub config: PortalConfig,
+    /// Tints warped pixels green, to see where the image stands in for geometry.
+    pub debug_tint: bool,
+    warper: Warper,
+    filler: Filler,
+    builder: LdiBuilder,
+    /// The warped pixels inside the openings, at the frame's camera.
+    composite: Warped,
+    /// The rectangle of the frame the openings cover.
+    covered: Option<[u32; 4]>,
+    last: PortalFrame,
+}
+
+impl Portals {
+    pub fn new(portals: Vec<Portal>, config: PortalConfig) -> Self {
+        let camera = Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+        Portals {
+            portals,
+            config,
+            debug_tint: false,
+            warper: Warper::new(),
+            filler: Filler::default(),
+            builder: LdiBuilder::default(),
+            composite: Warped::new(0, 0, camera),
+            covered: None,
+            last: PortalFrame::default(),
+        }
+    }
+
+    pub fn last(&self) -> PortalFrame {
+        self.last
+    }
+
+    /// The warped pixels of the last frame (holes elsewhere).
+    pub fn image(&self) -> &Warped {
+        &self.composite
+    }
+
+    /// Decides each portal's mode for `camera`, rebuilds LDIs within the budget, and warps
+    /// and clips the warped portals into the composite image.
+    pub fn update(&mut self, camera: &Camera, width: u32, height: u32, lighting: &Lighting) {
+        let eye = camera.eye();
+        let cfg = self.config;
+        let mut frame = PortalFrame::default();
+        self.composite.reset(camera, width, height);
+        self.covered = None;
+        let mut budget = cfg.rebuilds_per_frame;
+        for p in &mut self.portals {
+            let side = p.opening.side(eye);
+            if side <= 0.0 || (side <= cfg.through && p.opening.over(eye)) {
+                p.mode = PortalMode::Geometry;
+                frame.geometry += 1;
+                continue;
+            }
+            let Some(outline) = p.opening.outline(camera, width, height) else {
+                p.mode = PortalMode::Culled;
+                frame.culled += 1;
+                continue;
+            };
+            let fresh = p
+                .built_at
+                .is_some_and(|(at, reach)| at.distance(eye) <= reach);
+            if !fresh {
+                if budget > 0 {
+                    budget -= 1;
+                    p.build(eye, &cfg, lighting, &mut self.builder);
+                    frame.rebuilds += 1;
+                } else {
+                    frame.stale += 1;
+                }
+            }
+            if p.ldi.is_none() {
+                p.mode = PortalMode::Geometry;
+                frame.geometry += 1;
+                continue;
+            }
+            p.mode = PortalMode::Warped;
+            frame.warped += 1;
+            self.warper.begin(camera, width, height);
+            frame.stats += self.warper.add_prepared(&p.prepared, &cfg.options);
+            let out = self.warper.output_mut();
+            frame.holes += holes_inside(out, &outline);
+            self.filler.fill(out, cfg.fill, cfg.options.edge);
+            frame.pixels += clip_into(&mut self.composite, out, &outline, self.debug_tint);
+            let [x0, y0, x1, y1] = outline.bounds;
+            self.covered = Some(match self.covered {
+                None => outline.bounds,
+                Some([a, b, c, d]) => [a.min(x0), b.min(y0), c.max(x1), d.max(y1)],
+            });
+        }
+        self.last = frame;
+    }
+}
+
+/// Holes of `image` inside `outline` (before filling).
+fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
+    let w = image.width();
+    let [x0, y0, x1, y1] = outline.bounds;
+    let mut holes = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            if outline.contains(x, y) && !image.is_filled((y * w + x) as usize) {
+                holes += 1;
+            }
+        }
+    }
+    holes
+}
+
+/// Copies the pixels of `from` inside `outline` into `into` (tinted green if asked);
+/// returns the filled pixels copied.
+fn clip_into(into: &mut Warped, from: &Warped, outline: &Outline, tint: bool) -> u64 {
+    let w = into.width();
+    let [x0, y0, x1, y1] = outline.bounds;
+    let mut copied = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let i = (y * w + x) as usize;
+            if outline.contains(x, y) && from.is_filled(i) {
+                let c = from.color[i];
+                into.color[i] = if tint { tinted(c) } else { c };
+                into.disparity[i] = from.disparity[i];
+                copied += 1;
+            }
+        }
+    }
+    copied
+}
+
+/// A packed colour pushed toward green.
+fn tinted(c: u32) -> u32 {
+    let [r, g, b, a] = c.to_le_bytes();
+    u32::from_le_bytes([r / 2, g / 2 + a / 2, b / 2, a])
+}
+
+impl Technique for Portals {
+    fn name(&self) -> &str {
+        "ldi portals"
+    }
+
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.update(view.camera, view.width, view.height, view.lighting);
+    }
+
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for p in &self.portals {
+            if p.mode == PortalMode::Geometry {
+                p.behind.draws(out);
+            }
+        }
+    }
+
+    fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let Some([x0, y0, x1, y1]) = self.covered else {
+            return FrameStats::default();
+        };
+        let rect = PixelRect { x0, y0, x1, y1 };
+        run_packed_pass(
+            target,
+            rect,
+            &ImagePass::new(&self.composite),
+            PassMode::default(),
+        )
+    }
+
+    fn counters(&self) -> Counters {
+        let f = self.last;
+        Counters {
+            images: f.warped,
+            refreshes: f.rebuilds,
+            geometry: f.geometry,
+            pixels: f.pixels,
+            samples: f.stats.samples,
+            holes: f.holes,
+            ..Counters::default()
+        }
+    }
+
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for p in &self.portals {
+            p.behind.draws(out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
