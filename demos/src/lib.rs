@@ -9,8 +9,10 @@
 pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
+pub mod bench_portals;
 pub mod bench_scaling;
 pub mod bench_warp;
+pub mod building;
 pub mod capture;
 pub mod chart;
 pub mod city;

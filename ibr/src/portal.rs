@@ -33,13 +33,27 @@ use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
 use engine::{
     run_packed_pass, Camera, Draw, FrameStats, Lighting, PassMode, PixelRect, Projection, Target,
 };
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 pub use opening::{Opening, Outline};
+
+/// What a portal's image holds (the three representations Rafferty et al. 98 compared).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalImage {
+    /// A layered depth image merged from the eye's view and four side views.
+    Ldi,
+    /// One depth image, the eye's view: parallax, but what the eye did not see is a hole.
+    DepthImage,
+    /// The eye's view flat on the opening (every sample at the opening's plane): a
+    /// textured portal, right only from where it was taken.
+    Flat,
+}
 
 /// How portals are built and drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PortalConfig {
-    /// The LDI's side, pixels.
+    pub image: PortalImage,
+    /// The LDI's largest side, pixels. A build makes it 1.5 times the opening's size on
+    /// screen, up to this; an opening grown to twice what its LDI was built for is rebuilt.
     pub side: u32,
     /// How far (scene units) the eye may move from where an LDI was built before it is
     /// rebuilt, and how far the side views of a build are from its eye; at most a quarter
@@ -60,6 +74,7 @@ pub struct PortalConfig {
 impl Default for PortalConfig {
     fn default() -> Self {
         PortalConfig {
+            image: PortalImage::Ldi,
             side: 384,
             reach: 0.5,
             tolerance: 0.03,
@@ -90,8 +105,9 @@ pub struct Portal {
     pub behind: MeshGroup,
     ldi: Option<LayeredDepthImage>,
     prepared: Prepared,
-    /// The eye the LDI was built from, and the reach of its region.
-    built_at: Option<(Vec3, f32)>,
+    /// The eye the LDI was built from, the reach of its region, and the on-screen size
+    /// (pixels) it was built for.
+    built_at: Option<(Vec3, f32, u32)>,
     mode: PortalMode,
     rebuilds: u64,
 }
@@ -134,18 +150,41 @@ impl Portal {
         config.reach.min(0.25 * self.opening.side(eye).abs())
     }
 
-    /// Builds the LDI seen from `eye` (see the module docs).
-    fn build(&mut self, eye: Vec3, config: &PortalConfig, lighting: &Lighting, b: &mut LdiBuilder) {
+    /// Builds the LDI seen from `eye` for an opening `screen` pixels across (see the
+    /// module docs).
+    fn build(
+        &mut self,
+        eye: Vec3,
+        screen: u32,
+        config: &PortalConfig,
+        lighting: &Lighting,
+        b: &mut LdiBuilder,
+    ) {
         let reach = self.reach(eye, config);
         let cameras = build_cameras(&self.opening, &self.behind, eye, reach);
         let mut draws = Vec::new();
         self.behind.draws(&mut draws);
-        let (w, h) = ldi_size(&cameras[0], config.side);
-        let images: Vec<DepthImage> = capture_batch(&draws, &cameras, lighting, w, h);
+        let side = (screen as f32 * 1.5).clamp(64.0, config.side.max(1) as f32) as u32;
+        let (w, h) = ldi_size(&cameras[0], side);
+        let views = match config.image {
+            PortalImage::Ldi => &cameras[..],
+            PortalImage::DepthImage | PortalImage::Flat => &cameras[..1],
+        };
+        let mut images: Vec<DepthImage> = capture_batch(&draws, views, lighting, w, h);
+        if config.image == PortalImage::Flat {
+            // The eye's image plane is parallel to the opening: the opening's plane is at
+            // one depth along the axis for every pixel.
+            let plane = self.opening.side(eye);
+            for d in images.iter_mut().flat_map(|i| i.depth.iter_mut()) {
+                if d.is_finite() {
+                    *d = plane;
+                }
+            }
+        }
         let ldi = b.build(&cameras[0], w, h, &images, config.tolerance);
         self.prepared.prepare_ldi(&ldi, config.options.edge);
         self.ldi = Some(ldi);
-        self.built_at = Some((eye, reach));
+        self.built_at = Some((eye, reach, screen));
         self.rebuilds += 1;
     }
 }
@@ -174,18 +213,15 @@ fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -
         let far = (e.distance(bounds.center) + bounds.radius) * 1.5 + 1.0;
         // The opening in view space (all at depth `dist`), widened, scaled to the near
         // plane.
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
         for c in opening.corners {
             let v = view.transform_point3(c);
-            let p = glam::Vec2::new(v.x, v.y);
+            let p = Vec2::new(v.x, v.y);
             lo = lo.min(p);
             hi = hi.max(p);
         }
         let k = near / dist;
-        let (lo, hi) = (
-            (lo - glam::Vec2::splat(reach)) * k,
-            (hi + glam::Vec2::splat(reach)) * k,
-        );
+        let (lo, hi) = ((lo - Vec2::splat(reach)) * k, (hi + Vec2::splat(reach)) * k);
         Camera {
             view,
             projection: Projection::Frustum {
@@ -296,13 +332,15 @@ impl Portals {
                 frame.culled += 1;
                 continue;
             };
-            let fresh = p
-                .built_at
-                .is_some_and(|(at, reach)| at.distance(eye) <= reach);
+            let [x0, y0, x1, y1] = outline.bounds;
+            let screen = (x1 - x0).max(y1 - y0);
+            let fresh = p.built_at.is_some_and(|(at, reach, built)| {
+                at.distance(eye) <= reach && screen <= 2 * built.max(32)
+            });
             if !fresh {
                 if budget > 0 {
                     budget -= 1;
-                    p.build(eye, &cfg, lighting, &mut self.builder);
+                    p.build(eye, screen, &cfg, lighting, &mut self.builder);
                     frame.rebuilds += 1;
                 } else {
                     frame.stale += 1;
@@ -315,13 +353,19 @@ impl Portals {
             }
             p.mode = PortalMode::Warped;
             frame.warped += 1;
-            self.warper.begin(camera, width, height);
+            // Warped into the outline's rectangle only (a crop of the frame's camera), so
+            // the warp's image, its fill and the copy cost the opening's pixels.
+            let (lo, hi) = (
+                Vec2::new(x0 as f32, y0 as f32),
+                Vec2::new(x1 as f32, y1 as f32),
+            );
+            let crop = camera.crop(lo, hi, width, height);
+            self.warper.begin(&crop, x1 - x0, y1 - y0);
             frame.stats += self.warper.add_prepared(&p.prepared, &cfg.options);
             let out = self.warper.output_mut();
             frame.holes += holes_inside(out, &outline);
             self.filler.fill(out, cfg.fill, cfg.options.edge);
             frame.pixels += clip_into(&mut self.composite, out, &outline, self.debug_tint);
-            let [x0, y0, x1, y1] = outline.bounds;
             self.covered = Some(match self.covered {
                 None => outline.bounds,
                 Some([a, b, c, d]) => [a.min(x0), b.min(y0), c.max(x1), d.max(y1)],
@@ -331,14 +375,15 @@ impl Portals {
     }
 }
 
-/// Holes of `image` inside `outline` (before filling).
+/// Holes of `image` (the outline's rectangle) inside `outline` (before filling).
 fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
     let w = image.width();
     let [x0, y0, x1, y1] = outline.bounds;
     let mut holes = 0;
     for y in y0..y1 {
         for x in x0..x1 {
-            if outline.contains(x, y) && !image.is_filled((y * w + x) as usize) {
+            let i = ((y - y0) * w + (x - x0)) as usize;
+            if outline.contains(x, y) && !image.is_filled(i) {
                 holes += 1;
             }
         }
@@ -346,19 +391,19 @@ fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
     holes
 }
 
-/// Copies the pixels of `from` inside `outline` into `into` (tinted green if asked);
-/// returns the filled pixels copied.
+/// Copies the pixels of `from` (the outline's rectangle) inside `outline` into `into` (the
+/// frame; tinted green if asked); returns the filled pixels copied.
 fn clip_into(into: &mut Warped, from: &Warped, outline: &Outline, tint: bool) -> u64 {
-    let w = into.width();
+    let (w, fw) = (into.width(), from.width());
     let [x0, y0, x1, y1] = outline.bounds;
     let mut copied = 0;
     for y in y0..y1 {
         for x in x0..x1 {
-            let i = (y * w + x) as usize;
-            if outline.contains(x, y) && from.is_filled(i) {
-                let c = from.color[i];
+            let (i, j) = ((y * w + x) as usize, ((y - y0) * fw + (x - x0)) as usize);
+            if outline.contains(x, y) && from.is_filled(j) {
+                let c = from.color[j];
                 into.color[i] = if tint { tinted(c) } else { c };
-                into.disparity[i] = from.disparity[i];
+                into.disparity[i] = from.disparity[j];
                 copied += 1;
             }
         }

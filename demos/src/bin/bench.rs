@@ -21,11 +21,15 @@
 //!   two and four references, points and splats: error and holes against the move, error
 //!   against time beside the geometry frame, and the warp's speed at 1920x1080
 //!   (`demos::bench_warp`).
+//! - `portals`: the building's rooms through their doorways as geometry, a flat image, one
+//!   depth image or an LDI: frame time against the triangles behind the doorways and
+//!   against resolution, error and time along a walkthrough (`demos::bench_portals`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
+use demos::bench_portals as bp;
 use demos::bench_scaling as scaling;
 use demos::bench_warp as bw;
 use demos::chart::{self, Chart, Drawn};
@@ -60,6 +64,9 @@ enum Sweep {
     Scaling(Small),
     /// Depth images warped to moved eyes: error, holes and time against geometry.
     Warp(Small),
+    /// Rooms through LDI portals, depth-image and flat portals, or as geometry: time
+    /// against triangles and resolution, error along a walkthrough.
+    Portals(Small),
 }
 
 #[derive(Args, Debug)]
@@ -110,6 +117,7 @@ fn main() -> ExitCode {
         Sweep::Impostors(c) => impostors(c),
         Sweep::Scaling(c) => scaling_sweep(c),
         Sweep::Warp(c) => warp(c),
+        Sweep::Portals(c) => portals(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -386,5 +394,58 @@ fn warp(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bw::run(&plan, progress);
     let (name, rows, charts) = ("warp", "points", bw::charts);
+    sweep(c, name, rows, run, report, charts)
+}
+
+fn portals(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bp::Plan::tiny, bp::Plan::quick, bp::Plan::full);
+    let report = |rows: &[bp::Row]| {
+        for r in rows.iter().filter(|r| r.series != "walk") {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB  MAE {:>5.2}",
+                    e.psnr_capped(99.0),
+                    e.mean_abs
+                )
+            });
+            println!(
+                "{:<10} {:<11} {:>9} tris {:>4}x{:<4} median {:>8.3} ms  {:>8} tris in  {:>8} samples  {:>8} px  {err}",
+                r.series,
+                r.method,
+                r.room_triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.triangles_in,
+                r.samples,
+                r.pixels,
+            );
+        }
+        for m in ["geometry", "flat", "depth-image", "ldi"] {
+            let walk: Vec<&bp::Row> = rows
+                .iter()
+                .filter(|r| r.series == "walk" && r.method == m)
+                .collect();
+            if walk.is_empty() {
+                continue;
+            }
+            let n = walk.len() as f64;
+            let mean_ms = walk.iter().map(|r| r.time.median_ms).sum::<f64>() / n;
+            let max_ms = walk.iter().map(|r| r.time.median_ms).fold(0.0, f64::max);
+            let psnr: Vec<f64> = walk
+                .iter()
+                .filter_map(|r| r.error.map(|e| e.psnr_capped(99.0)))
+                .collect();
+            let min_psnr = psnr.iter().copied().fold(f64::INFINITY, f64::min);
+            let rebuilds: u64 = walk.iter().map(|r| r.rebuilds).sum();
+            println!(
+                "walk       {m:<11} {} frames  mean {mean_ms:>7.3} ms  max {max_ms:>7.3} ms  rebuilds {rebuilds}  lowest PSNR {}",
+                walk.len(),
+                if psnr.is_empty() { "-".to_string() } else { format!("{min_psnr:.2} dB") },
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bp::run(&plan, progress);
+    let (name, rows, charts) = ("portals", "points", bp::charts);
     sweep(c, name, rows, run, report, charts)
 }

@@ -406,3 +406,32 @@ fn the_same_pixels_at_any_thread_count() {
     let one = run(1);
     assert!(run(2) == one && run(3) == one);
 }
+
+#[test]
+fn flat_and_single_image_portals_are_right_from_their_eye_and_worse_elsewhere() {
+    // Built at one eye, seen from another within the region: the LDI is nearest the
+    // truth, the flat image (no parallax) farthest; from the build eye all three are close.
+    let build = Vec3::new(0.3, 1.5, 4.0);
+    let moved = Vec3::new(0.75, 1.5, 4.0);
+    let mut errors = Vec::new();
+    for image in [PortalImage::Ldi, PortalImage::DepthImage, PortalImage::Flat] {
+        let mut p = Portals::new(
+            vec![Portal::new(doorway(), room(2_000))],
+            PortalConfig { image, ..config() },
+        );
+        let at_build = camera(build);
+        let (frame, _) = render(&mut p, &at_build, &[]);
+        let outline = doorway().outline(&at_build, W, H).unwrap();
+        let (_, mae) = off_inside(&frame, &truth(&p, &at_build, &[]), &outline, 24);
+        assert!(mae < 6.0, "{image:?} at its eye: {mae}");
+        let cam = camera(moved);
+        let (frame, _) = render(&mut p, &cam, &[]);
+        assert_eq!(p.last().rebuilds, 0, "{image:?}: still within reach");
+        let outline = doorway().outline(&cam, W, H).unwrap();
+        errors.push(off_inside(&frame, &truth(&p, &cam, &[]), &outline, 24).1);
+    }
+    let [ldi, single, flat] = errors[..] else {
+        unreachable!()
+    };
+    assert!(ldi <= single + 0.5 && single < flat, "{errors:?}");
+}

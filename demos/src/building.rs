@@ -1,0 +1,288 @@
+//! A procedural building for LDI portals: a hall (the near room, always geometry) whose
+//! wall has three doorways, each opening into a furnished room whose triangle count is
+//! chosen (from a few thousand to over a million), and a walkthrough along the hall and
+//! through the middle door.
+//!
+//! Axes: the hall spans z in [0, 4] (the near side of the doorways), the rooms z in
+//! [-6, 0]; y up; the doorways are 1.2 wide and 2.1 high, centred at x = -4, 0 and 4.
+
+use engine::procedural::{self, XorShift};
+use engine::{Light, Lighting, Material, Mesh, Rgba};
+use glam::{Mat4, Vec3};
+use ibr::portal::{Opening, Portal};
+use ibr::subject::MeshGroup;
+use std::sync::Arc;
+
+/// Doorway centres along x.
+pub const DOORS: [f32; 3] = [-4.0, 0.0, 4.0];
+const DOOR_W: f32 = 1.2;
+const DOOR_H: f32 = 2.1;
+const HALL_DEPTH: f32 = 4.0;
+const ROOM_DEPTH: f32 = 6.0;
+const HEIGHT: f32 = 3.0;
+const HALF_LENGTH: f32 = 6.5;
+
+/// The hall, the rooms behind its doorways, and the light.
+#[derive(Clone, Debug)]
+pub struct Building {
+    /// The hall: floor, ceiling, walls (the doorway wall with its openings).
+    pub hall: MeshGroup,
+    /// Each doorway and the room behind it.
+    pub rooms: Vec<(Opening, MeshGroup)>,
+    pub lighting: Lighting,
+}
+
+fn lit(r: f32, g: f32, b: f32) -> Arc<Material> {
+    Arc::new(Material::lit(Rgba::new(r, g, b, 1.0)).double_sided(true))
+}
+
+/// A box of `size` whose bottom centre is at `at`.
+fn block(group: MeshGroup, size: Vec3, at: Vec3, material: &Arc<Material>) -> MeshGroup {
+    group.with(
+        Arc::new(procedural::cuboid(size)),
+        material.clone(),
+        Mat4::from_translation(at + Vec3::Y * size.y * 0.5),
+    )
+}
+
+/// The wall z = 0 from x0 to x1 with the doorways cut out, facing +z.
+fn doorway_wall() -> Mesh {
+    let mut m = Mesh::default();
+    let mut quad = |x0: f32, x1: f32, y0: f32, y1: f32| {
+        let base = m.positions.len() as u32;
+        m.positions.extend([
+            Vec3::new(x0, y0, 0.0),
+            Vec3::new(x1, y0, 0.0),
+            Vec3::new(x1, y1, 0.0),
+            Vec3::new(x0, y1, 0.0),
+        ]);
+        m.normals.extend([Vec3::Z; 4]);
+        m.indices
+            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+    };
+    let mut x = -HALF_LENGTH;
+    for d in DOORS {
+        quad(x, d - DOOR_W / 2.0, 0.0, HEIGHT);
+        quad(d - DOOR_W / 2.0, d + DOOR_W / 2.0, DOOR_H, HEIGHT);
+        x = d + DOOR_W / 2.0;
+    }
+    quad(x, HALF_LENGTH, 0.0, HEIGHT);
+    m
+}
+
+impl Building {
+    /// The building with about `triangles` triangles of furniture in each room (at least
+    /// a few hundred: the rooms' walls and plain furniture), deterministic for `seed`.
+    pub fn new(triangles: u32, seed: u64) -> Building {
+        let wall = lit(0.82, 0.78, 0.68);
+        let hall = MeshGroup::new()
+            .with(Arc::new(doorway_wall()), wall.clone(), Mat4::IDENTITY)
+            .with(
+                Arc::new(procedural::cuboid(Vec3::new(
+                    2.0 * HALF_LENGTH,
+                    0.1,
+                    HALL_DEPTH,
+                ))),
+                lit(0.45, 0.4, 0.35),
+                Mat4::from_translation(Vec3::new(0.0, -0.05, HALL_DEPTH / 2.0)),
+            )
+            .with(
+                Arc::new(procedural::cuboid(Vec3::new(
+                    2.0 * HALF_LENGTH,
+                    0.1,
+                    HALL_DEPTH,
+                ))),
+                lit(0.9, 0.9, 0.88),
+                Mat4::from_translation(Vec3::new(0.0, HEIGHT + 0.05, HALL_DEPTH / 2.0)),
+            )
+            .with(
+                Arc::new(procedural::cuboid(Vec3::new(
+                    2.0 * HALF_LENGTH,
+                    HEIGHT,
+                    0.1,
+                ))),
+                wall.clone(),
+                Mat4::from_translation(Vec3::new(0.0, HEIGHT / 2.0, HALL_DEPTH + 0.05)),
+            );
+        let mut rng = XorShift::new(seed);
+        let rooms = DOORS
+            .iter()
+            .enumerate()
+            .map(|(k, &x)| {
+                let opening = Opening::upright(Vec3::new(x, 0.0, 0.0), DOOR_W, DOOR_H, Vec3::Z);
+                (opening, room(x, k, triangles, &mut rng))
+            })
+            .collect();
+        Building {
+            hall,
+            rooms,
+            lighting: Lighting {
+                ambient: Rgba::new(0.35, 0.35, 0.38, 1.0),
+                lights: vec![Light::Directional {
+                    direction: Vec3::new(-0.35, -1.0, -0.45).normalize(),
+                    color: Rgba::new(0.9, 0.88, 0.8, 1.0),
+                }],
+            },
+        }
+    }
+
+    /// The rooms as portals.
+    pub fn portals(&self) -> Vec<Portal> {
+        self.rooms
+            .iter()
+            .map(|(o, r)| Portal::new(*o, r.clone()))
+            .collect()
+    }
+
+    /// Triangles behind the doorways.
+    pub fn room_triangles(&self) -> usize {
+        self.rooms
+            .iter()
+            .flat_map(|(_, r)| &r.parts)
+            .map(|p| p.mesh.indices.len() / 3)
+            .sum()
+    }
+
+    /// The walkthrough at `t` in [0, 1]: eye and look-at point. Along the hall past the
+    /// doors (looking into them), then through the middle door into its room.
+    pub fn path(t: f32) -> (Vec3, Vec3) {
+        let t = t.clamp(0.0, 1.0);
+        if t < 0.6 {
+            // Along the hall from x = -5 to x = 3, 2.8 from the doorway wall.
+            let s = t / 0.6;
+            let x = -5.0 + 8.0 * s;
+            let eye = Vec3::new(x, 1.6, 2.8);
+            (eye, Vec3::new(x - 1.0, 1.2, -2.0))
+        } else {
+            // Turn to the middle door and walk through it.
+            let s = (t - 0.6) / 0.4;
+            let from = Vec3::new(3.0, 1.6, 2.8);
+            let door = Vec3::new(0.0, 1.6, 2.4);
+            let eye = if s < 0.4 {
+                from.lerp(door, s / 0.4)
+            } else {
+                door.lerp(Vec3::new(0.0, 1.6, -3.0), (s - 0.4) / 0.6)
+            };
+            (eye, Vec3::new(0.0, 1.2, -6.0))
+        }
+    }
+}
+
+/// The room behind the doorway at `x`: floor, ceiling, three walls (its own colour), a
+/// table with chairs, shelves with boxes, and a statue carrying most of `triangles`.
+fn room(x: f32, k: usize, triangles: u32, rng: &mut XorShift) -> MeshGroup {
+    let palette = [(0.35, 0.5, 0.7), (0.7, 0.45, 0.35), (0.45, 0.65, 0.4)];
+    let (r, g, b) = palette[k % 3];
+    let walls = lit(r, g, b);
+    let z = -ROOM_DEPTH / 2.0;
+    let w = 3.8;
+    let mut m = MeshGroup::new();
+    m = block(
+        m,
+        Vec3::new(w, 0.1, ROOM_DEPTH),
+        Vec3::new(x, -0.1, z),
+        &lit(0.5, 0.42, 0.33),
+    );
+    m = block(
+        m,
+        Vec3::new(w, 0.1, ROOM_DEPTH),
+        Vec3::new(x, HEIGHT, z),
+        &lit(0.92, 0.92, 0.9),
+    );
+    m = block(
+        m,
+        Vec3::new(w, HEIGHT, 0.1),
+        Vec3::new(x, 0.0, -ROOM_DEPTH),
+        &walls,
+    );
+    for side in [-1.0, 1.0] {
+        let at = Vec3::new(x + side * w / 2.0, 0.0, z);
+        m = block(m, Vec3::new(0.1, HEIGHT, ROOM_DEPTH), at, &walls);
+    }
+    // A table and four chairs.
+    let wood = lit(0.55, 0.35, 0.2);
+    let t = Vec3::new(x + rng.range(-0.6, 0.6), 0.0, -2.6 + rng.range(-0.4, 0.4));
+    m = block(m, Vec3::new(1.4, 0.08, 0.8), t + Vec3::Y * 0.72, &wood);
+    for (dx, dz) in [(-0.6, -0.3), (0.6, -0.3), (-0.6, 0.3), (0.6, 0.3)] {
+        m = block(
+            m,
+            Vec3::new(0.06, 0.72, 0.06),
+            t + Vec3::new(dx, 0.0, dz),
+            &wood,
+        );
+    }
+    let seat = lit(0.3, 0.3, 0.35);
+    for (dx, dz) in [(-0.4, -0.7), (0.4, -0.7), (-0.4, 0.7), (0.4, 0.7)] {
+        let c = t + Vec3::new(dx, 0.0, dz);
+        m = block(m, Vec3::new(0.4, 0.45, 0.4), c, &seat);
+        let back = c + Vec3::new(0.0, 0.45, 0.18 * dz.signum());
+        m = block(m, Vec3::new(0.4, 0.5, 0.05), back, &seat);
+    }
+    // Shelves against the back wall, with boxes of several colours.
+    let shelf = lit(0.4, 0.3, 0.2);
+    for level in 0..4 {
+        let y = 0.3 + 0.55 * level as f32;
+        m = block(
+            m,
+            Vec3::new(2.0, 0.04, 0.35),
+            Vec3::new(x - 0.8, y, -5.7),
+            &shelf,
+        );
+        for i in 0..5 {
+            let c = lit(
+                rng.range(0.2, 0.9),
+                rng.range(0.2, 0.9),
+                rng.range(0.2, 0.9),
+            );
+            let size = Vec3::new(rng.range(0.15, 0.3), rng.range(0.15, 0.4), 0.25);
+            let at = Vec3::new(x - 1.6 + 0.38 * i as f32, y + 0.04, -5.7);
+            m = block(m, size, at, &c);
+        }
+    }
+    // The statue: a torus knot of rings carrying the room's triangle budget.
+    let statue = lit(0.85, 0.8, 0.7);
+    let rings = 3u32;
+    let per = (triangles / rings).max(64);
+    for i in 0..rings {
+        let tilt = Mat4::from_rotation_y(i as f32 * 1.05) * Mat4::from_rotation_x(1.2);
+        let at = Vec3::new(x + 1.2, 1.2, -4.0);
+        m = m.with(
+            Arc::new(procedural::torus_with_triangles(per)),
+            statue.clone(),
+            Mat4::from_translation(at) * tilt * Mat4::from_scale(Vec3::splat(0.45)),
+        );
+    }
+    m = block(
+        m,
+        Vec3::new(0.6, 0.6, 0.6),
+        Vec3::new(x + 1.2, 0.0, -4.0),
+        &lit(0.5, 0.5, 0.5),
+    );
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rooms_scale_their_triangles_and_sit_behind_their_doorways() {
+        let small = Building::new(1_000, 1);
+        let big = Building::new(300_000, 1);
+        let (s, b) = (small.room_triangles(), big.room_triangles());
+        assert!(s < 12_000, "{s}");
+        assert!(b > 3 * 280_000, "{b}");
+        for (opening, room) in &big.rooms {
+            assert!(opening.normal().z > 0.99);
+            // Every part of the room lies behind the doorway wall.
+            for part in &room.parts {
+                for v in &part.mesh.positions {
+                    let p = part.transform.transform_point3(*v);
+                    assert!(opening.side(p) <= 0.06, "{p}");
+                }
+            }
+        }
+        // The walkthrough starts in the hall and ends in the middle room.
+        assert!(Building::path(0.0).0.z > 0.0 && Building::path(1.0).0.z < 0.0);
+    }
+}
