@@ -16,10 +16,14 @@
 //!    near room the rasterizer drew (warped samples carry depth, so a table in front of
 //!    the door hides them).
 //!
+//! Portals can be made in code ([`Portal::new`]) or read from a loaded scene whose nodes
+//! mark them ([`marked`]: `portal.<room>` and `room.<room>`).
+//!
 //! Walking up to the opening (within [`PortalConfig::through`] of its plane, over it) or
 //! past it, the portal draws its geometry instead; the LDI built from an eye at the
 //! opening sees what the geometry shows, so the switch does not pop.
 
+pub mod marked;
 pub mod opening;
 
 use crate::capture::capture_batch;
@@ -34,6 +38,7 @@ use engine::{
     run_packed_pass, Camera, Draw, FrameStats, Lighting, PassMode, PixelRect, Projection, Target,
 };
 use glam::{Vec2, Vec3};
+pub use marked::{from_scene, MarkError, Marked};
 pub use opening::{Opening, Outline};
 
 /// What a portal's image holds (the three representations Rafferty et al. 98 compared).

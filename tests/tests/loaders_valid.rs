@@ -276,3 +276,23 @@ fn obj_without_faces_loads_as_an_empty_scene_with_a_notice() {
     let e = load::obj_from(Path::new("prose.obj"), &memory).expect_err("prose");
     assert!(e.to_string().contains("not an OBJ file"), "{e}");
 }
+
+#[test]
+fn every_instance_is_named_after_its_object_or_node_path() {
+    let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\no first\nf 1 2 3\no second\nf 1 3 2\n";
+    let l = load_both("named.obj", &[("named.obj", obj)]);
+    assert_eq!(l.names, ["first", "second"]);
+    // glTF: root-to-node paths, unnamed nodes by index.
+    let json = triangle(
+        r#","scene":0,"scenes":[{"nodes":[0]}]"#,
+        r#"[{"name":"a","children":[1,2],"mesh":0},{"mesh":0},{"name":"c","mesh":0}]"#,
+        "",
+        "",
+    );
+    let l = load_both(
+        "named.gltf",
+        &[("named.gltf", json.as_bytes()), ("tri.bin", &tri_bin())],
+    );
+    assert_eq!(l.names, ["a", "a/node1", "a/c"]);
+    assert_eq!(l.names.len(), l.scene.instances.len());
+}

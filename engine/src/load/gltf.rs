@@ -152,6 +152,8 @@ struct Ctx<'a> {
     buffers: Vec<Cow<'a, [u8]>>,
     scene: Scene,
     warnings: Vec<String>,
+    /// Each instance's node path ([`Loaded::names`]).
+    names: Vec<String>,
     /// (mesh, primitive) -> scene mesh (`None`: skipped primitive).
     meshes: HashMap<(usize, usize), Option<usize>>,
     /// glTF material index (`None` = the default material) -> scene material.
@@ -326,7 +328,7 @@ impl Ctx<'_> {
         Ok(built)
     }
 
-    fn node(&mut self, node: &Node, world: Mat4) -> Result<(), LoadError> {
+    fn node(&mut self, node: &Node, world: Mat4, name: &str) -> Result<(), LoadError> {
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
@@ -338,6 +340,7 @@ impl Ctx<'_> {
                     material,
                     transform: world,
                 });
+                self.names.push(name.to_string());
             }
         }
         Ok(())
@@ -470,6 +473,7 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
         buffers,
         scene: Scene::default(),
         warnings,
+        names: Vec::new(),
         meshes: HashMap::new(),
         materials: HashMap::new(),
         images: HashMap::new(),
@@ -492,12 +496,12 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
     // Depth-first, children in order; each node once (a node reached again would mean a
     // cycle or a shared child, which glTF forbids).
     let mut visited = vec![false; document.nodes().len()];
-    let mut stack: Vec<(Node, Mat4)> = roots
+    let mut stack: Vec<(Node, Mat4, String)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, Mat4::IDENTITY))
+        .map(|n| (n, Mat4::IDENTITY, String::new()))
         .collect();
-    while let Some((node, parent)) = stack.pop() {
+    while let Some((node, parent, parent_name)) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
             ctx.warnings.push(format!(
                 "{}: node {} is reached twice (cycle or shared child); skipped",
@@ -507,9 +511,17 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
             continue;
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        ctx.node(&node, world)?;
+        let own = node
+            .name()
+            .map_or_else(|| format!("node{}", node.index()), str::to_string);
+        let name = if parent_name.is_empty() {
+            own
+        } else {
+            format!("{parent_name}/{own}")
+        };
+        ctx.node(&node, world, &name)?;
         let children: Vec<Node> = node.children().collect();
-        stack.extend(children.into_iter().rev().map(|c| (c, world)));
+        stack.extend(children.into_iter().rev().map(|c| (c, world, name.clone())));
     }
     if ctx.scene.instances.is_empty() {
         ctx.warnings.push(format!(
@@ -520,5 +532,6 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
     Ok(Loaded {
         scene: ctx.scene,
         warnings: ctx.warnings,
+        names: ctx.names,
     })
 }

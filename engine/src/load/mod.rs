@@ -59,6 +59,11 @@ pub struct Loaded {
     pub scene: Scene,
     /// Human-readable notes on what was skipped or replaced (e.g. a missing texture).
     pub warnings: Vec<String>,
+    /// Where each instance of `scene` came from, one per instance: for glTF the names of
+    /// the nodes from the scene's root down to the instance's node, joined by `/` (a node
+    /// without a name is `node<index>`); for OBJ the object or group's name. Techniques
+    /// read markers from them (an LDI portal's opening and room, `ibr::portal`).
+    pub names: Vec<String>,
 }
 
 /// Loads a Wavefront OBJ file with its MTL materials and `map_Kd` textures.

@@ -357,6 +357,7 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
         return Ok(Loaded {
             scene: crate::scene::Scene::default(),
             warnings,
+            names: Vec::new(),
         });
     }
     let mixed = s.colored > 0 && s.plain > 0;
@@ -423,6 +424,7 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
     }
 
     let mut scene = crate::scene::Scene::default();
+    let mut names = Vec::new();
     let mut textures = Textures {
         files,
         cache: HashMap::new(),
@@ -446,8 +448,13 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
             },
         };
         scene.add(mesh, mat, Mat4::IDENTITY);
+        names.push(model.name.clone());
     }
-    Ok(Loaded { scene, warnings })
+    Ok(Loaded {
+        scene,
+        warnings,
+        names,
+    })
 }
 
 #[cfg(test)]
