@@ -1,4 +1,4 @@
-//! A procedural building for LDI portals: a hall (the near room, always geometry) whose
+//! A procedural building for LDI portals: a closed hall (the near room, always geometry) whose
 //! wall has three doorways, each opening into a furnished room whose triangle count is
 //! chosen (from a few thousand to over a million), and a walkthrough along the hall and
 //! through the middle door.

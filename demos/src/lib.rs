@@ -18,6 +18,7 @@ pub mod chart;
 pub mod city;
 pub mod font;
 pub mod showcase;
+pub mod showcase_building;
 pub mod showcase_ibr;
 pub mod showcase_impostors;
 pub mod sweep;

@@ -123,3 +123,42 @@ fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
         .count();
     assert!(greener > 20, "{greener} pixels turned green");
 }
+
+#[test]
+fn the_building_tour_warps_its_rooms_through_portals() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_building");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .args(["--building", "--debug-portals", "--headless"])
+        .arg(&dir)
+        .args(["--frames", "4", "-W", "160", "-H", "90"])
+        .output()
+        .expect("showcase runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // "portals over the tour: N warped and M drawn as geometry ...": some warped.
+    let warped: u64 = stdout
+        .split("portals over the tour: ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no portal summary in:\n{stdout}"));
+    assert!(warped > 0, "{stdout}");
+    for word in [
+        "LDI rebuilds",
+        "samples warped",
+        "holes",
+        "tinted green",
+        "PORTALS",
+    ] {
+        assert!(stdout.contains(word), "missing {word:?} in:\n{stdout}");
+    }
+    for i in 0..4 {
+        let img = image::open(dir.join(format!("building_{i:04}.png"))).expect("frame decodes");
+        assert_eq!(img.width(), 160);
+    }
+}

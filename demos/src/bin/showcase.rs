@@ -9,12 +9,20 @@
 //! `WAYLAND_DISPLAY`, or the window cannot be opened), or with `--headless`, it renders a
 //! deterministic camera path to `DIR/frame_0000.png ...` and prints frame-time and
 //! impostor statistics and the last frame's counters.
+//!
+//! `--building` shows the building tour instead (`demos::showcase_building`): a hall whose
+//! three furnished rooms are seen through LDI portals as the camera walks along it and
+//! through the middle door, with the portals' readout (warped and geometry portals,
+//! samples, holes, pixels, rebuilds); `--debug-portals` (or I in the window) tints warped
+//! pixels green.
 
 use clap::Parser;
 use demos::font;
 use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
+use demos::showcase_building::BuildingTour;
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
+use ibr::subject::Subject;
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -49,6 +57,12 @@ struct Args {
     /// 0, yellow at the tolerance, red at twice it). The I key toggles it in the window.
     #[arg(long)]
     debug_impostors: bool,
+    /// The building tour: rooms seen through LDI portals, walked past and into.
+    #[arg(long)]
+    building: bool,
+    /// With --building: start with warped pixels tinted green (I toggles in the window).
+    #[arg(long)]
+    debug_portals: bool,
 }
 
 fn main() -> ExitCode {
@@ -58,6 +72,21 @@ fn main() -> ExitCode {
         .iter()
         .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
     let result = match (&args.headless, has_display) {
+        (Some(dir), _) if args.building => building_headless(&args, dir),
+        (None, false) if args.building => {
+            eprintln!("showcase: no display found (DISPLAY / WAYLAND_DISPLAY unset); rendering headless to out/showcase");
+            building_headless(&args, Path::new("out/showcase"))
+        }
+        (None, true) if args.building => match building_window(&args) {
+            Ok(()) => Ok(()),
+            Err(WindowError::Open(e)) => {
+                eprintln!(
+                    "showcase: cannot open a window ({e}); rendering headless to out/showcase"
+                );
+                building_headless(&args, Path::new("out/showcase"))
+            }
+            Err(WindowError::Update(e)) => Err(format!("window update failed: {e}")),
+        },
         (Some(dir), _) => headless(&args, dir),
         (None, false) => {
             eprintln!("showcase: no display found (DISPLAY / WAYLAND_DISPLAY unset); rendering headless to out/showcase");
@@ -358,6 +387,156 @@ fn window(args: &Args) -> Result<(), WindowError> {
             bh.saturating_sub(18),
             2,
             "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  ESC QUIT",
+            0x00e0_e0e0,
+        );
+        window
+            .update_with_buffer(&pixels, bw, bh)
+            .map_err(WindowError::Update)?;
+    }
+    Ok(())
+}
+
+/// The building tour along its walkthrough; writes PNGs unless `--no-save`; prints the
+/// frame times and the portals' work.
+fn building_headless(args: &Args, dir: &Path) -> Result<(), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    let n = args.frames.max(1);
+    if !args.no_save {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    let mut tour = BuildingTour::new();
+    tour.portals.debug_tint = args.debug_portals;
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    println!(
+        "showcase --building: a hall of {} triangles, {} triangles behind its {} doorways, \
+         {n} frames at {w}x{h} on {} threads",
+        tour.building.hall.triangle_count(),
+        tour.building.room_triangles(),
+        tour.building.rooms.len(),
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    let (mut warped, mut geometry, mut rebuilds, mut samples, mut holes) = (0, 0, 0, 0, 0);
+    for i in 0..n {
+        let camera = BuildingTour::camera(i, n, w, h);
+        let start = Instant::now();
+        tour.render(&mut renderer, &camera, &mut target);
+        times.push(start.elapsed());
+        let f = tour.last();
+        (warped, geometry, rebuilds) = (
+            warped + f.warped,
+            geometry + f.geometry,
+            rebuilds + f.rebuilds,
+        );
+        (samples, holes) = (samples + f.stats.samples, holes + f.holes);
+        if !args.no_save {
+            let path = dir.join(format!("building_{i:04}.png"));
+            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    let summary = Summary::of(&times);
+    println!("frame time: {summary}");
+    println!(
+        "portals over the tour: {warped} warped and {geometry} drawn as geometry (portal-frames), \
+         {rebuilds} LDI rebuilds, {samples} samples warped, {holes} holes before filling{}",
+        if args.debug_portals {
+            " (warped pixels tinted green)"
+        } else {
+            ""
+        }
+    );
+    println!("  last frame: {}", tour.readout());
+    if !args.no_save {
+        println!(
+            "wrote {n} frames to {}/building_0000.png ...",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// The building tour in a window: the walkthrough plays in a loop (30 s); I toggles the
+/// tint of warped pixels; Esc quits.
+fn building_window(args: &Args) -> Result<(), WindowError> {
+    let (w, h) = (args.width.unwrap_or(960), args.height.unwrap_or(540));
+    let mut window = Window::new(
+        "Parallax showcase - building",
+        w as usize,
+        h as usize,
+        WindowOptions {
+            resize: true,
+            ..Default::default()
+        },
+    )
+    .map_err(WindowError::Open)?;
+    window.set_target_fps(0);
+    let keys = Arc::new(Mutex::new(KeyEvents::default()));
+    window.set_input_callback(Box::new(KeyLatch(keys.clone())));
+    let mut tour = BuildingTour::new();
+    tour.portals.debug_tint = args.debug_portals;
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let mut pixels = Vec::new();
+    let start = Instant::now();
+    let mut recent: Vec<Duration> = Vec::new();
+    let mut shown = Summary::default();
+    let mut title_at = Instant::now();
+    const LOOP: f32 = 30.0;
+    loop {
+        let (quit, taps) = {
+            let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
+            (events.quit, events.debug_taps.take())
+        };
+        if !window.is_open() || window.is_key_down(Key::Escape) || quit {
+            break;
+        }
+        let on = tour.portals.debug_tint;
+        tour.portals.debug_tint = toggled(on, taps);
+        let (ww, wh) = window.get_size();
+        let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);
+        if (ww, wh) != (target.width(), target.height()) {
+            target.resize(ww, wh);
+        }
+        let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+        let steps = 10_000;
+        let camera = BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh);
+        let t0 = Instant::now();
+        tour.render(&mut renderer, &camera, &mut target);
+        recent.push(t0.elapsed());
+        target.write_rgb_u32(&mut pixels);
+        if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
+            shown = Summary::of(&recent);
+            recent.clear();
+            title_at = Instant::now();
+            window.set_title(&format!(
+                "Parallax showcase - building - {:.1} ms ({:.0} fps) - {}x{}",
+                shown.median_ms,
+                1e3 / shown.median_ms.max(1e-9),
+                ww,
+                wh
+            ));
+        }
+        let (bw, bh) = (ww as usize, wh as usize);
+        let text = format!(
+            "{:.1} MS  {:.0} FPS  {}X{}",
+            shown.median_ms,
+            1e3 / shown.median_ms.max(1e-9),
+            ww,
+            wh
+        );
+        font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
+        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &tour.readout(), 0x0080_ffc0);
+        font::draw_text(
+            &mut pixels,
+            bw,
+            bh,
+            6,
+            bh.saturating_sub(18),
+            2,
+            "I TINT WARPED PIXELS  ESC QUIT",
             0x00e0_e0e0,
         );
         window

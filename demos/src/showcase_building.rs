@@ -1,0 +1,168 @@
+//! The showcase's building tour (`showcase --building`): the procedural building's hall
+//! drawn as geometry, its three furnished rooms seen through LDI portals as the camera
+//! walks along the hall and through the middle door, with a readout of the portals' work
+//! and a debug view that tints warped pixels green.
+
+use crate::building::Building;
+use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
+use ibr::portal::{PortalConfig, PortalFrame, Portals};
+use ibr::subject::Subject;
+use ibr::technique::{FrameLoop, FrameView, Technique};
+
+/// Furniture triangles per room.
+pub const ROOM_TRIANGLES: u32 = 200_000;
+/// The tour's vertical field of view, radians.
+pub const FOV_Y: f32 = 1.05;
+/// The clear colour (nothing should show it: the building is closed).
+pub const CLEAR: Rgba = Rgba::new(0.05, 0.05, 0.06, 1.0);
+
+/// The building, its portals and the frame loop's memory.
+#[derive(Debug)]
+pub struct BuildingTour {
+    pub building: Building,
+    pub portals: Portals,
+    frame: FrameLoop,
+    draws: Vec<Draw<'static>>,
+}
+
+impl BuildingTour {
+    pub fn new() -> Self {
+        Self::with_triangles(ROOM_TRIANGLES)
+    }
+
+    /// The tour with `triangles` of furniture per room.
+    pub fn with_triangles(triangles: u32) -> Self {
+        let building = Building::new(triangles, 5);
+        let portals = Portals::new(building.portals(), PortalConfig::default());
+        BuildingTour {
+            building,
+            portals,
+            frame: FrameLoop::new(),
+            draws: Vec::new(),
+        }
+    }
+
+    /// The camera at frame `i` of `n` along the walkthrough, for a `width` x `height`
+    /// image.
+    pub fn camera(i: usize, n: usize, width: u32, height: u32) -> Camera {
+        let t = i as f32 / (n.max(2) - 1) as f32;
+        let (eye, at) = Building::path(t);
+        Camera::look_at(eye, at, glam::Vec3::Y, FOV_Y, 1.0)
+            .with_aspect(width, height)
+            .with_depth_range(0.05, 60.0)
+    }
+
+    /// Renders the hall and the portals (rooms as geometry where the portals say so).
+    pub fn render(
+        &mut self,
+        renderer: &mut Renderer,
+        camera: &Camera,
+        target: &mut Target,
+    ) -> FrameStats {
+        let view = FrameView {
+            camera,
+            width: target.width(),
+            height: target.height(),
+            lighting: &self.building.lighting,
+            time: 0.0,
+            dt: 0.0,
+        };
+        let mut draws = ibr::technique::recycle(std::mem::take(&mut self.draws));
+        self.building.hall.draws(&mut draws);
+        let opts = FrameOptions {
+            clear: Some(CLEAR),
+            ..Default::default()
+        };
+        let mut list: [&mut dyn Technique; 1] = [&mut self.portals];
+        let stats = self.frame.render(
+            renderer,
+            draws.iter().copied(),
+            &mut list,
+            &view,
+            target,
+            &opts,
+        );
+        self.draws = ibr::technique::recycle(draws);
+        stats
+    }
+
+    /// What the portals did in the last frame.
+    pub fn last(&self) -> PortalFrame {
+        self.portals.last()
+    }
+
+    /// One line for the window and the console: the portals' work in the last frame.
+    pub fn readout(&self) -> String {
+        let f = self.last();
+        format!(
+            "PORTALS {} WARPED {} GEOMETRY  {} SAMPLES  {} HOLES  {} PX  {} REBUILDS{}",
+            f.warped,
+            f.geometry,
+            f.stats.samples,
+            f.holes,
+            f.pixels,
+            f.rebuilds,
+            if self.portals.debug_tint {
+                "  TINT"
+            } else {
+                ""
+            }
+        )
+    }
+}
+
+impl Default for BuildingTour {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_tour_warps_rooms_in_the_hall_and_draws_geometry_inside_one() {
+        let mut tour = BuildingTour::with_triangles(2_000);
+        let mut renderer = Renderer::new();
+        let (w, h, n) = (160, 90, 10);
+        let mut target = Target::new(w, h);
+        let (mut warped, mut inside) = (0, 0);
+        for i in 0..n {
+            let cam = BuildingTour::camera(i, n, w, h);
+            tour.render(&mut renderer, &cam, &mut target);
+            let f = tour.last();
+            warped += f.warped;
+            if i == n - 1 {
+                inside = f.geometry;
+            }
+            assert!(tour.readout().starts_with("PORTALS"));
+        }
+        assert!(warped >= 5, "{warped} portal frames warped along the hall");
+        assert!(inside >= 1, "the middle room is geometry from inside it");
+    }
+
+    #[test]
+    fn the_debug_tint_changes_warped_pixels_only() {
+        let (w, h) = (160, 90);
+        let cam = BuildingTour::camera(3, 10, w, h);
+        let run = |tint: bool| {
+            let mut tour = BuildingTour::with_triangles(2_000);
+            tour.portals.debug_tint = tint;
+            let mut target = Target::new(w, h);
+            tour.render(&mut Renderer::new(), &cam, &mut target);
+            (target, tour.portals.image().clone())
+        };
+        let ((plain, image), (tinted, _)) = (run(false), run(true));
+        let mut changed = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let warped = image.is_filled((y * w + x) as usize);
+                let same = plain.pixel(x, y) == tinted.pixel(x, y);
+                assert!(warped || same, "({x}, {y}) is not warped but changed");
+                changed += !same as u32;
+            }
+        }
+        assert!(changed > 100, "{changed} pixels tinted");
+    }
+}
