@@ -124,6 +124,8 @@ mod tests {
     #[test]
     fn the_tour_warps_rooms_in_the_hall_and_draws_geometry_inside_one() {
         let mut tour = BuildingTour::with_triangles(2_000);
+        // Whole LDIs a frame, so the ten frames' big steps are not all spent building.
+        tour.portals.config.views_per_frame = 5;
         let mut renderer = Renderer::new();
         let (w, h, n) = (160, 90, 10);
         let mut target = Target::new(w, h);
@@ -150,7 +152,10 @@ mod tests {
             let mut tour = BuildingTour::with_triangles(2_000);
             tour.portals.debug_tint = tint;
             let mut target = Target::new(w, h);
-            tour.render(&mut Renderer::new(), &cam, &mut target);
+            // The portals' LDIs are captured a few views a frame: render until built.
+            for _ in 0..10 {
+                tour.render(&mut Renderer::new(), &cam, &mut target);
+            }
             (target, tour.portals.image().clone())
         };
         let ((plain, image), (tinted, _)) = (run(false), run(true));

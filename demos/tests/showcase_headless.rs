@@ -131,7 +131,7 @@ fn the_building_tour_warps_its_rooms_through_portals() {
     let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
         .args(["--building", "--debug-portals", "--headless"])
         .arg(&dir)
-        .args(["--frames", "4", "-W", "160", "-H", "90"])
+        .args(["--frames", "12", "-W", "160", "-H", "90"])
         .output()
         .expect("showcase runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -157,7 +157,7 @@ fn the_building_tour_warps_its_rooms_through_portals() {
     ] {
         assert!(stdout.contains(word), "missing {word:?} in:\n{stdout}");
     }
-    for i in 0..4 {
+    for i in 0..12 {
         let img = image::open(dir.join(format!("building_{i:04}.png"))).expect("frame decodes");
         assert_eq!(img.width(), 160);
     }

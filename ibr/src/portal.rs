@@ -5,10 +5,12 @@
 //!
 //! Per portal:
 //! 1. **build** (when there is no image, or the eye has left the region it was built
-//!    for, within a per-frame budget): the geometry behind the opening is captured from
-//!    the eye and from eyes spread around it (left, right, up, down by
-//!    [`PortalConfig::reach`]), and the images merged into one LDI seen from the eye
-//!    ([`LdiBuilder`]), prepared for the warp;
+//!    for): the geometry behind the opening is captured from the eye and from eyes spread
+//!    around it (left, right, up, down by [`PortalConfig::reach`]), a few views a frame
+//!    ([`PortalConfig::views_per_frame`] over all portals, so a rebuild is spread over
+//!    frames instead of stalling one), and once all are in, merged into one LDI seen from
+//!    the eye ([`LdiBuilder`]) and prepared for the warp. The old LDI is shown meanwhile
+//!    (or the geometry, before the first);
 //! 2. **warp**: the LDI is warped to the frame's camera and its holes filled;
 //! 3. **clip**: only pixels inside the opening's outline on screen are kept
 //!    ([`Opening::outline`]), gathered into one image for all portals;
@@ -26,7 +28,7 @@
 pub mod marked;
 pub mod opening;
 
-use crate::capture::capture_batch;
+use crate::capture::Capturer;
 use crate::images::{DepthImage, LayeredDepthImage};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
@@ -61,7 +63,7 @@ pub struct PortalConfig {
     /// screen, up to this; an opening grown to twice what its LDI was built for is rebuilt.
     pub side: u32,
     /// How far (scene units) the eye may move from where an LDI was built before it is
-    /// rebuilt, and how far the side views of a build are from its eye; at most a quarter
+    /// rebuilt, and how far the side views of a build are from its eye; at most 0.35
     /// of the eye's distance from the opening's plane (a region is narrower near the
     /// opening, where the parallax is larger).
     pub reach: f32,
@@ -70,8 +72,9 @@ pub struct PortalConfig {
     /// Within this distance of the opening's plane (and over the opening) the portal
     /// draws its geometry.
     pub through: f32,
-    /// The most LDIs rebuilt in one frame.
-    pub rebuilds_per_frame: usize,
+    /// The most views captured in one frame, over all portals (an LDI takes five, a depth
+    /// or flat image one).
+    pub views_per_frame: usize,
     pub fill: Fill,
     pub options: WarpOptions,
 }
@@ -81,10 +84,10 @@ impl Default for PortalConfig {
         PortalConfig {
             image: PortalImage::Ldi,
             side: 384,
-            reach: 0.5,
+            reach: 1.0,
             tolerance: 0.03,
             through: 1.0,
-            rebuilds_per_frame: 1,
+            views_per_frame: 1,
             fill: Fill::PullPush,
             options: WarpOptions::default(),
         }
@@ -113,6 +116,8 @@ pub struct Portal {
     /// The eye the LDI was built from, the reach of its region, and the on-screen size
     /// (pixels) it was built for.
     built_at: Option<(Vec3, f32, u32)>,
+    /// A build under way.
+    pending: Option<Pending>,
     mode: PortalMode,
     rebuilds: u64,
 }
@@ -125,6 +130,7 @@ impl Portal {
             ldi: None,
             prepared: Prepared::default(),
             built_at: None,
+            pending: None,
             mode: PortalMode::Culled,
             rebuilds: 0,
         }
@@ -148,50 +154,95 @@ impl Portal {
     pub fn invalidate(&mut self) {
         self.ldi = None;
         self.built_at = None;
+        self.pending = None;
     }
 
     /// The reach of a region around `eye` ([`PortalConfig::reach`]).
     fn reach(&self, eye: Vec3, config: &PortalConfig) -> f32 {
-        config.reach.min(0.25 * self.opening.side(eye).abs())
+        config.reach.min(0.35 * self.opening.side(eye).abs())
     }
 
-    /// Builds the LDI seen from `eye` for an opening `screen` pixels across (see the
-    /// module docs).
-    fn build(
-        &mut self,
-        eye: Vec3,
-        screen: u32,
-        config: &PortalConfig,
-        lighting: &Lighting,
-        b: &mut LdiBuilder,
-    ) {
+    /// Starts a build from `eye` for an opening `screen` pixels across.
+    fn start(&mut self, eye: Vec3, screen: u32, config: &PortalConfig) {
         let reach = self.reach(eye, config);
         let cameras = build_cameras(&self.opening, &self.behind, eye, reach);
+        let side = (screen as f32 * 1.5).clamp(64.0, config.side.max(1) as f32) as u32;
+        let views = match config.image {
+            PortalImage::Ldi => cameras.len(),
+            PortalImage::DepthImage | PortalImage::Flat => 1,
+        };
+        self.pending = Some(Pending {
+            eye,
+            reach,
+            screen,
+            size: ldi_size(&cameras[0], side),
+            cameras,
+            views,
+            images: Vec::with_capacity(views),
+        });
+    }
+
+    /// Captures up to `budget` more views of the build under way; when the last is in,
+    /// merges them into the new LDI. Returns the views captured and whether it finished.
+    fn advance(
+        &mut self,
+        budget: usize,
+        config: &PortalConfig,
+        lighting: &Lighting,
+        capturer: &mut Capturer,
+        builder: &mut LdiBuilder,
+    ) -> (usize, bool) {
+        let Some(b) = self.pending.as_mut() else {
+            return (0, false);
+        };
+        let mut captured = 0;
         let mut draws = Vec::new();
         self.behind.draws(&mut draws);
-        let side = (screen as f32 * 1.5).clamp(64.0, config.side.max(1) as f32) as u32;
-        let (w, h) = ldi_size(&cameras[0], side);
-        let views = match config.image {
-            PortalImage::Ldi => &cameras[..],
-            PortalImage::DepthImage | PortalImage::Flat => &cameras[..1],
+        while captured < budget && b.images.len() < b.views {
+            let camera = b.cameras[b.images.len()];
+            let mut image = DepthImage::new(0, 0, camera);
+            let (w, h) = b.size;
+            capturer.capture(draws.iter().copied(), &camera, lighting, w, h, &mut image);
+            b.images.push(image);
+            captured += 1;
+        }
+        if b.images.len() < b.views {
+            return (captured, false);
+        }
+        let Some(mut b) = self.pending.take() else {
+            return (captured, false);
         };
-        let mut images: Vec<DepthImage> = capture_batch(&draws, views, lighting, w, h);
         if config.image == PortalImage::Flat {
             // The eye's image plane is parallel to the opening: the opening's plane is at
             // one depth along the axis for every pixel.
-            let plane = self.opening.side(eye);
-            for d in images.iter_mut().flat_map(|i| i.depth.iter_mut()) {
+            let plane = self.opening.side(b.eye);
+            for d in b.images.iter_mut().flat_map(|i| i.depth.iter_mut()) {
                 if d.is_finite() {
                     *d = plane;
                 }
             }
         }
-        let ldi = b.build(&cameras[0], w, h, &images, config.tolerance);
+        let (w, h) = b.size;
+        let ldi = builder.build(&b.cameras[0], w, h, &b.images, config.tolerance);
         self.prepared.prepare_ldi(&ldi, config.options.edge);
         self.ldi = Some(ldi);
-        self.built_at = Some((eye, reach, screen));
+        self.built_at = Some((b.eye, b.reach, b.screen));
         self.rebuilds += 1;
+        (captured, true)
     }
+}
+
+/// A portal's build under way: where from, for what, and the views captured so far.
+#[derive(Debug)]
+struct Pending {
+    eye: Vec3,
+    reach: f32,
+    screen: u32,
+    size: (u32, u32),
+    cameras: [Camera; 5],
+    /// Views the build takes (the first `views` cameras).
+    views: usize,
+    images: Vec<DepthImage>,
 }
 
 /// The cameras of a build from `eye`: the eye, then four side eyes `reach` away in the
@@ -264,8 +315,10 @@ pub struct PortalFrame {
     pub warped: u64,
     pub geometry: u64,
     pub culled: u64,
-    /// LDIs rebuilt this frame, and portals that wanted a rebuild the budget did not allow.
+    /// LDIs finished this frame, views captured for builds, and portals shown with an
+    /// image (or geometry) older than they want while their build is under way.
     pub rebuilds: u64,
+    pub views: u64,
     pub stale: u64,
     pub stats: WarpStats,
     /// Holes inside the openings before filling.
@@ -284,6 +337,7 @@ pub struct Portals {
     warper: Warper,
     filler: Filler,
     builder: LdiBuilder,
+    capturer: Capturer,
     /// The warped pixels inside the openings, at the frame's camera.
     composite: Warped,
     /// The rectangle of the frame the openings cover.
@@ -301,6 +355,7 @@ impl Portals {
             warper: Warper::new(),
             filler: Filler::default(),
             builder: LdiBuilder::default(),
+            capturer: Capturer::new(),
             composite: Warped::new(0, 0, camera),
             covered: None,
             last: PortalFrame::default(),
@@ -324,7 +379,7 @@ impl Portals {
         let mut frame = PortalFrame::default();
         self.composite.reset(camera, width, height);
         self.covered = None;
-        let mut budget = cfg.rebuilds_per_frame;
+        let mut budget = cfg.views_per_frame;
         for p in &mut self.portals {
             let side = p.opening.side(eye);
             if side <= 0.0 || (side <= cfg.through && p.opening.over(eye)) {
@@ -343,13 +398,23 @@ impl Portals {
                 at.distance(eye) <= reach && screen <= 2 * built.max(32)
             });
             if !fresh {
-                if budget > 0 {
-                    budget -= 1;
-                    p.build(eye, screen, &cfg, lighting, &mut self.builder);
-                    frame.rebuilds += 1;
-                } else {
-                    frame.stale += 1;
+                // A build under way is finished even if the eye has left its region (it is
+                // still nearer than the old one, and restarting could starve a fast eye);
+                // the next is started from wherever the eye is then.
+                if p.pending.is_none() {
+                    p.start(eye, screen, &cfg);
                 }
+                let (views, done) = p.advance(
+                    budget,
+                    &cfg,
+                    lighting,
+                    &mut self.capturer,
+                    &mut self.builder,
+                );
+                budget -= views;
+                frame.views += views as u64;
+                frame.rebuilds += done as u64;
+                frame.stale += !done as u64;
             }
             if p.ldi.is_none() {
                 p.mode = PortalMode::Geometry;

@@ -102,7 +102,11 @@ fn node_names_mark_the_opening_and_the_room_behind_it() {
         ambient: Rgba::WHITE,
         lights: Vec::new(),
     };
-    let mut portals = Portals::new(marked.portals, PortalConfig::default());
+    let config = PortalConfig {
+        views_per_frame: 5,
+        ..PortalConfig::default()
+    };
+    let mut portals = Portals::new(marked.portals, config);
     let scene = &loaded.scene;
     let near: Vec<Draw> = marked
         .near

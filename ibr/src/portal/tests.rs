@@ -111,9 +111,11 @@ fn camera(eye: Vec3) -> Camera {
     .with_depth_range(0.05, 60.0)
 }
 
+/// Portals with 256-pixel LDIs, each built within one frame (five views a frame).
 fn config() -> PortalConfig {
     PortalConfig {
         side: 256,
+        views_per_frame: 5,
         ..PortalConfig::default()
     }
 }
@@ -434,4 +436,40 @@ fn flat_and_single_image_portals_are_right_from_their_eye_and_worse_elsewhere() 
         unreachable!()
     };
     assert!(ldi <= single + 0.5 && single < flat, "{errors:?}");
+}
+
+#[test]
+fn a_rebuild_is_spread_over_frames_and_the_old_ldi_shown_meanwhile() {
+    let mut p = Portals::new(
+        vec![Portal::new(doorway(), room(500))],
+        PortalConfig {
+            views_per_frame: 2,
+            ..config()
+        },
+    );
+    let here = camera(Vec3::new(0.3, 1.5, 4.0));
+    // Five views at two a frame: geometry until the third frame, which merges the LDI.
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        p.update(&here, W, H, &lighting());
+        let f = p.last();
+        assert!(f.views <= 2, "{f:?}");
+        seen.push((f.views, f.rebuilds, p.portals[0].mode()));
+    }
+    assert_eq!(
+        seen,
+        [
+            (2, 0, PortalMode::Geometry),
+            (2, 0, PortalMode::Geometry),
+            (1, 1, PortalMode::Warped)
+        ]
+    );
+    // Far from there: the old LDI is warped while the new one is captured.
+    let there = camera(Vec3::new(-1.0, 1.5, 3.0));
+    for k in 0..3 {
+        p.update(&there, W, H, &lighting());
+        assert_eq!(p.portals[0].mode(), PortalMode::Warped, "frame {k}");
+        assert_eq!(p.last().rebuilds, (k == 2) as u64, "frame {k}");
+    }
+    assert_eq!(p.portals[0].rebuilds(), 2);
 }
