@@ -95,13 +95,14 @@ impl BuildingTour {
     pub fn readout(&self) -> String {
         let f = self.last();
         format!(
-            "PORTALS {} WARPED {} GEOMETRY  {} SAMPLES  {} HOLES  {} PX  {} REBUILDS{}",
+            "PORTALS {} WARPED {} GEOMETRY  {} SAMPLES  {} HOLES  {} PX  {} REBUILDS  PREDICTED {:.1} PX{}",
             f.warped,
             f.geometry,
             f.stats.samples,
             f.holes,
             f.pixels,
             f.rebuilds,
+            f.predicted_px,
             if self.portals.debug_tint {
                 "  TINT"
             } else {

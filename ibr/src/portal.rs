@@ -4,8 +4,9 @@
 //! triangles behind it.
 //!
 //! Per portal:
-//! 1. **build** (when there is no image, or the eye has left the region it was built
-//!    for): the geometry behind the opening is captured from the eye and from eyes spread
+//! 1. **build** (when there is no image, the eye has left the region it was built for,
+//!    or the predicted error of the move, [`PortalConfig::tolerance_px`], is too large):
+//!    the geometry behind the opening is captured from the eye and from eyes spread
 //!    around it (left, right, up, down by [`PortalConfig::reach`]), a few views a frame
 //!    ([`PortalConfig::views_per_frame`] over all portals, so a rebuild is spread over
 //!    frames instead of stalling one), and once all are in, merged into one LDI seen from
@@ -34,6 +35,7 @@ use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
 use crate::warp::holes::{Fill, Filler};
 use crate::warp::ldi::LdiBuilder;
+use crate::warp::predict::{depth_range, parallax_px};
 use crate::warp::technique::ImagePass;
 use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
 use engine::{
@@ -67,6 +69,10 @@ pub struct PortalConfig {
     /// of the eye's distance from the opening's plane (a region is narrower near the
     /// opening, where the parallax is larger).
     pub reach: f32,
+    /// The predicted parallax (target pixels: how wide a disocclusion the eye's move from
+    /// where the image was built can open, [`parallax_px`]) past which the image is
+    /// rebuilt even inside its region.
+    pub tolerance_px: f32,
     /// Relative depth within which samples of the build's views merge into one.
     pub tolerance: f32,
     /// Within this distance of the opening's plane (and over the opening) the portal
@@ -85,6 +91,7 @@ impl Default for PortalConfig {
             image: PortalImage::Ldi,
             side: 384,
             reach: 1.0,
+            tolerance_px: 48.0,
             tolerance: 0.03,
             through: 1.0,
             views_per_frame: 1,
@@ -118,6 +125,8 @@ pub struct Portal {
     built_at: Option<(Vec3, f32, u32)>,
     /// A build under way.
     pending: Option<Pending>,
+    /// The depth range of the LDI's front layer (for the predicted error).
+    range: Option<(f32, f32)>,
     mode: PortalMode,
     rebuilds: u64,
 }
@@ -131,6 +140,7 @@ impl Portal {
             prepared: Prepared::default(),
             built_at: None,
             pending: None,
+            range: None,
             mode: PortalMode::Culled,
             rebuilds: 0,
         }
@@ -225,6 +235,7 @@ impl Portal {
         let (w, h) = b.size;
         let ldi = builder.build(&b.cameras[0], w, h, &b.images, config.tolerance);
         self.prepared.prepare_ldi(&ldi, config.options.edge);
+        self.range = depth_range(&ldi.layer(0));
         self.ldi = Some(ldi);
         self.built_at = Some((b.eye, b.reach, b.screen));
         self.rebuilds += 1;
@@ -321,6 +332,8 @@ pub struct PortalFrame {
     pub views: u64,
     pub stale: u64,
     pub stats: WarpStats,
+    /// The largest predicted parallax of the warped portals, target pixels.
+    pub predicted_px: f32,
     /// Holes inside the openings before filling.
     pub holes: u64,
     /// Pixels the image pass offers the frame.
@@ -394,9 +407,13 @@ impl Portals {
             };
             let [x0, y0, x1, y1] = outline.bounds;
             let screen = (x1 - x0).max(y1 - y0);
+            let predicted = match (&p.ldi, p.range) {
+                (Some(ldi), Some(range)) => parallax_px(range, &ldi.camera, camera, width, height),
+                _ => 0.0,
+            };
             let fresh = p.built_at.is_some_and(|(at, reach, built)| {
                 at.distance(eye) <= reach && screen <= 2 * built.max(32)
-            });
+            }) && predicted <= cfg.tolerance_px;
             if !fresh {
                 // A build under way is finished even if the eye has left its region (it is
                 // still nearer than the old one, and restarting could starve a fast eye);
@@ -423,6 +440,7 @@ impl Portals {
             }
             p.mode = PortalMode::Warped;
             frame.warped += 1;
+            frame.predicted_px = frame.predicted_px.max(predicted);
             // Warped into the outline's rectangle only (a crop of the frame's camera), so
             // the warp's image, its fill and the copy cost the opening's pixels.
             let (lo, hi) = (

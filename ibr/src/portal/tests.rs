@@ -473,3 +473,40 @@ fn a_rebuild_is_spread_over_frames_and_the_old_ldi_shown_meanwhile() {
     }
     assert_eq!(p.portals[0].rebuilds(), 2);
 }
+
+#[test]
+fn a_predicted_error_over_the_tolerance_rebuilds_inside_the_region() {
+    // A small move inside the region: rebuilt when the tolerance is tight, kept when not;
+    // the prediction grows with the move and is zero at the build eye.
+    let build = camera(Vec3::new(0.3, 1.5, 4.0));
+    let moved = camera(Vec3::new(0.5, 1.5, 4.0));
+    for (tolerance, rebuilt) in [(0.5, true), (1000.0, false)] {
+        let mut p = Portals::new(
+            vec![Portal::new(doorway(), room(500))],
+            PortalConfig {
+                tolerance_px: tolerance,
+                ..config()
+            },
+        );
+        p.update(&build, W, H, &lighting());
+        assert_eq!(p.last().rebuilds, 1);
+        p.update(&build, W, H, &lighting());
+        assert!(
+            p.last().predicted_px < 1e-3,
+            "at the build eye: {}",
+            p.last().predicted_px
+        );
+        assert_eq!(p.last().rebuilds, 0);
+        p.update(&moved, W, H, &lighting());
+        assert_eq!(p.last().rebuilds == 1, rebuilt, "tolerance {tolerance}");
+        if !rebuilt {
+            let small = p.last().predicted_px;
+            p.update(&camera(Vec3::new(0.9, 1.5, 4.0)), W, H, &lighting());
+            assert!(
+                small > 0.5 && p.last().predicted_px > small,
+                "{small} then {}",
+                p.last().predicted_px
+            );
+        }
+    }
+}
