@@ -3,22 +3,30 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-#[test]
-fn headless_writes_frames_and_prints_statistics() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_headless");
-    let _ = std::fs::remove_dir_all(&dir);
+/// Runs the showcase headless into `dir` with `args`, `frames` frames at 160 x 90; its
+/// standard output (it must succeed).
+fn run_headless(dir: &std::path::Path, args: &[&str], frames: usize) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .args(args)
         .arg("--headless")
-        .arg(&dir)
-        .args(["--frames", "3", "-W", "160", "-H", "90"])
+        .arg(dir)
+        .args(["--frames", &frames.to_string(), "-W", "160", "-H", "90"])
         .output()
         .expect("showcase runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(
         out.status.success(),
         "{stdout}\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    stdout
+}
+
+#[test]
+fn headless_writes_frames_and_prints_statistics() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_headless");
+    let _ = std::fs::remove_dir_all(&dir);
+    let stdout = run_headless(&dir, &[], 3);
     for word in ["median", "min", "p90", "fragments_shaded", "triangles_in"] {
         assert!(stdout.contains(word), "missing {word:?} in:\n{stdout}");
     }
@@ -128,18 +136,7 @@ fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
 fn the_building_tour_warps_its_rooms_through_portals() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_building");
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
-        .args(["--building", "--debug-portals", "--headless"])
-        .arg(&dir)
-        .args(["--frames", "12", "-W", "160", "-H", "90"])
-        .output()
-        .expect("showcase runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = run_headless(&dir, &["--building", "--debug-portals"], 12);
     // "portals over the tour: N warped and M drawn as geometry ...": some warped.
     let warped: u64 = stdout
         .split("portals over the tour: ")

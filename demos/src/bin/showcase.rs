@@ -270,24 +270,49 @@ fn read_input(window: &Window, last_mouse: &mut Option<(f32, f32)>, dt: f32) -> 
     input
 }
 
+/// Opens a resizable window `w` x `h` with the key-event latch.
+fn open_window(
+    title: &str,
+    w: u32,
+    h: u32,
+) -> Result<(Window, Arc<Mutex<KeyEvents>>), WindowError> {
+    let options = WindowOptions {
+        resize: true,
+        ..Default::default()
+    };
+    let mut window =
+        Window::new(title, w as usize, h as usize, options).map_err(WindowError::Open)?;
+    window.set_target_fps(0);
+    let keys = Arc::new(Mutex::new(KeyEvents::default()));
+    window.set_input_callback(Box::new(KeyLatch(keys.clone())));
+    Ok((window, keys))
+}
+
+/// The debug-key taps since the last frame; `None` when the window should close.
+fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<u32> {
+    let (quit, taps) = {
+        let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
+        (events.quit, events.debug_taps.take())
+    };
+    (window.is_open() && !window.is_key_down(Key::Escape) && !quit).then_some(taps)
+}
+
+/// Resizes `target` to the window's size (at least 1 x 1); returns it.
+fn fit(window: &Window, target: &mut Target) -> (u32, u32) {
+    let (ww, wh) = window.get_size();
+    let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);
+    if (ww, wh) != (target.width(), target.height()) {
+        target.resize(ww, wh);
+    }
+    (ww, wh)
+}
+
 /// Milliseconds of impostor refreshes per frame in the window, for each of the two sets.
 const REFRESH_MS: u64 = 3;
 
 fn window(args: &Args) -> Result<(), WindowError> {
     let (w, h) = (args.width.unwrap_or(960), args.height.unwrap_or(540));
-    let mut window = Window::new(
-        "Parallax showcase",
-        w as usize,
-        h as usize,
-        WindowOptions {
-            resize: true,
-            ..Default::default()
-        },
-    )
-    .map_err(WindowError::Open)?;
-    window.set_target_fps(0);
-    let keys = Arc::new(Mutex::new(KeyEvents::default()));
-    window.set_input_callback(Box::new(KeyLatch(keys.clone())));
+    let (mut window, keys) = open_window("Parallax showcase", w, h)?;
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
     // Interactive: refreshes get a time budget per frame (what recent ones cost fits in),
@@ -310,14 +335,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let mut recent: Vec<Duration> = Vec::new();
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
-    loop {
-        let (quit, taps) = {
-            let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
-            (events.quit, events.debug_taps.take())
-        };
-        if !window.is_open() || window.is_key_down(Key::Escape) || quit {
-            break;
-        }
+    while let Some(taps) = poll(&window, &keys) {
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
         last = now;
@@ -327,11 +345,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
         if toggled(on, taps) != on {
             show.ibr.impostors.set_debug(!on);
         }
-        let (ww, wh) = window.get_size();
-        let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);
-        if (ww, wh) != (target.width(), target.height()) {
-            target.resize(ww, wh);
-        }
+        let (ww, wh) = fit(&window, &mut target);
         show.animate(start.elapsed().as_secs_f32());
         let camera = fly.camera(ww, wh);
         let t0 = Instant::now();
@@ -462,19 +476,7 @@ fn building_headless(args: &Args, dir: &Path) -> Result<(), String> {
 /// tint of warped pixels; Esc quits.
 fn building_window(args: &Args) -> Result<(), WindowError> {
     let (w, h) = (args.width.unwrap_or(960), args.height.unwrap_or(540));
-    let mut window = Window::new(
-        "Parallax showcase - building",
-        w as usize,
-        h as usize,
-        WindowOptions {
-            resize: true,
-            ..Default::default()
-        },
-    )
-    .map_err(WindowError::Open)?;
-    window.set_target_fps(0);
-    let keys = Arc::new(Mutex::new(KeyEvents::default()));
-    window.set_input_callback(Box::new(KeyLatch(keys.clone())));
+    let (mut window, keys) = open_window("Parallax showcase - building", w, h)?;
     let mut tour = BuildingTour::new();
     tour.portals.debug_tint = args.debug_portals;
     let mut renderer = Renderer::new();
@@ -485,21 +487,10 @@ fn building_window(args: &Args) -> Result<(), WindowError> {
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
     const LOOP: f32 = 30.0;
-    loop {
-        let (quit, taps) = {
-            let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
-            (events.quit, events.debug_taps.take())
-        };
-        if !window.is_open() || window.is_key_down(Key::Escape) || quit {
-            break;
-        }
+    while let Some(taps) = poll(&window, &keys) {
         let on = tour.portals.debug_tint;
         tour.portals.debug_tint = toggled(on, taps);
-        let (ww, wh) = window.get_size();
-        let (ww, wh) = (ww.max(1) as u32, wh.max(1) as u32);
-        if (ww, wh) != (target.width(), target.height()) {
-            target.resize(ww, wh);
-        }
+        let (ww, wh) = fit(&window, &mut target);
         let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
         let steps = 10_000;
         let camera = BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh);
