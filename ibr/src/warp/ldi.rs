@@ -14,6 +14,12 @@ pub struct LdiBuilder {
     /// Landed samples: pixel, sample, and how far in depth it may be from one of its
     /// surface's samples at the same pixel (its depth spread over one source pixel).
     landed: Vec<(u32, LdiSample, f32, u32)>,
+    /// The landed samples grouped by pixel (in landing order within a pixel), and where
+    /// each pixel's group starts.
+    grouped: Vec<(u32, LdiSample, f32, u32)>,
+    starts: Vec<u32>,
+    /// The next free place of each pixel's group while grouping.
+    at: Vec<u32>,
 }
 
 impl LdiBuilder {
@@ -67,10 +73,36 @@ impl LdiBuilder {
                 }
             }
         }
-        // Stable: among equal depths the earlier image's sample comes first and is kept.
-        self.landed
-            .sort_by(|a, b| a.0.cmp(&b.0).then(a.1.depth.total_cmp(&b.1.depth)));
+        // Grouped by pixel (a counting sort, stable), then each pixel's samples sorted by
+        // depth (stable: among equal depths the earlier image's sample comes first and is
+        // kept): the order of one stable sort by (pixel, depth), in linear time.
         let n = width as usize * height as usize;
+        self.starts.clear();
+        self.starts.resize(n + 1, 0);
+        for e in &self.landed {
+            self.starts[e.0 as usize + 1] += 1;
+        }
+        for i in 0..n {
+            self.starts[i + 1] += self.starts[i];
+        }
+        self.grouped.clear();
+        if let Some(&first) = self.landed.first() {
+            self.grouped.resize(self.landed.len(), first);
+        }
+        self.at.clear();
+        self.at.extend_from_slice(&self.starts[..n]);
+        for e in &self.landed {
+            let slot = &mut self.at[e.0 as usize];
+            self.grouped[*slot as usize] = *e;
+            *slot += 1;
+        }
+        for p in 0..n {
+            let (a, b) = (self.starts[p] as usize, self.starts[p + 1] as usize);
+            if b - a > 1 {
+                self.grouped[a..b].sort_by(|x, y| x.1.depth.total_cmp(&y.1.depth));
+            }
+        }
+        std::mem::swap(&mut self.landed, &mut self.grouped);
         let mut offsets = Vec::with_capacity(n + 1);
         let mut samples: Vec<LdiSample> = Vec::with_capacity(self.landed.len());
         let mut next = 0;
@@ -78,7 +110,7 @@ impl LdiBuilder {
         for pixel in 0..n as u32 {
             let start = samples.len();
             let (mut reach, mut from) = (0.0f32, 0);
-            let end = next + self.landed[next..].partition_point(|e| e.0 == pixel);
+            let end = self.starts[pixel as usize + 1] as usize;
             // What the first image saw here is the front: a nearer sample of another image
             // in this pixel is a silhouette of its rounding, which the LDI camera cannot see.
             let front = self.landed[next..end].iter().find(|e| e.3 == 0).map(|e| {
