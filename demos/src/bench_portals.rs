@@ -237,37 +237,26 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             let mut p = image.map(|i| portals(building, i));
             // Built first (untimed: until no build is under way), then timed as the
             // steady frame; the error is the last timed frame's.
-            let mut stats = frame(
-                building,
-                p.as_mut(),
-                &cam,
-                &mut renderer,
-                &mut frames,
-                &mut target,
-            );
+            let mut draw = |p: &mut Option<Portals>, target: &mut Target| {
+                frame(
+                    building,
+                    p.as_mut(),
+                    &cam,
+                    &mut renderer,
+                    &mut frames,
+                    target,
+                )
+            };
+            let mut stats = draw(&mut p, &mut target);
             for _ in 0..100 {
                 if p.as_ref().is_none_or(|p| p.last().stale == 0) {
                     break;
                 }
-                stats = frame(
-                    building,
-                    p.as_mut(),
-                    &cam,
-                    &mut renderer,
-                    &mut frames,
-                    &mut target,
-                );
+                stats = draw(&mut p, &mut target);
             }
             let times = plan.frames.run(|| {
                 let t = Instant::now();
-                stats = frame(
-                    building,
-                    p.as_mut(),
-                    &cam,
-                    &mut renderer,
-                    &mut frames,
-                    &mut target,
-                );
+                stats = draw(&mut p, &mut target);
                 t.elapsed()
             });
             let error = p.as_ref().map(|_| {

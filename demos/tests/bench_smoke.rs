@@ -465,3 +465,45 @@ fn warp_sweep_writes_csv_and_png_charts() {
         ],
     );
 }
+
+#[test]
+fn portals_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("portals", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "method", "t"]);
+    // Every method at every furniture size; the portals give the rasterizer the hall alone
+    // and warp as many samples whatever the rooms hold, while geometry gets every triangle.
+    let sizes: Vec<f64> = t
+        .of("triangles", "geometry")
+        .iter()
+        .map(|r| t.num(r, "room_triangles"))
+        .collect();
+    assert_eq!(sizes.len(), 2, "{csv}");
+    for method in ["flat", "depth-image", "ldi"] {
+        let rows = t.of("triangles", method);
+        assert_eq!(rows.len(), 2, "{method}: {csv}");
+        assert_eq!(
+            t.num(rows[0], "triangles_in"),
+            t.num(rows[1], "triangles_in")
+        );
+        let (a, b) = (t.num(rows[0], "samples"), t.num(rows[1], "samples"));
+        assert!(
+            a > 0.0 && (a - b).abs() <= 0.02 * a,
+            "{method}: {a} and {b}"
+        );
+        assert!(t.num(rows[0], "psnr_db") > 25.0, "{method}: {csv}");
+    }
+    let geometry = t.of("triangles", "geometry");
+    assert!(t.num(geometry[1], "triangles_in") > t.num(geometry[0], "triangles_in"));
+    assert!(t.rows.iter().any(|r| r[0] == "walk"), "{csv}");
+    assert_charts(
+        &dir,
+        &[
+            "portals_triangles.png",
+            "portals_resolution.png",
+            "portals_walk_error.png",
+            "portals_walk_time.png",
+            "portals_time_error.png",
+        ],
+    );
+}
