@@ -278,8 +278,10 @@ fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -
         let dist = opening.side(e).max(1e-4);
         let near = (dist * 0.5).clamp(1e-3, 0.5);
         let far = (e.distance(bounds.center) + bounds.radius) * 1.5 + 1.0;
-        // The opening in view space (all at depth `dist`), widened, scaled to the near
-        // plane.
+        // The opening in view space (all at depth `dist`), widened for the region: an
+        // eye `reach` nearer sees, far behind the opening, up to `dist / (dist - reach)`
+        // times the opening's half size off its centre, and one `reach` aside that much
+        // more; scaled to the near plane.
         let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
         for c in opening.corners {
             let v = view.transform_point3(c);
@@ -288,7 +290,10 @@ fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -
             hi = hi.max(p);
         }
         let k = near / dist;
-        let (lo, hi) = ((lo - Vec2::splat(reach)) * k, (hi + Vec2::splat(reach)) * k);
+        let (center, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        let grow = dist / (dist - reach).max(0.25 * dist);
+        let half = half * grow + Vec2::splat(reach);
+        let (lo, hi) = ((center - half) * k, (center + half) * k);
         Camera {
             view,
             projection: Projection::Frustum {
