@@ -7,16 +7,20 @@ use super::equation::Equation;
 use super::is_filled;
 use crate::images::{DepthImage, LayeredDepthImage, LdiSample};
 use engine::Camera;
+use rayon::prelude::*;
+
+/// A sample landed in the LDI: its pixel, the sample, its depth spread, its image.
+type Landed = (u32, LdiSample, f32, u32);
 
 /// Scratch memory of LDI builds, reused.
 #[derive(Debug, Default)]
 pub struct LdiBuilder {
     /// Landed samples: pixel, sample, and how far in depth it may be from one of its
     /// surface's samples at the same pixel (its depth spread over one source pixel).
-    landed: Vec<(u32, LdiSample, f32, u32)>,
+    landed: Vec<Landed>,
     /// The landed samples grouped by pixel (in landing order within a pixel), and where
     /// each pixel's group starts.
-    grouped: Vec<(u32, LdiSample, f32, u32)>,
+    grouped: Vec<Landed>,
     starts: Vec<u32>,
     /// The next free place of each pixel's group while grouping.
     at: Vec<u32>,
@@ -51,26 +55,34 @@ impl LdiBuilder {
             ) else {
                 continue;
             };
-            for y in 0..image.height() {
-                for x in 0..image.width() {
-                    let i = (y * image.width() + x) as usize;
-                    let (c, z) = (image.color[i], image.depth[i]);
-                    if !is_filled(c) || z.is_nan() || z <= 0.0 {
-                        continue;
+            // Rows landed side by side on the thread pool, kept in row order.
+            let rows: Vec<Vec<Landed>> = (0..image.height())
+                .into_par_iter()
+                .map(|y| {
+                    let mut out = Vec::new();
+                    for x in 0..image.width() {
+                        let i = (y * image.width() + x) as usize;
+                        let (c, z) = (image.color[i], image.depth[i]);
+                        if !is_filled(c) || z.is_nan() || z <= 0.0 {
+                            continue;
+                        }
+                        let disparity = if z.is_finite() { 1.0 / z } else { 0.0 };
+                        let Some((p, depth)) = eq.land(eq.base(x, y), disparity) else {
+                            continue;
+                        };
+                        let (px, py) = (p.x.floor(), p.y.floor());
+                        if px < 0.0 || py < 0.0 || px >= width as f32 || py >= height as f32 {
+                            continue;
+                        }
+                        let pixel = py as u32 * width + px as u32;
+                        let spread = spread(image, x, y, tolerance) * depth / z;
+                        out.push((pixel, LdiSample { color: c, depth }, spread, k as u32));
                     }
-                    let disparity = if z.is_finite() { 1.0 / z } else { 0.0 };
-                    let Some((p, depth)) = eq.land(eq.base(x, y), disparity) else {
-                        continue;
-                    };
-                    let (px, py) = (p.x.floor(), p.y.floor());
-                    if px < 0.0 || py < 0.0 || px >= width as f32 || py >= height as f32 {
-                        continue;
-                    }
-                    let pixel = py as u32 * width + px as u32;
-                    let spread = spread(image, x, y, tolerance) * depth / z;
-                    self.landed
-                        .push((pixel, LdiSample { color: c, depth }, spread, k as u32));
-                }
+                    out
+                })
+                .collect();
+            for r in rows {
+                self.landed.extend(r);
             }
         }
         // Grouped by pixel (a counting sort, stable), then each pixel's samples sorted by
