@@ -119,6 +119,38 @@ pub struct Row {
     pub geometry_portals: u64,
 }
 
+impl Row {
+    /// A point of `method` at `size` on `building`: its frame times, error, the renderer's
+    /// counters and the portals' work in the last frame (none for geometry). Series and
+    /// walk parameter left to the caller.
+    fn measured(
+        method: &'static str,
+        (width, height): (u32, u32),
+        building: &Building,
+        times: &[Duration],
+        error: Option<metrics::ImageError>,
+        stats: FrameStats,
+        portals: Option<&Portals>,
+    ) -> Row {
+        let last = portals.map(Portals::last).unwrap_or_default();
+        Row {
+            series: "",
+            method,
+            t: 0.0,
+            width,
+            height,
+            room_triangles: building.room_triangles(),
+            time: Summary::of(times),
+            error,
+            triangles_in: stats.triangles_in,
+            samples: last.stats.samples,
+            pixels: last.pixels,
+            rebuilds: last.rebuilds,
+            geometry_portals: last.geometry,
+        }
+    }
+}
+
 impl CsvRow for Row {
     const HEADER: &'static str = "series,method,t,width,height,room_triangles,frames,median_ms,min_ms,p90_ms,psnr_db,mean_abs,frac_over,triangles_in,samples,pixels,rebuilds,geometry_portals";
 
@@ -262,21 +294,10 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             let error = p.as_ref().map(|_| {
                 metrics::compare(&target, &truth, &Options::default()).expect("same size")
             });
-            let last = p.as_ref().map(|p| p.last()).unwrap_or_default();
             out.push(Row {
                 series,
-                method,
                 t: 0.0,
-                width: size.0,
-                height: size.1,
-                room_triangles: building.room_triangles(),
-                time: Summary::of(&times),
-                error,
-                triangles_in: stats.triangles_in,
-                samples: last.stats.samples,
-                pixels: last.pixels,
-                rebuilds: last.rebuilds,
-                geometry_portals: last.geometry,
+                ..Row::measured(method, size, building, &times, error, stats, p.as_ref())
             });
         }
         out
@@ -320,21 +341,11 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 );
                 metrics::compare(&target, &truth, &Options::default()).expect("same size")
             });
-            let last = p.as_ref().map(|p| p.last()).unwrap_or_default();
+            let (size, times) = ((w, h), [time]);
             rows.push(Row {
                 series: "walk",
-                method,
                 t,
-                width: w,
-                height: h,
-                room_triangles: building.room_triangles(),
-                time: Summary::of(&[time]),
-                error,
-                triangles_in: stats.triangles_in,
-                samples: last.stats.samples,
-                pixels: last.pixels,
-                rebuilds: last.rebuilds,
-                geometry_portals: last.geometry,
+                ..Row::measured(method, size, &building, &times, error, stats, p.as_ref())
             });
         }
     }
