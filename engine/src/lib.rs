@@ -30,14 +30,14 @@
 //! ```
 
 // The pipeline's stages, in order, each building only on the ones before it and on the
-// shared modules (`space`, `state`, `simd`); internal to the engine.
+// shared modules (`space`, `state`, `simd`); internal to the engine but for `simd`, which
+// the `ibr` crate's warp shares.
 mod bin;
 mod clip;
 mod front;
 mod raster;
 mod setup;
 mod shade;
-mod simd;
 mod space;
 mod state;
 mod tile;
@@ -54,6 +54,7 @@ pub mod pass;
 pub mod procedural;
 pub mod renderer;
 pub mod scene;
+pub mod simd;
 pub mod stats;
 pub mod target;
 pub mod texture;

@@ -1,4 +1,4 @@
-//! Eight-lane vectors for the raster and shade kernels: `F8` (f32), `I8` (i32) and `M8`
+//! Eight-lane vectors for the raster and shade kernels (and the `ibr` warp's rows): `F8` (f32), `I8` (i32) and `M8`
 //! (a lane mask), with AVX2 intrinsics when the build enables them (`.cargo/config.toml`)
 //! and a plain-array fallback otherwise. Both paths compute the same IEEE operations in the
 //! same order, so pixels do not depend on which one was built.
@@ -103,6 +103,19 @@ mod imp {
         pub fn within(self, limit: f32) -> M8 {
             let abs = avx!(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0));
             avx!(M8(_mm256_cmp_ps::<_CMP_LT_OQ>(abs, _mm256_set1_ps(limit))))
+        }
+        /// The sign bit cleared.
+        #[inline(always)]
+        pub fn abs(self) -> Self {
+            avx!(F8(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0)))
+        }
+        #[inline(always)]
+        pub fn lt(self, o: Self) -> M8 {
+            avx!(M8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)))
+        }
+        #[inline(always)]
+        pub fn le(self, o: Self) -> M8 {
+            avx!(M8(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)))
         }
     }
 
@@ -230,6 +243,10 @@ mod imp {
         pub fn and(self, o: Self) -> Self {
             avx!(M8(_mm256_and_ps(self.0, o.0)))
         }
+        #[inline(always)]
+        pub fn and_not(self, o: Self) -> Self {
+            avx!(M8(_mm256_andnot_ps(o.0, self.0)))
+        }
         /// One bit per lane.
         #[inline(always)]
         pub fn bits(self) -> u32 {
@@ -299,6 +316,15 @@ mod imp {
         }
         pub fn within(self, limit: f32) -> M8 {
             M8(std::array::from_fn(|l| self.0[l].abs() < limit))
+        }
+        pub fn abs(self) -> Self {
+            F8(self.0.map(f32::abs))
+        }
+        pub fn lt(self, o: Self) -> M8 {
+            M8(std::array::from_fn(|l| self.0[l] < o.0[l]))
+        }
+        pub fn le(self, o: Self) -> M8 {
+            M8(std::array::from_fn(|l| self.0[l] <= o.0[l]))
         }
     }
 
@@ -389,6 +415,9 @@ mod imp {
         pub fn and(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] && o.0[l]))
         }
+        pub fn and_not(self, o: Self) -> Self {
+            M8(std::array::from_fn(|l| self.0[l] && !o.0[l]))
+        }
         pub fn bits(self) -> u32 {
             (0..LANES).fold(0, |b, l| b | (self.0[l] as u32) << l)
         }
@@ -417,6 +446,14 @@ impl I8 {
             I8::from_array(v.map(|x| x as u32 as i32)),
             I8::from_array(v.map(|x| (x >> 32) as u32 as i32)),
         )
+    }
+}
+
+impl I8 {
+    /// Stores 8 lanes to the start of `s` (which must hold at least 8).
+    #[inline(always)]
+    pub fn store(self, s: &mut [i32]) {
+        s[..LANES].copy_from_slice(&self.to_array());
     }
 }
 
@@ -478,6 +515,11 @@ mod tests {
             0b0000_0111
         );
         assert_eq!(F8::ramp().to_array()[7], 7.0);
+        let c = F8::from_array([-1.0, -0.0, 2.0, f32::NAN, 3.5, -3.5, 0.0, 7.0]);
+        assert_eq!(c.abs().to_array()[..3], [1.0, 0.0, 2.0]);
+        assert_eq!(c.lt(b).bits(), 0b0110_0111);
+        assert_eq!(c.le(b).bits(), 0b0111_0111);
+        assert_eq!(c.lt(b).and_not(c.le(F8::splat(0.0))).bits(), 0b0000_0100);
         let packed = F8::from_array([0.0, 0.5, 1.0, 2.0, -1.0, f32::NAN, 0.25, 0.75]).clamp01();
         assert_eq!(packed.to_array()[3], 1.0);
         assert_eq!(packed.to_array()[5], 0.0);

@@ -9,21 +9,22 @@
 //! 2. **warp** ([`equation`]): each sample's target position and depth, incrementally
 //!    along rows, and its footprint: one pixel ([`Reconstruction::Points`]) or a splat sized
 //!    by the warp's local stretch and the surface's slope ([`Reconstruction::Splats`]);
-//! 3. **bin**: in parallel over chunks of the order, samples are listed per band of target
-//!    rows, in order;
-//! 4. **write**: in parallel over bands (disjoint `&mut` rows), each band's samples are
-//!    written chunk by chunk in order: painted over ([`Visibility::Ordered`]) or
-//!    depth-tested ([`Visibility::DepthBuffer`]). The result is the sequential warp's,
-//!    exactly, at any thread count.;
+//! 3. **bin**: the runs cut into segments (at most a block of 64 pixels of
+//!    a row); from its block's disparity range, the target rows each segment's samples can
+//!    cover are bounded (four corners), and the segment is listed, in order, in each band
+//!    of target rows it reaches. Segments that land nowhere are dropped unwarped;
+//! 4. **write**: in parallel over bands (disjoint `&mut` rows), each band warps its
+//!    segments (eight samples at a time) and writes what falls in its rows, in
+//!    order: painted over ([`Visibility::Ordered`]) or depth-tested
+//!    ([`Visibility::DepthBuffer`]). The result is the sequential warp's, exactly, at any
+//!    thread count; a segment reaching two bands is warped twice, nothing is stored
+//!    per sample;
 //! 5. **holes** ([`holes`]): counted by kind, then filled (pull-push or from the background
 //!    side) without dragging foreground colour across a depth edge.
 //!
 //! A reference pixel whose colour is fully transparent is empty and skipped; one with
 //! colour and infinite depth is at infinity (sky, disparity 0): it moves with the rotation
-//! alone. For a depth image the warp and footprint of a whole row are computed first,
-//! branch-free (so the compiler vectorises them), then its samples are binned in the
-//! traversal's order as 16-byte entries that carry their colour, so the write stage reads
-//! nothing else.
+//! alone.
 //! [`technique::WarpedView`] runs this every frame for the references nearest the eye and
 //! writes the result into the frame by an image pass, depth-tested against the geometry.
 //! Output pixels nothing reached are holes: transparent, disparity [`HOLE`]. Both cameras
@@ -46,6 +47,7 @@ use engine::{Camera, Premul};
 use equation::Equation;
 use order::Run;
 pub use prepared::Prepared;
+use prepared::BLOCK;
 use rayon::prelude::*;
 use rows::{Footprints, Lane};
 pub use warped::{Warped, ENCODING, HOLE};
@@ -148,11 +150,22 @@ const CHUNK_RUNS: usize = 16;
 /// The largest target side (entries hold `u16` coordinates).
 pub const MAX_SIDE: u32 = u16::MAX as u32;
 
-/// One chunk of the bin stage: its entries per band, and its row scratch.
+/// A piece of a run, within one block of its row: pixels `lo..hi` of row `y`, taken right
+/// to left when `reverse`.
+#[derive(Clone, Copy, Debug)]
+struct Segment {
+    y: u32,
+    lo: u32,
+    hi: u32,
+    reverse: bool,
+    /// Whether this band is the first the segment is listed in (its work is counted there).
+    first: bool,
+}
+
+/// One chunk of the bin stage: its segments per band.
 #[derive(Debug, Default)]
 struct Chunk {
-    bins: Vec<Vec<Entry>>,
-    row: Footprints,
+    bins: Vec<Vec<Segment>>,
 }
 
 /// Warps depth images to a camera: the output image and the scratch memory, reused.
@@ -164,6 +177,8 @@ pub struct Warper {
     has_content: bool,
     runs: Vec<Run>,
     chunks: Vec<Chunk>,
+    /// Each band's row scratch.
+    rows: Vec<Footprints>,
     /// A reference prepared by [`Warper::add`] or [`Warper::add_layered`].
     scratch: Prepared,
 }
@@ -183,6 +198,7 @@ impl Warper {
             has_content: false,
             runs: Vec::new(),
             chunks: Vec::new(),
+            rows: Vec::new(),
             scratch: Prepared::default(),
         }
     }
@@ -252,9 +268,11 @@ impl Warper {
         } else {
             &mut self.output
         };
-        let mut stats = bin(&lane, source, &self.runs, &mut self.chunks, h2);
+        bin(&lane, source, &self.runs, &mut self.chunks, h2);
         let chunks = &self.chunks[..self.runs.len().div_ceil(CHUNK_RUNS)];
-        stats.pixels_written = write(out, chunks, options.visibility, options.edge);
+        let mut stats = write(out, &lane, source, chunks, &mut self.rows, options);
+        // Every sample is in one segment; one the bin left out lands nowhere.
+        stats.samples = source.samples();
         if merge {
             let edge = match options.composite {
                 Composite::Depth => options.edge,
@@ -274,60 +292,116 @@ pub fn is_filled(c: Premul) -> bool {
     c.a > 0.0
 }
 
-/// Stage 3: every sample's entry, listed per (chunk, band) in order.
-fn bin(
-    lane: &Lane,
-    source: &Prepared,
-    runs: &[Run],
-    chunks: &mut Vec<Chunk>,
-    h2: u32,
-) -> WarpStats {
+/// Stage 3: the runs cut into segments (at most a block of [`prepared::BLOCK`] pixels of
+/// a row), each listed, in order, in the bands of target rows its samples can cover.
+fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2: u32) {
     let bands = h2.div_ceil(BAND_ROWS).max(1) as usize;
     let n = runs.len().div_ceil(CHUNK_RUNS);
     if chunks.len() < n {
         chunks.resize_with(n, Chunk::default);
     }
-    let w1 = source.size().0 as usize;
     chunks[..n]
         .par_iter_mut()
         .zip(runs.par_chunks(CHUNK_RUNS))
-        .map(|(chunk, runs)| {
-            let Chunk { bins, row } = chunk;
+        .for_each(|(chunk, runs)| {
+            let bins = &mut chunk.bins;
             bins.resize_with(bands, Vec::new);
             bins.truncate(bands);
             bins.iter_mut().for_each(Vec::clear);
-            let mut stats = WarpStats::default();
-            let mut emit = |e: Entry| {
-                let (b0, b1) = (e.y0 as u32 / BAND_ROWS, (e.y1 as u32 - 1) / BAND_ROWS);
-                bins[b0 as usize].push(e);
-                for b in b0 + 1..=b1 {
-                    bins[b as usize].push(e);
-                }
-            };
             for run in runs {
-                if source.single() {
-                    // The run's pixels lie in one contiguous span of its row.
-                    let (lo, hi) = run.span();
-                    stats += row.compute(lane, source, run.y, lo, hi);
-                    let at = |x: u32| (x - lo) as usize;
-                    let base = run.y as usize * w1;
-                    for x in run.pixels() {
-                        if let Some(e) = row.entry(at(x), source.color[base + x as usize]) {
-                            emit(e);
-                        }
+                let (lo, hi) = run.span();
+                let reverse = run.step < 0;
+                let (b_lo, b_hi) = (lo / BLOCK, hi.div_ceil(BLOCK));
+                for i in 0..b_hi - b_lo {
+                    let b = if reverse { b_hi - 1 - i } else { b_lo + i };
+                    let (s0, s1) = ((b * BLOCK).max(lo), ((b + 1) * BLOCK).min(hi));
+                    let Some((y0, y1)) = lane.bound(run.y, s0, s1, source.block(run.y, b)) else {
+                        continue;
+                    };
+                    let (b0, b1) = (y0 / BAND_ROWS, (y1 - 1) / BAND_ROWS);
+                    for band in b0..=b1 {
+                        bins[band as usize].push(Segment {
+                            y: run.y,
+                            lo: s0,
+                            hi: s1,
+                            reverse,
+                            first: band == b0,
+                        });
                     }
+                }
+            }
+        });
+}
+
+/// Stage 4: each band's segments warped and written into `out`, chunks in order. Returns
+/// the stats, pixels written included.
+fn write(
+    out: &mut Warped,
+    lane: &Lane,
+    source: &Prepared,
+    chunks: &[Chunk],
+    scratch: &mut Vec<Footprints>,
+    options: &WarpOptions,
+) -> WarpStats {
+    let w = out.width() as usize;
+    let band_len = BAND_ROWS as usize * w;
+    if w == 0 || chunks.is_empty() {
+        return WarpStats::default();
+    }
+    let bands = out.color.len().div_ceil(band_len);
+    if scratch.len() < bands {
+        scratch.resize_with(bands, Footprints::default);
+    }
+    let put = Put {
+        w,
+        vis: options.visibility,
+        slack: 1.0 + options.edge.max(0.0),
+        enc: Encoder::new(ENCODING),
+    };
+    let w1 = source.size().0 as usize;
+    out.color
+        .par_chunks_mut(band_len)
+        .zip(out.disparity.par_chunks_mut(band_len))
+        .zip(&mut scratch[..bands])
+        .enumerate()
+        .map(|(b, ((color, disparity), row))| {
+            let mut band = Band {
+                rows: color.len() / w,
+                color,
+                disparity,
+                y_base: b * BAND_ROWS as usize,
+            };
+            let mut stats = WarpStats::default();
+            for segment in chunks.iter().flat_map(|c| &c.bins[b]) {
+                let Segment { y, lo, hi, .. } = *segment;
+                let mut seen = WarpStats::default();
+                let mut written = 0;
+                if source.single() {
+                    seen = row.compute(lane, source, y, lo, hi);
+                    let colors = &source.color[y as usize * w1 + lo as usize..][..row.len()];
+                    written = put.row(&mut band, row, colors, segment.reverse);
                 } else {
-                    for x in run.pixels() {
-                        let p = run.y as usize * w1 + x as usize;
-                        let (s0, s1) = (source.first[p], source.first[p + 1]);
-                        for s in s0..s1 {
-                            let base = lane.eq.base(x, run.y);
-                            if let Some(e) = lane.sample(source, s as usize, base, &mut stats) {
-                                emit(e);
+                    let mut each = |x: u32| {
+                        let p = y as usize * w1 + x as usize;
+                        let base = lane.eq.base(x, y);
+                        for s in source.first[p]..source.first[p + 1] {
+                            if let Some(e) = lane.sample(source, s as usize, base, &mut seen) {
+                                written += put.entry(&mut band, &e);
                             }
                         }
+                    };
+                    if segment.reverse {
+                        (lo..hi).rev().for_each(&mut each);
+                    } else {
+                        (lo..hi).for_each(&mut each);
                     }
                 }
+                if segment.first {
+                    // Counted once, in the first band that warps the segment.
+                    stats.behind += seen.behind;
+                    stats.warped += seen.warped;
+                }
+                stats.pixels_written += written;
             }
             stats
         })
@@ -337,60 +411,105 @@ fn bin(
         })
 }
 
-/// Stage 4: the bins written into `out` band by band, chunks in order. Returns the pixels
-/// written.
-fn write(out: &mut Warped, chunks: &[Chunk], vis: Visibility, edge: f32) -> u64 {
-    let slack = 1.0 + edge.max(0.0);
-    let w = out.width() as usize;
-    let band_len = BAND_ROWS as usize * w;
-    if w == 0 || chunks.is_empty() {
-        return 0;
-    }
-    let enc = Encoder::new(ENCODING);
-    out.color
-        .par_chunks_mut(band_len)
-        .zip(out.disparity.par_chunks_mut(band_len))
-        .enumerate()
-        .map(|(b, (color, disparity))| {
-            let y_base = b * BAND_ROWS as usize;
-            let rows = color.len() / w;
-            let mut written = 0u64;
-            for chunk in chunks {
-                for e in &chunk.bins[b] {
-                    let opaque = e.color >> 24 == 0xff;
-                    let (x0, x1) = (e.x0 as usize, e.x1 as usize);
-                    let y0 = (e.y0 as usize).max(y_base) - y_base;
-                    if opaque && vis == Visibility::Ordered && x1 == x0 + 1 && e.y1 == e.y0 + 1 {
-                        // A point: one pixel, painted over.
-                        let k = y0 * w + x0;
-                        color[k] = e.color;
-                        disparity[k] = e.disparity;
-                        written += 1;
-                        continue;
-                    }
-                    let y1 = (e.y1 as usize).min(y_base + rows) - y_base;
-                    for y in y0..y1 {
-                        let row = y * w + x0..y * w + x1;
-                        for (c, d) in color[row.clone()].iter_mut().zip(&mut disparity[row]) {
-                            // A depth buffer keeps the nearer surface: nearer, or within the
-                            // edge tolerance (a hole's negative disparity always yields).
-                            if vis == Visibility::DepthBuffer && e.disparity * slack < *d {
-                                continue;
-                            }
-                            *c = if opaque || vis == Visibility::DepthBuffer {
-                                e.color
-                            } else {
-                                over(e.color, *c, &enc)
-                            };
-                            *d = e.disparity;
-                            written += 1;
-                        }
-                    }
-                }
+/// A band of target rows being written.
+struct Band<'a> {
+    color: &'a mut [u32],
+    disparity: &'a mut [f32],
+    /// The target row of the band's first row.
+    y_base: usize,
+    rows: usize,
+}
+
+/// How entries are written.
+struct Put {
+    w: usize,
+    vis: Visibility,
+    /// `1 + edge`: a depth-tested sample yields to one nearer by more than the tolerance.
+    slack: f32,
+    enc: Encoder,
+}
+
+impl Put {
+    /// Writes the part within `band` of the row of samples `row` computed last, coloured
+    /// `colors`, left to right or (`reverse`) right to left; returns the pixels written.
+    fn row(&self, band: &mut Band, row: &Footprints, colors: &[u32], reverse: bool) -> u64 {
+        let ([x0s, y0s, x1s, y1s], ds) = row.planes();
+        let n = ds.len();
+        let colors = &colors[..n];
+        let (y_base, y_end) = (band.y_base as i32, (band.y_base + band.rows) as i32);
+        let points = self.vis == Visibility::Ordered;
+        let w = self.w;
+        let mut written = 0;
+        for i in 0..n {
+            let k = if reverse { n - 1 - i } else { i };
+            let (x0, x1) = (x0s[k], x1s[k]);
+            let (y0, y1) = (y0s[k].max(y_base), y1s[k].min(y_end));
+            if x0 >= x1 || y0 >= y1 {
+                continue;
             }
-            written
-        })
-        .sum()
+            let color = colors[k];
+            if points && color >> 24 == 0xff && x1 - x0 == 1 && y1 - y0 == 1 {
+                // A point: one pixel, painted over.
+                let p = (y0 - y_base) as usize * w + x0 as usize;
+                band.color[p] = color;
+                band.disparity[p] = ds[k];
+                written += 1;
+                continue;
+            }
+            let e = Entry {
+                x0: x0 as u16,
+                y0: y0 as u16,
+                x1: x1 as u16,
+                y1: y1 as u16,
+                disparity: ds[k],
+                color,
+            };
+            written += self.entry(band, &e);
+        }
+        written
+    }
+
+    /// Writes the part of `e` within `band`; returns the pixels written.
+    #[inline(always)]
+    fn entry(&self, band: &mut Band, e: &Entry) -> u64 {
+        let w = self.w;
+        let (y_base, y_end) = (band.y_base, band.y_base + band.rows);
+        let (ey0, ey1) = (e.y0 as usize, e.y1 as usize);
+        if ey1 <= y_base || ey0 >= y_end {
+            return 0;
+        }
+        let opaque = e.color >> 24 == 0xff;
+        let (x0, x1) = (e.x0 as usize, e.x1 as usize);
+        let y0 = ey0.max(y_base) - y_base;
+        if opaque && self.vis == Visibility::Ordered && x1 == x0 + 1 && ey1 == ey0 + 1 {
+            // A point: one pixel, painted over.
+            let k = y0 * w + x0;
+            band.color[k] = e.color;
+            band.disparity[k] = e.disparity;
+            return 1;
+        }
+        let y1 = ey1.min(y_end) - y_base;
+        let mut written = 0;
+        for y in y0..y1 {
+            let row = y * w + x0..y * w + x1;
+            let pixels = band.color[row.clone()].iter_mut();
+            for (c, d) in pixels.zip(&mut band.disparity[row]) {
+                // A depth buffer keeps the nearer surface: nearer, or within the edge
+                // tolerance (a hole's negative disparity always yields).
+                if self.vis == Visibility::DepthBuffer && e.disparity * self.slack < *d {
+                    continue;
+                }
+                *c = if opaque || self.vis == Visibility::DepthBuffer {
+                    e.color
+                } else {
+                    over(e.color, *c, &self.enc)
+                };
+                *d = e.disparity;
+                written += 1;
+            }
+        }
+        written
+    }
 }
 
 /// Packed `a` over packed `b`, premultiplied.

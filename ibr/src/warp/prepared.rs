@@ -1,7 +1,7 @@
 //! References prepared for warping: what the warp reads of each sample (its disparity, the
 //! slope of its surface's disparity, its colour as packed bytes) computed once when the
-//! reference is made, not per frame, and laid out flat so the warp's inner loop reads 16
-//! bytes a sample and divides once.
+//! reference is made, not per frame, and laid out as planes so the warp's inner loop reads
+//! 16 bytes a sample, eight samples at a time, and divides once.
 
 use super::is_filled;
 use super::warped::{ENCODING, HOLE};
@@ -20,14 +20,24 @@ pub struct Prepared {
     pub(super) first: Vec<u32>,
     /// `1 / depth`; 0 at infinity (sky); [`HOLE`] for an empty pixel of a depth image.
     pub(super) disparity: Vec<f32>,
-    /// The change of disparity per pixel step in x and y on the sample's surface (zero
-    /// across a depth edge).
-    pub(super) slope: Vec<[f32; 2]>,
+    /// The change of disparity per pixel step in x on the sample's surface (zero across a
+    /// depth edge), and in y.
+    pub(super) slope_x: Vec<f32>,
+    pub(super) slope_y: Vec<f32>,
     /// Premultiplied bytes in [`ENCODING`].
     pub(super) color: Vec<u32>,
+    /// The least and greatest disparity of each block of [`BLOCK`] pixels of a row (row
+    /// by row, blocks left to right), over its samples; `[INFINITY, -INFINITY]` when it
+    /// has none. Bounds where a block can land before it is warped.
+    pub(super) blocks: Vec<[f32; 2]>,
+    /// The samples (non-empty).
+    samples: u64,
     /// The edge tolerance the slopes were read with.
     edge: f32,
 }
+
+/// Pixels of a row per block of [`Prepared::blocks`].
+pub(super) const BLOCK: u32 = 64;
 
 impl Default for Prepared {
     fn default() -> Self {
@@ -38,8 +48,11 @@ impl Default for Prepared {
             height: 0,
             first: Vec::new(),
             disparity: Vec::new(),
-            slope: Vec::new(),
+            slope_x: Vec::new(),
+            slope_y: Vec::new(),
             color: Vec::new(),
+            blocks: Vec::new(),
+            samples: 0,
             edge: 0.0,
         }
     }
@@ -86,6 +99,11 @@ impl Prepared {
         self.edge
     }
 
+    /// The samples (non-empty).
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
     /// Whether each pixel has one sample (a depth image).
     pub(super) fn single(&self) -> bool {
         self.first.is_empty()
@@ -107,9 +125,10 @@ impl Prepared {
         for y in 0..h {
             for x in 0..w {
                 let z = image.depth[(y * w + x) as usize];
-                self.slope.push(slope(x, y, z, |x, y| same(x, y, z)));
+                self.push_slope(slope(x, y, z, |x, y| same(x, y, z)));
             }
         }
+        self.bound_blocks();
     }
 
     /// Re-prepares from `ldi`, keeping this one's memory. Empty samples are left out.
@@ -139,12 +158,50 @@ impl Prepared {
                     let c = s.color;
                     self.disparity.push(d);
                     self.color.push(enc.pack(c.r, c.g, c.b, c.a));
-                    self.slope
-                        .push(slope(x, y, s.depth, |x, y| same(x, y, s.depth)));
+                    self.push_slope(slope(x, y, s.depth, |x, y| same(x, y, s.depth)));
                 }
             }
         }
         self.first.push(self.disparity.len() as u32);
+        self.bound_blocks();
+    }
+
+    fn push_slope(&mut self, [x, y]: [f32; 2]) {
+        self.slope_x.push(x);
+        self.slope_y.push(y);
+    }
+
+    /// The disparity range of block `b` of row `y`.
+    pub(super) fn block(&self, y: u32, b: u32) -> [f32; 2] {
+        self.blocks[(y * self.width.div_ceil(BLOCK) + b) as usize]
+    }
+
+    /// Fills [`Prepared::blocks`] from the samples.
+    fn bound_blocks(&mut self) {
+        let (w, h) = (self.width, self.height);
+        self.blocks.clear();
+        self.samples = 0;
+        for y in 0..h {
+            for x0 in (0..w).step_by(BLOCK as usize) {
+                let (p0, p1) = (
+                    (y * w + x0) as usize,
+                    (y * w + (x0 + BLOCK).min(w)) as usize,
+                );
+                let samples = if self.single() {
+                    p0..p1
+                } else {
+                    self.first[p0] as usize..self.first[p1] as usize
+                };
+                let mut range = [f32::INFINITY, f32::NEG_INFINITY];
+                for &d in &self.disparity[samples] {
+                    if d >= 0.0 {
+                        range = [range[0].min(d), range[1].max(d)];
+                        self.samples += 1;
+                    }
+                }
+                self.blocks.push(range);
+            }
+        }
     }
 
     fn start(&mut self, camera: Camera, w: u32, h: u32, edge: f32) {
@@ -154,8 +211,10 @@ impl Prepared {
         self.edge = edge;
         self.first.clear();
         self.disparity.clear();
-        self.slope.clear();
+        self.slope_x.clear();
+        self.slope_y.clear();
         self.color.clear();
+        self.blocks.clear();
     }
 }
 

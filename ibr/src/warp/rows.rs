@@ -1,11 +1,13 @@
 //! Stage 2 of the warp, per sample: where it lands and which target pixels its footprint
-//! covers. [`Footprints`] does a whole row of a depth image at once as plain loops over
-//! arrays, with no branches in the arithmetic (invalid samples are masked, not skipped), so
-//! the compiler vectorises them; [`Lane::sample`] does one sample of an LDI. Both compute
-//! the same values the same way.
+//! covers. [`Footprints`] does a whole row of a depth image at once, eight samples at a time
+//! in vector registers ([`engine::simd`]), with no branches (invalid samples are masked,
+//! not skipped); [`Lane::sample`] does one sample of an LDI. Both compute the same values
+//! by the same formulas.
 
 use super::equation::Equation;
+use super::HOLE;
 use super::{Entry, Prepared, Reconstruction, WarpOptions, WarpStats};
+use engine::simd::{F8, LANES, M8};
 use glam::Vec3;
 
 /// What warping a sample needs besides the sample.
@@ -74,6 +76,51 @@ impl Lane {
         (landing, h.z > 0.0)
     }
 
+    /// The target rows `[y0, y1)` that samples of reference row `y`, pixels `lo..hi`, with
+    /// disparities within `range` can cover; `None` when none can land on the image. Taken
+    /// from the four corners of `[lo, hi) x range`: where `h.z` is positive over that
+    /// rectangle the target position is a ratio of linear functions, whose extremes lie at
+    /// corners. Near `h.z = 0` (or behind the eye) every row. Conservative by a pixel
+    /// (plus rounding), so a sample it leaves out lands nowhere.
+    pub(super) fn bound(&self, y: u32, lo: u32, hi: u32, range: [f32; 2]) -> Option<(u32, u32)> {
+        if range[0].partial_cmp(&range[1]).is_none_or(|o| o.is_gt()) || lo >= hi {
+            return None;
+        }
+        let eq = &self.eq;
+        let rb = eq.a[1] * (y as f32 + 0.5) + eq.a[2];
+        let every = Some((0, self.h2 as u32));
+        let (mut x_lo, mut x_hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        let (mut y_lo, mut y_hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for u in [lo as f32 + 0.5, hi as f32 - 0.5] {
+            for d in range {
+                let h = eq.a[0] * u + rb + eq.b * d;
+                // The size of the terms `h.z` sums: well away from zero relative to them,
+                // rounding cannot move a sample's position far from these corners'.
+                let scale = (eq.a[0].z * u).abs() + rb.z.abs() + (eq.b.z * d).abs();
+                let clear = h.z.partial_cmp(&(1e-2 * scale)).is_some_and(|o| o.is_gt());
+                if !clear || !h.is_finite() {
+                    return every;
+                }
+                let (x, y) = (h.x / h.z, h.y / h.z);
+                (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
+                (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
+            }
+        }
+        let half = if self.splats {
+            self.max_splat * 0.5
+        } else {
+            0.5
+        };
+        let slack = |v: f32| half + 1.0 + 1e-4 * v.abs();
+        let (mx, my) = (slack(x_lo).max(slack(x_hi)), slack(y_lo).max(slack(y_hi)));
+        if !(x_hi + mx >= 0.0 && x_lo - mx < self.w2) {
+            return None;
+        }
+        let y0 = (y_lo - my).floor().max(0.0);
+        let y1 = ((y_hi + my).floor() + 1.0).min(self.h2);
+        (y0 < y1).then_some((y0 as u32, y1 as u32))
+    }
+
     /// The target rectangle of a landing, `[x0, x1) x [y0, y1)`; empty (`x0 == x1`) when
     /// off the image or not finite.
     #[inline(always)]
@@ -103,7 +150,7 @@ impl Lane {
             return None;
         }
         stats.samples += 1;
-        let (l, in_front) = self.land(base, d, source.slope[s]);
+        let (l, in_front) = self.land(base, d, [source.slope_x[s], source.slope_y[s]]);
         if !in_front {
             stats.behind += 1;
             return None;
@@ -140,45 +187,35 @@ fn span(c: f32, half: f32, n: f32) -> (f32, f32) {
 }
 
 /// A row of a depth image warped at once: each pixel's target rectangle and disparity,
-/// as planes (`x0 == x1` where the pixel does not land).
+/// as planes (`x0 == x1` where the pixel does not land), padded to whole groups of
+/// [`LANES`].
 #[derive(Debug, Default)]
 pub(super) struct Footprints {
-    x0: Vec<f32>,
-    y0: Vec<f32>,
-    x1: Vec<f32>,
-    y1: Vec<f32>,
+    x0: Vec<i32>,
+    y0: Vec<i32>,
+    x1: Vec<i32>,
+    y1: Vec<i32>,
     disparity: Vec<f32>,
+    /// The pixels of the row computed last.
+    n: usize,
 }
 
-/// `|x|` without a branch.
+/// The first `LANES` values of `s` from `k`, padded with `pad` past its end.
 #[inline(always)]
-fn abs(x: f32) -> f32 {
-    f32::from_bits(x.to_bits() & 0x7fff_ffff)
-}
-
-/// `x < y ? x : y` and `x > y ? x : y`, as the vector instructions compute them (NaN in
-/// `x` gives `y`).
-#[inline(always)]
-fn min(x: f32, y: f32) -> f32 {
-    if x < y {
-        x
+fn lanes(s: &[f32], k: usize, pad: f32) -> F8 {
+    if k + LANES <= s.len() {
+        F8::load(&s[k..])
     } else {
-        y
-    }
-}
-
-#[inline(always)]
-fn max(x: f32, y: f32) -> f32 {
-    if x > y {
-        x
-    } else {
-        y
+        F8::from_array(std::array::from_fn(|l| {
+            s.get(k + l).copied().unwrap_or(pad)
+        }))
     }
 }
 
 impl Footprints {
-    /// Warps pixels `lo..hi` of row `y` of `source` (one sample per pixel): the same
-    /// values [`Lane::sample`] computes, written as one branch-free loop over planes.
+    /// Warps pixels `lo..hi` of row `y` of `source` (one sample per pixel): the values
+    /// [`Lane::sample`] computes, eight samples at a time, with no branches (invalid
+    /// samples are masked, not skipped).
     pub(super) fn compute(
         &mut self,
         lane: &Lane,
@@ -191,81 +228,77 @@ impl Footprints {
         let row = y as usize * w1;
         let (lo, hi) = (lo as usize, hi as usize);
         let n = hi - lo;
-        let disparity = &source.disparity[row + lo..row + hi];
-        let slope = &source.slope[row + lo..row + hi];
-        for plane in [
-            &mut self.x0,
-            &mut self.y0,
-            &mut self.x1,
-            &mut self.y1,
-            &mut self.disparity,
-        ] {
-            plane.clear();
-            plane.resize(n, 0.0);
+        let padded = n.div_ceil(LANES) * LANES;
+        for plane in [&mut self.x0, &mut self.y0, &mut self.x1, &mut self.y1] {
+            plane.resize(padded.max(plane.len()), 0);
         }
+        self.disparity.resize(padded.max(self.disparity.len()), 0.0);
+        self.n = n;
+        let disparity = &source.disparity[row + lo..row + hi];
+        let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
         let eq = &lane.eq;
         let v = y as f32 + 0.5;
         let rb = eq.a[1] * v + eq.a[2];
-        let (a0, b) = (eq.a[0], eq.b);
-        let (splats, max_splat, w2, h2) = (lane.splats, lane.max_splat, lane.w2, lane.h2);
-        let (x0s, y0s) = (&mut self.x0[..n], &mut self.y0[..n]);
-        let (x1s, y1s) = (&mut self.x1[..n], &mut self.y1[..n]);
-        let ds = &mut self.disparity[..n];
+        let splat = F8::splat;
+        let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
+        let zero = splat(0.0);
+        let (one, half) = (splat(1.0), splat(0.5));
+        let (max_splat, w2, h2) = (splat(lane.max_splat), splat(lane.w2), splat(lane.h2));
+        let splats = if lane.splats { u32::MAX } else { 0 };
         let (mut samples, mut behind, mut warped) = (0u32, 0u32, 0u32);
-        for k in 0..n {
-            let u = (lo + k) as f32 + 0.5;
-            let d0 = disparity[k];
-            let d = max(d0, 0.0);
-            let hx = a0.x * u + rb.x + b.x * d;
-            let hy = a0.y * u + rb.y + b.y * d;
-            let hz = a0.z * u + rb.z + b.z * d;
-            let inv = 1.0 / hz;
+        for k in (0..n).step_by(LANES) {
+            let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
+            let d0 = lanes(disparity, k, HOLE);
+            let d = d0.max(zero);
+            let hx = splat(a0.x) * u + splat(rb.x) + splat(b.x) * d;
+            let hy = splat(a0.y) * u + splat(rb.y) + splat(b.y) * d;
+            let hz = splat(a0.z) * u + splat(rb.z) + splat(b.z) * d;
+            let inv = one / hz;
             let (x, y) = (hx * inv, hy * inv);
             // The footprint: the columns of the warp's Jacobian (a reference pixel step in
             // x and in y along the surface), summed.
-            let [sx, sy] = slope[k];
-            let (dxx, dxy, dxz) = (a0.x + b.x * sx, a0.y + b.y * sx, a0.z + b.z * sx);
-            let (dyx, dyy, dyz) = (
-                eq.a[1].x + b.x * sy,
-                eq.a[1].y + b.y * sy,
-                eq.a[1].z + b.z * sy,
-            );
-            let size_x = abs((dxx - x * dxz) * inv) + abs((dyx - x * dyz) * inv);
-            let size_y = abs((dxy - y * dxz) * inv) + abs((dyy - y * dyz) * inv);
-            let size_x = min(max(size_x, 1.0), max_splat);
-            let size_y = min(max(size_y, 1.0), max_splat);
-            let fine = splats & (abs(size_x) < f32::INFINITY) & (abs(size_y) < f32::INFINITY);
-            let half_x = if fine { size_x * 0.5 } else { 0.5 };
-            let half_y = if fine { size_y * 0.5 } else { 0.5 };
+            let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
+            let dxx = splat(a0.x) + splat(b.x) * sx;
+            let dxy = splat(a0.y) + splat(b.y) * sx;
+            let dxz = splat(a0.z) + splat(b.z) * sx;
+            let dyx = splat(a1.x) + splat(b.x) * sy;
+            let dyy = splat(a1.y) + splat(b.y) * sy;
+            let dyz = splat(a1.z) + splat(b.z) * sy;
+            let size_x = ((dxx - x * dxz) * inv).abs() + ((dyx - x * dyz) * inv).abs();
+            let size_y = ((dxy - y * dxz) * inv).abs() + ((dyy - y * dyz) * inv).abs();
+            let size_x = size_x.max(one).min(max_splat);
+            let size_y = size_y.max(one).min(max_splat);
+            let inf = f32::INFINITY;
+            let fine = M8::from_bits(splats).and(size_x.within(inf).and(size_y.within(inf)));
+            let half_x = fine.select(size_x * half, half);
+            let half_y = fine.select(size_y * half, half);
             let (px, py) = (x.floor(), y.floor());
-            let sx0 = (x - half_x + 0.5).floor();
-            let sx1 = max((x + half_x + 0.5).floor(), sx0 + 1.0);
-            let sy0 = (y - half_y + 0.5).floor();
-            let sy1 = max((y + half_y + 0.5).floor(), sy0 + 1.0);
-            let (rx0, rx1) = if half_x <= 0.5 {
-                (px, px + 1.0)
-            } else {
-                (sx0, sx1)
-            };
-            let (ry0, ry1) = if half_y <= 0.5 {
-                (py, py + 1.0)
-            } else {
-                (sy0, sy1)
-            };
-            let (rx0, rx1) = (max(rx0, 0.0), min(rx1, w2));
-            let (ry0, ry1) = (max(ry0, 0.0), min(ry1, h2));
-            let filled = d0 >= 0.0;
-            let front = hz > 0.0;
-            let finite = (abs(x) < f32::INFINITY) & (abs(y) < f32::INFINITY);
-            let hit = filled & front & finite & (rx0 < rx1) & (ry0 < ry1);
-            x0s[k] = if hit { rx0 } else { 0.0 };
-            x1s[k] = if hit { rx1 } else { 0.0 };
-            y0s[k] = ry0;
-            y1s[k] = ry1;
-            ds[k] = d * inv;
-            samples += filled as u32;
-            behind += (filled & !front) as u32;
-            warped += hit as u32;
+            let sx0 = (x - half_x + half).floor();
+            let sx1 = (x + half_x + half).floor().max(sx0 + one);
+            let sy0 = (y - half_y + half).floor();
+            let sy1 = (y + half_y + half).floor().max(sy0 + one);
+            let (point_x, point_y) = (half_x.le(half), half_y.le(half));
+            let rx0 = point_x.select(px, sx0).max(zero);
+            let rx1 = point_x.select(px + one, sx1).min(w2);
+            let ry0 = point_y.select(py, sy0).max(zero);
+            let ry1 = point_y.select(py + one, sy1).min(h2);
+            let filled = d0.ge(zero);
+            let front = hz.gt(zero);
+            let finite = x.within(inf).and(y.within(inf));
+            let hit = filled
+                .and(front)
+                .and(finite)
+                .and(rx0.lt(rx1))
+                .and(ry0.lt(ry1));
+            // Lanes that miss hold an empty rectangle (and no out-of-range conversion).
+            hit.select(rx0, zero).to_i32().store(&mut self.x0[k..]);
+            hit.select(rx1, zero).to_i32().store(&mut self.x1[k..]);
+            hit.select(ry0, zero).to_i32().store(&mut self.y0[k..]);
+            hit.select(ry1, zero).to_i32().store(&mut self.y1[k..]);
+            (d * inv).store(&mut self.disparity[k..]);
+            samples += filled.bits().count_ones();
+            behind += filled.and_not(front).bits().count_ones();
+            warped += hit.bits().count_ones();
         }
         WarpStats {
             samples: samples as u64,
@@ -275,18 +308,18 @@ impl Footprints {
         }
     }
 
-    /// The entry of pixel `k` of the row computed last (counted from its `lo`), with
-    /// colour `color`; `None` when it does not land.
-    #[inline]
-    pub(super) fn entry(&self, k: usize, color: u32) -> Option<Entry> {
-        let (x0, x1) = (self.x0[k], self.x1[k]);
-        (x0 < x1).then(|| Entry {
-            x0: x0 as u16,
-            y0: self.y0[k] as u16,
-            x1: x1 as u16,
-            y1: self.y1[k] as u16,
-            disparity: self.disparity[k],
-            color,
-        })
+    /// The pixels of the row computed last.
+    pub(super) fn len(&self) -> usize {
+        self.n
+    }
+
+    /// The row computed last: target rectangles as planes `x0`, `y0`, `x1`, `y1` (`x0 ==
+    /// x1` where a pixel does not land), and disparities.
+    pub(super) fn planes(&self) -> ([&[i32]; 4], &[f32]) {
+        let n = self.n;
+        (
+            [&self.x0[..n], &self.y0[..n], &self.x1[..n], &self.y1[..n]],
+            &self.disparity[..n],
+        )
     }
 }

@@ -477,3 +477,5 @@ fn by_priority_a_reference_at_the_eye_is_shown_as_it_is_and_by_depth_nearly() {
         );
     }
 }
+
+mod sequential;
