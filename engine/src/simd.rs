@@ -104,6 +104,18 @@ mod imp {
             let abs = avx!(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0));
             avx!(M8(_mm256_cmp_ps::<_CMP_LT_OQ>(abs, _mm256_set1_ps(limit))))
         }
+        /// Lanes 0, 2, .. 14 and lanes 1, 3, .. 15 of the sixteen lanes of `self` then `o`.
+        #[inline(always)]
+        pub fn deinterleave(self, o: Self) -> (Self, Self) {
+            let even = avx!(_mm256_shuffle_ps::<0b10_00_10_00>(self.0, o.0));
+            let odd = avx!(_mm256_shuffle_ps::<0b11_01_11_01>(self.0, o.0));
+            // Each is [0 2 | 8 10 | 4 6 | 12 14] in 64-bit pairs: swap the middle two.
+            let fix = |v: __m256| {
+                let pairs = avx!(_mm256_permute4x64_pd::<0b11_01_10_00>(_mm256_castps_pd(v)));
+                avx!(_mm256_castpd_ps(pairs))
+            };
+            (F8(fix(even)), F8(fix(odd)))
+        }
         /// The sign bit cleared.
         #[inline(always)]
         pub fn abs(self) -> Self {
@@ -189,6 +201,14 @@ mod imp {
         pub fn to_f32(self) -> F8 {
             avx!(F8(_mm256_cvtepi32_ps(self.0)))
         }
+        /// As [`F8::deinterleave`].
+        #[inline(always)]
+        pub fn deinterleave(self, o: Self) -> (Self, Self) {
+            let f = |v: __m256i| F8(avx!(_mm256_castsi256_ps(v)));
+            let (even, odd) = f(self.0).deinterleave(f(o.0));
+            let i = |v: F8| I8(avx!(_mm256_castps_si256(v.0)));
+            (i(even), i(odd))
+        }
     }
 
     impl std::ops::Add for F8 {
@@ -246,6 +266,10 @@ mod imp {
         #[inline(always)]
         pub fn and_not(self, o: Self) -> Self {
             avx!(M8(_mm256_andnot_ps(o.0, self.0)))
+        }
+        #[inline(always)]
+        pub fn or(self, o: Self) -> Self {
+            avx!(M8(_mm256_or_ps(self.0, o.0)))
         }
         /// One bit per lane.
         #[inline(always)]
@@ -320,6 +344,13 @@ mod imp {
         pub fn abs(self) -> Self {
             F8(self.0.map(f32::abs))
         }
+        pub fn deinterleave(self, o: Self) -> (Self, Self) {
+            let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };
+            (
+                F8(std::array::from_fn(|l| at(2 * l))),
+                F8(std::array::from_fn(|l| at(2 * l + 1))),
+            )
+        }
         pub fn lt(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] < o.0[l]))
         }
@@ -371,6 +402,13 @@ mod imp {
         pub fn to_f32(self) -> F8 {
             F8(std::array::from_fn(|l| self.0[l] as f32))
         }
+        pub fn deinterleave(self, o: Self) -> (Self, Self) {
+            let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };
+            (
+                I8(std::array::from_fn(|l| at(2 * l))),
+                I8(std::array::from_fn(|l| at(2 * l + 1))),
+            )
+        }
     }
 
     impl std::ops::Add for F8 {
@@ -418,6 +456,9 @@ mod imp {
         pub fn and_not(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] && !o.0[l]))
         }
+        pub fn or(self, o: Self) -> Self {
+            M8(std::array::from_fn(|l| self.0[l] || o.0[l]))
+        }
         pub fn bits(self) -> u32 {
             (0..LANES).fold(0, |b, l| b | (self.0[l] as u32) << l)
         }
@@ -450,6 +491,12 @@ impl I8 {
 }
 
 impl I8 {
+    /// Loads 8 lanes from the start of `s` (which must hold at least 8), as `i32` bits.
+    #[inline(always)]
+    pub fn load_u32(s: &[u32]) -> Self {
+        let a: [u32; LANES] = s[..LANES].try_into().expect("8 lanes");
+        I8::from_array(a.map(|v| v as i32))
+    }
     /// Stores 8 lanes to the start of `s` (which must hold at least 8).
     #[inline(always)]
     pub fn store(self, s: &mut [i32]) {
@@ -520,6 +567,16 @@ mod tests {
         assert_eq!(c.lt(b).bits(), 0b0110_0111);
         assert_eq!(c.le(b).bits(), 0b0111_0111);
         assert_eq!(c.lt(b).and_not(c.le(F8::splat(0.0))).bits(), 0b0000_0100);
+        assert_eq!(c.gt(b).or(c.le(F8::splat(0.0))).bits(), 0b1110_0011);
+        let hi = F8::ramp() + F8::splat(8.0);
+        let (even, odd) = F8::ramp().deinterleave(hi);
+        assert_eq!(even.to_array(), [0.0, 2.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0]);
+        assert_eq!(odd.to_array(), [1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0]);
+        let (even, odd) = I8::ramp_times(1).deinterleave(I8::ramp_times(1) + I8::splat(8));
+        assert_eq!(even.to_array(), [0, 2, 4, 6, 8, 10, 12, 14]);
+        assert_eq!(odd.to_array(), [1, 3, 5, 7, 9, 11, 13, 15]);
+        let words = [0xff00_0001u32, 2, 3, 4, 5, 6, 7, 8];
+        assert_eq!(I8::load_u32(&words).shr::<24>().to_array()[0], 0xff);
         let packed = F8::from_array([0.0, 0.5, 1.0, 2.0, -1.0, f32::NAN, 0.25, 0.75]).clamp01();
         assert_eq!(packed.to_array()[3], 1.0);
         assert_eq!(packed.to_array()[5], 0.0);

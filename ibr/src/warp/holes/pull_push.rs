@@ -1,0 +1,505 @@
+//! Pull-push (Gortler et al. 96) over a warped image, biased to the background: the
+//! pyramid, pulled eight cells at a time and pushed only where cells are empty.
+//!
+//! Every sample of the image weighs one, and a cell's weight is its children's summed and
+//! capped at one (Kraus 2009), so every weight is zero or one: a cell is full or empty, and
+//! the pyramid stores no weights (an empty cell has disparity [`HOLE`]). A cell keeps only
+//! its children within the edge tolerance of the farthest (the background); push fills an
+//! empty cell from the level above, bilinearly over the parent cells within the tolerance
+//! of the farthest of them, so foreground colour never flows into a disocclusion.
+
+use super::super::warped::{Warped, HOLE};
+use engine::simd::{F8, I8, LANES};
+use rayon::prelude::*;
+
+/// A pyramid level above the image: per cell the mean colour of the children it kept
+/// (stored byte values, one plane per channel) and their mean disparity.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Level {
+    w: usize,
+    h: usize,
+    color: [Vec<f32>; 4],
+    disparity: Vec<f32>,
+}
+
+impl Level {
+    /// Makes this `w` x `h`; every cell is then written by a pull.
+    fn resize(&mut self, w: usize, h: usize) {
+        let n = w * h;
+        (self.w, self.h) = (w, h);
+        for plane in self.color.iter_mut().chain([&mut self.disparity]) {
+            plane.resize(n, HOLE);
+        }
+    }
+
+    fn colour(&self, i: usize) -> [f32; 4] {
+        self.color.each_ref().map(|p| p[i])
+    }
+}
+
+/// Fills the holes of `image` (returns how many) using `levels` as scratch: levels 1, 2,
+/// ... up to a single cell.
+pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> u64 {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    if w == 0 || h == 0 || (w == 1 && h == 1) {
+        return 0;
+    }
+    let keep = 1.0 - edge;
+    // Pull: level 1 from the image, then halve until one cell.
+    let mut sizes = vec![(w.div_ceil(2), h.div_ceil(2))];
+    while let Some(&(w, h)) = sizes.last().filter(|&&(w, h)| w > 1 || h > 1) {
+        sizes.push((w.div_ceil(2), h.div_ceil(2)));
+    }
+    if levels.len() < sizes.len() {
+        levels.resize_with(sizes.len(), Level::default);
+    }
+    let levels = &mut levels[..sizes.len()];
+    for (level, &(w, h)) in levels.iter_mut().zip(&sizes) {
+        level.resize(w, h);
+    }
+    let (color, disparity) = (&image.color, &image.disparity);
+    pull(
+        &mut levels[0],
+        w,
+        h,
+        keep,
+        |i| {
+            // Eight pairs of pixels from `i` on: disparity and channels.
+            let (d, c) = (F8::load(&disparity[i..]), I8::load_u32(&color[i..]));
+            let (d2, c2) = (
+                F8::load(&disparity[i + LANES..]),
+                I8::load_u32(&color[i + LANES..]),
+            );
+            let ((d_even, d_odd), (c_even, c_odd)) = (d.deinterleave(d2), c.deinterleave(c2));
+            (d_even, d_odd, channels(c_even), channels(c_odd))
+        },
+        |i| {
+            let c = color[i];
+            (
+                disparity[i],
+                std::array::from_fn(|k| (c >> (8 * k) & 0xff) as f32),
+            )
+        },
+    );
+    for k in 1..levels.len() {
+        let (fine, coarse) = levels.split_at_mut(k);
+        let fine = &fine[k - 1];
+        let pairs = |plane: &[f32], i: usize| {
+            F8::load(&plane[i..]).deinterleave(F8::load(&plane[i + LANES..]))
+        };
+        pull(
+            &mut coarse[0],
+            fine.w,
+            fine.h,
+            keep,
+            |i| {
+                let (d_even, d_odd) = pairs(&fine.disparity, i);
+                let c = fine.color.each_ref().map(|p| pairs(p, i));
+                (d_even, d_odd, c.map(|c| c.0), c.map(|c| c.1))
+            },
+            |i| (fine.disparity[i], fine.colour(i)),
+        );
+    }
+    // Push: each level's empty cells from the (already complete) level above; at the image
+    // only its holes change.
+    for k in (1..levels.len()).rev() {
+        let (fine, coarse) = levels.split_at_mut(k);
+        push(&mut fine[k - 1], &coarse[0], keep);
+    }
+    push_image(image, &levels[0], keep)
+}
+
+/// The four channels of packed bytes, as stored values.
+#[inline(always)]
+fn channels(c: I8) -> [F8; 4] {
+    let byte = I8::splat(0xff);
+    [
+        c.and(byte).to_f32(),
+        c.shr::<8>().and(byte).to_f32(),
+        c.shr::<16>().and(byte).to_f32(),
+        c.shr::<24>().to_f32(),
+    ]
+}
+
+/// Eight cells' children in one finer row: disparities and colours of the even and the
+/// odd columns.
+type Pairs = (F8, F8, [F8; 4], [F8; 4]);
+
+/// One coarser level from a `fw` x `fh` finer one: each cell the mean of its up to 2 x 2
+/// children within the tolerance (`keep = 1 - edge`) of the farthest. Row by row on the
+/// thread pool, eight cells at a time: `pairs(i)` reads the sixteen finer cells from `i`
+/// on; `kid(i)` one (disparity, [`HOLE`] when empty, and colour), for the edges.
+fn pull<P, K>(coarse: &mut Level, fw: usize, fh: usize, keep: f32, pairs: P, kid: K)
+where
+    P: Fn(usize) -> Pairs + Sync,
+    K: Fn(usize) -> (f32, [f32; 4]) + Sync,
+{
+    let w = coarse.w;
+    let [r, g, b, a] = &mut coarse.color;
+    let rows = coarse.disparity.par_chunks_mut(w).zip(r.par_chunks_mut(w));
+    let rows = rows.zip(g.par_chunks_mut(w)).zip(b.par_chunks_mut(w));
+    rows.zip(a.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, ((((disparity, r), g), b), a))| {
+            let empty = (
+                F8::splat(HOLE),
+                F8::splat(HOLE),
+                [F8::splat(0.0); 4],
+                [F8::splat(0.0); 4],
+            );
+            for x in (0..w).step_by(LANES) {
+                // The four children of cells x..x + 8, in the order (0, 0), (1, 0), (0, 1),
+                // (1, 1); absent ones (past the finer level's edge) are empty.
+                let row = |fy: usize| -> Pairs {
+                    if fy >= fh {
+                        empty
+                    } else if 2 * x + 2 * LANES <= fw {
+                        pairs(fy * fw + 2 * x)
+                    } else {
+                        let lanes: [[(f32, [f32; 4]); LANES]; 2] = std::array::from_fn(|dx| {
+                            std::array::from_fn(|l| {
+                                let fx = 2 * (x + l) + dx;
+                                if fx < fw {
+                                    kid(fy * fw + fx)
+                                } else {
+                                    (HOLE, [0.0; 4])
+                                }
+                            })
+                        });
+                        let d = |k: usize| F8::from_array(lanes[k].map(|(d, _)| d));
+                        let c = |k: usize| {
+                            std::array::from_fn(|c| F8::from_array(lanes[k].map(|(_, v)| v[c])))
+                        };
+                        (d(0), d(1), c(0), c(1))
+                    }
+                };
+                let (top, bottom) = (row(2 * y), row(2 * y + 1));
+                let kids = [
+                    (top.0, top.2),
+                    (top.1, top.3),
+                    (bottom.0, bottom.2),
+                    (bottom.1, bottom.3),
+                ];
+                let (d, c) = reduce(kids, keep);
+                let n = LANES.min(w - x);
+                let planes = [&mut *disparity, r, g, b, a];
+                for (plane, v) in planes.into_iter().zip([d, c[0], c[1], c[2], c[3]]) {
+                    if n == LANES {
+                        v.store(&mut plane[x..]);
+                    } else {
+                        plane[x..x + n].copy_from_slice(&v.to_array()[..n]);
+                    }
+                }
+            }
+        });
+}
+
+/// Eight cells from their children: the mean of those within the tolerance of the
+/// farthest, summed in the children's order; [`HOLE`] where none is full.
+#[inline(always)]
+fn reduce(kids: [(F8, [F8; 4]); 4], keep: f32) -> (F8, [F8; 4]) {
+    let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
+    let inf = F8::splat(f32::INFINITY);
+    let far = kids
+        .iter()
+        .fold(inf, |far, (d, _)| far.min(d.ge(zero).select(*d, inf)));
+    let (mut wsum, mut dsum, mut c) = (zero, zero, [zero; 4]);
+    for (d, kc) in kids {
+        // Within `edge` of the farthest: `z >= z_far (1 - edge)`.
+        let near_far = (d * F8::splat(keep)).le(far).or(d.le(far));
+        let m = d.ge(zero).and(near_far);
+        wsum = wsum + m.select(one, zero);
+        dsum = dsum + m.select(d, zero);
+        for (acc, v) in c.iter_mut().zip(kc) {
+            *acc = *acc + m.select(v, zero);
+        }
+    }
+    let any = wsum.gt(zero);
+    let inv = one / wsum;
+    let d = any.select(dsum * inv, F8::splat(HOLE));
+    (d, c.map(|v| any.select(v * inv, zero)))
+}
+
+/// Fills the empty cells of `fine` from `coarse`, the level above, row by row on the
+/// thread pool.
+fn push(fine: &mut Level, coarse: &Level, keep: f32) {
+    let w = fine.w;
+    let [r, g, b, a] = &mut fine.color;
+    let rows = fine.disparity.par_chunks_mut(w).zip(r.par_chunks_mut(w));
+    let rows = rows.zip(g.par_chunks_mut(w)).zip(b.par_chunks_mut(w));
+    rows.zip(a.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, ((((disparity, r), g), b), a))| {
+            each_hole(disparity, |disparity, x| {
+                if let Some((c, d)) = parent(coarse, x, y, keep) {
+                    for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
+                        plane[x] = v;
+                    }
+                    disparity[x] = d;
+                }
+            });
+        });
+}
+
+/// Calls `f(x)` for each hole (negative disparity) of `row`, in order, found eight at a
+/// time; `f` may change the row.
+#[inline(always)]
+fn each_hole(row: &mut [f32], mut f: impl FnMut(&mut [f32], usize)) {
+    let zero = F8::splat(0.0);
+    for k in (0..row.len()).step_by(LANES) {
+        let group = &row[k..row.len().min(k + LANES)];
+        let mut mask = if group.len() == LANES {
+            F8::load(group).lt(zero).bits()
+        } else {
+            group
+                .iter()
+                .enumerate()
+                .fold(0, |m, (l, &d)| m | ((d < 0.0) as u32) << l)
+        };
+        while mask != 0 {
+            let l = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            f(row, k + l);
+        }
+    }
+}
+
+/// Fills the image's holes from level 1 (its samples stay as they are). Returns the pixels
+/// filled.
+fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> u64 {
+    let w = image.width() as usize;
+    image
+        .color
+        .par_chunks_mut(w)
+        .zip(image.disparity.par_chunks_mut(w))
+        .enumerate()
+        .map(|(y, (color, disparity))| {
+            let mut filled = 0;
+            each_hole(disparity, |disparity, x| {
+                if let Some((c, d)) = parent(coarse, x, y, keep) {
+                    let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
+                    color[x] = u32::from_le_bytes(c.map(byte));
+                    disparity[x] = d;
+                    filled += 1;
+                }
+            });
+            filled
+        })
+        .sum()
+}
+
+/// The coarse level's colour and disparity under fine cell `(x, y)`: bilinear over the
+/// parent cells that are full and lie within the tolerance of the farthest of them (so a
+/// hole beside foreground takes the background's colour); the disparity is the farthest's.
+fn parent(coarse: &Level, x: usize, y: usize, keep: f32) -> Option<([f32; 4], f32)> {
+    // Fine cell centre in coarse cell units.
+    let fx = (x as f32 + 0.5) * 0.5 - 0.5;
+    let fy = (y as f32 + 0.5) * 0.5 - 0.5;
+    let (x0, y0) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - x0, fy - y0);
+    let mut taps = [(0usize, 0.0f32, HOLE); 4];
+    let mut far = f32::INFINITY;
+    for (tap, (dx, dy, wt)) in taps.iter_mut().zip([
+        (0, 0, (1.0 - tx) * (1.0 - ty)),
+        (1, 0, tx * (1.0 - ty)),
+        (0, 1, (1.0 - tx) * ty),
+        (1, 1, tx * ty),
+    ]) {
+        let cx = (x0 as i64 + dx).clamp(0, coarse.w as i64 - 1) as usize;
+        let cy = (y0 as i64 + dy).clamp(0, coarse.h as i64 - 1) as usize;
+        let i = cy * coarse.w + cx;
+        let d = coarse.disparity[i];
+        *tap = (i, wt, d);
+        if d >= 0.0 && wt > 0.0 {
+            far = far.min(d);
+        }
+    }
+    let (mut c, mut wsum) = ([0.0f32; 4], 0.0f32);
+    for (i, wt, d) in taps {
+        if d < 0.0 || wt <= 0.0 || !(d * keep <= far || d == far) {
+            continue;
+        }
+        for (acc, plane) in c.iter_mut().zip(&coarse.color) {
+            *acc += plane[i] * wt;
+        }
+        wsum += wt;
+    }
+    (wsum > 0.0).then(|| {
+        let inv = 1.0 / wsum;
+        (c.map(|v| v * inv), far)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use engine::Camera;
+    use glam::Vec3;
+
+    /// Pull-push by its definition, one cell at a time with weights (Gortler 96, Kraus
+    /// 2009): a cell's weight is its kept children's summed and capped at one; push blends
+    /// `w c + (1 - w) c_parent`. Colour planes of `[f32; 4]`, disparity, weight.
+    type Slow = (usize, usize, Vec<[f32; 4]>, Vec<f32>, Vec<f32>);
+
+    fn slow_pull(fine: &Slow, keep: f32) -> Slow {
+        let (fw, fh) = (fine.0, fine.1);
+        let (w, h) = (fw.div_ceil(2), fh.div_ceil(2));
+        let mut out = (
+            w,
+            h,
+            vec![[0.0; 4]; w * h],
+            vec![HOLE; w * h],
+            vec![0.0; w * h],
+        );
+        for y in 0..h {
+            for x in 0..w {
+                let kids: Vec<usize> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                    .iter()
+                    .map(|&(dx, dy)| (2 * x + dx, 2 * y + dy))
+                    .filter(|&(fx, fy)| fx < fw && fy < fh)
+                    .map(|(fx, fy)| fy * fw + fx)
+                    .filter(|&i| fine.4[i] > 0.0)
+                    .collect();
+                let far = kids
+                    .iter()
+                    .map(|&i| fine.3[i])
+                    .fold(f32::INFINITY, f32::min);
+                let (mut c, mut wsum, mut dsum) = ([0.0f32; 4], 0.0f32, 0.0f32);
+                for &i in &kids {
+                    let d = fine.3[i];
+                    if d * keep <= far || d == far {
+                        let wt = fine.4[i];
+                        for (acc, v) in c.iter_mut().zip(fine.2[i]) {
+                            *acc += v * wt;
+                        }
+                        wsum += wt;
+                        dsum += d * wt;
+                    }
+                }
+                if wsum > 0.0 {
+                    let (i, inv) = (y * w + x, 1.0 / wsum);
+                    out.2[i] = c.map(|v| v * inv);
+                    out.3[i] = dsum * inv;
+                    out.4[i] = wsum.min(1.0);
+                }
+            }
+        }
+        out
+    }
+
+    fn slow_parent(coarse: &Slow, x: usize, y: usize, keep: f32) -> Option<([f32; 4], f32)> {
+        let (fx, fy) = ((x as f32 + 0.5) * 0.5 - 0.5, (y as f32 + 0.5) * 0.5 - 0.5);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let taps: Vec<(usize, f32)> = [
+            (0, 0, (1.0 - tx) * (1.0 - ty)),
+            (1, 0, tx * (1.0 - ty)),
+            (0, 1, (1.0 - tx) * ty),
+            (1, 1, tx * ty),
+        ]
+        .iter()
+        .map(|&(dx, dy, wt)| {
+            let cx = (x0 as i64 + dx).clamp(0, coarse.0 as i64 - 1) as usize;
+            let cy = (y0 as i64 + dy).clamp(0, coarse.1 as i64 - 1) as usize;
+            (cy * coarse.0 + cx, wt)
+        })
+        .filter(|&(i, wt)| coarse.4[i] > 0.0 && wt > 0.0)
+        .collect();
+        let far = taps
+            .iter()
+            .map(|&(i, _)| coarse.3[i])
+            .fold(f32::INFINITY, f32::min);
+        let (mut c, mut wsum) = ([0.0f32; 4], 0.0f32);
+        for &(i, wt) in &taps {
+            let d = coarse.3[i];
+            if d * keep <= far || d == far {
+                for (acc, v) in c.iter_mut().zip(coarse.2[i]) {
+                    *acc += v * wt;
+                }
+                wsum += wt;
+            }
+        }
+        (wsum > 0.0).then(|| (c.map(|v| v * (1.0 / wsum)), far))
+    }
+
+    fn slow_fill(image: &mut Warped, edge: f32) {
+        let keep = 1.0 - edge;
+        let (w, h) = (image.width() as usize, image.height() as usize);
+        let bytes = |c: u32| c.to_le_bytes().map(f32::from);
+        let weight = |d: f32| if d >= 0.0 { 1.0 } else { 0.0 };
+        let base: Slow = (
+            w,
+            h,
+            image.color.iter().map(|&c| bytes(c)).collect(),
+            image.disparity.clone(),
+            image.disparity.iter().map(|&d| weight(d)).collect(),
+        );
+        let mut levels = vec![slow_pull(&base, keep)];
+        while levels.last().is_some_and(|l| l.0 > 1 || l.1 > 1) {
+            levels.push(slow_pull(levels.last().unwrap(), keep));
+        }
+        for k in (0..levels.len() - 1).rev() {
+            let (fine, coarse) = levels.split_at_mut(k + 1);
+            let (fine, coarse) = (&mut fine[k], &coarse[0]);
+            for i in 0..fine.3.len() {
+                let wt = fine.4[i];
+                if wt >= 1.0 {
+                    continue;
+                }
+                if let Some((pc, pd)) = slow_parent(coarse, i % fine.0, i / fine.0, keep) {
+                    let c = fine.2[i];
+                    fine.2[i] = std::array::from_fn(|k| c[k] * wt + pc[k] * (1.0 - wt));
+                    if wt <= 0.0 {
+                        fine.3[i] = pd;
+                    }
+                    fine.4[i] = 1.0;
+                }
+            }
+        }
+        for i in 0..w * h {
+            if image.disparity[i] < 0.0 {
+                if let Some((c, d)) = slow_parent(&levels[0], i % w, i / w, keep) {
+                    let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
+                    image.color[i] = u32::from_le_bytes(c.map(byte));
+                    image.disparity[i] = d;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_vectorised_pyramid_fills_as_the_definition_does() {
+        // Odd sizes (ragged edges at every level), sizes under eight cells, and holes from
+        // single pixels to wide gaps, beside near and far samples.
+        let camera = Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+        let mut levels = Vec::new();
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for (w, h) in [(1, 5), (3, 2), (7, 7), (37, 19), (64, 33), (130, 71)] {
+            for holes in [0.05, 0.4, 0.9] {
+                let mut image = Warped::new(w, h, camera);
+                for (c, d) in image.color.iter_mut().zip(&mut image.disparity) {
+                    let r = next();
+                    let wide_gap = (r >> 20) % 97 < 9;
+                    if (r % 1000) as f32 >= holes * 1000.0 && !wide_gap {
+                        *c = (r >> 32) as u32 | 0xff00_0000;
+                        // Two surfaces: near (disparity about 1) and far (about 0.2).
+                        *d = if r >> 10 & 1 == 0 { 1.0 } else { 0.2 } + (r >> 40) as f32 * 1e-9;
+                    }
+                }
+                let mut want = image.clone();
+                slow_fill(&mut want, 0.05);
+                fill(&mut image, &mut levels, 0.05);
+                assert!(
+                    image.color == want.color && image.disparity == want.disparity,
+                    "{w}x{h}, holes {holes}"
+                );
+            }
+        }
+    }
+}
