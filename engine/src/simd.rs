@@ -281,6 +281,12 @@ mod imp {
         pub fn select(self, a: F8, b: F8) -> F8 {
             avx!(F8(_mm256_blendv_ps(b.0, a.0, self.0)))
         }
+        /// `if lane { a } else { b }`, of integers.
+        #[inline(always)]
+        pub fn select_i32(self, a: I8, b: I8) -> I8 {
+            let m = avx!(_mm256_castps_si256(self.0));
+            avx!(I8(_mm256_blendv_epi8(b.0, a.0, m)))
+        }
     }
 }
 
@@ -467,6 +473,11 @@ mod imp {
                 |l| if self.0[l] { a.0[l] } else { b.0[l] },
             ))
         }
+        pub fn select_i32(self, a: I8, b: I8) -> I8 {
+            I8(std::array::from_fn(
+                |l| if self.0[l] { a.0[l] } else { b.0[l] },
+            ))
+        }
     }
 }
 
@@ -575,6 +586,12 @@ mod tests {
         let (even, odd) = I8::ramp_times(1).deinterleave(I8::ramp_times(1) + I8::splat(8));
         assert_eq!(even.to_array(), [0, 2, 4, 6, 8, 10, 12, 14]);
         assert_eq!(odd.to_array(), [1, 3, 5, 7, 9, 11, 13, 15]);
+        assert_eq!(
+            M8::from_bits(0b0101)
+                .select_i32(I8::splat(7), I8::splat(-1))
+                .to_array()[..4],
+            [7, -1, 7, -1]
+        );
         let words = [0xff00_0001u32, 2, 3, 4, 5, 6, 7, 8];
         assert_eq!(I8::load_u32(&words).shr::<24>().to_array()[0], 0xff);
         let packed = F8::from_array([0.0, 0.5, 1.0, 2.0, -1.0, f32::NAN, 0.25, 0.75]).clamp01();

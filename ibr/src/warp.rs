@@ -435,25 +435,26 @@ impl Put {
     fn row(&self, band: &mut Band, row: &Footprints, colors: &[u32], reverse: bool) -> u64 {
         let ([x0s, y0s, x1s, y1s], ds) = row.planes();
         let n = ds.len();
-        let colors = &colors[..n];
+        let (colors, points) = (&colors[..n], row.points());
         let (y_base, y_end) = (band.y_base as i32, (band.y_base + band.rows) as i32);
-        let points = self.vis == Visibility::Ordered;
         let w = self.w;
+        let (start, len) = (band.y_base * w, band.rows * w);
         let mut written = 0;
         for i in 0..n {
             let k = if reverse { n - 1 - i } else { i };
+            if let Ok(p) = usize::try_from(points[k]) {
+                // A point: one pixel, painted over, if in this band.
+                let q = p.wrapping_sub(start);
+                if q < len {
+                    band.color[q] = colors[k];
+                    band.disparity[q] = ds[k];
+                    written += 1;
+                }
+                continue;
+            }
             let (x0, x1) = (x0s[k], x1s[k]);
             let (y0, y1) = (y0s[k].max(y_base), y1s[k].min(y_end));
             if x0 >= x1 || y0 >= y1 {
-                continue;
-            }
-            let color = colors[k];
-            if points && color >> 24 == 0xff && x1 - x0 == 1 && y1 - y0 == 1 {
-                // A point: one pixel, painted over.
-                let p = (y0 - y_base) as usize * w + x0 as usize;
-                band.color[p] = color;
-                band.disparity[p] = ds[k];
-                written += 1;
                 continue;
             }
             let e = Entry {
@@ -462,7 +463,7 @@ impl Put {
                 x1: x1 as u16,
                 y1: y1 as u16,
                 disparity: ds[k],
-                color,
+                color: colors[k],
             };
             written += self.entry(band, &e);
         }

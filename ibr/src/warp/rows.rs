@@ -5,9 +5,10 @@
 //! by the same formulas.
 
 use super::equation::Equation;
+use super::Visibility;
 use super::HOLE;
 use super::{Entry, Prepared, Reconstruction, WarpOptions, WarpStats};
-use engine::simd::{F8, LANES, M8};
+use engine::simd::{F8, I8, LANES, M8};
 use glam::Vec3;
 
 /// What warping a sample needs besides the sample.
@@ -18,6 +19,9 @@ pub(super) struct Lane {
     max_splat: f32,
     w2: f32,
     h2: f32,
+    /// Whether opaque one-pixel footprints are marked as points (painted over, and target
+    /// pixel indices fit an `i32`).
+    points: bool,
 }
 
 /// A sample's landing: target position, disparity and half footprint, or `None` when it
@@ -39,6 +43,8 @@ impl Lane {
             max_splat: options.max_splat.max(1.0),
             w2: w2 as f32,
             h2: h2 as f32,
+            points: options.visibility == Visibility::Ordered
+                && (w2 as u64 * h2 as u64) < i32::MAX as u64,
         }
     }
 
@@ -196,6 +202,9 @@ pub(super) struct Footprints {
     x1: Vec<i32>,
     y1: Vec<i32>,
     disparity: Vec<f32>,
+    /// The target pixel (`y w + x`) of a point: an opaque sample covering one pixel, when
+    /// [`Lane`] marks points; -1 for every other sample.
+    index: Vec<i32>,
     /// The pixels of the row computed last.
     n: usize,
 }
@@ -229,13 +238,24 @@ impl Footprints {
         let (lo, hi) = (lo as usize, hi as usize);
         let n = hi - lo;
         let padded = n.div_ceil(LANES) * LANES;
-        for plane in [&mut self.x0, &mut self.y0, &mut self.x1, &mut self.y1] {
+        for plane in [
+            &mut self.x0,
+            &mut self.y0,
+            &mut self.x1,
+            &mut self.y1,
+            &mut self.index,
+        ] {
             plane.resize(padded.max(plane.len()), 0);
         }
         self.disparity.resize(padded.max(self.disparity.len()), 0.0);
         self.n = n;
         let disparity = &source.disparity[row + lo..row + hi];
         let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
+        let color = &source.color[row + lo..row + hi];
+        let (marks, width) = (
+            if lane.points { u32::MAX } else { 0 },
+            I8::splat(lane.w2 as i32),
+        );
         let eq = &lane.eq;
         let v = y as f32 + 0.5;
         let rb = eq.a[1] * v + eq.a[2];
@@ -296,6 +316,23 @@ impl Footprints {
             hit.select(ry0, zero).to_i32().store(&mut self.y0[k..]);
             hit.select(ry1, zero).to_i32().store(&mut self.y1[k..]);
             (d * inv).store(&mut self.disparity[k..]);
+            let c = if k + LANES <= n {
+                I8::load_u32(&color[k..])
+            } else {
+                I8::from_array(std::array::from_fn(|l| {
+                    color.get(k + l).map_or(0, |&c| c as i32)
+                }))
+            };
+            let opaque = c.shr::<24>().to_f32().ge(splat(255.0));
+            let point = M8::from_bits(marks)
+                .and(hit)
+                .and(opaque)
+                .and((rx1 - rx0).le(one))
+                .and((ry1 - ry0).le(one));
+            let at = hit.select(ry0, zero).to_i32().mul_lo(width) + hit.select(rx0, zero).to_i32();
+            point
+                .select_i32(at, I8::splat(-1))
+                .store(&mut self.index[k..]);
             samples += filled.bits().count_ones();
             behind += filled.and_not(front).bits().count_ones();
             warped += hit.bits().count_ones();
@@ -321,5 +358,10 @@ impl Footprints {
             [&self.x0[..n], &self.y0[..n], &self.x1[..n], &self.y1[..n]],
             &self.disparity[..n],
         )
+    }
+
+    /// The points' target pixels of the row computed last (-1 where not a point).
+    pub(super) fn points(&self) -> &[i32] {
+        &self.index[..self.n]
     }
 }
