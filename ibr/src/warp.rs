@@ -144,7 +144,7 @@ struct Entry {
 }
 
 /// Target rows per band of the write stage.
-const BAND_ROWS: u32 = 32;
+const BAND_ROWS: u32 = 64;
 /// Runs (reference rows or half-rows) per chunk of the bin stage.
 const CHUNK_RUNS: usize = 16;
 /// The largest target side (entries hold `u16` coordinates).

@@ -117,7 +117,7 @@ impl Lane {
         } else {
             0.5
         };
-        let slack = |v: f32| half + 1.0 + 1e-4 * v.abs();
+        let slack = |v: f32| half + 0.51 + 1e-4 * v.abs();
         let (mx, my) = (slack(x_lo).max(slack(x_hi)), slack(y_lo).max(slack(y_hi)));
         if !(x_hi + mx >= 0.0 && x_lo - mx < self.w2) {
             return None;
