@@ -116,6 +116,12 @@ mod imp {
             };
             (F8(fix(even)), F8(fix(odd)))
         }
+        /// Lane `l` is lane `idx[l]` (of `0..8`) of `self`.
+        #[inline(always)]
+        pub fn permute(self, idx: [u32; LANES]) -> Self {
+            let i: __m256i = bytemuck::cast(idx);
+            avx!(F8(_mm256_permutevar8x32_ps(self.0, i)))
+        }
         /// The sign bit cleared.
         #[inline(always)]
         pub fn abs(self) -> Self {
@@ -350,6 +356,9 @@ mod imp {
         pub fn abs(self) -> Self {
             F8(self.0.map(f32::abs))
         }
+        pub fn permute(self, idx: [u32; LANES]) -> Self {
+            F8(idx.map(|i| self.0[i as usize % LANES]))
+        }
         pub fn deinterleave(self, o: Self) -> (Self, Self) {
             let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };
             (
@@ -579,6 +588,10 @@ mod tests {
         assert_eq!(c.le(b).bits(), 0b0111_0111);
         assert_eq!(c.lt(b).and_not(c.le(F8::splat(0.0))).bits(), 0b0000_0100);
         assert_eq!(c.gt(b).or(c.le(F8::splat(0.0))).bits(), 0b1110_0011);
+        assert_eq!(
+            F8::ramp().permute([7, 0, 1, 1, 2, 2, 3, 7]).to_array(),
+            [7.0, 0.0, 1.0, 1.0, 2.0, 2.0, 3.0, 7.0]
+        );
         let hi = F8::ramp() + F8::splat(8.0);
         let (even, odd) = F8::ramp().deinterleave(hi);
         assert_eq!(even.to_array(), [0.0, 2.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0]);

@@ -230,38 +230,13 @@ fn push(fine: &mut Level, coarse: &Level, keep: f32) {
     rows.zip(a.par_chunks_mut(w))
         .enumerate()
         .for_each(|(y, ((((disparity, r), g), b), a))| {
-            each_hole(disparity, |disparity, x| {
-                if let Some((c, d)) = parent(coarse, x, y, keep) {
-                    for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
-                        plane[x] = v;
-                    }
-                    disparity[x] = d;
+            each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
+                for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
+                    plane[x] = v;
                 }
+                disparity[x] = d;
             });
         });
-}
-
-/// Calls `f(x)` for each hole (negative disparity) of `row`, in order, found eight at a
-/// time; `f` may change the row.
-#[inline(always)]
-fn each_hole(row: &mut [f32], mut f: impl FnMut(&mut [f32], usize)) {
-    let zero = F8::splat(0.0);
-    for k in (0..row.len()).step_by(LANES) {
-        let group = &row[k..row.len().min(k + LANES)];
-        let mut mask = if group.len() == LANES {
-            F8::load(group).lt(zero).bits()
-        } else {
-            group
-                .iter()
-                .enumerate()
-                .fold(0, |m, (l, &d)| m | ((d < 0.0) as u32) << l)
-        };
-        while mask != 0 {
-            let l = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            f(row, k + l);
-        }
-    }
 }
 
 /// Fills the image's holes from level 1 (its samples stay as they are). Returns the pixels
@@ -275,50 +250,151 @@ fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> u64 {
         .enumerate()
         .map(|(y, (color, disparity))| {
             let mut filled = 0;
-            each_hole(disparity, |disparity, x| {
-                if let Some((c, d)) = parent(coarse, x, y, keep) {
-                    let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
-                    color[x] = u32::from_le_bytes(c.map(byte));
-                    disparity[x] = d;
-                    filled += 1;
-                }
+            each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
+                let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
+                color[x] = u32::from_le_bytes(c.map(byte));
+                disparity[x] = d;
+                filled += 1;
             });
             filled
         })
         .sum()
 }
 
+/// Calls `fill(row, x, colour, disparity)` for each hole (negative disparity) of fine row
+/// `y` that its parents in `coarse` can fill, in order. Holes are found eight at a time;
+/// a group of eight away from the level's left and right edges takes its parents eight at
+/// a time too ([`parents`]), the others one by one ([`parent`]), with the same values.
+#[inline(always)]
+fn each_hole<F>(row: &mut [f32], coarse: &Level, y: usize, keep: f32, mut fill: F)
+where
+    F: FnMut(&mut [f32], usize, [f32; 4], f32),
+{
+    let zero = F8::splat(0.0);
+    for k in (0..row.len()).step_by(LANES) {
+        let group = &row[k..row.len().min(k + LANES)];
+        let mut mask = if group.len() == LANES {
+            F8::load(group).lt(zero).bits()
+        } else {
+            group
+                .iter()
+                .enumerate()
+                .fold(0, |m, (l, &d)| m | ((d < 0.0) as u32) << l)
+        };
+        if mask == 0 {
+            continue;
+        }
+        if group.len() == LANES && k >= LANES && k / 2 - 1 + LANES <= coarse.w {
+            let (d, c, some) = parents(coarse, k, y, keep);
+            let (d, c) = (d.to_array(), c.map(F8::to_array));
+            mask &= some;
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                fill(row, k + l, [c[0][l], c[1][l], c[2][l], c[3][l]], d[l]);
+            }
+        } else {
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                if let Some((c, d)) = parent(coarse, k + l, y, keep) {
+                    fill(row, k + l, c, d);
+                }
+            }
+        }
+    }
+}
+
+/// [`parent`] for fine cells `x..x + 8` of row `y` at once (`x` a multiple of eight, at
+/// least eight, and the coarse cells `x / 2 - 1 .. x / 2 + 7` inside the level): their
+/// disparities, colours, and the lanes that have a parent. The same operations in the same
+/// order as [`parent`], so the same values.
+#[inline(always)]
+fn parents(coarse: &Level, x: usize, y: usize, keep: f32) -> (F8, [F8; 4], u32) {
+    let ([y0, y1], [wy0, wy1]) = taps(y, coarse.h);
+    let first = x / 2 - 1;
+    // Lane `l` lies between coarse cells `first + (l + 1) / 2` and the next.
+    const LEFT: [u32; LANES] = [0, 1, 1, 2, 2, 3, 3, 4];
+    const RIGHT: [u32; LANES] = [1, 2, 2, 3, 3, 4, 4, 5];
+    // Even lanes (even fine cells) weigh their left cell a quarter, odd lanes three.
+    let wl = F8::from_array(std::array::from_fn(
+        |l| if l % 2 == 0 { 0.25 } else { 0.75 },
+    ));
+    let wr = F8::from_array(std::array::from_fn(
+        |l| if l % 2 == 0 { 0.75 } else { 0.25 },
+    ));
+    let row = |cy: usize, plane: &[f32]| {
+        let v = F8::load(&plane[cy * coarse.w + first..]);
+        (v.permute(LEFT), v.permute(RIGHT))
+    };
+    let tap = |cy: usize| {
+        let (dl, dr) = row(cy, &coarse.disparity);
+        let c = coarse.color.each_ref().map(|p| row(cy, p));
+        ((dl, c.map(|c| c.0)), (dr, c.map(|c| c.1)))
+    };
+    let ((d00, c00), (d10, c10)) = tap(y0);
+    let ((d01, c01), (d11, c11)) = tap(y1);
+    let (wy0, wy1) = (F8::splat(wy0), F8::splat(wy1));
+    // Taps in the order (0, 0), (1, 0), (0, 1), (1, 1), as `parent` takes them.
+    let taps = [
+        (d00, c00, wl * wy0),
+        (d10, c10, wr * wy0),
+        (d01, c01, wl * wy1),
+        (d11, c11, wr * wy1),
+    ];
+    let (zero, inf) = (F8::splat(0.0), F8::splat(f32::INFINITY));
+    let far = taps
+        .iter()
+        .fold(inf, |far, (d, _, _)| d.ge(zero).select(far.min(*d), far));
+    let (mut c, mut wsum) = ([zero; 4], zero);
+    for (d, tc, wt) in taps {
+        let m = d.ge(zero).and((d * F8::splat(keep)).le(far).or(d.le(far)));
+        for (acc, v) in c.iter_mut().zip(tc) {
+            *acc = *acc + m.select(v * wt, zero);
+        }
+        wsum = wsum + m.select(wt, zero);
+    }
+    let inv = F8::splat(1.0) / wsum;
+    (far, c.map(|v| v * inv), wsum.gt(zero).bits())
+}
+
+/// The two coarse cells (clamped to `0..n`) whose centres bracket fine cell `x`'s centre
+/// (`x / 2 - 1/4` in coarse cells), and their bilinear weights: a quarter and three
+/// quarters, exactly.
+#[inline(always)]
+fn taps(x: usize, n: usize) -> ([usize; 2], [f32; 2]) {
+    let c0 = (x as isize - 1) >> 1;
+    let clamp = |c: isize| c.clamp(0, n as isize - 1) as usize;
+    let w = if x % 2 == 0 {
+        [0.25, 0.75]
+    } else {
+        [0.75, 0.25]
+    };
+    ([clamp(c0), clamp(c0 + 1)], w)
+}
+
 /// The coarse level's colour and disparity under fine cell `(x, y)`: bilinear over the
 /// parent cells that are full and lie within the tolerance of the farthest of them (so a
 /// hole beside foreground takes the background's colour); the disparity is the farthest's.
+#[inline]
 fn parent(coarse: &Level, x: usize, y: usize, keep: f32) -> Option<([f32; 4], f32)> {
-    // Fine cell centre in coarse cell units.
-    let fx = (x as f32 + 0.5) * 0.5 - 0.5;
-    let fy = (y as f32 + 0.5) * 0.5 - 0.5;
-    let (x0, y0) = (fx.floor(), fy.floor());
-    let (tx, ty) = (fx - x0, fy - y0);
-    let mut taps = [(0usize, 0.0f32, HOLE); 4];
-    let mut far = f32::INFINITY;
-    for (tap, (dx, dy, wt)) in taps.iter_mut().zip([
-        (0, 0, (1.0 - tx) * (1.0 - ty)),
-        (1, 0, tx * (1.0 - ty)),
-        (0, 1, (1.0 - tx) * ty),
-        (1, 1, tx * ty),
-    ]) {
-        let cx = (x0 as i64 + dx).clamp(0, coarse.w as i64 - 1) as usize;
-        let cy = (y0 as i64 + dy).clamp(0, coarse.h as i64 - 1) as usize;
-        let i = cy * coarse.w + cx;
-        let d = coarse.disparity[i];
-        *tap = (i, wt, d);
-        if d >= 0.0 && wt > 0.0 {
-            far = far.min(d);
-        }
-    }
+    let ([x0, x1], [wx0, wx1]) = taps(x, coarse.w);
+    let ([y0, y1], [wy0, wy1]) = taps(y, coarse.h);
+    let (r0, r1) = (y0 * coarse.w, y1 * coarse.w);
+    // Taps in the order (0, 0), (1, 0), (0, 1), (1, 1).
+    let index = [r0 + x0, r0 + x1, r1 + x0, r1 + x1];
+    let weight = [wx0 * wy0, wx1 * wy0, wx0 * wy1, wx1 * wy1];
+    let d = index.map(|i| coarse.disparity[i]);
+    let far = d.iter().fold(
+        f32::INFINITY,
+        |far, &d| if d >= 0.0 { far.min(d) } else { far },
+    );
     let (mut c, mut wsum) = ([0.0f32; 4], 0.0f32);
-    for (i, wt, d) in taps {
-        if d < 0.0 || wt <= 0.0 || !(d * keep <= far || d == far) {
+    for k in 0..4 {
+        if d[k] < 0.0 || !(d[k] * keep <= far || d[k] == far) {
             continue;
         }
+        let (i, wt) = (index[k], weight[k]);
         for (acc, plane) in c.iter_mut().zip(&coarse.color) {
             *acc += plane[i] * wt;
         }
