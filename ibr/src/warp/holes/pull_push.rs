@@ -365,7 +365,7 @@ fn parents(coarse: &Level, x: usize, y: usize, keep: f32) -> (F8, [F8; 4], u32) 
 fn taps(x: usize, n: usize) -> ([usize; 2], [f32; 2]) {
     let c0 = (x as isize - 1) >> 1;
     let clamp = |c: isize| c.clamp(0, n as isize - 1) as usize;
-    let w = if x % 2 == 0 {
+    let w = if x.is_multiple_of(2) {
         [0.25, 0.75]
     } else {
         [0.75, 0.25]
