@@ -224,8 +224,25 @@ fn lanes(s: &[f32], k: usize, pad: f32) -> F8 {
 impl Footprints {
     /// Warps pixels `lo..hi` of row `y` of `source` (one sample per pixel): the values
     /// [`Lane::sample`] computes, eight samples at a time, with no branches (invalid
-    /// samples are masked, not skipped).
+    /// samples are masked, not skipped). Counts those behind the eye and those that land;
+    /// `samples` is left at zero (the reference knows how many it holds).
     pub(super) fn compute(
+        &mut self,
+        lane: &Lane,
+        source: &Prepared,
+        y: u32,
+        lo: u32,
+        hi: u32,
+    ) -> WarpStats {
+        if lane.splats {
+            self.compute_with::<true>(lane, source, y, lo, hi)
+        } else {
+            self.compute_with::<false>(lane, source, y, lo, hi)
+        }
+    }
+
+    /// [`Footprints::compute`] for splats (`SPLATS`) or points.
+    fn compute_with<const SPLATS: bool>(
         &mut self,
         lane: &Lane,
         source: &Prepared,
@@ -264,8 +281,8 @@ impl Footprints {
         let zero = splat(0.0);
         let (one, half) = (splat(1.0), splat(0.5));
         let (max_splat, w2, h2) = (splat(lane.max_splat), splat(lane.w2), splat(lane.h2));
-        let splats = if lane.splats { u32::MAX } else { 0 };
-        let (mut samples, mut behind, mut warped) = (0u32, 0u32, 0u32);
+        let (finite_clamp, inf) = (lane.max_splat.is_finite(), f32::INFINITY);
+        let (mut behind, mut warped) = (0u32, 0u32);
         for k in (0..n).step_by(LANES) {
             let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
             let d0 = lanes(disparity, k, HOLE);
@@ -275,33 +292,46 @@ impl Footprints {
             let hz = splat(a0.z) * u + splat(rb.z) + splat(b.z) * d;
             let inv = one / hz;
             let (x, y) = (hx * inv, hy * inv);
-            // The footprint: the columns of the warp's Jacobian (a reference pixel step in
-            // x and in y along the surface), summed.
-            let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
-            let dxx = splat(a0.x) + splat(b.x) * sx;
-            let dxy = splat(a0.y) + splat(b.y) * sx;
-            let dxz = splat(a0.z) + splat(b.z) * sx;
-            let dyx = splat(a1.x) + splat(b.x) * sy;
-            let dyy = splat(a1.y) + splat(b.y) * sy;
-            let dyz = splat(a1.z) + splat(b.z) * sy;
-            let size_x = ((dxx - x * dxz) * inv).abs() + ((dyx - x * dyz) * inv).abs();
-            let size_y = ((dxy - y * dxz) * inv).abs() + ((dyy - y * dyz) * inv).abs();
-            let size_x = size_x.max(one).min(max_splat);
-            let size_y = size_y.max(one).min(max_splat);
-            let inf = f32::INFINITY;
-            let fine = M8::from_bits(splats).and(size_x.within(inf).and(size_y.within(inf)));
-            let half_x = fine.select(size_x * half, half);
-            let half_y = fine.select(size_y * half, half);
-            let (px, py) = (x.floor(), y.floor());
-            let sx0 = (x - half_x + half).floor();
-            let sx1 = (x + half_x + half).floor().max(sx0 + one);
-            let sy0 = (y - half_y + half).floor();
-            let sy1 = (y + half_y + half).floor().max(sy0 + one);
-            let (point_x, point_y) = (half_x.le(half), half_y.le(half));
-            let rx0 = point_x.select(px, sx0).max(zero);
-            let rx1 = point_x.select(px + one, sx1).min(w2);
-            let ry0 = point_y.select(py, sy0).max(zero);
-            let ry1 = point_y.select(py + one, sy1).min(h2);
+            let (rx0, rx1, ry0, ry1) = if SPLATS {
+                // The footprint: the columns of the warp's Jacobian (a reference pixel step
+                // in x and in y along the surface), summed.
+                let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
+                let dxx = splat(a0.x) + splat(b.x) * sx;
+                let dxy = splat(a0.y) + splat(b.y) * sx;
+                let dxz = splat(a0.z) + splat(b.z) * sx;
+                let dyx = splat(a1.x) + splat(b.x) * sy;
+                let dyy = splat(a1.y) + splat(b.y) * sy;
+                let dyz = splat(a1.z) + splat(b.z) * sy;
+                let size_x = ((dxx - x * dxz) * inv).abs() + ((dyx - x * dyz) * inv).abs();
+                let size_y = ((dxy - y * dxz) * inv).abs() + ((dyy - y * dyz) * inv).abs();
+                let size_x = size_x.max(one).min(max_splat);
+                let size_y = size_y.max(one).min(max_splat);
+                // Clamped to a finite largest splat, sizes are finite (a NaN clamps to 1).
+                let fine = if finite_clamp {
+                    M8::from_bits(u32::MAX)
+                } else {
+                    size_x.within(inf).and(size_y.within(inf))
+                };
+                let half_x = fine.select(size_x * half, half);
+                let half_y = fine.select(size_y * half, half);
+                let (px, py) = (x.floor(), y.floor());
+                let sx0 = (x - half_x + half).floor();
+                let sx1 = (x + half_x + half).floor().max(sx0 + one);
+                let sy0 = (y - half_y + half).floor();
+                let sy1 = (y + half_y + half).floor().max(sy0 + one);
+                let (point_x, point_y) = (half_x.le(half), half_y.le(half));
+                (
+                    point_x.select(px, sx0),
+                    point_x.select(px + one, sx1),
+                    point_y.select(py, sy0),
+                    point_y.select(py + one, sy1),
+                )
+            } else {
+                let (px, py) = (x.floor(), y.floor());
+                (px, px + one, py, py + one)
+            };
+            let (rx0, rx1) = (rx0.max(zero), rx1.min(w2));
+            let (ry0, ry1) = (ry0.max(zero), ry1.min(h2));
             let filled = d0.ge(zero);
             let front = hz.gt(zero);
             let finite = x.within(inf).and(y.within(inf));
@@ -333,12 +363,11 @@ impl Footprints {
             point
                 .select_i32(at, I8::splat(-1))
                 .store(&mut self.index[k..]);
-            samples += filled.bits().count_ones();
             behind += filled.and_not(front).bits().count_ones();
             warped += hit.bits().count_ones();
         }
         WarpStats {
-            samples: samples as u64,
+            samples: 0,
             warped: warped as u64,
             behind: behind as u64,
             pixels_written: 0,
