@@ -38,6 +38,13 @@ fn headless_writes_frames_and_prints_statistics() {
         frames.push(img);
     }
     assert!(!dir.join("frame_0003.png").exists());
+    // Then the building walkthrough: half as many frames (at least one).
+    assert!(stdout.contains("portals over the tour:"), "{stdout}");
+    let building = image::open(dir.join("building_0000.png"))
+        .expect("building frame")
+        .to_rgba8();
+    assert_eq!(building.dimensions(), (160, 90));
+    assert!(!dir.join("building_0001.png").exists());
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
     let f = &frames[0];
     let top = f.get_pixel(80, 2).0;

@@ -2,19 +2,22 @@
 //! fence, blended glass, trees, a house, a sun and point lights) drawn by the CPU rasterizer.
 //!
 //! With a display it opens a window (`minifb`) with a fly camera: WASD move, mouse drag or
-//! arrow keys look, Q / E down / up, Shift faster, I toggles the impostor debug view
-//! (images tinted by predicted error), Esc quits; the frame time and the impostor readout
-//! (refreshes this frame, images, geometry fallbacks, largest predicted error) are shown
+//! arrow keys look, Q / E down / up, Shift faster, B enters the building (below), I toggles
+//! the impostor debug view (images tinted by predicted error), Esc quits; the frame time
+//! and the impostor readout (refreshes this frame, images, geometry fallbacks, largest
+//! predicted error) are shown
 //! in the title and in the corner of the image. Without a display (no `DISPLAY` /
 //! `WAYLAND_DISPLAY`, or the window cannot be opened), or with `--headless`, it renders a
 //! deterministic camera path to `DIR/frame_0000.png ...` and prints frame-time and
 //! impostor statistics and the last frame's counters.
 //!
-//! `--building` shows the building tour instead (`demos::showcase_building`): a hall whose
-//! three furnished rooms are seen through LDI portals as the camera walks along it and
-//! through the middle door, with the portals' readout (warped and geometry portals,
-//! samples, holes, pixels, rebuilds); `--debug-portals` (or I in the window) tints warped
-//! pixels green.
+//! The tour then enters a building (`demos::showcase_building`): a hall whose three
+//! furnished rooms are seen through LDI portals as the camera walks along it and through
+//! the middle door, with the portals' readout (warped and geometry portals, samples, holes,
+//! pixels, rebuilds). Headless, its frames follow the outdoor ones (`building_0000.png`
+//! ..., `--building-frames`); in the window B switches between the outdoor scene and the
+//! building. `--building` shows only the building; `--debug-portals` (or I in the
+//! building) tints warped pixels green.
 
 use clap::Parser;
 use demos::font;
@@ -57,9 +60,14 @@ struct Args {
     /// 0, yellow at the tolerance, red at twice it). The I key toggles it in the window.
     #[arg(long)]
     debug_impostors: bool,
-    /// The building tour: rooms seen through LDI portals, walked past and into.
+    /// Only the building tour: rooms seen through LDI portals, walked past and into (the
+    /// window starts in it).
     #[arg(long)]
     building: bool,
+    /// Headless: frames of the building walkthrough after the outdoor tour (default: half
+    /// of --frames, at least one; 0 skips it).
+    #[arg(long, value_name = "N")]
+    building_frames: Option<usize>,
     /// With --building: start with warped pixels tinted green (I toggles in the window).
     #[arg(long)]
     debug_portals: bool,
@@ -72,21 +80,6 @@ fn main() -> ExitCode {
         .iter()
         .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
     let result = match (&args.headless, has_display) {
-        (Some(dir), _) if args.building => building_headless(&args, dir),
-        (None, false) if args.building => {
-            eprintln!("showcase: no display found (DISPLAY / WAYLAND_DISPLAY unset); rendering headless to out/showcase");
-            building_headless(&args, Path::new("out/showcase"))
-        }
-        (None, true) if args.building => match building_window(&args) {
-            Ok(()) => Ok(()),
-            Err(WindowError::Open(e)) => {
-                eprintln!(
-                    "showcase: cannot open a window ({e}); rendering headless to out/showcase"
-                );
-                building_headless(&args, Path::new("out/showcase"))
-            }
-            Err(WindowError::Update(e)) => Err(format!("window update failed: {e}")),
-        },
         (Some(dir), _) => headless(&args, dir),
         (None, false) => {
             eprintln!("showcase: no display found (DISPLAY / WAYLAND_DISPLAY unset); rendering headless to out/showcase");
@@ -112,14 +105,28 @@ fn main() -> ExitCode {
     }
 }
 
-/// Renders the camera path; writes PNGs unless `--no-save`; prints statistics.
+/// Renders the outdoor camera path and then the building walkthrough (or, with
+/// `--building`, the walkthrough alone).
 fn headless(args: &Args, dir: &Path) -> Result<(), String> {
-    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
-    let n = args.frames.max(1);
     if !args.no_save {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     }
+    let n = args.frames.max(1);
+    if args.building {
+        return building_headless(args, dir, n);
+    }
+    outdoor_headless(args, dir, n)?;
+    match args.building_frames.unwrap_or((n / 2).max(1)) {
+        0 => Ok(()),
+        frames => building_headless(args, dir, frames),
+    }
+}
+
+/// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
+/// statistics.
+fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
     let mut renderer = Renderer::new();
@@ -218,13 +225,14 @@ enum WindowError {
     Update(minifb::Error),
 }
 
-/// Key events as they arrive from the window: Esc latches quitting, and taps of `I` are
-/// counted, so a tap shorter than a frame (which the key state polled once a frame, as
-/// `is_key_pressed` and `get_keys_pressed` read it, misses) still counts.
+/// Key events as they arrive from the window: Esc latches quitting, and taps of `I` and
+/// `B` are counted, so a tap shorter than a frame (which the key state polled once a
+/// frame, as `is_key_pressed` and `get_keys_pressed` read it, misses) still counts.
 #[derive(Debug, Default)]
 struct KeyEvents {
     quit: bool,
     debug_taps: TapCounter,
+    building_taps: TapCounter,
 }
 
 /// The window's input callback, sharing [`KeyEvents`] with the frame loop.
@@ -239,6 +247,7 @@ impl minifb::InputCallback for KeyLatch {
         match key {
             Key::Escape if down => events.quit = true,
             Key::I => events.debug_taps.event(down),
+            Key::B => events.building_taps.event(down),
             _ => {}
         }
     }
@@ -288,11 +297,12 @@ fn open_window(
     Ok((window, keys))
 }
 
-/// The debug-key taps since the last frame; `None` when the window should close.
-fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<u32> {
+/// The taps of I and of B since the last frame; `None` when the window should close.
+fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<(u32, u32)> {
     let (quit, taps) = {
         let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
-        (events.quit, events.debug_taps.take())
+        let taps = (events.debug_taps.take(), events.building_taps.take());
+        (events.quit, taps)
     };
     (window.is_open() && !window.is_key_down(Key::Escape) && !quit).then_some(taps)
 }
@@ -320,6 +330,9 @@ fn window(args: &Args) -> Result<(), WindowError> {
     show.ibr
         .impostors
         .set_time_budget(Some(Duration::from_millis(REFRESH_MS)));
+    // The building is made when first entered (B).
+    let mut tour: Option<BuildingTour> = None;
+    let mut in_building = args.building;
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -335,46 +348,72 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let mut recent: Vec<Duration> = Vec::new();
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
-    while let Some(taps) = poll(&window, &keys) {
+    while let Some((debug_taps, building_taps)) = poll(&window, &keys) {
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
         last = now;
-        let input = read_input(&window, &mut last_mouse, dt);
-        fly.update(&input, dt);
-        let on = show.ibr.impostors.debug();
-        if toggled(on, taps) != on {
-            show.ibr.impostors.set_debug(!on);
+        if toggled(in_building, building_taps) != in_building {
+            in_building = !in_building;
+            recent.clear();
         }
         let (ww, wh) = fit(&window, &mut target);
-        show.animate(start.elapsed().as_secs_f32());
-        let camera = fly.camera(ww, wh);
-        let t0 = Instant::now();
-        let stats = show.render(&mut renderer, &camera, &mut target, &opts);
-        recent.push(t0.elapsed());
+        let (bw, bh) = (ww as usize, wh as usize);
+        let (title, readout, help);
+        if in_building {
+            let tour = tour.get_or_insert_with(|| {
+                let mut tour = BuildingTour::new();
+                tour.portals.debug_tint = args.debug_portals;
+                tour
+            });
+            tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
+            // The walkthrough plays in a loop of 30 s.
+            const LOOP: f32 = 30.0;
+            let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+            let steps = 10_000;
+            let camera = BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh);
+            let t0 = Instant::now();
+            tour.render(&mut renderer, &camera, &mut target);
+            recent.push(t0.elapsed());
+            title = "building".to_string();
+            readout = tour.readout();
+            help = "I TINT WARPED PIXELS  B OUTDOORS  ESC QUIT";
+        } else {
+            let input = read_input(&window, &mut last_mouse, dt);
+            fly.update(&input, dt);
+            let on = show.ibr.impostors.debug();
+            if toggled(on, debug_taps) != on {
+                show.ibr.impostors.set_debug(!on);
+            }
+            show.animate(start.elapsed().as_secs_f32());
+            let camera = fly.camera(ww, wh);
+            let t0 = Instant::now();
+            let stats = show.render(&mut renderer, &camera, &mut target, &opts);
+            recent.push(t0.elapsed());
+            let imp = show.ibr.impostors.readout();
+            let debug = show.ibr.impostors.debug();
+            title = format!(
+                "{tris} tris, {} shaded px - impostors: {} refreshed, {} images, {} geometry, \
+                 max error {:.2}{}",
+                stats.fragments_shaded,
+                imp.refreshes(),
+                imp.images(),
+                imp.geometry(),
+                imp.max_ratio(),
+                if debug { " (debug view)" } else { "" }
+            );
+            readout = format!("{}{}", imp.line(), if debug { "  DEBUG" } else { "" });
+            help = "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  \
+                    B BUILDING  ESC QUIT";
+        }
         target.write_rgb_u32(&mut pixels);
-        let readout = show.ibr.impostors.readout();
         if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
             shown = Summary::of(&recent);
             recent.clear();
             title_at = Instant::now();
             window.set_title(&format!(
-                "Parallax showcase - {:.1} ms ({:.0} fps) - {}x{} - {} tris, {} shaded px - \
-                 impostors: {} refreshed, {} images, {} geometry, max error {:.2}{}",
+                "Parallax showcase - {:.1} ms ({:.0} fps) - {ww}x{wh} - {title}",
                 shown.median_ms,
                 1e3 / shown.median_ms.max(1e-9),
-                ww,
-                wh,
-                tris,
-                stats.fragments_shaded,
-                readout.refreshes(),
-                readout.images(),
-                readout.geometry(),
-                readout.max_ratio(),
-                if show.ibr.impostors.debug() {
-                    " (debug view)"
-                } else {
-                    ""
-                }
             ));
         }
         let text = format!(
@@ -384,25 +423,10 @@ fn window(args: &Args) -> Result<(), WindowError> {
             ww,
             wh
         );
-        let (bw, bh) = (ww as usize, wh as usize);
         font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
-        let debug = if show.ibr.impostors.debug() {
-            "  DEBUG"
-        } else {
-            ""
-        };
-        let line = format!("{}{debug}", readout.line());
-        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &line, 0x0080_ffc0);
-        font::draw_text(
-            &mut pixels,
-            bw,
-            bh,
-            6,
-            bh.saturating_sub(18),
-            2,
-            "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  ESC QUIT",
-            0x00e0_e0e0,
-        );
+        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &readout, 0x0080_ffc0);
+        let bottom = bh.saturating_sub(18);
+        font::draw_text(&mut pixels, bw, bh, 6, bottom, 2, help, 0x00e0_e0e0);
         window
             .update_with_buffer(&pixels, bw, bh)
             .map_err(WindowError::Update)?;
@@ -410,21 +434,16 @@ fn window(args: &Args) -> Result<(), WindowError> {
     Ok(())
 }
 
-/// The building tour along its walkthrough; writes PNGs unless `--no-save`; prints the
-/// frame times and the portals' work.
-fn building_headless(args: &Args, dir: &Path) -> Result<(), String> {
+/// The building tour along its walkthrough, `n` frames; writes PNGs unless `--no-save`;
+/// prints the frame times and the portals' work.
+fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
     let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
-    let n = args.frames.max(1);
-    if !args.no_save {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    }
     let mut tour = BuildingTour::new();
     tour.portals.debug_tint = args.debug_portals;
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
     println!(
-        "showcase --building: a hall of {} triangles, {} triangles behind its {} doorways, \
+        "building: a hall of {} triangles, {} triangles behind its {} doorways, \
          {n} frames at {w}x{h} on {} threads",
         tour.building.hall.triangle_count(),
         tour.building.room_triangles(),
@@ -452,7 +471,7 @@ fn building_headless(args: &Args, dir: &Path) -> Result<(), String> {
         }
     }
     let summary = Summary::of(&times);
-    println!("frame time: {summary}");
+    println!("building frame time: {summary}");
     println!(
         "portals over the tour: {warped} warped and {geometry} drawn as geometry (portal-frames), \
          {rebuilds} LDI rebuilds, {samples} samples warped, {holes} holes before filling{}",
@@ -468,71 +487,6 @@ fn building_headless(args: &Args, dir: &Path) -> Result<(), String> {
             "wrote {n} frames to {}/building_0000.png ...",
             dir.display()
         );
-    }
-    Ok(())
-}
-
-/// The building tour in a window: the walkthrough plays in a loop (30 s); I toggles the
-/// tint of warped pixels; Esc quits.
-fn building_window(args: &Args) -> Result<(), WindowError> {
-    let (w, h) = (args.width.unwrap_or(960), args.height.unwrap_or(540));
-    let (mut window, keys) = open_window("Parallax showcase - building", w, h)?;
-    let mut tour = BuildingTour::new();
-    tour.portals.debug_tint = args.debug_portals;
-    let mut renderer = Renderer::new();
-    let mut target = Target::new(w, h);
-    let mut pixels = Vec::new();
-    let start = Instant::now();
-    let mut recent: Vec<Duration> = Vec::new();
-    let mut shown = Summary::default();
-    let mut title_at = Instant::now();
-    const LOOP: f32 = 30.0;
-    while let Some(taps) = poll(&window, &keys) {
-        let on = tour.portals.debug_tint;
-        tour.portals.debug_tint = toggled(on, taps);
-        let (ww, wh) = fit(&window, &mut target);
-        let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
-        let steps = 10_000;
-        let camera = BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh);
-        let t0 = Instant::now();
-        tour.render(&mut renderer, &camera, &mut target);
-        recent.push(t0.elapsed());
-        target.write_rgb_u32(&mut pixels);
-        if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
-            shown = Summary::of(&recent);
-            recent.clear();
-            title_at = Instant::now();
-            window.set_title(&format!(
-                "Parallax showcase - building - {:.1} ms ({:.0} fps) - {}x{}",
-                shown.median_ms,
-                1e3 / shown.median_ms.max(1e-9),
-                ww,
-                wh
-            ));
-        }
-        let (bw, bh) = (ww as usize, wh as usize);
-        let text = format!(
-            "{:.1} MS  {:.0} FPS  {}X{}",
-            shown.median_ms,
-            1e3 / shown.median_ms.max(1e-9),
-            ww,
-            wh
-        );
-        font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
-        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &tour.readout(), 0x0080_ffc0);
-        font::draw_text(
-            &mut pixels,
-            bw,
-            bh,
-            6,
-            bh.saturating_sub(18),
-            2,
-            "I TINT WARPED PIXELS  ESC QUIT",
-            0x00e0_e0e0,
-        );
-        window
-            .update_with_buffer(&pixels, bw, bh)
-            .map_err(WindowError::Update)?;
     }
     Ok(())
 }
