@@ -23,8 +23,11 @@
 //! mark them ([`marked`]: `portal.<room>` and `room.<room>`).
 //!
 //! Walking up to the opening (within [`PortalConfig::through`] of its plane, over it) or
-//! past it, the portal draws its geometry instead; the LDI built from an eye at the
-//! opening sees what the geometry shows, so the switch does not pop.
+//! into the room behind it, the portal draws its geometry instead; the LDI built from an
+//! eye at the opening sees what the geometry shows, so the switch does not pop. An eye past
+//! the opening's plane is in its room if it came through the opening (or stands inside
+//! the box around the room's geometry); otherwise, come in through another door, it sees
+//! the opening from behind and the portal is culled.
 
 pub mod marked;
 pub mod opening;
@@ -34,7 +37,7 @@ use crate::images::{DepthImage, LayeredDepthImage};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
 use crate::warp::holes::{Fill, Filler};
-use crate::warp::ldi::LdiBuilder;
+use crate::warp::ldi::{LdiBuilder, LdiLanding};
 use crate::warp::predict::{depth_range, parallax_px};
 use crate::warp::technique::ImagePass;
 use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
@@ -104,11 +107,13 @@ impl Default for PortalConfig {
 /// How a portal was drawn in the last frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PortalMode {
-    /// Its opening is not on screen: nothing drawn.
+    /// Its opening is not on screen, or faces away (the eye is past its plane in another
+    /// room): nothing drawn.
     Culled,
     /// Its LDI warped into the opening.
     Warped,
-    /// Its geometry: the eye is at or past the opening, or no LDI has been built yet.
+    /// Its geometry: the eye is at the opening or in the room behind it, or no LDI has
+    /// been built yet.
     Geometry,
 }
 
@@ -129,13 +134,22 @@ pub struct Portal {
     range: Option<(f32, f32)>,
     mode: PortalMode,
     rebuilds: u64,
+    /// Whether the eye came into the room through this opening (it was over the opening,
+    /// and has not since gone back out in front of it farther than `through`).
+    entered: bool,
+    /// The box `[min, max]` around `behind`'s vertices: an eye past the opening's plane is
+    /// in the room if it came through the opening or stands inside this box.
+    room: Option<[Vec3; 2]>,
 }
 
 impl Portal {
     pub fn new(opening: Opening, behind: MeshGroup) -> Self {
+        let room = room_box(&behind);
         Portal {
             opening,
             behind,
+            entered: false,
+            room,
             ldi: None,
             prepared: Prepared::default(),
             built_at: None,
@@ -165,6 +179,22 @@ impl Portal {
         self.ldi = None;
         self.built_at = None;
         self.pending = None;
+        self.room = room_box(&self.behind);
+    }
+
+    /// Whether the eye is in the room behind the opening (past its plane, and come
+    /// through it or inside the room's box), updating what the eye came through.
+    fn eye_inside(&mut self, eye: Vec3, through: f32) -> bool {
+        let side = self.opening.side(eye);
+        if side > through {
+            self.entered = false;
+        } else if self.opening.over(eye) {
+            self.entered = true;
+        }
+        let boxed = self
+            .room
+            .is_some_and(|[lo, hi]| eye.cmpge(lo).all() && eye.cmple(hi).all());
+        side <= 0.0 && (self.entered || boxed)
     }
 
     /// The reach of a region around `eye` ([`PortalConfig::reach`]).
@@ -181,14 +211,15 @@ impl Portal {
             PortalImage::Ldi => cameras.len(),
             PortalImage::DepthImage | PortalImage::Flat => 1,
         };
+        let (w, h) = ldi_size(&cameras[0], side);
         self.pending = Some(Pending {
             eye,
             reach,
             screen,
-            size: ldi_size(&cameras[0], side),
+            size: (w, h),
+            landing: LdiLanding::new(&cameras[0], w, h),
             cameras,
             views,
-            images: Vec::with_capacity(views),
         });
     }
 
@@ -208,32 +239,30 @@ impl Portal {
         let mut captured = 0;
         let mut draws = Vec::new();
         self.behind.draws(&mut draws);
-        while captured < budget && b.images.len() < b.views {
-            let camera = b.cameras[b.images.len()];
+        // The eye's image plane is parallel to the opening: for a flat image the opening's
+        // plane is at one depth along the axis for every pixel.
+        let plane = self.opening.side(b.eye);
+        while captured < budget && b.landing.images() < b.views {
+            let camera = b.cameras[b.landing.images()];
             let mut image = DepthImage::new(0, 0, camera);
             let (w, h) = b.size;
             capturer.capture(draws.iter().copied(), &camera, lighting, w, h, &mut image);
-            b.images.push(image);
+            if config.image == PortalImage::Flat {
+                for d in image.depth.iter_mut().filter(|d| d.is_finite()) {
+                    *d = plane;
+                }
+            }
+            // Landed now, so the frame that takes the last view only merges.
+            b.landing.add(&image, config.tolerance);
             captured += 1;
         }
-        if b.images.len() < b.views {
+        if b.landing.images() < b.views {
             return (captured, false);
         }
         let Some(mut b) = self.pending.take() else {
             return (captured, false);
         };
-        if config.image == PortalImage::Flat {
-            // The eye's image plane is parallel to the opening: the opening's plane is at
-            // one depth along the axis for every pixel.
-            let plane = self.opening.side(b.eye);
-            for d in b.images.iter_mut().flat_map(|i| i.depth.iter_mut()) {
-                if d.is_finite() {
-                    *d = plane;
-                }
-            }
-        }
-        let (w, h) = b.size;
-        let ldi = builder.build(&b.cameras[0], w, h, &b.images, config.tolerance);
+        let ldi = builder.merge(&mut b.landing, config.tolerance);
         self.prepared.prepare_ldi(&ldi, config.options.edge);
         self.range = depth_range(&ldi.layer(0));
         self.ldi = Some(ldi);
@@ -253,7 +282,8 @@ struct Pending {
     cameras: [Camera; 5],
     /// Views the build takes (the first `views` cameras).
     views: usize,
-    images: Vec<DepthImage>,
+    /// The views captured so far, landed in the LDI camera.
+    landing: LdiLanding,
 }
 
 /// The cameras of a build from `eye`: the eye, then four side eyes `reach` away in the
@@ -306,6 +336,21 @@ fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -
             },
         }
     })
+}
+
+/// The box around the vertices of `group`'s parts, `None` when it has none.
+fn room_box(group: &MeshGroup) -> Option<[Vec3; 2]> {
+    let mut draws = Vec::new();
+    group.draws(&mut draws);
+    let points = draws.iter().flat_map(|d| {
+        let t = d.transform;
+        d.mesh.positions.iter().map(move |&p| t.transform_point3(p))
+    });
+    points
+        .filter(|p| p.is_finite())
+        .fold(None, |b: Option<[Vec3; 2]>, p| {
+            Some(b.map_or([p, p], |[lo, hi]| [lo.min(p), hi.max(p)]))
+        })
 }
 
 /// The LDI's size for `camera` (a frustum): `side` across its wider extent.
@@ -400,12 +445,17 @@ impl Portals {
         let mut budget = cfg.views_per_frame;
         for p in &mut self.portals {
             let side = p.opening.side(eye);
-            if side <= 0.0 || (side <= cfg.through && p.opening.over(eye)) {
+            if p.eye_inside(eye, cfg.through) || (side <= cfg.through && p.opening.over(eye)) {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
                 continue;
             }
-            let Some(outline) = p.opening.outline(camera, width, height) else {
+            // Past the plane but not in the room (come in through another door): the
+            // opening faces away, its room cannot be seen through it.
+            let outline = (side > 0.0)
+                .then(|| p.opening.outline(camera, width, height))
+                .flatten();
+            let Some(outline) = outline else {
                 p.mode = PortalMode::Culled;
                 frame.culled += 1;
                 continue;

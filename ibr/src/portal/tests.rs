@@ -510,3 +510,51 @@ fn a_predicted_error_over_the_tolerance_rebuilds_inside_the_region() {
         }
     }
 }
+
+#[test]
+fn a_room_entered_through_the_next_door_culls_this_one() {
+    // Two doorways side by side in one wall, each with its room: walking through the
+    // first, the eye passes the second's plane too, but is not in its room.
+    let beside = |room: MeshGroup| {
+        let shift = Mat4::from_translation(Vec3::new(7.0, 0.0, 0.0));
+        let mut draws = Vec::new();
+        room.draws(&mut draws);
+        draws.iter().fold(MeshGroup::new(), |g, d| {
+            g.with(
+                Arc::new(d.mesh.clone()),
+                Arc::new(d.material.clone()),
+                shift * d.transform,
+            )
+        })
+    };
+    let second = Portal::new(
+        Opening::upright(Vec3::new(7.0, 0.0, 0.0), 1.0, 2.0, Vec3::Z),
+        beside(room(3_000)),
+    );
+    let mut p = Portals::new(vec![Portal::new(doorway(), room(500)), second], config());
+    for z in [3.0, 1.0, 0.5, 0.0, -1.0, -2.5] {
+        let cam = camera(Vec3::new(0.1, 1.4, z));
+        let (_, stats) = render(&mut p, &cam, &[]);
+        if z <= 0.0 {
+            assert_eq!(p.portals[0].mode(), PortalMode::Geometry, "{z}");
+            assert_eq!(p.portals[1].mode(), PortalMode::Culled, "{z}");
+            assert!(
+                stats.triangles_in < 3_000,
+                "{z}: the other room is not drawn"
+            );
+        }
+    }
+    // Dropped into the second room (no history): inside its box, so geometry.
+    let mut q = Portals::new(
+        vec![Portal::new(
+            Opening::upright(Vec3::new(7.0, 0.0, 0.0), 1.0, 2.0, Vec3::Z),
+            beside(room(500)),
+        )],
+        config(),
+    );
+    render(&mut q, &camera(Vec3::new(8.0, 1.4, -2.0)), &[]);
+    assert_eq!(q.portals[0].mode(), PortalMode::Geometry);
+    // Past the plane beside the room, outside it: culled.
+    render(&mut q, &camera(Vec3::new(0.0, 1.4, -2.0)), &[]);
+    assert_eq!(q.portals[0].mode(), PortalMode::Culled);
+}
