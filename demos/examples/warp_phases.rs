@@ -1,0 +1,75 @@
+//! Times the two phases of a 1920x1080 warp (the warp itself, then the pull-push fill) on
+//! the criterion bench's frame, and prints a hash of the filled image, so a change meant to
+//! keep the pixels can be checked to keep them:
+//! `cargo run --release -p demos --example warp_phases -- [SIDEWAYS] [--frames N] [--no-fill]`
+//! (SIDEWAYS: how far the eye moves, default 0.3; `RAYON_NUM_THREADS=1` for one thread).
+//! Wall-clock figures from a shared machine: compare runs alternated, not one against an
+//! old number.
+
+use demos::showcase::{self, Showcase};
+use engine::{FrameOptions, Renderer, Rgba, Target};
+use glam::{Mat4, Vec3};
+use ibr::images::DepthImage;
+use ibr::warp::holes::{Fill, Filler};
+use ibr::warp::{Prepared, WarpOptions, Warper};
+use std::time::{Duration, Instant};
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let flag = |name: &str| args.iter().position(|a| a == name);
+    let sideways = args
+        .first()
+        .and_then(|a| a.parse::<f32>().ok())
+        .unwrap_or(0.3);
+    let frames = flag("--frames")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|n| n.parse::<usize>().ok())
+        .unwrap_or(40)
+        .max(1);
+    let fill = flag("--no-fill").is_none();
+    let (w, h) = (1920, 1080);
+    let show = Showcase::new();
+    let (eye, target) = show.path(0, 60);
+    let camera = showcase::camera(eye, target, w, h);
+    let mut frame = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..Default::default()
+    };
+    Renderer::new().render_scene(&show.scene, &camera, &mut frame, &opts);
+    let reference = DepthImage::from_target(&frame, &camera);
+    let mut moved = camera;
+    moved.view *= Mat4::from_translation(Vec3::new(-sideways, 0.0, 0.0));
+    let options = WarpOptions::default();
+    let prepared = Prepared::from_image(&reference, options.edge);
+    let (mut warper, mut filler) = (Warper::new(), Filler::default());
+    let (mut warp, mut filling) = (Duration::ZERO, Duration::ZERO);
+    // Five warm-up frames, then the timed ones.
+    for i in 0..frames + 5 {
+        let t0 = Instant::now();
+        warper.begin(&moved, w, h);
+        warper.add_prepared(&prepared, &options);
+        let t1 = Instant::now();
+        if fill {
+            filler.fill(warper.output_mut(), Fill::PullPush, options.edge);
+        }
+        if i >= 5 {
+            (warp, filling) = (warp + (t1 - t0), filling + t1.elapsed());
+        }
+    }
+    let out = warper.output();
+    let hash = out
+        .color
+        .iter()
+        .zip(&out.disparity)
+        .fold(0u64, |h, (c, d)| {
+            h.wrapping_mul(1_000_003) ^ u64::from(*c) ^ (u64::from(d.to_bits()) << 32)
+        });
+    let ms = |d: Duration| d.as_secs_f64() * 1e3 / frames as f64;
+    println!(
+        "1920x1080, {sideways} sideways, {frames} frames on {} threads: warp {:.2} ms, fill {:.2} ms; image hash {hash:016x}",
+        rayon::current_num_threads(),
+        ms(warp),
+        ms(filling)
+    );
+}
