@@ -46,15 +46,16 @@ pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> u6
     }
     let keep = 1.0 - edge;
     // Pull: level 1 from the image, then halve until one cell.
-    let mut sizes = vec![(w.div_ceil(2), h.div_ceil(2))];
-    while let Some(&(w, h)) = sizes.last().filter(|&&(w, h)| w > 1 || h > 1) {
-        sizes.push((w.div_ceil(2), h.div_ceil(2)));
+    let halve = |(w, h): (usize, usize)| (w.div_ceil(2), h.div_ceil(2));
+    let sizes = std::iter::successors(Some(halve((w, h))), |&(w, h)| {
+        (w > 1 || h > 1).then(|| halve((w, h)))
+    });
+    let count = sizes.clone().count();
+    if levels.len() < count {
+        levels.resize_with(count, Level::default);
     }
-    if levels.len() < sizes.len() {
-        levels.resize_with(sizes.len(), Level::default);
-    }
-    let levels = &mut levels[..sizes.len()];
-    for (level, &(w, h)) in levels.iter_mut().zip(&sizes) {
+    let levels = &mut levels[..count];
+    for (level, (w, h)) in levels.iter_mut().zip(sizes) {
         level.resize(w, h);
     }
     let (color, disparity) = (&image.color, &image.disparity);
