@@ -207,7 +207,7 @@ impl Warper {
     /// `camera`, all holes.
     pub fn begin(&mut self, camera: &Camera, width: u32, height: u32) {
         let (w, h) = (width.min(MAX_SIDE), height.min(MAX_SIDE));
-        self.output.reset(camera, w, h);
+        on_pool(|| self.output.reset(camera, w, h));
         self.has_content = false;
     }
 
@@ -250,6 +250,10 @@ impl Warper {
     /// Warps a prepared depth image or LDI into the output, as [`Warper::add`]. Its slopes
     /// were read with the edge tolerance it was prepared with.
     pub fn add_prepared(&mut self, source: &Prepared, options: &WarpOptions) -> WarpStats {
+        on_pool(|| self.add_on_pool(source, options))
+    }
+
+    fn add_on_pool(&mut self, source: &Prepared, options: &WarpOptions) -> WarpStats {
         let (w2, h2) = (self.output.width(), self.output.height());
         let camera = self.output.camera;
         let (w1, h1) = source.size();
@@ -284,6 +288,14 @@ impl Warper {
         self.has_content = true;
         stats
     }
+}
+
+/// Runs `f` on a thread of the pool, so the parallel loops inside it fork and join from a
+/// worker: called from outside the pool, each would otherwise hand itself to the pool and
+/// wait to be woken, tens of microseconds a loop (measured: about 1 ms of a 1080p warp and
+/// fill's 25 loops). Inside the pool it just calls `f`.
+pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    rayon::scope(|_| f())
 }
 
 /// Whether a pixel holds a sample (warped outputs: holes are fully transparent).

@@ -21,6 +21,7 @@
 
 mod pull_push;
 
+use super::on_pool;
 use super::warped::Warped;
 use rayon::prelude::*;
 
@@ -114,7 +115,7 @@ impl Filler {
     pub fn fill(&mut self, image: &mut Warped, fill: Fill, edge: f32) -> u64 {
         match fill {
             Fill::None => 0,
-            Fill::PullPush => pull_push::fill(image, &mut self.levels, edge),
+            Fill::PullPush => on_pool(|| pull_push::fill(image, &mut self.levels, edge)),
             Fill::Background => background(image, &mut self.best),
         }
     }

@@ -96,6 +96,10 @@ impl WarpedView {
 
     /// Warps the nearest references to `camera` at `width` x `height` and fills the holes.
     pub fn warp_to(&mut self, camera: &Camera, width: u32, height: u32) -> WarpFrame {
+        super::on_pool(|| self.warp_on_pool(camera, width, height))
+    }
+
+    fn warp_on_pool(&mut self, camera: &Camera, width: u32, height: u32) -> WarpFrame {
         let eye = camera.eye();
         let forward = camera.forward();
         let edge = self.options.edge;
