@@ -25,7 +25,7 @@ const HALF_LENGTH: f32 = 6.5;
 /// The hall, the rooms behind its doorways, and the light.
 #[derive(Clone, Debug)]
 pub struct Building {
-    /// The hall: floor, ceiling, walls (the doorway wall with its openings).
+    /// The hall: floor, ceiling, walls (the doorway wall with its openings) and its ends.
     pub hall: MeshGroup,
     /// Each doorway and the room behind it.
     pub rooms: Vec<(Opening, MeshGroup)>,
@@ -104,6 +104,18 @@ impl Building {
                 wall.clone(),
                 Mat4::from_translation(Vec3::new(0.0, HEIGHT / 2.0, HALL_DEPTH + 0.05)),
             );
+        // The hall's two ends, so no view out of it shows the clear colour.
+        let hall = [-1.0, 1.0].into_iter().fold(hall, |hall, side| {
+            hall.with(
+                Arc::new(procedural::cuboid(Vec3::new(0.1, HEIGHT, HALL_DEPTH))),
+                wall.clone(),
+                Mat4::from_translation(Vec3::new(
+                    side * (HALF_LENGTH + 0.05),
+                    HEIGHT / 2.0,
+                    HALL_DEPTH / 2.0,
+                )),
+            )
+        });
         let mut rng = XorShift::new(seed);
         let rooms = DOORS
             .iter()
@@ -195,9 +207,12 @@ fn room(x: f32, k: usize, triangles: u32, rng: &mut XorShift) -> MeshGroup {
         Vec3::new(x, 0.0, -ROOM_DEPTH),
         &walls,
     );
+    // The side walls stop just behind the doorway wall: ending in its plane, their ends
+    // would fight it for depth wherever the room is drawn as geometry.
+    let gap = 0.05;
     for side in [-1.0, 1.0] {
-        let at = Vec3::new(x + side * w / 2.0, 0.0, z);
-        m = block(m, Vec3::new(0.1, HEIGHT, ROOM_DEPTH), at, &walls);
+        let at = Vec3::new(x + side * w / 2.0, 0.0, z - gap / 2.0);
+        m = block(m, Vec3::new(0.1, HEIGHT, ROOM_DEPTH - gap), at, &walls);
     }
     // A table and four chairs.
     let wood = lit(0.55, 0.35, 0.2);
