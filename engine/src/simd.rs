@@ -165,6 +165,11 @@ mod imp {
         pub fn from_array(a: [i32; LANES]) -> Self {
             I8(bytemuck::cast(a))
         }
+        /// Lanes where `self == o`.
+        #[inline(always)]
+        pub fn eq(self, o: Self) -> M8 {
+            avx!(M8(_mm256_castsi256_ps(_mm256_cmpeq_epi32(self.0, o.0))))
+        }
         /// Lanes where `self >= 0`.
         #[inline(always)]
         pub fn non_negative(self) -> M8 {
@@ -393,6 +398,9 @@ mod imp {
         pub fn from_array(a: [i32; LANES]) -> Self {
             I8(a)
         }
+        pub fn eq(self, o: Self) -> M8 {
+            M8(std::array::from_fn(|l| self.0[l] == o.0[l]))
+        }
         pub fn non_negative(self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= 0))
         }
@@ -604,6 +612,12 @@ mod tests {
                 .select_i32(I8::splat(7), I8::splat(-1))
                 .to_array()[..4],
             [7, -1, 7, -1]
+        );
+        assert_eq!(
+            I8::ramp_times(2)
+                .eq(I8::from_array([0, 2, 5, 6, 0, 0, 12, 14]))
+                .bits(),
+            0b1100_1011
         );
         let words = [0xff00_0001u32, 2, 3, 4, 5, 6, 7, 8];
         assert_eq!(I8::load_u32(&words).shr::<24>().to_array()[0], 0xff);

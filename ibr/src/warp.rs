@@ -43,6 +43,7 @@ pub mod warped;
 
 use crate::images::{DepthImage, LayeredDepthImage};
 use engine::color::{unpack, Encoder};
+use engine::simd::LANES;
 use engine::{Camera, Premul};
 use equation::Equation;
 use order::Run;
@@ -445,41 +446,67 @@ impl Put {
     /// Writes the part within `band` of the row of samples `row` computed last, coloured
     /// `colors`, left to right or (`reverse`) right to left; returns the pixels written.
     fn row(&self, band: &mut Band, row: &Footprints, colors: &[u32], reverse: bool) -> u64 {
-        let ([x0s, y0s, x1s, y1s], ds) = row.planes();
-        let n = ds.len();
-        let (colors, points) = (&colors[..n], row.points());
-        let (y_base, y_end) = (band.y_base as i32, (band.y_base + band.rows) as i32);
-        let w = self.w;
-        let (start, len) = (band.y_base * w, band.rows * w);
+        let n = row.len();
+        let runs = row.runs();
         let mut written = 0;
-        for i in 0..n {
-            let k = if reverse { n - 1 - i } else { i };
-            if let Ok(p) = usize::try_from(points[k]) {
-                // A point: one pixel, painted over, if in this band.
-                let q = p.wrapping_sub(start);
-                if q < len {
-                    band.color[q] = colors[k];
-                    band.disparity[q] = ds[k];
-                    written += 1;
+        // Group by group in the traversal's order; a run of points on consecutive pixels
+        // (distinct, so in any order) is copied as a block when the band holds it all.
+        for j in 0..runs.len() {
+            let g = if reverse { runs.len() - 1 - j } else { j };
+            let lanes = g * LANES..((g + 1) * LANES).min(n);
+            if runs[g] {
+                let first = row.points()[lanes.start] as usize;
+                let q = first.wrapping_sub(band.y_base * self.w);
+                if q < band.color.len() && q + LANES <= band.color.len() {
+                    band.color[q..q + LANES].copy_from_slice(&colors[lanes.clone()]);
+                    band.disparity[q..q + LANES].copy_from_slice(&row.planes().1[lanes]);
+                    written += LANES as u64;
+                    continue;
                 }
-                continue;
             }
-            let (x0, x1) = (x0s[k], x1s[k]);
-            let (y0, y1) = (y0s[k].max(y_base), y1s[k].min(y_end));
-            if x0 >= x1 || y0 >= y1 {
-                continue;
+            if reverse {
+                for k in lanes.rev() {
+                    written += self.sample(band, row, colors, k);
+                }
+            } else {
+                for k in lanes {
+                    written += self.sample(band, row, colors, k);
+                }
             }
-            let e = Entry {
-                x0: x0 as u16,
-                y0: y0 as u16,
-                x1: x1 as u16,
-                y1: y1 as u16,
-                disparity: ds[k],
-                color: colors[k],
-            };
-            written += self.entry(band, &e);
         }
         written
+    }
+
+    /// Writes the part of sample `k` of the row computed last within `band`; returns the
+    /// pixels written.
+    #[inline(always)]
+    fn sample(&self, band: &mut Band, row: &Footprints, colors: &[u32], k: usize) -> u64 {
+        let ([x0s, y0s, x1s, y1s], ds) = row.planes();
+        if let Ok(p) = usize::try_from(row.points()[k]) {
+            // A point: one pixel, painted over, if in this band.
+            let q = p.wrapping_sub(band.y_base * self.w);
+            if q < band.color.len() {
+                band.color[q] = colors[k];
+                band.disparity[q] = ds[k];
+                return 1;
+            }
+            return 0;
+        }
+        let (y_base, y_end) = (band.y_base as i32, (band.y_base + band.rows) as i32);
+        let (x0, x1) = (x0s[k], x1s[k]);
+        let (y0, y1) = (y0s[k].max(y_base), y1s[k].min(y_end));
+        if x0 >= x1 || y0 >= y1 {
+            return 0;
+        }
+        let e = Entry {
+            x0: x0 as u16,
+            y0: y0 as u16,
+            x1: x1 as u16,
+            y1: y1 as u16,
+            disparity: ds[k],
+            color: colors[k],
+        };
+        self.entry(band, &e)
     }
 
     /// Writes the part of `e` within `band`; returns the pixels written.

@@ -205,6 +205,9 @@ pub(super) struct Footprints {
     /// The target pixel (`y w + x`) of a point: an opaque sample covering one pixel, when
     /// [`Lane`] marks points; -1 for every other sample.
     index: Vec<i32>,
+    /// Per whole group of [`LANES`] samples: whether all are points on consecutive pixels
+    /// (`index[8 g] + l` for lane `l`), which can be written as one block in any order.
+    runs: Vec<bool>,
     /// The pixels of the row computed last.
     n: usize,
 }
@@ -265,6 +268,7 @@ impl Footprints {
             plane.resize(padded.max(plane.len()), 0);
         }
         self.disparity.resize(padded.max(self.disparity.len()), 0.0);
+        self.runs.clear();
         self.n = n;
         let disparity = &source.disparity[row + lo..row + hi];
         let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
@@ -360,9 +364,12 @@ impl Footprints {
                 .and((rx1 - rx0).le(one))
                 .and((ry1 - ry0).le(one));
             let at = hit.select(ry0, zero).to_i32().mul_lo(width) + hit.select(rx0, zero).to_i32();
-            point
-                .select_i32(at, I8::splat(-1))
-                .store(&mut self.index[k..]);
+            let at = point.select_i32(at, I8::splat(-1));
+            at.store(&mut self.index[k..]);
+            let first = I8::splat(at.to_array()[0]);
+            let run = point.bits() == (1 << LANES) - 1
+                && at.eq(I8::ramp_times(1) + first).bits() == (1 << LANES) - 1;
+            self.runs.push(run && k + LANES <= n);
             behind += filled.and_not(front).bits().count_ones();
             warped += hit.bits().count_ones();
         }
@@ -392,5 +399,11 @@ impl Footprints {
     /// The points' target pixels of the row computed last (-1 where not a point).
     pub(super) fn points(&self) -> &[i32] {
         &self.index[..self.n]
+    }
+
+    /// Per group of [`LANES`] samples of the row computed last (the last group, if
+    /// partial, included): whether it is a run of points on consecutive pixels.
+    pub(super) fn runs(&self) -> &[bool] {
+        &self.runs
     }
 }

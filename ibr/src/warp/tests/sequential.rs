@@ -1,6 +1,7 @@
 //! The banded warp against the plain sequential one: every run in order, each sample's
-//! whole rectangle written at once, no segments and no bands. Binning by segment bounds
-//! must leave out only samples that land nowhere, and write the rest in the same order.
+//! whole rectangle written at once, no segments, no bands and no blocks. Binning by segment
+//! bounds must leave out only samples that land nowhere, and write the rest in the same
+//! order; runs of points copied as blocks must write what they would one by one.
 
 use super::super::rows::{Footprints, Lane};
 use super::super::*;
@@ -37,7 +38,12 @@ fn sequential(source: &Prepared, target: &Camera, w2: u32, h2: u32, o: &WarpOpti
         if source.single() {
             row.compute(&lane, source, run.y, lo, hi);
             let colors = &source.color[(run.y * w1 + lo) as usize..];
-            put.row(&mut band, &row, colors, run.step < 0);
+            // Sample by sample (the banded warp copies runs of points as blocks).
+            let n = (hi - lo) as usize;
+            for i in 0..n {
+                let k = if run.step < 0 { n - 1 - i } else { i };
+                put.sample(&mut band, &row, colors, k);
+            }
         } else {
             for x in run.pixels() {
                 let p = (run.y * w1 + x) as usize;
