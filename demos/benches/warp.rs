@@ -5,10 +5,7 @@
 //! - `warp/splats_background`: with the background-side fill.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use demos::showcase::{self, Showcase};
-use engine::{FrameOptions, Renderer, Rgba, Target};
-use glam::{Mat4, Vec3};
-use ibr::images::DepthImage;
+use demos::bench_warp::showcase_reference;
 use ibr::warp::holes::Fill;
 use ibr::warp::technique::WarpedView;
 use ibr::warp::Reconstruction;
@@ -17,18 +14,7 @@ use std::time::Duration;
 
 fn warp(c: &mut Criterion) {
     let (w, h) = (1920, 1080);
-    let show = Showcase::new();
-    let (eye, target) = show.path(0, 60);
-    let camera = showcase::camera(eye, target, w, h);
-    let mut frame = Target::new(w, h);
-    let opts = FrameOptions {
-        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
-        ..Default::default()
-    };
-    Renderer::new().render_scene(&show.scene, &camera, &mut frame, &opts);
-    let reference = DepthImage::from_target(&frame, &camera);
-    let mut moved = camera;
-    moved.view *= Mat4::from_translation(Vec3::new(-0.3, 0.0, 0.0));
+    let (reference, moved) = showcase_reference(w, h, 0.3);
     let mut group = c.benchmark_group("warp");
     group
         .sample_size(20)

@@ -6,10 +6,7 @@
 //! Wall-clock figures from a shared machine: compare runs alternated, not one against an
 //! old number.
 
-use demos::showcase::{self, Showcase};
-use engine::{FrameOptions, Renderer, Rgba, Target};
-use glam::{Mat4, Vec3};
-use ibr::images::DepthImage;
+use demos::bench_warp::showcase_reference;
 use ibr::warp::holes::{Fill, Filler};
 use ibr::warp::{Prepared, WarpOptions, Warper};
 use std::time::{Duration, Instant};
@@ -28,18 +25,7 @@ fn main() {
         .max(1);
     let fill = flag("--no-fill").is_none();
     let (w, h) = (1920, 1080);
-    let show = Showcase::new();
-    let (eye, target) = show.path(0, 60);
-    let camera = showcase::camera(eye, target, w, h);
-    let mut frame = Target::new(w, h);
-    let opts = FrameOptions {
-        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
-        ..Default::default()
-    };
-    Renderer::new().render_scene(&show.scene, &camera, &mut frame, &opts);
-    let reference = DepthImage::from_target(&frame, &camera);
-    let mut moved = camera;
-    moved.view *= Mat4::from_translation(Vec3::new(-sideways, 0.0, 0.0));
+    let (reference, moved) = showcase_reference(w, h, sideways);
     let options = WarpOptions::default();
     let prepared = Prepared::from_image(&reference, options.edge);
     let (mut warper, mut filler) = (Warper::new(), Filler::default());

@@ -18,10 +18,11 @@ mod charts;
 pub use charts::charts;
 
 use crate::city::City;
+use crate::showcase::{self, Showcase};
 use crate::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
-use glam::{Quat, Vec3};
+use glam::{Mat4, Quat, Vec3};
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Options, Region};
 use ibr::subject::Subject;
@@ -490,7 +491,7 @@ fn mesh_point(
     let draw = Draw {
         mesh,
         material,
-        transform: glam::Mat4::IDENTITY,
+        transform: Mat4::IDENTITY,
     };
     let times = plan.frames.run(|| {
         let t = Instant::now();
@@ -530,4 +531,23 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
         predicted_px: view.last().predicted_px,
         ..Row::timed("splats", (w, h), city, &times)
     }
+}
+
+/// The criterion warp bench's frame (`benches/warp.rs`, `examples/warp_phases.rs`): the
+/// showcase's first tour view rendered at `width` x `height` as a depth image, and its
+/// camera moved `sideways` to the left.
+pub fn showcase_reference(width: u32, height: u32, sideways: f32) -> (DepthImage, Camera) {
+    let show = Showcase::new();
+    let (eye, target) = show.path(0, 60);
+    let camera = showcase::camera(eye, target, width, height);
+    let mut frame = Target::new(width, height);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..Default::default()
+    };
+    Renderer::new().render_scene(&show.scene, &camera, &mut frame, &opts);
+    let reference = DepthImage::from_target(&frame, &camera);
+    let mut moved = camera;
+    moved.view *= Mat4::from_translation(Vec3::new(-sideways, 0.0, 0.0));
+    (reference, moved)
 }

@@ -35,6 +35,18 @@ impl Level {
     fn colour(&self, i: usize) -> [f32; 4] {
         self.color.each_ref().map(|p| p[i])
     }
+
+    /// Its rows on the thread pool: the row index, and the row of each plane (disparity,
+    /// then the four channels).
+    fn rows_mut(&mut self) -> impl IndexedParallelIterator<Item = (usize, [&mut [f32]; 5])> {
+        let w = self.w.max(1);
+        let [r, g, b, a] = &mut self.color;
+        let rows = self.disparity.par_chunks_mut(w).zip(r.par_chunks_mut(w));
+        let rows = rows.zip(g.par_chunks_mut(w)).zip(b.par_chunks_mut(w));
+        rows.zip(a.par_chunks_mut(w))
+            .map(|((((d, r), g), b), a)| [d, r, g, b, a])
+            .enumerate()
+    }
 }
 
 /// Fills the holes of `image` (returns how many) using `levels` as scratch: levels 1, 2,
@@ -136,63 +148,58 @@ where
     K: Fn(usize) -> (f32, [f32; 4]) + Sync,
 {
     let w = coarse.w;
-    let [r, g, b, a] = &mut coarse.color;
-    let rows = coarse.disparity.par_chunks_mut(w).zip(r.par_chunks_mut(w));
-    let rows = rows.zip(g.par_chunks_mut(w)).zip(b.par_chunks_mut(w));
-    rows.zip(a.par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(y, ((((disparity, r), g), b), a))| {
-            let empty = (
-                F8::splat(HOLE),
-                F8::splat(HOLE),
-                [F8::splat(0.0); 4],
-                [F8::splat(0.0); 4],
-            );
-            for x in (0..w).step_by(LANES) {
-                // The four children of cells x..x + 8, in the order (0, 0), (1, 0), (0, 1),
-                // (1, 1); absent ones (past the finer level's edge) are empty.
-                let row = |fy: usize| -> Pairs {
-                    if fy >= fh {
-                        empty
-                    } else if 2 * x + 2 * LANES <= fw {
-                        pairs(fy * fw + 2 * x)
-                    } else {
-                        let lanes: [[(f32, [f32; 4]); LANES]; 2] = std::array::from_fn(|dx| {
-                            std::array::from_fn(|l| {
-                                let fx = 2 * (x + l) + dx;
-                                if fx < fw {
-                                    kid(fy * fw + fx)
-                                } else {
-                                    (HOLE, [0.0; 4])
-                                }
-                            })
-                        });
-                        let d = |k: usize| F8::from_array(lanes[k].map(|(d, _)| d));
-                        let c = |k: usize| {
-                            std::array::from_fn(|c| F8::from_array(lanes[k].map(|(_, v)| v[c])))
-                        };
-                        (d(0), d(1), c(0), c(1))
-                    }
-                };
-                let (top, bottom) = (row(2 * y), row(2 * y + 1));
-                let kids = [
-                    (top.0, top.2),
-                    (top.1, top.3),
-                    (bottom.0, bottom.2),
-                    (bottom.1, bottom.3),
-                ];
-                let (d, c) = reduce(kids, keep);
-                let n = LANES.min(w - x);
-                let planes = [&mut *disparity, r, g, b, a];
-                for (plane, v) in planes.into_iter().zip([d, c[0], c[1], c[2], c[3]]) {
-                    if n == LANES {
-                        v.store(&mut plane[x..]);
-                    } else {
-                        plane[x..x + n].copy_from_slice(&v.to_array()[..n]);
-                    }
+    coarse.rows_mut().for_each(|(y, [disparity, r, g, b, a])| {
+        let empty = (
+            F8::splat(HOLE),
+            F8::splat(HOLE),
+            [F8::splat(0.0); 4],
+            [F8::splat(0.0); 4],
+        );
+        for x in (0..w).step_by(LANES) {
+            // The four children of cells x..x + 8, in the order (0, 0), (1, 0), (0, 1),
+            // (1, 1); absent ones (past the finer level's edge) are empty.
+            let row = |fy: usize| -> Pairs {
+                if fy >= fh {
+                    empty
+                } else if 2 * x + 2 * LANES <= fw {
+                    pairs(fy * fw + 2 * x)
+                } else {
+                    let lanes: [[(f32, [f32; 4]); LANES]; 2] = std::array::from_fn(|dx| {
+                        std::array::from_fn(|l| {
+                            let fx = 2 * (x + l) + dx;
+                            if fx < fw {
+                                kid(fy * fw + fx)
+                            } else {
+                                (HOLE, [0.0; 4])
+                            }
+                        })
+                    });
+                    let d = |k: usize| F8::from_array(lanes[k].map(|(d, _)| d));
+                    let c = |k: usize| {
+                        std::array::from_fn(|c| F8::from_array(lanes[k].map(|(_, v)| v[c])))
+                    };
+                    (d(0), d(1), c(0), c(1))
+                }
+            };
+            let (top, bottom) = (row(2 * y), row(2 * y + 1));
+            let kids = [
+                (top.0, top.2),
+                (top.1, top.3),
+                (bottom.0, bottom.2),
+                (bottom.1, bottom.3),
+            ];
+            let (d, c) = reduce(kids, keep);
+            let n = LANES.min(w - x);
+            let planes = [&mut *disparity, r, g, b, a];
+            for (plane, v) in planes.into_iter().zip([d, c[0], c[1], c[2], c[3]]) {
+                if n == LANES {
+                    v.store(&mut plane[x..]);
+                } else {
+                    plane[x..x + n].copy_from_slice(&v.to_array()[..n]);
                 }
             }
-        });
+        }
+    });
 }
 
 /// Eight cells from their children: the mean of those within the tolerance of the
@@ -224,20 +231,14 @@ fn reduce(kids: [(F8, [F8; 4]); 4], keep: f32) -> (F8, [F8; 4]) {
 /// Fills the empty cells of `fine` from `coarse`, the level above, row by row on the
 /// thread pool.
 fn push(fine: &mut Level, coarse: &Level, keep: f32) {
-    let w = fine.w;
-    let [r, g, b, a] = &mut fine.color;
-    let rows = fine.disparity.par_chunks_mut(w).zip(r.par_chunks_mut(w));
-    let rows = rows.zip(g.par_chunks_mut(w)).zip(b.par_chunks_mut(w));
-    rows.zip(a.par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(y, ((((disparity, r), g), b), a))| {
-            each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
-                for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
-                    plane[x] = v;
-                }
-                disparity[x] = d;
-            });
+    fine.rows_mut().for_each(|(y, [disparity, r, g, b, a])| {
+        each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
+            for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
+                plane[x] = v;
+            }
+            disparity[x] = d;
         });
+    });
 }
 
 /// Fills the image's holes from level 1 (its samples stay as they are). Returns the pixels
