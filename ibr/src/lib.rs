@@ -38,6 +38,7 @@ pub mod flare;
 pub mod images;
 pub mod impostor;
 pub mod laser;
+pub mod lightfield;
 pub mod metrics;
 pub mod octahedral;
 pub mod portal;

@@ -1,0 +1,238 @@
+//! Light fields (Levoy and Hanrahan 96; Gortler et al. 96): the plenoptic function of a
+//! static object reduced to the 4D set of rays that cross two parallel planes, sampled as
+//! a light slab `L(u, v, s, t)` and rendered by looking rays up, not by drawing geometry.
+//!
+//! - [`Slab`]: the camera plane (`uv`) and the focal plane (`st`), two parallel
+//!   rectangles, and how many samples each has. Sample `(i, j)` of a plane sits at the
+//!   centre of cell `(i, j)` of its grid, as a pixel centre sits in its pixel.
+//! - Capture ([`LightField::capture`]): one image per `uv` sample, taken by a camera at
+//!   that sample whose off-axis frustum maps the `st` rectangle exactly onto its image, so
+//!   pixel `(s, t)` of image `(u, v)` is the ray from `uv` sample `(u, v)` through `st`
+//!   sample `(s, t)`. The images are rendered on both cores ([`capture_batch`]).
+//! - Rendering ([`render`]): each pixel's ray is intersected with both planes, giving
+//!   continuous `(u, v, s, t)` in sample units, and the light field is looked up by nearest
+//!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples).
+//!
+//! Samples are stored as the frame stores colour (packed premultiplied sRGB bytes,
+//! [`ENCODING`]) and blended in that encoding, image `(u, v)` after image, each an
+//! `ns` x `nt` row-major image.
+
+pub mod render;
+
+use crate::capture::capture_batch;
+use crate::warp::ENCODING;
+use engine::color::Encoder;
+use engine::{Camera, Draw, Lighting, Projection};
+use glam::{Mat4, Vec3};
+pub use render::{render, Interpolation, LightFieldFrame};
+
+/// A rectangle in space: a corner and its two edges (at right angles).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect3 {
+    pub origin: Vec3,
+    pub edge_a: Vec3,
+    pub edge_b: Vec3,
+}
+
+impl Rect3 {
+    /// The rectangle centred on `center` with edges `edge_a` and `edge_b`.
+    pub fn centered(center: Vec3, edge_a: Vec3, edge_b: Vec3) -> Self {
+        Rect3 {
+            origin: center - 0.5 * (edge_a + edge_b),
+            edge_a,
+            edge_b,
+        }
+    }
+
+    /// The point at fractions `(a, b)` of its edges.
+    pub fn at(&self, a: f32, b: f32) -> Vec3 {
+        self.origin + self.edge_a * a + self.edge_b * b
+    }
+
+    fn corners(&self) -> [Vec3; 4] {
+        [
+            self.at(0.0, 0.0),
+            self.at(1.0, 0.0),
+            self.at(1.0, 1.0),
+            self.at(0.0, 1.0),
+        ]
+    }
+}
+
+/// A light slab's geometry: the camera plane `uv` (`nu` x `nv` samples) and the focal
+/// plane `st` (`ns` x `nt` samples), parallel, with `st`'s edges giving its images' x
+/// (along `edge_a`) and y (along `edge_b`) axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slab {
+    pub uv: Rect3,
+    pub st: Rect3,
+    pub nu: u32,
+    pub nv: u32,
+    pub ns: u32,
+    pub nt: u32,
+    /// The capture cameras' depth range, distances along `forward` from the `uv` plane.
+    pub near: f32,
+    pub far: f32,
+}
+
+/// Why a slab cannot be made.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SlabError {
+    #[error("a light slab needs at least one sample on each axis (got {0} x {1} x {2} x {3})")]
+    NoSamples(u32, u32, u32, u32),
+    #[error("the slab's rectangles must have edges of non-zero length at right angles")]
+    Degenerate,
+    #[error("the uv and st planes must be parallel")]
+    NotParallel,
+    #[error(
+        "the st plane must lie in front of the uv plane along st's edge_a x edge_b (it is {0} behind)"
+    )]
+    Behind(f32),
+    #[error("the depth range must satisfy 0 < near < far (got {0} and {1})")]
+    DepthRange(f32, f32),
+}
+
+impl Slab {
+    /// A slab, checked: parallel rectangles with the `st` plane ahead of the `uv` plane
+    /// along `st.edge_a x st.edge_b`, at least one sample per axis.
+    pub fn new(
+        uv: Rect3,
+        st: Rect3,
+        counts: [u32; 4],
+        near: f32,
+        far: f32,
+    ) -> Result<Self, SlabError> {
+        let [nu, nv, ns, nt] = counts;
+        if counts.contains(&0) {
+            return Err(SlabError::NoSamples(nu, nv, ns, nt));
+        }
+        for r in [&uv, &st] {
+            let (a, b) = (r.edge_a, r.edge_b);
+            let square = a.length() * b.length();
+            if !(square > 0.0 && square.is_finite() && a.dot(b).abs() <= 1e-4 * square) {
+                return Err(SlabError::Degenerate);
+            }
+        }
+        let n_st = st.edge_a.cross(st.edge_b).normalize();
+        let n_uv = uv.edge_a.cross(uv.edge_b).normalize();
+        if n_st.cross(n_uv).length() > 1e-4 {
+            return Err(SlabError::NotParallel);
+        }
+        let gap = (st.origin - uv.origin).dot(n_st);
+        if gap.is_nan() || gap <= 0.0 {
+            return Err(SlabError::Behind(-gap));
+        }
+        if !(near > 0.0 && near < far) {
+            return Err(SlabError::DepthRange(near, far));
+        }
+        Ok(Slab {
+            uv,
+            st,
+            nu,
+            nv,
+            ns,
+            nt,
+            near,
+            far,
+        })
+    }
+
+    /// The direction from the `uv` plane to the `st` plane (unit).
+    pub fn forward(&self) -> Vec3 {
+        self.st.edge_a.cross(self.st.edge_b).normalize()
+    }
+
+    /// The position of `uv` sample `(i, j)`.
+    pub fn uv_point(&self, i: u32, j: u32) -> Vec3 {
+        let a = (i as f32 + 0.5) / self.nu as f32;
+        let b = (j as f32 + 0.5) / self.nv as f32;
+        self.uv.at(a, b)
+    }
+
+    /// The capture camera of `uv` sample `(i, j)`: at the sample, its image plane parallel
+    /// to the planes, its off-axis frustum framing the `st` rectangle exactly (image x
+    /// along `st.edge_a`, y down along `st.edge_b`).
+    pub fn camera(&self, i: u32, j: u32) -> Camera {
+        let eye = self.uv_point(i, j);
+        let x = self.st.edge_a.normalize();
+        let y = -self.st.edge_b.normalize();
+        let z = -self.forward();
+        let view = Mat4::from_cols(
+            glam::Vec4::new(x.x, y.x, z.x, 0.0),
+            glam::Vec4::new(x.y, y.y, z.y, 0.0),
+            glam::Vec4::new(x.z, y.z, z.z, 0.0),
+            glam::Vec4::new(-x.dot(eye), -y.dot(eye), -z.dot(eye), 1.0),
+        );
+        let dist = (self.st.origin - eye).dot(self.forward());
+        let k = self.near / dist;
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
+        for c in self.st.corners() {
+            let v = view.transform_point3(c);
+            lo = lo.min(glam::Vec2::new(v.x, v.y));
+            hi = hi.max(glam::Vec2::new(v.x, v.y));
+        }
+        Camera {
+            view,
+            projection: Projection::Frustum {
+                left: lo.x * k,
+                right: hi.x * k,
+                bottom: lo.y * k,
+                top: hi.y * k,
+                near: self.near,
+                far: self.far,
+            },
+        }
+    }
+
+    /// Samples in all, `nu nv ns nt`.
+    pub fn len(&self) -> usize {
+        [self.nu, self.nv, self.ns, self.nt]
+            .iter()
+            .map(|&n| n as usize)
+            .product()
+    }
+
+    /// Whether it holds no samples (never, for a checked slab).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A captured light slab: its geometry and its samples.
+#[derive(Clone, Debug)]
+pub struct LightField {
+    pub slab: Slab,
+    /// Packed colour ([`ENCODING`]) of sample `(u, v, s, t)` at
+    /// `((v nu + u) nt + t) ns + s`: image after image.
+    pub samples: Vec<u32>,
+}
+
+impl LightField {
+    /// Captures `draws` (lit by `lighting`) through `slab`: one image per `uv` sample, on
+    /// the thread pool; the same samples at any thread count.
+    pub fn capture(draws: &[Draw<'_>], lighting: &Lighting, slab: Slab) -> LightField {
+        let cameras: Vec<Camera> = (0..slab.nv)
+            .flat_map(|j| (0..slab.nu).map(move |i| slab.camera(i, j)))
+            .collect();
+        let images = capture_batch(draws, &cameras, lighting, slab.ns, slab.nt);
+        let enc = Encoder::new(ENCODING);
+        let mut samples = Vec::with_capacity(slab.len());
+        for image in &images {
+            samples.extend(image.color.iter().map(|c| enc.pack(c.r, c.g, c.b, c.a)));
+        }
+        LightField { slab, samples }
+    }
+
+    /// Sample `(u, v, s, t)` (indices within the slab's counts).
+    #[inline]
+    pub fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
+        let sl = &self.slab;
+        let i = ((v as usize * sl.nu as usize + u as usize) * sl.nt as usize + t as usize)
+            * sl.ns as usize
+            + s as usize;
+        self.samples[i]
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,219 @@
+//! Light slabs against the geometry they were captured from.
+
+use super::*;
+use crate::warp::Warped;
+use engine::color::Encoder;
+use engine::{procedural, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
+use glam::Vec2;
+
+const W: u32 = 64;
+const H: u32 = 48;
+
+/// A slab whose uv plane is the 2 x 2 square at z = 4 and st plane the one at z = 0,
+/// images upright (x along +X, y down along -Y).
+fn slab(nuv: u32, nst: u32) -> Slab {
+    let square = |z: f32| Rect3::centered(Vec3::new(0.0, 0.0, z), Vec3::X * 2.0, Vec3::NEG_Y * 2.0);
+    Slab::new(square(4.0), square(0.0), [nuv, nuv, nst, nst], 0.5, 20.0).expect("a valid slab")
+}
+
+/// A 2 x 2 card at depth `z` (facing +z) coloured by a smooth gradient (vertex colours).
+fn card(z: f32, size: f32) -> (Mesh, Mat4) {
+    let mut m = procedural::quad(size, size);
+    m.colors = vec![
+        Rgba::new(0.9, 0.1, 0.1, 1.0),
+        Rgba::new(0.1, 0.9, 0.1, 1.0),
+        Rgba::new(0.1, 0.1, 0.9, 1.0),
+        Rgba::new(0.9, 0.9, 0.1, 1.0),
+    ];
+    (m, Mat4::from_translation(Vec3::new(0.0, 0.0, z)))
+}
+
+fn material() -> Material {
+    Material::unlit(Rgba::WHITE).double_sided(true)
+}
+
+fn camera(eye: Vec3) -> Camera {
+    Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.7, W as f32 / H as f32).with_depth_range(0.1, 30.0)
+}
+
+/// The geometry as the camera sees it: per pixel its colour packed as the light field
+/// stores it, or `None` where nothing covers it.
+fn truth(draws: &[Draw<'_>], camera: &Camera) -> Vec<Option<u32>> {
+    let mut t = Target::new(W, H);
+    let opts = FrameOptions {
+        clear: Some(Rgba::TRANSPARENT),
+        ..Default::default()
+    };
+    let lighting = Lighting::default();
+    Renderer::new().render(draws.iter().copied(), camera, &lighting, &mut t, &opts);
+    let enc = Encoder::new(ENCODING);
+    let image = crate::images::DepthImage::from_target(&t, camera);
+    image
+        .color
+        .iter()
+        .map(|c| (c.a >= 0.5).then(|| enc.pack(c.r, c.g, c.b, c.a)))
+        .collect()
+}
+
+/// Mean absolute difference (8-bit levels of the stored encoding, colour channels) over
+/// the pixels both cover, and how many they are.
+fn compare(out: &Warped, truth: &[Option<u32>]) -> (f32, u32) {
+    let (mut sum, mut n) = (0.0, 0);
+    for (i, want) in truth.iter().enumerate() {
+        let Some(want) = *want else { continue };
+        if !out.is_filled(i) {
+            continue;
+        }
+        let (g, t) = (out.color[i].to_le_bytes(), want.to_le_bytes());
+        sum += (0..3)
+            .map(|k| (g[k] as f32 - t[k] as f32).abs())
+            .sum::<f32>();
+        n += 1;
+    }
+    (sum / (3 * n.max(1)) as f32, n)
+}
+
+#[test]
+fn capture_cameras_put_st_samples_on_pixel_centres() {
+    let s = slab(3, 8);
+    for (i, j) in [(0, 0), (2, 1), (1, 2)] {
+        let cam = s.camera(i, j);
+        let m = cam.clip_from_world();
+        for (ps, pt) in [(0u32, 0u32), (7, 0), (3, 5), (7, 7)] {
+            let p = s.st.at((ps as f32 + 0.5) / 8.0, (pt as f32 + 0.5) / 8.0);
+            let c = m * p.extend(1.0);
+            let ndc = Vec2::new(c.x / c.w, c.y / c.w);
+            let px = Vec2::new((ndc.x + 1.0) * 4.0, (1.0 - ndc.y) * 4.0);
+            assert!(
+                px.distance(Vec2::new(ps as f32 + 0.5, pt as f32 + 0.5)) < 1e-3,
+                "camera ({i}, {j}), sample ({ps}, {pt}) at {px}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_card_in_the_focal_plane_looks_as_the_geometry_does() {
+    let (mesh, at) = card(0.0, 2.0);
+    let mat = material();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &mat,
+        transform: at,
+    }];
+    let lf = LightField::capture(&draws, &Lighting::default(), slab(5, 48));
+    let mut out = Warped::new(0, 0, camera(Vec3::Z));
+    // Eyes between the capture cameras and in front of their plane.
+    for eye in [Vec3::new(0.13, -0.21, 4.0), Vec3::new(-0.3, 0.25, 3.0)] {
+        let cam = camera(eye);
+        let want = truth(&draws, &cam);
+        for interpolation in [Interpolation::Quadrilinear, Interpolation::BilinearUv] {
+            let frame = render(&lf, &cam, W, H, interpolation, &mut out);
+            let (mean, n) = compare(&out, &want);
+            assert!(n > 500, "{eye}: the card covers {n} pixels");
+            assert!(frame.pixels as u32 >= n, "{frame:?}");
+            let limit = if interpolation == Interpolation::Quadrilinear {
+                2.0
+            } else {
+                4.0
+            };
+            assert!(mean < limit, "{eye} {interpolation:?}: mean error {mean}");
+        }
+    }
+}
+
+#[test]
+fn denser_cameras_ghost_less_off_the_focal_plane() {
+    // A card halfway to the camera plane: each camera sees it shifted, so the render
+    // blends shifted copies (ghosts) unless the cameras are dense.
+    let (mesh, at) = card(1.5, 0.8);
+    let mat = material();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &mat,
+        transform: at,
+    }];
+    let cam = camera(Vec3::new(0.11, -0.17, 4.5));
+    let want = truth(&draws, &cam);
+    let error = |nuv: u32| {
+        let lf = LightField::capture(&draws, &Lighting::default(), slab(nuv, 48));
+        let mut out = Warped::new(0, 0, cam);
+        render(&lf, &cam, W, H, Interpolation::Quadrilinear, &mut out);
+        // Pixels where coverage disagrees count fully.
+        let mut wrong = 0;
+        for (i, want) in want.iter().enumerate() {
+            let got = out.is_filled(i) && out.color_linear(i).a >= 0.5;
+            wrong += (want.is_some() != got) as u32;
+        }
+        wrong
+    };
+    let (sparse, dense) = (error(3), error(15));
+    assert!(sparse > 0, "sparse cameras show ghosts");
+    assert!(
+        dense * 2 < sparse,
+        "3x3 cameras: {sparse} pixels off, 15x15: {dense}"
+    );
+}
+
+#[test]
+fn rays_outside_the_slab_or_from_behind_are_holes() {
+    let (mesh, at) = card(0.0, 2.0);
+    let mat = material();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &mat,
+        transform: at,
+    }];
+    let lf = LightField::capture(&draws, &Lighting::default(), slab(3, 16));
+    let mut out = Warped::new(0, 0, camera(Vec3::Z));
+    // From behind the focal plane, looking back at it: no ray of this slab.
+    let behind = Camera::look_at(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 0.7, 1.0);
+    let f = render(&lf, &behind, W, H, Interpolation::Quadrilinear, &mut out);
+    assert_eq!((f.rays, out.filled()), (0, 0));
+    // Far to the side: rays cross the st square but not the uv square.
+    let side = camera(Vec3::new(6.0, 0.0, 4.0));
+    let f = render(&lf, &side, W, H, Interpolation::Nearest, &mut out);
+    assert_eq!((f.rays, out.filled()), (0, 0));
+    // Odd sizes and a degenerate camera: no panic, no NaN.
+    for (w, h) in [(0, 0), (1, 1), (0, 5)] {
+        let f = render(
+            &lf,
+            &camera(Vec3::new(0.0, 0.0, 4.0)),
+            w,
+            h,
+            Interpolation::Quadrilinear,
+            &mut out,
+        );
+        assert!(f.pixels <= (w * h) as u64);
+    }
+    let nan = camera(Vec3::new(f32::NAN, 0.0, 4.0));
+    render(&lf, &nan, W, H, Interpolation::Quadrilinear, &mut out);
+    assert!(out.disparity.iter().all(|d| !d.is_nan()));
+}
+
+#[test]
+fn bad_slabs_are_refused_with_the_reason() {
+    let sq = |z: f32| Rect3::centered(Vec3::new(0.0, 0.0, z), Vec3::X, Vec3::NEG_Y);
+    assert_eq!(
+        Slab::new(sq(4.0), sq(0.0), [0, 2, 2, 2], 0.1, 10.0),
+        Err(SlabError::NoSamples(0, 2, 2, 2))
+    );
+    assert!(matches!(
+        Slab::new(sq(0.0), sq(4.0), [2; 4], 0.1, 10.0),
+        Err(SlabError::Behind(_))
+    ));
+    let tilted = Rect3::centered(Vec3::ZERO, Vec3::X, Vec3::new(0.0, -1.0, 1.0));
+    assert_eq!(
+        Slab::new(sq(4.0), tilted, [2; 4], 0.1, 10.0),
+        Err(SlabError::NotParallel)
+    );
+    let flat = Rect3::centered(Vec3::ZERO, Vec3::X, Vec3::X);
+    assert_eq!(
+        Slab::new(sq(4.0), flat, [2; 4], 0.1, 10.0),
+        Err(SlabError::Degenerate)
+    );
+    assert!(matches!(
+        Slab::new(sq(4.0), sq(0.0), [2; 4], 1.0, 1.0),
+        Err(SlabError::DepthRange(..))
+    ));
+}
