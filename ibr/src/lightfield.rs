@@ -12,11 +12,14 @@
 //! - Rendering ([`render`]): each pixel's ray is intersected with both planes, giving
 //!   continuous `(u, v, s, t)` in sample units, and the light field is looked up by nearest
 //!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples).
+//! - In a scene ([`LightFieldObject`], a technique): rendered into the screen rectangle
+//!   its focal plane covers and composited by a depth-tested image pass.
 //!
 //! Samples are stored as the frame stores colour (packed premultiplied sRGB bytes,
 //! [`ENCODING`]) and blended in that encoding, image `(u, v)` after image, each an
 //! `ns` x `nt` row-major image.
 
+pub mod object;
 pub mod render;
 
 use crate::capture::capture_batch;
@@ -24,6 +27,7 @@ use crate::warp::ENCODING;
 use engine::color::Encoder;
 use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
+pub use object::LightFieldObject;
 pub use render::{render, Interpolation, LightFieldFrame};
 
 /// A rectangle in space: a corner and its two edges (at right angles).

@@ -1,6 +1,7 @@
 //! Light slabs against the geometry they were captured from.
 
 use super::*;
+use crate::technique::{FrameView, Technique};
 use crate::warp::Warped;
 use engine::color::Encoder;
 use engine::{procedural, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
@@ -216,4 +217,117 @@ fn bad_slabs_are_refused_with_the_reason() {
         Slab::new(sq(4.0), sq(0.0), [2; 4], 1.0, 1.0),
         Err(SlabError::DepthRange(..))
     ));
+}
+
+/// The packed colour of `want` at the pixel `p` projects into.
+fn want_at(want: &[Option<u32>], cam: &Camera, p: Vec3) -> u32 {
+    let c = cam.clip_from_world() * p.extend(1.0);
+    let x = ((c.x / c.w + 1.0) * 0.5 * W as f32) as u32;
+    let y = ((1.0 - c.y / c.w) * 0.5 * H as f32) as u32;
+    want[(y * W + x) as usize].unwrap_or(0)
+}
+
+#[test]
+fn in_a_scene_the_light_field_is_depth_tested_against_the_geometry() {
+    // The light field of a card in the focal plane, between a wall behind it and a grey
+    // panel in front of its left half: as the geometry shows them.
+    let (mesh, at) = card(0.0, 2.0);
+    let mat = material();
+    let card_draw = Draw {
+        mesh: &mesh,
+        material: &mat,
+        transform: at,
+    };
+    let lf = LightField::capture(&[card_draw], &Lighting::default(), slab(5, 48));
+    let mut object = LightFieldObject::new("card", lf);
+    let wall = procedural::quad(12.0, 12.0);
+    let wall_mat = Material::unlit(Rgba::new(0.2, 0.3, 0.6, 1.0));
+    let panel = procedural::quad(1.0, 3.0);
+    let panel_mat = Material::unlit(Rgba::new(0.5, 0.5, 0.5, 1.0));
+    let scene = [
+        Draw {
+            mesh: &wall,
+            material: &wall_mat,
+            transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -2.0)),
+        },
+        Draw {
+            mesh: &panel,
+            material: &panel_mat,
+            transform: Mat4::from_translation(Vec3::new(-0.6, 0.0, 1.5)),
+        },
+    ];
+    let cam = camera(Vec3::new(0.2, -0.1, 4.2));
+    let lighting = Lighting::default();
+    let view = FrameView {
+        camera: &cam,
+        width: W,
+        height: H,
+        lighting: &lighting,
+        time: 0.0,
+        dt: 0.0,
+    };
+    let opts = FrameOptions {
+        clear: Some(Rgba::TRANSPARENT),
+        ..Default::default()
+    };
+    let mut target = Target::new(W, H);
+    let mut frame = crate::technique::FrameLoop::new();
+    let mut renderer = Renderer::new();
+    frame.render(
+        &mut renderer,
+        scene.iter().copied(),
+        &mut [&mut object as &mut dyn Technique],
+        &view,
+        &mut target,
+        &opts,
+    );
+    let all = [scene[0], scene[1], card_draw];
+    let want = truth(&all, &cam);
+    let enc = Encoder::new(ENCODING);
+    let got = crate::images::DepthImage::from_target(&target, &cam);
+    let (mut sum, mut n) = (0.0f32, 0u32);
+    for (c, want) in got.color.iter().zip(&want) {
+        let (g, t) = (
+            enc.pack(c.r, c.g, c.b, c.a).to_le_bytes(),
+            want.expect("covered").to_le_bytes(),
+        );
+        sum += (0..3)
+            .map(|k| (g[k] as f32 - t[k] as f32).abs())
+            .sum::<f32>()
+            / 3.0;
+        n += 1;
+    }
+    let mean = sum / n as f32;
+    let used = object.counters();
+    assert!(used.pixels > 400 && used.images == 1, "{used:?}");
+    // The frame matches the geometry (edges and resampling aside).
+    assert!(mean < 3.0, "mean error {mean} levels");
+    // In front of the card the panel shows (the light field's depth lost the test), beside
+    // it the card, beyond the card the wall.
+    let pixel = |p: Vec3| {
+        let c = cam.clip_from_world() * p.extend(1.0);
+        let x = ((c.x / c.w + 1.0) * 0.5 * W as f32) as u32;
+        let y = ((1.0 - c.y / c.w) * 0.5 * H as f32) as u32;
+        let c = got.color[(y * W + x) as usize];
+        enc.pack(c.r, c.g, c.b, c.a)
+    };
+    let grey = enc.pack(0.5, 0.5, 0.5, 1.0);
+    assert_eq!(
+        pixel(Vec3::new(-0.6, 0.0, 1.5)),
+        grey,
+        "the panel hides the card"
+    );
+    let near_right = pixel(Vec3::new(0.6, 0.3, 0.0));
+    assert_ne!(near_right, grey, "the card shows beside the panel");
+    assert_eq!(
+        near_right,
+        want_at(&want, &cam, Vec3::new(0.6, 0.3, 0.0)),
+        "as the geometry"
+    );
+    // The crop follows the card: fewer rays than the frame's pixels.
+    assert!(
+        object.last().rays < (W * H) as u64 / 2,
+        "{:?}",
+        object.last()
+    );
 }
