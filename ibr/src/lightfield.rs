@@ -12,6 +12,7 @@
 //! - Rendering ([`render`]): each pixel's ray is intersected with both planes, giving
 //!   continuous `(u, v, s, t)` in sample units, and the light field is looked up by nearest
 //!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples).
+//! - Saved and loaded as one versioned file ([`file`]: `LightField::save`, `load`).
 //! - In a scene ([`LightFieldObject`], a technique): rendered into the screen rectangle
 //!   its focal plane covers and composited by a depth-tested image pass.
 //!
@@ -19,6 +20,7 @@
 //! [`ENCODING`]) and blended in that encoding, image `(u, v)` after image, each an
 //! `ns` x `nt` row-major image.
 
+pub mod file;
 pub mod object;
 pub mod render;
 
@@ -188,12 +190,12 @@ impl Slab {
         }
     }
 
-    /// Samples in all, `nu nv ns nt`.
+    /// Samples in all, `nu nv ns nt` (saturating).
     pub fn len(&self) -> usize {
         [self.nu, self.nv, self.ns, self.nt]
             .iter()
-            .map(|&n| n as usize)
-            .product()
+            .try_fold(1usize, |p, &n| p.checked_mul(n as usize))
+            .unwrap_or(usize::MAX)
     }
 
     /// Whether it holds no samples (never, for a checked slab).

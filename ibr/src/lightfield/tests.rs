@@ -331,3 +331,102 @@ fn in_a_scene_the_light_field_is_depth_tested_against_the_geometry() {
         object.last()
     );
 }
+
+/// A fresh folder for this test process.
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("parallax-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+#[test]
+fn a_saved_light_field_loads_back_and_bad_files_are_refused_by_name() {
+    use super::file::FileError;
+    let (mesh, at) = card(0.0, 2.0);
+    let mat = material();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &mat,
+        transform: at,
+    }];
+    let lf = LightField::capture(&draws, &Lighting::default(), slab(3, 8));
+    let dir = temp_dir("lightfield");
+    let path = dir.join("card.plf");
+    lf.save(&path).expect("saved");
+    let back = LightField::load(&path).expect("loaded");
+    assert_eq!(back.slab, lf.slab);
+    assert_eq!(back.samples, lf.samples);
+    let bytes = std::fs::read(&path).unwrap();
+    let write = |name: &str, b: &[u8]| {
+        let p = dir.join(name);
+        std::fs::write(&p, b).unwrap();
+        p
+    };
+    let named = |e: FileError, p: &std::path::Path| {
+        let text = e.to_string();
+        assert!(text.contains(&p.display().to_string()), "{text}");
+        e
+    };
+    // Truncated in the samples, in the header, or empty.
+    for cut in [bytes.len() - 1, 100, 0] {
+        let p = write("cut.plf", &bytes[..cut]);
+        let e = named(LightField::load(&p).unwrap_err(), &p);
+        assert!(
+            matches!(
+                e,
+                FileError::Length { .. } | FileError::NotALightField { .. }
+            ),
+            "{e}"
+        );
+    }
+    // Trailing bytes.
+    let mut long = bytes.clone();
+    long.push(0);
+    let p = write("long.plf", &long);
+    assert!(matches!(
+        named(LightField::load(&p).unwrap_err(), &p),
+        FileError::Length { .. }
+    ));
+    // Not ours, another version.
+    let p = write("png.plf", b"\x89PNG\r\n\x1a\n rest of a png");
+    assert!(matches!(
+        named(LightField::load(&p).unwrap_err(), &p),
+        FileError::NotALightField { .. }
+    ));
+    let mut v2 = bytes.clone();
+    v2[8] = 2;
+    let p = write("v2.plf", &v2);
+    assert!(matches!(
+        named(LightField::load(&p).unwrap_err(), &p),
+        FileError::Version { found: 2, .. }
+    ));
+    // A header claiming 65535^4 samples (a huge allocation if believed): refused before
+    // reading them.
+    let mut huge = bytes.clone();
+    for k in 0..4 {
+        huge[16 + 4 * k..20 + 4 * k].copy_from_slice(&u32::MAX.to_le_bytes()[..4]);
+    }
+    let p = write("huge.plf", &huge);
+    let e = named(LightField::load(&p).unwrap_err(), &p);
+    assert!(
+        matches!(e, FileError::Count { .. } | FileError::Length { .. }),
+        "{e}"
+    );
+    // A NaN in the geometry: a bad slab.
+    let mut nan = bytes.clone();
+    nan[32..36].copy_from_slice(&f32::NAN.to_le_bytes());
+    nan[44..48].copy_from_slice(&f32::NAN.to_le_bytes());
+    let p = write("nan.plf", &nan);
+    assert!(matches!(
+        named(LightField::load(&p).unwrap_err(), &p),
+        FileError::Slab { .. }
+    ));
+    // Missing.
+    let p = dir.join("missing.plf");
+    assert!(matches!(
+        named(LightField::load(&p).unwrap_err(), &p),
+        FileError::Io { .. }
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}
