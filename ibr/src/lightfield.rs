@@ -11,7 +11,9 @@
 //!   sample `(s, t)`. The images are rendered on both cores ([`capture_batch`]).
 //! - Rendering ([`render`]): each pixel's ray is intersected with both planes, giving
 //!   continuous `(u, v, s, t)` in sample units, and the light field is looked up by nearest
-//!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples).
+//!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples); with depth
+//!   correction (the captured depths as the proxy) each camera is read where it saw the
+//!   ray's surface point.
 //! - Saved and loaded as one versioned file ([`file`]: `LightField::save`, `load`).
 //! - In a scene ([`LightFieldObject`], a technique): rendered into the screen rectangle
 //!   its focal plane covers and composited by a depth-tested image pass.
@@ -30,7 +32,7 @@ use engine::color::Encoder;
 use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
 pub use object::LightFieldObject;
-pub use render::{render, Interpolation, LightFieldFrame};
+pub use render::{render, Interpolation, LightFieldFrame, Lookup};
 
 /// A rectangle in space: a corner and its two edges (at right angles).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -211,6 +213,10 @@ pub struct LightField {
     /// Packed colour ([`ENCODING`]) of sample `(u, v, s, t)` at
     /// `((v nu + u) nt + t) ns + s`: image after image.
     pub samples: Vec<u32>,
+    /// Per sample, in the same order, the distance along [`Slab::forward`] from the `uv`
+    /// plane to the surface its ray met (infinite where it met none): the proxy of depth
+    /// correction. Empty when not kept.
+    pub depth: Vec<f32>,
 }
 
 impl LightField {
@@ -223,20 +229,45 @@ impl LightField {
         let images = capture_batch(draws, &cameras, lighting, slab.ns, slab.nt);
         let enc = Encoder::new(ENCODING);
         let mut samples = Vec::with_capacity(slab.len());
+        let mut depth = Vec::with_capacity(slab.len());
         for image in &images {
             samples.extend(image.color.iter().map(|c| enc.pack(c.r, c.g, c.b, c.a)));
+            // The capture cameras look along `forward` from the uv plane: axial depth is
+            // the distance from that plane.
+            depth.extend(
+                image
+                    .depth
+                    .iter()
+                    .map(|&z| if z > 0.0 { z } else { f32::INFINITY }),
+            );
         }
-        LightField { slab, samples }
+        LightField {
+            slab,
+            samples,
+            depth,
+        }
+    }
+
+    /// The depth of sample `(u, v, s, t)` ([`LightField::depth`]); infinite when not kept.
+    #[inline]
+    pub fn depth_at(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
+        self.depth
+            .get(self.index(u, v, s, t))
+            .copied()
+            .unwrap_or(f32::INFINITY)
+    }
+
+    #[inline]
+    fn index(&self, u: u32, v: u32, s: u32, t: u32) -> usize {
+        let sl = &self.slab;
+        ((v as usize * sl.nu as usize + u as usize) * sl.nt as usize + t as usize) * sl.ns as usize
+            + s as usize
     }
 
     /// Sample `(u, v, s, t)` (indices within the slab's counts).
     #[inline]
     pub fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
-        let sl = &self.slab;
-        let i = ((v as usize * sl.nu as usize + u as usize) * sl.nt as usize + t as usize)
-            * sl.ns as usize
-            + s as usize;
-        self.samples[i]
+        self.samples[self.index(u, v, s, t)]
     }
 }
 

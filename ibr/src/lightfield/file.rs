@@ -8,9 +8,10 @@
 //! | 16 | sample counts `nu`, `nv`, `ns`, `nt` (`u32`) |
 //! | 72 | the `uv` then the `st` rectangle: origin, edge a, edge b (`f32` x, y, z each) |
 //! | 8 | capture depth range `near`, `far` (`f32`) |
-//! | 4 | payload: `0`, raw samples |
+//! | 4 | payload: `0`, raw samples; `1`, raw samples then their depths |
 //! | 8 | sample count (`u64`), which must be `nu nv ns nt` |
 //! | 4 per sample | the samples in [`LightField::samples`] order |
+//! | 4 per sample | with payload `1`: their depths (`f32`, [`LightField::depth`]) |
 //!
 //! Reading checks the header before allocating anything: the slab must be valid
 //! ([`Slab::new`]), the count must match the sample counts, and the file must hold
@@ -88,10 +89,16 @@ impl LightField {
         for v in [sl.near, sl.far] {
             out.extend_from_slice(&v.to_le_bytes());
         }
-        out.extend_from_slice(&0u32.to_le_bytes());
+        let with_depth = self.depth.len() == self.samples.len();
+        out.extend_from_slice(&(with_depth as u32).to_le_bytes());
         out.extend_from_slice(&(self.samples.len() as u64).to_le_bytes());
         for s in &self.samples {
             out.extend_from_slice(&s.to_le_bytes());
+        }
+        if with_depth {
+            for d in &self.depth {
+                out.extend_from_slice(&d.to_le_bytes());
+            }
         }
         let mut f = std::fs::File::create(path).map_err(io)?;
         f.write_all(&out).map_err(io)
@@ -139,8 +146,8 @@ impl LightField {
                 found: version,
             });
         }
-        for (what, found) in [("sample encoding", encoding), ("payload", payload)] {
-            if found != 0 {
+        for (what, found, known) in [("sample encoding", encoding, 0), ("payload", payload, 1)] {
+            if found > known {
                 return Err(FileError::Unknown {
                     path: p(),
                     what,
@@ -174,10 +181,11 @@ impl LightField {
             });
         }
         let found = size - HEADER as u64;
-        if expected.checked_mul(4) != Some(found) {
+        let per_sample = 4 * (1 + payload as u64);
+        if expected.checked_mul(per_sample) != Some(found) {
             return Err(FileError::Length {
                 path: p(),
-                expected: expected.saturating_mul(4),
+                expected: expected.saturating_mul(per_sample),
                 found,
             });
         }
@@ -191,10 +199,18 @@ impl LightField {
                 found: bytes.len() as u64,
             });
         }
-        let samples = bytes
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        Ok(LightField { slab, samples })
+        let words = |b: &[u8]| {
+            b.chunks_exact(4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect::<Vec<u32>>()
+        };
+        let (colour, depth) = bytes.split_at(expected as usize * 4);
+        let samples = words(colour);
+        let depth = words(depth).into_iter().map(f32::from_bits).collect();
+        Ok(LightField {
+            slab,
+            samples,
+            depth,
+        })
     }
 }

@@ -4,7 +4,7 @@
 //! depth-tests against the geometry, blends its edges "over" and writes the depth of its
 //! proxy (the focal plane).
 
-use super::render::{render, Interpolation, LightFieldFrame};
+use super::render::{render, LightFieldFrame, Lookup};
 use super::LightField;
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
@@ -21,7 +21,7 @@ use glam::Vec2;
 pub struct LightFieldObject {
     pub name: String,
     pub field: LightField,
-    pub interpolation: Interpolation,
+    pub lookup: Lookup,
     /// The geometry captured into the light field, if kept.
     pub reference: Option<MeshGroup>,
     image: Warped,
@@ -35,7 +35,7 @@ impl LightFieldObject {
         LightFieldObject {
             name: name.into(),
             field,
-            interpolation: Interpolation::Quadrilinear,
+            lookup: Lookup::default(),
             reference: None,
             image: Warped::new(0, 0, camera),
             rect: None,
@@ -117,14 +117,7 @@ impl Technique for LightFieldObject {
             let hi = Vec2::new(r.x1 as f32, r.y1 as f32);
             let crop = view.camera.crop(lo, hi, view.width, view.height);
             let (w, h) = (r.x1 - r.x0, r.y1 - r.y0);
-            self.last = render(
-                &self.field,
-                &crop,
-                w,
-                h,
-                self.interpolation,
-                &mut self.image,
-            );
+            self.last = render(&self.field, &crop, w, h, self.lookup, &mut self.image);
         }
     }
 

@@ -1,8 +1,10 @@
 //! Rendering a light slab: each pixel's ray through the `uv` and `st` planes gives
 //! continuous sample coordinates `(u, v, s, t)`; the samples around them are blended
-//! (nearest, bilinear in `uv`, or quadrilinear) in the stored encoding. Pixels whose ray
-//! misses either rectangle, points away from the `st` plane, or finds only empty samples
-//! are holes; the others take the depth of the `st` plane along the ray (the flat proxy).
+//! (nearest, bilinear in `uv`, or quadrilinear) in the stored encoding, each camera read
+//! where it saw the ray's surface point when depth correction is on ([`Lookup`]). Pixels
+//! whose ray misses either rectangle, points away from the `st` plane, or finds only empty
+//! samples are holes; the others take the depth of that surface point (or of the `st`
+//! plane, the flat proxy).
 
 use super::{LightField, Rect3};
 use crate::warp::Warped;
@@ -19,6 +21,33 @@ pub enum Interpolation {
     BilinearUv,
     /// Bilinear in both planes (sixteen taps).
     Quadrilinear,
+}
+
+/// Relative depth difference within which a camera's sample is taken to be of the same
+/// surface point as the ray's.
+const SAME_SURFACE: f32 = 0.05;
+
+/// How a render looks the light field up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Lookup {
+    pub interpolation: Interpolation,
+    /// Depth correction (Gortler et al. 96): the ray's point on the surface (at the depth
+    /// the nearest camera that saw something where the ray crosses the focal plane
+    /// stored) is re-projected into each camera around the ray, so every camera is read
+    /// where it saw that point, not where the ray crosses the focal plane; a camera that
+    /// saw something else there (occluded, or nothing) is left out and its weight goes to
+    /// the others. The written depth is that point's. A ray no camera around it saw
+    /// anything for is a hole. Without stored depth the focal plane serves.
+    pub depth_correction: bool,
+}
+
+impl Default for Lookup {
+    fn default() -> Self {
+        Lookup {
+            interpolation: Interpolation::Quadrilinear,
+            depth_correction: true,
+        }
+    }
 }
 
 /// The work of one render.
@@ -76,7 +105,7 @@ pub fn render(
     camera: &Camera,
     width: u32,
     height: u32,
-    interpolation: Interpolation,
+    lookup: Lookup,
     out: &mut Warped,
 ) -> LightFieldFrame {
     out.reset(camera, width, height);
@@ -89,6 +118,9 @@ pub fn render(
     let slab = &lf.slab;
     let toward = slab.forward();
     let coords = [slab.nu, slab.nv, slab.ns, slab.nt].map(|n| n as f32);
+    // The st plane's distance from the uv plane along `toward`.
+    let gap = (slab.st.origin - slab.uv.origin).dot(toward);
+    let correct = lookup.depth_correction && lf.depth.len() == lf.samples.len();
     out.color
         .par_chunks_mut(w)
         .zip(out.disparity.par_chunks_mut(w))
@@ -120,14 +152,68 @@ pub fn render(
                 // Sample coordinates: centres at integers.
                 let f = [a_uv, b_uv, a_st, b_st];
                 let at: [f32; 4] = std::array::from_fn(|k| f[k] * coords[k] - 0.5);
-                let (c, taps) = lookup(lf, at, interpolation);
+                // Where the ray meets the surface: the depth one of the cameras around the
+                // ray (nearest first) saw where the ray crosses the focal plane.
+                let near = |x: f32, n: u32| (x.round().max(0.0) as u32).min(n - 1);
+                let [u, v, s, t] = at;
+                let from_uv = (o - slab.uv.origin).dot(toward);
+                let on_ray = |z: f32| {
+                    let along = (z - from_uv) / d.dot(toward);
+                    (z > 0.0 && z.is_finite() && along > 0.0).then(|| (o + d * along, z))
+                };
+                // The nearest camera's view of the ray, followed to a fixed point: start
+                // where the ray crosses the focal plane, read the depth the camera saw
+                // there, move along the ray to that depth, and again.
+                let (ci, cj) = (near(u, slab.nu), near(v, slab.nv));
+                let project = |x: Vec3, i: u32, j: u32| -> Option<[f32; 2]> {
+                    let e = slab.uv_point(i, j);
+                    let dir = x - e;
+                    let p = e + dir * (gap / dir.dot(toward)) - slab.st.origin;
+                    let a = p.dot(slab.st.edge_a) / slab.st.edge_a.length_squared();
+                    let b = p.dot(slab.st.edge_b) / slab.st.edge_b.length_squared();
+                    let st = [a * coords[2] - 0.5, b * coords[3] - 0.5];
+                    (st[0].is_finite() && st[1].is_finite()).then_some(st)
+                };
+                let surface = if correct {
+                    let mut found = None;
+                    let mut x = o + d * tau;
+                    for _ in 0..4 {
+                        let Some([ps, pt]) = project(x, ci, cj) else {
+                            break;
+                        };
+                        let z = lf.depth_at(ci, cj, near(ps, slab.ns), near(pt, slab.nt));
+                        let Some((next, z)) = on_ray(z) else {
+                            break;
+                        };
+                        found = Some((next, z));
+                        x = next;
+                    }
+                    found
+                } else {
+                    None
+                };
+                // The st coordinates where camera `(i, j)` saw the surface point; `None`
+                // when it saw something else there (nearer, or nothing): it does not see
+                // the point, and is left out of the blend.
+                let st_of = |i: u32, j: u32| -> Option<[f32; 2]> {
+                    let Some((x, z)) = surface else {
+                        return Some([s, t]);
+                    };
+                    let st = project(x, i, j)?;
+                    let seen = lf.depth_at(i, j, near(st[0], slab.ns), near(st[1], slab.nt));
+                    ((seen - z).abs() <= SAME_SURFACE * z).then_some(st)
+                };
+                let (c, taps) = self::lookup(lf, [at[0], at[1]], &st_of, lookup.interpolation);
                 frame.taps += taps;
                 if c[3] <= 0.0 {
                     continue;
                 }
                 let byte = |x: f32| (x + 0.5).clamp(0.0, 255.0) as u8;
                 colors[x] = u32::from_le_bytes(c.map(byte));
-                let depth = (d * tau).dot(forward);
+                let depth = match surface {
+                    Some((p, _)) => (p - o).dot(forward),
+                    None => (d * tau).dot(forward),
+                };
                 disparities[x] = if depth > 0.0 { 1.0 / depth } else { 0.0 };
                 frame.pixels += 1;
             }
@@ -139,63 +225,69 @@ pub fn render(
         })
 }
 
-/// The blended stored bytes around `(u, v, s, t)`, and the samples read.
+/// The blended stored bytes around camera coordinates `(u, v)`, each camera `(i, j)` read
+/// around its own st coordinates `st_of(i, j)`, and the samples read.
 #[inline]
 fn lookup(
     lf: &LightField,
-    [u, v, s, t]: [f32; 4],
+    [u, v]: [f32; 2],
+    st_of: &impl Fn(u32, u32) -> Option<[f32; 2]>,
     interpolation: Interpolation,
 ) -> ([f32; 4], u64) {
     let sl = &lf.slab;
     let nearest = |x: f32, n: u32| (x.round().max(0.0) as u32).min(n - 1);
     let bytes = |c: u32| c.to_le_bytes().map(f32::from);
-    match interpolation {
-        Interpolation::Nearest => {
-            let c = lf.sample(
-                nearest(u, sl.nu),
-                nearest(v, sl.nv),
-                nearest(s, sl.ns),
-                nearest(t, sl.nt),
-            );
-            (bytes(c), 1)
+    let cameras: [(u32, u32, f32); 4] = if interpolation == Interpolation::Nearest {
+        let (i, j) = (nearest(u, sl.nu), nearest(v, sl.nv));
+        [(i, j, 1.0), (i, j, 0.0), (i, j, 0.0), (i, j, 0.0)]
+    } else {
+        let (u0, u1, fu) = pair(u, sl.nu);
+        let (v0, v1, fv) = pair(v, sl.nv);
+        [
+            (u0, v0, (1.0 - fu) * (1.0 - fv)),
+            (u1, v0, fu * (1.0 - fv)),
+            (u0, v1, (1.0 - fu) * fv),
+            (u1, v1, fu * fv),
+        ]
+    };
+    let (mut acc, mut total) = ([0.0f32; 4], 0.0f32);
+    let mut taps = 0;
+    for (i, j, wuv) in cameras {
+        if wuv == 0.0 {
+            continue;
         }
-        Interpolation::BilinearUv | Interpolation::Quadrilinear => {
-            let (u0, u1, fu) = pair(u, sl.nu);
-            let (v0, v1, fv) = pair(v, sl.nv);
-            let st: [(u32, u32, f32); 4] = if interpolation == Interpolation::Quadrilinear {
-                let (s0, s1, fs) = pair(s, sl.ns);
-                let (t0, t1, ft) = pair(t, sl.nt);
-                [
-                    (s0, t0, (1.0 - fs) * (1.0 - ft)),
-                    (s1, t0, fs * (1.0 - ft)),
-                    (s0, t1, (1.0 - fs) * ft),
-                    (s1, t1, fs * ft),
-                ]
-            } else {
-                let (s, t) = (nearest(s, sl.ns), nearest(t, sl.nt));
-                [(s, t, 1.0), (s, t, 0.0), (s, t, 0.0), (s, t, 0.0)]
-            };
-            let mut acc = [0.0f32; 4];
-            let mut taps = 0;
-            for (uu, vv, wuv) in [
-                (u0, v0, (1.0 - fu) * (1.0 - fv)),
-                (u1, v0, fu * (1.0 - fv)),
-                (u0, v1, (1.0 - fu) * fv),
-                (u1, v1, fu * fv),
-            ] {
-                for &(ss, tt, wst) in &st {
-                    let wt = wuv * wst;
-                    if wt == 0.0 {
-                        continue;
-                    }
-                    taps += 1;
-                    let c = bytes(lf.sample(uu, vv, ss, tt));
-                    for (a, x) in acc.iter_mut().zip(c) {
-                        *a += x * wt;
-                    }
-                }
+        let Some([s, t]) = st_of(i, j) else {
+            continue;
+        };
+        total += wuv;
+        let st: [(u32, u32, f32); 4] = if interpolation == Interpolation::Quadrilinear {
+            let (s0, s1, fs) = pair(s, sl.ns);
+            let (t0, t1, ft) = pair(t, sl.nt);
+            [
+                (s0, t0, (1.0 - fs) * (1.0 - ft)),
+                (s1, t0, fs * (1.0 - ft)),
+                (s0, t1, (1.0 - fs) * ft),
+                (s1, t1, fs * ft),
+            ]
+        } else {
+            let (s, t) = (nearest(s, sl.ns), nearest(t, sl.nt));
+            [(s, t, 1.0), (s, t, 0.0), (s, t, 0.0), (s, t, 0.0)]
+        };
+        for (ss, tt, wst) in st {
+            let wt = wuv * wst;
+            if wt == 0.0 {
+                continue;
             }
-            (acc, taps)
+            taps += 1;
+            let c = bytes(lf.sample(i, j, ss, tt));
+            for (a, x) in acc.iter_mut().zip(c) {
+                *a += x * wt;
+            }
         }
     }
+    // Cameras left out give their weight to the others.
+    if total > 0.0 && total < 1.0 {
+        acc = acc.map(|a| a / total);
+    }
+    (acc, taps)
 }

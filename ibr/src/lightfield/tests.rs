@@ -108,8 +108,16 @@ fn a_card_in_the_focal_plane_looks_as_the_geometry_does() {
     for eye in [Vec3::new(0.13, -0.21, 4.0), Vec3::new(-0.3, 0.25, 3.0)] {
         let cam = camera(eye);
         let want = truth(&draws, &cam);
-        for interpolation in [Interpolation::Quadrilinear, Interpolation::BilinearUv] {
-            let frame = render(&lf, &cam, W, H, interpolation, &mut out);
+        for (interpolation, depth_correction) in [
+            (Interpolation::Quadrilinear, false),
+            (Interpolation::Quadrilinear, true),
+            (Interpolation::BilinearUv, false),
+        ] {
+            let lookup = Lookup {
+                interpolation,
+                depth_correction,
+            };
+            let frame = render(&lf, &cam, W, H, lookup, &mut out);
             let (mean, n) = compare(&out, &want);
             assert!(n > 500, "{eye}: the card covers {n} pixels");
             assert!(frame.pixels as u32 >= n, "{frame:?}");
@@ -118,7 +126,7 @@ fn a_card_in_the_focal_plane_looks_as_the_geometry_does() {
             } else {
                 4.0
             };
-            assert!(mean < limit, "{eye} {interpolation:?}: mean error {mean}");
+            assert!(mean < limit, "{eye} {lookup:?}: mean error {mean}");
         }
     }
 }
@@ -136,10 +144,20 @@ fn denser_cameras_ghost_less_off_the_focal_plane() {
     }];
     let cam = camera(Vec3::new(0.11, -0.17, 4.5));
     let want = truth(&draws, &cam);
-    let error = |nuv: u32| {
+    let error = |nuv: u32, corrected: bool| {
         let lf = LightField::capture(&draws, &Lighting::default(), slab(nuv, 48));
         let mut out = Warped::new(0, 0, cam);
-        render(&lf, &cam, W, H, Interpolation::Quadrilinear, &mut out);
+        render(
+            &lf,
+            &cam,
+            W,
+            H,
+            Lookup {
+                interpolation: Interpolation::Quadrilinear,
+                depth_correction: corrected,
+            },
+            &mut out,
+        );
         // Pixels where coverage disagrees count fully.
         let mut wrong = 0;
         for (i, want) in want.iter().enumerate() {
@@ -148,11 +166,17 @@ fn denser_cameras_ghost_less_off_the_focal_plane() {
         }
         wrong
     };
-    let (sparse, dense) = (error(3), error(15));
+    let (sparse, dense) = (error(3, false), error(15, false));
     assert!(sparse > 0, "sparse cameras show ghosts");
     assert!(
         dense * 2 < sparse,
         "3x3 cameras: {sparse} pixels off, 15x15: {dense}"
+    );
+    // Depth correction reads each camera where it saw the card: the ghosts go.
+    let corrected = error(3, true);
+    assert!(
+        corrected * 2 < sparse,
+        "3x3 cameras corrected: {corrected} pixels off, uncorrected {sparse}"
     );
 }
 
@@ -169,11 +193,21 @@ fn rays_outside_the_slab_or_from_behind_are_holes() {
     let mut out = Warped::new(0, 0, camera(Vec3::Z));
     // From behind the focal plane, looking back at it: no ray of this slab.
     let behind = Camera::look_at(Vec3::new(0.0, 0.0, -3.0), Vec3::ZERO, Vec3::Y, 0.7, 1.0);
-    let f = render(&lf, &behind, W, H, Interpolation::Quadrilinear, &mut out);
+    let f = render(&lf, &behind, W, H, Lookup::default(), &mut out);
     assert_eq!((f.rays, out.filled()), (0, 0));
     // Far to the side: rays cross the st square but not the uv square.
     let side = camera(Vec3::new(6.0, 0.0, 4.0));
-    let f = render(&lf, &side, W, H, Interpolation::Nearest, &mut out);
+    let f = render(
+        &lf,
+        &side,
+        W,
+        H,
+        Lookup {
+            interpolation: Interpolation::Nearest,
+            depth_correction: true,
+        },
+        &mut out,
+    );
     assert_eq!((f.rays, out.filled()), (0, 0));
     // Odd sizes and a degenerate camera: no panic, no NaN.
     for (w, h) in [(0, 0), (1, 1), (0, 5)] {
@@ -182,13 +216,13 @@ fn rays_outside_the_slab_or_from_behind_are_holes() {
             &camera(Vec3::new(0.0, 0.0, 4.0)),
             w,
             h,
-            Interpolation::Quadrilinear,
+            Lookup::default(),
             &mut out,
         );
         assert!(f.pixels <= (w * h) as u64);
     }
     let nan = camera(Vec3::new(f32::NAN, 0.0, 4.0));
-    render(&lf, &nan, W, H, Interpolation::Quadrilinear, &mut out);
+    render(&lf, &nan, W, H, Lookup::default(), &mut out);
     assert!(out.disparity.iter().all(|d| !d.is_nan()));
 }
 
