@@ -391,6 +391,8 @@ fn a_saved_light_field_loads_back_and_bad_files_are_refused_by_name() {
     let back = LightField::load(&path).expect("loaded");
     assert_eq!(back.slab, lf.slab);
     assert_eq!(back.samples, lf.samples);
+    assert_eq!(back.depth, lf.depth);
+    assert_eq!(back.depth.len(), back.samples.len());
     let bytes = std::fs::read(&path).unwrap();
     let write = |name: &str, b: &[u8]| {
         let p = dir.join(name);
