@@ -17,20 +17,37 @@ fn slab(nuv: u32, nst: u32) -> Slab {
     Slab::new(square(4.0), square(0.0), [nuv, nuv, nst, nst], 0.5, 20.0).expect("a valid slab")
 }
 
-/// A 2 x 2 card at depth `z` (facing +z) coloured by a smooth gradient (vertex colours).
-fn card(z: f32, size: f32) -> (Mesh, Mat4) {
-    let mut m = procedural::quad(size, size);
-    m.colors = vec![
-        Rgba::new(0.9, 0.1, 0.1, 1.0),
-        Rgba::new(0.1, 0.9, 0.1, 1.0),
-        Rgba::new(0.1, 0.1, 0.9, 1.0),
-        Rgba::new(0.9, 0.9, 0.1, 1.0),
-    ];
-    (m, Mat4::from_translation(Vec3::new(0.0, 0.0, z)))
+/// A `size` x `size` card at depth `z` (facing +z) coloured by a smooth gradient (vertex
+/// colours), unlit.
+struct Card {
+    mesh: Mesh,
+    material: Material,
+    at: Mat4,
 }
 
-fn material() -> Material {
-    Material::unlit(Rgba::WHITE).double_sided(true)
+impl Card {
+    fn new(z: f32, size: f32) -> Card {
+        let mut mesh = procedural::quad(size, size);
+        mesh.colors = vec![
+            Rgba::new(0.9, 0.1, 0.1, 1.0),
+            Rgba::new(0.1, 0.9, 0.1, 1.0),
+            Rgba::new(0.1, 0.1, 0.9, 1.0),
+            Rgba::new(0.9, 0.9, 0.1, 1.0),
+        ];
+        Card {
+            mesh,
+            material: Material::unlit(Rgba::WHITE).double_sided(true),
+            at: Mat4::from_translation(Vec3::new(0.0, 0.0, z)),
+        }
+    }
+
+    fn draw(&self) -> Draw<'_> {
+        Draw {
+            mesh: &self.mesh,
+            material: &self.material,
+            transform: self.at,
+        }
+    }
 }
 
 fn camera(eye: Vec3) -> Camera {
@@ -95,13 +112,8 @@ fn capture_cameras_put_st_samples_on_pixel_centres() {
 
 #[test]
 fn a_card_in_the_focal_plane_looks_as_the_geometry_does() {
-    let (mesh, at) = card(0.0, 2.0);
-    let mat = material();
-    let draws = [Draw {
-        mesh: &mesh,
-        material: &mat,
-        transform: at,
-    }];
+    let card = Card::new(0.0, 2.0);
+    let draws = [card.draw()];
     let lf = LightField::capture(&draws, &Lighting::default(), slab(5, 48));
     let mut out = Warped::new(0, 0, camera(Vec3::Z));
     // Eyes between the capture cameras and in front of their plane.
@@ -135,13 +147,8 @@ fn a_card_in_the_focal_plane_looks_as_the_geometry_does() {
 fn denser_cameras_ghost_less_off_the_focal_plane() {
     // A card halfway to the camera plane: each camera sees it shifted, so the render
     // blends shifted copies (ghosts) unless the cameras are dense.
-    let (mesh, at) = card(1.5, 0.8);
-    let mat = material();
-    let draws = [Draw {
-        mesh: &mesh,
-        material: &mat,
-        transform: at,
-    }];
+    let card = Card::new(1.5, 0.8);
+    let draws = [card.draw()];
     let cam = camera(Vec3::new(0.11, -0.17, 4.5));
     let want = truth(&draws, &cam);
     let error = |nuv: u32, corrected: bool| {
@@ -182,13 +189,8 @@ fn denser_cameras_ghost_less_off_the_focal_plane() {
 
 #[test]
 fn rays_outside_the_slab_or_from_behind_are_holes() {
-    let (mesh, at) = card(0.0, 2.0);
-    let mat = material();
-    let draws = [Draw {
-        mesh: &mesh,
-        material: &mat,
-        transform: at,
-    }];
+    let card = Card::new(0.0, 2.0);
+    let draws = [card.draw()];
     let lf = LightField::capture(&draws, &Lighting::default(), slab(3, 16));
     let mut out = Warped::new(0, 0, camera(Vec3::Z));
     // From behind the focal plane, looking back at it: no ray of this slab.
@@ -265,13 +267,8 @@ fn want_at(want: &[Option<u32>], cam: &Camera, p: Vec3) -> u32 {
 fn in_a_scene_the_light_field_is_depth_tested_against_the_geometry() {
     // The light field of a card in the focal plane, between a wall behind it and a grey
     // panel in front of its left half: as the geometry shows them.
-    let (mesh, at) = card(0.0, 2.0);
-    let mat = material();
-    let card_draw = Draw {
-        mesh: &mesh,
-        material: &mat,
-        transform: at,
-    };
+    let card = Card::new(0.0, 2.0);
+    let card_draw = card.draw();
     let lf = LightField::capture(&[card_draw], &Lighting::default(), slab(5, 48));
     let mut object = LightFieldObject::new("card", lf);
     let wall = procedural::quad(12.0, 12.0);
@@ -377,13 +374,8 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 #[test]
 fn a_saved_light_field_loads_back_and_bad_files_are_refused_by_name() {
     use super::file::FileError;
-    let (mesh, at) = card(0.0, 2.0);
-    let mat = material();
-    let draws = [Draw {
-        mesh: &mesh,
-        material: &mat,
-        transform: at,
-    }];
+    let card = Card::new(0.0, 2.0);
+    let draws = [card.draw()];
     let lf = LightField::capture(&draws, &Lighting::default(), slab(3, 8));
     let dir = temp_dir("lightfield");
     let path = dir.join("card.plf");
