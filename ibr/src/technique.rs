@@ -39,7 +39,19 @@ pub struct FrameView<'a> {
     pub dt: f32,
 }
 
-impl FrameView<'_> {
+impl<'a> FrameView<'a> {
+    /// A view at time zero (a still frame).
+    pub fn still(camera: &'a Camera, width: u32, height: u32, lighting: &'a Lighting) -> Self {
+        FrameView {
+            camera,
+            width,
+            height,
+            lighting,
+            time: 0.0,
+            dt: 0.0,
+        }
+    }
+
     /// The billboard view for this camera and height.
     pub fn billboard_view(&self) -> View {
         View::new(self.camera, self.height)

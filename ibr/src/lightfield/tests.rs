@@ -289,14 +289,7 @@ fn in_a_scene_the_light_field_is_depth_tested_against_the_geometry() {
     ];
     let cam = camera(Vec3::new(0.2, -0.1, 4.2));
     let lighting = Lighting::default();
-    let view = FrameView {
-        camera: &cam,
-        width: W,
-        height: H,
-        lighting: &lighting,
-        time: 0.0,
-        dt: 0.0,
-    };
+    let view = FrameView::still(&cam, W, H, &lighting);
     let opts = FrameOptions {
         clear: Some(Rgba::TRANSPARENT),
         ..Default::default()

@@ -52,14 +52,7 @@ fn warped_samples_and_geometry_hide_each_other_by_depth() {
     ];
     let cam = camera();
     let lighting = Lighting::default();
-    let frame_view = FrameView {
-        camera: &cam,
-        width: W,
-        height: H,
-        lighting: &lighting,
-        time: 0.0,
-        dt: 0.0,
-    };
+    let frame_view = FrameView::still(&cam, W, H, &lighting);
     let mut target = Target::new(W, H);
     let mut frame = FrameLoop::new();
     let mut list: [&mut dyn Technique; 1] = [&mut view];
