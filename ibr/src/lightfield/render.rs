@@ -69,20 +69,39 @@ impl std::ops::AddAssign for LightFieldFrame {
     }
 }
 
-/// Where a line crosses a rectangle's plane: the ray parameter and the fractions of its
-/// edges; `None` when parallel.
-#[inline]
-fn cross(r: &Rect3, o: Vec3, d: Vec3) -> Option<(f32, f32, f32)> {
-    let n = r.edge_a.cross(r.edge_b);
-    let along = d.dot(n);
-    if along == 0.0 || !along.is_finite() {
-        return None;
+/// A rectangle's plane as a ray meets it: a corner, the normal, and the edges divided by
+/// their squared lengths (a point's dot product with them is its fraction of each edge).
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    origin: Vec3,
+    normal: Vec3,
+    a: Vec3,
+    b: Vec3,
+}
+
+impl Plane {
+    fn of(r: &Rect3) -> Plane {
+        Plane {
+            origin: r.origin,
+            normal: r.edge_a.cross(r.edge_b),
+            a: r.edge_a / r.edge_a.length_squared(),
+            b: r.edge_b / r.edge_b.length_squared(),
+        }
     }
-    let tau = (r.origin - o).dot(n) / along;
-    let p = o + d * tau - r.origin;
-    let a = p.dot(r.edge_a) / r.edge_a.length_squared();
-    let b = p.dot(r.edge_b) / r.edge_b.length_squared();
-    (tau.is_finite() && a.is_finite() && b.is_finite()).then_some((tau, a, b))
+
+    /// Where the line `o + tau d` crosses the plane: `tau` and the fractions of the edges;
+    /// `None` when parallel or not finite.
+    #[inline]
+    fn cross(&self, o: Vec3, d: Vec3) -> Option<(f32, f32, f32)> {
+        let along = d.dot(self.normal);
+        if along == 0.0 || !along.is_finite() {
+            return None;
+        }
+        let tau = (self.origin - o).dot(self.normal) / along;
+        let p = o + d * tau - self.origin;
+        let (a, b) = (p.dot(self.a), p.dot(self.b));
+        (tau.is_finite() && a.is_finite() && b.is_finite()).then_some((tau, a, b))
+    }
 }
 
 /// The two samples of `0..n` around coordinate `x` (sample centres at integers) and the
@@ -114,6 +133,10 @@ pub fn render(
         return LightFieldFrame::default();
     }
     let inv = camera.gl_view_proj().inverse();
+    let (uv_plane, st_plane) = (Plane::of(&lf.slab.uv), Plane::of(&lf.slab.st));
+    // The near and far points of a pixel's ray, homogeneous, are linear in its x: a row's
+    // first pixel's plus x steps.
+    let step = inv.x_axis * (2.0 / width as f32);
     let forward = camera.forward();
     let slab = &lf.slab;
     let toward = slab.forward();
@@ -127,11 +150,13 @@ pub fn render(
         .enumerate()
         .map(|(y, (colors, disparities))| {
             let mut frame = LightFieldFrame::default();
+            let ndc_x = 1.0 / width as f32 - 1.0;
+            let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
+            let near0 = inv * Vec4::new(ndc_x, ndc_y, -1.0, 1.0);
+            let far0 = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
             for x in 0..w {
-                let ndc_x = 2.0 * (x as f32 + 0.5) / width as f32 - 1.0;
-                let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-                let near = inv * Vec4::new(ndc_x, ndc_y, -1.0, 1.0);
-                let far = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
+                let near = near0 + step * x as f32;
+                let far = far0 + step * x as f32;
                 let o = near.truncate() / near.w;
                 let d = far.truncate() / far.w - o;
                 // Light leaves the st side toward the uv side: the eye must look across
@@ -140,7 +165,7 @@ pub fn render(
                     continue;
                 }
                 let (Some((_, a_uv, b_uv)), Some((tau, a_st, b_st))) =
-                    (cross(&slab.uv, o, d), cross(&slab.st, o, d))
+                    (uv_plane.cross(o, d), st_plane.cross(o, d))
                 else {
                     continue;
                 };
@@ -169,8 +194,7 @@ pub fn render(
                     let e = slab.uv_point(i, j);
                     let dir = x - e;
                     let p = e + dir * (gap / dir.dot(toward)) - slab.st.origin;
-                    let a = p.dot(slab.st.edge_a) / slab.st.edge_a.length_squared();
-                    let b = p.dot(slab.st.edge_b) / slab.st.edge_b.length_squared();
+                    let (a, b) = (p.dot(st_plane.a), p.dot(st_plane.b));
                     let st = [a * coords[2] - 0.5, b * coords[3] - 0.5];
                     (st[0].is_finite() && st[1].is_finite()).then_some(st)
                 };
