@@ -7,7 +7,7 @@
 //! [-6, 0]; y up; the doorways are 1.2 wide and 2.1 high, centred at x = -4, 0 and 4.
 
 use engine::procedural::{self, XorShift};
-use engine::{Light, Lighting, Material, Mesh, Rgba};
+use engine::{Light, Lighting, Material, Rgba};
 use glam::{Mat4, Vec3};
 use ibr::portal::{Opening, Portal};
 use ibr::subject::MeshGroup;
@@ -45,38 +45,22 @@ fn block(group: MeshGroup, size: Vec3, at: Vec3, material: &Arc<Material>) -> Me
     )
 }
 
-/// The wall z = 0 from x0 to x1 with the doorways cut out, facing +z.
-fn doorway_wall() -> Mesh {
-    let mut m = Mesh::default();
-    let mut quad = |x0: f32, x1: f32, y0: f32, y1: f32| {
-        let base = m.positions.len() as u32;
-        m.positions.extend([
-            Vec3::new(x0, y0, 0.0),
-            Vec3::new(x1, y0, 0.0),
-            Vec3::new(x1, y1, 0.0),
-            Vec3::new(x0, y1, 0.0),
-        ]);
-        m.normals.extend([Vec3::Z; 4]);
-        m.indices
-            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
-    };
-    let mut x = -HALF_LENGTH;
-    for d in DOORS {
-        quad(x, d - DOOR_W / 2.0, 0.0, HEIGHT);
-        quad(d - DOOR_W / 2.0, d + DOOR_W / 2.0, DOOR_H, HEIGHT);
-        x = d + DOOR_W / 2.0;
-    }
-    quad(x, HALF_LENGTH, 0.0, HEIGHT);
-    m
-}
-
 impl Building {
     /// The building with about `triangles` triangles of furniture in each room (at least
     /// a few hundred: the rooms' walls and plain furniture), deterministic for `seed`.
     pub fn new(triangles: u32, seed: u64) -> Building {
         let wall = lit(0.82, 0.78, 0.68);
         let hall = MeshGroup::new()
-            .with(Arc::new(doorway_wall()), wall.clone(), Mat4::IDENTITY)
+            .with(
+                Arc::new(procedural::doorway_wall(
+                    -HALF_LENGTH,
+                    HALF_LENGTH,
+                    HEIGHT,
+                    &DOORS.map(|d| (d, DOOR_W, DOOR_H)),
+                )),
+                wall.clone(),
+                Mat4::IDENTITY,
+            )
             .with(
                 Arc::new(procedural::cuboid(Vec3::new(
                     2.0 * HALF_LENGTH,

@@ -382,3 +382,35 @@ pub fn huge_triangles(n: u32, seed: u64) -> Mesh {
     }
     b.finish()
 }
+
+/// A wall in the plane z = 0 facing +Z, from `x0` to `x1` and `height` high, with doorways
+/// cut out from the floor: each `(centre x, width, height)`, in increasing x, inside the
+/// wall. One quad beside each doorway and one above it (none of zero size); uvs map the
+/// wall to [0, 1] with v down; white.
+pub fn doorway_wall(x0: f32, x1: f32, height: f32, doors: &[(f32, f32, f32)]) -> Mesh {
+    let mut b = Builder::default();
+    let (w, h) = (
+        (x1 - x0).max(f32::MIN_POSITIVE),
+        height.max(f32::MIN_POSITIVE),
+    );
+    let mut quad = |(qx0, qx1): (f32, f32), (qy0, qy1): (f32, f32)| {
+        if qx1 <= qx0 || qy1 <= qy0 {
+            return;
+        }
+        let corners = [(qx0, qy0), (qx1, qy0), (qx1, qy1), (qx0, qy1)].map(|(x, y)| {
+            let uv = Vec2::new((x - x0) / w, 1.0 - y / h);
+            b.vertex(Vec3::new(x, y, 0.0), Vec3::Z, uv, Rgba::WHITE)
+        });
+        b.tri(corners[0], corners[1], corners[2]);
+        b.tri(corners[0], corners[2], corners[3]);
+    };
+    let mut x = x0;
+    for &(centre, width, door_h) in doors {
+        let (left, right) = (centre - width / 2.0, centre + width / 2.0);
+        quad((x, left), (0.0, height));
+        quad((left, right), (door_h, height));
+        x = right;
+    }
+    quad((x, x1), (0.0, height));
+    b.finish()
+}

@@ -185,3 +185,26 @@ fn xorshift_is_deterministic_and_uniform_enough() {
     assert!((mean - 0.5).abs() < 0.02);
     assert_ne!(XorShift::new(1).next_u64(), XorShift::new(2).next_u64());
 }
+
+#[test]
+fn a_doorway_wall_covers_the_wall_but_its_doorways() {
+    let m = doorway_wall(-4.0, 4.0, 3.0, &[(-2.0, 1.0, 2.0), (1.0, 1.2, 3.0)]);
+    check(&m, false);
+    // Left of the first door, above it, between the doors, nothing above the second (as
+    // high as the wall), right of it: 4 quads.
+    assert_eq!(m.triangle_count(), 8);
+    let area: f32 = m
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
+            (b - a).cross(c - a).length() / 2.0
+        })
+        .sum();
+    assert!(
+        (area - (8.0 * 3.0 - 1.0 * 2.0 - 1.2 * 3.0)).abs() < 1e-4,
+        "{area}"
+    );
+    assert!(m.positions.iter().all(|p| p.z == 0.0));
+    assert!(m.normals.iter().all(|n| *n == Vec3::Z));
+}

@@ -32,25 +32,8 @@ fn doorway() -> Opening {
 
 /// The near wall around the doorway (three quads), facing +z.
 fn near_wall() -> (Mesh, Arc<Material>) {
-    let mut m = Mesh::default();
-    // (x0, x1, y0, y1) pieces around x in [-0.6, 0.6], y in [0, 2].
-    for (x0, x1, y0, y1) in [
-        (-4.0, -0.6, 0.0, 3.0),
-        (0.6, 4.0, 0.0, 3.0),
-        (-0.6, 0.6, 2.0, 3.0),
-    ] {
-        let base = m.positions.len() as u32;
-        m.positions.extend([
-            Vec3::new(x0, y0, 0.0),
-            Vec3::new(x1, y0, 0.0),
-            Vec3::new(x1, y1, 0.0),
-            Vec3::new(x0, y1, 0.0),
-        ]);
-        m.normals.extend([Vec3::Z; 4]);
-        m.indices
-            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
-    }
-    (m, lit(0.8, 0.75, 0.6))
+    let wall = procedural::doorway_wall(-4.0, 4.0, 3.0, &[(0.0, 1.2, 2.0)]);
+    (wall, lit(0.8, 0.75, 0.6))
 }
 
 /// The room behind: floor, ceiling, back and side walls, boxes at several depths, and a torus of
