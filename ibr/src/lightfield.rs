@@ -25,6 +25,7 @@
 pub mod file;
 pub mod object;
 pub mod render;
+pub mod vq;
 
 use crate::capture::capture_batch;
 use crate::warp::ENCODING;
@@ -33,6 +34,7 @@ use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
 pub use object::LightFieldObject;
 pub use render::{render, Interpolation, LightFieldFrame, Lookup};
+pub use vq::{Quantised, TileShape, VqError, VqReport, VqSettings};
 
 /// A rectangle in space: a corner and its two edges (at right angles).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -200,16 +202,34 @@ impl Slab {
             .unwrap_or(usize::MAX)
     }
 
+    /// Sample counts `[nu, nv, ns, nt]`.
+    pub fn counts(&self) -> [u32; 4] {
+        [self.nu, self.nv, self.ns, self.nt]
+    }
+
     /// Whether it holds no samples (never, for a checked slab).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 }
 
-/// A captured light slab: its geometry and its samples.
+/// A captured light slab: its geometry and its rays.
 #[derive(Clone, Debug)]
 pub struct LightField {
     pub slab: Slab,
+    pub rays: Rays,
+}
+
+/// A light field's samples: as captured, or vector-quantised.
+#[derive(Clone, Debug)]
+pub enum Rays {
+    Raw(RawRays),
+    Quantised(Quantised),
+}
+
+/// Samples as captured, one per ray.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RawRays {
     /// Packed colour ([`ENCODING`]) of sample `(u, v, s, t)` at
     /// `((v nu + u) nt + t) ns + s`: image after image.
     pub samples: Vec<u32>,
@@ -217,6 +237,19 @@ pub struct LightField {
     /// plane to the surface its ray met (infinite where it met none): the proxy of depth
     /// correction. Empty when not kept.
     pub depth: Vec<f32>,
+}
+
+impl RawRays {
+    /// Whether depths are kept.
+    pub fn has_depth(&self) -> bool {
+        self.depth.len() == self.samples.len()
+    }
+
+    #[inline]
+    fn index(&self, [nu, _, ns, nt]: [u32; 4], u: u32, v: u32, s: u32, t: u32) -> usize {
+        ((v as usize * nu as usize + u as usize) * nt as usize + t as usize) * ns as usize
+            + s as usize
+    }
 }
 
 impl LightField {
@@ -243,33 +276,68 @@ impl LightField {
         }
         LightField {
             slab,
-            samples,
-            depth,
+            rays: Rays::Raw(RawRays { samples, depth }),
         }
     }
 
-    /// The depth of sample `(u, v, s, t)` ([`LightField::depth`]); infinite when not kept.
-    #[inline]
-    pub fn depth_at(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
-        self.depth
-            .get(self.index(u, v, s, t))
-            .copied()
-            .unwrap_or(f32::INFINITY)
+    /// The light field vector-quantised ([`vq`]); the same light field when it already
+    /// is.
+    pub fn quantise(&self, settings: &VqSettings) -> Result<(LightField, VqReport), VqError> {
+        match &self.rays {
+            Rays::Raw(raw) => {
+                let (q, report) = Quantised::encode(&self.slab, raw, settings)?;
+                Ok((
+                    LightField {
+                        slab: self.slab,
+                        rays: Rays::Quantised(q),
+                    },
+                    report,
+                ))
+            }
+            Rays::Quantised(_) => Ok((self.clone(), VqReport::default())),
+        }
     }
 
+    /// Whether depths are kept (depth correction needs them).
+    pub fn has_depth(&self) -> bool {
+        match &self.rays {
+            Rays::Raw(r) => r.has_depth(),
+            Rays::Quantised(q) => !q.depths.is_empty(),
+        }
+    }
+
+    /// Bytes the samples take in memory (raw, or codebook and indices).
+    pub fn bytes(&self) -> usize {
+        match &self.rays {
+            Rays::Raw(r) => 4 * (r.samples.len() + r.depth.len()),
+            Rays::Quantised(q) => q.bytes(),
+        }
+    }
+
+    /// The depth of sample `(u, v, s, t)` ([`RawRays::depth`]); infinite when not kept.
     #[inline]
-    fn index(&self, u: u32, v: u32, s: u32, t: u32) -> usize {
-        let sl = &self.slab;
-        ((v as usize * sl.nu as usize + u as usize) * sl.nt as usize + t as usize) * sl.ns as usize
-            + s as usize
+    pub fn depth_at(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
+        match &self.rays {
+            Rays::Raw(r) => r
+                .depth
+                .get(r.index(self.slab.counts(), u, v, s, t))
+                .copied()
+                .unwrap_or(f32::INFINITY),
+            Rays::Quantised(q) => q.depth(u, v, s, t),
+        }
     }
 
     /// Sample `(u, v, s, t)` (indices within the slab's counts).
     #[inline]
     pub fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
-        self.samples[self.index(u, v, s, t)]
+        match &self.rays {
+            Rays::Raw(r) => r.samples[r.index(self.slab.counts(), u, v, s, t)],
+            Rays::Quantised(q) => q.sample(u, v, s, t),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod vq_tests;

@@ -8,17 +8,34 @@
 //! | 16 | sample counts `nu`, `nv`, `ns`, `nt` (`u32`) |
 //! | 72 | the `uv` then the `st` rectangle: origin, edge a, edge b (`f32` x, y, z each) |
 //! | 8 | capture depth range `near`, `far` (`f32`) |
-//! | 4 | payload: `0`, raw samples; `1`, raw samples then their depths |
+//! | 4 | payload: `0`, raw samples; `1`, raw samples then their depths; `2`, quantised |
 //! | 8 | sample count (`u64`), which must be `nu nv ns nt` |
-//! | 4 per sample | the samples in [`LightField::samples`] order |
-//! | 4 per sample | with payload `1`: their depths (`f32`, [`LightField::depth`]) |
+//!
+//! Raw payloads (`0`, `1`) follow with
+//!
+//! | bytes | field |
+//! |---|---|
+//! | 4 per sample | the samples in [`RawRays::samples`] order |
+//! | 4 per sample | with payload `1`: their depths (`f32`, [`RawRays::depth`]) |
+//!
+//! and the quantised payload (`2`, [`Quantised`]) with
+//!
+//! | bytes | field |
+//! |---|---|
+//! | 16 | tile dimensions in `u`, `v`, `s`, `t` (`u32`, powers of two) |
+//! | 4 | codewords `K` (1 to 65,536) |
+//! | 4 | depth kept: `0` or `1` |
+//! | 8 | length of the rest (`u64`) |
+//! | rest | one zstd frame holding the codebook's `K L` packed colours (`u32`, `L` samples a tile), with depth kept their `K L` depths (`f32`), then one `u16` index per tile |
 //!
 //! Reading checks the header before allocating anything: the slab must be valid
 //! ([`Slab::new`]), the count must match the sample counts, and the file must hold
-//! exactly that many samples, so a bad header can neither panic nor ask for a huge
-//! allocation. Every error names the file.
+//! exactly that many samples (raw), or a frame that decompresses to exactly the bytes the
+//! header implies (quantised; decompression stops there, so memory follows the data, not
+//! the header), so a bad header can neither panic nor ask for a huge allocation; every
+//! index must name a codeword. Every error names the file.
 
-use super::{LightField, Rect3, Slab, SlabError};
+use super::{LightField, Quantised, RawRays, Rays, Rect3, Slab, SlabError, TileShape, VqError};
 use glam::Vec3;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -58,6 +75,10 @@ pub enum FileError {
         ns: u32,
         nt: u32,
     },
+    #[error("{path}: bad quantised light field: {source}")]
+    Quantised { path: PathBuf, source: VqError },
+    #[error("{path}: the compressed samples are corrupt: {message}")]
+    Corrupt { path: PathBuf, message: String },
     #[error("{path}: {found} bytes of samples where the header promises {expected} (truncated or trailing data)")]
     Length {
         path: PathBuf,
@@ -66,38 +87,69 @@ pub enum FileError {
     },
 }
 
+/// Bytes of the quantised payload's own header.
+const VQ_HEADER: usize = 16 + 4 + 4 + 8;
+/// zstd's level for the quantised payload (indices and codebook compress well; higher
+/// levels gain little for much longer saves).
+const ZSTD_LEVEL: i32 = 19;
+
+fn put(out: &mut Vec<u8>, words: impl IntoIterator<Item = u32>) {
+    for w in words {
+        out.extend_from_slice(&w.to_le_bytes());
+    }
+}
+
+fn words(b: &[u8]) -> impl Iterator<Item = u32> + '_ {
+    b.chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
 impl LightField {
-    /// Writes the light field to `path` (see the module's layout).
+    /// Writes the light field to `path` (see the module's layout): raw rays as they are,
+    /// quantised ones as codebook and indices through zstd.
     pub fn save(&self, path: &Path) -> Result<(), FileError> {
         let io = |source| FileError::Io {
             path: path.to_path_buf(),
             source,
         };
-        let mut out = Vec::with_capacity(HEADER + 4 * self.samples.len());
-        out.extend_from_slice(MAGIC);
         let sl = &self.slab;
-        for v in [VERSION, 0, sl.nu, sl.nv, sl.ns, sl.nt] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
+        let payload = match &self.rays {
+            Rays::Raw(r) => u32::from(r.has_depth()),
+            Rays::Quantised(_) => 2,
+        };
+        let mut out = Vec::with_capacity(HEADER);
+        out.extend_from_slice(MAGIC);
+        put(&mut out, [VERSION, 0, sl.nu, sl.nv, sl.ns, sl.nt]);
         for r in [&sl.uv, &sl.st] {
             for v in [r.origin, r.edge_a, r.edge_b] {
-                for c in v.to_array() {
-                    out.extend_from_slice(&c.to_le_bytes());
-                }
+                put(&mut out, v.to_array().map(f32::to_bits));
             }
         }
-        for v in [sl.near, sl.far] {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-        let with_depth = self.depth.len() == self.samples.len();
-        out.extend_from_slice(&(with_depth as u32).to_le_bytes());
-        out.extend_from_slice(&(self.samples.len() as u64).to_le_bytes());
-        for s in &self.samples {
-            out.extend_from_slice(&s.to_le_bytes());
-        }
-        if with_depth {
-            for d in &self.depth {
-                out.extend_from_slice(&d.to_le_bytes());
+        put(&mut out, [sl.near.to_bits(), sl.far.to_bits(), payload]);
+        out.extend_from_slice(&(sl.len() as u64).to_le_bytes());
+        match &self.rays {
+            Rays::Raw(r) => {
+                out.reserve(4 * (r.samples.len() + r.depth.len()));
+                put(&mut out, r.samples.iter().copied());
+                if r.has_depth() {
+                    put(&mut out, r.depth.iter().map(|d| d.to_bits()));
+                }
+            }
+            Rays::Quantised(q) => {
+                put(&mut out, q.tile.dims());
+                put(
+                    &mut out,
+                    [q.codewords() as u32, u32::from(!q.depths.is_empty())],
+                );
+                let mut plain = Vec::with_capacity(q.bytes());
+                put(&mut plain, q.colors.iter().copied());
+                put(&mut plain, q.depths.iter().map(|d| d.to_bits()));
+                for i in &q.indices {
+                    plain.extend_from_slice(&i.to_le_bytes());
+                }
+                let packed = zstd::bulk::compress(&plain, ZSTD_LEVEL).map_err(io)?;
+                out.extend_from_slice(&(packed.len() as u64).to_le_bytes());
+                out.extend_from_slice(&packed);
             }
         }
         let mut f = std::fs::File::create(path).map_err(io)?;
@@ -146,7 +198,7 @@ impl LightField {
                 found: version,
             });
         }
-        for (what, found, known) in [("sample encoding", encoding, 0), ("payload", payload, 1)] {
+        for (what, found, known) in [("sample encoding", encoding, 0), ("payload", payload, 2)] {
             if found > known {
                 return Err(FileError::Unknown {
                     path: p(),
@@ -181,36 +233,117 @@ impl LightField {
             });
         }
         let found = size - HEADER as u64;
-        let per_sample = 4 * (1 + payload as u64);
-        if expected.checked_mul(per_sample) != Some(found) {
-            return Err(FileError::Length {
-                path: p(),
-                expected: expected.saturating_mul(per_sample),
-                found,
-            });
-        }
-        // The file holds exactly this many bytes: the allocation is bounded by its size.
-        let mut bytes = Vec::with_capacity(found as usize);
-        f.take(found).read_to_end(&mut bytes).map_err(io)?;
-        if bytes.len() as u64 != found {
-            return Err(FileError::Length {
-                path: p(),
-                expected: found,
-                found: bytes.len() as u64,
-            });
-        }
-        let words = |b: &[u8]| {
-            b.chunks_exact(4)
-                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect::<Vec<u32>>()
+        let rays = if payload == 2 {
+            Rays::Quantised(read_quantised(&mut f, found, counts, path)?)
+        } else {
+            let per_sample = 4 * (1 + payload as u64);
+            if expected.checked_mul(per_sample) != Some(found) {
+                return Err(FileError::Length {
+                    path: p(),
+                    expected: expected.saturating_mul(per_sample),
+                    found,
+                });
+            }
+            // The file holds exactly this many bytes: the allocation is bounded by its
+            // size.
+            let bytes = read_exactly(&mut f, found, path)?;
+            let (colour, depth) = bytes.split_at(expected as usize * 4);
+            Rays::Raw(RawRays {
+                samples: words(colour).collect(),
+                depth: words(depth).map(f32::from_bits).collect(),
+            })
         };
-        let (colour, depth) = bytes.split_at(expected as usize * 4);
-        let samples = words(colour);
-        let depth = words(depth).into_iter().map(f32::from_bits).collect();
-        Ok(LightField {
-            slab,
-            samples,
-            depth,
-        })
+        Ok(LightField { slab, rays })
     }
+}
+
+/// The next `n` bytes of `f`, `n` no more than the file holds.
+fn read_exactly(f: &mut impl Read, n: u64, path: &Path) -> Result<Vec<u8>, FileError> {
+    let mut bytes = Vec::with_capacity(n as usize);
+    f.take(n)
+        .read_to_end(&mut bytes)
+        .map_err(|source| FileError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    if bytes.len() as u64 != n {
+        return Err(FileError::Length {
+            path: path.to_path_buf(),
+            expected: n,
+            found: bytes.len() as u64,
+        });
+    }
+    Ok(bytes)
+}
+
+/// The quantised payload: `rest` bytes after the common header.
+fn read_quantised(
+    f: &mut impl Read,
+    rest: u64,
+    counts: [u32; 4],
+    path: &Path,
+) -> Result<Quantised, FileError> {
+    let p = || path.to_path_buf();
+    if rest < VQ_HEADER as u64 {
+        return Err(FileError::Length {
+            path: p(),
+            expected: VQ_HEADER as u64,
+            found: rest,
+        });
+    }
+    let head = read_exactly(f, VQ_HEADER as u64, path)?;
+    let w: Vec<u32> = words(&head[..24]).collect();
+    let bad = |source| FileError::Quantised { path: p(), source };
+    let tile = TileShape::new([w[0], w[1], w[2], w[3]]).map_err(bad)?;
+    let (k, with_depth) = (w[4], w[5]);
+    if !(1..=1 << 16).contains(&k) {
+        return Err(bad(VqError::Codewords(k)));
+    }
+    if with_depth > 1 {
+        return Err(FileError::Unknown {
+            path: p(),
+            what: "depth flag",
+            found: with_depth,
+        });
+    }
+    let packed = u64::from_le_bytes(head[24..].try_into().unwrap_or([0; 8]));
+    if packed != rest - VQ_HEADER as u64 {
+        return Err(FileError::Length {
+            path: p(),
+            expected: packed,
+            found: rest - VQ_HEADER as u64,
+        });
+    }
+    let tiles = tile.tiles(counts);
+    let book = k as u64 * tile.len() as u64;
+    let n_tiles = tiles.iter().map(|&t| t as u64).product::<u64>();
+    let plain = 4 * book * (1 + u64::from(with_depth)) + 2 * n_tiles;
+    let corrupt = |message: String| FileError::Corrupt { path: p(), message };
+    let decoder =
+        zstd::stream::read::Decoder::new(f.take(packed)).map_err(|e| corrupt(e.to_string()))?;
+    // Reading stops one byte past what the header implies: memory follows the data.
+    let mut bytes = Vec::new();
+    decoder
+        .take(plain.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| corrupt(e.to_string()))?;
+    if bytes.len() as u64 != plain {
+        return Err(corrupt(format!(
+            "{} bytes where the header implies {plain}",
+            bytes.len()
+        )));
+    }
+    let (colors, rest) = bytes.split_at(4 * book as usize);
+    let (depths, indices) = rest.split_at(4 * book as usize * with_depth as usize);
+    Quantised::new(
+        tile,
+        tiles,
+        words(colors).collect(),
+        words(depths).map(f32::from_bits).collect(),
+        indices
+            .chunks_exact(2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .collect(),
+    )
+    .map_err(bad)
 }

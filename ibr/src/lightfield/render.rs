@@ -6,7 +6,7 @@
 //! samples are holes; the others take the depth of that surface point (or of the `st`
 //! plane, the flat proxy).
 
-use super::{LightField, Rect3};
+use super::{LightField, Quantised, RawRays, Rays, Rect3, Slab};
 use crate::warp::Warped;
 use engine::Camera;
 use glam::{Vec3, Vec4};
@@ -116,11 +116,72 @@ fn pair(x: f32, n: u32) -> (u32, u32, f32) {
     (i, (i + 1).min(n - 1), f)
 }
 
+/// Where a render reads samples from: raw or quantised rays, the choice made once per
+/// frame, not per sample.
+trait Source: Sync {
+    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32;
+    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32;
+}
+
+struct RawSource<'a> {
+    rays: &'a RawRays,
+    counts: [u32; 4],
+}
+
+impl Source for RawSource<'_> {
+    #[inline]
+    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
+        self.rays.samples[self.rays.index(self.counts, u, v, s, t)]
+    }
+
+    #[inline]
+    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
+        self.rays.depth[self.rays.index(self.counts, u, v, s, t)]
+    }
+}
+
+impl Source for Quantised {
+    #[inline]
+    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
+        Quantised::sample(self, u, v, s, t)
+    }
+
+    #[inline]
+    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
+        Quantised::depth(self, u, v, s, t)
+    }
+}
+
 /// Renders `lf` as seen by `camera` into `out` (made `width` x `height`, holes where the
-/// light field has no ray). Row by row on the thread pool; the same pixels at any thread
-/// count.
+/// light field has no ray), from raw or quantised rays alike. Row by row on the thread
+/// pool; the same pixels at any thread count.
 pub fn render(
     lf: &LightField,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    lookup: Lookup,
+    out: &mut Warped,
+) -> LightFieldFrame {
+    let lookup = Lookup {
+        depth_correction: lookup.depth_correction && lf.has_depth(),
+        ..lookup
+    };
+    match &lf.rays {
+        Rays::Raw(rays) => {
+            let src = RawSource {
+                rays,
+                counts: lf.slab.counts(),
+            };
+            render_from(&lf.slab, &src, camera, width, height, lookup, out)
+        }
+        Rays::Quantised(q) => render_from(&lf.slab, q, camera, width, height, lookup, out),
+    }
+}
+
+fn render_from(
+    slab: &Slab,
+    src: &impl Source,
     camera: &Camera,
     width: u32,
     height: u32,
@@ -133,17 +194,16 @@ pub fn render(
         return LightFieldFrame::default();
     }
     let inv = camera.gl_view_proj().inverse();
-    let (uv_plane, st_plane) = (Plane::of(&lf.slab.uv), Plane::of(&lf.slab.st));
+    let (uv_plane, st_plane) = (Plane::of(&slab.uv), Plane::of(&slab.st));
     // The near and far points of a pixel's ray, homogeneous, are linear in its x: a row's
     // first pixel's plus x steps.
     let step = inv.x_axis * (2.0 / width as f32);
     let forward = camera.forward();
-    let slab = &lf.slab;
     let toward = slab.forward();
     let coords = [slab.nu, slab.nv, slab.ns, slab.nt].map(|n| n as f32);
     // The st plane's distance from the uv plane along `toward`.
     let gap = (slab.st.origin - slab.uv.origin).dot(toward);
-    let correct = lookup.depth_correction && lf.depth.len() == lf.samples.len();
+    let correct = lookup.depth_correction;
     out.color
         .par_chunks_mut(w)
         .zip(out.disparity.par_chunks_mut(w))
@@ -205,7 +265,7 @@ pub fn render(
                         let Some([ps, pt]) = project(x, ci, cj) else {
                             break;
                         };
-                        let z = lf.depth_at(ci, cj, near(ps, slab.ns), near(pt, slab.nt));
+                        let z = src.depth(ci, cj, near(ps, slab.ns), near(pt, slab.nt));
                         let Some((next, z)) = on_ray(z) else {
                             break;
                         };
@@ -224,10 +284,11 @@ pub fn render(
                         return Some([s, t]);
                     };
                     let st = project(x, i, j)?;
-                    let seen = lf.depth_at(i, j, near(st[0], slab.ns), near(st[1], slab.nt));
+                    let seen = src.depth(i, j, near(st[0], slab.ns), near(st[1], slab.nt));
                     ((seen - z).abs() <= SAME_SURFACE * z).then_some(st)
                 };
-                let (c, taps) = self::lookup(lf, [at[0], at[1]], &st_of, lookup.interpolation);
+                let (c, taps) =
+                    self::lookup(slab, src, [at[0], at[1]], &st_of, lookup.interpolation);
                 frame.taps += taps;
                 if c[3] <= 0.0 {
                     continue;
@@ -253,12 +314,12 @@ pub fn render(
 /// around its own st coordinates `st_of(i, j)`, and the samples read.
 #[inline]
 fn lookup(
-    lf: &LightField,
+    sl: &Slab,
+    src: &impl Source,
     [u, v]: [f32; 2],
     st_of: &impl Fn(u32, u32) -> Option<[f32; 2]>,
     interpolation: Interpolation,
 ) -> ([f32; 4], u64) {
-    let sl = &lf.slab;
     let nearest = |x: f32, n: u32| (x.round().max(0.0) as u32).min(n - 1);
     let bytes = |c: u32| c.to_le_bytes().map(f32::from);
     let cameras: [(u32, u32, f32); 4] = if interpolation == Interpolation::Nearest {
@@ -303,7 +364,7 @@ fn lookup(
                 continue;
             }
             taps += 1;
-            let c = bytes(lf.sample(i, j, ss, tt));
+            let c = bytes(src.sample(i, j, ss, tt));
             for (a, x) in acc.iter_mut().zip(c) {
                 *a += x * wt;
             }
