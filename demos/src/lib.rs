@@ -9,6 +9,7 @@
 pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
+pub mod bench_lightfield;
 pub mod bench_portals;
 pub mod bench_scaling;
 pub mod bench_warp;
@@ -16,6 +17,7 @@ pub mod building;
 pub mod capture;
 pub mod chart;
 pub mod city;
+pub mod cli;
 pub mod font;
 pub mod showcase;
 pub mod showcase_building;

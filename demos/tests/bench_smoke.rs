@@ -507,3 +507,47 @@ fn portals_sweep_writes_csv_and_png_charts() {
         ],
     );
 }
+
+#[test]
+fn lightfield_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("lightfield", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["series", "method", "eye_class"]);
+    // Every lookup at every density and every eye, with an error against geometry.
+    for lookup in ["nearest", "bilinear-uv", "quadrilinear", "quadrilinear-dc"] {
+        let rows = t.of("density", lookup);
+        assert_eq!(rows.len(), 2 * 6, "{lookup}: {csv}");
+        for r in rows {
+            let psnr = t.num(r, "psnr_db");
+            assert!(psnr > 10.0 && psnr.is_finite(), "{lookup}: {r:?}");
+            assert!(t.num(r, "rays") > 0.0 && t.num(r, "pixels") > 0.0, "{r:?}");
+        }
+    }
+    // Quantised rows: smaller than raw in memory and on disk.
+    for r in t.of("codebook", "quadrilinear-dc") {
+        assert!(t.num(r, "bytes") < t.num(r, "raw_bytes"), "{r:?}");
+        assert!(t.num(r, "file_bytes") < t.num(r, "raw_file_bytes"), "{r:?}");
+    }
+    // The light field casts as many rays and reads about as many samples whatever the
+    // object's triangles (the tessellation moves its silhouette a little); the geometry
+    // gets them all.
+    let lf = t.of("triangles", "quadrilinear-dc");
+    assert_eq!(lf.len(), 2, "{csv}");
+    assert_eq!(t.num(lf[0], "rays"), t.num(lf[1], "rays"));
+    let (a, b) = (t.num(lf[0], "taps"), t.num(lf[1], "taps"));
+    assert!((a - b).abs() <= 0.02 * a, "{a} and {b} samples read");
+    let geometry = t.of("triangles", "geometry");
+    assert!(t.num(geometry[1], "triangles") > t.num(geometry[0], "triangles"));
+    assert_charts(
+        &dir,
+        &[
+            "lightfield_density.png",
+            "lightfield_st.png",
+            "lightfield_compression.png",
+            "lightfield_sparse.png",
+            "lightfield_time_error.png",
+            "lightfield_resolution.png",
+            "lightfield_triangles.png",
+        ],
+    );
+}

@@ -24,6 +24,7 @@
 
 pub mod file;
 pub mod object;
+pub mod rebin;
 pub mod render;
 pub mod vq;
 
@@ -33,6 +34,7 @@ use engine::color::Encoder;
 use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
 pub use object::LightFieldObject;
+pub use rebin::{rebin, Rebinned};
 pub use render::{render, Interpolation, LightFieldFrame, Lookup};
 pub use vq::{Quantised, TileShape, VqError, VqReport, VqSettings};
 
@@ -57,6 +59,22 @@ impl Rect3 {
     /// The point at fractions `(a, b)` of its edges.
     pub fn at(&self, a: f32, b: f32) -> Vec3 {
         self.origin + self.edge_a * a + self.edge_b * b
+    }
+
+    /// Where the line `o + tau d` crosses the rectangle's plane: `tau` and the fractions
+    /// of the edges (inside the rectangle when both are in `[0, 1]`); `None` when parallel
+    /// or not finite.
+    pub fn cross(&self, o: Vec3, d: Vec3) -> Option<(f32, f32, f32)> {
+        let normal = self.edge_a.cross(self.edge_b);
+        let along = d.dot(normal);
+        if along == 0.0 || !along.is_finite() {
+            return None;
+        }
+        let tau = (self.origin - o).dot(normal) / along;
+        let p = o + d * tau - self.origin;
+        let a = p.dot(self.edge_a) / self.edge_a.length_squared();
+        let b = p.dot(self.edge_b) / self.edge_b.length_squared();
+        (tau.is_finite() && a.is_finite() && b.is_finite()).then_some((tau, a, b))
     }
 
     fn corners(&self) -> [Vec3; 4] {
@@ -145,6 +163,33 @@ impl Slab {
             near,
             far,
         })
+    }
+
+    /// A slab that sees a sphere of `radius` around `center` from one side, its cameras
+    /// looking along `look` with `up` upward in their images: the `st` plane through the
+    /// centre, 4 `radius` square (every ray within 45 degrees of `look` that meets the
+    /// sphere crosses it), the `uv` plane 4 `radius` back, 3 `radius` square; depth range
+    /// from `radius` to 8 `radius` past the `uv` plane.
+    pub fn facing(
+        center: Vec3,
+        radius: f32,
+        look: Vec3,
+        up: Vec3,
+        counts: [u32; 4],
+    ) -> Result<Slab, SlabError> {
+        let look = look.normalize_or_zero();
+        let right = look.cross(up).normalize_or_zero();
+        let down = look.cross(right);
+        let at = |back: f32, half: f32| {
+            Rect3::centered(center - look * back, right * 2.0 * half, down * 2.0 * half)
+        };
+        Slab::new(
+            at(4.0 * radius, 1.5 * radius),
+            at(0.0, 2.0 * radius),
+            counts,
+            radius,
+            8.0 * radius,
+        )
     }
 
     /// The direction from the `uv` plane to the `st` plane (unit).
@@ -256,23 +301,35 @@ impl LightField {
     /// Captures `draws` (lit by `lighting`) through `slab`: one image per `uv` sample, on
     /// the thread pool; the same samples at any thread count.
     pub fn capture(draws: &[Draw<'_>], lighting: &Lighting, slab: Slab) -> LightField {
-        let cameras: Vec<Camera> = (0..slab.nv)
-            .flat_map(|j| (0..slab.nu).map(move |i| slab.camera(i, j)))
-            .collect();
-        let images = capture_batch(draws, &cameras, lighting, slab.ns, slab.nt);
+        Self::capture_with_progress(draws, lighting, slab, &mut |_, _| {})
+    }
+
+    /// [`LightField::capture`], calling `progress(done, total)` with the images captured
+    /// so far after each row of cameras.
+    pub fn capture_with_progress(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        slab: Slab,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> LightField {
         let enc = Encoder::new(ENCODING);
         let mut samples = Vec::with_capacity(slab.len());
         let mut depth = Vec::with_capacity(slab.len());
-        for image in &images {
-            samples.extend(image.color.iter().map(|c| enc.pack(c.r, c.g, c.b, c.a)));
-            // The capture cameras look along `forward` from the uv plane: axial depth is
-            // the distance from that plane.
-            depth.extend(
-                image
-                    .depth
-                    .iter()
-                    .map(|&z| if z > 0.0 { z } else { f32::INFINITY }),
-            );
+        let total = slab.nu as usize * slab.nv as usize;
+        for j in 0..slab.nv {
+            let cameras: Vec<Camera> = (0..slab.nu).map(|i| slab.camera(i, j)).collect();
+            for image in &capture_batch(draws, &cameras, lighting, slab.ns, slab.nt) {
+                samples.extend(image.color.iter().map(|c| enc.pack(c.r, c.g, c.b, c.a)));
+                // The capture cameras look along `forward` from the uv plane: axial depth
+                // is the distance from that plane.
+                depth.extend(
+                    image
+                        .depth
+                        .iter()
+                        .map(|&z| if z > 0.0 { z } else { f32::INFINITY }),
+                );
+            }
+            progress((j as usize + 1) * slab.nu as usize, total);
         }
         LightField {
             slab,
@@ -337,6 +394,8 @@ impl LightField {
     }
 }
 
+#[cfg(test)]
+mod rebin_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

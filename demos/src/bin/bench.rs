@@ -24,11 +24,17 @@
 //! - `portals`: the building's rooms through their doorways as geometry, a flat image, one
 //!   depth image or an LDI: frame time against the triangles behind the doorways and
 //!   against resolution, error and time along a walkthrough (`demos::bench_portals`).
+//! - `lightfield`: a torus as light slabs against its geometry: error against `uv`
+//!   density, `st` resolution and lookup (nearest to quadrilinear, depth correction), eyes
+//!   between and away from the capture cameras; codebook size and tile shape against
+//!   compression and error; frame time against resolution and the object's triangles
+//!   (`demos::bench_lightfield`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
+use demos::bench_lightfield as bl;
 use demos::bench_portals as bp;
 use demos::bench_scaling as scaling;
 use demos::bench_warp as bw;
@@ -67,6 +73,9 @@ enum Sweep {
     /// Rooms through LDI portals, depth-image and flat portals, or as geometry: time
     /// against triangles and resolution, error along a walkthrough.
     Portals(Small),
+    /// Light slabs against the geometry: error against sampling, lookup and compression;
+    /// time against resolution and triangles.
+    Lightfield(Small),
 }
 
 #[derive(Args, Debug)]
@@ -118,6 +127,7 @@ fn main() -> ExitCode {
         Sweep::Scaling(c) => scaling_sweep(c),
         Sweep::Warp(c) => warp(c),
         Sweep::Portals(c) => portals(c),
+        Sweep::Lightfield(c) => lightfield(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -447,5 +457,48 @@ fn portals(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bp::run(&plan, progress);
     let (name, rows, charts) = ("portals", "points", bp::charts);
+    sweep(c, name, rows, run, report, charts)
+}
+
+fn lightfield(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bl::Plan::tiny, bl::Plan::quick, bl::Plan::full);
+    let report = |rows: &[bl::Row]| {
+        for r in rows {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB  off {:>5.2}%",
+                    e.psnr_capped(99.0),
+                    e.frac_over * 100.0
+                )
+            });
+            let size = if r.file_bytes > 0 {
+                format!(
+                    "  {:>6.1}:1 in memory  {:>7.1}:1 file  trained {:.1} s",
+                    r.raw_bytes as f64 / r.bytes.max(1) as f64,
+                    r.raw_file_bytes as f64 / r.file_bytes as f64,
+                    r.quantise_s
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{:<10} {:<15} {:<7} {} uv {:>2} st {:>3} K {:>5} {:<7} {:>7} tris {:>4}x{:<4} median {:>8.3} ms  {err}{size}",
+                r.series,
+                r.method,
+                r.eye_class,
+                r.eye,
+                r.uv,
+                r.st,
+                r.codewords,
+                r.tile,
+                r.triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bl::run(&plan, progress);
+    let (name, rows, charts) = ("lightfield", "points", bl::charts);
     sweep(c, name, rows, run, report, charts)
 }

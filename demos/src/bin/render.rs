@@ -14,6 +14,7 @@
 
 use clap::error::ErrorKind;
 use clap::{ArgGroup, Parser, ValueEnum};
+use demos::cli::parse_vec3;
 use engine::{
     load, Camera, Cull, Encoding, FrameOptions, FrameStats, Material, Projection, Renderer, Rgba,
     Scene, Shading, Target,
@@ -110,25 +111,6 @@ struct Args {
     /// The arc's angle, degrees, centred on --eye.
     #[arg(long, value_name = "DEG", default_value_t = 20.0)]
     spread: f32,
-}
-
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!(
-            "expected x,y,z (three numbers), got {} value(s)",
-            parts.len()
-        ));
-    }
-    let mut v = [0.0f32; 3];
-    for (o, p) in v.iter_mut().zip(&parts) {
-        *o = p
-            .parse::<f32>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("'{p}' is not a finite number"))?;
-    }
-    Ok(Vec3::from_array(v))
 }
 
 /// Checks what clap cannot: sizes, camera sanity, counts.

@@ -12,6 +12,7 @@
 //! Errors are one line on stderr, `warp: error: ...`, and exit code 1.
 
 use clap::{Parser, ValueEnum};
+use demos::cli::parse_vec3;
 use engine::{load, Camera, Projection};
 use glam::{Mat4, Vec3};
 use ibr::images::transforms::{read_depth_image, read_transforms, srgb8};
@@ -108,18 +109,6 @@ struct Args {
     /// A mask of the holes before filling (PNG, white = hole).
     #[arg(long, value_name = "FILE")]
     holes: Option<PathBuf>,
-}
-
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f32>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("expected x,y,z: {e}"))?;
-    match v[..] {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!("expected three finite numbers x,y,z, got {s:?}")),
-    }
 }
 
 fn perspective(

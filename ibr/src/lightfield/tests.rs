@@ -7,26 +7,26 @@ use engine::color::Encoder;
 use engine::{procedural, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
 use glam::Vec2;
 
-const W: u32 = 64;
-const H: u32 = 48;
+pub(super) const W: u32 = 64;
+pub(super) const H: u32 = 48;
 
 /// A slab whose uv plane is the 2 x 2 square at z = 4 and st plane the one at z = 0,
 /// images upright (x along +X, y down along -Y).
-fn slab(nuv: u32, nst: u32) -> Slab {
+pub(super) fn slab(nuv: u32, nst: u32) -> Slab {
     let square = |z: f32| Rect3::centered(Vec3::new(0.0, 0.0, z), Vec3::X * 2.0, Vec3::NEG_Y * 2.0);
     Slab::new(square(4.0), square(0.0), [nuv, nuv, nst, nst], 0.5, 20.0).expect("a valid slab")
 }
 
 /// A `size` x `size` card at depth `z` (facing +z) coloured by a smooth gradient (vertex
 /// colours), unlit.
-struct Card {
+pub(super) struct Card {
     mesh: Mesh,
     material: Material,
     at: Mat4,
 }
 
 impl Card {
-    fn new(z: f32, size: f32) -> Card {
+    pub(super) fn new(z: f32, size: f32) -> Card {
         let mut mesh = procedural::quad(size, size);
         mesh.colors = vec![
             Rgba::new(0.9, 0.1, 0.1, 1.0),
@@ -41,7 +41,7 @@ impl Card {
         }
     }
 
-    fn draw(&self) -> Draw<'_> {
+    pub(super) fn draw(&self) -> Draw<'_> {
         Draw {
             mesh: &self.mesh,
             material: &self.material,
@@ -50,13 +50,13 @@ impl Card {
     }
 }
 
-fn camera(eye: Vec3) -> Camera {
+pub(super) fn camera(eye: Vec3) -> Camera {
     Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.7, W as f32 / H as f32).with_depth_range(0.1, 30.0)
 }
 
 /// The geometry as the camera sees it: per pixel its colour packed as the light field
 /// stores it, or `None` where nothing covers it.
-fn truth(draws: &[Draw<'_>], camera: &Camera) -> Vec<Option<u32>> {
+pub(super) fn truth(draws: &[Draw<'_>], camera: &Camera) -> Vec<Option<u32>> {
     let mut t = Target::new(W, H);
     let opts = FrameOptions {
         clear: Some(Rgba::TRANSPARENT),
@@ -75,7 +75,7 @@ fn truth(draws: &[Draw<'_>], camera: &Camera) -> Vec<Option<u32>> {
 
 /// Mean absolute difference (8-bit levels of the stored encoding, colour channels) over
 /// the pixels both cover, and how many they are.
-fn compare(out: &Warped, truth: &[Option<u32>]) -> (f32, u32) {
+pub(super) fn compare(out: &Warped, truth: &[Option<u32>]) -> (f32, u32) {
     let (mut sum, mut n) = (0.0, 0);
     for (i, want) in truth.iter().enumerate() {
         let Some(want) = *want else { continue };

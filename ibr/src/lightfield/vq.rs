@@ -229,8 +229,12 @@ impl Quantised {
         let tiler = Tiler::new(slab, raw, settings.tile);
         let n = tiler.count();
         let take = settings.training_tiles.clamp(1, n);
-        // Evenly through the light field, the same tiles every time.
-        let training: Vec<f32> = (0..take).flat_map(|i| tiler.vector(i * n / take)).collect();
+        // Scattered through the light field, the same tiles every time: a stride would
+        // alias with the tile grid (every tile in one column of the images).
+        let step = scatter_step(n);
+        let training: Vec<f32> = (0..take)
+            .flat_map(|i| tiler.vector(((i as u128 * step as u128) % n as u128) as usize))
+            .collect();
         let book = train(
             &training,
             tiler.dim,
@@ -260,6 +264,23 @@ impl Quantised {
         let q = Quantised::new(settings.tile, tiler.tiles, colors, depths, indices)?;
         Ok((q, report))
     }
+}
+
+/// A step coprime with `n` near `n` times the golden ratio's fractional part: `i step mod
+/// n` for `i < n` visits every index once, scattered.
+fn scatter_step(n: usize) -> usize {
+    fn gcd(a: usize, b: usize) -> usize {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    let mut step = ((n as f64 * 0.618_033_988_75) as usize).max(1);
+    while gcd(step, n) != 1 {
+        step += 1;
+    }
+    step
 }
 
 /// Cuts a light field into tile vectors and turns codewords back into samples.

@@ -281,3 +281,32 @@ fn a_quantised_light_field_saves_compressed_and_loads_back() {
     assert!(matches!(refused(&p), FileError::Corrupt { .. }));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn training_tiles_are_scattered_not_strided() {
+    // Patterns that vary only along s: a stride through the tile index that is a multiple
+    // of the tiles per image row would train on one column and find one codeword.
+    let counts = [4, 4, 64, 8];
+    let slab = slab(counts);
+    let samples: Vec<u32> = (0..slab.len())
+        .map(|i| {
+            let s = (i % 64) as u32;
+            u32::from_le_bytes([(s * 3) as u8, 0, 0, 255])
+        })
+        .collect();
+    let lf = LightField {
+        slab,
+        rays: Rays::Raw(RawRays {
+            depth: vec![3.0; samples.len()],
+            samples,
+        }),
+    };
+    let (_, report) = lf
+        .quantise(&VqSettings {
+            codewords: 32,
+            training_tiles: 64,
+            ..VqSettings::default()
+        })
+        .expect("quantised");
+    assert!(report.codewords >= 16, "{report:?}");
+}

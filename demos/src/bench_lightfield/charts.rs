@@ -1,0 +1,279 @@
+//! The light-field sweep's charts: error against `uv` density and `st` resolution per
+//! lookup, error against compression, error against frame time beside the geometry, and
+//! frame time against resolution and against the object's triangles.
+
+use super::{Row, LOOKUPS};
+use crate::chart::{Chart, Line, Lines};
+use ibr::metrics::ImageError;
+use plotters::prelude::SeriesLabelPosition;
+
+/// The error pooled over the rows' eyes (PSNR, capped at 99 dB).
+fn pooled(rows: &[&Row]) -> f64 {
+    ImageError::pooled(rows.iter().filter_map(|r| r.error.as_ref()))
+        .map_or(f64::NAN, |e| e.psnr_capped(99.0))
+}
+
+/// The rows of one series.
+fn of<'a>(rows: &'a [Row], series: &'a str) -> impl Iterator<Item = &'a Row> + 'a {
+    rows.iter().filter(move |r| r.series == series)
+}
+
+/// `(file, chart)` for every chart of the sweep.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
+    // Per lookup and eye class: PSNR pooled over the eyes at each value of `x`.
+    let knob = |series: &str, x: fn(&Row) -> u32| {
+        let mut lines = Vec::new();
+        for (name, _, _) in LOOKUPS {
+            for class in ["between", "away"] {
+                let mut xs: Vec<u32> = of(rows, series).map(x).collect();
+                xs.dedup();
+                let points = xs
+                    .iter()
+                    .map(|&v| {
+                        let at: Vec<&Row> = of(rows, series)
+                            .filter(|r| x(r) == v && r.method == name && r.eye_class == class)
+                            .collect();
+                        (f64::from(v), pooled(&at))
+                    })
+                    .collect();
+                lines.push(Line::new(format!("{name}, eyes {class}"), points));
+            }
+        }
+        lines
+    };
+    let slab_of = |series: &str| {
+        of(rows, series)
+            .next()
+            .map_or(String::new(), |r| format!(" ({}x{})", r.width, r.height))
+    };
+    // Compression: one point per quantised setting, plus the raw light field.
+    let compression = |series: &str| {
+        let mut keys: Vec<(u32, String)> = of(rows, series)
+            .map(|r| (r.codewords, r.tile.clone()))
+            .collect();
+        keys.dedup();
+        let points = keys
+            .iter()
+            .map(|(k, t)| {
+                let at: Vec<&Row> = of(rows, series)
+                    .filter(|r| r.codewords == *k && &r.tile == t)
+                    .collect();
+                let r = at[0];
+                (
+                    r.raw_file_bytes as f64 / r.file_bytes.max(1) as f64,
+                    pooled(&at),
+                )
+            })
+            .collect();
+        let labels = keys.iter().map(|(k, t)| format!("{k} x {t}")).collect();
+        Line {
+            labels,
+            ..Line::new(
+                if series == "codebook" {
+                    "2x2x2x2 tiles, codewords varied"
+                } else {
+                    "tile shapes"
+                },
+                points,
+            )
+        }
+    };
+    let raw_dc: Vec<&Row> = of(rows, "density")
+        .filter(|r| r.method == "quadrilinear-dc")
+        .filter(|r| {
+            of(rows, "codebook")
+                .next()
+                .is_some_and(|c| c.uv == r.uv && c.st == r.st)
+        })
+        .collect();
+    let raw_point = Line::new("raw (1:1)", vec![(1.0, pooled(&raw_dc))]);
+    // Error against time: every light-field point, and the geometry.
+    let mut scatter: Vec<Line> = LOOKUPS
+        .iter()
+        .map(|(name, _, _)| {
+            let points = rows
+                .iter()
+                .filter(|r| (r.series == "density" || r.series == "st") && r.method == *name)
+                .map(|r| {
+                    (
+                        r.time.median_ms,
+                        r.error.map_or(f64::NAN, |e| e.psnr_capped(99.0)),
+                    )
+                })
+                .collect();
+            Line::new(format!("{name} (uv and st varied)"), points)
+        })
+        .collect();
+    scatter.push(Line::new(
+        "quantised, quadrilinear-dc",
+        rows.iter()
+            .filter(|r| r.series == "codebook" || r.series == "tile")
+            .map(|r| {
+                (
+                    r.time.median_ms,
+                    r.error.map_or(f64::NAN, |e| e.psnr_capped(99.0)),
+                )
+            })
+            .collect(),
+    ));
+    scatter.push(Line::new(
+        "geometry (the reference)",
+        of(rows, "geometry")
+            .map(|r| (r.time.median_ms, 99.0))
+            .collect(),
+    ));
+    let against = |series: &str, x: fn(&Row) -> f64| {
+        ["quadrilinear-dc", "geometry"]
+            .iter()
+            .map(|m| {
+                let name = if *m == "geometry" {
+                    "geometry"
+                } else {
+                    "light field, quadrilinear-dc"
+                };
+                Line::new(
+                    name,
+                    of(rows, series)
+                        .filter(|r| r.method == *m)
+                        .map(|r| (x(r), r.time.median_ms))
+                        .collect(),
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    // Sparse: one point per photograph count (0: dense), pooled over the eyes.
+    let sparse = {
+        let mut ns: Vec<usize> = of(rows, "sparse").map(|r| r.photographs).collect();
+        ns.dedup();
+        let at = |n: usize| {
+            of(rows, "sparse")
+                .filter(|r| r.photographs == n)
+                .collect::<Vec<&Row>>()
+        };
+        let dense = Line::new(
+            "dense capture (every camera of the slab)",
+            ns.iter()
+                .filter(|&&n| n == 0)
+                .map(|_| (1.0, pooled(&at(0))))
+                .collect(),
+        );
+        let rebinned: Vec<usize> = ns.iter().copied().filter(|&n| n > 0).collect();
+        let psnr = Line {
+            labels: rebinned
+                .iter()
+                .map(|&n| format!("{:.0}% invented", at(n)[0].invented * 100.0))
+                .collect(),
+            ..Line::new(
+                "photographs rebinned, pull-push fill",
+                rebinned
+                    .iter()
+                    .map(|&n| (n as f64, pooled(&at(n))))
+                    .collect(),
+            )
+        };
+        vec![psnr, dense]
+    };
+    let y_psnr = "PSNR against geometry (dB, pooled over the eyes)";
+    vec![
+        (
+            "lightfield_density.png",
+            Chart::Lines(
+                Lines::new(
+                    format!("Error against camera-plane density{}", slab_of("density")),
+                    "uv samples per side",
+                    y_psnr,
+                    knob("density", |r| r.uv),
+                )
+                .log(true, false)
+                .legend(SeriesLabelPosition::LowerRight),
+            ),
+        ),
+        (
+            "lightfield_st.png",
+            Chart::Lines(
+                Lines::new(
+                    format!("Error against focal-plane resolution{}", slab_of("st")),
+                    "st samples per side",
+                    y_psnr,
+                    knob("st", |r| r.st),
+                )
+                .log(true, false)
+                .legend(SeriesLabelPosition::LowerRight),
+            ),
+        ),
+        (
+            "lightfield_compression.png",
+            Chart::Lines(
+                Lines::new(
+                    "Error against compression (VQ then zstd; quadrilinear, depth-corrected)",
+                    "compression ratio (raw file bytes / compressed file bytes)",
+                    y_psnr,
+                    vec![compression("codebook"), compression("tile"), raw_point],
+                )
+                .log(true, false)
+                .legend(SeriesLabelPosition::LowerLeft),
+            ),
+        ),
+        (
+            "lightfield_sparse.png",
+            Chart::Lines(
+                Lines::new(
+                    format!(
+                        "Sparse capture rebinned against dense capture{}",
+                        slab_of("sparse")
+                    ),
+                    "photographs (the dense capture at 1)",
+                    y_psnr,
+                    sparse,
+                )
+                .log(true, false)
+                .legend(SeriesLabelPosition::LowerRight),
+            ),
+        ),
+        (
+            "lightfield_time_error.png",
+            Chart::Scatter(
+                Lines::new(
+                    format!(
+                        "Error against frame time, each eye and setting{}",
+                        slab_of("geometry")
+                    ),
+                    "median frame time (ms)",
+                    "PSNR against geometry (dB; geometry is the reference, 99)",
+                    scatter,
+                )
+                .log(true, false)
+                .legend(SeriesLabelPosition::LowerRight),
+            ),
+        ),
+        (
+            "lightfield_resolution.png",
+            Chart::Lines(
+                Lines::new(
+                    "Frame time against resolution",
+                    "pixels",
+                    "median frame time (ms)",
+                    against("resolution", |r| f64::from(r.width * r.height)),
+                )
+                .log(true, true)
+                .legend(SeriesLabelPosition::UpperLeft),
+            ),
+        ),
+        (
+            "lightfield_triangles.png",
+            Chart::Lines(
+                Lines::new(
+                    format!(
+                        "Frame time against the object's triangles{}",
+                        slab_of("triangles")
+                    ),
+                    "object triangles",
+                    "median frame time (ms)",
+                    against("triangles", |r| f64::from(r.triangles)),
+                )
+                .log(true, true)
+                .legend(SeriesLabelPosition::UpperLeft),
+            ),
+        ),
+    ]
+}

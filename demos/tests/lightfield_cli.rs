@@ -1,0 +1,190 @@
+//! `lightfield` end to end: a model captured, compressed, inspected and rendered; a
+//! `render --capture` folder rebinned (sparse capture); bad input is a one-line error.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+mod common;
+use common::Tmp;
+
+/// A red square in front of a larger green-and-blue one (vertex colours).
+const SCENE: &str = "\
+v -0.5 -0.5 0.5 1 0 0
+v 0.5 -0.5 0.5 1 0 0
+v 0.5 0.5 0.5 1 0 0
+v -0.5 0.5 0.5 1 0 0
+v -2 -2 -1 0 1 0
+v 2 -2 -1 0 0 1
+v 2 2 -1 0 0 1
+v -2 2 -1 0 1 0
+f 1 2 3
+f 1 3 4
+f 5 6 7
+f 5 7 8
+";
+
+fn lightfield(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lightfield"))
+        .args(args)
+        .output()
+        .expect("run")
+}
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn len(p: &Path) -> u64 {
+    std::fs::metadata(p).map_or(0, |m| m.len())
+}
+
+#[test]
+fn a_model_is_captured_compressed_and_rendered() {
+    let tmp = Tmp::new("lightfield-cli", "model");
+    let obj = tmp.path("scene.obj");
+    std::fs::write(&obj, SCENE).unwrap();
+    let (raw, vq) = (tmp.path("scene.plf"), tmp.path("scene_vq.plf"));
+    let log = ok(&lightfield(&[
+        "capture",
+        "--obj",
+        s(&obj),
+        "--out",
+        s(&raw),
+        "--uv",
+        "6",
+        "--st",
+        "48",
+    ]));
+    assert!(
+        log.contains("6912 samples") || log.contains("82944 samples"),
+        "{log}"
+    );
+    let log = ok(&lightfield(&[
+        "compress",
+        s(&raw),
+        "--out",
+        s(&vq),
+        "--codewords",
+        "64",
+        "--tile",
+        "1x1x2x2",
+    ]));
+    assert!(log.contains("1x1x2x2"), "{log}");
+    assert!(
+        len(&vq) * 4 < len(&raw),
+        "{} against {}",
+        len(&vq),
+        len(&raw)
+    );
+    let log = ok(&lightfield(&["info", s(&vq)]));
+    assert!(
+        log.contains("6 x 6 (uv) by 48 x 48 (st)") && log.contains("quantised"),
+        "{log}"
+    );
+    // One view, then a sweep of three across the camera plane.
+    let png = tmp.path("view.png");
+    ok(&lightfield(&[
+        "render",
+        s(&vq),
+        "--png",
+        s(&png),
+        "--size",
+        "80x60",
+    ]));
+    let view = image::open(&png).unwrap().to_rgba8();
+    assert_eq!(view.dimensions(), (80, 60));
+    // The red square in the middle, in front of the back square.
+    let c = view.get_pixel(40, 30);
+    assert!(c[0] > 150 && c[1] < 80 && c[2] < 80, "{c:?}");
+    let frames = tmp.path("frames");
+    let log = ok(&lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&frames),
+        "--frames",
+        "3",
+        "--size",
+        "80x60",
+    ]));
+    assert_eq!(log.lines().count(), 3, "{log}");
+    let first = image::open(frames.join("0000.png")).unwrap().to_rgba8();
+    let last = image::open(frames.join("0002.png")).unwrap().to_rgba8();
+    assert_ne!(first, last, "the sweep shows parallax");
+}
+
+#[test]
+fn a_capture_folder_is_rebinned() {
+    let tmp = Tmp::new("lightfield-cli", "sparse");
+    let obj = tmp.path("scene.obj");
+    std::fs::write(&obj, SCENE).unwrap();
+    let cap = tmp.path("cap");
+    let out = Command::new(env!("CARGO_BIN_EXE_render"))
+        .args(["--obj", s(&obj), "--eye", "0,0,5", "--target", "0,0,0"])
+        .args(["--shading", "vertex", "-W", "64", "-H", "64"])
+        .args(["--capture", s(&cap), "--views", "5", "--spread", "20"])
+        .output()
+        .expect("run");
+    ok(&out);
+    let plf = tmp.path("sparse.plf");
+    let log = ok(&lightfield(&[
+        "capture",
+        "--transforms",
+        s(&cap),
+        "--out",
+        s(&plf),
+        "--uv",
+        "4",
+        "--st",
+        "32",
+    ]));
+    assert!(
+        log.contains("rebinned") && log.contains("invented"),
+        "{log}"
+    );
+    let png = tmp.path("view.png");
+    ok(&lightfield(&[
+        "render",
+        s(&plf),
+        "--png",
+        s(&png),
+        "--size",
+        "64x64",
+    ]));
+}
+
+#[test]
+fn bad_input_is_one_line_naming_the_problem() {
+    let tmp = Tmp::new("lightfield-cli", "bad");
+    let junk = tmp.path("junk.plf");
+    std::fs::write(&junk, b"not a light field").unwrap();
+    let missing = tmp.path("missing.obj");
+    let out = tmp.path("o.plf");
+    for (args, want) in [
+        (vec!["info", s(&junk)], "junk.plf"),
+        (vec!["render", s(&junk), "--png", s(&out)], "junk.plf"),
+        (
+            vec!["capture", "--obj", s(&missing), "--out", s(&out)],
+            "missing.obj",
+        ),
+        (
+            vec!["compress", s(&junk), "--out", s(&out), "--tile", "3x2x2x2"],
+            "powers of two",
+        ),
+        (vec!["capture", "--out", s(&out)], "--obj"),
+    ] {
+        let o = lightfield(&args);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+}
