@@ -387,7 +387,7 @@ impl Bench<'_> {
                     ..Options::default()
                 };
                 let e = metrics::compare(&target, &truth, &opts).expect("same size");
-                (Some(e), f.last(), f.field.bytes() as u64)
+                (Some(e), f.last(), f.bytes() as u64)
             }
             None => (None, Default::default(), 0),
         };

@@ -33,7 +33,7 @@ use crate::warp::ENCODING;
 use engine::color::Encoder;
 use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
-pub use object::LightFieldObject;
+pub use object::{LightFieldObject, Showing};
 pub use rebin::{rebin, Rebinned};
 pub use render::{render, Interpolation, LightFieldFrame, Lookup};
 pub use vq::{Quantised, TileShape, VqError, VqReport, VqSettings};
@@ -177,19 +177,57 @@ impl Slab {
         up: Vec3,
         counts: [u32; 4],
     ) -> Result<Slab, SlabError> {
+        let r = radius;
+        Slab::around(
+            center,
+            look,
+            up,
+            [2.0 * r, 4.0 * r, 1.5 * r],
+            counts,
+            [r, 8.0 * r],
+        )
+    }
+
+    /// Six slabs on a cube around a sphere of `radius` at `center`, one looking along
+    /// each axis, both ways (+X, -X, +Y, -Y, +Z, -Z), each taking rays up to 63 degrees
+    /// off its axis: `st` planes through the centre 4.4 `radius` square, `uv` planes 3
+    /// `radius` back, 16.4 `radius` square. From every eye more than about 8 radii away
+    /// one slab sees the whole sphere (from nearer eyes off the axes none may, and
+    /// [`LightFieldObject`] falls back).
+    pub fn cube(center: Vec3, radius: f32, counts: [u32; 4]) -> Result<[Slab; 6], SlabError> {
+        let r = radius;
+        let faces = [
+            (Vec3::X, Vec3::Y),
+            (Vec3::NEG_X, Vec3::Y),
+            (Vec3::Y, Vec3::Z),
+            (Vec3::NEG_Y, Vec3::NEG_Z),
+            (Vec3::Z, Vec3::Y),
+            (Vec3::NEG_Z, Vec3::Y),
+        ];
+        let size = [2.2 * r, 3.0 * r, 8.2 * r];
+        let [a, b, c, d, e, f] = faces
+            .map(|(look, up)| Slab::around(center, look, up, size, counts, [0.5 * r, 8.0 * r]));
+        Ok([a?, b?, c?, d?, e?, f?])
+    }
+
+    /// A slab looking along `look` (`up` upward in its images) at `center`: `st` plane
+    /// through it, `st_half` its half-size; `uv` plane `back` behind, `uv_half` its
+    /// half-size.
+    fn around(
+        center: Vec3,
+        look: Vec3,
+        up: Vec3,
+        [st_half, back, uv_half]: [f32; 3],
+        counts: [u32; 4],
+        [near, far]: [f32; 2],
+    ) -> Result<Slab, SlabError> {
         let look = look.normalize_or_zero();
         let right = look.cross(up).normalize_or_zero();
         let down = look.cross(right);
         let at = |back: f32, half: f32| {
             Rect3::centered(center - look * back, right * 2.0 * half, down * 2.0 * half)
         };
-        Slab::new(
-            at(4.0 * radius, 1.5 * radius),
-            at(0.0, 2.0 * radius),
-            counts,
-            radius,
-            8.0 * radius,
-        )
+        Slab::new(at(back, uv_half), at(0.0, st_half), counts, near, far)
     }
 
     /// The direction from the `uv` plane to the `st` plane (unit).
@@ -396,6 +434,8 @@ impl LightField {
 
 #[cfg(test)]
 mod rebin_tests;
+#[cfg(test)]
+mod stability_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

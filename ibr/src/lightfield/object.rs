@@ -1,44 +1,85 @@
-//! A light field standing in a rasterized scene, like an impostor: each frame it is
-//! rendered into the screen rectangle its focal plane covers (a crop of the frame's
+//! A light field standing in a rasterized scene, like an impostor: one or more slabs (up
+//! to six on a cube, [`super::Slab::cube`]) around an object's bounding sphere. Each
+//! frame the slab that sees the whole sphere from the eye, best aligned with the view of
+//! it, is rendered into the screen rectangle its focal plane covers (a crop of the frame's
 //! camera, so the cost follows the covered pixels), then composited by an image pass that
 //! depth-tests against the geometry, blends its edges "over" and writes the depth of its
-//! proxy (the focal plane).
+//! proxy. When no slab sees the whole object (the eye left the region its slabs cover, or
+//! is inside the sphere) the object falls back to its geometry, if kept, and says so
+//! ([`LightFieldObject::showing`], the `geometry` counter).
 
 use super::render::{render, LightFieldFrame, Lookup};
-use super::LightField;
+use super::{LightField, Slab};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
 use crate::warp::technique::ImagePass;
 use crate::warp::Warped;
+use engine::Sphere;
 use engine::{
     run_packed_pass, Camera, Draw, Encoding, FrameStats, PackedFragment, PackedPass, PassMode,
     PixelRect, Target,
 };
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
-/// A light field in a scene, and the geometry it stands for (for error measurement).
+/// What a light-field object showed in the last frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Showing {
+    /// Slab `k` of [`LightFieldObject::slabs`].
+    Slab(usize),
+    /// Its geometry: no slab sees the whole object from the eye.
+    Geometry,
+    /// Nothing: no slab sees it and no geometry is kept (or it is off screen).
+    #[default]
+    Nothing,
+}
+
+/// A light field in a scene, and the geometry it stands for (the fallback, and the
+/// reference for error measurement).
 #[derive(Debug)]
 pub struct LightFieldObject {
     pub name: String,
-    pub field: LightField,
+    /// The slabs, each a light field of the object from one side.
+    pub slabs: Vec<LightField>,
+    /// The object's bounding sphere: a slab is used only when every ray from the eye to
+    /// it crosses both of the slab's rectangles.
+    pub bounds: Sphere,
     pub lookup: Lookup,
-    /// The geometry captured into the light field, if kept.
+    /// The geometry captured into the light field, if kept: drawn when no slab sees the
+    /// object.
     pub reference: Option<MeshGroup>,
     image: Warped,
     rect: Option<PixelRect>,
+    showing: Showing,
     last: LightFieldFrame,
 }
 
 impl LightFieldObject {
+    /// One slab; the object's sphere is taken to be the one [`Slab::facing`] fits it
+    /// around (centred in the focal plane, a quarter of its shorter edge).
     pub fn new(name: impl Into<String>, field: LightField) -> Self {
-        let camera = field.slab.camera(0, 0);
+        let st = field.slab.st;
+        let bounds = Sphere {
+            center: st.at(0.5, 0.5),
+            radius: 0.25 * st.edge_a.length().min(st.edge_b.length()),
+        };
+        Self::with_slabs(name, vec![field], bounds)
+    }
+
+    /// Several slabs around the sphere `bounds`.
+    pub fn with_slabs(name: impl Into<String>, slabs: Vec<LightField>, bounds: Sphere) -> Self {
+        let camera = slabs.first().map_or_else(
+            || Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0),
+            |f| f.slab.camera(0, 0),
+        );
         LightFieldObject {
             name: name.into(),
-            field,
+            slabs,
+            bounds,
             lookup: Lookup::default(),
             reference: None,
             image: Warped::new(0, 0, camera),
             rect: None,
+            showing: Showing::Nothing,
             last: LightFieldFrame::default(),
         }
     }
@@ -48,13 +89,52 @@ impl LightFieldObject {
         self.last
     }
 
+    /// What the last frame showed.
+    pub fn showing(&self) -> Showing {
+        self.showing
+    }
+
+    /// Bytes of all slabs' samples in memory.
+    pub fn bytes(&self) -> usize {
+        self.slabs.iter().map(LightField::bytes).sum()
+    }
+
+    /// The slab that sees the whole object from `eye`, best aligned with the view of it.
+    pub fn choose(&self, eye: Vec3) -> Option<usize> {
+        let to = self.bounds.center - eye;
+        if to.length().is_nan() || to.length() <= self.bounds.radius {
+            return None;
+        }
+        let dir = to.normalize();
+        // Points all round the sphere (26 directions), a little outside it.
+        let (c, r) = (self.bounds.center, self.bounds.radius * 1.05);
+        let points: Vec<Vec3> = (0..27)
+            .map(|k| {
+                Vec3::new(
+                    (k % 3) as f32 - 1.0,
+                    (k / 3 % 3) as f32 - 1.0,
+                    (k / 9) as f32 - 1.0,
+                )
+            })
+            .filter(|d| *d != Vec3::ZERO)
+            .map(|d| c + d.normalize() * r)
+            .collect();
+        self.slabs
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| points.iter().all(|&p| sees(&f.slab, eye, p - eye)))
+            .map(|(k, f)| (k, f.slab.forward().dot(dir)))
+            .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+            .map(|(k, _)| k)
+    }
+
     /// The pixels of a `width` x `height` view the focal plane can cover: the bounds of its
     /// corners on screen, or the whole view when a corner is behind the eye; `None` when
     /// off screen.
     fn screen_rect(&self, camera: &Camera, width: u32, height: u32) -> Option<PixelRect> {
         let m = camera.clip_from_world();
         let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
-        let st = &self.field.slab.st;
+        let st = &self.slabs[self.showing_slab()?].slab.st;
         for p in [
             st.at(0.0, 0.0),
             st.at(1.0, 0.0),
@@ -84,6 +164,15 @@ impl LightFieldObject {
     }
 }
 
+/// Whether the line from `eye` along `d` is a ray of `slab`: it looks across the planes
+/// from the `uv` side and crosses both rectangles.
+fn sees(slab: &Slab, eye: Vec3, d: Vec3) -> bool {
+    let inside = |c: Option<(f32, f32, f32)>| {
+        c.is_some_and(|(_, a, b)| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
+    };
+    d.dot(slab.forward()) > 0.0 && inside(slab.uv.cross(eye, d)) && inside(slab.st.cross(eye, d))
+}
+
 /// An image pass over a crop of the frame: pixel `(x, y)` of the frame is pixel
 /// `(x - x0, y - y0)` of the crop.
 struct Cropped<'a> {
@@ -104,24 +193,42 @@ impl PackedPass for Cropped<'_> {
     }
 }
 
+impl LightFieldObject {
+    fn showing_slab(&self) -> Option<usize> {
+        match self.showing {
+            Showing::Slab(k) => Some(k),
+            _ => None,
+        }
+    }
+}
+
 impl Technique for LightFieldObject {
     fn name(&self) -> &str {
         &self.name
     }
 
     fn prepare(&mut self, view: &FrameView<'_>) {
+        self.showing = match self.choose(view.camera.eye()) {
+            Some(k) => Showing::Slab(k),
+            None if self.reference.is_some() => Showing::Geometry,
+            None => Showing::Nothing,
+        };
         self.rect = self.screen_rect(view.camera, view.width, view.height);
         self.last = LightFieldFrame::default();
-        if let Some(r) = self.rect {
+        if let (Some(r), Some(k)) = (self.rect, self.showing_slab()) {
             let lo = Vec2::new(r.x0 as f32, r.y0 as f32);
             let hi = Vec2::new(r.x1 as f32, r.y1 as f32);
             let crop = view.camera.crop(lo, hi, view.width, view.height);
             let (w, h) = (r.x1 - r.x0, r.y1 - r.y0);
-            self.last = render(&self.field, &crop, w, h, self.lookup, &mut self.image);
+            self.last = render(&self.slabs[k], &crop, w, h, self.lookup, &mut self.image);
         }
     }
 
-    fn draws<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        if let (Showing::Geometry, Some(g)) = (self.showing, &self.reference) {
+            g.draws(out);
+        }
+    }
 
     fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
         let Some(rect) = self.rect else {
@@ -142,6 +249,7 @@ impl Technique for LightFieldObject {
     fn counters(&self) -> Counters {
         Counters {
             images: self.rect.is_some() as u64,
+            geometry: (self.showing == Showing::Geometry) as u64,
             pixels: self.last.pixels,
             samples: self.last.taps,
             ..Counters::default()

@@ -5,12 +5,27 @@
 //! whose ray misses either rectangle, points away from the `st` plane, or finds only empty
 //! samples are holes; the others take the depth of that surface point (or of the `st`
 //! plane, the flat proxy).
+//!
+//! How: blocks of rows on the thread pool; in each row only the run of pixels whose rays
+//! cross the slab (`run`), eight rays at a time (`rays`), looked up as one ray would be
+//! in 8-lane arithmetic (`kernel`; depth correction's geometry in `surface`, lane
+//! helpers in `lanes`) from raw or quantised samples (`source`). Without depth
+//! correction a pixel is bit for bit what one ray at a time in scalar `f32` gives; with
+//! it, up to rounding (the projections are rearranged).
 
-use super::{LightField, Quantised, RawRays, Rays, Rect3, Slab};
+mod kernel;
+mod lanes;
+mod rays;
+mod source;
+mod surface;
+
+use super::{LightField, Rays, Slab};
 use crate::warp::Warped;
+use engine::simd::LANES;
 use engine::Camera;
-use glam::{Vec3, Vec4};
+use kernel::Kernel;
 use rayon::prelude::*;
+use source::{CodeSource, RawSource, Source};
 
 /// How the samples around a ray are combined.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -69,92 +84,9 @@ impl std::ops::AddAssign for LightFieldFrame {
     }
 }
 
-/// A rectangle's plane as a ray meets it: a corner, the normal, and the edges divided by
-/// their squared lengths (a point's dot product with them is its fraction of each edge).
-#[derive(Clone, Copy, Debug)]
-struct Plane {
-    origin: Vec3,
-    normal: Vec3,
-    a: Vec3,
-    b: Vec3,
-}
-
-impl Plane {
-    fn of(r: &Rect3) -> Plane {
-        Plane {
-            origin: r.origin,
-            normal: r.edge_a.cross(r.edge_b),
-            a: r.edge_a / r.edge_a.length_squared(),
-            b: r.edge_b / r.edge_b.length_squared(),
-        }
-    }
-
-    /// Where the line `o + tau d` crosses the plane: `tau` and the fractions of the edges;
-    /// `None` when parallel or not finite.
-    #[inline]
-    fn cross(&self, o: Vec3, d: Vec3) -> Option<(f32, f32, f32)> {
-        let along = d.dot(self.normal);
-        if along == 0.0 || !along.is_finite() {
-            return None;
-        }
-        let tau = (self.origin - o).dot(self.normal) / along;
-        let p = o + d * tau - self.origin;
-        let (a, b) = (p.dot(self.a), p.dot(self.b));
-        (tau.is_finite() && a.is_finite() && b.is_finite()).then_some((tau, a, b))
-    }
-}
-
-/// The two samples of `0..n` around coordinate `x` (sample centres at integers) and the
-/// weight of the second; one sample, weight 0, at the ends.
-#[inline]
-fn pair(x: f32, n: u32) -> (u32, u32, f32) {
-    let last = n as f32 - 1.0;
-    let x = x.clamp(0.0, last);
-    let i = x.floor();
-    let f = x - i;
-    let i = i as u32;
-    (i, (i + 1).min(n - 1), f)
-}
-
-/// Where a render reads samples from: raw or quantised rays, the choice made once per
-/// frame, not per sample.
-trait Source: Sync {
-    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32;
-    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32;
-}
-
-struct RawSource<'a> {
-    rays: &'a RawRays,
-    counts: [u32; 4],
-}
-
-impl Source for RawSource<'_> {
-    #[inline]
-    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
-        self.rays.samples[self.rays.index(self.counts, u, v, s, t)]
-    }
-
-    #[inline]
-    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
-        self.rays.depth[self.rays.index(self.counts, u, v, s, t)]
-    }
-}
-
-impl Source for Quantised {
-    #[inline]
-    fn sample(&self, u: u32, v: u32, s: u32, t: u32) -> u32 {
-        Quantised::sample(self, u, v, s, t)
-    }
-
-    #[inline]
-    fn depth(&self, u: u32, v: u32, s: u32, t: u32) -> f32 {
-        Quantised::depth(self, u, v, s, t)
-    }
-}
-
 /// Renders `lf` as seen by `camera` into `out` (made `width` x `height`, holes where the
-/// light field has no ray), from raw or quantised rays alike. Row by row on the thread
-/// pool; the same pixels at any thread count.
+/// light field has no ray), from raw or quantised rays alike. Blocks of rows on the
+/// thread pool; the same pixels at any thread count.
 pub fn render(
     lf: &LightField,
     camera: &Camera,
@@ -169,13 +101,13 @@ pub fn render(
     };
     match &lf.rays {
         Rays::Raw(rays) => {
-            let src = RawSource {
-                rays,
-                counts: lf.slab.counts(),
-            };
+            let src = RawSource::new(&lf.slab, rays);
             render_from(&lf.slab, &src, camera, width, height, lookup, out)
         }
-        Rays::Quantised(q) => render_from(&lf.slab, q, camera, width, height, lookup, out),
+        Rays::Quantised(q) => {
+            let src = CodeSource::new(q);
+            render_from(&lf.slab, &src, camera, width, height, lookup, out)
+        }
     }
 }
 
@@ -193,114 +125,46 @@ fn render_from(
     if w == 0 || height == 0 {
         return LightFieldFrame::default();
     }
-    let inv = camera.gl_view_proj().inverse();
-    let (uv_plane, st_plane) = (Plane::of(&slab.uv), Plane::of(&slab.st));
-    // The near and far points of a pixel's ray, homogeneous, are linear in its x: a row's
-    // first pixel's plus x steps.
-    let step = inv.x_axis * (2.0 / width as f32);
-    let forward = camera.forward();
-    let toward = slab.forward();
-    let coords = [slab.nu, slab.nv, slab.ns, slab.nt].map(|n| n as f32);
-    // The st plane's distance from the uv plane along `toward`.
-    let gap = (slab.st.origin - slab.uv.origin).dot(toward);
-    let correct = lookup.depth_correction;
+    let rays = rays::Rays::new(slab, camera, width, height, lookup.depth_correction);
+    let kernel = Kernel::new(slab, src, lookup);
+    match lookup.interpolation {
+        Interpolation::Nearest => render_rows::<1, 1>(&rays, &kernel, w, out),
+        Interpolation::BilinearUv => render_rows::<4, 1>(&rays, &kernel, w, out),
+        Interpolation::Quadrilinear => render_rows::<4, 4>(&rays, &kernel, w, out),
+    }
+}
+
+/// Renders the rows of `out` (`w` wide), blocks of them on the thread pool, each ray
+/// read from `CAMERAS` cameras, `TAPS` samples each ([`Kernel::shade`]).
+fn render_rows<const CAMERAS: usize, const TAPS: usize>(
+    rays: &rays::Rays,
+    kernel: &Kernel<'_, impl Source>,
+    w: usize,
+    out: &mut Warped,
+) -> LightFieldFrame {
+    let block = w * BLOCK_ROWS;
     out.color
-        .par_chunks_mut(w)
-        .zip(out.disparity.par_chunks_mut(w))
+        .par_chunks_mut(block)
+        .zip(out.disparity.par_chunks_mut(block))
         .enumerate()
-        .map(|(y, (colors, disparities))| {
+        .map(|(b, (colors, disparities))| {
             let mut frame = LightFieldFrame::default();
-            let ndc_x = 1.0 / width as f32 - 1.0;
-            let ndc_y = 1.0 - 2.0 * (y as f32 + 0.5) / height as f32;
-            let near0 = inv * Vec4::new(ndc_x, ndc_y, -1.0, 1.0);
-            let far0 = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
-            for x in 0..w {
-                let near = near0 + step * x as f32;
-                let far = far0 + step * x as f32;
-                let o = near.truncate() / near.w;
-                let d = far.truncate() / far.w - o;
-                // Light leaves the st side toward the uv side: the eye must look across
-                // the planes from the uv side.
-                if d.dot(toward).is_nan() || d.dot(toward) <= 0.0 {
-                    continue;
-                }
-                let (Some((_, a_uv, b_uv)), Some((tau, a_st, b_st))) =
-                    (uv_plane.cross(o, d), st_plane.cross(o, d))
-                else {
-                    continue;
-                };
-                let inside = |a: f32| (0.0..=1.0).contains(&a);
-                if tau <= 0.0 || !(inside(a_uv) && inside(b_uv) && inside(a_st) && inside(b_st)) {
-                    continue;
-                }
-                frame.rays += 1;
-                // Sample coordinates: centres at integers.
-                let f = [a_uv, b_uv, a_st, b_st];
-                let at: [f32; 4] = std::array::from_fn(|k| f[k] * coords[k] - 0.5);
-                // Where the ray meets the surface: the depth one of the cameras around the
-                // ray (nearest first) saw where the ray crosses the focal plane.
-                let near = |x: f32, n: u32| (x.round().max(0.0) as u32).min(n - 1);
-                let [u, v, s, t] = at;
-                let from_uv = (o - slab.uv.origin).dot(toward);
-                let on_ray = |z: f32| {
-                    let along = (z - from_uv) / d.dot(toward);
-                    (z > 0.0 && z.is_finite() && along > 0.0).then(|| (o + d * along, z))
-                };
-                // The nearest camera's view of the ray, followed to a fixed point: start
-                // where the ray crosses the focal plane, read the depth the camera saw
-                // there, move along the ray to that depth, and again.
-                let (ci, cj) = (near(u, slab.nu), near(v, slab.nv));
-                let project = |x: Vec3, i: u32, j: u32| -> Option<[f32; 2]> {
-                    let e = slab.uv_point(i, j);
-                    let dir = x - e;
-                    let p = e + dir * (gap / dir.dot(toward)) - slab.st.origin;
-                    let (a, b) = (p.dot(st_plane.a), p.dot(st_plane.b));
-                    let st = [a * coords[2] - 0.5, b * coords[3] - 0.5];
-                    (st[0].is_finite() && st[1].is_finite()).then_some(st)
-                };
-                let surface = if correct {
-                    let mut found = None;
-                    let mut x = o + d * tau;
-                    for _ in 0..4 {
-                        let Some([ps, pt]) = project(x, ci, cj) else {
-                            break;
-                        };
-                        let z = src.depth(ci, cj, near(ps, slab.ns), near(pt, slab.nt));
-                        let Some((next, z)) = on_ray(z) else {
-                            break;
-                        };
-                        found = Some((next, z));
-                        x = next;
-                    }
-                    found
-                } else {
-                    None
-                };
-                // The st coordinates where camera `(i, j)` saw the surface point; `None`
-                // when it saw something else there (nearer, or nothing): it does not see
-                // the point, and is left out of the blend.
-                let st_of = |i: u32, j: u32| -> Option<[f32; 2]> {
-                    let Some((x, z)) = surface else {
-                        return Some([s, t]);
-                    };
-                    let st = project(x, i, j)?;
-                    let seen = src.depth(i, j, near(st[0], slab.ns), near(st[1], slab.nt));
-                    ((seen - z).abs() <= SAME_SURFACE * z).then_some(st)
-                };
-                let (c, taps) =
-                    self::lookup(slab, src, [at[0], at[1]], &st_of, lookup.interpolation);
-                frame.taps += taps;
-                if c[3] <= 0.0 {
-                    continue;
-                }
-                let byte = |x: f32| (x + 0.5).clamp(0.0, 255.0) as u8;
-                colors[x] = u32::from_le_bytes(c.map(byte));
-                let depth = match surface {
-                    Some((p, _)) => (p - o).dot(forward),
-                    None => (d * tau).dot(forward),
-                };
-                disparities[x] = if depth > 0.0 { 1.0 / depth } else { 0.0 };
-                frame.pixels += 1;
+            let mut guess = None;
+            for (r, (colors, disparities)) in colors
+                .chunks_mut(w)
+                .zip(disparities.chunks_mut(w))
+                .enumerate()
+            {
+                let y = b * BLOCK_ROWS + r;
+                guess = render_row::<CAMERAS, TAPS>(
+                    rays,
+                    kernel,
+                    y,
+                    guess,
+                    colors,
+                    disparities,
+                    &mut frame,
+                );
             }
             frame
         })
@@ -310,69 +174,99 @@ fn render_from(
         })
 }
 
-/// The blended stored bytes around camera coordinates `(u, v)`, each camera `(i, j)` read
-/// around its own st coordinates `st_of(i, j)`, and the samples read.
-#[inline]
-fn lookup(
-    sl: &Slab,
-    src: &impl Source,
-    [u, v]: [f32; 2],
-    st_of: &impl Fn(u32, u32) -> Option<[f32; 2]>,
-    interpolation: Interpolation,
-) -> ([f32; 4], u64) {
-    let nearest = |x: f32, n: u32| (x.round().max(0.0) as u32).min(n - 1);
-    let bytes = |c: u32| c.to_le_bytes().map(f32::from);
-    let cameras: [(u32, u32, f32); 4] = if interpolation == Interpolation::Nearest {
-        let (i, j) = (nearest(u, sl.nu), nearest(v, sl.nv));
-        [(i, j, 1.0), (i, j, 0.0), (i, j, 0.0), (i, j, 0.0)]
-    } else {
-        let (u0, u1, fu) = pair(u, sl.nu);
-        let (v0, v1, fv) = pair(v, sl.nv);
-        [
-            (u0, v0, (1.0 - fu) * (1.0 - fv)),
-            (u1, v0, fu * (1.0 - fv)),
-            (u0, v1, (1.0 - fu) * fv),
-            (u1, v1, fu * fv),
-        ]
-    };
-    let (mut acc, mut total) = ([0.0f32; 4], 0.0f32);
-    let mut taps = 0;
-    for (i, j, wuv) in cameras {
-        if wuv == 0.0 {
-            continue;
-        }
-        let Some([s, t]) = st_of(i, j) else {
-            continue;
-        };
-        total += wuv;
-        let st: [(u32, u32, f32); 4] = if interpolation == Interpolation::Quadrilinear {
-            let (s0, s1, fs) = pair(s, sl.ns);
-            let (t0, t1, ft) = pair(t, sl.nt);
-            [
-                (s0, t0, (1.0 - fs) * (1.0 - ft)),
-                (s1, t0, fs * (1.0 - ft)),
-                (s0, t1, (1.0 - fs) * ft),
-                (s1, t1, fs * ft),
-            ]
-        } else {
-            let (s, t) = (nearest(s, sl.ns), nearest(t, sl.nt));
-            [(s, t, 1.0), (s, t, 0.0), (s, t, 0.0), (s, t, 0.0)]
-        };
-        for (ss, tt, wst) in st {
-            let wt = wuv * wst;
-            if wt == 0.0 {
+/// Rows a task renders one after another, each looking for its rays that cross the slab
+/// where the row before found them.
+const BLOCK_ROWS: usize = 8;
+
+/// Renders row `y`, eight pixels at a time, two batches of eight at a time where it can
+/// (their depth correction's dependent reads interleave), and returns its run of batches
+/// whose rays cross the slab (`run`; `guess`, the row before's, is where it looks).
+fn render_row<const CAMERAS: usize, const TAPS: usize>(
+    rays: &rays::Rays,
+    kernel: &Kernel<'_, impl Source>,
+    y: usize,
+    guess: Option<(usize, usize)>,
+    colors: &mut [u32],
+    disparities: &mut [f32],
+    frame: &mut LightFieldFrame,
+) -> Option<(usize, usize)> {
+    let ends = rays.row(y);
+    let w = colors.len();
+    // Lanes past the row's end are not hits.
+    let within = |x0: usize| (1u32 << (w - x0).min(LANES)) - 1;
+    let (lo, hi) = run(w.div_ceil(LANES), guess, |k| {
+        rays.hits(ends, k * LANES) & within(k * LANES)
+    })?;
+    let mut k = lo;
+    while k <= hi {
+        let x0 = k * LANES;
+        let (a, hits_a) = rays.batch(ends, x0);
+        let hits_a = hits_a & within(x0);
+        let na = (w - x0).min(LANES);
+        if k < hi {
+            let (b, hits_b) = rays.batch(ends, x0 + LANES);
+            let hits_b = hits_b & within(x0 + LANES);
+            let nb = (w - x0 - LANES).min(LANES);
+            if hits_a != 0 && hits_b != 0 {
+                let (ca, cb) = colors[x0..x0 + na + nb].split_at_mut(na);
+                let (da, db) = disparities[x0..x0 + na + nb].split_at_mut(na);
+                *frame += kernel.shade::<CAMERAS, TAPS, 2>(
+                    [&a, &b],
+                    [hits_a, hits_b],
+                    [(ca, da), (cb, db)],
+                );
+                k += 2;
                 continue;
             }
-            taps += 1;
-            let c = bytes(src.sample(i, j, ss, tt));
-            for (a, x) in acc.iter_mut().zip(c) {
-                *a += x * wt;
-            }
+        }
+        if hits_a != 0 {
+            let out = (&mut colors[x0..x0 + na], &mut disparities[x0..x0 + na]);
+            *frame += kernel.shade::<CAMERAS, TAPS, 1>([&a], [hits_a], [out]);
+        }
+        k += 1;
+    }
+    Some((lo, hi))
+}
+
+/// The run `lo..=hi` of a row's `n` batches whose rays cross the slab (`hits(k)`, batch
+/// `k`'s hits, not 0), if any. A row's rays lie in a plane through the eye (parallel in
+/// it, for an orthographic camera); of those looking across the planes from the `uv`
+/// side, the ones that cross a convex polygon, or meet a plane beyond their start, are a
+/// run of pixels, and so is the intersection of such runs. So the run is found from one
+/// batch in it by its ends: the middle of `guess` (the row before's run) if in it, the
+/// guess's ends then moved to the run's; else the first batch that hits, along the row,
+/// the run's last found by bisection.
+fn run(
+    n: usize,
+    guess: Option<(usize, usize)>,
+    hits: impl Fn(usize) -> u32,
+) -> Option<(usize, usize)> {
+    let hit = |k: usize| hits(k) != 0;
+    if let Some((lo, hi)) = guess {
+        if hit((lo + hi) / 2) {
+            let lo = if hit(lo) {
+                (0..lo).rev().take_while(|&k| hit(k)).last().unwrap_or(lo)
+            } else {
+                (lo + 1..).find(|&k| hit(k)).unwrap_or(lo)
+            };
+            let hi = if hit(hi) {
+                (hi + 1..n).take_while(|&k| hit(k)).last().unwrap_or(hi)
+            } else {
+                (0..hi).rev().find(|&k| hit(k)).unwrap_or(hi)
+            };
+            return Some((lo, hi));
         }
     }
-    // Cameras left out give their weight to the others.
-    if total > 0.0 && total < 1.0 {
-        acc = acc.map(|a| a / total);
+    let lo = (0..n).find(|&k| hit(k))?;
+    // hit(a), and not hit(b) (or b past the end).
+    let (mut a, mut b) = (lo, n);
+    while b - a > 1 {
+        let m = (a + b) / 2;
+        if hit(m) {
+            a = m;
+        } else {
+            b = m;
+        }
     }
-    (acc, taps)
+    Some((lo, a))
 }
