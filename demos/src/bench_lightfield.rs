@@ -419,6 +419,24 @@ impl Bench<'_> {
         }
     }
 
+    /// `field` drawn quadrilinear and depth-corrected at every eye.
+    fn every_eye(
+        &mut self,
+        series: &'static str,
+        object: &Object,
+        field: LightField,
+        setting: &Setting,
+    ) -> Vec<Row> {
+        let mut o = LightFieldObject::new("torus", field);
+        o.lookup = Lookup::default();
+        (0..EYES.len())
+            .map(|k| {
+                let m = Some(("quadrilinear-dc", &mut o));
+                self.point(series, object, m, k, self.plan.size, setting)
+            })
+            .collect()
+    }
+
     /// Every lookup at every eye.
     fn lookups(
         &mut self,
@@ -557,12 +575,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             file_bytes: file_size(&q, "vq.plf"),
             ..raw.clone()
         };
-        let mut o = LightFieldObject::new("torus", q);
-        o.lookup = dc;
-        for k in 0..EYES.len() {
-            let m = Some(("quadrilinear-dc", &mut o));
-            rows.push(bench.point(series, &object, m, k, plan.size, &setting));
-        }
+        rows.extend(bench.every_eye(series, &object, q, &setting));
     }
     // Sparse against dense capture of one slab.
     let (uv, st) = plan.sparse_slab;
@@ -576,12 +589,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         capture_s,
         ..Setting::default()
     };
-    let mut o = LightFieldObject::new("torus", dense);
-    o.lookup = dc;
-    for k in 0..EYES.len() {
-        let m = Some(("quadrilinear-dc", &mut o));
-        rows.push(bench.point("sparse", &object, m, k, plan.size, &setting));
-    }
+    rows.extend(bench.every_eye("sparse", &object, dense, &setting));
     for &n in &plan.photographs {
         tick(format!("sparse: {n} photographs"));
         let start = Instant::now();
@@ -597,12 +605,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         setting.capture_s = start.elapsed().as_secs_f64();
         setting.photographs = n;
         setting.invented = r.invented();
-        let mut o = LightFieldObject::new("torus", r.field);
-        o.lookup = dc;
-        for k in 0..EYES.len() {
-            let m = Some(("quadrilinear-dc", &mut o));
-            rows.push(bench.point("sparse", &object, m, k, plan.size, &setting));
-        }
+        rows.extend(bench.every_eye("sparse", &object, r.field, &setting));
     }
     let mut o = LightFieldObject::new("torus", lf);
     o.lookup = dc;

@@ -6,24 +6,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 mod common;
-use common::Tmp;
-
-/// A red square in front of a larger green-and-blue one (vertex colours), so a new view
-/// shows parallax and uncovers some of the back square.
-const SCENE: &str = "\
-v -0.5 -0.5 0.5 1 0 0
-v 0.5 -0.5 0.5 1 0 0
-v 0.5 0.5 0.5 1 0 0
-v -0.5 0.5 0.5 1 0 0
-v -2 -2 -1 0 1 0
-v 2 -2 -1 0 0 1
-v 2 2 -1 0 0 1
-v -2 2 -1 0 1 0
-f 1 2 3
-f 1 3 4
-f 5 6 7
-f 5 7 8
-";
+use common::{Tmp, TWO_SQUARES as SCENE};
 
 fn run(bin: &str, args: &[&str]) -> Output {
     Command::new(bin).args(args).output().expect("run")
