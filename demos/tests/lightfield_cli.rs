@@ -47,6 +47,8 @@ fn a_model_is_captured_compressed_and_rendered() {
         "6",
         "--st",
         "48",
+        "--aperture",
+        "2",
     ]));
     assert!(
         log.contains("6912 samples") || log.contains("82944 samples"),

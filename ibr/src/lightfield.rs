@@ -246,7 +246,12 @@ impl Slab {
     /// to the planes, its off-axis frustum framing the `st` rectangle exactly (image x
     /// along `st.edge_a`, y down along `st.edge_b`).
     pub fn camera(&self, i: u32, j: u32) -> Camera {
-        let eye = self.uv_point(i, j);
+        self.camera_at(self.uv_point(i, j))
+    }
+
+    /// A capture camera at `eye` (a point of the `uv` plane) framing the `st` rectangle
+    /// as [`Slab::camera`] does.
+    pub fn camera_at(&self, eye: Vec3) -> Camera {
         let x = self.st.edge_a.normalize();
         let y = -self.st.edge_b.normalize();
         let z = -self.forward();
@@ -350,22 +355,65 @@ impl LightField {
         slab: Slab,
         progress: &mut dyn FnMut(usize, usize),
     ) -> LightField {
+        Self::capture_prefiltered(draws, lighting, slab, 1, progress)
+    }
+
+    /// A capture prefiltered over the aperture (Levoy and Hanrahan 96, section 3.2): each
+    /// `uv` sample's image is the mean of `aperture` x `aperture` images from cameras
+    /// spread evenly over its cell of the `uv` plane, all framing the `st` rectangle, so
+    /// what lies off the focal plane is blurred by the cell's aperture instead of aliasing
+    /// into ghosts between cameras; what lies in the focal plane is unchanged. Colour is
+    /// averaged premultiplied and linear; a sample's depth is the mean of the finite depths
+    /// its views saw (infinite when none saw anything). `aperture` 1 (or 0) is the plain
+    /// capture.
+    pub fn capture_prefiltered(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        slab: Slab,
+        aperture: u32,
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> LightField {
+        let n = aperture.max(1);
         let enc = Encoder::new(ENCODING);
         let mut samples = Vec::with_capacity(slab.len());
         let mut depth = Vec::with_capacity(slab.len());
         let total = slab.nu as usize * slab.nv as usize;
+        let per_image = slab.ns as usize * slab.nt as usize;
         for j in 0..slab.nv {
-            let cameras: Vec<Camera> = (0..slab.nu).map(|i| slab.camera(i, j)).collect();
-            for image in &capture_batch(draws, &cameras, lighting, slab.ns, slab.nt) {
-                samples.extend(image.color.iter().map(|c| enc.pack(c.r, c.g, c.b, c.a)));
-                // The capture cameras look along `forward` from the uv plane: axial depth
-                // is the distance from that plane.
-                depth.extend(
-                    image
-                        .depth
-                        .iter()
-                        .map(|&z| if z > 0.0 { z } else { f32::INFINITY }),
-                );
+            // Every view of this row of cells, cell after cell.
+            let cameras: Vec<Camera> = (0..slab.nu)
+                .flat_map(|i| {
+                    (0..n * n).map(move |k| {
+                        let a = (i as f32 + (k % n) as f32 / n as f32 + 0.5 / n as f32)
+                            / slab.nu as f32;
+                        let b = (j as f32 + (k / n) as f32 / n as f32 + 0.5 / n as f32)
+                            / slab.nv as f32;
+                        slab.camera_at(slab.uv.at(a, b))
+                    })
+                })
+                .collect();
+            let images = capture_batch(draws, &cameras, lighting, slab.ns, slab.nt);
+            for views in images.chunks(n as usize * n as usize) {
+                for p in 0..per_image {
+                    let (mut c, mut z, mut seen) = ([0.0f32; 4], 0.0f32, 0u32);
+                    for v in views {
+                        let x = v.color[p];
+                        c = [c[0] + x.r, c[1] + x.g, c[2] + x.b, c[3] + x.a];
+                        // The capture cameras look along `forward` from the uv plane:
+                        // axial depth is the distance from that plane.
+                        if v.depth[p] > 0.0 && v.depth[p].is_finite() {
+                            z += v.depth[p];
+                            seen += 1;
+                        }
+                    }
+                    let k = views.len() as f32;
+                    samples.push(enc.pack(c[0] / k, c[1] / k, c[2] / k, c[3] / k));
+                    depth.push(if seen > 0 {
+                        z / seen as f32
+                    } else {
+                        f32::INFINITY
+                    });
+                }
             }
             progress((j as usize + 1) * slab.nu as usize, total);
         }

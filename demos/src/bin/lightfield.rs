@@ -84,6 +84,10 @@ struct CaptureArgs {
     /// Up in the capture images.
     #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3)]
     up: Vec3,
+    /// Aperture prefiltering (models): each camera's image the mean of N x N views over
+    /// its cell of the camera plane (1: none).
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
+    aperture: u32,
 }
 
 #[derive(Debug, Args)]
@@ -275,10 +279,13 @@ fn capture(a: &CaptureArgs) -> Result<(), String> {
         )
         .map_err(|e| format!("cannot fit a slab to the model: {e}"))?;
         let bar = bar(u64::from(a.uv * a.uv), "views");
-        let lf =
-            LightField::capture_with_progress(&draws, &scene.lighting, slab, &mut |done, _| {
-                bar.set_position(done as u64)
-            });
+        let lf = LightField::capture_prefiltered(
+            &draws,
+            &scene.lighting,
+            slab,
+            a.aperture,
+            &mut |done, _| bar.set_position(done as u64),
+        );
         bar.finish_and_clear();
         lf
     };

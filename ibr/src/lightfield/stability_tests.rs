@@ -192,3 +192,81 @@ fn grazing_rays_and_an_empty_slab_give_no_nan() {
         }
     }
 }
+
+#[test]
+fn aperture_prefiltering_blurs_off_the_focal_plane_and_keeps_it_sharp_on_it() {
+    use super::tests::{camera, slab, Card};
+    let lighting = Lighting::default();
+    let none = &mut |_: usize, _: usize| {};
+    // In the focal plane: the same samples (each view sees the card where the others do).
+    let flat = Card::new(0.0, 2.0);
+    let draws = [flat.draw()];
+    let plain = LightField::capture(&draws, &lighting, slab(3, 32));
+    let one = LightField::capture_prefiltered(&draws, &lighting, slab(3, 32), 1, none);
+    let (Rays::Raw(a), Rays::Raw(b)) = (&plain.rays, &one.rays) else {
+        panic!("raw");
+    };
+    assert_eq!(a, b, "an aperture of one is the plain capture");
+    let filtered = LightField::capture_prefiltered(&draws, &lighting, slab(3, 32), 3, none);
+    let Rays::Raw(f) = &filtered.rays else {
+        panic!("raw");
+    };
+    let close = a
+        .samples
+        .iter()
+        .zip(&f.samples)
+        .filter(|(x, y)| {
+            let (x, y) = (x.to_le_bytes(), y.to_le_bytes());
+            (0..4).all(|k| x[k].abs_diff(y[k]) <= 2)
+        })
+        .count();
+    assert!(
+        close * 100 >= a.samples.len() * 99,
+        "{close} of {}",
+        a.samples.len()
+    );
+    // Off the focal plane, few cameras: the plain light field shows the card as hard
+    // ghost copies where there is none; prefiltered, they are soft, and the card keeps
+    // its coverage.
+    let near = Card::new(1.5, 0.8);
+    let draws = [near.draw()];
+    let cam = camera(Vec3::new(0.11, -0.17, 4.5));
+    let want = truth(&draws, &cam);
+    let hard_ghosts = |lf: &LightField| {
+        let mut out = Warped::new(0, 0, cam);
+        let lookup = Lookup {
+            interpolation: Interpolation::Quadrilinear,
+            depth_correction: false,
+        };
+        render(lf, &cam, W, H, lookup, &mut out);
+        // Half-opaque or more where the card is not, and less where it is.
+        let solid = |i: usize| out.is_filled(i) && out.color_linear(i).a >= 0.5;
+        let ghosts = (0..want.len())
+            .filter(|&i| want[i].is_none() && solid(i))
+            .count();
+        let missing = (0..want.len())
+            .filter(|&i| want[i].is_some() && !solid(i))
+            .count();
+        (ghosts, missing)
+    };
+    let plain = hard_ghosts(&LightField::capture(&draws, &lighting, slab(3, 48)));
+    let filtered = hard_ghosts(&LightField::capture_prefiltered(
+        &draws,
+        &lighting,
+        slab(3, 48),
+        4,
+        none,
+    ));
+    assert!(
+        plain.0 > 20,
+        "{plain:?} hard ghost and missing pixels unfiltered"
+    );
+    assert!(
+        filtered.0 * 4 < plain.0,
+        "prefiltered {filtered:?}, plain {plain:?}"
+    );
+    assert!(
+        filtered.1 <= plain.1 + 10,
+        "prefiltered {filtered:?}, plain {plain:?}"
+    );
+}
