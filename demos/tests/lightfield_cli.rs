@@ -167,6 +167,20 @@ fn bad_input_is_one_line_naming_the_problem() {
             "powers of two",
         ),
         (vec!["capture", "--out", s(&out)], "--obj"),
+        (
+            vec![
+                "capture",
+                "--obj",
+                s(&missing),
+                "--out",
+                s(&out),
+                "--uv",
+                "4096",
+                "--st",
+                "4096",
+            ],
+            "samples",
+        ),
     ] {
         let o = lightfield(&args);
         assert!(!o.status.success(), "{args:?} succeeded");

@@ -148,6 +148,9 @@ struct RenderArgs {
     frames: Option<u32>,
 }
 
+/// The most samples a capture may ask for (16 GiB of colour and depth).
+const MAX_SAMPLES: u64 = 1 << 31;
+
 fn parse_tile(s: &str) -> Result<TileShape, String> {
     let dims: Vec<u32> = s
         .split('x')
@@ -203,6 +206,14 @@ fn bar(len: u64, what: &str) -> ProgressBar {
 fn capture(a: &CaptureArgs) -> Result<(), String> {
     let start = Instant::now();
     let counts = [a.uv, a.uv, a.st, a.st];
+    // Checked before anything is allocated: a light field is held in memory whole.
+    let samples = (u64::from(a.uv) * u64::from(a.st)).pow(2);
+    if samples == 0 || samples > MAX_SAMPLES {
+        return Err(format!(
+            "--uv {} and --st {} make {samples} samples; a light field holds 1 to {MAX_SAMPLES} (8 bytes each with depth)",
+            a.uv, a.st
+        ));
+    }
     let field = if let Some(t) = &a.transforms {
         let t = if t.is_dir() {
             t.join("transforms.json")
