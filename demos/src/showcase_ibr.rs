@@ -1,13 +1,15 @@
 //! The showcase's image-based layer: a forest of axial-billboard trees baked from the tree
 //! meshes, a laser exchange between two turrets with explosions where the bolts hit, a sun
 //! with a lens flare occluded by whatever is drawn in front of it, and the impostored sky
-//! of clouds and city district ([`crate::showcase_impostors`]).
+//! of clouds and city district ([`crate::showcase_impostors`]), and a statue drawn from its
+//! light field ([`crate::showcase_lightfield`]).
 //!
 //! Everything here is driven by absolute time, so a headless run is deterministic: bolts
 //! are fired on a fixed schedule and the effects are stepped by the time since the last
 //! pose.
 
 use crate::showcase_impostors::{self, Impostors};
+use crate::showcase_lightfield::Statue;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     AlphaMode, Camera, Draw, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene,
@@ -40,6 +42,8 @@ pub struct IbrLayer {
     flare: Flare,
     /// The clouds and the city, drawn through runtime impostors.
     pub impostors: Impostors,
+    /// The statue on the plaza, drawn from its light field.
+    pub statue: Statue,
     /// Emitter positions of turret A (beam source) and turret B (bolt source).
     pub turrets: [Vec3; 2],
     t: f32,
@@ -68,6 +72,7 @@ impl IbrLayer {
                 source: FlareSource::Directional(sun),
             },
             impostors: Impostors::new(terrain, &scene.lighting),
+            statue: Statue::new(&scene.lighting),
             turrets,
             t: 0.0,
             dt: 0.0,
@@ -139,7 +144,8 @@ impl IbrLayer {
 
     /// Renders `scene` with the layer: updates the impostors (refreshing the worst within
     /// their budgets), then the opaque and blended passes with the billboards, lasers,
-    /// effects, clouds and buildings, then the lens flare over the result.
+    /// effects, clouds, buildings and the light-field statue, then the lens flare over the
+    /// result.
     pub fn render(
         &mut self,
         scene: &Scene,
@@ -158,11 +164,12 @@ impl IbrLayer {
         };
         // Blended impostors, clouds and smoke write no depth: the flare captures them once
         // more around the sun to see how much light they let through.
-        let mut techniques: [&mut dyn Technique; 5] = [
+        let mut techniques: [&mut dyn Technique; 6] = [
             &mut self.forest,
             &mut self.lasers,
             &mut self.effects,
             &mut self.impostors,
+            &mut self.statue.object,
             &mut self.flare,
         ];
         self.frame.render(
@@ -175,7 +182,8 @@ impl IbrLayer {
         )
     }
 
-    /// Each technique's work in the last frame: forest, lasers, effects, impostors, flare.
+    /// Each technique's work in the last frame: forest, lasers, effects, impostors, the
+    /// light-field statue, flare.
     pub fn counters(&self) -> &[Counters] {
         &self.frame.counters
     }

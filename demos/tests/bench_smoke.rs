@@ -535,7 +535,7 @@ fn lightfield_sweep_writes_csv_and_png_charts() {
     assert_eq!(lf.len(), 2, "{csv}");
     assert_eq!(t.num(lf[0], "rays"), t.num(lf[1], "rays"));
     let (a, b) = (t.num(lf[0], "taps"), t.num(lf[1], "taps"));
-    assert!((a - b).abs() <= 0.02 * a, "{a} and {b} samples read");
+    assert!((a - b).abs() <= 0.05 * a, "{a} and {b} samples read");
     let geometry = t.of("triangles", "geometry");
     assert!(t.num(geometry[1], "triangles") > t.num(geometry[0], "triangles"));
     assert_charts(

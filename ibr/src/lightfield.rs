@@ -36,6 +36,7 @@ use glam::{Mat4, Vec3};
 pub use object::{LightFieldObject, Showing};
 pub use rebin::{rebin, Rebinned};
 pub use render::{render, Interpolation, LightFieldFrame, Lookup};
+use std::sync::OnceLock;
 pub use vq::{Quantised, TileShape, VqError, VqReport, VqSettings};
 
 /// A rectangle in space: a corner and its two edges (at right angles).
@@ -325,9 +326,27 @@ pub struct RawRays {
     /// plane to the surface its ray met (infinite where it met none): the proxy of depth
     /// correction. Empty when not kept.
     pub depth: Vec<f32>,
+    /// The nearest and farthest finite depth, found when first asked for.
+    range: OnceLock<Option<(f32, f32)>>,
 }
 
 impl RawRays {
+    /// Samples and their depths (empty when not kept).
+    pub fn new(samples: Vec<u32>, depth: Vec<f32>) -> Self {
+        RawRays {
+            samples,
+            depth,
+            range: OnceLock::new(),
+        }
+    }
+
+    /// The nearest and farthest surface any ray met (distances from the `uv` plane);
+    /// `None` when none met one or depth is not kept. Found once, on first use: change
+    /// `depth` only before rendering.
+    pub fn depth_range(&self) -> Option<(f32, f32)> {
+        *self.range.get_or_init(|| depth_range(&self.depth))
+    }
+
     /// Whether depths are kept.
     pub fn has_depth(&self) -> bool {
         self.depth.len() == self.samples.len()
@@ -419,7 +438,7 @@ impl LightField {
         }
         LightField {
             slab,
-            rays: Rays::Raw(RawRays { samples, depth }),
+            rays: Rays::Raw(RawRays::new(samples, depth)),
         }
     }
 
@@ -488,3 +507,14 @@ mod stability_tests;
 mod tests;
 #[cfg(test)]
 mod vq_tests;
+
+/// The nearest and farthest positive finite depth of `depth`, if any.
+pub(crate) fn depth_range(depth: &[f32]) -> Option<(f32, f32)> {
+    let (lo, hi) = depth
+        .iter()
+        .filter(|z| z.is_finite() && **z > 0.0)
+        .fold((f32::INFINITY, 0.0f32), |(lo, hi), &z| {
+            (lo.min(z), hi.max(z))
+        });
+    (lo <= hi).then_some((lo, hi))
+}

@@ -152,6 +152,7 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
         let start = Instant::now();
         stats = show.render(&mut renderer, &camera, &mut target, &opts);
         times.push(start.elapsed());
+        show.ibr.statue.measure(&camera, w, h);
         if !args.no_save {
             let path = dir.join(format!("frame_{i:04}.png"));
             image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
@@ -212,11 +213,42 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
         }
     }
     println!("  last frame: {}", show.ibr.impostors.readout().line());
+    print_statue(&show, n);
     println!("last frame: {stats:#?}");
     if !args.no_save {
         println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
     }
     Ok(())
+}
+
+/// The light-field statue's readout over the tour.
+fn print_statue(show: &Showcase, n: usize) {
+    let s = &show.ibr.statue;
+    let slabs = &s.object.slabs;
+    let [nu, nv, ns, nt] = slabs.first().map_or([0; 4], |f| f.slab.counts());
+    println!(
+        "light-field statue: {} slabs of {nu}x{nv}x{ns}x{nt}, captured in {:.2} s and \
+         vector-quantised ({} codewords) in {:.2} s",
+        slabs.len(),
+        s.capture.as_secs_f64(),
+        demos::showcase_lightfield::CODEWORDS,
+        s.quantise.as_secs_f64()
+    );
+    println!(
+        "  memory {:.2} MB held (codebooks and indices), {:.1} MB raw: {:.0}:1",
+        s.bytes() as f64 / 1e6,
+        s.raw_bytes as f64 / 1e6,
+        s.ratio()
+    );
+    let psnr: Vec<f64> = s.errors.iter().map(|e| e.psnr_capped(99.0)).collect();
+    let mean = psnr.iter().sum::<f64>() / psnr.len().max(1) as f64;
+    let min = psnr.iter().copied().fold(f64::INFINITY, f64::min);
+    println!(
+        "  drawn from the light field in {} of {n} frames; error against its geometry there: \
+         PSNR mean {mean:.1} dB, worst {min:.1} dB",
+        psnr.len()
+    );
+    println!("  last frame: {}", s.line());
 }
 
 #[derive(Debug)]
@@ -348,6 +380,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let mut recent: Vec<Duration> = Vec::new();
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
+    let (mut frame_no, mut statue) = (0u64, String::new());
     while let Some((debug_taps, building_taps)) = poll(&window, &keys) {
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
@@ -389,6 +422,12 @@ fn window(args: &Args) -> Result<(), WindowError> {
             let t0 = Instant::now();
             let stats = show.render(&mut renderer, &camera, &mut target, &opts);
             recent.push(t0.elapsed());
+            // Measured every eighth frame: it renders the statue twice more.
+            frame_no += 1;
+            if frame_no % 8 == 1 {
+                show.ibr.statue.measure(&camera, ww, wh);
+            }
+            statue = show.ibr.statue.line();
             let imp = show.ibr.impostors.readout();
             let debug = show.ibr.impostors.debug();
             title = format!(
@@ -425,6 +464,9 @@ fn window(args: &Args) -> Result<(), WindowError> {
         );
         font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
         font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &readout, 0x0080_ffc0);
+        if !in_building {
+            font::draw_text(&mut pixels, bw, bh, 6, 34, 2, &statue, 0x00ff_c080);
+        }
         let bottom = bh.saturating_sub(18);
         font::draw_text(&mut pixels, bw, bh, 6, bottom, 2, help, 0x00e0_e0e0);
         window

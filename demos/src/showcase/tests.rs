@@ -137,6 +137,11 @@ fn path_stays_clear_of_the_ground_and_obstacles() {
                 "sample {i}: in building {b:?}"
             );
         }
+        let statue = show.ibr.statue.object.bounds;
+        assert!(
+            eye.distance(statue.center) > statue.radius,
+            "sample {i}: in the statue"
+        );
     }
     println!("lowest eye over the ground within 1.5: {lowest:.2}");
 }

@@ -248,10 +248,10 @@ impl LightField {
             // size.
             let bytes = read_exactly(&mut f, found, path)?;
             let (colour, depth) = bytes.split_at(expected as usize * 4);
-            Rays::Raw(RawRays {
-                samples: words(colour).collect(),
-                depth: words(depth).map(f32::from_bits).collect(),
-            })
+            Rays::Raw(RawRays::new(
+                words(colour).collect(),
+                words(depth).map(f32::from_bits).collect(),
+            ))
         };
         Ok(LightField { slab, rays })
     }

@@ -94,6 +94,11 @@ impl LightFieldObject {
         self.showing
     }
 
+    /// The pixels the last frame's light-field image covered (`None` when it drew none).
+    pub fn rect(&self) -> Option<PixelRect> {
+        self.rect
+    }
+
     /// Bytes of all slabs' samples in memory.
     pub fn bytes(&self) -> usize {
         self.slabs.iter().map(LightField::bytes).sum()
@@ -108,7 +113,7 @@ impl LightFieldObject {
         let dir = to.normalize();
         // Points all round the sphere (26 directions), a little outside it.
         let (c, r) = (self.bounds.center, self.bounds.radius * 1.05);
-        let points: Vec<Vec3> = (0..27)
+        let points = (0..27)
             .map(|k| {
                 Vec3::new(
                     (k % 3) as f32 - 1.0,
@@ -117,12 +122,11 @@ impl LightFieldObject {
                 )
             })
             .filter(|d| *d != Vec3::ZERO)
-            .map(|d| c + d.normalize() * r)
-            .collect();
+            .map(|d| c + d.normalize() * r);
         self.slabs
             .iter()
             .enumerate()
-            .filter(|(_, f)| points.iter().all(|&p| sees(&f.slab, eye, p - eye)))
+            .filter(|(_, f)| points.clone().all(|p| sees(&f.slab, eye, p - eye)))
             .map(|(k, f)| (k, f.slab.forward().dot(dir)))
             .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
             .map(|(k, _)| k)

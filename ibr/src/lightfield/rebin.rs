@@ -194,7 +194,7 @@ pub fn rebin(slab: Slab, images: &[DepthImage]) -> Rebinned {
     Rebinned {
         field: LightField {
             slab,
-            rays: Rays::Raw(RawRays { samples, depth }),
+            rays: Rays::Raw(RawRays::new(samples, depth)),
         },
         weights,
         rays: count,

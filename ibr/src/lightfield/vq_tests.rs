@@ -67,7 +67,7 @@ fn patterned(counts: [u32; 4], kinds: u32, seed: u64) -> LightField {
     }
     LightField {
         slab,
-        rays: Rays::Raw(RawRays { samples, depth }),
+        rays: Rays::Raw(RawRays::new(samples, depth)),
     }
 }
 
@@ -296,10 +296,7 @@ fn training_tiles_are_scattered_not_strided() {
         .collect();
     let lf = LightField {
         slab,
-        rays: Rays::Raw(RawRays {
-            depth: vec![3.0; samples.len()],
-            samples,
-        }),
+        rays: Rays::Raw(RawRays::new(samples.clone(), vec![3.0; samples.len()])),
     };
     let (_, report) = lf
         .quantise(&VqSettings {

@@ -58,6 +58,9 @@ pub(super) struct Kernel<'a, S> {
     last_i: [i32; 4],
     /// Where the capture cameras are, for depth correction.
     pub(super) cameras: Cameras,
+    /// The nearest and farthest depth any sample holds: where depth correction looks
+    /// for surfaces.
+    pub(super) range: Option<(f32, f32)>,
 }
 
 impl<'a, S: Source> Kernel<'a, S> {
@@ -68,6 +71,7 @@ impl<'a, S: Source> Kernel<'a, S> {
             last: slab.counts().map(|n| n as f32 - 1.0),
             last_i: slab.counts().map(|n| n as i32 - 1),
             cameras: Cameras::new(slab),
+            range: src.depth_range(),
         }
     }
 
@@ -79,7 +83,7 @@ impl<'a, S: Source> Kernel<'a, S> {
 
     /// [`pair`] along `axis` (`u, v, s, t`).
     #[inline(always)]
-    fn pair(&self, x: F8, axis: usize) -> ([I8; 2], F8) {
+    pub(super) fn pair(&self, x: F8, axis: usize) -> ([I8; 2], F8) {
         pair(x, F8::splat(self.last[axis]), I8::splat(self.last_i[axis]))
     }
 
@@ -232,7 +236,7 @@ impl<'a, S: Source> Kernel<'a, S> {
     ) -> LightFieldFrame {
         let hit = hits.map(M8::from_bits);
         let surfaces = if self.correct {
-            self.surfaces(rays, hit)
+            self.surfaces(rays, hit).map(|f| (f.found, f.along, f.z))
         } else {
             let zero = F8::splat(0.0);
             [(M8::from_bits(0), zero, zero); N]
@@ -256,6 +260,16 @@ impl<'a, S: Source> Kernel<'a, S> {
     ) -> LightFieldFrame {
         let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
         let cams = &self.cameras;
+        let rays_hit = hit;
+        // With depth correction a ray along which no camera around it saw a surface is a
+        // hole.
+        let hit = if self.correct { hit.and(found) } else { hit };
+        if hit.bits() == 0 {
+            return LightFieldFrame {
+                rays: count(rays_hit),
+                ..LightFieldFrame::default()
+            };
+        }
         let point = if self.correct {
             cams.point(rays, along, z)
         } else {
@@ -330,12 +344,12 @@ impl<'a, S: Source> Kernel<'a, S> {
                 if check.bits() != 0 {
                     // Where each camera saw the surface point; left out of the blend when
                     // it saw something else there (nearer, or nothing).
-                    let (ps, pt, finite) = cams.project(&eyes[k], &point);
+                    let (ps, pt, inside) = cams.project(&eyes[k], &point);
                     let (is, it) = (self.nearest(ps, 2), self.nearest(pt, 3));
                     let seen = self.depths(&images[k], is, it, check);
                     let z = point.z;
                     let same = (seen - z).abs().le(F8::splat(SAME_SURFACE) * z);
-                    let out = found.and_not(finite.and(same));
+                    let out = found.and_not(inside.and(same));
                     w = out.select(zero, w);
                     care = care.and_not(out);
                     let s = out.select(zero, found.select(ps, rays.s));
@@ -380,7 +394,7 @@ impl<'a, S: Source> Kernel<'a, S> {
         let acc = acc.map(|a| partial.select(a / total, a));
         let write = hit.and(acc[3].gt(zero));
         let frame = LightFieldFrame {
-            rays: count(hit),
+            rays: count(rays_hit),
             taps,
             pixels: count(write),
         };

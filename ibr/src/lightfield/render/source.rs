@@ -20,6 +20,10 @@ pub(super) trait Source: Sync {
     /// Depth of sample `(s, t)`; called only when depth is kept.
     fn depth(&self, image: Self::Image, s: u32, t: u32) -> f32;
 
+    /// The nearest and farthest finite depth of any sample (`None`: no sample met a
+    /// surface, or depth is not kept).
+    fn depth_range(&self) -> Option<(f32, f32)>;
+
     /// What the first sample of a row window ([`Source::sample_row`]) must be a multiple
     /// of: a power of two, at most 8.
     fn align(&self) -> u32;
@@ -55,6 +59,7 @@ pub(super) struct RawSource<'a> {
     nu: usize,
     ns: usize,
     image_len: usize,
+    range: Option<(f32, f32)>,
 }
 
 impl<'a> RawSource<'a> {
@@ -62,6 +67,7 @@ impl<'a> RawSource<'a> {
         RawSource {
             samples: &rays.samples,
             depth: &rays.depth,
+            range: rays.depth_range(),
             nu: slab.nu as usize,
             ns: slab.ns as usize,
             image_len: slab.ns as usize * slab.nt as usize,
@@ -71,6 +77,10 @@ impl<'a> RawSource<'a> {
 
 impl Source for RawSource<'_> {
     type Image = usize;
+
+    fn depth_range(&self) -> Option<(f32, f32)> {
+        self.range
+    }
 
     #[inline(always)]
     fn align(&self) -> u32 {
@@ -121,6 +131,8 @@ pub(super) struct CodeSource<'a> {
     row_span: u32,
     /// Samples along `s` a row window reads from one tile: the tile's extent, at most 8.
     run: usize,
+    /// The codebook's depth range (found each frame: a codebook is small).
+    range: Option<(f32, f32)>,
 }
 
 /// A camera's image in quantised rays: its first tile and its `(u, v)` place within a
@@ -144,6 +156,7 @@ impl<'a> CodeSource<'a> {
             bits: log2.iter().sum(),
             row_span: q.tiles[2] << log2[2],
             run: 1 << log2[2].min(3),
+            range: super::super::depth_range(&q.depths),
         }
     }
 
@@ -227,6 +240,10 @@ impl<'a> CodeSource<'a> {
 }
 
 impl Source for CodeSource<'_> {
+    fn depth_range(&self) -> Option<(f32, f32)> {
+        self.range
+    }
+
     type Image = CodeImage;
 
     #[inline(always)]

@@ -36,6 +36,8 @@ pub(super) struct Cameras {
     /// Whether the cameras all lie in the `uv` plane's plane (their distance from it is
     /// zero).
     parallel: bool,
+    /// The middle of the images' sample range along `s` and `t`: `(n - 1) / 2`.
+    mid: [f32; 2],
 }
 
 /// Eight cameras: their places in `st` sample units (centres at `+ 0.5`) and their
@@ -106,6 +108,7 @@ impl Cameras {
                 affine(toward, 0.0),
             ],
             parallel: uv.edge_a.dot(toward) == 0.0 && uv.edge_b.dot(toward) == 0.0,
+            mid: [ns, nt].map(|n| 0.5 * (n - 1.0)),
         }
     }
 
@@ -136,8 +139,18 @@ impl Cameras {
         }
     }
 
-    /// The `st` coordinates where `eyes` see `point`, and the lanes where they are
-    /// finite.
+    /// The lanes whose `st` coordinates `(s, t)` (centres at integers) fall in the
+    /// images: a camera sees nothing outside them, and clamping would read its edge.
+    #[inline(always)]
+    pub(super) fn inside(&self, s: F8, t: F8) -> M8 {
+        let [ms, mt] = self.mid;
+        (s - F8::splat(ms))
+            .within(ms + 0.5)
+            .and((t - F8::splat(mt)).within(mt + 0.5))
+    }
+
+    /// The `st` coordinates where `eyes` see `point`, and the lanes where they fall in the
+    /// camera's image.
     #[inline(always)]
     pub(super) fn project(&self, eyes: &Eyes, point: &Point) -> (F8, F8, M8) {
         let m = point
@@ -146,29 +159,50 @@ impl Cameras {
         let half = F8::splat(0.5);
         let s = eyes.s + m * (point.s - eyes.s) - half;
         let t = eyes.t + m * (point.t - eyes.t) - half;
-        let finite = s.within(f32::INFINITY).and(t.within(f32::INFINITY));
-        (s, t, finite)
+        (s, t, self.inside(s, t))
     }
 }
 
 impl<S: Source> Kernel<'_, S> {
     /// Where each batch's rays meet the surface: the lanes that found it, how far along
-    /// the ray, and its distance from the `uv` plane, as the nearest camera saw it
-    /// ([`Kernel::follow`]).
+    /// the ray, and its distance from the `uv` plane. The nearest camera is asked first
+    /// ([`Kernel::follow`]); where it found nothing (it saw nothing there, or saw a
+    /// surface the ray passes beside), each of the four cameras around the ray is asked,
+    /// and the nearest point any of them found is taken.
     #[inline(always)]
     pub(super) fn surfaces<const N: usize>(
         &self,
         rays: [&Batch; N],
         hit: [M8; N],
-    ) -> [(M8, F8, F8); N] {
+    ) -> [Followed; N] {
         let near = rays.map(|r| (self.nearest(r.u, 0), self.nearest(r.v, 1)));
-        self.follow(rays, hit, near)
+        let mut best = self.follow(rays, hit, near);
+        let need: [M8; N] = std::array::from_fn(|b| best[b].unsure);
+        if need.iter().all(|m| m.bits() == 0) {
+            return best;
+        }
+        let around = rays.map(|r| (self.pair(r.u, 0).0, self.pair(r.v, 1).0));
+        for corner in 0..4 {
+            let cams = around.map(|(u, v)| (u[corner & 1], v[corner >> 1]));
+            let other = self.follow(rays, need, cams);
+            for b in 0..N {
+                let (o, w) = (other[b], &mut best[b]);
+                let unfound = need[b].and_not(w.found);
+                let take = o.found.and(need[b]).and(unfound.or(o.along.lt(w.along)));
+                w.found = w.found.or(take);
+                w.along = take.select(o.along, w.along);
+                w.z = take.select(o.z, w.z);
+            }
+        }
+        best
     }
 
-    /// The surface along each ray as camera `cams[b]` (per lane) saw it, followed to a
-    /// fixed point: start where the ray crosses the focal plane, read the depth the camera
-    /// saw there, move along the ray to that depth, and again (four times at most; a lane
-    /// is done when it reads a sample twice in a row, as all after it would be). Each step
+    /// The surface along each ray as camera `cams[b]` (per lane) saw it: found by a march
+    /// along the ray ([`Kernel::march`]), then followed to a fixed point: read the depth
+    /// the camera saw there, move along the ray to that depth, and again (four times at
+    /// most; a lane is done when it reads a sample twice in a row, as all after it would
+    /// be). A lane the march found nothing for, or that then reads nothing (or a point
+    /// behind the ray's start, or outside the camera's image), finds nothing. Each step
     /// depends on the one before: the `N` batches' steps interleave, and a step is one
     /// division from the depth read to the next place ([`Cameras::project`] rearranged:
     /// `k1 + k2 / (z - ez)`).
@@ -178,7 +212,7 @@ impl<S: Source> Kernel<'_, S> {
         rays: [&Batch; N],
         hit: [M8; N],
         cams: [(I8, I8); N],
-    ) -> [(M8, F8, F8); N] {
+    ) -> [Followed; N] {
         let cameras = &self.cameras;
         let (zero, half, gap) = (F8::splat(0.0), F8::splat(0.5), F8::splat(cameras.gap));
         let none = M8::from_bits(0);
@@ -207,42 +241,163 @@ impl<S: Source> Kernel<'_, S> {
             ez[b] = eye.z;
             st[b] = (r.s, r.t);
         }
-        let mut last = [(I8::splat(-1), I8::splat(-1)); N];
-        let (mut active, mut found) = (hit, [none; N]);
+        let marched = self.march(rays, hit, &images, k1, k2, ez);
+        let mut last = marched.at;
+        let (mut active, mut found) = (marched.crossed, [none; N]);
         let (mut along, mut z) = ([zero; N], [zero; N]);
-        for _ in 0..4 {
+        // The first step's read is the march's.
+        for step in 0..5 {
             let mut any = false;
             for b in 0..N {
-                let at = (self.nearest(st[b].0, 2), self.nearest(st[b].1, 3));
-                active[b] = active[b].and_not(at.0.eq(last[b].0).and(at.1.eq(last[b].1)));
+                let seen = if step == 0 {
+                    marched.seen[b]
+                } else {
+                    let at = (self.nearest(st[b].0, 2), self.nearest(st[b].1, 3));
+                    active[b] = active[b].and_not(at.0.eq(last[b].0).and(at.1.eq(last[b].1)));
+                    if active[b].bits() == 0 {
+                        continue;
+                    }
+                    last[b] = at;
+                    self.depths(&images[b], at.0, at.1, active[b])
+                };
                 if active[b].bits() == 0 {
                     continue;
                 }
                 any = true;
-                last[b] = at;
-                let seen = self.depths(&images[b], at.0, at.1, active[b]);
                 let to = (seen - rays[b].from_uv) / rays[b].rate;
                 let ok = seen
                     .gt(zero)
                     .and(seen.within(f32::INFINITY))
                     .and(to.gt(zero));
+                // A point found before that the camera now sees nothing at (or behind) was
+                // off the surface it saw: the ray passes beside it.
+                found[b] = found[b].and_not(active[b].and_not(ok));
                 active[b] = active[b].and(ok);
                 found[b] = found[b].or(active[b]);
                 along[b] = active[b].select(to, along[b]);
                 z[b] = active[b].select(seen, z[b]);
                 let d = seen - ez[b];
                 let next = (k1[b].0 + k2[b].0 / d, k1[b].1 + k2[b].1 / d);
-                let finite = next
-                    .0
-                    .within(f32::INFINITY)
-                    .and(next.1.within(f32::INFINITY));
-                active[b] = active[b].and(finite);
+                // Out of the image the camera cannot confirm the point.
+                let inside = cameras.inside(next.0, next.1);
+                found[b] = found[b].and_not(active[b].and_not(inside));
+                active[b] = active[b].and(inside);
                 st[b] = next;
             }
             if !any {
                 break;
             }
         }
-        std::array::from_fn(|b| (found[b], along[b], z[b]))
+        std::array::from_fn(|b| Followed {
+            found: found[b],
+            along: along[b],
+            z: z[b],
+            unsure: hit[b]
+                .and_not(found[b])
+                .and(marched.unsure[b].or(marched.crossed[b])),
+        })
+    }
+
+    /// Marches along each ray through the depths the light field holds, in steps of about
+    /// one sample of the camera's image (at most [`MARCH_STEPS`]), from the nearest (or the
+    /// ray's start) to the farthest, to where the camera first sees a surface at or in
+    /// front of the ray's point: the ray has reached what the camera saw there ([`March`]).
+    /// Camera `b` sees the ray's point at distance `z` from the `uv` plane at
+    /// `k1 + k2 w`, `w = 1 / (z - ez)`: the steps are even in `w`.
+    #[inline(always)]
+    fn march<const N: usize>(
+        &self,
+        rays: [&Batch; N],
+        hit: [M8; N],
+        images: &[Images<S::Image>; N],
+        k1: [(F8, F8); N],
+        k2: [(F8, F8); N],
+        ez: [F8; N],
+    ) -> March<N> {
+        let none = M8::from_bits(0);
+        let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
+        let mut out = March {
+            crossed: [none; N],
+            seen: [zero; N],
+            at: [(I8::splat(-1), I8::splat(-1)); N],
+            unsure: hit,
+        };
+        let Some((lo, hi)) = self.range else {
+            return out;
+        };
+        for b in 0..N {
+            if hit[b].bits() == 0 {
+                continue;
+            }
+            let r = rays[b];
+            let z0 = F8::splat(lo).max(r.from_uv);
+            let w0 = one / (z0 - ez[b]);
+            let w1 = one / (F8::splat(hi) - ez[b]);
+            let span = k2[b].0.abs().max(k2[b].1.abs()) * (w0 - w1);
+            let ok = hit[b].and(span.ge(zero)).and(span.within(f32::INFINITY));
+            let most = ok
+                .select(span, zero)
+                .to_array()
+                .into_iter()
+                .fold(0.0f32, f32::max);
+            let n = (most.ceil() as usize).clamp(1, MARCH_STEPS);
+            let dw = (w0 - w1) * F8::splat(1.0 / n as f32);
+            let mut todo = ok;
+            // Lanes that looked outside the image or saw a surface they did not reach.
+            let mut unsure = hit[b].and_not(ok);
+            for i in 0..=n {
+                let w = w0 - dw * F8::splat(i as f32);
+                let y = (k1[b].0 + k2[b].0 * w, k1[b].1 + k2[b].1 * w);
+                let inside = self.cameras.inside(y.0, y.1);
+                unsure = unsure.or(todo.and_not(inside));
+                let look = todo.and(inside);
+                if look.bits() == 0 {
+                    continue;
+                }
+                let at = (self.nearest(y.0, 2), self.nearest(y.1, 3));
+                let seen = self.depths(&images[b], at.0, at.1, look);
+                let z = ez[b] + one / w;
+                let something = look.and(seen.gt(zero)).and(seen.within(f32::INFINITY));
+                let crossed = something.and(seen.le(z));
+                unsure = unsure.or(something.and_not(crossed));
+                out.seen[b] = crossed.select(seen, out.seen[b]);
+                out.at[b] = (
+                    crossed.select_i32(at.0, out.at[b].0),
+                    crossed.select_i32(at.1, out.at[b].1),
+                );
+                out.crossed[b] = out.crossed[b].or(crossed);
+                todo = todo.and_not(crossed);
+                if todo.bits() == 0 {
+                    break;
+                }
+            }
+            out.unsure[b] = unsure;
+        }
+        out
     }
 }
+
+/// What [`Kernel::march`] found: the lanes that reached a surface the camera saw, the
+/// depth it saw there and the sample it read; and the lanes that may have missed one (they
+/// looked outside the image, or saw a surface they did not reach).
+struct March<const N: usize> {
+    crossed: [M8; N],
+    seen: [F8; N],
+    at: [(I8, I8); N],
+    unsure: [M8; N],
+}
+
+/// The surface along eight rays as one camera saw it ([`Kernel::follow`]): the lanes that
+/// found it, how far along the ray, its distance from the `uv` plane; and the lanes that
+/// found none but where another camera might (the camera saw something near the ray, or
+/// the ray left its image).
+#[derive(Clone, Copy)]
+pub(super) struct Followed {
+    pub(super) found: M8,
+    pub(super) along: F8,
+    pub(super) z: F8,
+    unsure: M8,
+}
+
+/// Most steps a ray's march takes through a camera's image.
+const MARCH_STEPS: usize = 24;

@@ -1,0 +1,288 @@
+//! The showcase's light-field statue: an armillary sphere on a column at the edge of the
+//! plaza, captured at start-up into five light slabs on a cube around it (every side and
+//! the top), vector-quantised, and drawn from codebook and indices
+//! ([`ibr::lightfield::LightFieldObject`]); where no slab sees it whole (the eye too near)
+//! its geometry is drawn instead, and the readout says so. The readout gives its memory,
+//! its compression ratio and its error against a render of its geometry from the same eye
+//! ([`Statue::measure`]).
+//!
+//! A light field is a static object's light: the statue is captured under the scene's
+//! static lights (the sun and the ambient term), so the orbiting lamp does not light it,
+//! and its geometry, when drawn, is lit the same way.
+
+use engine::procedural;
+use engine::{Camera, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading};
+use engine::{Draw, Target};
+use glam::{Mat4, Quat, Vec2, Vec3};
+use ibr::lightfield::{LightField, LightFieldObject, Showing, Slab, TileShape, VqSettings};
+use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::{FrameLoop, FrameView, Technique};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Where the statue stands (the centre of its base).
+pub const STATUE_AT: Vec3 = Vec3::new(1.9, 0.0, -4.4);
+/// Samples of each slab: `uv` cameras per side and `st` samples per side.
+pub const UV: u32 = 16;
+pub const ST: u32 = 96;
+/// Codewords of the statue's vector quantiser.
+pub const CODEWORDS: u32 = 1024;
+
+/// The light-field statue, its geometry and what it measured.
+#[derive(Debug)]
+pub struct Statue {
+    pub object: LightFieldObject,
+    /// The static lighting it was captured under (its geometry is drawn under it too).
+    pub lighting: Lighting,
+    /// Bytes the five slabs' raw samples (colour and depth) would take.
+    pub raw_bytes: usize,
+    /// Time spent capturing and quantising at start-up.
+    pub capture: Duration,
+    pub quantise: Duration,
+    /// The last measured error against geometry, and all of them so far.
+    pub error: Option<ImageError>,
+    pub errors: Vec<ImageError>,
+    measure: Measure,
+}
+
+/// The memory [`Statue::measure`] renders with, reused.
+#[derive(Debug)]
+struct Measure {
+    renderer: Renderer,
+    frames: FrameLoop,
+    truth: Target,
+    image: Target,
+}
+
+impl Statue {
+    /// Captures the statue under the static part of `lighting` (directional lights and the
+    /// ambient term) and quantises it.
+    pub fn new(lighting: &Lighting) -> Statue {
+        let lighting = Lighting {
+            ambient: lighting.ambient,
+            lights: lighting
+                .lights
+                .iter()
+                .filter(|l| matches!(l, Light::Directional { .. }))
+                .cloned()
+                .collect(),
+        };
+        let geometry = armillary(STATUE_AT);
+        let bounds = geometry.bounds();
+        let start = Instant::now();
+        let mut draws = Vec::new();
+        geometry.draws(&mut draws);
+        let slabs = Slab::cube(bounds.center, bounds.radius, [UV, UV, ST, ST])
+            .expect("a sphere of positive radius");
+        // No slab from below: the eye never goes under the plaza.
+        let raw: Vec<LightField> = slabs
+            .iter()
+            .filter(|s| s.forward().y < 0.5)
+            .map(|s| LightField::capture(&draws, &lighting, *s))
+            .collect();
+        let capture = start.elapsed();
+        let raw_bytes = raw.iter().map(LightField::bytes).sum();
+        let start = Instant::now();
+        let settings = VqSettings {
+            tile: TileShape::LEVOY,
+            codewords: CODEWORDS,
+            training_tiles: 1 << 14,
+            iterations: 4,
+        };
+        let slabs: Vec<LightField> = raw
+            .iter()
+            .map(|f| f.quantise(&settings).expect("valid settings").0)
+            .collect();
+        let quantise = start.elapsed();
+        let mut object = LightFieldObject::with_slabs("light-field statue", slabs, bounds);
+        object.reference = Some(geometry);
+        Statue {
+            object,
+            lighting,
+            raw_bytes,
+            capture,
+            quantise,
+            error: None,
+            errors: Vec::new(),
+            measure: Measure {
+                renderer: Renderer::new(),
+                frames: FrameLoop::new(),
+                truth: Target::new(0, 0),
+                image: Target::new(0, 0),
+            },
+        }
+    }
+
+    /// Memory the light field holds now (codebooks and indices).
+    pub fn bytes(&self) -> usize {
+        self.object.bytes()
+    }
+
+    /// Raw samples over what is held.
+    pub fn ratio(&self) -> f64 {
+        self.raw_bytes as f64 / self.bytes().max(1) as f64
+    }
+
+    /// Measures the last frame's light-field image against its geometry from the same
+    /// eye: both rendered alone into the screen rectangle the image covered (a crop of
+    /// `camera`'s `width` x `height` view) and compared over the pixels either covers.
+    /// `None` (and nothing measured) when the last frame showed no light field.
+    pub fn measure(&mut self, camera: &Camera, width: u32, height: u32) -> Option<ImageError> {
+        self.error = None;
+        let rect = self.object.rect()?;
+        let (w, h) = (rect.x1 - rect.x0, rect.y1 - rect.y0);
+        let lo = Vec2::new(rect.x0 as f32, rect.y0 as f32);
+        let hi = Vec2::new(rect.x1 as f32, rect.y1 as f32);
+        let crop = camera.crop(lo, hi, width, height);
+        let view = FrameView::still(&crop, w, h, &self.lighting);
+        let opts = FrameOptions {
+            clear: Some(Rgba::TRANSPARENT),
+            ..Default::default()
+        };
+        let m = &mut self.measure;
+        for t in [&mut m.truth, &mut m.image] {
+            if t.width() != w || t.height() != h {
+                *t = Target::new(w, h);
+            }
+        }
+        let mut draws: Vec<Draw<'_>> = Vec::new();
+        self.object.reference(&mut draws);
+        m.frames
+            .render(&mut m.renderer, draws, &mut [], &view, &mut m.truth, &opts);
+        let mut list: [&mut dyn Technique; 1] = [&mut self.object];
+        m.frames
+            .render(&mut m.renderer, [], &mut list, &view, &mut m.image, &opts);
+        let area = [&m.image, &m.truth]
+            .iter()
+            .filter_map(|t| metrics::covered_rect(t, Default::default()))
+            .fold(metrics::Rect::default(), metrics::Rect::union);
+        let opts = Options {
+            region: Region::Rect(area),
+            ..Options::default()
+        };
+        let e = metrics::compare(&m.image, &m.truth, &opts).ok()?;
+        self.errors.push(e);
+        self.error = Some(e);
+        self.error
+    }
+
+    /// The on-screen line (upper case, for the bitmap font): what it showed, its memory and
+    /// ratio, and the last measured PSNR against geometry.
+    pub fn line(&self) -> String {
+        let showing = match self.object.showing() {
+            Showing::Slab(k) => format!("SLAB {k}"),
+            Showing::Geometry => "GEOMETRY".to_string(),
+            Showing::Nothing => "OFF".to_string(),
+        };
+        let error = match self.error {
+            Some(e) => format!("{:.1} DB", e.psnr_capped(99.0)),
+            None => "-".to_string(),
+        };
+        format!(
+            "LIGHT FIELD {showing}  {:.1} MB ({:.0}:1)  ERR {error}",
+            self.bytes() as f64 / 1e6,
+            self.ratio()
+        )
+    }
+}
+
+/// The statue's geometry standing at `at`: a stone plinth and column carrying an armillary
+/// sphere (three bronze rings round a gilded globe), about 2.9 units tall.
+pub fn armillary(at: Vec3) -> MeshGroup {
+    let metal = |color: Rgba, specular: f32, shininess: f32| {
+        Arc::new(Material {
+            shading: Shading::Lit {
+                specular,
+                shininess,
+            },
+            ..Material::lit(color)
+        })
+    };
+    let plain = |mut m: Mesh| {
+        m.colors.clear();
+        Arc::new(m)
+    };
+    let stone = metal(Rgba::from_srgb8(168, 160, 148), 0.05, 8.0);
+    let bronze = metal(Rgba::from_srgb8(170, 110, 60), 0.8, 40.0);
+    let gold = metal(Rgba::from_srgb8(230, 180, 70), 0.9, 64.0);
+    let centre = at + Vec3::Y * 2.1;
+    let ring = plain(procedural::torus(0.72, 0.05, 96, 12));
+    let mut group = MeshGroup::new()
+        .with(
+            plain(procedural::cuboid(Vec3::new(0.9, 0.3, 0.9))),
+            stone.clone(),
+            Mat4::from_translation(at + Vec3::Y * 0.15),
+        )
+        .with(
+            plain(procedural::cylinder(0.14, 1.2, 24)),
+            stone,
+            Mat4::from_translation(at + Vec3::Y * 0.3),
+        )
+        .with(
+            plain(procedural::icosphere(0.3, 3)),
+            gold,
+            Mat4::from_translation(centre),
+        );
+    for (axis, angle) in [
+        (Vec3::X, 1.57),
+        (Vec3::Z, 0.5),
+        (Vec3::new(1.0, 0.0, 1.0), -0.9),
+    ] {
+        let turn = Quat::from_axis_angle(axis.normalize(), angle);
+        group = group.with(
+            ring.clone(),
+            bronze.clone(),
+            Mat4::from_rotation_translation(turn, centre),
+        );
+    }
+    group
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::showcase::{camera, Showcase, SKY};
+
+    /// The statue in the showcase: drawn from its light field from the plaza's edge, close
+    /// to its geometry, in a fraction of the raw memory;
+    /// from near it, drawn as geometry and saying so.
+    #[test]
+    fn the_statue_is_drawn_from_its_light_field_and_measured_against_its_geometry() {
+        let mut show = Showcase::new();
+        let (w, h) = (320, 180);
+        let mut renderer = Renderer::new();
+        let mut target = Target::new(w, h);
+        let opts = FrameOptions {
+            clear: Some(SKY),
+            ..Default::default()
+        };
+        let centre = STATUE_AT + Vec3::Y * 1.5;
+        // From across the plaza, as the tour sees it: one of the five slabs.
+        let far = camera(centre + Vec3::new(-6.0, 4.0, 12.0), centre, w, h);
+        show.render(&mut renderer, &far, &mut target, &opts);
+        let statue = &mut show.ibr.statue;
+        assert!(matches!(statue.object.showing(), Showing::Slab(_)));
+        let e = statue
+            .measure(&far, w, h)
+            .expect("a light-field image to measure");
+        assert!(e.pixels > 200, "{} pixels compared", e.pixels);
+        assert!(
+            e.psnr_db > 14.0,
+            "PSNR {:.1} dB against the geometry",
+            e.psnr_db
+        );
+        assert!(statue.ratio() > 20.0, "{:.1}:1", statue.ratio());
+        assert!(statue.line().contains("SLAB"), "{}", statue.line());
+        // Within its bounding sphere no slab sees it whole: its geometry is drawn, and the
+        // readout says so.
+        let near = camera(centre + Vec3::new(0.6, 0.2, 0.8), centre, w, h);
+        show.render(&mut renderer, &near, &mut target, &opts);
+        let statue = &mut show.ibr.statue;
+        assert_eq!(statue.object.showing(), Showing::Geometry);
+        assert!(statue.measure(&near, w, h).is_none());
+        assert!(statue.line().contains("GEOMETRY"), "{}", statue.line());
+        let c = show.ibr.counters();
+        assert_eq!(c[4].geometry, 1, "{c:?}");
+    }
+}
