@@ -109,6 +109,55 @@ fn a_model_is_captured_compressed_and_rendered() {
 }
 
 #[test]
+fn a_slab_with_its_camera_plane_at_infinity_is_captured_and_rendered() {
+    let tmp = Tmp::new("lightfield-cli", "infinite");
+    let obj = tmp.path("scene.obj");
+    std::fs::write(&obj, SCENE).unwrap();
+    let plf = tmp.path("ortho.plf");
+    ok(&lightfield(&[
+        "capture",
+        "--obj",
+        s(&obj),
+        "--out",
+        s(&plf),
+        "--uv",
+        "6",
+        "--st",
+        "48",
+        "--infinite",
+        "uv",
+    ]));
+    let log = ok(&lightfield(&["info", s(&plf)]));
+    assert!(
+        log.contains("uv plane at infinity") && log.contains("depth kept: false"),
+        "{log}"
+    );
+    let png = tmp.path("view.png");
+    ok(&lightfield(&[
+        "render",
+        s(&plf),
+        "--png",
+        s(&png),
+        "--size",
+        "80x60",
+    ]));
+    // The red square in the middle, seen from the middle direction.
+    let view = image::open(&png).unwrap().to_rgba8();
+    let c = view.get_pixel(40, 30);
+    assert!(c[0] > 150 && c[1] < 80 && c[2] < 80, "{c:?}");
+    let both = lightfield(&[
+        "capture",
+        "--obj",
+        s(&obj),
+        "--out",
+        s(&plf),
+        "--infinite",
+        "xy",
+    ]);
+    assert!(!both.status.success());
+}
+
+#[test]
 fn a_capture_folder_is_rebinned() {
     let tmp = Tmp::new("lightfield-cli", "sparse");
     let obj = tmp.path("scene.obj");

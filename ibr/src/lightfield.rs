@@ -91,6 +91,15 @@ impl Rect3 {
 /// A light slab's geometry: the camera plane `uv` (`nu` x `nv` samples) and the focal
 /// plane `st` (`ns` x `nt` samples), parallel, with `st`'s edges giving its images' x
 /// (along `edge_a`) and y (along `edge_b`) axes.
+///
+/// Either plane may be at infinity, as in Stanford's `.lid` slabs ([`Slab::infinite`]):
+/// its rectangle then holds directions, not points, and a ray's coordinates on it are
+/// where its direction (from the `uv` side toward the `st` side) meets the rectangle.
+/// With `uv` at infinity each `uv` sample is a direction and its camera a parallel
+/// (orthographic, sheared) projection of the `st` rectangle along it; with `st` at
+/// infinity each `uv` camera is a pinhole seeing the directions of the `st` rectangle, an
+/// environment seen from a region. Such slabs keep no depth: depth correction needs both
+/// planes finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slab {
     pub uv: Rect3,
@@ -99,9 +108,12 @@ pub struct Slab {
     pub nv: u32,
     pub ns: u32,
     pub nt: u32,
-    /// The capture cameras' depth range, distances along `forward` from the `uv` plane.
+    /// The capture cameras' depth range, distances along `forward` from the `uv` plane
+    /// (from the `st` plane's, when `uv` is at infinity).
     pub near: f32,
     pub far: f32,
+    /// Whether the `uv` and the `st` plane are at infinity (not both).
+    pub infinite: [bool; 2],
 }
 
 /// Why a slab cannot be made.
@@ -119,6 +131,12 @@ pub enum SlabError {
     Behind(f32),
     #[error("the depth range must satisfy 0 < near < far (got {0} and {1})")]
     DepthRange(f32, f32),
+    #[error("the uv and st planes cannot both be at infinity")]
+    BothAtInfinity,
+    #[error(
+        "a plane at infinity holds directions from the uv side toward the st side: its rectangle must lie ahead along st's edge_a x edge_b (it is {0} behind)"
+    )]
+    DirectionsBehind(f32),
 }
 
 impl Slab {
@@ -130,6 +148,21 @@ impl Slab {
         counts: [u32; 4],
         near: f32,
         far: f32,
+    ) -> Result<Self, SlabError> {
+        Self::with_infinite(uv, st, counts, near, far, [false; 2])
+    }
+
+    /// A slab whose `uv` or `st` plane may be at infinity (`infinite`; see [`Slab`]),
+    /// checked as [`Slab::new`] checks, a plane at infinity's rectangle of directions
+    /// ahead of the origin along `st.edge_a x st.edge_b` instead of the `st` plane ahead of
+    /// the `uv` plane.
+    pub fn with_infinite(
+        uv: Rect3,
+        st: Rect3,
+        counts: [u32; 4],
+        near: f32,
+        far: f32,
+        infinite: [bool; 2],
     ) -> Result<Self, SlabError> {
         let [nu, nv, ns, nt] = counts;
         if counts.contains(&0) {
@@ -147,9 +180,20 @@ impl Slab {
         if n_st.cross(n_uv).length() > 1e-4 {
             return Err(SlabError::NotParallel);
         }
-        let gap = (st.origin - uv.origin).dot(n_st);
-        if gap.is_nan() || gap <= 0.0 {
-            return Err(SlabError::Behind(-gap));
+        match infinite {
+            [true, true] => return Err(SlabError::BothAtInfinity),
+            [false, false] => {
+                let gap = (st.origin - uv.origin).dot(n_st);
+                if gap.is_nan() || gap <= 0.0 {
+                    return Err(SlabError::Behind(-gap));
+                }
+            }
+            [uv_far, _] => {
+                let ahead = if uv_far { uv.origin } else { st.origin }.dot(n_st);
+                if ahead.is_nan() || ahead <= 0.0 {
+                    return Err(SlabError::DirectionsBehind(-ahead));
+                }
+            }
         }
         if !(near > 0.0 && near < far) {
             return Err(SlabError::DepthRange(near, far));
@@ -163,7 +207,77 @@ impl Slab {
             nt,
             near,
             far,
+            infinite,
         })
+    }
+
+    /// This slab with its `uv` plane moved to infinity: each `uv` sample becomes the
+    /// direction from it to the `st` rectangle's centre, so its camera sees the `st`
+    /// rectangle along that direction from infinitely far (the same rays through the
+    /// centre, parallel elsewhere). The depth range is kept, now from the `st` plane.
+    pub fn with_uv_at_infinity(&self) -> Result<Slab, SlabError> {
+        let c = self.st.at(0.5, 0.5);
+        let uv = Rect3 {
+            origin: c - self.uv.origin,
+            edge_a: -self.uv.edge_a,
+            edge_b: -self.uv.edge_b,
+        };
+        let (near, far) = (self.near, self.far);
+        Slab::with_infinite(uv, self.st, self.counts(), near, far, [true, false])
+    }
+
+    /// This slab with its `st` plane moved to infinity: each `st` sample becomes the
+    /// direction to it from the `uv` rectangle's centre, so every `uv` camera sees what lies
+    /// in those directions infinitely far off (an environment).
+    pub fn with_st_at_infinity(&self) -> Result<Slab, SlabError> {
+        let c = self.uv.at(0.5, 0.5);
+        let st = Rect3 {
+            origin: self.st.origin - c,
+            ..self.st
+        };
+        let (near, far) = (self.near, self.far);
+        Slab::with_infinite(self.uv, st, self.counts(), near, far, [false, true])
+    }
+
+    /// A viewpoint on the camera side at fractions `(a, b)` of the `uv` rectangle: that
+    /// point, or, with `uv` at infinity, a point that far back along that direction from
+    /// the `st` rectangle's centre, twice its diagonal away.
+    pub fn viewpoint(&self, a: f32, b: f32) -> Vec3 {
+        let p = self.uv.at(a, b);
+        if !self.infinite[0] {
+            return p;
+        }
+        let diagonal = (self.st.edge_a + self.st.edge_b).length();
+        self.st.at(0.5, 0.5) - p.normalize_or_zero() * 2.0 * diagonal
+    }
+
+    /// What a view from `eye` looks at: the `st` rectangle's centre, or, with `st` at
+    /// infinity, a point in its centre's direction from `eye`.
+    pub fn look_target(&self, eye: Vec3) -> Vec3 {
+        let c = self.st.at(0.5, 0.5);
+        if self.infinite[1] {
+            eye + c
+        } else {
+            c
+        }
+    }
+
+    /// Whether either plane is at infinity.
+    pub fn is_projective(&self) -> bool {
+        self.infinite.contains(&true)
+    }
+
+    /// Where the line `o + tau d` meets plane `k` (0 `uv`, 1 `st`): `tau` and the
+    /// fractions of the rectangle's edges, as [`Rect3::cross`]; a plane at infinity is met
+    /// by the direction `d` alone (`tau` infinite, and `None` when `d` points away).
+    pub fn cross(&self, k: usize, o: Vec3, d: Vec3) -> Option<(f32, f32, f32)> {
+        let r = if k == 0 { &self.uv } else { &self.st };
+        if self.infinite[k] {
+            let (tau, a, b) = r.cross(Vec3::ZERO, d)?;
+            (tau > 0.0).then_some((f32::INFINITY, a, b))
+        } else {
+            r.cross(o, d)
+        }
     }
 
     /// A slab that sees a sphere of `radius` around `center` from one side, its cameras
@@ -247,12 +361,64 @@ impl Slab {
     /// to the planes, its off-axis frustum framing the `st` rectangle exactly (image x
     /// along `st.edge_a`, y down along `st.edge_b`).
     pub fn camera(&self, i: u32, j: u32) -> Camera {
-        self.camera_at(self.uv_point(i, j))
+        let a = (i as f32 + 0.5) / self.nu as f32;
+        let b = (j as f32 + 0.5) / self.nv as f32;
+        self.camera_through(a, b)
+    }
+
+    /// The capture camera at fractions `(a, b)` of the `uv` rectangle: at that point, or,
+    /// with `uv` at infinity, looking along that direction by a parallel projection
+    /// sheared so that its image is the `st` rectangle.
+    pub fn camera_through(&self, a: f32, b: f32) -> Camera {
+        if !self.infinite[0] {
+            return self.camera_at(self.uv.at(a, b));
+        }
+        let d = self.uv.at(a, b);
+        let f = self.forward();
+        let (x, y) = (self.st.edge_a.normalize(), -self.st.edge_b.normalize());
+        let o = self.st.origin;
+        // A point's place on the st plane along d, as x and y; its distance behind the st
+        // plane along f (toward the uv side), so depth runs from near to far behind it.
+        let slide = |e: Vec3| e - f * (e.dot(d) / f.dot(d));
+        let (sx, sy) = (slide(x), slide(y));
+        let back = 2.0 * self.far;
+        let view = Mat4::from_cols(
+            glam::Vec4::new(sx.x, sy.x, -f.x, 0.0),
+            glam::Vec4::new(sx.y, sy.y, -f.y, 0.0),
+            glam::Vec4::new(sx.z, sy.z, -f.z, 0.0),
+            glam::Vec4::new(-sx.dot(o), -sy.dot(o), f.dot(o) - back, 1.0),
+        );
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
+        for c in self.st.corners() {
+            let v = view.transform_point3(c);
+            lo = lo.min(glam::Vec2::new(v.x, v.y));
+            hi = hi.max(glam::Vec2::new(v.x, v.y));
+        }
+        Camera {
+            view,
+            projection: Projection::Orthographic {
+                left: lo.x,
+                right: hi.x,
+                bottom: lo.y,
+                top: hi.y,
+                near: back - self.far,
+                far: back + self.far,
+            },
+        }
     }
 
     /// A capture camera at `eye` (a point of the `uv` plane) framing the `st` rectangle
     /// as [`Slab::camera`] does.
     pub fn camera_at(&self, eye: Vec3) -> Camera {
+        // With st at infinity the camera sees its directions as a rectangle in front of it.
+        let st = if self.infinite[1] {
+            Rect3 {
+                origin: eye + self.st.origin,
+                ..self.st
+            }
+        } else {
+            self.st
+        };
         let x = self.st.edge_a.normalize();
         let y = -self.st.edge_b.normalize();
         let z = -self.forward();
@@ -262,10 +428,10 @@ impl Slab {
             glam::Vec4::new(x.z, y.z, z.z, 0.0),
             glam::Vec4::new(-x.dot(eye), -y.dot(eye), -z.dot(eye), 1.0),
         );
-        let dist = (self.st.origin - eye).dot(self.forward());
+        let dist = (st.origin - eye).dot(self.forward());
         let k = self.near / dist;
         let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
-        for c in self.st.corners() {
+        for c in st.corners() {
             let v = view.transform_point3(c);
             lo = lo.min(glam::Vec2::new(v.x, v.y));
             hi = hi.max(glam::Vec2::new(v.x, v.y));
@@ -383,8 +549,8 @@ impl LightField {
     /// what lies off the focal plane is blurred by the cell's aperture instead of aliasing
     /// into ghosts between cameras; what lies in the focal plane is unchanged. Colour is
     /// averaged premultiplied and linear; a sample's depth is the mean of the finite depths
-    /// its views saw (infinite when none saw anything). `aperture` 1 (or 0) is the plain
-    /// capture.
+    /// its views saw (infinite when none saw anything; none kept when a plane is at
+    /// infinity). `aperture` 1 (or 0) is the plain capture.
     pub fn capture_prefiltered(
         draws: &[Draw<'_>],
         lighting: &Lighting,
@@ -407,7 +573,7 @@ impl LightField {
                             / slab.nu as f32;
                         let b = (j as f32 + (k / n) as f32 / n as f32 + 0.5 / n as f32)
                             / slab.nv as f32;
-                        slab.camera_at(slab.uv.at(a, b))
+                        slab.camera_through(a, b)
                     })
                 })
                 .collect();
@@ -435,6 +601,9 @@ impl LightField {
                 }
             }
             progress((j as usize + 1) * slab.nu as usize, total);
+        }
+        if slab.is_projective() {
+            depth = Vec::new();
         }
         LightField {
             slab,
@@ -499,6 +668,8 @@ impl LightField {
     }
 }
 
+#[cfg(test)]
+mod infinity_tests;
 #[cfg(test)]
 mod rebin_tests;
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! ```sh
 //! lightfield capture --obj model.obj --out model.plf --uv 32 --st 256
 //! lightfield capture --transforms cap/transforms.json --out cap.plf --uv 16 --st 128
+//! lightfield capture --obj model.obj --out ortho.plf --infinite uv
 //! lightfield compress model.plf --out model_vq.plf --codewords 16384 --tile 2x2x2x2
 //! lightfield render model_vq.plf --png view.png --eye 0.1,0.2,3 --size 1280x720
 //! lightfield info model_vq.plf
@@ -88,6 +89,28 @@ struct CaptureArgs {
     /// its cell of the camera plane (1: none).
     #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
     aperture: u32,
+    /// Put a plane at infinity (as `.lid` slabs may): `uv`, parallel-projection cameras
+    /// looking along the directions from the camera plane to the focal plane's centre;
+    /// `st`, pinhole cameras seeing what lies infinitely far in the focal plane's
+    /// directions (an environment). Such slabs keep no depth.
+    #[arg(long, value_name = "PLANE")]
+    infinite: Option<PlaneArg>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum PlaneArg {
+    Uv,
+    St,
+}
+
+/// `slab` with the plane `--infinite` names moved to infinity.
+fn place(slab: Slab, infinite: Option<PlaneArg>) -> Result<Slab, String> {
+    match infinite {
+        None => Ok(slab),
+        Some(PlaneArg::Uv) => slab.with_uv_at_infinity(),
+        Some(PlaneArg::St) => slab.with_st_at_infinity(),
+    }
+    .map_err(|e| format!("cannot move the plane to infinity: {e}"))
 }
 
 #[derive(Debug, Args)]
@@ -246,7 +269,7 @@ fn capture(a: &CaptureArgs) -> Result<(), String> {
             counts,
         )
         .map_err(|e| format!("cannot fit a slab to the photographs: {e}"))?;
-        let r = rebin(slab, &images);
+        let r = rebin(place(slab, a.infinite)?, &images);
         println!(
             "lightfield: rebinned {} rays of {} photographs: {:.1}% of the samples measured, {:.1}% invented by pull-push",
             r.rays,
@@ -289,6 +312,7 @@ fn capture(a: &CaptureArgs) -> Result<(), String> {
             counts,
         )
         .map_err(|e| format!("cannot fit a slab to the model: {e}"))?;
+        let slab = place(slab, a.infinite)?;
         let bar = bar(u64::from(a.uv * a.uv), "views");
         let lf = LightField::capture_prefiltered(
             &draws,
@@ -347,8 +371,7 @@ fn compress(a: &CompressArgs) -> Result<(), String> {
 fn render(a: &RenderArgs) -> Result<(), String> {
     let lf = LightField::load(&a.file).map_err(|e| e.to_string())?;
     let slab = lf.slab;
-    let middle = slab.uv.at(0.5, 0.5);
-    let target = a.target.unwrap_or(slab.st.at(0.5, 0.5));
+    let middle = slab.viewpoint(0.5, 0.5);
     let up = a.up.unwrap_or(-slab.st.edge_b.normalize());
     let (w, h) = a.size;
     let mut object = LightFieldObject::new("light field", lf);
@@ -367,7 +390,7 @@ fn render(a: &RenderArgs) -> Result<(), String> {
             (0..n.max(1))
                 .map(|k| {
                     let f = (k as f32 + 0.5) / n.max(1) as f32;
-                    (a.png.join(format!("{k:04}.png")), slab.uv.at(f, 0.5))
+                    (a.png.join(format!("{k:04}.png")), slab.viewpoint(f, 0.5))
                 })
                 .collect()
         }
@@ -380,6 +403,7 @@ fn render(a: &RenderArgs) -> Result<(), String> {
     };
     let lighting = engine::Lighting::default();
     for (path, eye) in eyes {
+        let target = a.target.unwrap_or(slab.look_target(eye));
         let camera = Camera::look_at(eye, target, up, a.fov_y.to_radians(), 1.0)
             .with_aspect(w, h)
             .with_depth_range(0.01 * slab.near, 4.0 * slab.far);
@@ -421,13 +445,26 @@ fn info(file: &Path) -> Result<(), String> {
         s.nt,
         s.len()
     );
+    let at = |k: usize| {
+        if s.infinite[k] {
+            " at infinity (directions)"
+        } else {
+            ""
+        }
+    };
     println!(
-        "  uv plane: corner {} edges {} {}",
-        s.uv.origin, s.uv.edge_a, s.uv.edge_b
+        "  uv plane{}: corner {} edges {} {}",
+        at(0),
+        s.uv.origin,
+        s.uv.edge_a,
+        s.uv.edge_b
     );
     println!(
-        "  st plane: corner {} edges {} {}",
-        s.st.origin, s.st.edge_a, s.st.edge_b
+        "  st plane{}: corner {} edges {} {}",
+        at(1),
+        s.st.origin,
+        s.st.edge_a,
+        s.st.edge_b
     );
     println!(
         "  depth range {} to {}, depth kept: {}",

@@ -3,10 +3,10 @@
 //! | bytes | field |
 //! |---|---|
 //! | 8 | magic `PLXLF\0\0\0` |
-//! | 4 | version, `1` |
-//! | 4 | sample encoding: `0`, packed premultiplied sRGB RGBA8 (as [`crate::warp::ENCODING`]) |
+//! | 4 | version, `2` (version `1` files, which have no planes at infinity, are read too) |
+//! | 4 | flags: bits 0-7 the sample encoding, `0`, packed premultiplied sRGB RGBA8 (as [`crate::warp::ENCODING`]); bit 8 the `uv` plane, bit 9 the `st` plane at infinity ([`Slab::infinite`]; version 2) |
 //! | 16 | sample counts `nu`, `nv`, `ns`, `nt` (`u32`) |
-//! | 72 | the `uv` then the `st` rectangle: origin, edge a, edge b (`f32` x, y, z each) |
+//! | 72 | the `uv` then the `st` rectangle: origin, edge a, edge b (`f32` x, y, z each; directions for a plane at infinity) |
 //! | 8 | capture depth range `near`, `far` (`f32`) |
 //! | 4 | payload: `0`, raw samples; `1`, raw samples then their depths; `2`, quantised |
 //! | 8 | sample count (`u64`), which must be `nu nv ns nt` |
@@ -41,7 +41,9 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"PLXLF\0\0\0";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+/// Flag bits of the planes at infinity, `uv` and `st`.
+const INFINITE: [u32; 2] = [1 << 8, 1 << 9];
 /// Bytes before the samples.
 const HEADER: usize = 8 + 4 + 4 + 16 + 72 + 8 + 4 + 8;
 
@@ -119,7 +121,10 @@ impl LightField {
         };
         let mut out = Vec::with_capacity(HEADER);
         out.extend_from_slice(MAGIC);
-        put(&mut out, [VERSION, 0, sl.nu, sl.nv, sl.ns, sl.nt]);
+        let flags = (0..2)
+            .filter(|&k| sl.infinite[k])
+            .fold(0, |f, k| f | INFINITE[k]);
+        put(&mut out, [VERSION, flags, sl.nu, sl.nv, sl.ns, sl.nt]);
         for r in [&sl.uv, &sl.st] {
             for v in [r.origin, r.edge_a, r.edge_b] {
                 put(&mut out, v.to_array().map(f32::to_bits));
@@ -187,18 +192,25 @@ impl LightField {
             at += 4;
             v
         };
-        let (version, encoding) = (u32_(), u32_());
+        let (version, flags) = (u32_(), u32_());
         let counts = [u32_(), u32_(), u32_(), u32_()];
         let floats: Vec<f32> = (0..20).map(|_| f32::from_bits(u32_())).collect();
         let payload = u32_();
         let declared = u64::from_le_bytes(head[HEADER - 8..].try_into().unwrap_or([0; 8]));
-        if version != VERSION {
+        if version != VERSION && version != 1 {
             return Err(FileError::Version {
                 path: p(),
                 found: version,
             });
         }
-        for (what, found, known) in [("sample encoding", encoding, 0), ("payload", payload, 2)] {
+        let (encoding, planes) = (flags & 0xff, flags >> 8);
+        let known_planes = if version == 1 { 0 } else { 3 };
+        let infinite = INFINITE.map(|bit| flags & bit != 0);
+        for (what, found, known) in [
+            ("sample encoding", encoding, 0),
+            ("planes-at-infinity flags", planes, known_planes),
+            ("payload", payload, 2),
+        ] {
             if found > known {
                 return Err(FileError::Unknown {
                     path: p(),
@@ -213,7 +225,7 @@ impl LightField {
             edge_a: v(k + 3),
             edge_b: v(k + 6),
         };
-        let slab = Slab::new(rect(0), rect(9), counts, floats[18], floats[19])
+        let slab = Slab::with_infinite(rect(0), rect(9), counts, floats[18], floats[19], infinite)
             .map_err(|source| FileError::Slab { path: p(), source })?;
         let [nu, nv, ns, nt] = counts;
         // Saturating: four large counts overflow even 64 bits.

@@ -55,12 +55,20 @@ pub struct LightFieldObject {
 
 impl LightFieldObject {
     /// One slab; the object's sphere is taken to be the one [`Slab::facing`] fits it
-    /// around (centred in the focal plane, a quarter of its shorter edge).
+    /// around (centred in the focal plane, a quarter of its shorter edge; with the focal
+    /// plane at infinity, an environment, there is no object: an empty sphere).
     pub fn new(name: impl Into<String>, field: LightField) -> Self {
         let st = field.slab.st;
-        let bounds = Sphere {
-            center: st.at(0.5, 0.5),
-            radius: 0.25 * st.edge_a.length().min(st.edge_b.length()),
+        let bounds = if field.slab.infinite[1] {
+            Sphere {
+                center: field.slab.uv.at(0.5, 0.5),
+                radius: 0.0,
+            }
+        } else {
+            Sphere {
+                center: st.at(0.5, 0.5),
+                radius: 0.25 * st.edge_a.length().min(st.edge_b.length()),
+            }
         };
         Self::with_slabs(name, vec![field], bounds)
     }
@@ -105,7 +113,18 @@ impl LightFieldObject {
     }
 
     /// The slab that sees the whole object from `eye`, best aligned with the view of it.
+    /// A slab with its `st` plane at infinity (an environment, not an object) is taken
+    /// first when `eye` lies over its `uv` rectangle (along the slab's forward).
     pub fn choose(&self, eye: Vec3) -> Option<usize> {
+        let environment = self.slabs.iter().position(|f| {
+            let s = &f.slab;
+            s.infinite[1]
+                && s.cross(0, eye, s.forward())
+                    .is_some_and(|(_, a, b)| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
+        });
+        if environment.is_some() {
+            return environment;
+        }
         let to = self.bounds.center - eye;
         if to.length().is_nan() || to.length() <= self.bounds.radius {
             return None;
@@ -126,6 +145,7 @@ impl LightFieldObject {
         self.slabs
             .iter()
             .enumerate()
+            .filter(|(_, f)| !f.slab.infinite[1])
             .filter(|(_, f)| points.clone().all(|p| sees(&f.slab, eye, p - eye)))
             .map(|(k, f)| (k, f.slab.forward().dot(dir)))
             .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
@@ -138,14 +158,17 @@ impl LightFieldObject {
     fn screen_rect(&self, camera: &Camera, width: u32, height: u32) -> Option<PixelRect> {
         let m = camera.clip_from_world();
         let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
-        let st = &self.slabs[self.showing_slab()?].slab.st;
+        let slab = &self.slabs[self.showing_slab()?].slab;
+        let st = &slab.st;
+        // A plane at infinity's corners are directions: points at infinity.
+        let w = if slab.infinite[1] { 0.0 } else { 1.0 };
         for p in [
             st.at(0.0, 0.0),
             st.at(1.0, 0.0),
             st.at(1.0, 1.0),
             st.at(0.0, 1.0),
         ] {
-            let c = m * p.extend(1.0);
+            let c = m * p.extend(w);
             if c.w.is_nan() || c.w <= 1e-6 {
                 return Some(PixelRect::full(width, height));
             }
@@ -174,7 +197,7 @@ fn sees(slab: &Slab, eye: Vec3, d: Vec3) -> bool {
     let inside = |c: Option<(f32, f32, f32)>| {
         c.is_some_and(|(_, a, b)| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
     };
-    d.dot(slab.forward()) > 0.0 && inside(slab.uv.cross(eye, d)) && inside(slab.st.cross(eye, d))
+    d.dot(slab.forward()) > 0.0 && inside(slab.cross(0, eye, d)) && inside(slab.cross(1, eye, d))
 }
 
 /// An image pass over a crop of the frame: pixel `(x, y)` of the frame is pixel

@@ -89,13 +89,19 @@ fn rays_of(slab: &Slab, image: &DepthImage) -> Vec<Ray> {
             let far = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
             let o = near.truncate() / near.w;
             let d = far.truncate() / far.w - o;
-            // Looking through the slab from the uv side, from the uv side of the st plane.
-            let (along, behind) = (d.dot(forward), (o - slab.st.origin).dot(forward));
+            // Looking through the slab from the uv side, from the uv side of the st plane
+            // (any eye is, of a plane at infinity).
+            let along = d.dot(forward);
+            let behind = if slab.infinite[1] {
+                -1.0
+            } else {
+                (o - slab.st.origin).dot(forward)
+            };
             if along.is_nan() || along <= 0.0 || behind.is_nan() || behind >= 0.0 {
                 continue;
             }
             let (Some((_, au, bu)), Some((_, a_s, b_s))) =
-                (slab.uv.cross(o, d), slab.st.cross(o, d))
+                (slab.cross(0, o, d), slab.cross(1, o, d))
             else {
                 continue;
             };
@@ -181,8 +187,10 @@ pub fn rebin(slab: Slab, images: &[DepthImage]) -> Rebinned {
         .iter()
         .map(|a| u32::from_le_bytes(a.color.map(byte)))
         .collect();
+    // A slab with a plane at infinity keeps no depth.
     let depth = grid
         .iter()
+        .take(if slab.is_projective() { 0 } else { grid.len() })
         .map(|a| {
             if a.depth_weight > 0.0 && a.depth > 0.0 && a.color[3] >= 0.5 {
                 a.depth

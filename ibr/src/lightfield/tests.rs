@@ -466,13 +466,32 @@ fn a_saved_light_field_loads_back_and_bad_files_are_refused_by_name() {
         named(LightField::load(&p).unwrap_err(), &p),
         FileError::NotALightField { .. }
     ));
-    let mut v2 = bytes.clone();
-    v2[8] = 2;
-    let p = write("v2.plf", &v2);
+    let mut v3 = bytes.clone();
+    v3[8] = 3;
+    let p = write("v3.plf", &v3);
     assert!(matches!(
         named(LightField::load(&p).unwrap_err(), &p),
-        FileError::Version { found: 2, .. }
+        FileError::Version { found: 3, .. }
     ));
+    // A version 1 file (no planes at infinity) still loads; one claiming a plane at
+    // infinity, or a flag no version knows, does not.
+    let mut v1 = bytes.clone();
+    v1[8] = 1;
+    let p = write("v1.plf", &v1);
+    assert_eq!(
+        LightField::load(&p).expect("a version 1 file").slab,
+        lf.slab
+    );
+    for (at, version) in [(13, 1), (14, 2)] {
+        let mut flagged = bytes.clone();
+        flagged[8] = version;
+        flagged[at] = 1;
+        let p = write("flags.plf", &flagged);
+        assert!(matches!(
+            named(LightField::load(&p).unwrap_err(), &p),
+            FileError::Unknown { .. }
+        ));
+    }
     // A header claiming 65535^4 samples (a huge allocation if believed): refused before
     // reading them.
     let mut huge = bytes.clone();

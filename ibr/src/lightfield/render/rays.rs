@@ -42,15 +42,18 @@ struct Plane {
     normal: Vec3,
     a: Vec3,
     b: Vec3,
+    /// At infinity: the rectangle holds directions, met by a ray's direction alone.
+    infinite: bool,
 }
 
 impl Plane {
-    fn of(r: &Rect3) -> Plane {
+    fn of(r: &Rect3, infinite: bool) -> Plane {
         Plane {
             origin: r.origin,
             normal: r.edge_a.cross(r.edge_b),
             a: r.edge_a / r.edge_a.length_squared(),
             b: r.edge_b / r.edge_b.length_squared(),
+            infinite,
         }
     }
 
@@ -58,9 +61,27 @@ impl Plane {
     /// the lanes whose rate across the plane is finite. A line parallel to the plane, or
     /// anything not finite, gives a NaN or infinite fraction, which fails any range test;
     /// only an infinite rate (a direction that overflows) could give finite ones, and its
-    /// lane is left out.
+    /// lane is left out. A plane at infinity is met by the line from the origin along `d`,
+    /// ahead of it.
     #[inline(always)]
     fn cross(&self, o: V8, d: V8) -> (F8, F8, F8, M8) {
+        if self.infinite {
+            let zero = F8::splat(0.0);
+            let (tau, a, b, ok) = self.cross_finite(
+                V8 {
+                    x: zero,
+                    y: zero,
+                    z: zero,
+                },
+                d,
+            );
+            return (tau, a, b, ok.and(tau.gt(zero)));
+        }
+        self.cross_finite(o, d)
+    }
+
+    #[inline(always)]
+    fn cross_finite(&self, o: V8, d: V8) -> (F8, F8, F8, M8) {
         let along = d.dot(self.normal);
         let to = V8 {
             x: F8::splat(self.origin.x) - o.x,
@@ -141,8 +162,8 @@ impl Rays {
             height: height as f32,
             forward: camera.forward(),
             toward: slab.forward(),
-            uv: Plane::of(&slab.uv),
-            st: Plane::of(&slab.st),
+            uv: Plane::of(&slab.uv, slab.infinite[0]),
+            st: Plane::of(&slab.st, slab.infinite[1]),
             uv_origin: slab.uv.origin,
             coords: [slab.nu, slab.nv, slab.ns, slab.nt].map(|n| n as f32),
             correct,
@@ -242,7 +263,12 @@ impl Rays {
             v: b_uv * nv - half,
             s: a_st * ns - half,
             t: b_st * nt - half,
-            flat_depth: flat.dot(self.forward),
+            // The st plane at infinity is infinitely deep.
+            flat_depth: if self.st.infinite {
+                F8::splat(f32::INFINITY)
+            } else {
+                flat.dot(self.forward)
+            },
             from_uv: half,
             rate,
             rate_view: half,
