@@ -133,7 +133,7 @@ fn an_environment_light_field_lies_behind_the_scene_and_is_chosen_over_its_camer
     );
     assert_eq!(env.showing(), Showing::Slab(0));
     let want = truth(&[scene[0], draw], &cam);
-    let enc = engine::color::Encoder::new(crate::warp::ENCODING);
+    let enc = Encoder::new(ENCODING);
     let got = crate::images::DepthImage::from_target(&target, &cam);
     let mut off = 0;
     for (c, want) in got.color.iter().zip(&want) {
