@@ -111,22 +111,14 @@ impl<'a, S: Source> Kernel<'a, S> {
         each
     }
 
-    /// Each lane's sample `(s, t)` of its image, for the lanes in `care` (not empty; the
-    /// others read something): one row window when they share it ([`window`]), else a
-    /// load per lane. `row` reads a window, `one` a sample.
+    /// Each lane's depth at `(s, t)` of its image, for the lanes in `care` (not empty;
+    /// the others read something): one row window when they share it ([`window`]), else
+    /// a load per lane.
     #[inline(always)]
-    fn read(
-        &self,
-        images: &Images<S::Image>,
-        s: I8,
-        t: I8,
-        care: M8,
-        row: impl Fn(S::Image, u32, u32) -> Option<F8>,
-        one: impl Fn(S::Image, u32, u32) -> f32,
-    ) -> F8 {
+    pub(super) fn depths(&self, images: &Images<S::Image>, s: I8, t: I8, care: M8) -> F8 {
         if let Some(image) = images.shared {
             if let Some((r, start)) = window(care, t, s, s, self.src.align()) {
-                if let Some(w) = row(image, r, start) {
+                if let Some(w) = self.src.depth_row(image, r, start) {
                     return w.permute(offsets(s, start));
                 }
             }
@@ -135,23 +127,9 @@ impl<'a, S: Source> Kernel<'a, S> {
         let each = self.each_image(images);
         let mut out = [0.0; LANES];
         for (l, o) in out.iter_mut().enumerate() {
-            *o = one(each[l], s[l] as u32, t[l] as u32);
+            *o = self.src.depth(each[l], s[l] as u32, t[l] as u32);
         }
         F8::from_array(out)
-    }
-
-    /// Depths ([`Kernel::read`]).
-    #[inline(always)]
-    pub(super) fn depths(&self, images: &Images<S::Image>, s: I8, t: I8, care: M8) -> F8 {
-        let src = self.src;
-        self.read(
-            images,
-            s,
-            t,
-            care,
-            |i, r, start| src.depth_row(i, r, start),
-            |i, s, t| src.depth(i, s, t),
-        )
     }
 
     /// The taps around coordinates `(s, t)` ([`Taps`]), their row window found for the
