@@ -194,13 +194,13 @@ pub struct Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,method,eye_class,eye,uv,st,codewords,tile,triangles,width,height,frames,median_ms,min_ms,p90_ms,psnr_db,mean_abs,frac_over,rays,taps,pixels,bytes,raw_bytes,file_bytes,raw_file_bytes,capture_s,quantise_s,photographs,invented";
+    const HEADER: &'static str = "series,method,eye_class,eye,uv,st,codewords,tile,triangles,width,height,frames,median_ms,min_ms,p90_ms,psnr_db,mse,compared,mean_abs,frac_over,rays,taps,pixels,bytes,raw_bytes,file_bytes,raw_file_bytes,capture_s,quantise_s,photographs,invented";
 
     fn csv(&self) -> String {
         let e = self.error;
         let f = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{:.4}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{:.4}",
             self.series,
             self.method,
             self.eye_class,
@@ -217,6 +217,8 @@ impl CsvRow for Row {
             self.time.min_ms,
             self.time.p90_ms,
             f(e.map(|e| e.psnr_capped(99.0))),
+            f(e.map(|e| e.mse)),
+            e.map_or(String::new(), |e| e.pixels.to_string()),
             f(e.map(|e| e.mean_abs)),
             f(e.map(|e| e.frac_over)),
             self.rays,
@@ -247,13 +249,7 @@ impl Object {
         Object {
             mesh: procedural::torus_with_triangles(triangles),
             material: Material::lit(Rgba::new(0.8, 0.5, 0.3, 1.0)),
-            lighting: Lighting {
-                ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-                lights: vec![Light::Directional {
-                    direction: Vec3::new(-0.4, -1.0, -0.6).normalize(),
-                    color: Rgba::new(0.9, 0.9, 0.9, 1.0),
-                }],
-            },
+            lighting: lighting(),
         }
     }
 
@@ -272,6 +268,56 @@ pub fn slab(uv: u32, st: u32) -> Slab {
     let square = |z: f32| Rect3::centered(Vec3::new(0.0, 0.0, z), Vec3::X * 2.4, Vec3::NEG_Y * 2.4);
     Slab::new(square(4.0), square(0.0), [uv, uv, st, st], 0.5, 20.0).expect("a valid slab")
 }
+
+/// The render-speed case (`examples/lightfield_frame.rs`, `benches/lightfield.rs`): a lit
+/// torus (9,216 triangles) captured into a 32x32x256x256 slab (`uv` a 2-unit square 4 units
+/// in front of it, `st` a 2.4-unit square through it), and a 1280x720 camera between the
+/// capture cameras from which the slab fills most of the frame.
+pub fn frame_case() -> (LightField, Camera) {
+    let mesh = procedural::torus(0.7, 0.3, 96, 48);
+    let material = Material::lit(Rgba::new(0.8, 0.5, 0.3, 1.0));
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::from_rotation_x(1.0),
+    }];
+    let lighting = lighting();
+    let square = |z: f32, size: f32| {
+        Rect3::centered(Vec3::new(0.0, 0.0, z), Vec3::X * size, Vec3::NEG_Y * size)
+    };
+    let slab = Slab::new(
+        square(4.0, 2.0),
+        square(0.0, 2.4),
+        [32, 32, 256, 256],
+        0.5,
+        20.0,
+    )
+    .expect("a valid slab");
+    let (w, h) = FRAME_SIZE;
+    let camera = Camera::look_at(
+        Vec3::new(0.13, -0.07, 4.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        0.62,
+        w as f32 / h as f32,
+    )
+    .with_depth_range(0.1, 30.0);
+    (LightField::capture(&draws, &lighting, slab), camera)
+}
+
+/// The torus's light: an ambient term and a directional light from above.
+fn lighting() -> Lighting {
+    Lighting {
+        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
+        lights: vec![Light::Directional {
+            direction: Vec3::new(-0.4, -1.0, -0.6).normalize(),
+            color: Rgba::new(0.9, 0.9, 0.9, 1.0),
+        }],
+    }
+}
+
+/// The size of [`frame_case`]'s frame.
+pub const FRAME_SIZE: (u32, u32) = (1280, 720);
 
 /// The camera at eye `k` of [`EYES`] for a `w` x `h` frame.
 pub fn camera(k: usize, (w, h): (u32, u32)) -> Camera {
