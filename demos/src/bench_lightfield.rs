@@ -34,7 +34,7 @@ use glam::{Mat4, Vec3};
 use ibr::lightfield::{
     Interpolation, LightField, LightFieldObject, Lookup, Rect3, Slab, TileShape, VqSettings,
 };
-use ibr::metrics::{self, Options, Region};
+use ibr::metrics;
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use std::time::{Duration, Instant};
 
@@ -424,15 +424,7 @@ impl Bench<'_> {
         });
         let (error, last, bytes) = match &field {
             Some(f) => {
-                let area = [&target, &truth]
-                    .iter()
-                    .filter_map(|t| metrics::covered_rect(t, Default::default()))
-                    .fold(metrics::Rect::default(), metrics::Rect::union);
-                let opts = Options {
-                    region: Region::Rect(area),
-                    ..Options::default()
-                };
-                let e = metrics::compare(&target, &truth, &opts).expect("same size");
+                let e = metrics::compare_covered(&target, &truth).expect("same size");
                 (Some(e), f.last(), f.bytes() as u64)
             }
             None => (None, Default::default(), 0),

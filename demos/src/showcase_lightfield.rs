@@ -15,7 +15,7 @@ use engine::{Camera, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rg
 use engine::{Draw, Target};
 use glam::{Mat4, Quat, Vec2, Vec3};
 use ibr::lightfield::{LightField, LightFieldObject, Showing, Slab, TileShape, VqSettings};
-use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::metrics::{self, ImageError};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use std::sync::Arc;
@@ -153,15 +153,7 @@ impl Statue {
         let mut list: [&mut dyn Technique; 1] = [&mut self.object];
         m.frames
             .render(&mut m.renderer, [], &mut list, &view, &mut m.image, &opts);
-        let area = [&m.image, &m.truth]
-            .iter()
-            .filter_map(|t| metrics::covered_rect(t, Default::default()))
-            .fold(metrics::Rect::default(), metrics::Rect::union);
-        let opts = Options {
-            region: Region::Rect(area),
-            ..Options::default()
-        };
-        let e = metrics::compare(&m.image, &m.truth, &opts).ok()?;
+        let e = metrics::compare_covered(&m.image, &m.truth).ok()?;
         self.errors.push(e);
         self.error = Some(e);
         self.error

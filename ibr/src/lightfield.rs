@@ -78,6 +78,17 @@ impl Rect3 {
         (tau.is_finite() && a.is_finite() && b.is_finite()).then_some((tau, a, b))
     }
 
+    /// The bounds of its corners' `x` and `y` as `view` transforms them.
+    fn bounds_in(&self, view: &Mat4) -> (glam::Vec2, glam::Vec2) {
+        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
+        for c in self.corners() {
+            let v = view.transform_point3(c);
+            lo = lo.min(v.truncate());
+            hi = hi.max(v.truncate());
+        }
+        (lo, hi)
+    }
+
     fn corners(&self) -> [Vec3; 4] {
         [
             self.at(0.0, 0.0),
@@ -388,12 +399,7 @@ impl Slab {
             glam::Vec4::new(sx.z, sy.z, -f.z, 0.0),
             glam::Vec4::new(-sx.dot(o), -sy.dot(o), f.dot(o) - back, 1.0),
         );
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
-        for c in self.st.corners() {
-            let v = view.transform_point3(c);
-            lo = lo.min(glam::Vec2::new(v.x, v.y));
-            hi = hi.max(glam::Vec2::new(v.x, v.y));
-        }
+        let (lo, hi) = self.st.bounds_in(&view);
         Camera {
             view,
             projection: Projection::Orthographic {
@@ -430,12 +436,7 @@ impl Slab {
         );
         let dist = (st.origin - eye).dot(self.forward());
         let k = self.near / dist;
-        let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
-        for c in st.corners() {
-            let v = view.transform_point3(c);
-            lo = lo.min(glam::Vec2::new(v.x, v.y));
-            hi = hi.max(glam::Vec2::new(v.x, v.y));
-        }
+        let (lo, hi) = st.bounds_in(&view);
         Camera {
             view,
             projection: Projection::Frustum {

@@ -290,6 +290,21 @@ pub fn compare(a: &Target, b: &Target, opts: &Options) -> Result<ImageError, Met
     )
 }
 
+/// The error of `a` against `b` (the reference) over the smallest rectangle holding what
+/// either covers (alpha above 0: render both over a transparent clear colour), so an empty
+/// background does not dilute it; the other options default.
+pub fn compare_covered(a: &Target, b: &Target) -> Result<ImageError, MetricsError> {
+    let area = [a, b]
+        .iter()
+        .filter_map(|t| covered_rect(t, Coverage::Alpha))
+        .fold(Rect::default(), Rect::union);
+    let opts = Options {
+        region: Region::Rect(area),
+        ..Options::default()
+    };
+    compare(a, b, &opts)
+}
+
 /// The error of raw image `a` against `b` (the reference).
 pub fn compare_rgba8(a: Image, b: Image, opts: &Options) -> Result<ImageError, MetricsError> {
     if (a.width, a.height) != (b.width, b.height) {
