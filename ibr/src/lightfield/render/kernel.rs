@@ -11,7 +11,7 @@
 use super::lanes::{add, as_i8, count, nearest, offsets, pair, uniform, window, ALL};
 use super::rays::Batch;
 use super::source::Source;
-use super::surface::{Cameras, Eyes, Point};
+use super::surface::{Cameras, Eyes, Followed, Point};
 use super::{LightFieldFrame, Lookup, SAME_SURFACE};
 use crate::lightfield::Slab;
 use engine::simd::{F8, I8, LANES, M8};
@@ -214,10 +214,9 @@ impl<'a, S: Source> Kernel<'a, S> {
     ) -> LightFieldFrame {
         let hit = hits.map(M8::from_bits);
         let surfaces = if self.correct {
-            self.surfaces(rays, hit).map(|f| (f.found, f.along, f.z))
+            self.surfaces(rays, hit)
         } else {
-            let zero = F8::splat(0.0);
-            [(M8::from_bits(0), zero, zero); N]
+            [Followed::nothing(); N]
         };
         let mut frame = LightFieldFrame::default();
         for (b, (colors, disparities)) in out.into_iter().enumerate() {
@@ -232,22 +231,15 @@ impl<'a, S: Source> Kernel<'a, S> {
         &self,
         rays: &Batch,
         hit: M8,
-        (found, along, z): (M8, F8, F8),
+        surface: Followed,
         colors: &mut [u32],
         disparities: &mut [f32],
     ) -> LightFieldFrame {
         let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
         let cams = &self.cameras;
-        let rays_hit = hit;
-        // With depth correction a ray along which no camera around it saw a surface is a
-        // hole.
-        let hit = if self.correct { hit.and(found) } else { hit };
-        if hit.bits() == 0 {
-            return LightFieldFrame {
-                rays: count(rays_hit),
-                ..LightFieldFrame::default()
-            };
-        }
+        let Followed {
+            found, along, z, ..
+        } = surface;
         let point = if self.correct {
             cams.point(rays, along, z)
         } else {
@@ -341,22 +333,35 @@ impl<'a, S: Source> Kernel<'a, S> {
         let (mut acc, mut total) = ([zero; 4], zero);
         // Taps read (with weight: not zero).
         let mut taps_read = 0u32;
+        // Lanes where a camera that counts saw nothing at any of its taps.
+        let mut disagree = M8::from_bits(0);
         // The taps where the rays cross the focal plane: the same for all the cameras not
         // moved (found once, for all the rays that hit).
         let mut flat = None;
         for k in 0..CAMERAS {
             let w = weights[k];
             total = total + w;
-            if cares[k].bits() == 0 {
+            // A ray without a surface that a camera before saw nothing for is not drawn:
+            // the cameras after need not read it.
+            let care = if self.correct {
+                cares[k].and_not(disagree.and_not(found))
+            } else {
+                cares[k]
+            };
+            if care.bits() == 0 {
                 continue;
             }
+            let w = care.select(w, zero);
             let taps = match moved[k] {
-                Some((s, t)) => self.taps::<TAPS>(s, t, cares[k]),
+                Some((s, t)) => self.taps::<TAPS>(s, t, care),
                 None => *flat.get_or_insert_with(|| self.taps::<TAPS>(rays.s, rays.t, hit)),
             };
             let colors = self.read_taps::<TAPS>(&images[k], &taps);
+            let mut saw = M8::from_bits(0);
             for (c, weight) in colors.into_iter().zip(taps.weights).take(TAPS) {
                 let wt = w * weight;
+                let alpha = c.and(I8::splat(0xff00_0000_u32 as i32));
+                saw = saw.or(wt.gt(zero).and_not(alpha.eq(I8::splat(0))));
                 let counted = wt.gt(zero).bits();
                 taps_read += counted.count_ones();
                 // Empty samples (all bytes zero) add nothing: skipped where every lane
@@ -365,14 +370,24 @@ impl<'a, S: Source> Kernel<'a, S> {
                     add(&mut acc, c, wt);
                 }
             }
+            disagree = disagree.or(care.and_not(saw));
         }
         let taps = u64::from(taps_read);
         // Cameras left out give their weight to the others.
         let partial = total.gt(zero).and(total.lt(one));
         let acc = acc.map(|a| partial.select(a / total, a));
-        let write = hit.and(acc[3].gt(zero));
+        // With depth correction, a ray along which no camera around it found a surface
+        // is drawn (uncorrected) only where every camera saw something at the focal
+        // plane: a silhouette's edge between samples, not one camera's shifted copy of a
+        // part the ray passes by (a ghost).
+        let drawn = if self.correct {
+            found.or(hit.and_not(disagree))
+        } else {
+            hit
+        };
+        let write = drawn.and(acc[3].gt(zero));
         let frame = LightFieldFrame {
-            rays: count(rays_hit),
+            rays: count(hit),
             taps,
             pixels: count(write),
         };

@@ -399,5 +399,18 @@ pub(super) struct Followed {
     unsure: M8,
 }
 
+impl Followed {
+    /// No surface, and nothing unsure.
+    pub(super) fn nothing() -> Self {
+        let zero = F8::splat(0.0);
+        Followed {
+            found: M8::from_bits(0),
+            along: zero,
+            z: zero,
+            unsure: M8::from_bits(0),
+        }
+    }
+}
+
 /// Most steps a ray's march takes through a camera's image.
 const MARCH_STEPS: usize = 24;
