@@ -46,13 +46,15 @@ const SAME_SURFACE: f32 = 0.05;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lookup {
     pub interpolation: Interpolation,
-    /// Depth correction (Gortler et al. 96): the ray's point on the surface (at the depth
-    /// the nearest camera that saw something where the ray crosses the focal plane
-    /// stored) is re-projected into each camera around the ray, so every camera is read
-    /// where it saw that point, not where the ray crosses the focal plane; a camera that
-    /// saw something else there (occluded, or nothing) is left out and its weight goes to
-    /// the others. The written depth is that point's. A ray no camera around it saw
-    /// anything for is a hole. Without stored depth the focal plane serves.
+    /// Depth correction (Gortler et al. 96): the ray's point on the surface (found by
+    /// marching along the ray through the nearest camera's stored depths, and the other
+    /// cameras' around the ray where that finds nothing) is re-projected into each camera
+    /// around the ray, so every camera is read where it saw that point, not where the ray
+    /// crosses the focal plane; a camera that saw something else there (occluded, or
+    /// nothing) is left out and its weight goes to the others. The written depth is that
+    /// point's. A ray along which no camera finds a surface is blended uncorrected where
+    /// every camera around it sees something at the focal plane (an edge between
+    /// samples), else a hole. Without stored depth the focal plane serves.
     pub depth_correction: bool,
 }
 
