@@ -43,6 +43,7 @@ pub mod metrics;
 pub mod octahedral;
 pub mod portal;
 pub mod sprites;
+pub mod stereo;
 pub mod subject;
 pub mod technique;
 pub mod warp;

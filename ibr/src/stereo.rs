@@ -1,0 +1,105 @@
+//! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention and
+//! their error in the Middlebury measures ([`measure`]). The matchers that make them
+//! come next.
+//!
+//! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
+//! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
+//! pixels (not negative). Where the disparity is unknown (occluded, mismatched, or never
+//! measured) it is `f32::INFINITY`, as in Middlebury's PFM files, which is how it is read
+//! and written ([`Disparity::from_float_image`], [`Disparity::to_float_image`], with
+//! `engine::load::float_image` and `write_float_image`).
+
+pub mod measure;
+
+pub use measure::{measure, DisparityError, Measured};
+
+use engine::load::FloatImage;
+
+/// A left image's disparities, row-major, top row first; infinite where unknown.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Disparity {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<f32>,
+}
+
+/// Why a disparity map or a comparison is refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StereoError {
+    #[error("{what}: {found} values for a {width} x {height} map")]
+    Size {
+        what: &'static str,
+        found: usize,
+        width: u32,
+        height: u32,
+    },
+    #[error("{what}: a disparity at ({x}, {y}) is {value}: disparities are finite and not negative, or infinite where unknown")]
+    Value {
+        what: &'static str,
+        x: u32,
+        y: u32,
+        value: f32,
+    },
+    #[error("the estimate is {0} x {1} and the ground truth {2} x {3}")]
+    Mismatch(u32, u32, u32, u32),
+}
+
+impl Disparity {
+    /// A map, checked: `width * height` values, each finite and not negative, or
+    /// `+infinity` (unknown).
+    pub fn new(width: u32, height: u32, data: Vec<f32>) -> Result<Self, StereoError> {
+        Self::checked("disparity map", width, height, data)
+    }
+
+    fn checked(
+        what: &'static str,
+        width: u32,
+        height: u32,
+        data: Vec<f32>,
+    ) -> Result<Self, StereoError> {
+        if data.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(StereoError::Size {
+                what,
+                found: data.len(),
+                width,
+                height,
+            });
+        }
+        if let Some(i) = data
+            .iter()
+            .position(|&d| !(d == f32::INFINITY || (d.is_finite() && d >= 0.0)))
+        {
+            let w = width.max(1) as usize;
+            return Err(StereoError::Value {
+                what,
+                x: (i % w) as u32,
+                y: (i / w) as u32,
+                value: data[i],
+            });
+        }
+        Ok(Disparity {
+            width,
+            height,
+            data,
+        })
+    }
+
+    /// A map read from a float image (a Middlebury PFM), checked as [`Disparity::new`].
+    pub fn from_float_image(image: FloatImage) -> Result<Self, StereoError> {
+        Self::checked("disparity image", image.width, image.height, image.data)
+    }
+
+    /// The map as a float image, to write as PFM (infinity where unknown).
+    pub fn to_float_image(&self) -> FloatImage {
+        FloatImage {
+            width: self.width,
+            height: self.height,
+            data: self.data.clone(),
+        }
+    }
+
+    /// Whether pixel `i` (row-major) has a known disparity.
+    pub fn known(&self, i: usize) -> bool {
+        self.data.get(i).is_some_and(|d| d.is_finite())
+    }
+}
