@@ -1,6 +1,8 @@
-//! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention and
-//! their error in the Middlebury measures ([`measure`]). The matchers that make them
-//! come next.
+//! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention, their
+//! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
+//! ground truth ([`pair`]) and a block matcher with a left-right check ([`block`]).
+//! Semi-global matching, rectification of unrectified pairs and the `stereo` command come
+//! next.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
 //! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
@@ -9,9 +11,13 @@
 //! and written ([`Disparity::from_float_image`], [`Disparity::to_float_image`], with
 //! `engine::load::float_image` and `write_float_image`).
 
+pub mod block;
 pub mod measure;
+pub mod pair;
 
+pub use block::{luminance, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
+pub use pair::StereoPair;
 
 use engine::load::FloatImage;
 

@@ -1,0 +1,149 @@
+//! A block matcher: for each left pixel, the disparity whose window of absolute
+//! differences of luminance (sum over a square window) is least, refined to a fraction of
+//! a pixel by a parabola through the costs around it, kept only when clearly better than
+//! the rest (uniqueness) and when the right image's own best match points back to it
+//! (left-right consistency); unknown (infinite) otherwise. Rows in parallel on the thread
+//! pool, the same answer at any thread count.
+
+use super::Disparity;
+use crate::images::DepthImage;
+use rayon::prelude::*;
+
+/// A block matcher's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlockMatch {
+    /// Disparities `0..max_disparity` are searched.
+    pub max_disparity: u32,
+    /// The window is `2 radius + 1` pixels square.
+    pub radius: u32,
+    /// The best cost must be below `1 - uniqueness` times the best away from it.
+    pub uniqueness: f32,
+    /// Largest difference (pixels) between the left and the right image's matches.
+    pub lr_tolerance: f32,
+}
+
+impl Default for BlockMatch {
+    fn default() -> Self {
+        BlockMatch {
+            max_disparity: 64,
+            radius: 3,
+            uniqueness: 0.05,
+            lr_tolerance: 1.0,
+        }
+    }
+}
+
+/// Luminance (0 to 255) of an image's premultiplied linear colour, composited over black.
+pub fn luminance(image: &DepthImage) -> Vec<f32> {
+    image
+        .color
+        .iter()
+        .map(|c| {
+            255.0
+                * (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b)
+                    .clamp(0.0, 1.0)
+                    .sqrt()
+        })
+        .collect()
+}
+
+impl BlockMatch {
+    /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
+    pub fn run(&self, left: &[f32], right: &[f32], width: u32, height: u32) -> Disparity {
+        let (w, h) = (width as usize, height as usize);
+        let n = self.max_disparity.max(1) as usize;
+        // Window sums of |L(x) - R(x - d)| for every d: per row of the output, the costs
+        // of its pixels at every disparity (w n), from box sums over rows.
+        let costs = |side_left: bool| -> Vec<f32> {
+            let mut all = vec![f32::INFINITY; w * h * n];
+            all.par_chunks_mut(w * n).enumerate().for_each(|(y, row)| {
+                let r = self.radius as i64;
+                for d in 0..n {
+                    // Column sums of the differences over the window's rows, then along x.
+                    let mut col = vec![0.0f32; w];
+                    let mut ok = vec![true; w];
+                    for x in 0..w {
+                        let (xl, xr) = if side_left {
+                            (x as i64, x as i64 - d as i64)
+                        } else {
+                            (x as i64 + d as i64, x as i64)
+                        };
+                        if xl < 0 || xr < 0 || xl >= w as i64 || xr >= w as i64 {
+                            ok[x] = false;
+                            continue;
+                        }
+                        let mut s = 0.0;
+                        for dy in -r..=r {
+                            let yy = (y as i64 + dy).clamp(0, h as i64 - 1) as usize;
+                            s += (left[yy * w + xl as usize] - right[yy * w + xr as usize]).abs();
+                        }
+                        col[x] = s;
+                    }
+                    for x in 0..w {
+                        let (a, b) = (
+                            (x as i64 - r).max(0) as usize,
+                            (x as i64 + r).min(w as i64 - 1) as usize,
+                        );
+                        if (a..=b).all(|k| ok[k]) {
+                            row[x * n + d] = col[a..=b].iter().sum::<f32>();
+                        }
+                    }
+                }
+            });
+            all
+        };
+        let (cl, cr) = (costs(true), costs(false));
+        let best =
+            |c: &[f32]| -> Vec<(f32, bool)> { c.par_chunks(n).map(|k| self.choose(k)).collect() };
+        let (bl, br) = (best(&cl), best(&cr));
+        let mut data = vec![f32::INFINITY; w * h];
+        for (i, d) in data.iter_mut().enumerate() {
+            let (dl, unique) = bl[i];
+            if !unique || !dl.is_finite() {
+                continue;
+            }
+            let (x, y) = (i % w, i / w);
+            let xr = (x as f32 - dl).round();
+            if xr < 0.0 {
+                continue;
+            }
+            let (dr, _) = br[y * w + xr as usize];
+            if dr.is_finite() && (dl - dr).abs() <= self.lr_tolerance {
+                *d = dl;
+            }
+        }
+        Disparity::new(width, height, data).expect("finite, not negative, or infinite")
+    }
+
+    /// The best disparity of one pixel's costs, refined by a parabola, and whether it is
+    /// unique.
+    fn choose(&self, costs: &[f32]) -> (f32, bool) {
+        let Some((k, &c)) = costs
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.is_finite())
+            .min_by(|a, b| a.1.total_cmp(b.1).then(a.0.cmp(&b.0)))
+        else {
+            return (f32::INFINITY, false);
+        };
+        let second = costs
+            .iter()
+            .enumerate()
+            .filter(|&(j, c)| c.is_finite() && j.abs_diff(k) > 1)
+            .map(|(_, &c)| c)
+            .fold(f32::INFINITY, f32::min);
+        let unique = c < (1.0 - self.uniqueness) * second || !second.is_finite();
+        let mut d = k as f32;
+        if k > 0 && k + 1 < costs.len() && costs[k - 1].is_finite() && costs[k + 1].is_finite() {
+            let (a, b) = (costs[k - 1], costs[k + 1]);
+            let curve = a - 2.0 * c + b;
+            if curve > 0.0 {
+                d += (0.5 * (a - b) / curve).clamp(-0.5, 0.5);
+            }
+        }
+        (d, unique)
+    }
+}
+
+#[cfg(test)]
+mod tests;
