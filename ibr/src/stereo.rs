@@ -1,8 +1,9 @@
 //! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention, their
 //! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
-//! ground truth ([`pair`]) and a block matcher with a left-right check ([`block`]).
-//! Semi-global matching, rectification of unrectified pairs and the `stereo` command come
-//! next.
+//! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
+//! ([`sgm`]), both with left-right checks. Rectification of unrectified pairs, filling
+//! unknown pixels from the background side, the `stereo` command and `bench stereo`
+//! against OpenCV's `StereoSGBM` come next.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
 //! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
@@ -14,10 +15,15 @@
 pub mod block;
 pub mod measure;
 pub mod pair;
+pub mod sgm;
+
+#[cfg(test)]
+mod scenes;
 
 pub use block::{luminance, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
+pub use sgm::Sgm;
 
 use engine::load::FloatImage;
 

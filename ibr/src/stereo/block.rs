@@ -135,14 +135,22 @@ impl BlockMatch {
         let unique = c < (1.0 - self.uniqueness) * second || !second.is_finite();
         let mut d = k as f32;
         if k > 0 && k + 1 < costs.len() && costs[k - 1].is_finite() && costs[k + 1].is_finite() {
-            let (a, b) = (costs[k - 1], costs[k + 1]);
-            let curve = a - 2.0 * c + b;
-            if curve > 0.0 {
-                d += (0.5 * (a - b) / curve).clamp(-0.5, 0.5);
-            }
+            d = parabola(k, costs[k - 1], c, costs[k + 1]);
         }
         (d, unique)
     }
+}
+
+/// The least of the parabola through costs `a`, `c`, `b` at `k - 1`, `k`, `k + 1` (`c`
+/// the least of the three): `k` moved by at most half a step.
+pub(super) fn parabola(k: usize, a: f32, c: f32, b: f32) -> f32 {
+    let curve = a - 2.0 * c + b;
+    let shift = if curve > 0.0 {
+        (0.5 * (a - b) / curve).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    k as f32 + shift
 }
 
 #[cfg(test)]
