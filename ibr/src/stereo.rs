@@ -1,9 +1,10 @@
 //! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention, their
 //! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
 //! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
-//! ([`sgm`]), both with left-right checks. Rectification of unrectified pairs, filling
-//! unknown pixels from the background side, the `stereo` command and `bench stereo`
-//! against OpenCV's `StereoSGBM` come next.
+//! ([`sgm`]), both with left-right checks; unknown pixels filled from the background side
+//! and the left view made a depth image for the 3D warp ([`depth`]). Rectification of
+//! unrectified pairs, the `stereo` command and `bench stereo` against OpenCV's
+//! `StereoSGBM` come next.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
 //! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
@@ -13,6 +14,7 @@
 //! `engine::load::float_image` and `write_float_image`).
 
 pub mod block;
+pub mod depth;
 pub mod measure;
 pub mod pair;
 pub mod sgm;

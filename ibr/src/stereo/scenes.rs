@@ -81,6 +81,19 @@ pub(super) fn slanted() -> StereoPair {
     pair(&[(12.0, Mat4::from_rotation_y(0.6))])
 }
 
+/// The slanted card rendered from `camera` (colour and depth), the truth for a view of
+/// [`slanted`]'s scene.
+pub(super) fn slanted_truth(camera: &Camera) -> crate::images::DepthImage {
+    let (mesh, material) = card(12.0);
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::from_rotation_y(0.6),
+    }];
+    let mut out = crate::capture::capture_batch(&draws, &[*camera], &Lighting::default(), W, H);
+    out.remove(0)
+}
+
 /// Left pixels the right view cannot see, away from the left image's edge strip.
 pub(super) fn occluded_band(p: &StereoPair) -> Vec<usize> {
     let w = W as usize;
