@@ -22,7 +22,7 @@ pub mod sgm;
 #[cfg(test)]
 mod scenes;
 
-pub use block::{luminance, BlockMatch};
+pub use block::{luminance, luminance_rgba8, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
 pub use sgm::Sgm;

@@ -47,6 +47,19 @@ pub fn luminance(image: &DepthImage) -> Vec<f32> {
         .collect()
 }
 
+/// Luminance (0 to 255, as [`luminance`]) of RGBA8 sRGB pixels (a PNG's), alpha ignored.
+pub fn luminance_rgba8(rgba: &[u8]) -> Vec<f32> {
+    rgba.chunks_exact(4)
+        .map(|p| {
+            let c = engine::Rgba::from_srgb8(p[0], p[1], p[2]);
+            255.0
+                * (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b)
+                    .clamp(0.0, 1.0)
+                    .sqrt()
+        })
+        .collect()
+}
+
 impl BlockMatch {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
     pub fn run(&self, left: &[f32], right: &[f32], width: u32, height: u32) -> Disparity {
