@@ -2,9 +2,9 @@
 //! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
 //! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
 //! ([`sgm`]), both with left-right checks; unknown pixels filled from the background side
-//! and the left view made a depth image for the 3D warp ([`depth`]). Rectification of
-//! unrectified pairs, the `stereo` command and `bench stereo` against OpenCV's
-//! `StereoSGBM` come next.
+//! and the left view made a depth image for the 3D warp ([`depth`]); pairs from any two
+//! cameras rectified first ([`rectify`]). `bench stereo` against OpenCV's `StereoSGBM`
+//! comes next.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
 //! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
@@ -17,6 +17,7 @@ pub mod block;
 pub mod depth;
 pub mod measure;
 pub mod pair;
+pub mod rectify;
 pub mod sgm;
 
 #[cfg(test)]
@@ -25,6 +26,7 @@ mod scenes;
 pub use block::{luminance, luminance_rgba8, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
+pub use rectify::{rectify, Rectified, RectifyError};
 pub use sgm::Sgm;
 
 use engine::load::FloatImage;

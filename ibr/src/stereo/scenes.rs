@@ -47,6 +47,16 @@ pub(super) fn camera() -> Camera {
     .with_depth_range(0.1, 50.0)
 }
 
+/// The slanted card and a small card in front of it, as meshes, materials and transforms
+/// (to draw from any cameras).
+pub(super) fn scene_draws() -> (Vec<(Mesh, Material)>, Vec<Mat4>) {
+    let transforms = vec![
+        Mat4::from_rotation_y(0.6),
+        Mat4::from_translation(Vec3::new(0.3, 0.2, 2.0)),
+    ];
+    (vec![card(12.0), card(1.0)], transforms)
+}
+
 /// A pair of the cards `(size, transform)`.
 pub(super) fn pair(cards: &[(f32, Mat4)]) -> StereoPair {
     let made: Vec<(Mesh, Material)> = cards.iter().map(|&(s, _)| card(s)).collect();

@@ -1,0 +1,139 @@
+//! Rectification of a pair from known cameras (Fusiello, Trucco and Verri 2000): both
+//! views turned, about their own eyes, to one orientation whose x axis runs along the
+//! baseline, with the left camera's projection, so that matching points lie on the same
+//! row. Each rectified image is its original resampled through the homography between
+//! the two orientations (the eye does not move, so the mapping does not depend on depth).
+//! The rectified left camera is a real camera: a disparity map of the rectified pair makes
+//! a depth image with it ([`Disparity::to_depth_image`](super::Disparity::to_depth_image)).
+
+use crate::images::DepthImage;
+use engine::color::Premul;
+use engine::Camera;
+use glam::{Mat4, Vec3, Vec4};
+
+/// Why a pair cannot be rectified.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RectifyError {
+    #[error("the cameras are {0} apart: a pair needs a baseline")]
+    NoBaseline(f32),
+    #[error(
+        "the baseline runs within {0:.1} degrees of the left camera's view direction: the epipole is in the image and rows cannot be made to match (move the cameras sideways)"
+    )]
+    AlongTheView(f32),
+    #[error("the images are {0}x{1} and {2}x{3}: rectification needs one size")]
+    Sizes(u32, u32, u32, u32),
+}
+
+/// A rectified pair: the two images resampled, their cameras and the baseline.
+#[derive(Clone, Debug)]
+pub struct Rectified {
+    pub left: DepthImage,
+    pub right: DepthImage,
+    pub baseline: f32,
+}
+
+/// Rectifies `left` and `right` (images with their cameras, one size). The rectified
+/// orientation: x along the baseline (left eye to right eye), y as near the left camera's
+/// up as that allows, the left camera's projection for both. Pixels whose ray leaves the
+/// original image are transparent.
+pub fn rectify(left: &DepthImage, right: &DepthImage) -> Result<Rectified, RectifyError> {
+    let (w, h) = (left.width(), left.height());
+    if (w, h) != (right.width(), right.height()) {
+        return Err(RectifyError::Sizes(w, h, right.width(), right.height()));
+    }
+    let (cl, cr) = (left.camera.eye(), right.camera.eye());
+    let base = cr - cl;
+    let baseline = base.length();
+    if !(baseline > 1e-6 && baseline.is_finite()) {
+        return Err(RectifyError::NoBaseline(baseline));
+    }
+    let x = base / baseline;
+    let forward = left.camera.forward();
+    let angle = x.dot(forward).abs().min(1.0).acos().to_degrees();
+    let off_axis = 90.0 - angle;
+    if off_axis > 60.0 {
+        return Err(RectifyError::AlongTheView(angle));
+    }
+    // z backward (the camera looks down -z), y up, x along the baseline.
+    let back = (-forward - x * (-forward).dot(x)).normalize();
+    let y = back.cross(x);
+    let turn = |eye: Vec3| Camera {
+        view: Mat4::from_cols(
+            Vec4::new(x.x, y.x, back.x, 0.0),
+            Vec4::new(x.y, y.y, back.y, 0.0),
+            Vec4::new(x.z, y.z, back.z, 0.0),
+            Vec4::new(-x.dot(eye), -y.dot(eye), -back.dot(eye), 1.0),
+        ),
+        projection: left.camera.projection,
+    };
+    Ok(Rectified {
+        left: resample(left, &turn(cl)),
+        right: resample(right, &turn(cr)),
+        baseline,
+    })
+}
+
+/// `image` as seen by `camera` (at the same eye): each pixel's ray looked up in the
+/// original, bilinearly; depth is not kept (the views differ in orientation).
+fn resample(image: &DepthImage, camera: &Camera) -> DepthImage {
+    let (w, h) = (image.width(), image.height());
+    let mut out = DepthImage::new(w, h, *camera);
+    let to_world = camera.gl_view_proj().inverse();
+    let to_old = image.camera.gl_view_proj();
+    let eye = camera.eye();
+    for y in 0..h {
+        for x in 0..w {
+            let ndc = Vec4::new(
+                2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
+                1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
+                1.0,
+                1.0,
+            );
+            let far = to_world * ndc;
+            let dir = far.truncate() / far.w - eye;
+            // The same ray in the original view, as a direction (a point at infinity).
+            let c = to_old * dir.extend(0.0);
+            if c.w <= 0.0 {
+                continue;
+            }
+            let (u, v) = (
+                (c.x / c.w + 1.0) * 0.5 * w as f32 - 0.5,
+                (1.0 - c.y / c.w) * 0.5 * h as f32 - 0.5,
+            );
+            if let Some(p) = bilinear(image, u, v) {
+                out.color[(y * w + x) as usize] = p;
+            }
+        }
+    }
+    out
+}
+
+/// `image`'s colour at `(u, v)` (pixel centres at integers), `None` outside it.
+fn bilinear(image: &DepthImage, u: f32, v: f32) -> Option<Premul> {
+    let (w, h) = (image.width() as f32, image.height() as f32);
+    if !(u >= -0.5 && v >= -0.5 && u <= w - 0.5 && v <= h - 0.5) {
+        return None;
+    }
+    let (u, v) = (u.clamp(0.0, w - 1.0), v.clamp(0.0, h - 1.0));
+    let (x0, y0) = (u.floor() as u32, v.floor() as u32);
+    let (x1, y1) = (
+        (x0 + 1).min(image.width() - 1),
+        (y0 + 1).min(image.height() - 1),
+    );
+    let (fx, fy) = (u - x0 as f32, v - y0 as f32);
+    let at = |x: u32, y: u32| image.color[(y * image.width() + x) as usize];
+    let mix = |a: Premul, b: Premul, t: f32| Premul {
+        r: a.r + (b.r - a.r) * t,
+        g: a.g + (b.g - a.g) * t,
+        b: a.b + (b.b - a.b) * t,
+        a: a.a + (b.a - a.a) * t,
+    };
+    Some(mix(
+        mix(at(x0, y0), at(x1, y0), fx),
+        mix(at(x0, y1), at(x1, y1), fx),
+        fy,
+    ))
+}
+
+#[cfg(test)]
+mod tests;
