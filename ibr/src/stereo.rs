@@ -114,6 +114,32 @@ impl Disparity {
         }
     }
 
+    /// Checks a matcher's inputs: two luminance images of `width x height`; `Ok(None)` when
+    /// they are empty (the answer is an empty map).
+    pub(crate) fn inputs(
+        left: &[f32],
+        right: &[f32],
+        width: u32,
+        height: u32,
+    ) -> Result<Option<Disparity>, StereoError> {
+        let n = u64::from(width) * u64::from(height);
+        for (what, image) in [("left image", left), ("right image", right)] {
+            if image.len() as u64 != n {
+                return Err(StereoError::Size {
+                    what,
+                    found: image.len(),
+                    width,
+                    height,
+                });
+            }
+        }
+        Ok((n == 0).then(|| Disparity {
+            width,
+            height,
+            data: Vec::new(),
+        }))
+    }
+
     /// Whether pixel `i` (row-major) has a known disparity.
     pub fn known(&self, i: usize) -> bool {
         self.data.get(i).is_some_and(|d| d.is_finite())

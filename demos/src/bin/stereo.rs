@@ -102,7 +102,8 @@ fn run(a: &Args) -> Result<(), String> {
             ..BlockMatch::default()
         }
         .run(&l, &r, w, h),
-    };
+    }
+    .map_err(|e| e.to_string())?;
     let ms = start.elapsed().as_secs_f64() * 1e3;
     let known = d.data.iter().filter(|v| v.is_finite()).count();
     println!(

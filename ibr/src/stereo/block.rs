@@ -5,7 +5,7 @@
 //! (left-right consistency); unknown (infinite) otherwise. Rows in parallel on the thread
 //! pool, the same answer at any thread count.
 
-use super::Disparity;
+use super::{Disparity, StereoError};
 use crate::images::DepthImage;
 use rayon::prelude::*;
 
@@ -62,7 +62,17 @@ pub fn luminance_rgba8(rgba: &[u8]) -> Vec<f32> {
 
 impl BlockMatch {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
-    pub fn run(&self, left: &[f32], right: &[f32], width: u32, height: u32) -> Disparity {
+    /// An error when the images are not both `width x height`.
+    pub fn run(
+        &self,
+        left: &[f32],
+        right: &[f32],
+        width: u32,
+        height: u32,
+    ) -> Result<Disparity, StereoError> {
+        if let Some(empty) = Disparity::inputs(left, right, width, height)? {
+            return Ok(empty);
+        }
         let (w, h) = (width as usize, height as usize);
         let n = self.max_disparity.max(1) as usize;
         // Window sums of |L(x) - R(x - d)| for every d: per row of the output, the costs
@@ -125,7 +135,7 @@ impl BlockMatch {
                 *d = dl;
             }
         }
-        Disparity::new(width, height, data).expect("finite, not negative, or infinite")
+        Ok(Disparity::new(width, height, data).expect("finite, not negative, or infinite"))
     }
 
     /// The best disparity of one pixel's costs, refined by a parabola, and whether it is

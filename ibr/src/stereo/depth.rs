@@ -144,7 +144,8 @@ mod tests {
             max_disparity: 32,
             ..Sgm::default()
         }
-        .run(&l, &r, W, H);
+        .run(&l, &r, W, H)
+        .expect("images of the size given");
         d.fill_from_background();
         let image = d
             .to_depth_image(&pair.left.color, &camera(), pair.focal_px, BASELINE)

@@ -8,7 +8,7 @@
 //! Lines of a path in parallel; integer sums, so the same answer at any thread count.
 
 use super::block::parabola;
-use super::Disparity;
+use super::{Disparity, StereoError};
 use rayon::prelude::*;
 
 /// Semi-global matching's settings.
@@ -77,7 +77,17 @@ fn census(image: &[f32], w: usize, h: usize) -> Vec<u32> {
 
 impl Sgm {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
-    pub fn run(&self, left: &[f32], right: &[f32], width: u32, height: u32) -> Disparity {
+    /// An error when the images are not both `width x height`.
+    pub fn run(
+        &self,
+        left: &[f32],
+        right: &[f32],
+        width: u32,
+        height: u32,
+    ) -> Result<Disparity, StereoError> {
+        if let Some(empty) = Disparity::inputs(left, right, width, height)? {
+            return Ok(empty);
+        }
         let (w, h) = (width as usize, height as usize);
         let n = self.max_disparity.max(1) as usize;
         let (cl, cr) = (census(left, w, h), census(right, w, h));
@@ -143,7 +153,7 @@ impl Sgm {
                 *d = dl;
             }
         }
-        Disparity::new(width, height, data).expect("finite, not negative, or infinite")
+        Ok(Disparity::new(width, height, data).expect("finite, not negative, or infinite"))
     }
 
     /// The aggregated costs along direction `(dx, dy)`: each line of the image in that

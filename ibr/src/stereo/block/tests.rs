@@ -22,7 +22,9 @@ fn a_textured_plane_facing_the_cameras_is_matched_to_a_fraction_of_a_pixel() {
         "{want}"
     );
     let (l, r) = (luminance(&pair.left), luminance(&pair.right));
-    let est = matcher().run(&l, &r, W, H);
+    let est = matcher()
+        .run(&l, &r, W, H)
+        .expect("images of the size given");
     let m = measure(&est, &pair.truth, Some(&pair.visible)).unwrap();
     assert!(m.nonocc.pixels > 15_000, "{m:?}");
     // (Measured: 4.2% off, all of them the image border no window fits; RMS 0.15 pixels.)
@@ -37,7 +39,9 @@ fn a_textured_plane_facing_the_cameras_is_matched_to_a_fraction_of_a_pixel() {
 fn the_left_right_check_leaves_occluded_pixels_unknown() {
     let pair = occluded();
     let (l, r) = (luminance(&pair.left), luminance(&pair.right));
-    let est = matcher().run(&l, &r, W, H);
+    let est = matcher()
+        .run(&l, &r, W, H)
+        .expect("images of the size given");
     let m = measure(&est, &pair.truth, Some(&pair.visible)).unwrap();
     // (Measured: 7.5%, the borders and the card's edges.)
     assert!(m.nonocc.bad2 < 0.12, "{m:?}");

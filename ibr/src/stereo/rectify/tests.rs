@@ -41,7 +41,8 @@ fn a_converging_pair_matches_along_rows_once_rectified() {
         max_disparity: 32,
         ..Sgm::default()
     }
-    .run(&luminance(&r.left), &luminance(&r.right), W, H);
+    .run(&luminance(&r.left), &luminance(&r.right), W, H)
+    .expect("images of the size given");
     // Pixels both rectified views hold (the rest fell outside an original image).
     let w = W as usize;
     let held = |image: &DepthImage, i: usize| image.color[i].a > 0.99;
@@ -64,7 +65,8 @@ fn a_converging_pair_matches_along_rows_once_rectified() {
         max_disparity: 32,
         ..Sgm::default()
     }
-    .run(&luminance(&views[0]), &luminance(&views[1]), W, H);
+    .run(&luminance(&views[0]), &luminance(&views[1]), W, H)
+    .expect("images of the size given");
     let u = measure(&unrectified, &raw.truth, Some(&raw.visible)).unwrap();
     // (Measured: 92%.)
     assert!(u.nonocc.bad2 > 0.5, "{u:?} against {m:?}");
