@@ -111,6 +111,27 @@ fn a_random_dot_pair_gives_its_disparities_and_depth() {
     let c = 32 * W + 52;
     assert!((z.data[c] - 5.0).abs() < 0.5, "{}", z.data[c]);
     assert!(out.join("disparity.png").exists());
+    // The left view with its camera, as a capture the warp command takes: a new view a
+    // little to the right (depth 5 at the square, 12.5 behind it).
+    let json = out.join("transforms.json");
+    assert!(json.exists(), "a depth image with its camera");
+    let view = tmp.path("view.png");
+    let warp = Command::new(env!("CARGO_BIN_EXE_warp"))
+        .args(["--capture", json.to_str().unwrap(), "--eye", "0.1,0,0"])
+        .args([
+            "--target", "0.1,0,-1", "--fov-y", "35.5", "-W", "96", "-H", "64",
+        ])
+        .args(["--png", view.to_str().unwrap()])
+        .output()
+        .expect("run warp");
+    assert!(
+        warp.status.success(),
+        "{}",
+        String::from_utf8_lossy(&warp.stderr)
+    );
+    let img = image::open(&view).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (W as u32, H as u32));
+    assert!(img.pixels().filter(|p| p[3] > 0).count() > W * H / 2);
 }
 
 #[test]

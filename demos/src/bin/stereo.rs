@@ -10,9 +10,12 @@
 //! or a block matcher, keeps matches that pass the uniqueness and left-right checks, and
 //! writes `disparity.pfm` (the Middlebury convention: pixels, infinity where unknown),
 //! `disparity.png` (colour-mapped, unknown black) and, given the focal length in pixels and
-//! the baseline, `depth.pfm` (distance along the optical axis, the convention the `warp`
-//! command reads: `warp --colour left.png --depth depth.pfm ...`). `--fill` fills unknown
-//! pixels from the background side first. Errors are one line on stderr and exit code 1.
+//! the baseline, `depth.pfm` (distance along the optical axis) and the left view as a
+//! depth image with its camera: a one-frame `transforms.json` capture (`images/0000.png`,
+//! `depth/0000.pfm`; the left camera at the origin looking down -z, square pixels, the
+//! principal point in the middle), which `warp --capture DIR/transforms.json` turns into
+//! new views. `--fill` fills unknown pixels from the background side first. Errors are one
+//! line on stderr and exit code 1.
 
 use clap::{Parser, ValueEnum};
 use engine::load::{self, write_float_image, FloatImage};
@@ -142,6 +145,32 @@ fn run(a: &Args) -> Result<(), String> {
             "depth.pfm",
             &FloatImage::new(w, h, depth).expect("one depth a pixel"),
         )?;
+        // The left view as a depth image: its camera from the focal length.
+        let fov_y = 2.0 * (0.5 * h as f32 / f).atan();
+        let camera = engine::Camera::look_at(
+            glam::Vec3::ZERO,
+            glam::Vec3::NEG_Z,
+            glam::Vec3::Y,
+            fov_y,
+            w as f32 / h.max(1) as f32,
+        )
+        .with_depth_range(0.01 * f * b / a.max_disparity as f32, 1e4 * f * b);
+        let color: Vec<engine::Premul> = left
+            .chunks_exact(4)
+            .map(|p| {
+                let c = engine::Rgba::from_srgb8(p[0], p[1], p[2]);
+                engine::Rgba {
+                    a: f32::from(p[3]) / 255.0,
+                    ..c
+                }
+                .premultiply()
+            })
+            .collect();
+        let image = d
+            .to_depth_image(&color, &camera, f, b)
+            .expect("one colour a pixel");
+        ibr::images::transforms::write_transforms(&a.out, &[image]).map_err(|e| e.to_string())?;
+        println!("stereo: wrote {}", a.out.join("transforms.json").display());
     }
     Ok(())
 }
