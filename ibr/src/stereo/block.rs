@@ -119,23 +119,13 @@ impl BlockMatch {
         let best =
             |c: &[f32]| -> Vec<(f32, bool)> { c.par_chunks(n).map(|k| self.choose(k)).collect() };
         let (bl, br) = (best(&cl), best(&cr));
-        let mut data = vec![f32::INFINITY; w * h];
-        for (i, d) in data.iter_mut().enumerate() {
-            let (dl, unique) = bl[i];
-            if !unique || !dl.is_finite() {
-                continue;
-            }
-            let (x, y) = (i % w, i / w);
-            let xr = (x as f32 - dl).round();
-            if xr < 0.0 {
-                continue;
-            }
-            let (dr, _) = br[y * w + xr as usize];
-            if dr.is_finite() && (dl - dr).abs() <= self.lr_tolerance {
-                *d = dl;
-            }
-        }
-        Ok(Disparity::new(width, height, data).expect("finite, not negative, or infinite"))
+        Ok(left_right_checked(
+            width,
+            height,
+            &bl,
+            |i| br[i].0,
+            self.lr_tolerance,
+        ))
     }
 
     /// The best disparity of one pixel's costs, refined by a parabola, and whether it is
@@ -162,6 +152,38 @@ impl BlockMatch {
         }
         (d, unique)
     }
+}
+
+/// The disparity map of the left image's best matches `left_best` (disparity, unique),
+/// keeping those that are unique and that the right image's best match `right_best(i)`
+/// (at pixel `i`) points back to within `tolerance` pixels; a match past the right image's
+/// edge is no match.
+pub(super) fn left_right_checked(
+    width: u32,
+    height: u32,
+    left_best: &[(f32, bool)],
+    right_best: impl Fn(usize) -> f32,
+    tolerance: f32,
+) -> Disparity {
+    let w = width as usize;
+    let data = left_best
+        .iter()
+        .enumerate()
+        .map(|(i, &(dl, unique))| {
+            let (x, y) = (i % w, i / w);
+            let xr = x as f32 - dl;
+            if !unique || !dl.is_finite() || xr < 0.0 {
+                return f32::INFINITY;
+            }
+            let dr = right_best(y * w + xr.round() as usize);
+            if dr.is_finite() && (dl - dr).abs() <= tolerance {
+                dl
+            } else {
+                f32::INFINITY
+            }
+        })
+        .collect();
+    Disparity::new(width, height, data).expect("finite, not negative, or infinite")
 }
 
 /// The least of the parabola through costs `a`, `c`, `b` at `k - 1`, `k`, `k + 1` (`c`

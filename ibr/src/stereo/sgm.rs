@@ -7,7 +7,7 @@
 //! image's best match (read from the same sums along the other diagonal of the volume).
 //! Lines of a path in parallel; integer sums, so the same answer at any thread count.
 
-use super::block::parabola;
+use super::block::{left_right_checked, parabola};
 use super::{Disparity, StereoError};
 use rayon::prelude::*;
 
@@ -139,21 +139,13 @@ impl Sgm {
                 choose(&s, 0.0).0
             })
             .collect();
-        let mut data = vec![f32::INFINITY; w * h];
-        for (i, d) in data.iter_mut().enumerate() {
-            let (dl, unique) = left_best[i];
-            let (x, y) = (i % w, i / w);
-            let xr = x as f32 - dl;
-            // A match past the right image's edge is no match.
-            if !unique || !dl.is_finite() || xr < 0.0 {
-                continue;
-            }
-            let dr = right_best[y * w + xr.round() as usize];
-            if dr.is_finite() && (dl - dr).abs() <= self.lr_tolerance {
-                *d = dl;
-            }
-        }
-        Ok(Disparity::new(width, height, data).expect("finite, not negative, or infinite"))
+        Ok(left_right_checked(
+            width,
+            height,
+            &left_best,
+            |i| right_best[i],
+            self.lr_tolerance,
+        ))
     }
 
     /// The aggregated costs along direction `(dx, dy)`: each line of the image in that
