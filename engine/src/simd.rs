@@ -127,6 +127,30 @@ mod imp {
         pub fn abs(self) -> Self {
             avx!(F8(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0)))
         }
+        /// `self * b + c`, rounded once (FMA); the fallback's `f32::mul_add` rounds the same.
+        #[cfg(target_feature = "fma")]
+        #[inline(always)]
+        pub fn fma(self, b: Self, c: Self) -> Self {
+            avx!(F8(_mm256_fmadd_ps(self.0, b.0, c.0)))
+        }
+        /// `c - self * b`, rounded once.
+        #[cfg(target_feature = "fma")]
+        #[inline(always)]
+        pub fn fnma(self, b: Self, c: Self) -> Self {
+            avx!(F8(_mm256_fnmadd_ps(self.0, b.0, c.0)))
+        }
+        #[cfg(not(target_feature = "fma"))]
+        #[inline(always)]
+        pub fn fma(self, b: Self, c: Self) -> Self {
+            let (a, b, c) = (self.to_array(), b.to_array(), c.to_array());
+            F8::from_array(std::array::from_fn(|l| a[l].mul_add(b[l], c[l])))
+        }
+        #[cfg(not(target_feature = "fma"))]
+        #[inline(always)]
+        pub fn fnma(self, b: Self, c: Self) -> Self {
+            let (a, b, c) = (self.to_array(), b.to_array(), c.to_array());
+            F8::from_array(std::array::from_fn(|l| (-a[l]).mul_add(b[l], c[l])))
+        }
         #[inline(always)]
         pub fn lt(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)))
@@ -360,6 +384,14 @@ mod imp {
         }
         pub fn abs(self) -> Self {
             F8(self.0.map(f32::abs))
+        }
+        pub fn fma(self, b: Self, c: Self) -> Self {
+            F8(std::array::from_fn(|l| self.0[l].mul_add(b.0[l], c.0[l])))
+        }
+        pub fn fnma(self, b: Self, c: Self) -> Self {
+            F8(std::array::from_fn(|l| {
+                (-self.0[l]).mul_add(b.0[l], c.0[l])
+            }))
         }
         pub fn permute(self, idx: [u32; LANES]) -> Self {
             F8(idx.map(|i| self.0[i as usize % LANES]))
@@ -634,6 +666,18 @@ mod tests {
         assert_eq!(lo.to_array(), [10, 10, 11, 12, 12, 12, 10, 11]);
         assert_eq!(hi.to_array(), [20, 20, 21, 22, 22, 22, 20, 21]);
         assert_eq!(I8::gather_pairs(&[], idx).0.to_array(), [0; 8]);
+        // Fused: rounded once, so (1 + e)(1 - e) - 1 keeps the -e^2 an unfused product loses.
+        let e = F8::splat(f32::EPSILON);
+        let (p, q) = (F8::splat(1.0) + e, F8::splat(1.0) - e);
+        assert_eq!(
+            p.fma(q, F8::splat(-1.0)).to_array()[0],
+            -f32::EPSILON * f32::EPSILON
+        );
+        assert_eq!(
+            p.fnma(q, F8::splat(1.0)).to_array()[0],
+            f32::EPSILON * f32::EPSILON
+        );
+        assert_eq!((p * q + F8::splat(-1.0)).to_array()[0], 0.0);
         let mut s = [0.0; 9];
         a.store(&mut s);
         assert_eq!(F8::load(&s).to_array(), a.to_array());

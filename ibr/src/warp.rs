@@ -50,7 +50,7 @@ use order::Run;
 pub use prepared::Prepared;
 use prepared::BLOCK;
 use rayon::prelude::*;
-use rows::{Footprints, Lane};
+use rows::{warp_row, Group, Lane};
 pub use warped::{Warped, ENCODING, HOLE};
 
 /// How competing samples are resolved.
@@ -70,7 +70,8 @@ pub enum Visibility {
 pub enum Reconstruction {
     /// The one pixel its centre lands in.
     Points,
-    /// A rectangle the size of its warped footprint (at most `max_splat` pixels a side).
+    /// A rectangle the size of its warped footprint (at most `max_splat` pixels a side,
+    /// and never more than 65536).
     Splats,
 }
 
@@ -178,8 +179,6 @@ pub struct Warper {
     has_content: bool,
     runs: Vec<Run>,
     chunks: Vec<Chunk>,
-    /// Each band's row scratch.
-    rows: Vec<Footprints>,
     /// A reference prepared by [`Warper::add`] or [`Warper::add_layered`].
     scratch: Prepared,
 }
@@ -199,7 +198,6 @@ impl Warper {
             has_content: false,
             runs: Vec::new(),
             chunks: Vec::new(),
-            rows: Vec::new(),
             scratch: Prepared::default(),
         }
     }
@@ -275,7 +273,7 @@ impl Warper {
         };
         bin(&lane, source, &self.runs, &mut self.chunks, h2);
         let chunks = &self.chunks[..self.runs.len().div_ceil(CHUNK_RUNS)];
-        let mut stats = write(out, &lane, source, chunks, &mut self.rows, options);
+        let mut stats = write(out, &lane, source, chunks, options);
         // Every sample is in one segment; one the bin left out lands nowhere.
         stats.samples = source.samples();
         if merge {
@@ -353,17 +351,12 @@ fn write(
     lane: &Lane,
     source: &Prepared,
     chunks: &[Chunk],
-    scratch: &mut Vec<Footprints>,
     options: &WarpOptions,
 ) -> WarpStats {
     let w = out.width() as usize;
     let band_len = BAND_ROWS as usize * w;
     if w == 0 || chunks.is_empty() {
         return WarpStats::default();
-    }
-    let bands = out.color.len().div_ceil(band_len);
-    if scratch.len() < bands {
-        scratch.resize_with(bands, Footprints::default);
     }
     let put = Put {
         w,
@@ -375,9 +368,8 @@ fn write(
     out.color
         .par_chunks_mut(band_len)
         .zip(out.disparity.par_chunks_mut(band_len))
-        .zip(&mut scratch[..bands])
         .enumerate()
-        .map(|(b, ((color, disparity), row))| {
+        .map(|(b, (color, disparity))| {
             let mut band = Band {
                 rows: color.len() / w,
                 color,
@@ -390,13 +382,13 @@ fn write(
                 let mut seen = WarpStats::default();
                 let mut written = 0;
                 if source.single() {
-                    seen = row.compute(lane, source, y, lo, hi);
-                    let colors = &source.color[y as usize * w1 + lo as usize..][..row.len()];
-                    written = put.row(&mut band, row, colors, segment.reverse);
+                    seen = warp_row(lane, source, y, (lo, hi), segment.reverse, |g| {
+                        written += put.group(&mut band, g, segment.reverse);
+                    });
                 } else {
                     let mut each = |x: u32| {
                         let p = y as usize * w1 + x as usize;
-                        let base = lane.eq.base(x, y);
+                        let base = lane.base(x, y);
                         for s in source.first[p]..source.first[p + 1] {
                             if let Some(e) = lane.sample(source, s as usize, base, &mut seen) {
                                 written += put.entry(&mut band, &e);
@@ -443,58 +435,48 @@ struct Put {
 }
 
 impl Put {
-    /// Writes the part within `band` of the row of samples `row` computed last, coloured
-    /// `colors`, left to right or (`reverse`) right to left; returns the pixels written.
-    fn row(&self, band: &mut Band, row: &Footprints, colors: &[u32], reverse: bool) -> u64 {
-        let n = row.len();
-        let runs = row.runs();
-        let mut written = 0;
-        // Group by group in the traversal's order; a run of points on consecutive pixels
-        // (distinct, so in any order) is copied as a block when the band holds it all.
-        for j in 0..runs.len() {
-            let g = if reverse { runs.len() - 1 - j } else { j };
-            let lanes = g * LANES..((g + 1) * LANES).min(n);
-            if runs[g] {
-                let first = row.points()[lanes.start] as usize;
-                let q = first.wrapping_sub(band.y_base * self.w);
-                if q < band.color.len() && q + LANES <= band.color.len() {
-                    band.color[q..q + LANES].copy_from_slice(&colors[lanes.clone()]);
-                    band.disparity[q..q + LANES].copy_from_slice(&row.planes().1[lanes]);
-                    written += LANES as u64;
-                    continue;
-                }
+    /// Writes the part within `band` of group `g`, its lanes in order or (`reverse`) last
+    /// first; returns the pixels written. A run of points on consecutive pixels (distinct,
+    /// so in any order) is copied as a block when the band holds it all.
+    #[inline(always)]
+    fn group(&self, band: &mut Band, g: &Group, reverse: bool) -> u64 {
+        if g.run {
+            let q = (g.at[0] as usize).wrapping_sub(band.y_base * self.w);
+            if q < band.color.len() && q + LANES <= band.color.len() {
+                band.color[q..q + LANES].copy_from_slice(&g.color);
+                band.disparity[q..q + LANES].copy_from_slice(&g.disparity);
+                return LANES as u64;
             }
-            if reverse {
-                for k in lanes.rev() {
-                    written += self.sample(band, row, colors, k);
-                }
-            } else {
-                for k in lanes {
-                    written += self.sample(band, row, colors, k);
-                }
+        }
+        let mut written = 0;
+        if reverse {
+            for l in (0..g.n).rev() {
+                written += self.sample(band, g, l);
+            }
+        } else {
+            for l in 0..g.n {
+                written += self.sample(band, g, l);
             }
         }
         written
     }
 
-    /// Writes the part of sample `k` of the row computed last within `band`; returns the
-    /// pixels written.
+    /// Writes the part of lane `l` of group `g` within `band`; returns the pixels written.
     #[inline(always)]
-    fn sample(&self, band: &mut Band, row: &Footprints, colors: &[u32], k: usize) -> u64 {
-        let ([x0s, y0s, x1s, y1s], ds) = row.planes();
-        if let Ok(p) = usize::try_from(row.points()[k]) {
+    fn sample(&self, band: &mut Band, g: &Group, l: usize) -> u64 {
+        if let Ok(p) = usize::try_from(g.at[l]) {
             // A point: one pixel, painted over, if in this band.
             let q = p.wrapping_sub(band.y_base * self.w);
             if q < band.color.len() {
-                band.color[q] = colors[k];
-                band.disparity[q] = ds[k];
+                band.color[q] = g.color[l];
+                band.disparity[q] = g.disparity[l];
                 return 1;
             }
             return 0;
         }
         let (y_base, y_end) = (band.y_base as i32, (band.y_base + band.rows) as i32);
-        let (x0, x1) = (x0s[k], x1s[k]);
-        let (y0, y1) = (y0s[k].max(y_base), y1s[k].min(y_end));
+        let (x0, x1) = (g.x0[l], g.x1[l]);
+        let (y0, y1) = (g.y0[l].max(y_base), g.y1[l].min(y_end));
         if x0 >= x1 || y0 >= y1 {
             return 0;
         }
@@ -503,8 +485,8 @@ impl Put {
             y0: y0 as u16,
             x1: x1 as u16,
             y1: y1 as u16,
-            disparity: ds[k],
-            color: colors[k],
+            disparity: g.disparity[l],
+            color: g.color[l],
         };
         self.entry(band, &e)
     }

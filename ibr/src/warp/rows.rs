@@ -1,8 +1,9 @@
 //! Stage 2 of the warp, per sample: where it lands and which target pixels its footprint
-//! covers. [`Footprints`] does a whole row of a depth image at once, eight samples at a time
-//! in vector registers ([`engine::simd`]), with no branches (invalid samples are masked,
-//! not skipped); [`Lane::sample`] does one sample of an LDI. Both compute the same values
-//! by the same formulas.
+//! covers. [`warp_row`] does a row of a depth image, eight samples at a time in vector
+//! registers ([`engine::simd`]), with no branches (invalid samples are masked, not
+//! skipped), and hands each group straight to the writer; [`Lane::sample`] does one sample
+//! of an LDI. Both compute the same values by the same formulas (products and sums fused,
+//! rounded once, on both).
 
 use super::equation::Equation;
 use super::Visibility;
@@ -24,6 +25,10 @@ pub(super) struct Lane {
     points: bool,
 }
 
+/// The largest splat side in pixels whatever the options ask: finite, so a footprint's
+/// half size is too, and larger than any target ([`Entry`] coordinates are 16-bit).
+const MAX_SPLAT: f32 = 65536.0;
+
 /// A sample's landing: target position, disparity and half footprint, or `None` when it
 /// is behind the target eye.
 #[derive(Clone, Copy, Debug)]
@@ -40,7 +45,8 @@ impl Lane {
         Lane {
             eq: *eq,
             splats: options.reconstruction == Reconstruction::Splats,
-            max_splat: options.max_splat.max(1.0),
+            // `max` first: a NaN option is one pixel.
+            max_splat: options.max_splat.max(1.0).clamp(1.0, MAX_SPLAT),
             w2: w2 as f32,
             h2: h2 as f32,
             points: options.visibility == Visibility::Ordered
@@ -48,27 +54,52 @@ impl Lane {
         }
     }
 
+    /// `A x1` of reference pixel `(x, y)` (at its centre), as the rows compute it: row `y`'s
+    /// part first, then `x`'s, fused.
+    #[inline]
+    pub(super) fn base(&self, x: u32, y: u32) -> Vec3 {
+        let rb = self.row_base(y);
+        let u = x as f32 + 0.5;
+        let a0 = self.eq.a[0];
+        Vec3::new(
+            a0.x.mul_add(u, rb.x),
+            a0.y.mul_add(u, rb.y),
+            a0.z.mul_add(u, rb.z),
+        )
+    }
+
+    /// `A x1` of reference row `y` at `x = 0`.
+    #[inline]
+    fn row_base(&self, y: u32) -> Vec3 {
+        self.eq.a[1] * (y as f32 + 0.5) + self.eq.a[2]
+    }
+
     /// The landing of a sample of disparity `d` and slope `slope` at a pixel whose `A x1`
-    /// is `base`, and whether it is in front of the eye (`h.z > 0`).
+    /// is `base`, and whether it is in front of the eye (`h.z > 0`). The formulas of
+    /// [`warp_row`], lane for lane.
     #[inline(always)]
     fn land(&self, base: Vec3, d: f32, slope: [f32; 2]) -> (Landing, bool) {
         let eq = &self.eq;
-        let h = base + eq.b * d;
+        let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
+        let h = Vec3::new(
+            b.x.mul_add(d, base.x),
+            b.y.mul_add(d, base.y),
+            b.z.mul_add(d, base.z),
+        );
         let inv = 1.0 / h.z;
         let (x, y) = (h.x * inv, h.y * inv);
         let (half_x, half_y) = if self.splats {
-            // The columns of the warp's Jacobian: how a reference pixel step in x and in y
-            // (along the surface) moves in the target.
-            let column = |dh: Vec3| ((dh.x - x * dh.z) * inv, (dh.y - y * dh.z) * inv);
-            let jx = column(eq.a[0] + eq.b * slope[0]);
-            let jy = column(eq.a[1] + eq.b * slope[1]);
-            let sx = (jx.0.abs() + jy.0.abs()).clamp(1.0, self.max_splat);
-            let sy = (jx.1.abs() + jy.1.abs()).clamp(1.0, self.max_splat);
-            let fine = sx.is_finite() && sy.is_finite();
-            (
-                if fine { sx * 0.5 } else { 0.5 },
-                if fine { sy * 0.5 } else { 0.5 },
-            )
+            // The columns of the warp's Jacobian (a reference pixel step in x and in y along
+            // the surface): `((a_k + b s_k) - p (a_k.z + b.z s_k)) / h.z` for target
+            // coordinate `p`, summed in magnitude.
+            let fnma = |a: f32, b: f32, c: f32| (-a).mul_add(b, c);
+            let (px, py) = (fnma(x, b.z, b.x), fnma(y, b.z, b.y));
+            let jxx = slope[0].mul_add(px, fnma(x, a0.z, a0.x));
+            let jyx = slope[1].mul_add(px, fnma(x, a1.z, a1.x));
+            let jxy = slope[0].mul_add(py, fnma(y, a0.z, a0.y));
+            let jyy = slope[1].mul_add(py, fnma(y, a1.z, a1.y));
+            let size = |a: f32, b: f32| clamp_splat((a.abs() + b.abs()) * inv, self.max_splat);
+            (size(jxx, jyx) * 0.5, size(jxy, jyy) * 0.5)
         } else {
             (0.5, 0.5)
         };
@@ -127,18 +158,13 @@ impl Lane {
         (y0 < y1).then_some((y0 as u32, y1 as u32))
     }
 
-    /// The target rectangle of a landing, `[x0, x1) x [y0, y1)`; empty (`x0 == x1`) when
-    /// off the image or not finite.
+    /// The target rectangle of a landing, `[x0, x1) x [y0, y1)`; empty (`x0 >= x1` or
+    /// `y0 >= y1`) when off the image or not finite.
     #[inline(always)]
     fn rect(&self, l: &Landing) -> [f32; 4] {
-        let (x0, x1) = span(l.x, l.half_x, self.w2);
-        let (y0, y1) = span(l.y, l.half_y, self.h2);
-        let inside = x0 < x1 && y0 < y1 && l.x.is_finite() && l.y.is_finite();
-        if inside {
-            [x0, y0, x1, y1]
-        } else {
-            [0.0; 4]
-        }
+        let (x0, x1) = span(l.x, l.half_x, self.w2, self.splats);
+        let (y0, y1) = span(l.y, l.half_y, self.h2, self.splats);
+        [x0, y0, x1, y1]
     }
 
     /// Warps sample `s` of `source` at a pixel whose `A x1` is `base`: its entry, unless it
@@ -162,7 +188,7 @@ impl Lane {
             return None;
         }
         let [x0, y0, x1, y1] = self.rect(&l);
-        if x0 >= x1 {
+        if !(x0 < x1 && y0 < y1) {
             return None;
         }
         stats.warped += 1;
@@ -177,39 +203,54 @@ impl Lane {
     }
 }
 
-/// The pixels `[lo, hi)` of `0..n` whose centres lie within `half` of `c`; at least the one
-/// `c` is in. Empty when off the image.
+/// A splat's size from the Jacobian's summed column (or row) magnitude: at least one
+/// pixel (a NaN too), at most `max`.
 #[inline(always)]
-fn span(c: f32, half: f32, n: f32) -> (f32, f32) {
-    let point = c.floor();
-    let lo = (c - half + 0.5).floor();
-    let hi = (c + half + 0.5).floor().max(lo + 1.0);
-    let (lo, hi) = if half <= 0.5 {
-        (point, point + 1.0)
+fn clamp_splat(size: f32, max: f32) -> f32 {
+    let at_least_one = if size > 1.0 { size } else { 1.0 };
+    if max < at_least_one {
+        max
     } else {
-        (lo, hi)
-    };
-    (lo.max(0.0), hi.min(n))
+        at_least_one
+    }
 }
 
-/// A row of a depth image warped at once: each pixel's target rectangle and disparity,
-/// as planes (`x0 == x1` where the pixel does not land), padded to whole groups of
-/// [`LANES`].
-#[derive(Debug, Default)]
-pub(super) struct Footprints {
-    x0: Vec<i32>,
-    y0: Vec<i32>,
-    x1: Vec<i32>,
-    y1: Vec<i32>,
-    disparity: Vec<f32>,
+/// The pixels `[lo, hi)` of `0..n` whose centres lie within `half` of `c` (splats), at
+/// least one; or the pixel `c` is in. Clamped to the image, so empty (`lo >= hi`) when off
+/// it, and when `c` is not finite (a NaN bound compares false).
+#[inline(always)]
+fn span(c: f32, half: f32, n: f32, splats: bool) -> (f32, f32) {
+    let (lo, hi) = if splats {
+        let centre = c + 0.5;
+        let lo = (centre - half).floor();
+        let hi = (centre + half).floor();
+        (lo, if hi > lo + 1.0 { hi } else { lo + 1.0 })
+    } else {
+        let lo = c.floor();
+        (lo, lo + 1.0)
+    };
+    // As `F8::max(0, lo)` and `F8::min(n, hi)`: a NaN bound is kept.
+    (if 0.0 > lo { 0.0 } else { lo }, if n < hi { n } else { hi })
+}
+
+/// Up to [`LANES`] samples of a row warped at once: each one's target rectangle
+/// `[x0, x1) x [y0, y1)` (empty, all zero, where it does not land), disparity and colour.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Group {
+    pub(super) x0: [i32; LANES],
+    pub(super) y0: [i32; LANES],
+    pub(super) x1: [i32; LANES],
+    pub(super) y1: [i32; LANES],
+    pub(super) disparity: [f32; LANES],
+    pub(super) color: [u32; LANES],
     /// The target pixel (`y w + x`) of a point: an opaque sample covering one pixel, when
     /// [`Lane`] marks points; -1 for every other sample.
-    index: Vec<i32>,
-    /// Per whole group of [`LANES`] samples: whether all are points on consecutive pixels
-    /// (`index[8 g] + l` for lane `l`), which can be written as one block in any order.
-    runs: Vec<bool>,
-    /// The pixels of the row computed last.
-    n: usize,
+    pub(super) at: [i32; LANES],
+    /// Lanes `0..n` hold samples.
+    pub(super) n: usize,
+    /// Whether all [`LANES`] are points on consecutive pixels (`at[0] + l`), which can be
+    /// written as one block in any order.
+    pub(super) run: bool,
 }
 
 /// The first `LANES` values of `s` from `k`, padded with `pad` past its end.
@@ -224,186 +265,145 @@ fn lanes(s: &[f32], k: usize, pad: f32) -> F8 {
     }
 }
 
-impl Footprints {
-    /// Warps pixels `lo..hi` of row `y` of `source` (one sample per pixel): the values
-    /// [`Lane::sample`] computes, eight samples at a time, with no branches (invalid
-    /// samples are masked, not skipped). Counts those behind the eye and those that land;
-    /// `samples` is left at zero (the reference knows how many it holds).
-    pub(super) fn compute(
-        &mut self,
-        lane: &Lane,
-        source: &Prepared,
-        y: u32,
-        lo: u32,
-        hi: u32,
-    ) -> WarpStats {
-        if lane.splats {
-            self.compute_with::<true>(lane, source, y, lo, hi)
+/// Warps pixels `lo..hi` of row `y` of `source` (one sample per pixel) and hands each group
+/// of [`LANES`] samples to `emit`, in the traversal's order: left to right, or right to
+/// left (`reverse`: the groups from the last, whose lanes `emit` then takes last first).
+/// The values [`Lane::sample`] computes, eight samples at a time, with no branches (invalid
+/// samples are masked, not skipped). Returns those behind the eye and those that land
+/// (`samples` is left at zero: the reference knows how many it holds).
+pub(super) fn warp_row(
+    lane: &Lane,
+    source: &Prepared,
+    y: u32,
+    (lo, hi): (u32, u32),
+    reverse: bool,
+    emit: impl FnMut(&Group),
+) -> WarpStats {
+    if lane.splats {
+        warp_row_with::<true>(lane, source, y, (lo, hi), reverse, emit)
+    } else {
+        warp_row_with::<false>(lane, source, y, (lo, hi), reverse, emit)
+    }
+}
+
+/// [`warp_row`] for splats (`SPLATS`) or points.
+fn warp_row_with<const SPLATS: bool>(
+    lane: &Lane,
+    source: &Prepared,
+    y: u32,
+    (lo, hi): (u32, u32),
+    reverse: bool,
+    mut emit: impl FnMut(&Group),
+) -> WarpStats {
+    let w1 = source.size().0 as usize;
+    let row = y as usize * w1;
+    let (lo, hi) = (lo as usize, hi.max(lo) as usize);
+    let n = hi - lo;
+    let disparity = &source.disparity[row + lo..row + hi];
+    let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
+    let color = &source.color[row + lo..row + hi];
+    let (marks, width) = (
+        if lane.points { u32::MAX } else { 0 },
+        I8::splat(lane.w2 as i32),
+    );
+    let eq = &lane.eq;
+    let rb = lane.row_base(y);
+    let splat = F8::splat;
+    let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
+    let zero = splat(0.0);
+    let (one, half) = (splat(1.0), splat(0.5));
+    let (max_splat, w2, h2) = (splat(lane.max_splat), splat(lane.w2), splat(lane.h2));
+    let (mut behind, mut warped) = (0u32, 0u32);
+    let groups = n.div_ceil(LANES);
+    for g in 0..groups {
+        let k = LANES * if reverse { groups - 1 - g } else { g };
+        let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
+        let d0 = lanes(disparity, k, HOLE);
+        let d = d0.max(zero);
+        let bx = splat(a0.x).fma(u, splat(rb.x));
+        let by = splat(a0.y).fma(u, splat(rb.y));
+        let bz = splat(a0.z).fma(u, splat(rb.z));
+        let hx = splat(b.x).fma(d, bx);
+        let hy = splat(b.y).fma(d, by);
+        let hz = splat(b.z).fma(d, bz);
+        let inv = one / hz;
+        let (x, y) = (hx * inv, hy * inv);
+        let (rx0, rx1, ry0, ry1) = if SPLATS {
+            // The footprint: the columns of the warp's Jacobian (a reference pixel step in
+            // x and in y along the surface), summed in magnitude; as `Lane::land`.
+            let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
+            let px = x.fnma(splat(b.z), splat(b.x));
+            let py = y.fnma(splat(b.z), splat(b.y));
+            let jxx = sx.fma(px, x.fnma(splat(a0.z), splat(a0.x)));
+            let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
+            let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
+            let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
+            // At least one pixel (a NaN too), at most the largest splat.
+            let size = |a: F8, b: F8| {
+                let s = (a.abs() + b.abs()) * inv;
+                let s = s.gt(one).select(s, one);
+                max_splat.lt(s).select(max_splat, s)
+            };
+            let (half_x, half_y) = (size(jxx, jyx) * half, size(jxy, jyy) * half);
+            let (cx, cy) = (x + half, y + half);
+            let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
+            let (sx1, sy1) = ((cx + half_x).floor(), (cy + half_y).floor());
+            let (sx1, sy1) = (sx1.max(sx0 + one), sy1.max(sy0 + one));
+            (sx0, sx1, sy0, sy1)
         } else {
-            self.compute_with::<false>(lane, source, y, lo, hi)
-        }
+            let (px, py) = (x.floor(), y.floor());
+            (px, px + one, py, py + one)
+        };
+        // A NaN bound is kept (`max` and `min` return their second operand then), and
+        // compares false below.
+        let (rx0, rx1) = (zero.max(rx0), w2.min(rx1));
+        let (ry0, ry1) = (zero.max(ry0), h2.min(ry1));
+        let filled = d0.ge(zero);
+        let front = hz.gt(zero);
+        let hit = filled.and(front).and(rx0.lt(rx1)).and(ry0.lt(ry1));
+        // Lanes that miss hold an empty rectangle (and no out-of-range conversion).
+        let ix0 = hit.select(rx0, zero).to_i32();
+        let ix1 = hit.select(rx1, zero).to_i32();
+        let iy0 = hit.select(ry0, zero).to_i32();
+        let iy1 = hit.select(ry1, zero).to_i32();
+        let c = if k + LANES <= n {
+            I8::load_u32(&color[k..])
+        } else {
+            I8::from_array(std::array::from_fn(|l| {
+                color.get(k + l).map_or(0, |&c| c as i32)
+            }))
+        };
+        let opaque = c.shr::<24>().eq(I8::splat(255));
+        let ones = I8::splat(1);
+        let point = M8::from_bits(marks)
+            .and(hit)
+            .and(opaque)
+            .and(ix1.eq(ix0 + ones))
+            .and(iy1.eq(iy0 + ones));
+        let at = point.select_i32(iy0.mul_lo(width) + ix0, I8::splat(-1));
+        let first = I8::splat(at.to_array()[0]);
+        let full = (1 << LANES) - 1;
+        let run = k + LANES <= n
+            && point.bits() == full
+            && at.eq(I8::ramp_times(1) + first).bits() == full;
+        behind += filled.and_not(front).bits().count_ones();
+        warped += hit.bits().count_ones();
+        emit(&Group {
+            x0: ix0.to_array(),
+            y0: iy0.to_array(),
+            x1: ix1.to_array(),
+            y1: iy1.to_array(),
+            disparity: (d * inv).to_array(),
+            color: c.to_array().map(|c| c as u32),
+            at: at.to_array(),
+            n: LANES.min(n - k),
+            run,
+        });
     }
-
-    /// [`Footprints::compute`] for splats (`SPLATS`) or points.
-    fn compute_with<const SPLATS: bool>(
-        &mut self,
-        lane: &Lane,
-        source: &Prepared,
-        y: u32,
-        lo: u32,
-        hi: u32,
-    ) -> WarpStats {
-        let w1 = source.size().0 as usize;
-        let row = y as usize * w1;
-        let (lo, hi) = (lo as usize, hi as usize);
-        let n = hi - lo;
-        let padded = n.div_ceil(LANES) * LANES;
-        for plane in [
-            &mut self.x0,
-            &mut self.y0,
-            &mut self.x1,
-            &mut self.y1,
-            &mut self.index,
-        ] {
-            plane.resize(padded.max(plane.len()), 0);
-        }
-        self.disparity.resize(padded.max(self.disparity.len()), 0.0);
-        self.runs.clear();
-        self.n = n;
-        let disparity = &source.disparity[row + lo..row + hi];
-        let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
-        let color = &source.color[row + lo..row + hi];
-        let (marks, width) = (
-            if lane.points { u32::MAX } else { 0 },
-            I8::splat(lane.w2 as i32),
-        );
-        let eq = &lane.eq;
-        let v = y as f32 + 0.5;
-        let rb = eq.a[1] * v + eq.a[2];
-        let splat = F8::splat;
-        let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
-        let zero = splat(0.0);
-        let (one, half) = (splat(1.0), splat(0.5));
-        let (max_splat, w2, h2) = (splat(lane.max_splat), splat(lane.w2), splat(lane.h2));
-        let (finite_clamp, inf) = (lane.max_splat.is_finite(), f32::INFINITY);
-        let (mut behind, mut warped) = (0u32, 0u32);
-        for k in (0..n).step_by(LANES) {
-            let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
-            let d0 = lanes(disparity, k, HOLE);
-            let d = d0.max(zero);
-            let hx = splat(a0.x) * u + splat(rb.x) + splat(b.x) * d;
-            let hy = splat(a0.y) * u + splat(rb.y) + splat(b.y) * d;
-            let hz = splat(a0.z) * u + splat(rb.z) + splat(b.z) * d;
-            let inv = one / hz;
-            let (x, y) = (hx * inv, hy * inv);
-            let (rx0, rx1, ry0, ry1) = if SPLATS {
-                // The footprint: the columns of the warp's Jacobian (a reference pixel step
-                // in x and in y along the surface), summed.
-                let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
-                let dxx = splat(a0.x) + splat(b.x) * sx;
-                let dxy = splat(a0.y) + splat(b.y) * sx;
-                let dxz = splat(a0.z) + splat(b.z) * sx;
-                let dyx = splat(a1.x) + splat(b.x) * sy;
-                let dyy = splat(a1.y) + splat(b.y) * sy;
-                let dyz = splat(a1.z) + splat(b.z) * sy;
-                let size_x = ((dxx - x * dxz) * inv).abs() + ((dyx - x * dyz) * inv).abs();
-                let size_y = ((dxy - y * dxz) * inv).abs() + ((dyy - y * dyz) * inv).abs();
-                let size_x = size_x.max(one).min(max_splat);
-                let size_y = size_y.max(one).min(max_splat);
-                // Clamped to a finite largest splat, sizes are finite (a NaN clamps to 1).
-                let fine = if finite_clamp {
-                    M8::from_bits(u32::MAX)
-                } else {
-                    size_x.within(inf).and(size_y.within(inf))
-                };
-                let half_x = fine.select(size_x * half, half);
-                let half_y = fine.select(size_y * half, half);
-                let (px, py) = (x.floor(), y.floor());
-                let sx0 = (x - half_x + half).floor();
-                let sx1 = (x + half_x + half).floor().max(sx0 + one);
-                let sy0 = (y - half_y + half).floor();
-                let sy1 = (y + half_y + half).floor().max(sy0 + one);
-                let (point_x, point_y) = (half_x.le(half), half_y.le(half));
-                (
-                    point_x.select(px, sx0),
-                    point_x.select(px + one, sx1),
-                    point_y.select(py, sy0),
-                    point_y.select(py + one, sy1),
-                )
-            } else {
-                let (px, py) = (x.floor(), y.floor());
-                (px, px + one, py, py + one)
-            };
-            let (rx0, rx1) = (rx0.max(zero), rx1.min(w2));
-            let (ry0, ry1) = (ry0.max(zero), ry1.min(h2));
-            let filled = d0.ge(zero);
-            let front = hz.gt(zero);
-            let finite = x.within(inf).and(y.within(inf));
-            let hit = filled
-                .and(front)
-                .and(finite)
-                .and(rx0.lt(rx1))
-                .and(ry0.lt(ry1));
-            // Lanes that miss hold an empty rectangle (and no out-of-range conversion).
-            hit.select(rx0, zero).to_i32().store(&mut self.x0[k..]);
-            hit.select(rx1, zero).to_i32().store(&mut self.x1[k..]);
-            hit.select(ry0, zero).to_i32().store(&mut self.y0[k..]);
-            hit.select(ry1, zero).to_i32().store(&mut self.y1[k..]);
-            (d * inv).store(&mut self.disparity[k..]);
-            let c = if k + LANES <= n {
-                I8::load_u32(&color[k..])
-            } else {
-                I8::from_array(std::array::from_fn(|l| {
-                    color.get(k + l).map_or(0, |&c| c as i32)
-                }))
-            };
-            let opaque = c.shr::<24>().to_f32().ge(splat(255.0));
-            let point = M8::from_bits(marks)
-                .and(hit)
-                .and(opaque)
-                .and((rx1 - rx0).le(one))
-                .and((ry1 - ry0).le(one));
-            let at = hit.select(ry0, zero).to_i32().mul_lo(width) + hit.select(rx0, zero).to_i32();
-            let at = point.select_i32(at, I8::splat(-1));
-            at.store(&mut self.index[k..]);
-            let first = I8::splat(at.to_array()[0]);
-            let run = point.bits() == (1 << LANES) - 1
-                && at.eq(I8::ramp_times(1) + first).bits() == (1 << LANES) - 1;
-            self.runs.push(run && k + LANES <= n);
-            behind += filled.and_not(front).bits().count_ones();
-            warped += hit.bits().count_ones();
-        }
-        WarpStats {
-            samples: 0,
-            warped: warped as u64,
-            behind: behind as u64,
-            pixels_written: 0,
-        }
-    }
-
-    /// The pixels of the row computed last.
-    pub(super) fn len(&self) -> usize {
-        self.n
-    }
-
-    /// The row computed last: target rectangles as planes `x0`, `y0`, `x1`, `y1` (`x0 ==
-    /// x1` where a pixel does not land), and disparities.
-    pub(super) fn planes(&self) -> ([&[i32]; 4], &[f32]) {
-        let n = self.n;
-        (
-            [&self.x0[..n], &self.y0[..n], &self.x1[..n], &self.y1[..n]],
-            &self.disparity[..n],
-        )
-    }
-
-    /// The points' target pixels of the row computed last (-1 where not a point).
-    pub(super) fn points(&self) -> &[i32] {
-        &self.index[..self.n]
-    }
-
-    /// Per group of [`LANES`] samples of the row computed last (the last group, if
-    /// partial, included): whether it is a run of points on consecutive pixels.
-    pub(super) fn runs(&self) -> &[bool] {
-        &self.runs
+    WarpStats {
+        samples: 0,
+        warped: warped as u64,
+        behind: behind as u64,
+        pixels_written: 0,
     }
 }

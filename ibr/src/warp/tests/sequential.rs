@@ -3,7 +3,7 @@
 //! bounds must leave out only samples that land nowhere, and write the rest in the same
 //! order; runs of points copied as blocks must write what they would one by one.
 
-use super::super::rows::{Footprints, Lane};
+use super::super::rows::{warp_row, Lane};
 use super::super::*;
 use super::{boxes, camera, cast};
 use crate::images::LayeredDepthImage;
@@ -32,22 +32,20 @@ fn sequential(source: &Prepared, target: &Camera, w2: u32, h2: u32, o: &WarpOpti
         y_base: 0,
         rows: h2 as usize,
     };
-    let mut row = Footprints::default();
     for run in &runs {
         let (lo, hi) = run.span();
         if source.single() {
-            row.compute(&lane, source, run.y, lo, hi);
-            let colors = &source.color[(run.y * w1 + lo) as usize..];
             // Sample by sample (the banded warp copies runs of points as blocks).
-            let n = (hi - lo) as usize;
-            for i in 0..n {
-                let k = if run.step < 0 { n - 1 - i } else { i };
-                put.sample(&mut band, &row, colors, k);
-            }
+            let reverse = run.step < 0;
+            warp_row(&lane, source, run.y, (lo, hi), reverse, |g| {
+                for i in 0..g.n {
+                    put.sample(&mut band, g, if reverse { g.n - 1 - i } else { i });
+                }
+            });
         } else {
             for x in run.pixels() {
                 let p = (run.y * w1 + x) as usize;
-                let base = lane.eq.base(x, run.y);
+                let base = lane.base(x, run.y);
                 for s in source.first[p]..source.first[p + 1] {
                     let mut stats = WarpStats::default();
                     if let Some(e) = lane.sample(source, s as usize, base, &mut stats) {
