@@ -232,12 +232,7 @@ fn reduce(kids: [(F8, [F8; 4]); 4], keep: f32) -> (F8, [F8; 4]) {
 /// thread pool.
 fn push(fine: &mut Level, coarse: &Level, keep: f32) {
     fine.rows_mut().for_each(|(y, [disparity, r, g, b, a])| {
-        each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
-            for (plane, v) in [&mut *r, &mut *g, &mut *b, &mut *a].into_iter().zip(c) {
-                plane[x] = v;
-            }
-            disparity[x] = d;
-        });
+        each_hole(disparity, coarse, y, keep, &mut LevelRow([r, g, b, a]));
     });
 }
 
@@ -251,31 +246,93 @@ fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> u64 {
         .zip(image.disparity.par_chunks_mut(w))
         .enumerate()
         .map(|(y, (color, disparity))| {
-            let mut filled = 0;
-            each_hole(disparity, coarse, y, keep, |disparity, x, c, d| {
-                let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
-                color[x] = u32::from_le_bytes(c.map(byte));
-                disparity[x] = d;
-                filled += 1;
-            });
-            filled
+            let mut row = ImageRow { color, filled: 0 };
+            each_hole(disparity, coarse, y, keep, &mut row);
+            row.filled
         })
         .sum()
 }
 
-/// Calls `fill(row, x, colour, disparity)` for each hole (negative disparity) of fine row
-/// `y` that its parents in `coarse` can fill, in order. Holes are found eight at a time;
+/// Where the push writes a row's filled holes, besides their disparity.
+trait Fill {
+    /// Fills hole `x` of `disparity` (the row) with colour `c` and disparity `d`.
+    fn one(&mut self, disparity: &mut [f32], x: usize, c: [f32; 4], d: f32);
+
+    /// Fills the holes `mask` sets of the eight from `x`: lane `l` from lane `l` of `c`
+    /// and `d`. One by one unless the writer does better.
+    #[inline(always)]
+    fn group(&mut self, disparity: &mut [f32], x: usize, mask: u32, c: [F8; 4], d: F8) {
+        let (d, c) = (d.to_array(), c.map(F8::to_array));
+        for_each_bit(mask, |l| {
+            self.one(disparity, x + l, [c[0][l], c[1][l], c[2][l], c[3][l]], d[l]);
+        });
+    }
+}
+
+/// Calls `f` with the index of each bit set in `mask`, lowest first.
+#[inline(always)]
+fn for_each_bit(mut mask: u32, mut f: impl FnMut(usize)) {
+    while mask != 0 {
+        let l = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
+        f(l);
+    }
+}
+
+/// A pyramid level's row: one plane per channel.
+struct LevelRow<'a>([&'a mut [f32]; 4]);
+
+impl Fill for LevelRow<'_> {
+    #[inline(always)]
+    fn one(&mut self, disparity: &mut [f32], x: usize, c: [f32; 4], d: f32) {
+        for (plane, v) in self.0.iter_mut().zip(c) {
+            plane[x] = v;
+        }
+        disparity[x] = d;
+    }
+}
+
+/// The image's row: packed colour; counts the holes filled.
+struct ImageRow<'a> {
+    color: &'a mut [u32],
+    filled: u64,
+}
+
+impl Fill for ImageRow<'_> {
+    #[inline(always)]
+    fn one(&mut self, disparity: &mut [f32], x: usize, c: [f32; 4], d: f32) {
+        let byte = |v: f32| (v + 0.5).clamp(0.0, 255.0) as u8;
+        self.color[x] = u32::from_le_bytes(c.map(byte));
+        disparity[x] = d;
+        self.filled += 1;
+    }
+
+    /// Packs the eight colours at once, as [`ImageRow::one`] does each: `+ 0.5`, clamped
+    /// (a NaN to 0: `max` returns its second operand then), truncated.
+    #[inline(always)]
+    fn group(&mut self, disparity: &mut [f32], x: usize, mask: u32, c: [F8; 4], d: F8) {
+        let (zero, top, half) = (F8::splat(0.0), F8::splat(255.0), F8::splat(0.5));
+        let [r, g, b, a] = c.map(|v| (v + half).max(zero).min(top).to_i32());
+        let packed = r.or(g.shl::<8>()).or(b.shl::<16>()).or(a.shl::<24>());
+        let (packed, d) = (packed.to_array(), d.to_array());
+        for_each_bit(mask, |l| {
+            self.color[x + l] = packed[l] as u32;
+            disparity[x + l] = d[l];
+        });
+        self.filled += mask.count_ones() as u64;
+    }
+}
+
+/// Fills each hole (negative disparity) of fine row `y` (`row`: its disparities) that its
+/// parents in `coarse` can fill, in order, through `fill`. Holes are found eight at a time;
 /// a group of eight away from the level's left and right edges takes its parents eight at
 /// a time too ([`parents`]), the others one by one ([`parent`]), with the same values.
 #[inline(always)]
-fn each_hole<F>(row: &mut [f32], coarse: &Level, y: usize, keep: f32, mut fill: F)
-where
-    F: FnMut(&mut [f32], usize, [f32; 4], f32),
-{
+fn each_hole(row: &mut [f32], coarse: &Level, y: usize, keep: f32, fill: &mut impl Fill) {
     let zero = F8::splat(0.0);
     for k in (0..row.len()).step_by(LANES) {
         let group = &row[k..row.len().min(k + LANES)];
-        let mut mask = if group.len() == LANES {
+        let mask = if group.len() == LANES {
             F8::load(group).lt(zero).bits()
         } else {
             group
@@ -288,21 +345,15 @@ where
         }
         if group.len() == LANES && k >= LANES && k / 2 - 1 + LANES <= coarse.w {
             let (d, c, some) = parents(coarse, k, y, keep);
-            let (d, c) = (d.to_array(), c.map(F8::to_array));
-            mask &= some;
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                fill(row, k + l, [c[0][l], c[1][l], c[2][l], c[3][l]], d[l]);
+            if mask & some != 0 {
+                fill.group(row, k, mask & some, c, d);
             }
         } else {
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
+            for_each_bit(mask, |l| {
                 if let Some((c, d)) = parent(coarse, k + l, y, keep) {
-                    fill(row, k + l, c, d);
+                    fill.one(row, k + l, c, d);
                 }
-            }
+            });
         }
     }
 }
