@@ -9,7 +9,7 @@
 //! of the farthest of them, so foreground colour never flows into a disocclusion.
 
 use super::super::warped::{Warped, HOLE};
-use engine::simd::{F8, I8, LANES};
+use engine::simd::{F8, I8, LANES, M8};
 use rayon::prelude::*;
 
 /// A pyramid level above the image: per cell the mean colour of the children it kept
@@ -77,22 +77,16 @@ pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> u6
         h,
         keep,
         |i| {
-            // Eight pairs of pixels from `i` on: disparity and channels.
+            // Eight pairs of pixels from `i` on: disparity and packed colour.
             let (d, c) = (F8::load(&disparity[i..]), I8::load_u32(&color[i..]));
             let (d2, c2) = (
                 F8::load(&disparity[i + LANES..]),
                 I8::load_u32(&color[i + LANES..]),
             );
             let ((d_even, d_odd), (c_even, c_odd)) = (d.deinterleave(d2), c.deinterleave(c2));
-            (d_even, d_odd, channels(c_even), channels(c_odd))
+            (d_even, d_odd, c_even, c_odd)
         },
-        |i| {
-            let c = color[i];
-            (
-                disparity[i],
-                std::array::from_fn(|k| (c >> (8 * k) & 0xff) as f32),
-            )
-        },
+        |i| (disparity[i], color[i]),
     );
     for k in 1..levels.len() {
         let (fine, coarse) = levels.split_at_mut(k);
@@ -122,62 +116,109 @@ pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> u6
     push_image(image, &levels[0], keep)
 }
 
-/// The four channels of packed bytes, as stored values.
-#[inline(always)]
-fn channels(c: I8) -> [F8; 4] {
-    let byte = I8::splat(0xff);
-    [
-        c.and(byte).to_f32(),
-        c.shr::<8>().and(byte).to_f32(),
-        c.shr::<16>().and(byte).to_f32(),
-        c.shr::<24>().to_f32(),
-    ]
-}
-
 /// Eight cells' children in one finer row: disparities and colours of the even and the
 /// odd columns.
-type Pairs = (F8, F8, [F8; 4], [F8; 4]);
+type Pairs<C> = (F8, F8, C, C);
+
+/// Eight cells' colours as the pull reads them: channels of a pyramid level, or the image's
+/// packed bytes.
+trait Colours: Copy + Send + Sync {
+    /// One cell's.
+    type One: Copy;
+    /// An absent cell's.
+    const NONE: Self::One;
+    fn from_lanes(lanes: [Self::One; LANES]) -> Self;
+    /// Per channel, the sum of the colours of the lanes each mask keeps, in order (the
+    /// first term added to zero).
+    fn sum(kids: [(M8, Self); 4]) -> [F8; 4];
+}
+
+impl Colours for [F8; 4] {
+    type One = [f32; 4];
+    const NONE: [f32; 4] = [0.0; 4];
+
+    fn from_lanes(lanes: [[f32; 4]; LANES]) -> Self {
+        std::array::from_fn(|c| F8::from_array(lanes.map(|v| v[c])))
+    }
+
+    #[inline(always)]
+    fn sum(kids: [(M8, Self); 4]) -> [F8; 4] {
+        let zero = F8::splat(0.0);
+        let mut c = [zero; 4];
+        for (m, kc) in kids {
+            for (acc, v) in c.iter_mut().zip(kc) {
+                *acc = *acc + m.select(v, zero);
+            }
+        }
+        c
+    }
+}
+
+/// Packed bytes: summed as integers, two channels to a 32-bit lane (four bytes sum to at
+/// most 1020, so the halves never carry). Sums of whole numbers under 2^24 are exact in
+/// `f32` too, so these are the sums of the stored values the channels' way gives.
+impl Colours for I8 {
+    type One = u32;
+    const NONE: u32 = 0;
+
+    fn from_lanes(lanes: [u32; LANES]) -> Self {
+        I8::from_array(lanes.map(|c| c as i32))
+    }
+
+    #[inline(always)]
+    fn sum(kids: [(M8, Self); 4]) -> [F8; 4] {
+        let (zero, pairs) = (I8::splat(0), I8::splat(0x00ff_00ff));
+        let (mut rb, mut ga) = (zero, zero);
+        for (m, c) in kids {
+            let c = m.select_i32(c, zero);
+            rb = rb + c.and(pairs);
+            ga = ga + c.shr::<8>().and(pairs);
+        }
+        let low = I8::splat(0xffff);
+        [
+            rb.and(low).to_f32(),
+            ga.and(low).to_f32(),
+            rb.shr::<16>().to_f32(),
+            ga.shr::<16>().to_f32(),
+        ]
+    }
+}
 
 /// One coarser level from a `fw` x `fh` finer one: each cell the mean of its up to 2 x 2
 /// children within the tolerance (`keep = 1 - edge`) of the farthest. Row by row on the
 /// thread pool, eight cells at a time: `pairs(i)` reads the sixteen finer cells from `i`
 /// on; `kid(i)` one (disparity, [`HOLE`] when empty, and colour), for the edges.
-fn pull<P, K>(coarse: &mut Level, fw: usize, fh: usize, keep: f32, pairs: P, kid: K)
+fn pull<C, P, K>(coarse: &mut Level, fw: usize, fh: usize, keep: f32, pairs: P, kid: K)
 where
-    P: Fn(usize) -> Pairs + Sync,
-    K: Fn(usize) -> (f32, [f32; 4]) + Sync,
+    C: Colours,
+    P: Fn(usize) -> Pairs<C> + Sync,
+    K: Fn(usize) -> (f32, C::One) + Sync,
 {
     let w = coarse.w;
     coarse.rows_mut().for_each(|(y, [disparity, r, g, b, a])| {
-        let empty = (
-            F8::splat(HOLE),
-            F8::splat(HOLE),
-            [F8::splat(0.0); 4],
-            [F8::splat(0.0); 4],
-        );
+        let none = C::from_lanes([C::NONE; LANES]);
+        let empty = (F8::splat(HOLE), F8::splat(HOLE), none, none);
         for x in (0..w).step_by(LANES) {
             // The four children of cells x..x + 8, in the order (0, 0), (1, 0), (0, 1),
             // (1, 1); absent ones (past the finer level's edge) are empty.
-            let row = |fy: usize| -> Pairs {
+            let row = |fy: usize| -> Pairs<C> {
                 if fy >= fh {
                     empty
                 } else if 2 * x + 2 * LANES <= fw {
                     pairs(fy * fw + 2 * x)
                 } else {
-                    let lanes: [[(f32, [f32; 4]); LANES]; 2] = std::array::from_fn(|dx| {
+                    let lanes: [[(f32, C::One); LANES]; 2] = std::array::from_fn(|dx| {
                         std::array::from_fn(|l| {
                             let fx = 2 * (x + l) + dx;
                             if fx < fw {
                                 kid(fy * fw + fx)
                             } else {
-                                (HOLE, [0.0; 4])
+                                (HOLE, C::NONE)
                             }
                         })
                     });
                     let d = |k: usize| F8::from_array(lanes[k].map(|(d, _)| d));
-                    let c = |k: usize| {
-                        std::array::from_fn(|c| F8::from_array(lanes[k].map(|(_, v)| v[c])))
-                    };
+                    let c = |k: usize| C::from_lanes(lanes[k].map(|(_, v)| v));
                     (d(0), d(1), c(0), c(1))
                 }
             };
@@ -205,23 +246,22 @@ where
 /// Eight cells from their children: the mean of those within the tolerance of the
 /// farthest, summed in the children's order; [`HOLE`] where none is full.
 #[inline(always)]
-fn reduce(kids: [(F8, [F8; 4]); 4], keep: f32) -> (F8, [F8; 4]) {
+fn reduce<C: Colours>(kids: [(F8, C); 4], keep: f32) -> (F8, [F8; 4]) {
     let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
     let inf = F8::splat(f32::INFINITY);
     let far = kids
         .iter()
         .fold(inf, |far, (d, _)| far.min(d.ge(zero).select(*d, inf)));
-    let (mut wsum, mut dsum, mut c) = (zero, zero, [zero; 4]);
-    for (d, kc) in kids {
+    let (mut wsum, mut dsum) = (zero, zero);
+    let kept = kids.map(|(d, kc)| {
         // Within `edge` of the farthest: `z >= z_far (1 - edge)`.
         let near_far = (d * F8::splat(keep)).le(far).or(d.le(far));
         let m = d.ge(zero).and(near_far);
         wsum = wsum + m.select(one, zero);
         dsum = dsum + m.select(d, zero);
-        for (acc, v) in c.iter_mut().zip(kc) {
-            *acc = *acc + m.select(v, zero);
-        }
-    }
+        (m, kc)
+    });
+    let c = C::sum(kept);
     let any = wsum.gt(zero);
     let inv = one / wsum;
     let d = any.select(dsum * inv, F8::splat(HOLE));
