@@ -46,8 +46,16 @@ impl StereoPair {
             capture_batch(draws, &[*left, right], lighting, width, height)
                 .try_into()
                 .expect("two views");
+        StereoPair::from_views(l, r, baseline)
+    }
+
+    /// A pair of views already rectified (the right camera the left one moved `baseline`
+    /// along its own x axis, one size), with depth: the left one's true disparities from
+    /// its depth, and which of its pixels the right one sees.
+    pub fn from_views(l: DepthImage, r: DepthImage, baseline: f32) -> StereoPair {
+        let (width, height) = (l.width(), l.height());
         // x pixels per unit of x / z in the camera's space.
-        let focal_px = left.projection.gl_matrix().x_axis.x * 0.5 * width as f32;
+        let focal_px = l.camera.projection.gl_matrix().x_axis.x * 0.5 * width as f32;
         let d_of = |z: f32| {
             if z.is_finite() && z > 0.0 {
                 focal_px * baseline / z
@@ -57,13 +65,14 @@ impl StereoPair {
         };
         let truth: Vec<f32> = l.depth.iter().map(|&z| d_of(z)).collect();
         let w = width as usize;
+        let same_size = r.width() == width && r.height() == height;
         let visible = truth
             .iter()
             .enumerate()
             .map(|(i, &d)| {
                 let (x, y) = (i % w, i / w);
                 let xr = x as f32 - d;
-                if !d.is_finite() || xr < -0.5 {
+                if !same_size || !d.is_finite() || xr < -0.5 {
                     return false;
                 }
                 let z = l.depth[i];

@@ -5,7 +5,14 @@
 //! P2) - min_k L(p - r, k)`), their sum's best disparity per pixel refined by a parabola,
 //! and checked as [`super::BlockMatch`] checks: unique, and consistent with the right
 //! image's best match (read from the same sums along the other diagonal of the volume).
-//! Lines of a path in parallel; integer sums, so the same answer at any thread count.
+//!
+//! The paths run in two raster passes (Hirschmüller's own scheme): top-left to bottom-right
+//! for the four directions that arrive from the left and from above, and back for the
+//! other four, on two threads, each keeping only the previous row of its paths and
+//! writing its sums as 16-bit integers (a path's cost is at most the largest census cost
+//! plus `P2`, so eight fit). Costs are computed row by row as a pass reaches them, so
+//! memory is the two passes' sums, 4 bytes per pixel and disparity. Integer sums: the same
+//! answer at any thread count.
 
 use super::block::{left_right_checked, parabola};
 use super::{Disparity, StereoError};
@@ -17,7 +24,7 @@ pub struct Sgm {
     /// Disparities `0..max_disparity` are searched.
     pub max_disparity: u32,
     /// The penalties of a disparity change of one, and of more, between neighbours on a
-    /// path (in census bits).
+    /// path (in census bits; above 4,000 they act as 4,000).
     pub p1: u16,
     pub p2: u16,
     /// The best sum must be below `1 - uniqueness` times the best away from it.
@@ -38,41 +45,37 @@ impl Default for Sgm {
     }
 }
 
-/// The eight path directions `(dx, dy)`.
-const PATHS: [(i32, i32); 8] = [
-    (1, 0),
-    (-1, 0),
-    (0, 1),
-    (0, -1),
-    (1, 1),
-    (-1, -1),
-    (1, -1),
-    (-1, 1),
-];
-
-/// The 5x5 census code of each pixel of a `w` x `h` luminance image (edges clamped).
+/// The 5x5 census code of each pixel of a `w` x `h` luminance image (edges clamped): bit
+/// per neighbour, row by row of the window, set where the neighbour is darker than the
+/// centre. Row by row in parallel; each of the window's 24 offsets a pass over the row
+/// (padded by two clamped pixels each side), which the compiler vectorises.
 fn census(image: &[f32], w: usize, h: usize) -> Vec<u32> {
-    (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            let (x, y) = ((i % w) as i64, (i / w) as i64);
-            let at = |dx: i64, dy: i64| {
-                let xx = (x + dx).clamp(0, w as i64 - 1) as usize;
-                let yy = (y + dy).clamp(0, h as i64 - 1) as usize;
-                image[yy * w + xx]
-            };
-            let c = at(0, 0);
-            let mut code = 0u32;
-            for dy in -2..=2 {
-                for dx in -2..=2 {
-                    if dx != 0 || dy != 0 {
-                        code = code << 1 | u32::from(at(dx, dy) < c);
-                    }
+    let mut codes = vec![0u32; w * h];
+    codes.par_chunks_mut(w).enumerate().for_each(|(y, codes)| {
+        let row = |dy: isize| {
+            let yy = (y as isize + dy).clamp(0, h as isize - 1) as usize;
+            let r = &image[yy * w..(yy + 1) * w];
+            let mut padded = Vec::with_capacity(w + 4);
+            padded.extend([r[0], r[0]]);
+            padded.extend_from_slice(r);
+            padded.extend([r[w - 1], r[w - 1]]);
+            padded
+        };
+        let centre = &image[y * w..(y + 1) * w];
+        for dy in -2..=2isize {
+            let padded = row(dy);
+            for dx in -2..=2isize {
+                if dx == 0 && dy == 0 {
+                    continue;
+                }
+                let shifted = &padded[(2 + dx) as usize..][..w];
+                for ((code, &n), &c) in codes.iter_mut().zip(shifted).zip(centre) {
+                    *code = *code << 1 | u32::from(n < c);
                 }
             }
-            code
-        })
-        .collect()
+        }
+    });
+    codes
 }
 
 impl Sgm {
@@ -90,55 +93,40 @@ impl Sgm {
         }
         let (w, h) = (width as usize, height as usize);
         let n = self.max_disparity.max(1) as usize;
-        let (cl, cr) = (census(left, w, h), census(right, w, h));
-        // Matching costs: pixel (x, y) at disparity d against right pixel (x - d, y); past
-        // the right image's edge, the cost of its first column's match (no information).
-        let cost: Vec<u8> = (0..w * h)
-            .into_par_iter()
-            .flat_map_iter(|i| {
-                let (x, y) = (i % w, i / w);
-                let (cl, cr) = (&cl, &cr);
-                (0..n).map(move |d| {
-                    let xr = x.saturating_sub(d);
-                    (cl[i] ^ cr[y * w + xr]).count_ones() as u8
-                })
-            })
-            .collect();
-        let mut sums = vec![0u32; w * h * n];
-        for &(dx, dy) in &PATHS {
-            for (pixels, l) in self.paths(&cost, w, h, n, dx, dy) {
-                for (k, &p) in pixels.iter().enumerate() {
-                    for (s, &v) in sums[p * n..(p + 1) * n]
-                        .iter_mut()
-                        .zip(&l[k * n..(k + 1) * n])
-                    {
-                        *s += u32::from(v);
-                    }
+        let (cl, cr) = rayon::join(|| census(left, w, h), || census(right, w, h));
+        let codes = Codes {
+            left: &cl,
+            right: &cr,
+            w,
+            n,
+        };
+        let (forward, backward) = rayon::join(
+            || self.pass(&codes, h, false),
+            || self.pass(&codes, h, true),
+        );
+        // Per row: the eight paths' sums, the left image's best disparities, and the right
+        // image's (right pixel (xr, y): the best d over S(xr + d, y, d)).
+        let mut left_best = vec![(f32::INFINITY, false); w * h];
+        let mut right_best = vec![f32::INFINITY; w * h];
+        let row = w * n;
+        left_best
+            .par_chunks_mut(w)
+            .zip(right_best.par_chunks_mut(w))
+            .zip(forward.par_chunks(row).zip(backward.par_chunks(row)))
+            .for_each(|((lb, rb), (f, b))| {
+                let sums: Vec<u16> = f.iter().zip(b).map(|(f, b)| f + b).collect();
+                for (x, best) in lb.iter_mut().enumerate() {
+                    *best = choose(&sums[x * n..(x + 1) * n], self.uniqueness);
                 }
-            }
-        }
-        // Left: best d per pixel; right pixel (xr, y): best d over S(xr + d, y, d).
-        let left_best: Vec<(f32, bool)> = sums
-            .par_chunks(n)
-            .map(|s| choose(s, self.uniqueness))
-            .collect();
-        let right_best: Vec<f32> = (0..w * h)
-            .into_par_iter()
-            .map(|i| {
-                let (xr, y) = (i % w, i / w);
-                let s: Vec<u32> = (0..n)
-                    .map(|d| {
+                let mut diagonal = vec![u16::MAX; n];
+                for (xr, best) in rb.iter_mut().enumerate() {
+                    for (d, s) in diagonal.iter_mut().enumerate() {
                         let x = xr + d;
-                        if x < w {
-                            sums[(y * w + x) * n + d]
-                        } else {
-                            u32::MAX
-                        }
-                    })
-                    .collect();
-                choose(&s, 0.0).0
-            })
-            .collect();
+                        *s = if x < w { sums[x * n + d] } else { u16::MAX };
+                    }
+                    *best = choose(&diagonal, 0.0).0;
+                }
+            });
         Ok(left_right_checked(
             width,
             height,
@@ -148,86 +136,163 @@ impl Sgm {
         ))
     }
 
-    /// The aggregated costs along direction `(dx, dy)`: each line of the image in that
-    /// direction (in parallel), its pixels in order and their costs `L` (`n` a pixel).
-    fn paths(
-        &self,
-        cost: &[u8],
-        w: usize,
-        h: usize,
-        n: usize,
-        dx: i32,
-        dy: i32,
-    ) -> Vec<(Vec<usize>, Vec<u16>)> {
-        // Lines start on the edges the direction leaves from.
-        let mut starts = Vec::new();
-        for y in 0..h {
-            for x in 0..w {
-                let (px, py) = (x as i32 - dx, y as i32 - dy);
-                if px < 0 || py < 0 || px >= w as i32 || py >= h as i32 {
-                    starts.push((x, y));
+    /// One raster pass over the image: forward (rows top to bottom, pixels left to right)
+    /// along the four directions arriving from the left, above-left, above and above-right;
+    /// or (`back`) the mirror of it, the other four. Returns each pixel's sum of its four
+    /// paths' costs, `n` a pixel, row-major.
+    fn pass(&self, codes: &Codes, h: usize, back: bool) -> Vec<u16> {
+        let (w, n) = (codes.w, codes.n);
+        // A path's costs at a pixel, padded with a `u16::MAX` on each side so that the
+        // neighbours `d - 1` and `d + 1` are plain shifted slices.
+        let m = n + 2;
+        let padded = |len: usize| {
+            let mut v = vec![0u16; len * m];
+            for p in v.chunks_exact_mut(m) {
+                (p[0], p[m - 1]) = (u16::MAX, u16::MAX);
+            }
+            v
+        };
+        // Previous and current rows of the three paths from the row before (above-left,
+        // above, above-right in the pass's own orientation), and the path from the left.
+        let (mut prev, mut cur) = ([(); 3].map(|_| padded(w)), [(); 3].map(|_| padded(w)));
+        let (mut prev_low, mut cur_low) = (
+            [(); 3].map(|_| vec![0u16; w]),
+            [(); 3].map(|_| vec![0u16; w]),
+        );
+        // The path from the left: the previous pixel's costs and the current one's.
+        let (mut left, mut left_next) = (padded(1), padded(1));
+        let mut left_low = 0u16;
+        let mut cost = vec![0u8; w * n];
+        let mut sums = vec![0u16; w * h * n];
+        let (p1, p2) = (self.p1.min(MAX_PENALTY), self.p2.min(MAX_PENALTY));
+        for vy in 0..h {
+            let y = if back { h - 1 - vy } else { vy };
+            codes.row(y, &mut cost);
+            for vx in 0..w {
+                let x = if back { w - 1 - vx } else { vx };
+                let c = &cost[x * n..(x + 1) * n];
+                let mut out = [0u16; 4];
+                // From the left (in the pass's orientation).
+                out[0] = if vx == 0 {
+                    start(c, &mut left_next)
+                } else {
+                    step(c, &left, left_low, &mut left_next, p1, p2)
+                };
+                left_low = out[0];
+                std::mem::swap(&mut left, &mut left_next);
+                // From the row before: above-left, above, above-right.
+                for (k, dx) in [-1isize, 0, 1].into_iter().enumerate() {
+                    let from = vx as isize + dx;
+                    let o = &mut cur[k][vx * m..(vx + 1) * m];
+                    out[k + 1] = if vy == 0 || from < 0 || from >= w as isize {
+                        start(c, o)
+                    } else {
+                        let f = from as usize;
+                        step(c, &prev[k][f * m..(f + 1) * m], prev_low[k][f], o, p1, p2)
+                    };
+                    cur_low[k][vx] = out[k + 1];
+                }
+                let s = &mut sums[(y * w + x) * n..][..n];
+                let at = |k: usize| &cur[k][vx * m + 1..][..n];
+                let (a, b, c, d) = (&left[1..=n], at(0), at(1), at(2));
+                for i in 0..n {
+                    s[i] = a[i] + b[i] + c[i] + d[i];
                 }
             }
+            std::mem::swap(&mut prev, &mut cur);
+            std::mem::swap(&mut prev_low, &mut cur_low);
         }
-        let (p1, p2) = (u32::from(self.p1), u32::from(self.p2));
-        starts
-            .into_par_iter()
-            .map(|(x0, y0)| {
-                let mut pixels = Vec::new();
-                let (mut x, mut y) = (x0 as i32, y0 as i32);
-                while x >= 0 && y >= 0 && x < w as i32 && y < h as i32 {
-                    pixels.push(y as usize * w + x as usize);
-                    (x, y) = (x + dx, y + dy);
-                }
-                let mut l = vec![0u16; pixels.len() * n];
-                for (k, &p) in pixels.iter().enumerate() {
-                    let c = &cost[p * n..(p + 1) * n];
-                    if k == 0 {
-                        for (o, &c) in l[..n].iter_mut().zip(c) {
-                            *o = u16::from(c);
-                        }
-                        continue;
-                    }
-                    let (before, now) = l.split_at_mut(k * n);
-                    let prev = &before[(k - 1) * n..];
-                    let low = u32::from(*prev.iter().min().unwrap_or(&0));
-                    for d in 0..n {
-                        let mut best = u32::from(prev[d]);
-                        if d > 0 {
-                            best = best.min(u32::from(prev[d - 1]) + p1);
-                        }
-                        if d + 1 < n {
-                            best = best.min(u32::from(prev[d + 1]) + p1);
-                        }
-                        best = best.min(low + p2);
-                        now[d] = (u32::from(c[d]) + best - low) as u16;
-                    }
-                }
-                (pixels, l)
-            })
-            .collect()
+        sums
     }
 }
 
-/// The best disparity of one pixel's sums, refined by a parabola, and whether it is
-/// unique (below `1 - uniqueness` times the best more than one away).
-fn choose(sums: &[u32], uniqueness: f32) -> (f32, bool) {
-    let Some((k, &c)) = sums
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| **s != u32::MAX)
-        .min_by(|a, b| a.1.cmp(b.1).then(a.0.cmp(&b.0)))
-    else {
+/// The largest penalty used (larger ones act as this): eight paths' sums of census costs
+/// (at most 24) plus it stay below `u16::MAX`, the sums' "none" mark.
+const MAX_PENALTY: u16 = 4000;
+
+/// The census codes of both images, and what a row of matching costs needs.
+struct Codes<'a> {
+    left: &'a [u32],
+    right: &'a [u32],
+    w: usize,
+    n: usize,
+}
+
+impl Codes<'_> {
+    /// Row `y`'s matching costs, `n` a pixel: left pixel `(x, y)` at disparity `d` against
+    /// right pixel `(x - d, y)`; past the right image's edge, the cost of its first
+    /// column's match (no information).
+    fn row(&self, y: usize, cost: &mut [u8]) {
+        let (w, n) = (self.w, self.n);
+        let (left, right) = (
+            &self.left[y * w..(y + 1) * w],
+            &self.right[y * w..(y + 1) * w],
+        );
+        for (x, c) in cost.chunks_exact_mut(n).enumerate() {
+            let l = left[x];
+            if x + 1 >= n {
+                // Right pixels x, x - 1, ..., x - n + 1.
+                for (c, &r) in c.iter_mut().zip(right[x + 1 - n..=x].iter().rev()) {
+                    *c = (l ^ r).count_ones() as u8;
+                }
+            } else {
+                for (d, c) in c.iter_mut().enumerate() {
+                    *c = (l ^ right[x.saturating_sub(d)]).count_ones() as u8;
+                }
+            }
+        }
+    }
+}
+
+/// A path's first pixel: its costs are the matching costs. Returns their least.
+#[inline(always)]
+fn start(c: &[u8], out: &mut [u16]) -> u16 {
+    let mut low = u16::MAX;
+    for (o, &c) in out[1..=c.len()].iter_mut().zip(c) {
+        *o = u16::from(c);
+        low = low.min(*o);
+    }
+    low
+}
+
+/// A path's next pixel from the previous one's costs `prev` (padded) and their least
+/// `low`: `L(d) = C(d) + min(L'(d), L'(d ± 1) + P1, low + P2) - low`, into `out` (padded).
+/// Returns the least of the new costs. Never below zero: every term of the `min` is at
+/// least `low`.
+#[inline(always)]
+fn step(c: &[u8], prev: &[u16], low: u16, out: &mut [u16], p1: u16, p2: u16) -> u16 {
+    let n = c.len();
+    let jump = low.saturating_add(p2);
+    let (below, at, above) = (&prev[..n], &prev[1..=n], &prev[2..n + 2]);
+    let out = &mut out[1..=n];
+    let mut least = u16::MAX;
+    for d in 0..n {
+        let best = at[d]
+            .min(below[d].saturating_add(p1))
+            .min(above[d].saturating_add(p1))
+            .min(jump);
+        let v = u16::from(c[d]) + best - low;
+        out[d] = v;
+        least = least.min(v);
+    }
+    least
+}
+
+/// The best disparity of one pixel's sums (`u16::MAX`: none there), refined by a parabola,
+/// and whether it is unique (below `1 - uniqueness` times the best more than one away).
+/// The first of equal bests. Plain minimums over the slice (`u16::MAX` never wins while
+/// anything else is there), which the compiler vectorises.
+fn choose(sums: &[u16], uniqueness: f32) -> (f32, bool) {
+    let least = |s: &[u16]| s.iter().fold(u16::MAX, |m, &v| m.min(v));
+    let c = least(sums);
+    if c == u16::MAX {
         return (f32::INFINITY, false);
-    };
-    let second = sums
-        .iter()
-        .enumerate()
-        .filter(|&(j, s)| *s != u32::MAX && j.abs_diff(k) > 1)
-        .map(|(_, &s)| s)
-        .min();
-    let unique = second.is_none_or(|s| (c as f32) < (1.0 - uniqueness) * s as f32);
-    let near = |j: Option<usize>| j.and_then(|j| sums.get(j)).filter(|s| **s != u32::MAX);
+    }
+    let k = sums.iter().position(|&s| s == c).unwrap_or(0);
+    let n = sums.len();
+    let second = least(&sums[..k.saturating_sub(1)]).min(least(&sums[(k + 2).min(n)..]));
+    let unique = second == u16::MAX || (c as f32) < (1.0 - uniqueness) * second as f32;
+    let near = |j: Option<usize>| j.and_then(|j| sums.get(j)).filter(|s| **s != u16::MAX);
     let d = match (near(k.checked_sub(1)), near(Some(k + 1))) {
         (Some(&a), Some(&b)) => parabola(k, a as f32, c as f32, b as f32),
         _ => k as f32,

@@ -6,6 +6,179 @@ use crate::stereo::block::{luminance, BlockMatch};
 use crate::stereo::measure::measure;
 use crate::stereo::scenes::{occluded, occluded_band, plane, slanted, H, W};
 
+/// The eight path directions `(dx, dy)`.
+const PATHS: [(i32, i32); 8] = [
+    (1, 0),
+    (-1, 0),
+    (0, 1),
+    (0, -1),
+    (1, 1),
+    (-1, -1),
+    (1, -1),
+    (-1, 1),
+];
+
+/// [`Sgm`] as defined, the slow way.
+struct Reference(Sgm);
+
+/// Sums as the matcher's `u16` (`u32::MAX`, none, as `u16::MAX`).
+fn narrow(s: &[u32]) -> Vec<u16> {
+    s.iter()
+        .map(|&v| if v == u32::MAX { u16::MAX } else { v as u16 })
+        .collect()
+}
+
+/// Semi-global matching by its definition: each path direction's lines walked one by one,
+/// their costs kept whole, summed in `u32`; the cost volume stored. The pass-by-pass
+/// matcher must give exactly its answer.
+impl Reference {
+    fn run(
+        &self,
+        left: &[f32],
+        right: &[f32],
+        width: u32,
+        height: u32,
+    ) -> Result<Disparity, StereoError> {
+        if let Some(empty) = Disparity::inputs(left, right, width, height)? {
+            return Ok(empty);
+        }
+        let (w, h) = (width as usize, height as usize);
+        let n = self.0.max_disparity.max(1) as usize;
+        let (cl, cr) = (census(left, w, h), census(right, w, h));
+        // Matching costs: pixel (x, y) at disparity d against right pixel (x - d, y); past
+        // the right image's edge, the cost of its first column's match (no information).
+        let cost: Vec<u8> = (0..w * h)
+            .into_par_iter()
+            .flat_map_iter(|i| {
+                let (x, y) = (i % w, i / w);
+                let (cl, cr) = (&cl, &cr);
+                (0..n).map(move |d| {
+                    let xr = x.saturating_sub(d);
+                    (cl[i] ^ cr[y * w + xr]).count_ones() as u8
+                })
+            })
+            .collect();
+        let mut sums = vec![0u32; w * h * n];
+        for &(dx, dy) in &PATHS {
+            for (pixels, l) in self.paths(&cost, w, h, n, dx, dy) {
+                for (k, &p) in pixels.iter().enumerate() {
+                    for (s, &v) in sums[p * n..(p + 1) * n]
+                        .iter_mut()
+                        .zip(&l[k * n..(k + 1) * n])
+                    {
+                        *s += u32::from(v);
+                    }
+                }
+            }
+        }
+        // Left: best d per pixel; right pixel (xr, y): best d over S(xr + d, y, d).
+        let left_best: Vec<(f32, bool)> = sums
+            .par_chunks(n)
+            .map(|s| choose(&narrow(s), self.0.uniqueness))
+            .collect();
+        let right_best: Vec<f32> = (0..w * h)
+            .into_par_iter()
+            .map(|i| {
+                let (xr, y) = (i % w, i / w);
+                let s: Vec<u32> = (0..n)
+                    .map(|d| {
+                        let x = xr + d;
+                        if x < w {
+                            sums[(y * w + x) * n + d]
+                        } else {
+                            u32::MAX
+                        }
+                    })
+                    .collect();
+                choose(&narrow(&s), 0.0).0
+            })
+            .collect();
+        Ok(left_right_checked(
+            width,
+            height,
+            &left_best,
+            |i| right_best[i],
+            self.0.lr_tolerance,
+        ))
+    }
+
+    /// The aggregated costs along direction `(dx, dy)`: each line of the image in that
+    /// direction (in parallel), its pixels in order and their costs `L` (`n` a pixel).
+    fn paths(
+        &self,
+        cost: &[u8],
+        w: usize,
+        h: usize,
+        n: usize,
+        dx: i32,
+        dy: i32,
+    ) -> Vec<(Vec<usize>, Vec<u16>)> {
+        // Lines start on the edges the direction leaves from.
+        let mut starts = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let (px, py) = (x as i32 - dx, y as i32 - dy);
+                if px < 0 || py < 0 || px >= w as i32 || py >= h as i32 {
+                    starts.push((x, y));
+                }
+            }
+        }
+        let (p1, p2) = (u32::from(self.0.p1), u32::from(self.0.p2));
+        starts
+            .into_par_iter()
+            .map(|(x0, y0)| {
+                let mut pixels = Vec::new();
+                let (mut x, mut y) = (x0 as i32, y0 as i32);
+                while x >= 0 && y >= 0 && x < w as i32 && y < h as i32 {
+                    pixels.push(y as usize * w + x as usize);
+                    (x, y) = (x + dx, y + dy);
+                }
+                let mut l = vec![0u16; pixels.len() * n];
+                for (k, &p) in pixels.iter().enumerate() {
+                    let c = &cost[p * n..(p + 1) * n];
+                    if k == 0 {
+                        for (o, &c) in l[..n].iter_mut().zip(c) {
+                            *o = u16::from(c);
+                        }
+                        continue;
+                    }
+                    let (before, now) = l.split_at_mut(k * n);
+                    let prev = &before[(k - 1) * n..];
+                    let low = u32::from(*prev.iter().min().unwrap_or(&0));
+                    for d in 0..n {
+                        let mut best = u32::from(prev[d]);
+                        if d > 0 {
+                            best = best.min(u32::from(prev[d - 1]) + p1);
+                        }
+                        if d + 1 < n {
+                            best = best.min(u32::from(prev[d + 1]) + p1);
+                        }
+                        best = best.min(low + p2);
+                        now[d] = (u32::from(c[d]) + best - low) as u16;
+                    }
+                }
+                (pixels, l)
+            })
+            .collect()
+    }
+}
+
+#[test]
+fn the_two_passes_give_the_definitions_answer() {
+    // Every scene, and penalties that make paths matter (a large jump, none at all).
+    for pair in [plane(), occluded(), slanted()] {
+        let (l, r) = (luminance(&pair.left), luminance(&pair.right));
+        for (p1, p2) in [(3, 20), (1, 100), (0, 0)] {
+            let sgm = Sgm { p1, p2, ..sgm() };
+            let fast = sgm.run(&l, &r, W, H).expect("images of the size given");
+            let slow = Reference(sgm)
+                .run(&l, &r, W, H)
+                .expect("images of the size given");
+            assert!(fast == slow, "p1 {p1}, p2 {p2}");
+        }
+    }
+}
+
 fn sgm() -> Sgm {
     Sgm {
         max_disparity: 32,
