@@ -12,6 +12,7 @@ pub mod bench_impostors;
 pub mod bench_lightfield;
 pub mod bench_portals;
 pub mod bench_scaling;
+pub mod bench_stereo;
 pub mod bench_warp;
 pub mod building;
 pub mod capture;

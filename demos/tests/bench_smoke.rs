@@ -551,3 +551,67 @@ fn lightfield_sweep_writes_csv_and_png_charts() {
         ],
     );
 }
+
+/// Whether `python3` can import OpenCV (the stereo sweep's peer). `.ci/run` installs it; a
+/// machine without it runs the sweep without the peer, saying so.
+fn opencv_available() -> bool {
+    Command::new("python3")
+        .args(["-c", "import cv2"])
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+#[test]
+fn stereo_sweep_writes_csv_and_png_charts() {
+    let opencv = opencv_available();
+    if !opencv {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI installs OpenCV for python3 (.ci/run): the stereo sweep's peer must run there"
+        );
+        eprintln!(
+            "stereo_sweep_writes_csv_and_png_charts: python3 has no cv2 (pip install opencv-python-headless); the OpenCV rows are not checked"
+        );
+    }
+    let (dir, csv) = run_sweep("stereo", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..2], ["pair", "method"]);
+    let pairs = [
+        "plaza",
+        "cards",
+        "slanted",
+        "thin",
+        "low-texture",
+        "repeated",
+        "unrectified",
+    ];
+    let mut methods = vec!["block", "sgm"];
+    if opencv {
+        methods.extend(["opencv-sgbm", "opencv-sgbm-hh"]);
+    }
+    for pair in pairs {
+        // Every matcher measured on every pair, read back from the files the peer wrote.
+        for method in &methods {
+            let rows = t.of(pair, method);
+            assert_eq!(rows.len(), 1, "{pair} {method}: {csv}");
+            let r = rows[0];
+            for col in ["nonocc_bad2", "all_bad2", "nonocc_unknown"] {
+                let v = t.num(r, col);
+                assert!((0.0..=1.0).contains(&v), "{pair} {method} {col}: {v}");
+            }
+            assert!(t.num(r, "median_ms") > 0.0, "{pair} {method}: {csv}");
+        }
+        for file in ["left.png", "right.png", "truth.pfm"] {
+            assert!(
+                dir.join("stereo").join(pair).join(file).is_file(),
+                "{pair}/{file}"
+            );
+        }
+    }
+    // On textured cards semi-global matching gets nearly every visible pixel within two.
+    for pair in ["cards", "slanted"] {
+        let r = t.of(pair, "sgm")[0];
+        assert!(t.num(r, "nonocc_bad2") < 0.05, "{pair}: {csv}");
+    }
+    assert_charts(&dir, &["stereo_time_error.png", "stereo_pairs.png"]);
+}

@@ -29,6 +29,11 @@
 //!   between and away from the capture cameras; codebook size and tile shape against
 //!   compression and error; frame time against resolution and the object's triangles
 //!   (`demos::bench_lightfield`).
+//! - `stereo`: the block matcher and semi-global matching against OpenCV's `StereoSGBM`
+//!   (five and eight paths; `demos/benches/opencv_sgbm.py`, when Python has `cv2`) on
+//!   rendered pairs with exact ground truth (the plaza, cards, a slanted wall, thin bars,
+//!   little texture, a repeated pattern, an unrectified pair): the Middlebury measures
+//!   and time side by side (`demos::bench_stereo`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
@@ -37,6 +42,7 @@ use demos::bench_impostors as bi;
 use demos::bench_lightfield as bl;
 use demos::bench_portals as bp;
 use demos::bench_scaling as scaling;
+use demos::bench_stereo as bs;
 use demos::bench_warp as bw;
 use demos::chart::{self, Chart, Drawn};
 use demos::sweep::{self, CsvRow};
@@ -76,6 +82,19 @@ enum Sweep {
     /// Light slabs against the geometry: error against sampling, lookup and compression;
     /// time against resolution and triangles.
     Lightfield(Small),
+    /// Stereo matchers against OpenCV's StereoSGBM on rendered pairs: Middlebury error
+    /// and time.
+    Stereo(StereoArgs),
+}
+
+#[derive(Args, Debug)]
+struct StereoArgs {
+    #[command(flatten)]
+    run: Small,
+    /// Leave OpenCV out (otherwise it runs when `python3 -c "import cv2"` works; `pip
+    /// install opencv-python-headless` to get it).
+    #[arg(long)]
+    no_opencv: bool,
 }
 
 #[derive(Args, Debug)]
@@ -128,6 +147,7 @@ fn main() -> ExitCode {
         Sweep::Warp(c) => warp(c),
         Sweep::Portals(c) => portals(c),
         Sweep::Lightfield(c) => lightfield(c),
+        Sweep::Stereo(c) => stereo(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -199,7 +219,7 @@ fn sweep<R: CsvRow>(
     c: &Small,
     name: &str,
     rows: &str,
-    run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> Vec<R>,
+    run: impl FnOnce(&mut dyn FnMut(usize, usize, &str)) -> Result<Vec<R>, String>,
     report: impl FnOnce(&[R]),
     charts: fn(&[R]) -> Vec<(&'static str, Chart)>,
 ) -> Result<(), String> {
@@ -218,6 +238,7 @@ fn sweep<R: CsvRow>(
         bar.set_message(what.to_string());
     });
     bar.finish_and_clear();
+    let measured = measured?;
     report(&measured);
     let csv = c.out.join(format!("{name}.csv"));
     sweep::write_csv(&csv, &measured)
@@ -244,10 +265,10 @@ fn raster(c: &Common) -> Result<(), String> {
         Vec::new()
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| {
-        bench::raster(&plan, &models, |i, total, step| {
+        Ok(bench::raster(&plan, &models, |i, total, step| {
             let (w, h) = step.size;
             progress(i, total, &format!("{} {} {w}x{h}", step.series, step.mesh));
-        })
+        }))
     };
     let report = |rows: &[bench::Row]| {
         for r in rows {
@@ -293,7 +314,7 @@ fn billboards(c: &Small) -> Result<(), String> {
             }
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bb::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bb::run(&plan, progress));
     let (name, rows, charts) = ("billboards", "measurements", bb::charts);
     sweep(c, name, rows, run, report, charts)
 }
@@ -348,7 +369,7 @@ fn scaling_sweep(c: &Small) -> Result<(), String> {
             }
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| scaling::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(scaling::run(&plan, progress));
     let (name, rows, charts) = ("scaling", "rows", scaling::charts);
     sweep(c, name, rows, run, report, charts)
 }
@@ -363,7 +384,7 @@ fn impostors(c: &Small) -> Result<(), String> {
             println!("{s}");
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bi::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bi::run(&plan, progress));
     let (name, rows, charts) = ("impostors", "rows", bi::charts);
     sweep(c, name, rows, run, report, charts)
 }
@@ -402,7 +423,7 @@ fn warp(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bw::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bw::run(&plan, progress));
     let (name, rows, charts) = ("warp", "points", bw::charts);
     sweep(c, name, rows, run, report, charts)
 }
@@ -455,7 +476,7 @@ fn portals(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bp::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bp::run(&plan, progress));
     let (name, rows, charts) = ("portals", "points", bp::charts);
     sweep(c, name, rows, run, report, charts)
 }
@@ -498,7 +519,46 @@ fn lightfield(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bl::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bl::run(&plan, progress));
     let (name, rows, charts) = ("lightfield", "points", bl::charts);
     sweep(c, name, rows, run, report, charts)
+}
+
+fn stereo(c: &StereoArgs) -> Result<(), String> {
+    let plan = c.run.plan(bs::Plan::tiny, bs::Plan::quick, bs::Plan::full);
+    let peer = bs::Peer::bundled();
+    let peer = if c.no_opencv {
+        None
+    } else if peer.available() {
+        Some(peer)
+    } else {
+        println!(
+            "bench: OpenCV is not installed for python3 (pip install opencv-python-headless); its rows are left out"
+        );
+        None
+    };
+    let report = |rows: &[bs::Row]| {
+        for r in rows {
+            let (n, a) = (&r.error.nonocc, &r.error.all);
+            println!(
+                "{:<12} {:<15} {}x{} 0..{:<3} median {:>8.2} ms  non-occluded bad 1 {:>5.1}% bad 2 {:>5.1}% RMS {:>5.2} unknown {:>5.1}%  all bad 2 {:>5.1}%",
+                r.pair,
+                r.method,
+                r.width,
+                r.height,
+                r.max_disparity,
+                r.time.median_ms,
+                100.0 * n.bad1,
+                100.0 * n.bad2,
+                n.rms,
+                100.0 * n.unknown,
+                100.0 * a.bad2,
+            );
+        }
+    };
+    let out = c.run.out.clone();
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| {
+        bs::run(&plan, &out, peer.as_ref(), progress)
+    };
+    sweep(&c.run, "stereo", "rows", run, report, bs::charts)
 }
