@@ -40,6 +40,7 @@ pub mod impostor;
 pub mod laser;
 pub mod lightfield;
 pub mod metrics;
+pub mod morph;
 pub mod octahedral;
 pub mod portal;
 pub mod sprites;

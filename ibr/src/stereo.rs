@@ -21,12 +21,12 @@ pub mod rectify;
 pub mod sgm;
 
 #[cfg(test)]
-mod scenes;
+pub(crate) mod scenes;
 
 pub use block::{luminance, luminance_rgba8, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
-pub use rectify::{rectify, Rectified, RectifyError};
+pub use rectify::{rectify, rectify_with, Framing, Rectified, RectifyError};
 pub use sgm::Sgm;
 
 use engine::load::FloatImage;

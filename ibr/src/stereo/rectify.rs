@@ -32,11 +32,43 @@ pub struct Rectified {
     pub baseline: f32,
 }
 
+/// How the rectified views are framed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Framing {
+    /// Turn to the direction halfway between the two views' (each view turns half as
+    /// far) rather than to the left view's.
+    pub between: bool,
+    /// The rectified images' size against the originals', at the same focal length: above
+    /// 1 they see more, so less of a turned view falls outside them.
+    pub scale: f32,
+}
+
+impl Default for Framing {
+    /// The left view's direction and size: the stereo matchers' rectification.
+    fn default() -> Self {
+        Framing {
+            between: false,
+            scale: 1.0,
+        }
+    }
+}
+
 /// Rectifies `left` and `right` (images with their cameras, one size). The rectified
 /// orientation: x along the baseline (left eye to right eye), y as near the left camera's
 /// up as that allows, the left camera's projection for both. Pixels whose ray leaves the
 /// original image are transparent.
 pub fn rectify(left: &DepthImage, right: &DepthImage) -> Result<Rectified, RectifyError> {
+    rectify_with(left, right, &Framing::default())
+}
+
+/// [`rectify`], framed as `framing` asks: the view direction the rectified views turn to
+/// (the left view's, or halfway to the right's), and their size at the left camera's
+/// focal length.
+pub fn rectify_with(
+    left: &DepthImage,
+    right: &DepthImage,
+    framing: &Framing,
+) -> Result<Rectified, RectifyError> {
     let (w, h) = (left.width(), left.height());
     if (w, h) != (right.width(), right.height()) {
         return Err(RectifyError::Sizes(w, h, right.width(), right.height()));
@@ -54,9 +86,24 @@ pub fn rectify(left: &DepthImage, right: &DepthImage) -> Result<Rectified, Recti
     if off_axis > 60.0 {
         return Err(RectifyError::AlongTheView(angle));
     }
+    let forward = if framing.between {
+        (forward + right.camera.forward()).normalize_or(forward)
+    } else {
+        forward
+    };
     // z backward (the camera looks down -z), y up, x along the baseline.
     let back = (-forward - x * (-forward).dot(x)).normalize();
     let y = back.cross(x);
+    let scale = if framing.scale.is_finite() {
+        framing.scale.clamp(1.0, 4.0)
+    } else {
+        1.0
+    };
+    let (w2, h2) = (
+        (w as f32 * scale).round() as u32,
+        (h as f32 * scale).round() as u32,
+    );
+    let projection = wider(&left.camera, h, h2, w2);
     let turn = |eye: Vec3| Camera {
         view: Mat4::from_cols(
             Vec4::new(x.x, y.x, back.x, 0.0),
@@ -64,23 +111,48 @@ pub fn rectify(left: &DepthImage, right: &DepthImage) -> Result<Rectified, Recti
             Vec4::new(x.z, y.z, back.z, 0.0),
             Vec4::new(-x.dot(eye), -y.dot(eye), -back.dot(eye), 1.0),
         ),
-        projection: left.camera.projection,
+        projection,
     };
     Ok(Rectified {
-        left: resample(left, &turn(cl)),
-        right: resample(right, &turn(cr)),
+        left: resample(left, &turn(cl), w2, h2),
+        right: resample(right, &turn(cr), w2, h2),
         baseline,
     })
 }
 
+/// `camera`'s projection for an image of `w2` x `h2` pixels at the focal length it has
+/// for one `h` pixels high: the same pixels per radian, a wider view. Itself when the
+/// size is the same.
+fn wider(camera: &Camera, h: u32, h2: u32, w2: u32) -> engine::Projection {
+    if h2 == h {
+        return camera.projection;
+    }
+    let m = camera.projection.gl_matrix();
+    let tan_half = 1.0 / m.y_axis.y * h2 as f32 / h.max(1) as f32;
+    let (near, far) = camera.near_far();
+    Camera::look_at(
+        Vec3::Z,
+        Vec3::ZERO,
+        Vec3::Y,
+        2.0 * tan_half.atan(),
+        w2 as f32 / h2.max(1) as f32,
+    )
+    .with_depth_range(near, far)
+    .projection
+}
+
 /// `image` as seen by `camera` (at the same eye): each pixel's ray looked up in the
-/// original, bilinearly; depth is not kept (the views differ in orientation).
-fn resample(image: &DepthImage, camera: &Camera) -> DepthImage {
-    let (w, h) = (image.width(), image.height());
+/// original, colour bilinearly, depth from the nearest pixel, measured along the new
+/// camera's axis (the point stays where it is; only the axis turns), `w` x `h` pixels.
+/// Pixels whose ray leaves the original are transparent, with depth
+/// [`crate::images::EMPTY`]. Shared by the view morph's postwarp.
+pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> DepthImage {
     let mut out = DepthImage::new(w, h, *camera);
+    let (iw, ih) = (image.width(), image.height());
     let to_world = camera.gl_view_proj().inverse();
     let to_old = image.camera.gl_view_proj();
     let eye = camera.eye();
+    let (old_forward, new_forward) = (image.camera.forward(), camera.forward());
     for y in 0..h {
         for x in 0..w {
             let ndc = Vec4::new(
@@ -97,11 +169,23 @@ fn resample(image: &DepthImage, camera: &Camera) -> DepthImage {
                 continue;
             }
             let (u, v) = (
-                (c.x / c.w + 1.0) * 0.5 * w as f32 - 0.5,
-                (1.0 - c.y / c.w) * 0.5 * h as f32 - 0.5,
+                (c.x / c.w + 1.0) * 0.5 * iw as f32 - 0.5,
+                (1.0 - c.y / c.w) * 0.5 * ih as f32 - 0.5,
             );
             if let Some(p) = bilinear(image, u, v) {
-                out.color[(y * w + x) as usize] = p;
+                let i = (y * w + x) as usize;
+                out.color[i] = p;
+                // Nearest: depth does not blend across edges. `z_old` along the old axis is
+                // `t dir . old_forward` for the point `eye + t dir`.
+                let nx = u.round().clamp(0.0, iw as f32 - 1.0) as u32;
+                let ny = v.round().clamp(0.0, ih as f32 - 1.0) as u32;
+                let z_old = image.depth[(ny * iw + nx) as usize];
+                let (along_old, along_new) = (dir.dot(old_forward), dir.dot(new_forward));
+                out.depth[i] = if z_old.is_finite() && z_old > 0.0 && along_old > 0.0 {
+                    z_old / along_old * along_new
+                } else {
+                    z_old
+                };
             }
         }
     }

@@ -6,8 +6,8 @@ use engine::{Camera, Draw, Encoding, Lighting, Material, Mesh, Rgba, Texture};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
-pub(super) const W: u32 = 160;
-pub(super) const H: u32 = 120;
+pub(crate) const W: u32 = 160;
+pub(crate) const H: u32 = 120;
 /// The baseline: a plane 5 units off has about 11.6 pixels of disparity.
 pub(super) const BASELINE: f32 = 0.4;
 
@@ -49,7 +49,7 @@ pub(super) fn camera() -> Camera {
 
 /// The slanted card and a small card in front of it, as meshes, materials and transforms
 /// (to draw from any cameras).
-pub(super) fn scene_draws() -> (Vec<(Mesh, Material)>, Vec<Mat4>) {
+pub(crate) fn scene_draws() -> (Vec<(Mesh, Material)>, Vec<Mat4>) {
     let transforms = vec![
         Mat4::from_rotation_y(0.6),
         Mat4::from_translation(Vec3::new(0.3, 0.2, 2.0)),
