@@ -57,7 +57,8 @@ pub struct MorphStats {
     /// right image only (holes the left left, filled from the other image).
     pub from_left: u64,
     pub from_right: u64,
-    /// Pixels neither image mapped to, filled along their row from the farther side.
+    /// Pixels neither image mapped to; those between two mapped pixels of their row are
+    /// filled from the farther side.
     pub holes: u64,
 }
 
@@ -97,11 +98,16 @@ impl ViewMorph {
                     let data = image
                         .depth
                         .iter()
-                        .map(|&z| {
-                            if z.is_finite() && z > 0.0 {
+                        .zip(&image.color)
+                        .map(|(&z, c)| {
+                            if c.a <= 0.0 {
+                                // Outside what the view saw: unknown.
+                                f32::INFINITY
+                            } else if z.is_finite() && z > 0.0 {
                                 focal * pair.baseline / z
                             } else {
-                                f32::INFINITY
+                                // Sky: at infinity, the same in both views.
+                                0.0
                             }
                         })
                         .collect();
@@ -133,7 +139,7 @@ impl ViewMorph {
                 // background side, where a disocclusion's pixels lie.
                 for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
                     map.fill_from_background();
-                    // Nothing where the prewarped view sees nothing.
+                    // Unknown where the prewarped view saw nothing.
                     for (d, c) in map.data.iter_mut().zip(&image.color) {
                         if c.a <= 0.0 {
                             *d = f32::INFINITY;

@@ -95,6 +95,28 @@ pub fn read_transforms(path: &Path) -> Result<Vec<DepthImage>, LoadError> {
 
 /// [`read_transforms`], reading every file from `files`.
 pub fn read_transforms_from(path: &Path, files: &dyn Files) -> Result<Vec<DepthImage>, LoadError> {
+    read_capture(path, files, true)
+}
+
+/// Reads a capture of photographs with their cameras: as [`read_transforms`], but a frame
+/// may leave out `depth_file_path`, and then has no depth (every pixel
+/// [`super::EMPTY`]). For what needs only images and poses (view morphing with the stereo
+/// matcher, stereo from unrectified pairs).
+pub fn read_photos(path: &Path) -> Result<Vec<DepthImage>, LoadError> {
+    read_photos_from(path, &Disk)
+}
+
+/// [`read_photos`], reading every file from `files`.
+pub fn read_photos_from(path: &Path, files: &dyn Files) -> Result<Vec<DepthImage>, LoadError> {
+    read_capture(path, files, false)
+}
+
+/// The capture at `path`; depth maps required or not.
+fn read_capture(
+    path: &Path,
+    files: &dyn Files,
+    depth_required: bool,
+) -> Result<Vec<DepthImage>, LoadError> {
     let bad = |why: String| LoadError::invalid(path, why);
     let bytes = files.read(path, MAX_JSON_BYTES)?;
     let root: Value = serde_json::from_slice(&bytes).map_err(|e| bad(format!("bad JSON: {e}")))?;
@@ -116,7 +138,7 @@ pub fn read_transforms_from(path: &Path, files: &dyn Files) -> Result<Vec<DepthI
             let f = f
                 .as_object()
                 .ok_or_else(|| bad(format!("frame {i} is not an object")))?;
-            read_frame(path, dir, root, f, files).map_err(|e| match e {
+            read_frame(path, dir, root, f, files, depth_required).map_err(|e| match e {
                 // Errors about the JSON itself say which frame.
                 LoadError::Invalid { file, reason } if file.0 == path => {
                     LoadError::invalid(path, format!("frame {i}: {reason}"))
@@ -133,6 +155,7 @@ fn read_frame(
     root: &Map<String, Value>,
     frame: &Map<String, Value>,
     files: &dyn Files,
+    depth_required: bool,
 ) -> Result<DepthImage, LoadError> {
     let bad = |why: String| LoadError::invalid(path, why);
     let key = |k: &str| frame.get(k).or_else(|| root.get(k));
@@ -163,19 +186,28 @@ fn read_frame(
     if colour_rel.extension().is_none() {
         colour_rel.set_extension("png");
     }
-    let depth_rel = file_of("depth_file_path")?
-        .ok_or_else(|| bad("no \"depth_file_path\": a depth image needs a depth map".into()))?;
-    let (colour_path, depth_path) = (dir.join(&colour_rel), dir.join(&depth_rel));
+    let depth_rel = file_of("depth_file_path")?;
+    if depth_required && depth_rel.is_none() {
+        return Err(bad(
+            "no \"depth_file_path\": a depth image needs a depth map".into(),
+        ));
+    }
+    let colour_path = dir.join(&colour_rel);
     let read = |rel: &Path, full: &Path| {
         files
             .read_inside(dir, rel, None, load::MAX_FILE_BYTES)
             .map_err(|e| LoadError::invalid(full, e))
     };
-    let (colour_bytes, depth_bytes) = (
-        read(&colour_rel, &colour_path)?,
-        read(&depth_rel, &depth_path)?,
-    );
-    let planes = planes(&colour_path, &colour_bytes, &depth_path, depth_bytes)?;
+    let colour_bytes = read(&colour_rel, &colour_path)?;
+    let depth = match &depth_rel {
+        Some(rel) => {
+            let full = dir.join(rel);
+            let bytes = read(rel, &full)?;
+            Some((full, bytes))
+        }
+        None => None,
+    };
+    let planes = planes(&colour_path, &colour_bytes, depth)?;
     let (w, h) = (planes.width, planes.height);
     for (k, v) in [("w", w), ("h", h)] {
         if let Some(given) = number(k)? {
@@ -262,10 +294,18 @@ impl Planes {
 fn planes(
     colour_path: &Path,
     colour_bytes: &[u8],
-    depth_path: &Path,
-    depth_bytes: Vec<u8>,
+    depth: Option<(PathBuf, Vec<u8>)>,
 ) -> Result<Planes, LoadError> {
     let (w, h, rgba) = load::rgba8_from_bytes(colour_bytes, colour_path)?;
+    let Some((depth_path, depth_bytes)) = depth else {
+        return Ok(colour_planes(
+            w,
+            h,
+            &rgba,
+            vec![EMPTY; w as usize * h as usize],
+        ));
+    };
+    let depth_path = depth_path.as_path();
     let depth = load::float_image_from(
         depth_path,
         &load::Memory::default().with(depth_path, depth_bytes),
@@ -296,6 +336,11 @@ fn planes(
             ),
         ));
     }
+    Ok(colour_planes(w, h, &rgba, depth.data))
+}
+
+/// Planes of sRGB bytes `rgba` (`w` x `h`) as linear premultiplied colour, with `depth`.
+fn colour_planes(w: u32, h: u32, rgba: &[u8], depth: Vec<f32>) -> Planes {
     let lut = srgb_to_linear_lut();
     let color = rgba
         .chunks_exact(4)
@@ -310,12 +355,12 @@ fn planes(
             .premultiply()
         })
         .collect();
-    Ok(Planes {
+    Planes {
         width: w,
         height: h,
         color,
-        depth: depth.data,
-    })
+        depth,
+    }
 }
 
 /// A depth image from a colour file and a depth file given one by one (not through a
@@ -327,7 +372,8 @@ pub fn read_depth_image(
 ) -> Result<DepthImage, LoadError> {
     let colour_bytes = Disk.read(colour, load::MAX_FILE_BYTES)?;
     let depth_bytes = Disk.read(depth, load::MAX_FILE_BYTES)?;
-    Ok(planes(colour, &colour_bytes, depth, depth_bytes)?.with_camera(camera))
+    let depth = Some((depth.to_path_buf(), depth_bytes));
+    Ok(planes(colour, &colour_bytes, depth)?.with_camera(camera))
 }
 
 /// The world -> view matrix of a frame's camera-to-world `transform_matrix` (4 rows of 4).

@@ -172,9 +172,9 @@ pub(super) fn morph(
     (out, stats)
 }
 
-/// Fills each run of empty pixels of `row` from the farther (smaller disparity) of the
-/// pixels bounding it: the background side, so a disocclusion does not take the colour of
-/// the surface in front.
+/// Fills each run of empty pixels of `row` between two mapped ones from the farther
+/// (smaller disparity) of the two: the background side, so a disocclusion does not take
+/// the colour of the surface in front.
 fn fill_from_farther(row: &mut Row) {
     let w = row.disparity.len();
     let mut x = 0;
@@ -187,22 +187,20 @@ fn fill_from_farther(row: &mut Row) {
         while x < w && row.disparity[x] < 0.0 {
             x += 1;
         }
-        let before = start.checked_sub(1);
-        let after = (x < w).then_some(x);
-        let from = match (before, after) {
-            (Some(a), Some(b)) => Some(if row.disparity[a] <= row.disparity[b] {
-                a
-            } else {
-                b
-            }),
-            (a, b) => a.or(b),
+        // Only gaps between two mapped pixels: past the last one on either side the views
+        // saw nothing, and nothing is made up.
+        let (Some(a), true) = (start.checked_sub(1), x < w) else {
+            continue;
         };
-        if let Some(f) = from {
-            let (c, d) = (row.color[f], row.disparity[f]);
-            for t in start..x {
-                row.color[t] = c;
-                row.disparity[t] = d;
-            }
+        let f = if row.disparity[a] <= row.disparity[x] {
+            a
+        } else {
+            x
+        };
+        let (c, d) = (row.color[f], row.disparity[f]);
+        for t in start..x {
+            row.color[t] = c;
+            row.disparity[t] = d;
         }
     }
 }

@@ -141,6 +141,22 @@ fn a_nerf_style_file_reads() {
 }
 
 #[test]
+fn photographs_read_with_or_without_depth_maps() {
+    let json = frame_json("").replace(", \"depth_file_path\": \"a.pfm\"", "");
+    let files = memory(&json, &[1.0; 4], (2, 2));
+    let path = Path::new("c/transforms.json");
+    let images = read_photos_from(path, &files).unwrap();
+    // No depth: every pixel empty; the colour and the camera as with one.
+    assert_eq!(images[0].depth, vec![EMPTY; 4]);
+    assert!(images[0].color.iter().any(|c| c.a > 0.0));
+    assert!((images[0].camera.eye() - Vec3::new(0.0, 0.0, 3.0)).length() < 1e-6);
+    // A depth map given is read as by read_transforms; read_transforms needs one.
+    let with = memory(&frame_json(""), &[1.0, 2.0, 3.0, 4.0], (2, 2));
+    assert_eq!(read_photos_from(path, &with).unwrap(), read(&with).unwrap());
+    assert!(read(&files).is_err());
+}
+
+#[test]
 fn bad_captures_are_refused_naming_the_file() {
     let ok_depth = [1.0, 2.0, 3.0, 4.0];
     let cases: Vec<(Memory, &str, &str)> = vec![

@@ -1,0 +1,205 @@
+//! `render --capture` and `morph` end to end: two captured views morphed; the middle view
+//! agrees with a render from the in-between camera; photographs without depth morph by
+//! the stereo matcher; bad input, and motion toward the scene, are one-line errors.
+
+use engine::load;
+use std::path::Path;
+use std::process::{Command, Output};
+
+mod common;
+use common::{Tmp, TWO_SQUARES as SCENE};
+
+fn run(bin: &str, args: &[&str]) -> Output {
+    Command::new(bin).args(args).output().expect("run")
+}
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+const SIZE: [&str; 4] = ["-W", "96", "-H", "72"];
+
+/// A capture of the two squares from two eyes 20 degrees apart on an arc around the
+/// origin, 4 units out: each looks at the origin, so the views are not parallel.
+fn capture(tmp: &Tmp) -> std::path::PathBuf {
+    let obj = tmp.path("scene.obj");
+    std::fs::write(&obj, SCENE).unwrap();
+    let cap = tmp.path("cap");
+    let mut args = vec!["--obj", s(&obj), "--eye", "0,0,4", "--target", "0,0,0"];
+    args.extend(["--shading", "vertex", "--capture", s(&cap)]);
+    args.extend(["--views", "2", "--spread", "20"]);
+    args.extend(SIZE);
+    ok(&run(env!("CARGO_BIN_EXE_render"), &args));
+    cap
+}
+
+/// The RGBA bytes of a PNG.
+fn png(path: &Path) -> Vec<u8> {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    load::rgba8_from_bytes(&bytes, path).expect("a PNG").2
+}
+
+/// The mean absolute channel difference (linear, in 8-bit levels) over the pixels both
+/// images cover: `a` sRGB as the capture and the morph store it, `b` sRGB too or (`b_unorm`)
+/// the linear bytes `render --png` writes for vertex colours.
+fn mean_error(a: &[u8], b: &[u8], b_unorm: bool) -> f64 {
+    let lin = |v: u8, srgb: bool| {
+        let x = f32::from(v) / 255.0;
+        255.0
+            * if srgb {
+                engine::color::srgb_to_linear(x)
+            } else {
+                x
+            }
+    };
+    let (mut sum, mut n) = (0.0f64, 0u64);
+    for (p, q) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        if p[3] > 0 && q[3] > 0 {
+            for c in 0..3 {
+                sum += f64::from((lin(p[c], true) - lin(q[c], !b_unorm)).abs());
+            }
+            n += 3;
+        }
+    }
+    assert!(n > 0, "the images share no pixels");
+    sum / n as f64
+}
+
+#[test]
+fn the_middle_view_matches_a_render_from_the_in_between_camera() {
+    let tmp = Tmp::new("morph-cli", "middle");
+    let cap = capture(&tmp);
+    let out = tmp.path("frames");
+    let json = cap.join("transforms.json");
+    let stdout = ok(&run(
+        env!("CARGO_BIN_EXE_morph"),
+        &[
+            "--capture",
+            s(&json),
+            "--frames",
+            "3",
+            "--plain",
+            "--out",
+            s(&out),
+        ],
+    ));
+    assert_eq!(stdout.lines().count(), 3, "{stdout}");
+    for f in [
+        "morph_0000.png",
+        "morph_0001.png",
+        "morph_0002.png",
+        "plain_0001.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+    // Halfway: the eye at the middle of the chord (4 cos 10 degrees out), looking at the
+    // origin (the orientations are symmetric about it).
+    let truth = tmp.path("truth.png");
+    let z = 4.0 * 10f32.to_radians().cos();
+    let eye = format!("0,0,{z}");
+    let obj = tmp.path("scene.obj");
+    let mut args = vec!["--obj", s(&obj), "--eye", &eye];
+    args.extend([
+        "--target",
+        "0,0,0",
+        "--shading",
+        "vertex",
+        "--png",
+        s(&truth),
+    ]);
+    args.extend(SIZE);
+    ok(&run(env!("CARGO_BIN_EXE_render"), &args));
+    let (morphed, truth) = (png(&out.join("morph_0001.png")), png(&truth));
+    let err = mean_error(&morphed, &truth, true);
+    eprintln!("middle view off by {err:.1} levels");
+    // (Measured: 2.0 levels; the ends against the captured views 1.9 each.)
+    assert!(err < 6.0, "middle view off by {err:.1} levels");
+    for (k, view) in [(0, "0000"), (2, "0001")] {
+        let captured = png(&cap.join(format!("images/{view}.png")));
+        let end = png(&out.join(format!("morph_{k:04}.png")));
+        let err = mean_error(&end, &captured, false);
+        eprintln!("end {k} off by {err:.1} levels");
+        assert!(err < 6.0, "end {k} off by {err:.1} levels");
+    }
+}
+
+#[test]
+fn photographs_without_depth_morph_by_the_stereo_matcher() {
+    let tmp = Tmp::new("morph-cli", "stereo");
+    let cap = capture(&tmp);
+    // Drop the depth maps: poses and images only.
+    let json = cap.join("transforms.json");
+    let text = std::fs::read_to_string(&json).unwrap();
+    let kept: String = text
+        .lines()
+        .filter(|l| !l.contains("depth_file_path"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&json, kept).unwrap();
+    let out = tmp.path("frames");
+    let mut args = vec!["--capture", s(&json), "--t", "0.5", "--out", s(&out)];
+    args.extend(["--correspondence", "stereo", "--max-disparity", "64"]);
+    let stdout = ok(&run(env!("CARGO_BIN_EXE_morph"), &args));
+    assert!(stdout.contains("t 0.500"), "{stdout}");
+    assert!(out.join("morph_0000.png").is_file());
+    // Without depth the correspondences cannot come from it.
+    let o = run(
+        env!("CARGO_BIN_EXE_morph"),
+        &["--capture", s(&json), "--t", "0.5", "--out", s(&out)],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("no depth"), "{err}");
+}
+
+#[test]
+fn bad_input_and_motion_toward_the_scene_are_one_line_errors() {
+    let tmp = Tmp::new("morph-cli", "errors");
+    let cap = capture(&tmp);
+    let json = cap.join("transforms.json");
+    let out = tmp.path("out");
+    let fails = |args: &[&str], says: &str| {
+        let o = run(env!("CARGO_BIN_EXE_morph"), args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        assert!(err.starts_with("morph: error: "), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    };
+    fails(
+        &["--capture", s(&json), "--to", "5", "--out", s(&out)],
+        "no frame 5",
+    );
+    fails(
+        &["--capture", s(&tmp.path("missing.json")), "--out", s(&out)],
+        "missing.json",
+    );
+    fails(
+        &["--capture", s(&json), "--t", "1.5", "--out", s(&out)],
+        "from 0 to 1",
+    );
+    // The second camera straight ahead of the first (both look down -z): the epipole is
+    // in the image.
+    let toward = cap.join("toward.json");
+    let frame = |z: f32| {
+        format!(
+            r#"{{"file_path": "images/0000.png", "depth_file_path": "depth/0000.pfm",
+              "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,{z}],[0,0,0,1]]}}"#
+        )
+    };
+    let doc = format!(
+        r#"{{"camera_angle_x": 0.9, "frames": [{}, {}]}}"#,
+        frame(4.0),
+        frame(3.0)
+    );
+    std::fs::write(&toward, doc).unwrap();
+    fails(&["--capture", s(&toward), "--out", s(&out)], "epipole");
+}
