@@ -10,6 +10,7 @@ pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
 pub mod bench_lightfield;
+pub mod bench_morph;
 pub mod bench_portals;
 pub mod bench_scaling;
 pub mod bench_stereo;

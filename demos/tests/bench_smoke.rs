@@ -615,3 +615,25 @@ fn stereo_sweep_writes_csv_and_png_charts() {
     }
     assert_charts(&dir, &["stereo_time_error.png", "stereo_pairs.png"]);
 }
+
+#[test]
+fn morph_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("morph", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["path", "method", "s"]);
+    for path in ["near", "wide"] {
+        for method in ["morph-depth", "morph-stereo", "plain"] {
+            let rows = t.of(path, method);
+            assert_eq!(rows.len(), 3, "{path} {method}: {csv}");
+            for r in rows {
+                assert!(t.num(r, "psnr_db") > 5.0, "{path} {method}: {r:?}");
+                assert!(t.num(r, "median_ms") > 0.0);
+            }
+        }
+        // Halfway between non-parallel views the prewarped morph keeps shape; the plain
+        // one does not.
+        let mid = |m: &str| t.num(t.of(path, m)[1], "psnr_db");
+        assert!(mid("morph-depth") > mid("plain"), "{path}: {csv}");
+    }
+    assert_charts(&dir, &["morph_path.png"]);
+}

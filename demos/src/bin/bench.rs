@@ -34,12 +34,17 @@
 //!   rendered pairs with exact ground truth (the plaza, cards, a slanted wall, thin bars,
 //!   little texture, a repeated pattern, an unrectified pair): the Middlebury measures
 //!   and time side by side (`demos::bench_stereo`).
+//! - `morph`: view morphing between two views of the plaza (near and wide apart), with the
+//!   prewarp (correspondences from depth and from the stereo matcher) and the plain morph
+//!   without it: error against the geometry from each in-between camera, and time
+//!   (`demos::bench_morph`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
 use demos::bench_lightfield as bl;
+use demos::bench_morph as bm;
 use demos::bench_portals as bp;
 use demos::bench_scaling as scaling;
 use demos::bench_stereo as bs;
@@ -85,6 +90,9 @@ enum Sweep {
     /// Stereo matchers against OpenCV's StereoSGBM on rendered pairs: Middlebury error
     /// and time.
     Stereo(StereoArgs),
+    /// View morphing along the path between two views, with and without the prewarp,
+    /// against the geometry.
+    Morph(Small),
 }
 
 #[derive(Args, Debug)]
@@ -148,6 +156,7 @@ fn main() -> ExitCode {
         Sweep::Portals(c) => portals(c),
         Sweep::Lightfield(c) => lightfield(c),
         Sweep::Stereo(c) => stereo(c),
+        Sweep::Morph(c) => morph(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -561,4 +570,26 @@ fn stereo(c: &StereoArgs) -> Result<(), String> {
         bs::run(&plan, &out, peer.as_ref(), progress)
     };
     sweep(&c.run, "stereo", "rows", run, report, bs::charts)
+}
+
+fn morph(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bm::Plan::tiny, bm::Plan::quick, bm::Plan::full);
+    let report = |rows: &[bm::Row]| {
+        for r in rows {
+            println!(
+                "{:<5} {:<13} s {:.2} {}x{} median {:>8.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  covered {:>5.1}%",
+                r.path,
+                r.method,
+                r.s,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                100.0 * r.covered,
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bm::run(&plan, progress);
+    sweep(c, "morph", "rows", run, report, bm::charts)
 }

@@ -1,0 +1,224 @@
+//! The `bench morph` sweep: view morphing along the path from one view to the other,
+//! against the geometry rendered from each in-between camera: the morph with its prewarp
+//! (correspondences from depth, and from the stereo matcher) beside the plain image morph
+//! without it, which is not shape preserving. Two views of the showcase's plaza, turned
+//! toward its centre from either side (not parallel), and a wider pair.
+
+use crate::showcase::{self, Showcase};
+use crate::sweep::{self, CsvRow, Timing};
+use crate::timing::Summary;
+use engine::{Draw, Lighting};
+use glam::Vec3;
+use ibr::capture::capture_batch;
+use ibr::images::transforms::srgb8;
+use ibr::images::DepthImage;
+use ibr::metrics::{compare_rgba8, Image, ImageError, Options, Region};
+use ibr::morph::{plain_morph, Correspondence, ViewMorph};
+use std::time::{Duration, Instant};
+
+/// What a sweep measures.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub width: u32,
+    pub height: u32,
+    /// Points along each path, ends included.
+    pub steps: usize,
+    pub timing: Timing,
+}
+
+impl Plan {
+    pub fn tiny() -> Plan {
+        Plan {
+            width: 128,
+            height: 96,
+            steps: 3,
+            timing: Timing {
+                warmup: 0,
+                frames: 1,
+                budget: Duration::ZERO,
+            },
+        }
+    }
+
+    pub fn quick() -> Plan {
+        Plan {
+            width: 320,
+            height: 240,
+            steps: 5,
+            timing: Timing {
+                warmup: 0,
+                frames: 2,
+                budget: Duration::from_secs(1),
+            },
+        }
+    }
+
+    pub fn full() -> Plan {
+        Plan {
+            width: 640,
+            height: 480,
+            steps: 11,
+            timing: Timing {
+                warmup: 1,
+                frames: 3,
+                budget: Duration::from_secs(2),
+            },
+        }
+    }
+}
+
+/// One method at one point of one path.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub path: String,
+    pub method: String,
+    pub s: f32,
+    pub width: u32,
+    pub height: u32,
+    pub time: Summary,
+    /// Against the geometry, over the pixels both cover.
+    pub error: ImageError,
+    /// The share of the geometry's pixels the view covers.
+    pub covered: f64,
+}
+
+impl CsvRow for Row {
+    const HEADER: &'static str =
+        "path,method,s,width,height,frames,median_ms,psnr_db,mean_abs,frac_over,covered";
+
+    fn csv(&self) -> String {
+        format!(
+            "{},{},{:.3},{},{},{},{:.3},{:.3},{:.3},{:.5},{:.5}",
+            self.path,
+            self.method,
+            self.s,
+            self.width,
+            self.height,
+            self.time.frames,
+            self.time.median_ms,
+            self.error.psnr_capped(99.0),
+            self.error.mean_abs,
+            self.error.frac_over,
+            self.covered,
+        )
+    }
+}
+
+/// The paths: `(name, first eye, second eye)`, both looking at the plaza's centre.
+const PATHS: [(&str, Vec3, Vec3); 2] = [
+    (
+        "near",
+        Vec3::new(-2.0, 3.0, 12.0),
+        Vec3::new(2.0, 3.0, 12.0),
+    ),
+    (
+        "wide",
+        Vec3::new(-5.0, 3.5, 11.0),
+        Vec3::new(5.0, 3.5, 11.0),
+    ),
+];
+
+/// The methods compared.
+const METHODS: [&str; 3] = ["morph-depth", "morph-stereo", "plain"];
+
+/// Runs the sweep.
+pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<Vec<Row>, String> {
+    let show = Showcase::new();
+    let draws: Vec<Draw<'_>> = show.scene.draws().collect();
+    let lighting: &Lighting = &show.scene.lighting;
+    let (w, h) = (plan.width, plan.height);
+    let target = Vec3::new(0.0, 1.0, 0.0);
+    let steps = plan.steps.max(2);
+    let mut tick = sweep::ticker(PATHS.len() * steps, progress);
+    let mut rows = Vec::new();
+    for (name, a, b) in PATHS {
+        let cameras = [a, b].map(|eye| showcase::camera(eye, target, w, h));
+        let views = capture_batch(&draws, &cameras, lighting, w, h);
+        let (first, second) = (&views[0], &views[1]);
+        let make = |how| ViewMorph::new(first, second, how).map_err(|e| format!("{name}: {e}"));
+        let by_depth = make(Correspondence::Depth)?;
+        // Stereo on the prewarped pair: disparities up to a fifth of its width.
+        let max_disparity = by_depth.prewarped().left.width() / 5;
+        let by_stereo = make(Correspondence::Stereo { max_disparity })?;
+        for k in 0..steps {
+            let s = k as f32 / (steps - 1) as f32;
+            tick(format!("{name} s {s:.2}"));
+            let camera = by_depth.camera_at(s);
+            let truth = capture_batch(&draws, &[camera], lighting, w, h).remove(0);
+            for method in METHODS {
+                let mut last = None;
+                let times = plan.timing.run(|| {
+                    let t = Instant::now();
+                    last = Some(match method {
+                        "morph-depth" => by_depth.frame(s).0,
+                        "morph-stereo" => by_stereo.frame(s).0,
+                        _ => plain_morph(first, second, s),
+                    });
+                    t.elapsed()
+                });
+                let view = last.expect("at least one frame");
+                let (error, covered) = against(&view, &truth)?;
+                rows.push(Row {
+                    path: name.into(),
+                    method: method.into(),
+                    s,
+                    width: w,
+                    height: h,
+                    time: Summary::of(&times),
+                    error,
+                    covered,
+                });
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// `view`'s error against `truth` over the pixels both cover, and the share of `truth`'s
+/// covered pixels it covers.
+fn against(view: &DepthImage, truth: &DepthImage) -> Result<(ImageError, f64), String> {
+    let (w, h) = (truth.width(), truth.height());
+    let (a, b) = (srgb8(view), srgb8(truth));
+    let both: Vec<bool> = view
+        .color
+        .iter()
+        .zip(&truth.color)
+        .map(|(v, t)| v.a > 0.0 && t.a > 0.0)
+        .collect();
+    let image = |rgba| Image::new(w, h, rgba).map_err(|e| e.to_string());
+    let options = Options {
+        region: Region::Mask(&both),
+        ..Options::default()
+    };
+    let error = compare_rgba8(image(&a)?, image(&b)?, &options).map_err(|e| e.to_string())?;
+    let seen = truth.color.iter().filter(|c| c.a > 0.0).count();
+    let covered = both.iter().filter(|b| **b).count() as f64 / seen.max(1) as f64;
+    Ok((error, covered))
+}
+
+/// `(file, chart)` for every chart of the sweep: error along each path.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
+    use crate::chart::{Chart, Line, Lines};
+    let mut lines = Vec::new();
+    for (path, _, _) in PATHS {
+        for method in METHODS {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.path == path && r.method == method)
+                .map(|r| (f64::from(r.s), r.error.psnr_capped(50.0)))
+                .collect();
+            if !points.is_empty() {
+                lines.push(Line::new(format!("{method}, {path}"), points));
+            }
+        }
+    }
+    vec![(
+        "morph_path.png",
+        Chart::Lines(Lines::new(
+            "View morphing along the path between two views, against the geometry",
+            "s (0: first view, 1: second)",
+            "PSNR over the pixels both cover (dB, capped at 50: the plain morph at s 0 is the first view)",
+            lines,
+        )),
+    )]
+}
