@@ -125,6 +125,7 @@ impl BlockMatch {
             &bl,
             |i| br[i].0,
             self.lr_tolerance,
+            &textured(left, w, h),
         ))
     }
 
@@ -145,7 +146,10 @@ impl BlockMatch {
             .filter(|&(j, c)| c.is_finite() && j.abs_diff(k) > 1)
             .map(|(_, &c)| c)
             .fold(f32::INFINITY, f32::min);
-        let unique = c < (1.0 - self.uniqueness) * second || !second.is_finite();
+        // A least cost at the range's far end is not known to be a minimum: the true one
+        // may lie beyond the search.
+        let unique =
+            (c < (1.0 - self.uniqueness) * second || !second.is_finite()) && k + 1 < costs.len();
         let mut d = k as f32;
         if k > 0 && k + 1 < costs.len() && costs[k - 1].is_finite() && costs[k + 1].is_finite() {
             d = parabola(k, costs[k - 1], c, costs[k + 1]);
@@ -154,16 +158,48 @@ impl BlockMatch {
     }
 }
 
+/// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched: below it
+/// the window holds nothing to match on (a flat wall) and any disparity would be made up.
+pub const MIN_TEXTURE: f32 = 2.0 / 255.0;
+
+/// Per pixel of a `w` x `h` luminance image, whether its 5x5 window (clamped at the edges)
+/// spans at least [`MIN_TEXTURE`]: rows of ranges over five columns, then over five rows.
+pub(super) fn textured(image: &[f32], w: usize, h: usize) -> Vec<bool> {
+    let span = |v: &[f32], i: usize, n: usize, stride: usize| {
+        let (lo, hi) = (i.saturating_sub(2), (i + 2).min(n - 1));
+        (lo..=hi).fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), k| {
+            (a.min(v[k * stride]), b.max(v[k * stride]))
+        })
+    };
+    // Per pixel, the least and greatest of its row's five.
+    let (mut lo, mut hi) = (vec![0.0; w * h], vec![0.0; w * h]);
+    for y in 0..h {
+        let row = &image[y * w..(y + 1) * w];
+        for x in 0..w {
+            (lo[y * w + x], hi[y * w + x]) = span(row, x, w, 1);
+        }
+    }
+    (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let (a, _) = span(&lo[x..], y, h, w);
+            let (_, b) = span(&hi[x..], y, h, w);
+            b - a >= MIN_TEXTURE
+        })
+        .collect()
+}
+
 /// The disparity map of the left image's best matches `left_best` (disparity, unique),
-/// keeping those that are unique and that the right image's best match `right_best(i)`
-/// (at pixel `i`) points back to within `tolerance` pixels; a match past the right image's
-/// edge is no match.
+/// keeping those that are unique, on `textured` pixels, and that the right image's best
+/// match `right_best(i)` (at pixel `i`) points back to within `tolerance` pixels; a match
+/// past the right image's edge is no match.
 pub(super) fn left_right_checked(
     width: u32,
     height: u32,
     left_best: &[(f32, bool)],
     right_best: impl Fn(usize) -> f32,
     tolerance: f32,
+    textured: &[bool],
 ) -> Disparity {
     let w = width as usize;
     let data = left_best
@@ -172,7 +208,7 @@ pub(super) fn left_right_checked(
         .map(|(i, &(dl, unique))| {
             let (x, y) = (i % w, i / w);
             let xr = x as f32 - dl;
-            if !unique || !dl.is_finite() || xr < 0.0 {
+            if !unique || !textured[i] || !dl.is_finite() || xr < 0.0 {
                 return f32::INFINITY;
             }
             let dr = right_best(y * w + xr.round() as usize);

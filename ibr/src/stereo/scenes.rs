@@ -86,6 +86,28 @@ pub(super) fn occluded() -> StereoPair {
     ])
 }
 
+/// A flat grey wall (no texture at all) through the origin, and a textured card 2.5 units
+/// in front of it.
+pub(super) fn textureless() -> StereoPair {
+    let mut wall = procedural::quad(12.0, 12.0);
+    wall.colors.clear();
+    let grey = Material::unlit(Rgba::new(0.4, 0.4, 0.4, 1.0)).double_sided(true);
+    let (card, textured) = card(1.2);
+    let draws = [
+        Draw {
+            mesh: &wall,
+            material: &grey,
+            transform: Mat4::IDENTITY,
+        },
+        Draw {
+            mesh: &card,
+            material: &textured,
+            transform: Mat4::from_translation(Vec3::new(0.0, 0.0, 2.5)),
+        },
+    ];
+    StereoPair::render(&draws, &Lighting::default(), &camera(), BASELINE, W, H)
+}
+
 /// The large card turned 35 degrees about the vertical: disparity changing along rows.
 pub(super) fn slanted() -> StereoPair {
     pair(&[(12.0, Mat4::from_rotation_y(0.6))])

@@ -14,7 +14,7 @@
 //! memory is the two passes' sums, 4 bytes per pixel and disparity. Integer sums: the same
 //! answer at any thread count.
 
-use super::block::{left_right_checked, parabola};
+use super::block::{left_right_checked, parabola, textured};
 use super::{Disparity, StereoError};
 use rayon::prelude::*;
 
@@ -133,6 +133,7 @@ impl Sgm {
             &left_best,
             |i| right_best[i],
             self.lr_tolerance,
+            &textured(left, w, h),
         ))
     }
 
@@ -291,7 +292,10 @@ fn choose(sums: &[u16], uniqueness: f32) -> (f32, bool) {
     let k = sums.iter().position(|&s| s == c).unwrap_or(0);
     let n = sums.len();
     let second = least(&sums[..k.saturating_sub(1)]).min(least(&sums[(k + 2).min(n)..]));
-    let unique = second == u16::MAX || (c as f32) < (1.0 - uniqueness) * second as f32;
+    // A least sum at the range's far end is not known to be a minimum: the true one may
+    // lie beyond the search.
+    let unique =
+        (second == u16::MAX || (c as f32) < (1.0 - uniqueness) * second as f32) && k + 1 < n;
     let near = |j: Option<usize>| j.and_then(|j| sums.get(j)).filter(|s| **s != u16::MAX);
     let d = match (near(k.checked_sub(1)), near(Some(k + 1))) {
         (Some(&a), Some(&b)) => parabola(k, a as f32, c as f32, b as f32),
