@@ -19,6 +19,7 @@ use crate::sweep::{self, CsvRow, Timing};
 use crate::timing::Summary;
 use engine::load;
 use ibr::images::transforms::srgb8;
+use ibr::stereo::block::MIN_TEXTURE;
 use ibr::stereo::{luminance_rgba8, measure, BlockMatch, Disparity, Measured, Sgm};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -149,7 +150,7 @@ pub fn run(
     progress: &mut dyn FnMut(usize, usize, &str),
 ) -> Result<Vec<Row>, String> {
     let pairs = scenes(plan.width, plan.height);
-    let mut tick = sweep::ticker(pairs.len() * 2 + 1, progress);
+    let mut tick = sweep::ticker(pairs.len() * 3 + 1, progress);
     let mut rows = Vec::new();
     let mut dirs = Vec::new();
     for scene in &pairs {
@@ -166,7 +167,8 @@ pub fn run(
         load::write_float_image(&dir.join("truth.pfm"), &scene.pair.truth.to_float_image())
             .map_err(|e| e.to_string())?;
         let (l, r) = (luminance_rgba8(&left), luminance_rgba8(&right));
-        for method in ["block", "sgm"] {
+        // `sgm-flat`: SGM taking what its paths give flat regions (no texture check).
+        for method in ["block", "sgm", "sgm-flat"] {
             tick(format!("{} {method}", scene.name));
             let mut last = None;
             let times = plan.timing.run(|| {
@@ -179,6 +181,7 @@ pub fn run(
                     .run(&l, &r, w, h),
                     _ => Sgm {
                         max_disparity: plan.max_disparity,
+                        min_texture: if method == "sgm" { MIN_TEXTURE } else { 0.0 },
                         ..Sgm::default()
                     }
                     .run(&l, &r, w, h),

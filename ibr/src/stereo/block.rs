@@ -20,6 +20,9 @@ pub struct BlockMatch {
     pub uniqueness: f32,
     /// Largest difference (pixels) between the left and the right image's matches.
     pub lr_tolerance: f32,
+    /// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched
+    /// ([`MIN_TEXTURE`] by default; 0 matches flat regions too).
+    pub min_texture: f32,
 }
 
 impl Default for BlockMatch {
@@ -29,6 +32,7 @@ impl Default for BlockMatch {
             radius: 3,
             uniqueness: 0.05,
             lr_tolerance: 1.0,
+            min_texture: MIN_TEXTURE,
         }
     }
 }
@@ -125,7 +129,7 @@ impl BlockMatch {
             &bl,
             |i| br[i].0,
             self.lr_tolerance,
-            &textured(left, w, h),
+            &textured(left, w, h, self.min_texture),
         ))
     }
 
@@ -158,13 +162,16 @@ impl BlockMatch {
     }
 }
 
-/// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched: below it
-/// the window holds nothing to match on (a flat wall) and any disparity would be made up.
-pub const MIN_TEXTURE: f32 = 2.0 / 255.0;
+/// The matchers' default least luminance range (of 1) over a pixel's 5x5 window for it to
+/// be matched: below it the window is flat, holds nothing to match on (a plain wall), and
+/// any disparity would be made up. Half a level of an 8-bit image: only truly flat windows.
+/// Semi-global matching's paths often interpolate a flat plane between textured edges
+/// correctly; set the matcher's `min_texture` to 0 to take what they give.
+pub const MIN_TEXTURE: f32 = 0.5 / 255.0;
 
 /// Per pixel of a `w` x `h` luminance image, whether its 5x5 window (clamped at the edges)
-/// spans at least [`MIN_TEXTURE`]: rows of ranges over five columns, then over five rows.
-pub(super) fn textured(image: &[f32], w: usize, h: usize) -> Vec<bool> {
+/// spans at least `min`: rows of ranges over five columns, then over five rows.
+pub(super) fn textured(image: &[f32], w: usize, h: usize, min: f32) -> Vec<bool> {
     let span = |v: &[f32], i: usize, n: usize, stride: usize| {
         let (lo, hi) = (i.saturating_sub(2), (i + 2).min(n - 1));
         (lo..=hi).fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), k| {
@@ -184,7 +191,7 @@ pub(super) fn textured(image: &[f32], w: usize, h: usize) -> Vec<bool> {
             let (x, y) = (i % w, i / w);
             let (a, _) = span(&lo[x..], y, h, w);
             let (_, b) = span(&hi[x..], y, h, w);
-            b - a >= MIN_TEXTURE
+            b - a >= min
         })
         .collect()
 }

@@ -14,7 +14,7 @@
 //! memory is the two passes' sums, 4 bytes per pixel and disparity. Integer sums: the same
 //! answer at any thread count.
 
-use super::block::{left_right_checked, parabola, textured};
+use super::block::{left_right_checked, parabola, textured, MIN_TEXTURE};
 use super::{Disparity, StereoError};
 use rayon::prelude::*;
 
@@ -31,6 +31,9 @@ pub struct Sgm {
     pub uniqueness: f32,
     /// Largest difference (pixels) between the left and the right image's matches.
     pub lr_tolerance: f32,
+    /// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched
+    /// ([`super::block::MIN_TEXTURE`] by default; 0 takes what the paths give flat regions).
+    pub min_texture: f32,
 }
 
 impl Default for Sgm {
@@ -41,6 +44,7 @@ impl Default for Sgm {
             p2: 20,
             uniqueness: 0.03,
             lr_tolerance: 1.0,
+            min_texture: MIN_TEXTURE,
         }
     }
 }
@@ -133,7 +137,7 @@ impl Sgm {
             &left_best,
             |i| right_best[i],
             self.lr_tolerance,
-            &textured(left, w, h),
+            &textured(left, w, h, self.min_texture),
         ))
     }
 

@@ -99,7 +99,7 @@ impl Reference {
             &left_best,
             |i| right_best[i],
             self.0.lr_tolerance,
-            &textured(left, w, h),
+            &textured(left, w, h, self.0.min_texture),
         ))
     }
 
