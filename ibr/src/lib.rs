@@ -42,6 +42,7 @@ pub mod lightfield;
 pub mod metrics;
 pub mod morph;
 pub mod octahedral;
+pub mod panorama;
 pub mod portal;
 pub mod sprites;
 pub mod stereo;

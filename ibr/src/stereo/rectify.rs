@@ -193,7 +193,7 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
 }
 
 /// `image`'s colour at `(u, v)` (pixel centres at integers), `None` outside it.
-fn bilinear(image: &DepthImage, u: f32, v: f32) -> Option<Premul> {
+pub(crate) fn bilinear(image: &DepthImage, u: f32, v: f32) -> Option<Premul> {
     let (w, h) = (image.width() as f32, image.height() as f32);
     if !(u >= -0.5 && v >= -0.5 && u <= w - 0.5 && v <= h - 0.5) {
         return None;
