@@ -201,7 +201,7 @@ impl Cylinder {
             let far = to_world * ndc;
             let dir = far.truncate() / far.w - eye;
             let flat = (dir.x * dir.x + dir.z * dir.z).sqrt();
-            if !(flat > 0.0) {
+            if flat.is_nan() || flat <= 0.0 {
                 continue;
             }
             let up = dir.y / flat;

@@ -121,7 +121,7 @@ fn the_panorama_fills_only_what_the_frame_left_empty() {
         let map = CubeMap::capture(draws, &Lighting::default(), CENTRE, 64, 0.1, 50.0);
         let camera = looking(CENTRE, Vec3::NEG_Z);
         let mut frame = DepthImage::new(W, H, camera);
-        let mark = engine::Premul {
+        let mark = Premul {
             r: 1.0,
             g: 0.0,
             b: 0.0,
