@@ -9,7 +9,7 @@
 
 use crate::capture::capture_batch;
 use crate::images::DepthImage;
-use crate::stereo::rectify::{bilinear, resample};
+use crate::stereo::rectify::{bilinear, pixel_ray, resample};
 use engine::{Camera, Draw, Lighting, Premul};
 use glam::{Mat3, Vec3};
 
@@ -191,15 +191,7 @@ impl Cylinder {
         let eye = camera.eye();
         let (cw, ch) = (self.width as f32, self.height as f32);
         for (i, c) in out.color.iter_mut().enumerate() {
-            let (x, y) = (i as u32 % w, i as u32 / w);
-            let ndc = glam::Vec4::new(
-                2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
-                1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
-                1.0,
-                1.0,
-            );
-            let far = to_world * ndc;
-            let dir = far.truncate() / far.w - eye;
+            let dir = pixel_ray(&to_world, eye, (i as u32 % w, i as u32 / w), (w, h));
             let flat = (dir.x * dir.x + dir.z * dir.z).sqrt();
             if flat.is_nan() || flat <= 0.0 {
                 continue;

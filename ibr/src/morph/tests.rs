@@ -5,22 +5,12 @@ use super::*;
 use crate::capture::capture_batch;
 use crate::images::transforms::srgb8;
 use crate::metrics::{compare_rgba8, Image, Options, Region};
-use crate::stereo::scenes::{scene_draws, H, W};
-use engine::{Draw, Lighting};
+use crate::stereo::scenes::{with_scene_draws, H, W};
+use engine::Lighting;
 
 /// The cards (a large slanted one, a small one in front) seen from `cameras`.
 fn views(cameras: &[Camera]) -> Vec<DepthImage> {
-    let (parts, transforms) = scene_draws();
-    let draws: Vec<Draw<'_>> = parts
-        .iter()
-        .zip(&transforms)
-        .map(|((mesh, material), &transform)| Draw {
-            mesh,
-            material,
-            transform,
-        })
-        .collect();
-    capture_batch(&draws, cameras, &Lighting::default(), W, H)
+    with_scene_draws(|draws| capture_batch(draws, cameras, &Lighting::default(), W, H))
 }
 
 /// A camera at `eye` looking at `target`.

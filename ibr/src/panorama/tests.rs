@@ -4,22 +4,10 @@
 use super::*;
 use crate::images::transforms::srgb8;
 use crate::metrics::{compare_rgba8, Image, Options, Region};
-use crate::stereo::scenes::{scene_draws, H, W};
+use crate::stereo::scenes::{H, W};
 
 /// The cards (a large slanted one through the origin, a small one 2 units in front).
-fn with_draws<R>(f: impl FnOnce(&[Draw<'_>]) -> R) -> R {
-    let (parts, transforms) = scene_draws();
-    let draws: Vec<Draw<'_>> = parts
-        .iter()
-        .zip(&transforms)
-        .map(|((mesh, material), &transform)| Draw {
-            mesh,
-            material,
-            transform,
-        })
-        .collect();
-    f(&draws)
-}
+use crate::stereo::scenes::with_scene_draws as with_draws;
 
 const CENTRE: Vec3 = Vec3::new(0.0, 0.0, 5.0);
 

@@ -155,14 +155,7 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
     let (old_forward, new_forward) = (image.camera.forward(), camera.forward());
     for y in 0..h {
         for x in 0..w {
-            let ndc = Vec4::new(
-                2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
-                1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
-                1.0,
-                1.0,
-            );
-            let far = to_world * ndc;
-            let dir = far.truncate() / far.w - eye;
+            let dir = pixel_ray(&to_world, eye, (x, y), (w, h));
             // The same ray in the original view, as a direction (a point at infinity).
             let c = to_old * dir.extend(0.0);
             if c.w <= 0.0 {
@@ -190,6 +183,25 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
         }
     }
     out
+}
+
+/// The direction (not normalised) from `eye` through the centre of pixel `(x, y)` of a
+/// `w` x `h` view whose clip-to-world matrix is `to_world`.
+#[inline]
+pub(crate) fn pixel_ray(
+    to_world: &Mat4,
+    eye: Vec3,
+    (x, y): (u32, u32),
+    (w, h): (u32, u32),
+) -> Vec3 {
+    let ndc = Vec4::new(
+        2.0 * (x as f32 + 0.5) / w as f32 - 1.0,
+        1.0 - 2.0 * (y as f32 + 0.5) / h as f32,
+        1.0,
+        1.0,
+    );
+    let far = *to_world * ndc;
+    far.truncate() / far.w - eye
 }
 
 /// `image`'s colour at `(u, v)` (pixel centres at integers), `None` outside it.

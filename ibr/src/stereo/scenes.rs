@@ -57,6 +57,21 @@ pub(crate) fn scene_draws() -> (Vec<(Mesh, Material)>, Vec<Mat4>) {
     (vec![card(12.0), card(1.0)], transforms)
 }
 
+/// [`scene_draws`] as draws, handed to `f`.
+pub(crate) fn with_scene_draws<R>(f: impl FnOnce(&[Draw<'_>]) -> R) -> R {
+    let (parts, transforms) = scene_draws();
+    let draws: Vec<Draw<'_>> = parts
+        .iter()
+        .zip(&transforms)
+        .map(|((mesh, material), &transform)| Draw {
+            mesh,
+            material,
+            transform,
+        })
+        .collect();
+    f(&draws)
+}
+
 /// A pair of the cards `(size, transform)`.
 pub(super) fn pair(cards: &[(f32, Mat4)]) -> StereoPair {
     let made: Vec<(Mesh, Material)> = cards.iter().map(|&(s, _)| card(s)).collect();
