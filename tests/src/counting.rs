@@ -24,6 +24,9 @@ static COUNTING: AtomicBool = AtomicBool::new(false);
 static COUNT: AtomicUsize = AtomicUsize::new(0);
 static BACKTRACES: AtomicBool = AtomicBool::new(false);
 static TRACES: Mutex<Vec<String>> = Mutex::new(Vec::new());
+/// The sizes of the first counted allocations (0: none), kept without backtraces (cheap,
+/// so a rare allocation that a backtrace's cost would hide still says its size).
+static SIZES: [AtomicUsize; 4] = [const { AtomicUsize::new(0) }; 4];
 const MAX_TRACES: usize = 8;
 
 thread_local! {
@@ -37,7 +40,10 @@ fn note(size: usize) {
     if !COUNTING.load(Ordering::SeqCst) || !TRACKED.with(Cell::get) || INSIDE.with(Cell::get) {
         return;
     }
-    COUNT.fetch_add(1, Ordering::SeqCst);
+    let k = COUNT.fetch_add(1, Ordering::SeqCst);
+    if let Some(slot) = SIZES.get(k) {
+        slot.store(size, Ordering::SeqCst);
+    }
     if BACKTRACES.load(Ordering::SeqCst) {
         INSIDE.with(|i| i.set(true));
         if let Ok(mut t) = TRACES.lock() {
@@ -89,6 +95,9 @@ pub fn count<R>(f: impl FnOnce() -> R) -> (R, usize) {
     }
     BACKTRACES.store(traces, Ordering::SeqCst);
     COUNT.store(0, Ordering::SeqCst);
+    for slot in &SIZES {
+        slot.store(0, Ordering::SeqCst);
+    }
     COUNTING.store(true, Ordering::SeqCst);
     let r = f();
     COUNTING.store(false, Ordering::SeqCst);
@@ -96,7 +105,14 @@ pub fn count<R>(f: impl FnOnce() -> R) -> (R, usize) {
     (r, COUNT.load(Ordering::SeqCst))
 }
 
-/// The backtraces kept by the last [`count`] (empty unless `ALLOC_BACKTRACE=1`).
+/// The sizes of the first allocations the last [`count`] counted, and the backtraces it
+/// kept (none unless `ALLOC_BACKTRACE=1`).
 pub fn traces() -> String {
-    TRACES.lock().map(|t| t.join("\n")).unwrap_or_default()
+    let sizes: Vec<usize> = SIZES
+        .iter()
+        .map(|s| s.load(Ordering::SeqCst))
+        .take_while(|&s| s > 0)
+        .collect();
+    let kept = TRACES.lock().map(|t| t.join("\n")).unwrap_or_default();
+    format!("sizes of the first allocations: {sizes:?}\n{kept}")
 }
