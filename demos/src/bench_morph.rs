@@ -10,9 +10,7 @@ use crate::timing::Summary;
 use engine::{Draw, Lighting};
 use glam::Vec3;
 use ibr::capture::capture_batch;
-use ibr::images::transforms::srgb8;
-use ibr::images::DepthImage;
-use ibr::metrics::{compare_rgba8, Image, ImageError, Options, Region};
+use ibr::metrics::{compare_seen, ImageError};
 use ibr::morph::{plain_morph, Correspondence, ViewMorph};
 use std::time::{Duration, Instant};
 
@@ -157,7 +155,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<
                     t.elapsed()
                 });
                 let view = last.expect("at least one frame");
-                let (error, covered) = against(&view, &truth)?;
+                let (error, covered) = compare_seen(&view, &truth).map_err(|e| e.to_string())?;
                 rows.push(Row {
                     path: name.into(),
                     method: method.into(),
@@ -172,28 +170,6 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<
         }
     }
     Ok(rows)
-}
-
-/// `view`'s error against `truth` over the pixels both cover, and the share of `truth`'s
-/// covered pixels it covers.
-fn against(view: &DepthImage, truth: &DepthImage) -> Result<(ImageError, f64), String> {
-    let (w, h) = (truth.width(), truth.height());
-    let (a, b) = (srgb8(view), srgb8(truth));
-    let both: Vec<bool> = view
-        .color
-        .iter()
-        .zip(&truth.color)
-        .map(|(v, t)| v.a > 0.0 && t.a > 0.0)
-        .collect();
-    let image = |rgba| Image::new(w, h, rgba).map_err(|e| e.to_string());
-    let options = Options {
-        region: Region::Mask(&both),
-        ..Options::default()
-    };
-    let error = compare_rgba8(image(&a)?, image(&b)?, &options).map_err(|e| e.to_string())?;
-    let seen = truth.color.iter().filter(|c| c.a > 0.0).count();
-    let covered = both.iter().filter(|b| **b).count() as f64 / seen.max(1) as f64;
-    Ok((error, covered))
 }
 
 /// `(file, chart)` for every chart of the sweep: error along each path.

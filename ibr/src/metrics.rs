@@ -25,6 +25,8 @@
 //! Nothing here renders: the functions read images and are exact integer sums up to the
 //! final divisions, so their answers can be checked by hand.
 
+use crate::images::transforms::srgb8;
+use crate::images::DepthImage;
 use engine::Target;
 use std::fmt;
 
@@ -303,6 +305,34 @@ pub fn compare_covered(a: &Target, b: &Target) -> Result<ImageError, MetricsErro
         ..Options::default()
     };
     compare(a, b, &opts)
+}
+
+/// The error of depth image `view` against `truth` (as 8-bit sRGB) over the pixels both
+/// cover (alpha above 0): where they agree something is there, how well it is drawn. And
+/// the share of `truth`'s covered pixels `view` covers, which that error leaves out.
+pub fn compare_seen(
+    view: &DepthImage,
+    truth: &DepthImage,
+) -> Result<(ImageError, f64), MetricsError> {
+    let both: Vec<bool> = view
+        .color
+        .iter()
+        .zip(&truth.color)
+        .map(|(v, t)| v.a > 0.0 && t.a > 0.0)
+        .collect();
+    let (a, b) = (srgb8(view), srgb8(truth));
+    let options = Options {
+        region: Region::Mask(&both),
+        ..Options::default()
+    };
+    let error = compare_rgba8(
+        Image::new(view.width(), view.height(), &a)?,
+        Image::new(truth.width(), truth.height(), &b)?,
+        &options,
+    )?;
+    let seen = truth.color.iter().filter(|c| c.a > 0.0).count();
+    let covered = both.iter().filter(|b| **b).count() as f64 / seen.max(1) as f64;
+    Ok((error, covered))
 }
 
 /// The error of raw image `a` against `b` (the reference).

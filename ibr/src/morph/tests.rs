@@ -3,8 +3,7 @@
 
 use super::*;
 use crate::capture::capture_batch;
-use crate::images::transforms::srgb8;
-use crate::metrics::{compare_rgba8, Image, Options, Region};
+use crate::metrics::compare_seen;
 use crate::stereo::scenes::{with_scene_draws, H, W};
 use engine::Lighting;
 
@@ -22,29 +21,15 @@ fn looking(eye: Vec3, target: Vec3) -> Camera {
 /// what is there, how well it is placed. (The prewarp crops what turns out of its frame,
 /// measured apart by [`covered`].)
 fn psnr(image: &DepthImage, truth: &DepthImage) -> f64 {
-    let (a, b) = (srgb8(image), srgb8(truth));
-    let both: Vec<bool> = (0..image.color.len())
-        .map(|i| image.color[i].a > 0.0 && truth.color[i].a > 0.0)
-        .collect();
-    let e = compare_rgba8(
-        Image::new(W, H, &a).expect("size"),
-        Image::new(W, H, &b).expect("size"),
-        &Options {
-            region: Region::Mask(&both),
-            ..Options::default()
-        },
-    )
-    .expect("same size");
-    e.psnr_capped(99.0)
+    compare_seen(image, truth)
+        .expect("same size")
+        .0
+        .psnr_capped(99.0)
 }
 
 /// The share of `truth`'s covered pixels `image` covers.
 fn covered(image: &DepthImage, truth: &DepthImage) -> f64 {
-    let want = truth.color.iter().filter(|c| c.a > 0.0).count();
-    let have = (0..image.color.len())
-        .filter(|&i| image.color[i].a > 0.0 && truth.color[i].a > 0.0)
-        .count();
-    have as f64 / want.max(1) as f64
+    compare_seen(image, truth).expect("same size").1
 }
 
 /// Two views converging on the cards from either side (turned toward each other by about

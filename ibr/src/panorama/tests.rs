@@ -2,12 +2,8 @@
 //! capture point, wrong by parallax away from it, as predicted.
 
 use super::*;
-use crate::images::transforms::srgb8;
-use crate::metrics::{compare_rgba8, Image, Options, Region};
-use crate::stereo::scenes::{H, W};
-
-/// The cards (a large slanted one through the origin, a small one 2 units in front).
-use crate::stereo::scenes::with_scene_draws as with_draws;
+use crate::metrics::compare_seen;
+use crate::stereo::scenes::{with_scene_draws as with_draws, H, W};
 
 const CENTRE: Vec3 = Vec3::new(0.0, 0.0, 5.0);
 
@@ -18,22 +14,8 @@ fn looking(eye: Vec3, dir: Vec3) -> Camera {
 /// PSNR of `image` against `truth` over the pixels both cover, and the share of `truth`'s
 /// pixels `image` covers.
 fn against(image: &DepthImage, truth: &DepthImage) -> (f64, f64) {
-    let both: Vec<bool> = (0..image.color.len())
-        .map(|i| image.color[i].a > 0.0 && truth.color[i].a > 0.0)
-        .collect();
-    let (a, b) = (srgb8(image), srgb8(truth));
-    let e = compare_rgba8(
-        Image::new(W, H, &a).expect("size"),
-        Image::new(W, H, &b).expect("size"),
-        &Options {
-            region: Region::Mask(&both),
-            ..Options::default()
-        },
-    )
-    .expect("same size");
-    let want = truth.color.iter().filter(|c| c.a > 0.0).count();
-    let have = both.iter().filter(|b| **b).count();
-    (e.psnr_capped(99.0), have as f64 / want.max(1) as f64)
+    let (e, covered) = compare_seen(image, truth).expect("same size");
+    (e.psnr_capped(99.0), covered)
 }
 
 /// Focal length in pixels of the test cameras.
