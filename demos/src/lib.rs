@@ -11,6 +11,7 @@ pub mod bench_billboards;
 pub mod bench_impostors;
 pub mod bench_lightfield;
 pub mod bench_morph;
+pub mod bench_panorama;
 pub mod bench_portals;
 pub mod bench_scaling;
 pub mod bench_stereo;

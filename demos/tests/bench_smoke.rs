@@ -637,3 +637,18 @@ fn morph_sweep_writes_csv_and_png_charts() {
     }
     assert_charts(&dir, &["morph_path.png"]);
 }
+
+#[test]
+fn panorama_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("panorama", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(t.header[0], "moved");
+    assert_eq!(t.rows.len(), 2, "{csv}");
+    let (at, away) = (&t.rows[0], &t.rows[1]);
+    // At the capture point nothing is predicted; away from it the prediction and the
+    // share of wrong pixels grow.
+    assert_eq!(t.num(at, "predicted_px"), 0.0);
+    assert!(t.num(away, "predicted_px") > 0.0);
+    assert!(t.num(away, "frac_over") > t.num(at, "frac_over"), "{csv}");
+    assert_charts(&dir, &["panorama_distance.png", "panorama_predicted.png"]);
+}

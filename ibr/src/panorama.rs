@@ -9,9 +9,10 @@
 
 use crate::capture::capture_batch;
 use crate::images::DepthImage;
-use crate::stereo::rectify::{bilinear, pixel_ray, resample};
+use crate::stereo::rectify::{bilinear, pixel_ray};
 use engine::{Camera, Draw, Lighting, Premul};
-use glam::{Mat3, Vec3};
+use glam::Vec3;
+use rayon::prelude::*;
 
 /// The six faces' view directions and up vectors: +x, -x, +y, -y, +z, -z.
 const FACES: [(Vec3, Vec3); 6] = [
@@ -74,23 +75,20 @@ impl CubeMap {
     /// matter: the panorama is drawn as if infinitely far), `w` x `h`. Depth is empty
     /// everywhere: it is the sky, behind everything.
     pub fn view(&self, camera: &Camera, w: u32, h: u32) -> DepthImage {
-        // The camera turned the same way, at the centre.
-        let mut view = camera.view;
-        let r = Mat3::from_mat4(view);
-        view.w_axis = (-(r * self.centre)).extend(1.0);
-        let at_centre = Camera {
-            view,
-            projection: camera.projection,
-        };
         let mut out = DepthImage::new(w, h, *camera);
-        for face in &self.faces {
-            let seen = resample(face, &at_centre, w, h);
-            for (o, s) in out.color.iter_mut().zip(&seen.color) {
-                if o.a <= 0.0 && s.a > 0.0 {
-                    *o = *s;
+        let to_world = camera.gl_view_proj().inverse();
+        let eye = camera.eye();
+        out.color
+            .par_chunks_mut(w.max(1) as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, c) in row.iter_mut().enumerate() {
+                    let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
+                    if let Some(s) = self.sample(dir) {
+                        *c = s;
+                    }
                 }
-            }
-        }
+            });
         out
     }
 

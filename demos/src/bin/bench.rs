@@ -38,6 +38,9 @@
 //!   prewarp (correspondences from depth and from the stereo matcher) and the plain morph
 //!   without it: error against the geometry from each in-between camera, and time
 //!   (`demos::bench_morph`).
+//! - `panorama`: the showcase's far scene as a cube-map sky, seen from eyes moved away
+//!   from its capture point: error against the geometry, the predicted parallax, time
+//!   (`demos::bench_panorama`).
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
@@ -45,6 +48,7 @@ use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
 use demos::bench_lightfield as bl;
 use demos::bench_morph as bm;
+use demos::bench_panorama as bpn;
 use demos::bench_portals as bp;
 use demos::bench_scaling as scaling;
 use demos::bench_stereo as bs;
@@ -93,6 +97,9 @@ enum Sweep {
     /// View morphing along the path between two views, with and without the prewarp,
     /// against the geometry.
     Morph(Small),
+    /// A cube-map sky seen from eyes moved away from where it was captured, against the
+    /// geometry: measured and predicted error.
+    Panorama(Small),
 }
 
 #[derive(Args, Debug)]
@@ -157,6 +164,7 @@ fn main() -> ExitCode {
         Sweep::Lightfield(c) => lightfield(c),
         Sweep::Stereo(c) => stereo(c),
         Sweep::Morph(c) => morph(c),
+        Sweep::Panorama(c) => panorama(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -592,4 +600,25 @@ fn morph(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| bm::run(&plan, progress);
     sweep(c, "morph", "rows", run, report, bm::charts)
+}
+
+fn panorama(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bpn::Plan::tiny, bpn::Plan::quick, bpn::Plan::full);
+    let report = |rows: &[bpn::Row]| {
+        for r in rows {
+            println!(
+                "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px",
+                r.moved,
+                r.width,
+                r.height,
+                r.panorama.median_ms,
+                r.geometry.median_ms,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                r.predicted_px,
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bpn::run(&plan, progress));
+    sweep(c, "panorama", "rows", run, report, bpn::charts)
 }
