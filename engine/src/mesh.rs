@@ -68,21 +68,27 @@ impl Mesh {
 
     /// A sphere that contains every vertex (centre of the bounding box; not minimal).
     pub fn bounding_sphere(&self) -> Sphere {
-        let finite = self.positions.iter().filter(|p| p.is_finite());
-        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-        for p in finite.clone() {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-        if lo.x > hi.x {
+        let Some((lo, hi)) = self.bounding_box() else {
             return Sphere {
                 center: Vec3::ZERO,
                 radius: 0.0,
             };
-        }
+        };
         let center = (lo + hi) * 0.5;
+        let finite = self.positions.iter().filter(|p| p.is_finite());
         let radius = finite.map(|p| p.distance(center)).fold(0.0, f32::max);
         Sphere { center, radius }
+    }
+
+    /// The smallest and largest coordinates of the finite positions (`None` when there are
+    /// none): the object-space bounding box.
+    pub fn bounding_box(&self) -> Option<(Vec3, Vec3)> {
+        let finite = self.positions.iter().filter(|p| p.is_finite());
+        let (lo, hi) = finite.fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        (lo.x <= hi.x).then_some((lo, hi))
     }
 
     /// Fills `normals` with area-weighted smooth vertex normals.

@@ -32,6 +32,7 @@ mod technique;
 pub use technique::Impostored;
 
 pub use capture::{capture_camera, Capture};
+pub(crate) use pool::image_material;
 pub use pool::Pool;
 pub use predict::{error_color, needed_side, screen_rect};
 
@@ -39,10 +40,12 @@ use predict::{pixels_per_radian, predict, Frustum};
 use refresh::{Job, Worker};
 
 use crate::metrics::{self, ImageError, Options, Region};
+pub use crate::schedule::Budget;
+use crate::schedule::Scheduler;
 use crate::subject::Subject;
 use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec4};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// When an impostor is invalid.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,17 +71,6 @@ impl Default for Tolerance {
             octaves: 1.0,
         }
     }
-}
-
-/// How much re-rendering a frame may do.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Budget {
-    /// Most impostors re-rendered per frame.
-    pub refreshes: usize,
-    /// Time the frame's refreshes may take: at most as many refreshes as the measured cost
-    /// of recent ones fits in, and at least one (interactive use; makes the refresh schedule
-    /// depend on the machine, so tests and benchmarks leave it `None`).
-    pub time: Option<Duration>,
 }
 
 /// Settings of an [`ImpostorSet`].
@@ -227,12 +219,10 @@ pub struct ImpostorSet {
     workers: Vec<Worker>,
     /// The frame's refreshes (reused).
     jobs: Vec<Job>,
-    /// Measured milliseconds per refresh, a running mean (for a time budget).
-    refresh_ms: f32,
     /// Colour impostors by predicted error (green 0, yellow at the tolerance, red at 2x).
     pub debug_tint: bool,
-    /// Refresh candidates: (visible, priority, index).
-    order: Vec<(bool, f32, usize)>,
+    /// Ranks refresh candidates within the budget (shared with image layers).
+    scheduler: Scheduler,
 }
 
 impl ImpostorSet {
@@ -244,9 +234,8 @@ impl ImpostorSet {
             renderer: Renderer::new(),
             workers: Vec::new(),
             jobs: Vec::new(),
-            refresh_ms: 1.0,
             debug_tint: false,
-            order: Vec::new(),
+            scheduler: Scheduler::default(),
         }
     }
 
@@ -273,7 +262,7 @@ impl ImpostorSet {
         let wide = Frustum::new(Mat4::from_diagonal(Vec4::new(widen, widen, 1.0, 1.0)) * clip);
         let px_per_radian = pixels_per_radian(camera, height);
         let cfg = self.config;
-        self.order.clear();
+        self.scheduler.clear();
         for (i, (imp, s)) in self.impostors.iter_mut().zip(subjects.iter()).enumerate() {
             let b = s.bounds();
             let visible = frustum.sees(b.center, b.radius);
@@ -312,22 +301,15 @@ impl ImpostorSet {
             let near = visible && dist < b.radius * cfg.transition;
             if imp.predicted.ratio >= 1.0 || near {
                 let priority = if near { f32::MAX } else { imp.predicted.ratio };
-                self.order.push((visible, priority, i));
+                self.scheduler.push(visible, priority, i);
             }
         }
-        // Visible before pre-warmed, largest error first; ties by index, so the schedule
-        // is deterministic.
-        self.order
-            .sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)).then(a.2.cmp(&b.2)));
         let mut report = Report::default();
-        let mut budget = cfg.budget.refreshes;
-        if let Some(t) = cfg.budget.time {
-            let fits = (t.as_secs_f32() * 1e3 / self.refresh_ms.max(1e-3)).floor() as usize;
-            budget = budget.min(fits.max(1));
-        }
+        let budget = self.scheduler.rank(&cfg.budget);
         self.jobs.clear();
-        for k in 0..self.order.len() {
-            let (visible, _, i) = self.order[k];
+        for k in 0..self.scheduler.ranked().len() {
+            let c = self.scheduler.ranked()[k];
+            let (visible, i) = (c.visible, c.index);
             if self.jobs.len() >= budget || i >= n {
                 report.stale += visible as usize;
                 continue;
@@ -343,10 +325,7 @@ impl ImpostorSet {
         report.refreshes = self.jobs.len();
         let start = Instant::now();
         self.render_jobs(subjects, lighting);
-        if !self.jobs.is_empty() {
-            let ms = start.elapsed().as_secs_f32() * 1e3 / self.jobs.len() as f32;
-            self.refresh_ms = 0.8 * self.refresh_ms + 0.2 * ms;
-        }
+        self.scheduler.measured(self.jobs.len(), start.elapsed());
         for k in 0..self.jobs.len() {
             let job = self.jobs[k];
             report.capture_triangles += self.workers[k].stats.triangles_set_up;

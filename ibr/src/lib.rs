@@ -16,6 +16,10 @@
 //!   depth, triangle ids or depth-peeled layers; batches over both cores.
 //! - [`billboard`]: screen, world and axial billboards, batched into one mesh per frame.
 //! - [`impostor`]: runtime impostors refreshed when their predicted error is too large.
+//! - [`layers`]: image layers (Lengyel and Snyder): each subject's image warped by the affine
+//!   map fitted to its characteristic points, re-rendered when that errs too far.
+//! - [`schedule`]: the refresh scheduler impostors and image layers share (budgeted,
+//!   largest error first).
 //! - [`cloud`]: cumulus particle clouds lit by a precomputed light pass (Harris and Lastra).
 //! - [`laser`]: dual-billboard beams with glowing end caps.
 //! - [`flare`]: lens flare with depth-buffer occlusion and a temporal fade.
@@ -38,12 +42,14 @@ pub mod flare;
 pub mod images;
 pub mod impostor;
 pub mod laser;
+pub mod layers;
 pub mod lightfield;
 pub mod metrics;
 pub mod morph;
 pub mod octahedral;
 pub mod panorama;
 pub mod portal;
+pub mod schedule;
 pub mod sprites;
 pub mod stereo;
 pub mod subject;

@@ -28,6 +28,25 @@ pub trait Subject {
 
     /// Triangles drawn by [`Subject::draws`] (for the triangles-against-pixels figures).
     fn triangle_count(&self) -> usize;
+
+    /// World-space corners of a box around everything [`Subject::draws`] draws: the
+    /// characteristic points an image layer's warp is fitted to. By default the cube around
+    /// [`Subject::bounds`]; subjects that know a tighter box say so.
+    fn corners(&self) -> [Vec3; 8] {
+        let b = self.bounds();
+        box_corners(b.center - b.radius, b.center + b.radius)
+    }
+}
+
+/// The eight corners of the axis-aligned box `lo..hi`.
+pub fn box_corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
 }
 
 /// A boxed subject is a subject, so one impostor set can hold subjects of several kinds
@@ -48,6 +67,9 @@ impl<T: Subject + ?Sized> Subject for Box<T> {
     fn triangle_count(&self) -> usize {
         (**self).triangle_count()
     }
+    fn corners(&self) -> [Vec3; 8] {
+        (**self).corners()
+    }
 }
 
 /// A group of meshes placed in the world: a building, a tree, a statue.
@@ -64,20 +86,39 @@ pub struct Part {
     pub mesh: Arc<Mesh>,
     pub material: Arc<Material>,
     pub transform: Mat4,
-    /// The mesh's object-space bounding sphere, and which mesh it was computed for (by
-    /// address): bounds are asked for every frame, and a mesh may have a million vertices.
-    local: (usize, Sphere),
+    /// The mesh's object-space bounding sphere and box, and which mesh they were computed
+    /// for (by address): bounds are asked for every frame, and a mesh may have a million
+    /// vertices.
+    local: (usize, Sphere, Option<(Vec3, Vec3)>),
 }
 
 impl Part {
     pub fn new(mesh: Arc<Mesh>, material: Arc<Material>, transform: Mat4) -> Self {
-        let local = (Arc::as_ptr(&mesh) as usize, mesh.bounding_sphere());
+        let local = (
+            Arc::as_ptr(&mesh) as usize,
+            mesh.bounding_sphere(),
+            mesh.bounding_box(),
+        );
         Part {
             mesh,
             material,
             transform,
             local,
         }
+    }
+
+    /// World-space box around the part: the box around its object-space box's corners
+    /// (the cached box unless `mesh` was replaced); `None` for a mesh with no finite vertex.
+    pub fn world_box(&self) -> Option<(Vec3, Vec3)> {
+        let (lo, hi) = if self.local.0 == Arc::as_ptr(&self.mesh) as usize {
+            self.local.2
+        } else {
+            self.mesh.bounding_box()
+        }?;
+        let world = box_corners(lo, hi).map(|c| self.transform.transform_point3(c));
+        let lo = world.iter().fold(Vec3::splat(f32::MAX), |a, &c| a.min(c));
+        let hi = world.iter().fold(Vec3::splat(f32::MIN), |a, &c| a.max(c));
+        (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
     }
 
     /// World-space bounding sphere (the cached one unless `mesh` was replaced).
@@ -167,6 +208,20 @@ impl Subject for MeshGroup {
 
     fn triangle_count(&self) -> usize {
         self.parts.iter().map(|p| p.mesh.triangle_count()).sum()
+    }
+
+    /// The box around the parts' world boxes.
+    fn corners(&self) -> [Vec3; 8] {
+        let boxes = self.parts.iter().filter_map(Part::world_box);
+        let (lo, hi) = boxes.fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), (l, h)| (lo.min(l), hi.max(h)),
+        );
+        if lo.x > hi.x {
+            let b = self.bounds();
+            return box_corners(b.center, b.center);
+        }
+        box_corners(lo, hi)
     }
 }
 

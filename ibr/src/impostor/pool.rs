@@ -43,7 +43,7 @@ impl Pool {
                 (self.slots.len() < self.max_slots).then(|| {
                     self.slots.push(Slot {
                         side,
-                        material: material(side),
+                        material: image_material(side, side, "impostor"),
                         in_use: false,
                     });
                     self.slots.len() - 1
@@ -104,17 +104,14 @@ impl Pool {
     }
 }
 
-/// The material that draws an impostor: its premultiplied image, alpha-blended, unlit,
-/// clamped at the edges, seen from either side.
-fn material(side: u32) -> Material {
-    let texture = Texture::from_packed(
-        side.max(1),
-        side.max(1),
-        vec![0; (side.max(1) as usize).pow(2)],
-        Encoding::Srgb,
-        true,
-    )
-    .expect("a square of at least 1 texel");
+/// The material that draws an image in place of geometry (an impostor's, an image
+/// layer's): its premultiplied image, alpha-blended, unlit, clamped at the edges, seen from
+/// either side; a transparent `width` x `height` texture until it is filled.
+pub(crate) fn image_material(width: u32, height: u32, name: &str) -> Material {
+    let (w, h) = (width.max(1), height.max(1));
+    let texture =
+        Texture::from_packed(w, h, vec![0; w as usize * h as usize], Encoding::Srgb, true)
+            .expect("a rectangle of at least 1 texel");
     let mut m = Material::unlit(Rgba::WHITE)
         .with_texture(Arc::new(texture))
         .blended(BlendMode::Alpha)
@@ -127,6 +124,6 @@ fn material(side: u32) -> Material {
         wrap_v: Wrap::Clamp,
         filter: Filter::Bilinear,
     };
-    m.name = "impostor".into();
+    m.name = name.into();
     m
 }

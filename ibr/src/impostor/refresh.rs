@@ -8,6 +8,7 @@ use super::{Capture, ImpostorSet, Mode};
 use crate::billboard::{push_quad, UvRect};
 use crate::capture::Capturer;
 use crate::metrics::Rect;
+use crate::schedule::pick_mut;
 use crate::subject::Subject;
 use crate::technique::recycle;
 use engine::{Draw, Encoding, FrameStats, Lighting, Rgba, Target, Texture};
@@ -77,14 +78,7 @@ impl ImpostorSet {
         }
         // The jobs' subjects, in the jobs' order (indices are distinct).
         self.jobs.sort_by_key(|j| j.i);
-        let mut wanted = self.jobs.iter().map(|j| j.i).peekable();
-        let mut chosen: Vec<&mut S> = Vec::with_capacity(self.jobs.len());
-        for (i, s) in subjects.iter_mut().enumerate() {
-            if wanted.peek() == Some(&i) {
-                wanted.next();
-                chosen.push(s);
-            }
-        }
+        let mut chosen = pick_mut(subjects, self.jobs.iter().map(|j| j.i));
         self.jobs.truncate(chosen.len());
         self.jobs
             .par_iter()

@@ -1,0 +1,570 @@
+//! Image layers (Lengyel and Snyder, "Rendering with Coherent Layers", SIGGRAPH 97): each
+//! subject rendered into its own image, cropped to its screen rectangle at a resolution
+//! that matches its screen size, and on later frames warped by the affine map fitted to
+//! its characteristic points instead of being rendered again.
+//!
+//! Per frame, [`LayerSet::update`] projects each subject's characteristic points (the
+//! corners of its box, [`Subject::corners`]) and fits the affine map from where they lay
+//! in its image to where they are now ([`Affine::fit`]). Its error, predicted without
+//! rendering:
+//! - *geometric*: the largest distance, in pixels, between a point's true projection and
+//!   where the fitted warp puts it (the paper's fiducial);
+//! - *sampling*: how far the warp's stretch has drifted from the image's, in octaves (a
+//!   magnified image blurs, a shrunk one wastes texels);
+//! - *coverage*: whether the image still covers the part of the layer now on screen (an
+//!   image cropped at the view's edge does not, once the view turns).
+//!
+//! A layer whose error passes its tolerance is re-rendered, largest error first, within the
+//! per-frame budget of the impostors' scheduler ([`crate::schedule`], shared). A warped
+//! image is drawn as a quad parallel to the screen at the layer's nearest depth (so its
+//! warp is exactly the affine map), alpha-blended back to front with the frame; a layer
+//! with a corner behind the near plane, no image yet, or an image too stale to show is
+//! drawn as geometry. [`split_by_depth`] cuts a large object into layers by depth range.
+
+mod fit;
+mod split;
+
+pub use fit::{project, unproject, Affine};
+pub use split::split_by_depth;
+
+use crate::billboard::{push_quad, UvRect};
+use crate::capture::Capturer;
+use crate::impostor::image_material;
+use crate::schedule::{pick_mut, Budget, Scheduler};
+use crate::subject::Subject;
+use crate::technique::{recycle, Counters, FrameView, Technique};
+use engine::{Camera, Draw, Encoding, Lighting, Material, Mesh, Rgba, Texture};
+use glam::{Mat4, Vec2};
+use rayon::prelude::*;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Settings of a [`LayerSet`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    /// Largest geometric error, pixels.
+    pub tolerance_px: f32,
+    /// Largest drift of the warp's stretch from the image's, octaves.
+    pub octaves: f32,
+    pub budget: Budget,
+    /// Texels per screen pixel of a fresh image (1: the screen's resolution).
+    pub resolution: f32,
+    /// Largest side of an image, texels (a larger layer's image is shrunk to fit).
+    pub max_side: u32,
+    /// How far beyond the view a layer's image reaches, as a fraction of the view's size
+    /// (the view can turn that far before an image cropped at its edge runs out); layers
+    /// within it and outside the view are refreshed ahead of coming into view.
+    pub margin: f32,
+    /// An image whose error ratio is above this after the frame's refreshes is not shown:
+    /// its subject is drawn as geometry. Infinity never falls back.
+    pub fallback_ratio: f32,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            tolerance_px: 1.0,
+            octaves: 0.5,
+            budget: Budget::count(8),
+            resolution: 1.0,
+            max_side: 1024,
+            margin: 0.25,
+            fallback_ratio: 2.0,
+        }
+    }
+}
+
+/// How a layer's subject is drawn this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Its warped image.
+    Image,
+    /// As geometry, and why.
+    Geometry(Why),
+    /// Not at all: outside the view.
+    #[default]
+    Culled,
+}
+
+/// Why a layer is drawn as geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Why {
+    /// A characteristic point is at or behind the near plane: no affine map will do.
+    Behind,
+    /// It has no image yet and the budget had no room for one.
+    NoImage,
+    /// Its image's error is over [`Config::fallback_ratio`] times the tolerance and the
+    /// budget had no room to refresh it.
+    Stale,
+}
+
+/// A layer's predicted error this frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Predicted {
+    /// Geometric error: the largest distance between a characteristic point's projection
+    /// and its warped position, pixels.
+    pub pixels: f32,
+    /// Sampling error: `|log2|` of the warp's stretch over the image's, the larger of the
+    /// two directions.
+    pub octaves: f32,
+    /// The image covers the part of the layer on screen.
+    pub covered: bool,
+    /// The larger error over its tolerance: invalid at 1 and above (infinite with no image,
+    /// a changed subject, or a part on screen the image lacks).
+    pub ratio: f32,
+}
+
+/// What a layer's image holds: where its subject's characteristic points lay in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Image {
+    texels: [Vec2; 8],
+    width: u32,
+    height: u32,
+    /// Screen pixels per texel when it was rendered.
+    scale: f32,
+    version: u64,
+}
+
+/// One layer's state.
+#[derive(Debug)]
+pub struct Layer {
+    image: Option<Image>,
+    material: Material,
+    quad: Mesh,
+    /// This frame's warp of the image to the screen.
+    pub warp: Affine,
+    pub predicted: Predicted,
+    pub mode: Mode,
+    /// Times rendered.
+    pub refreshes: u64,
+    /// The characteristic points' projections this frame, and the nearest one's depth.
+    screen: [Vec2; 8],
+    nearest: f32,
+}
+
+impl Default for Layer {
+    fn default() -> Self {
+        Layer {
+            image: None,
+            material: image_material(1, 1, "layer"),
+            quad: Mesh::default(),
+            warp: Affine::scaled(1.0, Vec2::ZERO),
+            predicted: Predicted::default(),
+            mode: Mode::Culled,
+            refreshes: 0,
+            screen: [Vec2::ZERO; 8],
+            nearest: 0.0,
+        }
+    }
+}
+
+impl Layer {
+    /// The size of its image, if it has one.
+    pub fn image_size(&self) -> Option<(u32, u32)> {
+        self.image.map(|i| (i.width, i.height))
+    }
+}
+
+/// What one [`LayerSet::update`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Report {
+    pub refreshes: usize,
+    /// Visible invalid layers left stale (over budget).
+    pub stale: usize,
+    pub images: usize,
+    pub geometry: usize,
+    pub culled: usize,
+    /// Largest and mean geometric error over the drawn images, pixels.
+    pub max_px: f32,
+    pub mean_px: f32,
+    /// Images drawn with an error ratio over 1.
+    pub over_tolerance: usize,
+    /// Layers drawn as geometry because their image was too stale ([`Why::Stale`]).
+    pub stale_fallbacks: usize,
+    /// Texels and triangles the refreshes rendered.
+    pub capture_texels: u64,
+    pub capture_triangles: u64,
+}
+
+/// A refresh's own capturer, draw list and texture (traded for the layer's).
+#[derive(Debug, Default)]
+struct Worker {
+    capturer: Capturer,
+    draws: Vec<Draw<'static>>,
+    texture: Option<Texture>,
+    triangles: u64,
+}
+
+/// One refresh: which layer, which screen rectangle, at what size.
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    i: usize,
+    min: Vec2,
+    max: Vec2,
+    width: u32,
+    height: u32,
+}
+
+/// Image layers for a list of subjects (one per subject, same order), drawn back to front.
+#[derive(Debug)]
+pub struct LayerSet {
+    pub config: Config,
+    pub layers: Vec<Layer>,
+    scheduler: Scheduler,
+    workers: Vec<Worker>,
+    jobs: Vec<Job>,
+}
+
+impl LayerSet {
+    pub fn new(config: Config, count: usize) -> Self {
+        LayerSet {
+            config,
+            layers: (0..count).map(|_| Layer::default()).collect(),
+            scheduler: Scheduler::default(),
+            workers: Vec::new(),
+            jobs: Vec::new(),
+        }
+    }
+
+    /// Predicts every layer's error for `camera` (a `width` x `height` image), re-renders
+    /// the worst within the budget, and decides how each is drawn. Subjects drawn as
+    /// geometry are prepared for `camera`.
+    pub fn update<S: Subject + Send>(
+        &mut self,
+        subjects: &mut [S],
+        camera: &Camera,
+        (width, height): (u32, u32),
+        lighting: &Lighting,
+    ) -> Report {
+        let cfg = self.config;
+        let view = (Vec2::ZERO, Vec2::new(width as f32, height as f32));
+        let grown = grow(view, cfg.margin);
+        self.scheduler.clear();
+        for (i, (layer, s)) in self.layers.iter_mut().zip(subjects.iter()).enumerate() {
+            let mut points = [Vec2::ZERO; 8];
+            let mut nearest = f32::INFINITY;
+            let mut behind = false;
+            for (p, c) in points.iter_mut().zip(s.corners()) {
+                match project(camera, c, width, height) {
+                    Some((px, z)) => (*p, nearest) = (px, nearest.min(z)),
+                    None => behind = true,
+                }
+            }
+            layer.predicted = Predicted::default();
+            if behind {
+                // Nothing to fit; the renderer clips the geometry.
+                layer.mode = Mode::Geometry(Why::Behind);
+                continue;
+            }
+            let rect = bounds(&points);
+            let visible = overlaps(rect, view) && width > 0 && height > 0;
+            layer.mode = Mode::Culled;
+            (layer.screen, layer.nearest) = (points, nearest);
+            if !overlaps(rect, grown) || width == 0 || height == 0 {
+                continue;
+            }
+            layer.predicted = predict(layer, s.version(), clip(rect, view), &cfg);
+            if visible {
+                layer.mode = match layer.image {
+                    Some(_) => Mode::Image,
+                    None => Mode::Geometry(Why::NoImage),
+                };
+            }
+            if layer.predicted.ratio >= 1.0 {
+                self.scheduler.push(visible, layer.predicted.ratio, i);
+            }
+        }
+        let mut report = Report::default();
+        let budget = self.scheduler.rank(&cfg.budget);
+        self.jobs.clear();
+        for k in 0..self.scheduler.ranked().len() {
+            let c = self.scheduler.ranked()[k];
+            let job = (self.jobs.len() < budget && c.index < subjects.len())
+                .then(|| job(c.index, &self.layers[c.index], grown, &cfg))
+                .flatten();
+            match job {
+                Some(job) => self.jobs.push(job),
+                None => report.stale += c.visible as usize,
+            }
+        }
+        let start = Instant::now();
+        self.render_jobs(subjects, camera, (width, height), lighting);
+        self.scheduler.measured(self.jobs.len(), start.elapsed());
+        report.refreshes = self.jobs.len();
+        for (k, job) in self.jobs.iter().enumerate() {
+            let (layer, w) = (&mut self.layers[job.i], &mut self.workers[k]);
+            report.capture_texels += job.width as u64 * job.height as u64;
+            report.capture_triangles += w.triangles;
+            finish(layer, w, job, subjects[job.i].version());
+        }
+        let mut px_sum = 0.0;
+        for (layer, s) in self.layers.iter_mut().zip(subjects.iter_mut()) {
+            if layer.mode == Mode::Image && layer.predicted.ratio > cfg.fallback_ratio {
+                layer.mode = Mode::Geometry(Why::Stale);
+                report.stale_fallbacks += 1;
+            }
+            match layer.mode {
+                Mode::Image => {
+                    report.images += 1;
+                    report.max_px = report.max_px.max(layer.predicted.pixels);
+                    report.over_tolerance += (layer.predicted.ratio > 1.0) as usize;
+                    px_sum += layer.predicted.pixels;
+                    build_quad(layer, camera, width, height);
+                }
+                Mode::Geometry(_) => {
+                    report.geometry += 1;
+                    s.prepare(camera, height);
+                }
+                Mode::Culled => report.culled += 1,
+            }
+        }
+        report.mean_px = px_sum / report.images.max(1) as f32;
+        report
+    }
+
+    /// Renders the frame's refreshes side by side, one worker each (each writes only its
+    /// own target, so the images do not depend on the thread count).
+    fn render_jobs<S: Subject + Send>(
+        &mut self,
+        subjects: &mut [S],
+        camera: &Camera,
+        (width, height): (u32, u32),
+        lighting: &Lighting,
+    ) {
+        self.jobs.sort_by_key(|j| j.i);
+        let mut chosen = pick_mut(subjects, self.jobs.iter().map(|j| j.i));
+        self.jobs.truncate(chosen.len());
+        while self.workers.len() < self.jobs.len() {
+            self.workers.push(Worker::default());
+        }
+        self.jobs
+            .par_iter()
+            .zip(chosen.par_iter_mut())
+            .zip(self.workers.par_iter_mut())
+            .with_max_len(1)
+            .for_each(|((job, subject), w)| {
+                let crop = camera.crop(job.min, job.max, width, height);
+                subject.prepare(&crop, job.height);
+                let mut draws = recycle(std::mem::take(&mut w.draws));
+                subject.draws(&mut draws);
+                let (drawn, enc) = (draws.iter().copied(), Encoding::Srgb);
+                w.capturer
+                    .render(drawn, &crop, lighting, job.width, job.height, enc);
+                w.triangles = w.capturer.last_stats().triangles_set_up;
+                w.draws = recycle(draws);
+                let texture = w
+                    .texture
+                    .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+                w.capturer.target().copy_to_texture(texture);
+            });
+    }
+
+    /// Appends this frame's draws: warped images as quads, the rest as their subjects'
+    /// geometry.
+    pub fn draws<'a, S: Subject>(&'a self, subjects: &'a [S], out: &mut Vec<Draw<'a>>) {
+        for (layer, s) in self.layers.iter().zip(subjects) {
+            match layer.mode {
+                Mode::Image => out.push(Draw {
+                    mesh: &layer.quad,
+                    material: &layer.material,
+                    transform: Mat4::IDENTITY,
+                }),
+                Mode::Geometry(_) => s.draws(out),
+                Mode::Culled => {}
+            }
+        }
+    }
+}
+
+/// The error of `layer`'s image warped to this frame's projections (`layer.screen`), and
+/// this frame's warp; `on_screen` is the part of the layer's rectangle inside the view.
+fn predict(layer: &mut Layer, version: u64, on_screen: (Vec2, Vec2), cfg: &Config) -> Predicted {
+    let Some(image) = layer.image else {
+        return Predicted {
+            ratio: f32::INFINITY,
+            ..Predicted::default()
+        };
+    };
+    let warp = Affine::fit(&image.texels, &layer.screen, image.scale);
+    layer.warp = warp;
+    let pixels = warp.max_error(&image.texels, &layer.screen);
+    let (hi, lo) = warp.stretch();
+    let scale = image.scale.max(1e-12);
+    let octaves = (hi / scale).log2().abs().max((lo / scale).log2().abs());
+    // The on-screen part, taken back into the image, must lie within it (a texel of slack).
+    let (w, h) = (image.width as f32, image.height as f32);
+    let covered = warp.inverse().is_some_and(|back| {
+        let (a, b) = on_screen;
+        [a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)]
+            .iter()
+            .map(|&p| back.apply(p))
+            .all(|t| t.x >= -1.0 && t.y >= -1.0 && t.x <= w + 1.0 && t.y <= h + 1.0)
+    });
+    let ratio = if version != image.version || !covered {
+        f32::INFINITY
+    } else {
+        (pixels / cfg.tolerance_px.max(1e-6)).max(octaves / cfg.octaves.max(1e-6))
+    };
+    Predicted {
+        pixels,
+        octaves,
+        covered,
+        ratio: if ratio.is_nan() { f32::INFINITY } else { ratio },
+    }
+}
+
+/// The refresh of layer `i`: its screen rectangle within `grown`, widened to whole pixels,
+/// at [`Config::resolution`] (shrunk to [`Config::max_side`]); `None` when nothing of it
+/// is left.
+fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job> {
+    let (min, max) = clip(bounds(&layer.screen), grown);
+    let (min, max) = (min.floor(), max.ceil());
+    let size = max - min;
+    if !(size.x >= 1.0 && size.y >= 1.0) {
+        return None;
+    }
+    let texels_per_px = cfg
+        .resolution
+        .min(cfg.max_side.max(1) as f32 / size.max_element())
+        .max(1e-6);
+    let n = |len: f32| ((len * texels_per_px).round() as u32).clamp(1, cfg.max_side.max(1));
+    Some(Job {
+        i,
+        min,
+        max,
+        width: n(size.x),
+        height: n(size.y),
+    })
+}
+
+/// Takes worker `w`'s image for `job`'s layer: the texture, where the characteristic
+/// points lie in it, and a warp that puts it back where it was rendered.
+fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
+    if let (Some(tex), Some(held)) = (
+        w.texture.as_mut(),
+        layer.material.base_texture.as_mut().and_then(Arc::get_mut),
+    ) {
+        std::mem::swap(held, tex);
+    }
+    let size = job.max - job.min;
+    let scale = size.x / job.width as f32;
+    let per_texel = Vec2::new(job.width as f32, job.height as f32) / size;
+    layer.image = Some(Image {
+        texels: layer.screen.map(|p| (p - job.min) * per_texel),
+        width: job.width,
+        height: job.height,
+        scale,
+        version,
+    });
+    layer.warp = Affine {
+        m: glam::Mat2::from_diagonal(size / Vec2::new(job.width as f32, job.height as f32)),
+        t: job.min,
+    };
+    layer.predicted = Predicted {
+        covered: true,
+        ..Predicted::default()
+    };
+    if layer.mode != Mode::Culled {
+        layer.mode = Mode::Image;
+    }
+    layer.refreshes += 1;
+}
+
+/// The quad that draws `layer`'s image: its corners where the warp puts them, all at the
+/// layer's nearest depth (so the renderer's perspective interpolation is the affine map).
+fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height: u32) {
+    let Some(image) = layer.image else {
+        return;
+    };
+    let (near, _) = camera.near_far();
+    let z = layer.nearest.max(near * 1.001);
+    let (w, h) = (image.width as f32, image.height as f32);
+    let at = |t: Vec2| unproject(camera, layer.warp.apply(t), z, width, height);
+    let quad = [
+        at(Vec2::new(0.0, h)),
+        at(Vec2::new(w, h)),
+        at(Vec2::new(w, 0.0)),
+        at(Vec2::ZERO),
+    ];
+    let full = UvRect {
+        min: Vec2::ZERO,
+        max: Vec2::ONE,
+    };
+    layer.quad.clear();
+    push_quad(&mut layer.quad, quad, full, Rgba::WHITE, 1.0);
+    layer.quad.colors.clear();
+}
+
+/// The rectangle around `points`.
+fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+    let lo = points.iter().fold(Vec2::splat(f32::MAX), |a, &p| a.min(p));
+    let hi = points.iter().fold(Vec2::splat(f32::MIN), |a, &p| a.max(p));
+    (lo, hi)
+}
+
+fn overlaps(a: (Vec2, Vec2), b: (Vec2, Vec2)) -> bool {
+    a.0.x < b.1.x && a.0.y < b.1.y && b.0.x < a.1.x && b.0.y < a.1.y
+}
+
+fn clip(a: (Vec2, Vec2), to: (Vec2, Vec2)) -> (Vec2, Vec2) {
+    (a.0.max(to.0), a.1.min(to.1))
+}
+
+/// `r` grown by `f` of its size on every side.
+fn grow(r: (Vec2, Vec2), f: f32) -> (Vec2, Vec2) {
+    let d = (r.1 - r.0) * f.max(0.0);
+    (r.0 - d, r.1 + d)
+}
+
+/// Subjects drawn as [`LayerSet`] image layers (one each), as one [`Technique`].
+#[derive(Debug)]
+pub struct Layered<S> {
+    pub set: LayerSet,
+    pub subjects: Vec<S>,
+    /// What the last `prepare` did.
+    pub report: Report,
+    name: String,
+}
+
+impl<S: Subject> Layered<S> {
+    /// `subjects` as layers configured by `config`, named `name` in readouts.
+    pub fn new(name: impl Into<String>, config: Config, subjects: Vec<S>) -> Self {
+        Layered {
+            set: LayerSet::new(config, subjects.len()),
+            subjects,
+            report: Report::default(),
+            name: name.into(),
+        }
+    }
+}
+
+impl<S: Subject + Send> Technique for Layered<S> {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        let size = (view.width, view.height);
+        self.report = self
+            .set
+            .update(&mut self.subjects, view.camera, size, view.lighting);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.set.draws(&self.subjects, out);
+    }
+    fn counters(&self) -> Counters {
+        let r = &self.report;
+        Counters {
+            quads: r.images as u64,
+            images: r.images as u64,
+            refreshes: r.refreshes as u64,
+            geometry: r.geometry as u64,
+            ..Counters::default()
+        }
+    }
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.subjects.iter().for_each(|s| s.draws(out));
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,190 @@
+//! The warp of a layer's image: the affine map from its texels to the screen fitted (least
+//! squares) to its characteristic points, and what it costs in accuracy: how far the
+//! points' true projections lie from where the warp puts them, and how far its scale has
+//! drifted from the image's.
+
+use engine::Camera;
+use glam::{Mat2, Vec2, Vec3, Vec4Swizzles};
+
+/// `screen = m * texel + t`, in pixels (x right, y down, pixel centres at half-integers,
+/// as [`Camera::crop`] and [`Camera::pixel_ray`] take them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Affine {
+    pub m: Mat2,
+    pub t: Vec2,
+}
+
+impl Affine {
+    /// Texels `scale` pixels wide with texel 0's corner at screen `origin`.
+    pub fn scaled(scale: f32, origin: Vec2) -> Affine {
+        Affine {
+            m: Mat2::from_diagonal(Vec2::splat(scale)),
+            t: origin,
+        }
+    }
+
+    pub fn apply(&self, texel: Vec2) -> Vec2 {
+        self.m * texel + self.t
+    }
+
+    /// The least-squares affine map taking `from[k]` to `to[k]`. Directions in which the
+    /// points do not spread (a flat layer seen edge-on puts its corners on a line) keep
+    /// `prior`'s scale, so the map stays invertible: a little ridge toward `prior` weighs
+    /// nothing where the points spread.
+    pub fn fit(from: &[Vec2], to: &[Vec2], prior: f32) -> Affine {
+        let n = from.len().min(to.len()).max(1) as f32;
+        let fu = from.iter().copied().sum::<Vec2>() / n;
+        let fq = to.iter().copied().sum::<Vec2>() / n;
+        let (mut uu, mut qu) = (Mat2::ZERO, Mat2::ZERO);
+        for (&u, &q) in from.iter().zip(to) {
+            let (du, dq) = (u - fu, q - fq);
+            // Outer products: column j of `a b^T` is `a * b[j]`.
+            uu += Mat2::from_cols(du * du.x, du * du.y);
+            qu += Mat2::from_cols(dq * du.x, dq * du.y);
+        }
+        let ridge = 1e-6 * (uu.x_axis.x + uu.y_axis.y) + 1e-9;
+        let uu = uu + Mat2::from_diagonal(Vec2::splat(ridge));
+        let qu = qu + Mat2::from_diagonal(Vec2::splat(ridge * prior));
+        let m = qu * uu.inverse();
+        let m = if m.is_finite() {
+            m
+        } else {
+            Mat2::from_diagonal(Vec2::splat(prior))
+        };
+        Affine { m, t: fq - m * fu }
+    }
+
+    /// The largest distance between where the map puts `from[k]` and `to[k]`, pixels.
+    pub fn max_error(&self, from: &[Vec2], to: &[Vec2]) -> f32 {
+        from.iter()
+            .zip(to)
+            .map(|(&u, &q)| self.apply(u).distance(q))
+            .fold(0.0, f32::max)
+    }
+
+    /// The map's largest and smallest stretch (singular values of `m`).
+    pub fn stretch(&self) -> (f32, f32) {
+        let [a, c, b, d] = self.m.to_cols_array();
+        let (e, f) = ((a + d) * 0.5, (a - d) * 0.5);
+        let (g, h) = ((c + b) * 0.5, (c - b) * 0.5);
+        let (q, r) = (e.hypot(h), f.hypot(g));
+        (q + r, (q - r).abs())
+    }
+
+    /// The inverse map (screen to texels), `None` when `m` is singular.
+    pub fn inverse(&self) -> Option<Affine> {
+        let det = self.m.determinant();
+        if det.abs() < 1e-12 || !det.is_finite() {
+            return None;
+        }
+        let m = self.m.inverse();
+        Some(Affine {
+            m,
+            t: -(m * self.t),
+        })
+    }
+}
+
+/// Where `p` lands on a `width` x `height` image of `camera` (pixels) and its distance
+/// along the view direction; `None` at or behind the near plane.
+pub fn project(camera: &Camera, p: Vec3, width: u32, height: u32) -> Option<(Vec2, f32)> {
+    let z = -(camera.view * p.extend(1.0)).z;
+    let (near, _) = camera.near_far();
+    if z.is_nan() || z <= near {
+        return None;
+    }
+    let clip = camera.gl_view_proj() * p.extend(1.0);
+    let ndc = clip.xy() / clip.w;
+    let px = Vec2::new(
+        (ndc.x + 1.0) * 0.5 * width as f32,
+        (1.0 - ndc.y) * 0.5 * height as f32,
+    );
+    px.is_finite().then_some((px, z))
+}
+
+/// The world point at pixel `px` of a `width` x `height` image of `camera`, `z` along its
+/// view direction (the inverse of [`project`]).
+pub fn unproject(camera: &Camera, px: Vec2, z: f32, width: u32, height: u32) -> Vec3 {
+    let (origin, dir) = camera.pixel_ray(px.x, px.y, width, height);
+    let (eye, forward) = (camera.eye(), camera.forward());
+    let along = forward.dot(dir);
+    let t = if along.abs() > 1e-9 {
+        (z - forward.dot(origin - eye)) / along
+    } else {
+        0.0
+    };
+    origin + dir * t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pts() -> Vec<Vec2> {
+        (0..8)
+            .map(|k| Vec2::new((k * 37 % 11) as f32, (k * 23 % 7) as f32 * 1.5))
+            .collect()
+    }
+
+    #[test]
+    fn fits_an_affine_map_exactly() {
+        let truth = Affine {
+            m: Mat2::from_cols(Vec2::new(1.3, -0.2), Vec2::new(0.4, 0.9)),
+            t: Vec2::new(12.0, -3.0),
+        };
+        let from = pts();
+        let to: Vec<Vec2> = from.iter().map(|&u| truth.apply(u)).collect();
+        let fit = Affine::fit(&from, &to, 1.0);
+        assert!(fit.max_error(&from, &to) < 1e-3, "{fit:?}");
+        let back = fit.inverse().expect("invertible");
+        assert!(
+            back.apply(fit.apply(Vec2::new(3.0, 4.0)))
+                .distance(Vec2::new(3.0, 4.0))
+                < 1e-3
+        );
+        // A rotation by 30 degrees scaled by 2 stretches by 2 both ways.
+        let r = Affine {
+            m: Mat2::from_angle(0.52) * 2.0,
+            t: Vec2::ZERO,
+        };
+        let (hi, lo) = r.stretch();
+        assert!(
+            (hi - 2.0).abs() < 1e-5 && (lo - 2.0).abs() < 1e-5,
+            "{hi} {lo}"
+        );
+        let shear = Affine {
+            m: Mat2::from_cols(Vec2::new(3.0, 0.0), Vec2::new(0.0, 0.5)),
+            t: Vec2::ZERO,
+        };
+        assert_eq!(shear.stretch(), (3.0, 0.5));
+    }
+
+    #[test]
+    fn collinear_points_keep_the_prior_scale_across_the_line() {
+        let from: Vec<Vec2> = (0..8).map(|k| Vec2::new(k as f32, 5.0)).collect();
+        let to: Vec<Vec2> = from
+            .iter()
+            .map(|u| Vec2::new(2.0 * u.x + 1.0, 7.0))
+            .collect();
+        let fit = Affine::fit(&from, &to, 2.0);
+        assert!(fit.m.is_finite() && fit.t.is_finite());
+        assert!(fit.max_error(&from, &to) < 1e-3);
+        let (hi, lo) = fit.stretch();
+        assert!(
+            (hi - 2.0).abs() < 1e-3 && (lo - 2.0).abs() < 1e-3,
+            "{hi} {lo}"
+        );
+        let one = Affine::fit(&[Vec2::ONE], &[Vec2::new(4.0, 4.0)], 1.0);
+        assert!(one.apply(Vec2::ONE).distance(Vec2::new(4.0, 4.0)) < 1e-4);
+    }
+
+    #[test]
+    fn unproject_inverts_project() {
+        let camera = Camera::look_at(Vec3::new(1.0, 2.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.5)
+            .with_depth_range(0.1, 100.0);
+        let p = Vec3::new(0.3, -0.4, 0.2);
+        let (px, z) = project(&camera, p, 120, 80).expect("in front");
+        assert!(unproject(&camera, px, z, 120, 80).distance(p) < 1e-4);
+        assert!(project(&camera, Vec3::new(2.0, 4.0, 10.0), 120, 80).is_none());
+    }
+}
