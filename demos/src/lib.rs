@@ -9,6 +9,7 @@
 pub mod bench;
 pub mod bench_billboards;
 pub mod bench_impostors;
+pub mod bench_layers;
 pub mod bench_lightfield;
 pub mod bench_morph;
 pub mod bench_panorama;

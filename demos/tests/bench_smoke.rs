@@ -652,3 +652,43 @@ fn panorama_sweep_writes_csv_and_png_charts() {
     assert!(t.num(away, "frac_over") > t.num(at, "frac_over"), "{csv}");
     assert_charts(&dir, &["panorama_distance.png", "panorama_predicted.png"]);
 }
+
+#[test]
+fn layers_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("layers", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["path", "method", "tolerance_px"]);
+    for path in ["translate", "rotate"] {
+        assert_eq!(t.of(path, "geometry").len(), 1, "{csv}");
+        let (layers, impostors) = (t.of(path, "layers"), t.of(path, "impostors"));
+        assert_eq!((layers.len(), impostors.len()), (2, 2), "{csv}");
+        for (r, tol) in layers.iter().zip([0.5, 8.0]) {
+            // Refreshed in the frame it passes the threshold: no drawn layer is over it.
+            assert!(t.num(r, "predicted_px_max") <= tol + 1e-3, "{path}: {r:?}");
+            assert!(t.num(r, "psnr_db") > 20.0, "{path}: {r:?}");
+        }
+        // A looser threshold re-renders no more.
+        let refreshes = |r: &[&str]| t.num(r, "refreshes_per_frame");
+        assert!(
+            refreshes(layers[1]) <= refreshes(layers[0]),
+            "{path}: {csv}"
+        );
+    }
+    // Sliding sideways, a layer's image is the size of its screen rectangle; an
+    // impostor's is the power of two around its bounding sphere: layers render fewer
+    // pixels for the same threshold.
+    let (layers, impostors) = (t.of("translate", "layers"), t.of("translate", "impostors"));
+    for (l, i) in layers.iter().zip(&impostors) {
+        let kpx = |r: &[&str]| t.num(r, "capture_kpx_per_frame");
+        assert!(kpx(l) < kpx(i), "{csv}");
+    }
+    assert_charts(
+        &dir,
+        &[
+            "layers_refreshes_translate.png",
+            "layers_time_error_translate.png",
+            "layers_refreshes_rotate.png",
+            "layers_time_error_rotate.png",
+        ],
+    );
+}

@@ -44,7 +44,7 @@ pub use crate::schedule::Budget;
 use crate::schedule::Scheduler;
 use crate::subject::Subject;
 use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 use std::time::Instant;
 
 /// When an impostor is invalid.
@@ -369,6 +369,41 @@ impl ImpostorSet {
         for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
             match imp.mode {
                 Mode::Image => out.extend(self.image_draw(i)),
+                Mode::Geometry(_) => s.draws(out),
+                Mode::Culled => {}
+            }
+        }
+    }
+
+    /// As [`ImpostorSet::draws`], with each image's quad scaled about `eye` (the same
+    /// pixels, only nearer) to the depth of its subject's nearest corner
+    /// ([`Subject::corners`]) along the line of sight: a quad through the centre of a
+    /// building standing on the ground would have the ground in front of its walls hide
+    /// the bottom of its image; pulled to the nearest corner, nothing in front of the
+    /// subject's box hides it.
+    pub fn draws_near<'a, S: Subject>(
+        &'a self,
+        subjects: &'a [S],
+        eye: Vec3,
+        out: &mut Vec<Draw<'a>>,
+    ) {
+        for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
+            match imp.mode {
+                Mode::Image => out.extend(self.image_draw(i).map(|mut d| {
+                    let to = s.bounds().center - eye;
+                    let dist = to.length().max(1e-6);
+                    let dir = to / dist;
+                    let nearest = s
+                        .corners()
+                        .iter()
+                        .map(|&c| (c - eye).dot(dir))
+                        .fold(dist, f32::min);
+                    let k = (nearest / dist).clamp(0.05, 1.0);
+                    d.transform = Mat4::from_translation(eye)
+                        * Mat4::from_scale(Vec3::splat(k))
+                        * Mat4::from_translation(-eye);
+                    d
+                })),
                 Mode::Geometry(_) => s.draws(out),
                 Mode::Culled => {}
             }

@@ -123,6 +123,9 @@ struct Image {
     /// Screen pixels per texel when it was rendered.
     scale: f32,
     version: u64,
+    /// Sides (left, top, right, bottom) where the image was cut at the margin beyond the
+    /// view, not at the layer's edge: only there can the screen come to show what it lacks.
+    cut: [bool; 4],
 }
 
 /// One layer's state.
@@ -195,7 +198,7 @@ struct Worker {
     triangles: u64,
 }
 
-/// One refresh: which layer, which screen rectangle, at what size.
+/// One refresh: which layer, which screen rectangle, at what size, cut on which sides.
 #[derive(Clone, Copy, Debug)]
 struct Job {
     i: usize,
@@ -203,6 +206,7 @@ struct Job {
     max: Vec2,
     width: u32,
     height: u32,
+    cut: [bool; 4],
 }
 
 /// Image layers for a list of subjects (one per subject, same order), drawn back to front.
@@ -391,14 +395,22 @@ fn predict(layer: &mut Layer, version: u64, on_screen: (Vec2, Vec2), cfg: &Confi
     let (hi, lo) = warp.stretch();
     let scale = image.scale.max(1e-12);
     let octaves = (hi / scale).log2().abs().max((lo / scale).log2().abs());
-    // The on-screen part, taken back into the image, must lie within it (a texel of slack).
+    // The on-screen part, taken back into the image, must lie within it on every side
+    // where the image was cut (a texel of slack); past the layer's own edges the warp's
+    // error is the geometric error's to measure.
     let (w, h) = (image.width as f32, image.height as f32);
+    let [left, top, right, bottom] = image.cut;
     let covered = warp.inverse().is_some_and(|back| {
         let (a, b) = on_screen;
         [a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)]
             .iter()
             .map(|&p| back.apply(p))
-            .all(|t| t.x >= -1.0 && t.y >= -1.0 && t.x <= w + 1.0 && t.y <= h + 1.0)
+            .all(|t| {
+                !(left && t.x < -1.0
+                    || top && t.y < -1.0
+                    || right && t.x > w + 1.0
+                    || bottom && t.y > h + 1.0)
+            })
     });
     let ratio = if version != image.version || !covered {
         f32::INFINITY
@@ -417,7 +429,14 @@ fn predict(layer: &mut Layer, version: u64, on_screen: (Vec2, Vec2), cfg: &Confi
 /// at [`Config::resolution`] (shrunk to [`Config::max_side`]); `None` when nothing of it
 /// is left.
 fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job> {
-    let (min, max) = clip(bounds(&layer.screen), grown);
+    let whole = bounds(&layer.screen);
+    let (min, max) = clip(whole, grown);
+    let cut = [
+        whole.0.x < min.x,
+        whole.0.y < min.y,
+        whole.1.x > max.x,
+        whole.1.y > max.y,
+    ];
     let (min, max) = (min.floor(), max.ceil());
     let size = max - min;
     if !(size.x >= 1.0 && size.y >= 1.0) {
@@ -434,6 +453,7 @@ fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job
         max,
         width: n(size.x),
         height: n(size.y),
+        cut,
     })
 }
 
@@ -455,6 +475,7 @@ fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
         height: job.height,
         scale,
         version,
+        cut: job.cut,
     });
     layer.warp = Affine {
         m: glam::Mat2::from_diagonal(size / Vec2::new(job.width as f32, job.height as f32)),

@@ -38,6 +38,9 @@
 //!   prewarp (correspondences from depth and from the stereo matcher) and the plain morph
 //!   without it: error against the geometry from each in-between camera, and time
 //!   (`demos::bench_morph`).
+//! - `layers`: image layers against runtime impostors on the city, one threshold in pixels
+//!   for both: re-renders per frame, error against the geometry and frame time on the
+//!   translation and rotation paths (`demos::bench_layers`).
 //! - `panorama`: the showcase's far scene as a cube-map sky, seen from eyes moved away
 //!   from its capture point: error against the geometry, the predicted parallax, time
 //!   (`demos::bench_panorama`).
@@ -46,6 +49,7 @@ use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
 use demos::bench_impostors as bi;
+use demos::bench_layers as bly;
 use demos::bench_lightfield as bl;
 use demos::bench_morph as bm;
 use demos::bench_panorama as bpn;
@@ -100,6 +104,9 @@ enum Sweep {
     /// A cube-map sky seen from eyes moved away from where it was captured, against the
     /// geometry: measured and predicted error.
     Panorama(Small),
+    /// Image layers against runtime impostors on the city: re-renders, error and frame
+    /// time against the threshold.
+    Layers(Small),
 }
 
 #[derive(Args, Debug)]
@@ -165,6 +172,7 @@ fn main() -> ExitCode {
         Sweep::Stereo(c) => stereo(c),
         Sweep::Morph(c) => morph(c),
         Sweep::Panorama(c) => panorama(c),
+        Sweep::Layers(c) => layers(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -621,4 +629,29 @@ fn panorama(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bpn::run(&plan, progress));
     sweep(c, "panorama", "rows", run, report, bpn::charts)
+}
+
+fn layers(c: &Small) -> Result<(), String> {
+    let plan = c.plan(bly::Plan::tiny, bly::Plan::quick, bly::Plan::full);
+    let report = |rows: &[bly::Row]| {
+        for r in rows {
+            println!(
+                "{:<9} {:<9} {:>5} px {}x{}  refreshes {:>6.2}/frame ({:>7.1} kpx)  median {:>7.2} ms  mean abs {:>6.3}  PSNR {:>6.2} dB  off {:>5.2}%  predicted max {:>6.2} px",
+                r.path,
+                r.method,
+                r.tolerance_px,
+                r.width,
+                r.height,
+                r.refreshes_per_frame,
+                r.capture_kpx_per_frame,
+                r.time.median_ms,
+                r.error.mean_abs,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                r.predicted_px_max,
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bly::run(&plan, progress));
+    sweep(c, "layers", "rows", run, report, bly::charts)
 }

@@ -14,6 +14,9 @@ pub struct Impostored<S> {
     pub subjects: Vec<S>,
     /// What the last `prepare` did.
     pub report: Report,
+    /// Draw images pulled to their subjects' nearest corners ([`ImpostorSet::draws_near`]).
+    pub near: bool,
+    eye: glam::Vec3,
     name: String,
 }
 
@@ -24,6 +27,8 @@ impl<S: Subject> Impostored<S> {
             set: ImpostorSet::new(config, subjects.len()),
             subjects,
             report: Report::default(),
+            near: false,
+            eye: glam::Vec3::ZERO,
             name: name.into(),
         }
     }
@@ -34,12 +39,17 @@ impl<S: Subject + Send> Technique for Impostored<S> {
         &self.name
     }
     fn prepare(&mut self, view: &FrameView<'_>) {
+        self.eye = view.camera.eye();
         self.report = self
             .set
             .update(&mut self.subjects, view.camera, view.height, view.lighting);
     }
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.set.draws(&self.subjects, out);
+        if self.near {
+            self.set.draws_near(&self.subjects, self.eye, out);
+        } else {
+            self.set.draws(&self.subjects, out);
+        }
     }
     fn counters(&self) -> Counters {
         let r = &self.report;
