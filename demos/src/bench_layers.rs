@@ -3,7 +3,9 @@
 //! layer or one impostor per building, the ground drawn as geometry), over the same
 //! frames of the translation and rotation paths the impostor benchmark flies.
 //!
-//! Both are driven by one threshold in pixels: a layer's geometric error (how far its box
+//! Layers warp affinely (`layers`, the paper's) or perspectively where that fits their
+//! points better (`layers-persp`). All are driven by one threshold in pixels: a layer's
+//! geometric error (how far its box
 //! corners' projections lie from where its affine warp puts them) and an impostor's
 //! parallax at the image centre ([`ibr::impostor::Tolerance::pixels`]). The refresh budget
 //! is unlimited and stale images are never swapped for geometry, so each run's error is its
@@ -87,7 +89,7 @@ impl Plan {
 #[derive(Clone, Debug)]
 pub struct Row {
     pub path: &'static str,
-    /// `layers`, `impostors` or `geometry`.
+    /// `layers` (affine), `layers-persp` (perspective), `impostors` or `geometry`.
     pub method: &'static str,
     /// Pixels (0 for geometry).
     pub tolerance_px: f32,
@@ -127,7 +129,7 @@ impl CsvRow for Row {
 /// Runs the sweep.
 pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let city = City::new(plan.grid, plan.detail, 7);
-    let runs = plan.paths.len() * (1 + 2 * plan.tolerances.len());
+    let runs = plan.paths.len() * (1 + 3 * plan.tolerances.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for &(path, span) in &plan.paths {
@@ -136,7 +138,8 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             let flight = Flight::new(&city, plan, path, span);
             let out = match method {
                 Method::Geometry => flight.fly(&mut NoImages(city.buildings.clone())),
-                Method::Layers => flight.fly(&mut layered(&city, tolerance_px)),
+                Method::Layers => flight.fly(&mut layered(&city, tolerance_px, false)),
+                Method::Perspective => flight.fly(&mut layered(&city, tolerance_px, true)),
                 Method::Impostors => flight.fly(&mut impostored(&city, tolerance_px)),
             };
             out.row(name, method, tolerance_px, plan)
@@ -144,7 +147,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         tick(format!("{name} geometry"));
         rows.extend(fly(Method::Geometry, 0.0));
         for &t in &plan.tolerances {
-            for method in [Method::Layers, Method::Impostors] {
+            for method in [Method::Layers, Method::Perspective, Method::Impostors] {
                 tick(format!("{name} {} {t} px", method.name()));
                 rows.extend(fly(method, t));
             }
@@ -157,6 +160,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
 enum Method {
     Geometry,
     Layers,
+    Perspective,
     Impostors,
 }
 
@@ -165,15 +169,18 @@ impl Method {
         match self {
             Method::Geometry => "geometry",
             Method::Layers => "layers",
+            Method::Perspective => "layers-persp",
             Method::Impostors => "impostors",
         }
     }
 }
 
-/// The city's buildings as layers at `tolerance_px`, unlimited budget, never falling back.
-fn layered(city: &City, tolerance_px: f32) -> Layered<MeshGroup> {
+/// The city's buildings as layers at `tolerance_px` (affine, or perspective where that
+/// fits better), unlimited budget, never falling back.
+fn layered(city: &City, tolerance_px: f32, perspective: bool) -> Layered<MeshGroup> {
     let cfg = layers::Config {
         tolerance_px,
+        perspective,
         budget: Budget::count(usize::MAX),
         fallback_ratio: f32::INFINITY,
         ..layers::Config::default()
@@ -383,6 +390,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
                 "images re-rendered per frame",
                 vec![
                     series("layers", &refreshes),
+                    series("layers-persp", &refreshes),
                     series("impostors", &refreshes),
                 ],
             )),
@@ -395,6 +403,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
                 "mean absolute error against the geometry (8-bit levels)",
                 vec![
                     series("layers", &speed),
+                    series("layers-persp", &speed),
                     series("impostors", &speed),
                     series("geometry", &speed),
                 ],

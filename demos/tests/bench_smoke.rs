@@ -661,8 +661,9 @@ fn layers_sweep_writes_csv_and_png_charts() {
     for path in ["translate", "rotate"] {
         assert_eq!(t.of(path, "geometry").len(), 1, "{csv}");
         let (layers, impostors) = (t.of(path, "layers"), t.of(path, "impostors"));
-        assert_eq!((layers.len(), impostors.len()), (2, 2), "{csv}");
-        for (r, tol) in layers.iter().zip([0.5, 8.0]) {
+        let persp = t.of(path, "layers-persp");
+        assert_eq!((layers.len(), persp.len(), impostors.len()), (2, 2, 2), "{csv}");
+        for (r, tol) in layers.iter().chain(&persp).zip([0.5, 8.0, 0.5, 8.0]) {
             // Refreshed in the frame it passes the threshold: no drawn layer is over it.
             assert!(t.num(r, "predicted_px_max") <= tol + 1e-3, "{path}: {r:?}");
             assert!(t.num(r, "psnr_db") > 20.0, "{path}: {r:?}");
@@ -674,6 +675,10 @@ fn layers_sweep_writes_csv_and_png_charts() {
             "{path}: {csv}"
         );
     }
+    // Turning in place moves every point by one homography: the perspective warp follows
+    // it, the affine one re-renders.
+    let refreshes = |m: &str| t.num(t.of("rotate", m)[0], "refreshes_per_frame");
+    assert!(refreshes("layers-persp") < refreshes("layers"), "{csv}");
     // Sliding sideways, a layer's image is the size of its screen rectangle; an
     // impostor's is the power of two around its bounding sphere: layers render fewer
     // pixels for the same threshold.

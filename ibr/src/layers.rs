@@ -5,8 +5,9 @@
 //!
 //! Per frame, [`LayerSet::update`] projects each subject's characteristic points (the
 //! corners of its box, [`Subject::corners`]) and fits the affine map from where they lay
-//! in its image to where they are now ([`Affine::fit`]). Its error, predicted without
-//! rendering:
+//! in its image to where they are now ([`Affine::fit`]), or, with [`Config::perspective`],
+//! the perspective map ([`Homography::fit`], which follows a turn of the view exactly).
+//! Its error, predicted without rendering:
 //! - *geometric*: the largest distance, in pixels, between a point's true projection and
 //!   where the fitted warp puts it (the paper's fiducial);
 //! - *sampling*: how far the warp's stretch has drifted from the image's, in octaves (a
@@ -16,15 +17,17 @@
 //!
 //! A layer whose error passes its tolerance is re-rendered, largest error first, within the
 //! per-frame budget of the impostors' scheduler ([`crate::schedule`], shared). A warped
-//! image is drawn as a quad parallel to the screen at the layer's nearest depth (so its
-//! warp is exactly the affine map), alpha-blended back to front with the frame; a layer
+//! image is drawn as a quad whose corners lie where the warp puts them, the nearest at the
+//! layer's nearest depth (parallel to the screen for an affine warp; for a perspective one
+//! its corners' depths follow the warp's weights, so the renderer's perspective-correct
+//! interpolation is the warp), alpha-blended back to front with the frame; a layer
 //! with a corner behind the near plane, no image yet, or an image too stale to show is
 //! drawn as geometry. [`split_by_depth`] cuts a large object into layers by depth range.
 
 mod fit;
 mod split;
 
-pub use fit::{project, unproject, Affine};
+pub use fit::{project, unproject, Affine, Homography};
 pub use split::split_by_depth;
 
 use crate::billboard::{push_quad, UvRect};
@@ -46,6 +49,9 @@ pub struct Config {
     pub tolerance_px: f32,
     /// Largest drift of the warp's stretch from the image's, octaves.
     pub octaves: f32,
+    /// Warp by the perspective map fitted to the points when it fits them better than the
+    /// affine one (Lengyel and Snyder's layers are affine).
+    pub perspective: bool,
     pub budget: Budget,
     /// Texels per screen pixel of a fresh image (1: the screen's resolution).
     pub resolution: f32,
@@ -65,6 +71,7 @@ impl Default for Config {
         Config {
             tolerance_px: 1.0,
             octaves: 0.5,
+            perspective: false,
             budget: Budget::count(8),
             resolution: 1.0,
             max_side: 1024,
@@ -135,7 +142,7 @@ pub struct Layer {
     material: Material,
     quad: Mesh,
     /// This frame's warp of the image to the screen.
-    pub warp: Affine,
+    pub warp: Homography,
     pub predicted: Predicted,
     pub mode: Mode,
     /// Times rendered.
@@ -151,7 +158,7 @@ impl Default for Layer {
             image: None,
             material: image_material(1, 1, "layer"),
             quad: Mesh::default(),
-            warp: Affine::scaled(1.0, Vec2::ZERO),
+            warp: Affine::scaled(1.0, Vec2::ZERO).into(),
             predicted: Predicted::default(),
             mode: Mode::Culled,
             refreshes: 0,
@@ -389,29 +396,49 @@ fn predict(layer: &mut Layer, version: u64, on_screen: (Vec2, Vec2), cfg: &Confi
             ..Predicted::default()
         };
     };
-    let warp = Affine::fit(&image.texels, &layer.screen, image.scale);
+    let (from, to) = (&image.texels, &layer.screen);
+    let affine = Homography::from(Affine::fit(from, to, image.scale));
+    let mut pixels = affine.max_error(from, to);
+    let mut warp = affine;
+    if cfg.perspective {
+        if let Some(h) = Homography::fit(from, to) {
+            let e = h.max_error(from, to);
+            if e < pixels {
+                (warp, pixels) = (h, e);
+            }
+        }
+    }
     layer.warp = warp;
-    let pixels = warp.max_error(&image.texels, &layer.screen);
-    let (hi, lo) = warp.stretch();
+    let (w, h) = (image.width as f32, image.height as f32);
+    let centre = Vec2::new(w, h) * 0.5;
+    let (hi, lo) = Affine {
+        m: warp.jacobian(centre),
+        t: Vec2::ZERO,
+    }
+    .stretch();
     let scale = image.scale.max(1e-12);
     let octaves = (hi / scale).log2().abs().max((lo / scale).log2().abs());
     // The on-screen part, taken back into the image, must lie within it on every side
     // where the image was cut (a texel of slack); past the layer's own edges the warp's
     // error is the geometric error's to measure.
-    let (w, h) = (image.width as f32, image.height as f32);
+    // The image's corners must stay in front of the warp's horizon, to be drawn.
     let [left, top, right, bottom] = image.cut;
-    let covered = warp.inverse().is_some_and(|back| {
-        let (a, b) = on_screen;
-        [a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)]
-            .iter()
-            .map(|&p| back.apply(p))
-            .all(|t| {
-                !(left && t.x < -1.0
-                    || top && t.y < -1.0
-                    || right && t.x > w + 1.0
-                    || bottom && t.y > h + 1.0)
-            })
-    });
+    let drawable = image_corners(w, h).iter().all(|&c| warp.map(c).is_some());
+    let covered = drawable
+        && warp.inverse().is_some_and(|back| {
+            let (a, b) = on_screen;
+            [a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)]
+                .iter()
+                .all(|&p| match back.map(p) {
+                    Some((t, _)) => {
+                        !(left && t.x < -1.0
+                            || top && t.y < -1.0
+                            || right && t.x > w + 1.0
+                            || bottom && t.y > h + 1.0)
+                    }
+                    None => false,
+                })
+        });
     let ratio = if version != image.version || !covered {
         f32::INFINITY
     } else {
@@ -480,7 +507,8 @@ fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
     layer.warp = Affine {
         m: glam::Mat2::from_diagonal(size / Vec2::new(job.width as f32, job.height as f32)),
         t: job.min,
-    };
+    }
+    .into();
     layer.predicted = Predicted {
         covered: true,
         ..Predicted::default()
@@ -491,22 +519,30 @@ fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
     layer.refreshes += 1;
 }
 
-/// The quad that draws `layer`'s image: its corners where the warp puts them, all at the
-/// layer's nearest depth (so the renderer's perspective interpolation is the affine map).
+/// The quad that draws `layer`'s image: its corners where the warp puts them, the nearest
+/// at the layer's nearest depth and the others as much farther as their homogeneous
+/// weights are larger (all at one depth for an affine warp), so the renderer's
+/// perspective-correct interpolation across the quad is the warp.
 fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height: u32) {
     let Some(image) = layer.image else {
         return;
     };
     let (near, _) = camera.near_far();
     let z = layer.nearest.max(near * 1.001);
-    let (w, h) = (image.width as f32, image.height as f32);
-    let at = |t: Vec2| unproject(camera, layer.warp.apply(t), z, width, height);
-    let quad = [
-        at(Vec2::new(0.0, h)),
-        at(Vec2::new(w, h)),
-        at(Vec2::new(w, 0.0)),
-        at(Vec2::ZERO),
-    ];
+    // Bottom-left first, as `push_quad` takes them.
+    let [tl, tr, br, bl] = image_corners(image.width as f32, image.height as f32);
+    let mapped = [bl, br, tr, tl].map(|c| layer.warp.map(c));
+    let Some(least) = mapped
+        .iter()
+        .map(|m| m.map(|(_, w)| w))
+        .try_fold(f32::MAX, |a, w| Some(a.min(w?)))
+    else {
+        return;
+    };
+    let quad = mapped.map(|m| {
+        let (px, w) = m.unwrap_or((Vec2::ZERO, least));
+        unproject(camera, px, z * w / least, width, height)
+    });
     let full = UvRect {
         min: Vec2::ZERO,
         max: Vec2::ONE,
@@ -514,6 +550,16 @@ fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height: u32) {
     layer.quad.clear();
     push_quad(&mut layer.quad, quad, full, Rgba::WHITE, 1.0);
     layer.quad.colors.clear();
+}
+
+/// The corners of a `w` x `h` image: top-left, top-right, bottom-right, bottom-left.
+fn image_corners(w: f32, h: f32) -> [Vec2; 4] {
+    [
+        Vec2::ZERO,
+        Vec2::new(w, 0.0),
+        Vec2::new(w, h),
+        Vec2::new(0.0, h),
+    ]
 }
 
 /// The rectangle around `points`.

@@ -1,10 +1,10 @@
-//! The warp of a layer's image: the affine map from its texels to the screen fitted (least
-//! squares) to its characteristic points, and what it costs in accuracy: how far the
-//! points' true projections lie from where the warp puts them, and how far its scale has
-//! drifted from the image's.
+//! The warp of a layer's image: the affine map (or the perspective one, a homography) from
+//! its texels to the screen fitted (least squares) to its characteristic points, and what it
+//! costs in accuracy: how far the points' true projections lie from where the warp puts
+//! them, and how far its scale has drifted from the image's.
 
 use engine::Camera;
-use glam::{Mat2, Vec2, Vec3, Vec4Swizzles};
+use glam::{DMat3, DVec3, Mat2, Mat3, Vec2, Vec3, Vec3Swizzles, Vec4Swizzles};
 
 /// `screen = m * texel + t`, in pixels (x right, y down, pixel centres at half-integers,
 /// as [`Camera::crop`] and [`Camera::pixel_ray`] take them).
@@ -83,6 +83,153 @@ impl Affine {
             t: -(m * self.t),
         })
     }
+}
+
+/// `screen ~ h * (texel, 1)`: a perspective warp (the affine ones have `(0, 0, 1)` for a
+/// bottom row). Pixels as [`Affine`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Homography {
+    pub h: Mat3,
+}
+
+impl From<Affine> for Homography {
+    fn from(a: Affine) -> Self {
+        Homography {
+            h: Mat3::from_cols(
+                a.m.x_axis.extend(0.0),
+                a.m.y_axis.extend(0.0),
+                a.t.extend(1.0),
+            ),
+        }
+    }
+}
+
+impl Homography {
+    /// `texel` on the screen, and the homogeneous weight it came with (`None` where the
+    /// weight is not positive: behind the warp's horizon).
+    pub fn map(&self, texel: Vec2) -> Option<(Vec2, f32)> {
+        let p = self.h * texel.extend(1.0);
+        (p.z > 1e-12 && p.is_finite()).then(|| (p.xy() / p.z, p.z))
+    }
+
+    /// The largest distance between where the warp puts `from[k]` and `to[k]` (infinite
+    /// when one is behind its horizon).
+    pub fn max_error(&self, from: &[Vec2], to: &[Vec2]) -> f32 {
+        from.iter()
+            .zip(to)
+            .map(|(&u, &q)| self.map(u).map_or(f32::INFINITY, |(p, _)| p.distance(q)))
+            .fold(0.0, f32::max)
+    }
+
+    /// The screen-to-texel warp, `None` when singular.
+    pub fn inverse(&self) -> Option<Homography> {
+        let det = self.h.determinant();
+        (det.abs() > 1e-20 && det.is_finite()).then(|| Homography {
+            h: self.h.inverse(),
+        })
+    }
+
+    /// The warp's local linear part (pixels per texel) at `texel`.
+    pub fn jacobian(&self, texel: Vec2) -> Mat2 {
+        let p = self.h * texel.extend(1.0);
+        let w = p.z;
+        let r = self.h.row(2);
+        // d(x/w)/du = (h00 w - x h20) / w^2, and so on.
+        let col = |k: usize| {
+            let c = self.h.col(k);
+            Vec2::new(c.x * w - p.x * r[k], c.y * w - p.y * r[k]) / (w * w)
+        };
+        Mat2::from_cols(col(0), col(1))
+    }
+
+    /// The least-squares perspective map taking `from[k]` to `to[k]` (the direct linear
+    /// transform on points normalised to mean 0 and mean distance sqrt 2, Hartley's
+    /// conditioning); `None` when the points do not fix one (fewer than four in general
+    /// position: a flat layer seen edge-on).
+    pub fn fit(from: &[Vec2], to: &[Vec2]) -> Option<Homography> {
+        let n = from.len().min(to.len());
+        if n < 4 {
+            return None;
+        }
+        let (tf, tt) = (normaliser(&from[..n]), normaliser(&to[..n]));
+        // Normal equations of the 2n x 8 system with h22 = 1.
+        let mut ata = [[0f64; 8]; 8];
+        let mut atb = [0f64; 8];
+        for (&u, &q) in from.iter().zip(to) {
+            let u = tf * DVec3::new(u.x as f64, u.y as f64, 1.0);
+            let q = tt * DVec3::new(q.x as f64, q.y as f64, 1.0);
+            let rows = [
+                ([u.x, u.y, 1.0, 0.0, 0.0, 0.0, -u.x * q.x, -u.y * q.x], q.x),
+                ([0.0, 0.0, 0.0, u.x, u.y, 1.0, -u.x * q.y, -u.y * q.y], q.y),
+            ];
+            for (a, b) in rows {
+                for i in 0..8 {
+                    atb[i] += a[i] * b;
+                    for j in 0..8 {
+                        ata[i][j] += a[i] * a[j];
+                    }
+                }
+            }
+        }
+        let x = solve8(ata, atb)?;
+        let hn = DMat3::from_cols_array(&[x[0], x[3], x[6], x[1], x[4], x[7], x[2], x[5], 1.0]);
+        let h = tt.inverse() * hn * tf;
+        let h = h / h.z_axis.z;
+        let h = h.as_mat3();
+        h.is_finite().then_some(Homography { h })
+    }
+}
+
+/// The similarity that moves `points` to mean 0 and mean distance sqrt 2.
+fn normaliser(points: &[Vec2]) -> DMat3 {
+    let n = points.len().max(1) as f64;
+    let mean = points.iter().map(|p| p.as_dvec2()).sum::<glam::DVec2>() / n;
+    let spread = points
+        .iter()
+        .map(|p| (p.as_dvec2() - mean).length())
+        .sum::<f64>()
+        / n;
+    let s = if spread > 1e-12 {
+        std::f64::consts::SQRT_2 / spread
+    } else {
+        1.0
+    };
+    DMat3::from_cols(
+        DVec3::new(s, 0.0, 0.0),
+        DVec3::new(0.0, s, 0.0),
+        DVec3::new(-s * mean.x, -s * mean.y, 1.0),
+    )
+}
+
+/// Solves the 8 x 8 system by Gaussian elimination with partial pivoting; `None` when it is
+/// (nearly) singular.
+fn solve8(mut a: [[f64; 8]; 8], mut b: [f64; 8]) -> Option<[f64; 8]> {
+    let scale = a
+        .iter()
+        .flatten()
+        .fold(0f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    for c in 0..8 {
+        let p = (c..8).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-10 * scale {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..8 {
+            let f = a[r][c] / a[c][c];
+            for k in c..8 {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0f64; 8];
+    for c in (0..8).rev() {
+        let s: f64 = (c + 1..8).map(|k| a[c][k] * x[k]).sum();
+        x[c] = (b[c] - s) / a[c][c];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// Where `p` lands on a `width` x `height` image of `camera` (pixels) and its distance
@@ -176,6 +323,41 @@ mod tests {
         );
         let one = Affine::fit(&[Vec2::ONE], &[Vec2::new(4.0, 4.0)], 1.0);
         assert!(one.apply(Vec2::ONE).distance(Vec2::new(4.0, 4.0)) < 1e-4);
+    }
+
+    #[test]
+    fn fits_a_perspective_map_exactly_and_refuses_a_line() {
+        let truth = Homography {
+            h: Mat3::from_cols(
+                Vec3::new(1.2, 0.1, 0.002),
+                Vec3::new(-0.3, 0.9, -0.001),
+                Vec3::new(40.0, 12.0, 1.0),
+            ),
+        };
+        let from = pts();
+        let to: Vec<Vec2> = from
+            .iter()
+            .map(|&u| truth.map(u).expect("in front").0)
+            .collect();
+        let fit = Homography::fit(&from, &to).expect("a fit");
+        assert!(fit.max_error(&from, &to) < 1e-3, "{fit:?}");
+        // The Jacobian against finite differences.
+        let at = Vec2::new(4.0, 3.0);
+        let j = fit.jacobian(at);
+        let e = 1e-2;
+        let d = |dv: Vec2| (fit.map(at + dv).unwrap().0 - fit.map(at - dv).unwrap().0) / (2.0 * e);
+        assert!((j.x_axis - d(Vec2::X * e)).length() < 1e-2, "{j:?}");
+        assert!((j.y_axis - d(Vec2::Y * e)).length() < 1e-2, "{j:?}");
+        let back = fit.inverse().expect("invertible");
+        let p = fit.map(at).unwrap().0;
+        assert!(back.map(p).unwrap().0.distance(at) < 1e-3);
+        // An affine map is a homography.
+        let a = Affine::scaled(2.0, Vec2::new(3.0, 4.0));
+        let h = Homography::from(a);
+        assert!(h.map(Vec2::ONE).unwrap().0.distance(a.apply(Vec2::ONE)) < 1e-6);
+        // Points on a line fix no homography.
+        let line: Vec<Vec2> = (0..8).map(|k| Vec2::new(k as f32, 2.0)).collect();
+        assert!(Homography::fit(&line, &line).is_none());
     }
 
     #[test]

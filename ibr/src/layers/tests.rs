@@ -147,6 +147,48 @@ fn the_geometric_error_follows_the_parallax_of_the_box_depth() {
 }
 
 #[test]
+fn a_perspective_warp_follows_a_turn_of_the_view_exactly() {
+    // Turning in place moves every point by one homography, whatever its depth: the
+    // perspective warp stays exact where the affine one errs.
+    let mut subjects = [cube(Vec3::new(1.2, 0.3, -4.0), Vec3::new(1.0, 1.5, 2.0))];
+    let eye = Vec3::new(0.0, 0.5, 0.0);
+    let look = |yaw: f32| camera(eye, eye + Vec3::new(yaw.sin(), 0.0, -yaw.cos()));
+    let never = Config {
+        tolerance_px: f32::INFINITY,
+        octaves: f32::INFINITY,
+        ..Config::default()
+    };
+    let mut affine = LayerSet::new(never, 1);
+    let mut persp = LayerSet::new(
+        Config {
+            perspective: true,
+            ..never
+        },
+        1,
+    );
+    for set in [&mut affine, &mut persp] {
+        update(set, &mut subjects, &look(0.0));
+    }
+    for yaw in [0.15f32, 0.3] {
+        let cam = look(yaw);
+        update(&mut affine, &mut subjects, &cam);
+        let r = update(&mut persp, &mut subjects, &cam);
+        assert_eq!(r.refreshes, 0);
+        let (a, p) = (affine.layers[0].predicted, persp.layers[0].predicted);
+        assert!(a.pixels > 0.7, "yaw {yaw}: affine {a:?}");
+        assert!(p.pixels < 0.05, "yaw {yaw}: perspective {p:?}");
+        let (ea, ep) = (
+            error(&affine, &subjects, &cam),
+            error(&persp, &subjects, &cam),
+        );
+        assert!(
+            ep.mean_abs < ea.mean_abs && ep.mean_abs < 1.0,
+            "yaw {yaw}: {ep:?} {ea:?}"
+        );
+    }
+}
+
+#[test]
 fn a_layer_is_re_rendered_past_its_tolerance_and_then_exact_again() {
     let mut subjects = [cube(Vec3::ZERO, Vec3::new(1.0, 1.0, 1.0))];
     let mut set = LayerSet::new(Config::default(), 1);
@@ -239,7 +281,7 @@ fn an_edge_on_card_and_a_corner_behind_the_eye_do_not_break_it() {
     let r = update(&mut set, &mut subjects, &side);
     assert!(r.refreshes <= 1 && r.images + r.geometry == 1, "{r:?}");
     let l = &set.layers[0];
-    assert!(l.warp.m.is_finite() && l.warp.t.is_finite(), "{l:?}");
+    assert!(l.warp.h.is_finite(), "{l:?}");
     assert!(!l.predicted.pixels.is_nan() && !l.predicted.ratio.is_nan());
     // Turning away from edge-on opens the card: a new image.
     let turned = camera(Vec3::new(2.6, 0.0, 1.5), Vec3::ZERO);
