@@ -37,6 +37,18 @@ impl Default for Lighting {
 }
 
 impl Lighting {
+    /// One white sun whose light travels along `direction` (normalised here) over a grey
+    /// ambient term of `ambient`.
+    pub fn white_sun(ambient: f32, direction: Vec3) -> Lighting {
+        Lighting {
+            ambient: Rgba::new(ambient, ambient, ambient, 1.0),
+            lights: vec![Light::Directional {
+                direction: direction.normalize_or(Vec3::NEG_Y),
+                color: Rgba::WHITE,
+            }],
+        }
+    }
+
     /// The first directional light (the sun): the direction its light travels, and its
     /// colour.
     pub fn sun(&self) -> Option<(Vec3, Rgba)> {

@@ -31,14 +31,12 @@ pub use fit::{project, unproject, Affine, Homography};
 pub use split::split_by_depth;
 
 use crate::billboard::{push_quad, UvRect};
-use crate::capture::Capturer;
 use crate::impostor::image_material;
-use crate::schedule::{pick_mut, Budget, Scheduler};
+use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
-use crate::technique::{recycle, Counters, FrameView, Technique};
-use engine::{Camera, Draw, Encoding, Lighting, Material, Mesh, Rgba, Texture};
+use crate::technique::{Counters, FrameView, Technique};
+use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba};
 use glam::{Mat4, Vec2};
-use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -196,12 +194,10 @@ pub struct Report {
     pub capture_triangles: u64,
 }
 
-/// A refresh's own capturer, draw list and texture (traded for the layer's).
+/// A refresh's own [`Refresher`], and the triangles it rendered.
 #[derive(Debug, Default)]
 struct Worker {
-    capturer: Capturer,
-    draws: Vec<Draw<'static>>,
-    texture: Option<Texture>,
+    refresher: Refresher,
     triangles: u64,
 }
 
@@ -342,32 +338,21 @@ impl LayerSet {
         (width, height): (u32, u32),
         lighting: &Lighting,
     ) {
-        self.jobs.sort_by_key(|j| j.i);
-        let mut chosen = pick_mut(subjects, self.jobs.iter().map(|j| j.i));
-        self.jobs.truncate(chosen.len());
-        while self.workers.len() < self.jobs.len() {
-            self.workers.push(Worker::default());
-        }
-        self.jobs
-            .par_iter()
-            .zip(chosen.par_iter_mut())
-            .zip(self.workers.par_iter_mut())
-            .with_max_len(1)
-            .for_each(|((job, subject), w)| {
+        let (jobs, workers) = (&mut self.jobs, &mut self.workers);
+        refresh_side_by_side(
+            jobs,
+            |j| j.i,
+            subjects,
+            workers,
+            |job, subject, w| {
                 let crop = camera.crop(job.min, job.max, width, height);
-                subject.prepare(&crop, job.height);
-                let mut draws = recycle(std::mem::take(&mut w.draws));
-                subject.draws(&mut draws);
-                let (drawn, enc) = (draws.iter().copied(), Encoding::Srgb);
-                w.capturer
-                    .render(drawn, &crop, lighting, job.width, job.height, enc);
-                w.triangles = w.capturer.last_stats().triangles_set_up;
-                w.draws = recycle(draws);
-                let texture = w
-                    .texture
-                    .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
-                w.capturer.target().copy_to_texture(texture);
-            });
+                let size = (job.width, job.height);
+                w.triangles = w
+                    .refresher
+                    .render(subject, &crop, lighting, size)
+                    .triangles_set_up;
+            },
+        );
     }
 
     /// Appends this frame's draws: warped images as quads, the rest as their subjects'
@@ -488,7 +473,7 @@ fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job
 /// points lie in it, and a warp that puts it back where it was rendered.
 fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
     if let (Some(tex), Some(held)) = (
-        w.texture.as_mut(),
+        w.refresher.texture.as_mut(),
         layer.material.base_texture.as_mut().and_then(Arc::get_mut),
     ) {
         std::mem::swap(held, tex);

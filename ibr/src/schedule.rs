@@ -3,6 +3,11 @@
 //! then largest error first, ties by index (so the schedule is deterministic); the budget is
 //! a count, and optionally a time that the measured cost of recent refreshes is fitted to.
 
+use crate::capture::Capturer;
+use crate::subject::Subject;
+use crate::technique::recycle;
+use engine::{Camera, Draw, Encoding, FrameStats, Lighting, Rgba, Target, Texture};
+use rayon::prelude::*;
 use std::time::Duration;
 
 /// How much re-rendering a frame may do.
@@ -122,6 +127,75 @@ pub fn pick_mut<T>(items: &mut [T], indices: impl IntoIterator<Item = usize>) ->
         }
     }
     out
+}
+
+/// Runs a frame's refreshes side by side on the thread pool: `jobs` (sorted here by the
+/// subject each refreshes, `subject_of`, distinct) each get their subject and a worker of
+/// their own (`workers` grows to fit), so every job writes only its own worker's memory
+/// and the results do not depend on the thread count. Jobs whose subject is out of range
+/// are dropped.
+pub fn refresh_side_by_side<J, S, W>(
+    jobs: &mut Vec<J>,
+    subject_of: impl Fn(&J) -> usize,
+    subjects: &mut [S],
+    workers: &mut Vec<W>,
+    refresh: impl Fn(&J, &mut S, &mut W) + Sync,
+) where
+    J: Sync,
+    S: Send,
+    W: Send + Default,
+{
+    jobs.sort_by_key(&subject_of);
+    let mut chosen = pick_mut(subjects, jobs.iter().map(&subject_of));
+    jobs.truncate(chosen.len());
+    if workers.len() < jobs.len() {
+        workers.resize_with(jobs.len(), W::default);
+    }
+    jobs.par_iter()
+        .zip(chosen.par_iter_mut())
+        .zip(workers.par_iter_mut())
+        .with_max_len(1)
+        .for_each(|((job, subject), w)| refresh(job, subject, w));
+}
+
+/// What one refresh renders with: a capturer, a draw list, and the texture its image is
+/// copied into (traded for the image's own afterwards), all reused frame to frame.
+#[derive(Debug, Default)]
+pub struct Refresher {
+    capturer: Capturer,
+    draws: Vec<Draw<'static>>,
+    /// The last image, as a texture (with mipmaps).
+    pub texture: Option<Texture>,
+}
+
+impl Refresher {
+    /// Renders `subject` (prepared for `camera` first) into a `width` x `height` image and
+    /// copies it into [`Refresher::texture`]; the renderer's counters.
+    pub fn render<S: Subject>(
+        &mut self,
+        subject: &mut S,
+        camera: &Camera,
+        lighting: &Lighting,
+        (width, height): (u32, u32),
+    ) -> FrameStats {
+        subject.prepare(camera, height);
+        let mut draws = recycle(std::mem::take(&mut self.draws));
+        subject.draws(&mut draws);
+        let (drawn, enc) = (draws.iter().copied(), Encoding::Srgb);
+        self.capturer
+            .render(drawn, camera, lighting, width, height, enc);
+        self.draws = recycle(draws);
+        let texture = self
+            .texture
+            .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+        self.capturer.target().copy_to_texture(texture);
+        self.capturer.last_stats()
+    }
+
+    /// The last image as rendered.
+    pub fn target(&self) -> &Target {
+        self.capturer.target()
+    }
 }
 
 #[cfg(test)]

@@ -6,22 +6,17 @@
 
 use super::{Capture, ImpostorSet, Mode};
 use crate::billboard::{push_quad, UvRect};
-use crate::capture::Capturer;
 use crate::metrics::Rect;
-use crate::schedule::pick_mut;
+use crate::schedule::{refresh_side_by_side, Refresher};
 use crate::subject::Subject;
-use crate::technique::recycle;
-use engine::{Draw, Encoding, FrameStats, Lighting, Rgba, Target, Texture};
+use engine::{FrameStats, Lighting, Rgba, Target};
 use glam::Vec3;
-use rayon::prelude::*;
 
-/// A refresh's own capturer (renderer and target), draw list, the texture its image is
-/// copied into (traded for the pool's), and what [`measure`] found, with its row scratch.
+/// A refresh's own [`Refresher`] (its image is copied into the refresher's texture, traded
+/// for the pool's), its counters, and what [`measure`] found, with its row scratch.
 #[derive(Debug, Default)]
 pub(super) struct Worker {
-    capturer: Capturer,
-    draws: Vec<Draw<'static>>,
-    texture: Option<Texture>,
+    refresher: Refresher,
     pub(super) stats: FrameStats,
     measured: Measured,
     rows: Rows,
@@ -73,42 +68,27 @@ impl ImpostorSet {
         if self.jobs.is_empty() {
             return;
         }
-        while self.workers.len() < self.jobs.len() {
-            self.workers.push(Worker::default());
-        }
-        // The jobs' subjects, in the jobs' order (indices are distinct).
-        self.jobs.sort_by_key(|j| j.i);
-        let mut chosen = pick_mut(subjects, self.jobs.iter().map(|j| j.i));
-        self.jobs.truncate(chosen.len());
-        self.jobs
-            .par_iter()
-            .zip(chosen.par_iter_mut())
-            .zip(self.workers.par_iter_mut())
-            .with_max_len(1)
-            .for_each(|((job, subject), w)| {
+        let (jobs, workers) = (&mut self.jobs, &mut self.workers);
+        refresh_side_by_side(
+            jobs,
+            |j| j.i,
+            subjects,
+            workers,
+            |job, subject, w| {
                 let camera = job.capture.camera();
                 let side = job.capture.side;
-                subject.prepare(&camera, side);
-                let mut draws = recycle(std::mem::take(&mut w.draws));
-                subject.draws(&mut draws);
-                let (drawn, enc) = (draws.iter().copied(), Encoding::Srgb);
-                w.capturer.render(drawn, &camera, lighting, side, side, enc);
-                w.stats = w.capturer.last_stats();
-                w.draws = recycle(draws);
-                let target = w.capturer.target();
-                let texture = w
-                    .texture
-                    .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
-                target.copy_to_texture(texture);
+                w.stats = w.refresher.render(subject, &camera, lighting, (side, side));
+                let target = w.refresher.target();
                 w.measured = measure(target, &job.capture, &mut w.rows);
-            });
+            },
+        );
     }
 
     /// Trades worker `k`'s texture for the job's and trims the quad to the image.
     pub(super) fn finish_refresh(&mut self, job: Job, k: usize) {
         let Job { i, capture, slot } = job;
         let w = &mut self.workers[k];
-        if let Some(tex) = w.texture.as_mut() {
+        if let Some(tex) = w.refresher.texture.as_mut() {
             self.pool.swap_texture(slot, tex);
         }
         let side = capture.side;

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::subject::MeshGroup;
-use engine::{procedural, Light, Material};
+use engine::{procedural, Material};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -11,13 +11,7 @@ const W: u32 = 96;
 const H: u32 = 72;
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4))
 }
 
 /// A lit torus standing at `at`, about 1 unit across.

@@ -5,20 +5,14 @@
 use super::*;
 use crate::metrics::{self, Options};
 use crate::subject::MeshGroup;
-use engine::{procedural, FrameOptions, Light, Renderer, Target};
+use engine::{procedural, FrameOptions, Renderer, Target, Texture};
 use glam::Vec3;
 
 const W: u32 = 128;
 const H: u32 = 96;
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.3, 0.3, 0.3, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.3, -1.0, -0.4).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4))
 }
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {

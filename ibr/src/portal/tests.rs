@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::technique::FrameLoop;
-use engine::{procedural, FrameOptions, Light, Material, Mesh, Renderer, Rgba};
+use engine::{procedural, FrameOptions, Material, Mesh, Renderer, Rgba};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
@@ -12,13 +12,7 @@ const W: u32 = 160;
 const H: u32 = 120;
 
 fn lighting() -> Lighting {
-    Lighting {
-        ambient: Rgba::new(0.35, 0.35, 0.35, 1.0),
-        lights: vec![Light::Directional {
-            direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-            color: Rgba::WHITE,
-        }],
-    }
+    Lighting::white_sun(0.35, Vec3::new(-0.4, -1.0, -0.3))
 }
 
 fn lit(r: f32, g: f32, b: f32) -> Arc<Material> {
