@@ -27,6 +27,7 @@ pub mod showcase;
 pub mod showcase_building;
 pub mod showcase_ibr;
 pub mod showcase_impostors;
+pub mod showcase_layers;
 pub mod showcase_lightfield;
 pub mod sweep;
 pub mod timing;

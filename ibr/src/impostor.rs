@@ -36,7 +36,8 @@ pub(crate) use pool::image_material;
 pub use pool::Pool;
 pub use predict::{error_color, needed_side, screen_rect};
 
-use predict::{pixels_per_radian, predict, Frustum};
+pub(crate) use predict::Frustum;
+use predict::{pixels_per_radian, predict};
 use refresh::{Job, Worker};
 
 use crate::metrics::{self, ImageError, Options, Region};

@@ -31,7 +31,7 @@ pub use fit::{project, unproject, Affine, Homography};
 pub use split::split_by_depth;
 
 use crate::billboard::{push_quad, UvRect};
-use crate::impostor::image_material;
+use crate::impostor::{image_material, Frustum};
 use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
 use crate::technique::{Counters, FrameView, Technique};
@@ -246,6 +246,7 @@ impl LayerSet {
         let cfg = self.config;
         let view = (Vec2::ZERO, Vec2::new(width as f32, height as f32));
         let grown = grow(view, cfg.margin);
+        let frustum = Frustum::new(camera.clip_from_world());
         self.scheduler.clear();
         for (i, (layer, s)) in self.layers.iter_mut().zip(subjects.iter()).enumerate() {
             let mut points = [Vec2::ZERO; 8];
@@ -259,8 +260,13 @@ impl LayerSet {
             }
             layer.predicted = Predicted::default();
             if behind {
-                // Nothing to fit; the renderer clips the geometry.
-                layer.mode = Mode::Geometry(Why::Behind);
+                // Nothing to fit; the renderer clips the geometry, if it is in view at all.
+                let b = s.bounds();
+                layer.mode = if frustum.sees(b.center, b.radius) {
+                    Mode::Geometry(Why::Behind)
+                } else {
+                    Mode::Culled
+                };
                 continue;
             }
             let rect = bounds(&points);

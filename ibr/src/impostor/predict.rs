@@ -171,10 +171,10 @@ pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -
 }
 
 /// The six planes of a view frustum (Gribb and Hartmann), for sphere tests.
-pub(super) struct Frustum([Vec4; 6]);
+pub(crate) struct Frustum([Vec4; 6]);
 
 impl Frustum {
-    pub(super) fn new(m: Mat4) -> Self {
+    pub(crate) fn new(m: Mat4) -> Self {
         let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
         let planes = [
             r[3] + r[0],
@@ -195,7 +195,7 @@ impl Frustum {
     }
 
     /// Whether a sphere is at least partly inside (conservative).
-    pub(super) fn sees(&self, c: Vec3, r: f32) -> bool {
+    pub(crate) fn sees(&self, c: Vec3, r: f32) -> bool {
         if !(c.is_finite() && r.is_finite()) {
             return false;
         }

@@ -287,6 +287,10 @@ fn an_edge_on_card_and_a_corner_behind_the_eye_do_not_break_it() {
     let inside = camera(Vec3::new(0.3, 0.0, 0.0), Vec3::new(0.3, 0.0, -1.0));
     let r = update(&mut set, &mut subjects, &inside);
     assert_eq!(set.layers[0].mode, Mode::Geometry(Why::Behind), "{r:?}");
+    // Wholly behind the eye: not drawn at all.
+    let away = camera(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 5.0));
+    let r = update(&mut set, &mut subjects, &away);
+    assert_eq!((set.layers[0].mode, r.culled), (Mode::Culled, 1), "{r:?}");
 }
 
 #[test]
