@@ -662,7 +662,11 @@ fn layers_sweep_writes_csv_and_png_charts() {
         assert_eq!(t.of(path, "geometry").len(), 1, "{csv}");
         let (layers, impostors) = (t.of(path, "layers"), t.of(path, "impostors"));
         let persp = t.of(path, "layers-persp");
-        assert_eq!((layers.len(), persp.len(), impostors.len()), (2, 2, 2), "{csv}");
+        assert_eq!(
+            (layers.len(), persp.len(), impostors.len()),
+            (2, 2, 2),
+            "{csv}"
+        );
         for (r, tol) in layers.iter().chain(&persp).zip([0.5, 8.0, 0.5, 8.0]) {
             // Refreshed in the frame it passes the threshold: no drawn layer is over it.
             assert!(t.num(r, "predicted_px_max") <= tol + 1e-3, "{path}: {r:?}");
