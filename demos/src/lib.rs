@@ -29,6 +29,7 @@ pub mod showcase_ibr;
 pub mod showcase_impostors;
 pub mod showcase_layers;
 pub mod showcase_lightfield;
+pub mod showcase_views;
 pub mod sweep;
 pub mod timing;
 

@@ -45,6 +45,21 @@ fn headless_writes_frames_and_prints_statistics() {
         .to_rgba8();
     assert_eq!(building.dimensions(), (160, 90));
     assert!(!dir.join("building_0001.png").exists());
+    // Then the views moment: two frames at least, the panorama sky's and the morph's.
+    for word in [
+        "PANORAMA SKY",
+        "VIEW MORPH",
+        "panorama sky: 1 frames",
+        "view morph: 1 frames",
+    ] {
+        assert!(stdout.contains(word), "missing {word:?} in:\n{stdout}");
+    }
+    let views = image::open(dir.join("views_0000.png"))
+        .expect("views frame")
+        .to_rgba8();
+    assert_eq!(views.dimensions(), (160, 90));
+    assert!(dir.join("views_0001.png").exists());
+    assert!(!dir.join("views_0002.png").exists());
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
     let f = &frames[0];
     let top = f.get_pixel(80, 2).0;

@@ -2,14 +2,14 @@
 //! fence, blended glass, trees, a house, a sun and point lights) drawn by the CPU rasterizer.
 //!
 //! With a display it opens a window (`minifb`) with a fly camera: WASD move, mouse drag or
-//! arrow keys look, Q / E down / up, Shift faster, B enters the building (below), I toggles
-//! the impostor debug view (images tinted by predicted error), Esc quits; the frame time
-//! and the impostor readout (refreshes this frame, images, geometry fallbacks, largest
-//! predicted error) are shown
-//! in the title and in the corner of the image. Without a display (no `DISPLAY` /
-//! `WAYLAND_DISPLAY`, or the window cannot be opened), or with `--headless`, it renders a
-//! deterministic camera path to `DIR/frame_0000.png ...` and prints frame-time and
-//! impostor statistics and the last frame's counters.
+//! arrow keys look, Q / E down / up, Shift faster, B enters the building and V the views
+//! moment (below), I toggles the impostor debug view (images tinted by predicted error),
+//! Esc quits; the frame time and the impostor readout (refreshes this frame, images,
+//! geometry fallbacks, largest predicted error) are shown in the title and in the corner
+//! of the image. Without a display (no `DISPLAY` / `WAYLAND_DISPLAY`, or the window cannot
+//! be opened), or with `--headless`, it renders a deterministic camera path to
+//! `DIR/frame_0000.png ...` and prints frame-time and impostor statistics and the last
+//! frame's counters.
 //!
 //! The tour then enters a building (`demos::showcase_building`): a hall whose three
 //! furnished rooms are seen through LDI portals as the camera walks along it and through
@@ -18,11 +18,17 @@
 //! ..., `--building-frames`); in the window B switches between the outdoor scene and the
 //! building. `--building` shows only the building; `--debug-portals` (or I in the
 //! building) tints warped pixels green.
+//!
+//! Last comes the views moment (`demos::showcase_views`): a panorama sky re-captured as the
+//! eye walks away from it, and two views of the plaza morphed into each other, each with
+//! its error against the geometry; headless after the building (`views_0000.png` ...,
+//! `--views-frames`), V in the window, `--views` alone.
 
 use clap::Parser;
 use demos::font;
 use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
 use demos::showcase_building::BuildingTour;
+use demos::showcase_views::ViewsTour;
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
 use ibr::subject::Subject;
@@ -71,6 +77,14 @@ struct Args {
     /// With --building: start with warped pixels tinted green (I toggles in the window).
     #[arg(long)]
     debug_portals: bool,
+    /// Only the views moment: a panorama sky and a view morph, each measured against the
+    /// geometry (the window starts in it).
+    #[arg(long, conflicts_with = "building")]
+    views: bool,
+    /// Headless: frames of the views moment after the building (default: a tenth of
+    /// --frames, at least two; 0 skips it).
+    #[arg(long, value_name = "N")]
+    views_frames: Option<usize>,
 }
 
 fn main() -> ExitCode {
@@ -105,8 +119,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// Renders the outdoor camera path and then the building walkthrough (or, with
-/// `--building`, the walkthrough alone).
+/// Renders the outdoor camera path, the building walkthrough and the views moment (or,
+/// with `--building` or `--views`, that part alone).
 fn headless(args: &Args, dir: &Path) -> Result<(), String> {
     if !args.no_save {
         std::fs::create_dir_all(dir)
@@ -116,16 +130,23 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
     if args.building {
         return building_headless(args, dir, n);
     }
-    outdoor_headless(args, dir, n)?;
+    if args.views {
+        return views_headless(args, dir, n, Showcase::new());
+    }
+    let show = outdoor_headless(args, dir, n)?;
     match args.building_frames.unwrap_or((n / 2).max(1)) {
+        0 => {}
+        frames => building_headless(args, dir, frames)?,
+    }
+    match args.views_frames.unwrap_or((n / 10).max(2)) {
         0 => Ok(()),
-        frames => building_headless(args, dir, frames),
+        frames => views_headless(args, dir, frames, show),
     }
 }
 
 /// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
-/// statistics.
-fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
+/// statistics. Returns the scene, for the views moment.
+fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, String> {
     let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
@@ -218,7 +239,7 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
     if !args.no_save {
         println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
     }
-    Ok(())
+    Ok(show)
 }
 
 /// The light-field statue's readout over the tour.
@@ -257,14 +278,48 @@ enum WindowError {
     Update(minifb::Error),
 }
 
-/// Key events as they arrive from the window: Esc latches quitting, and taps of `I` and
-/// `B` are counted, so a tap shorter than a frame (which the key state polled once a
+/// Key events as they arrive from the window: Esc latches quitting, and taps of `I`, `B`
+/// and `V` are counted, so a tap shorter than a frame (which the key state polled once a
 /// frame, as `is_key_pressed` and `get_keys_pressed` read it, misses) still counts.
 #[derive(Debug, Default)]
 struct KeyEvents {
     quit: bool,
     debug_taps: TapCounter,
     building_taps: TapCounter,
+    views_taps: TapCounter,
+}
+
+/// Taps since the last frame: of I, B and V.
+#[derive(Clone, Copy, Debug)]
+struct Taps {
+    debug: u32,
+    building: u32,
+    views: u32,
+}
+
+/// What the window shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Moment {
+    Outdoor,
+    Building,
+    Views,
+}
+
+impl Moment {
+    /// After `taps`: each tap of B enters the building or leaves it for outdoors, and V
+    /// likewise the views moment.
+    fn after(self, taps: Taps) -> Moment {
+        let mut m = self;
+        for (key, moment) in [
+            (taps.building, Moment::Building),
+            (taps.views, Moment::Views),
+        ] {
+            if toggled(m == moment, key) != (m == moment) {
+                m = if m == moment { Moment::Outdoor } else { moment };
+            }
+        }
+        m
+    }
 }
 
 /// The window's input callback, sharing [`KeyEvents`] with the frame loop.
@@ -280,6 +335,7 @@ impl minifb::InputCallback for KeyLatch {
             Key::Escape if down => events.quit = true,
             Key::I => events.debug_taps.event(down),
             Key::B => events.building_taps.event(down),
+            Key::V => events.views_taps.event(down),
             _ => {}
         }
     }
@@ -329,11 +385,15 @@ fn open_window(
     Ok((window, keys))
 }
 
-/// The taps of I and of B since the last frame; `None` when the window should close.
-fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<(u32, u32)> {
+/// The taps since the last frame; `None` when the window should close.
+fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<Taps> {
     let (quit, taps) = {
         let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
-        let taps = (events.debug_taps.take(), events.building_taps.take());
+        let taps = Taps {
+            debug: events.debug_taps.take(),
+            building: events.building_taps.take(),
+            views: events.views_taps.take(),
+        };
         (events.quit, taps)
     };
     (window.is_open() && !window.is_key_down(Key::Escape) && !quit).then_some(taps)
@@ -362,9 +422,14 @@ fn window(args: &Args) -> Result<(), WindowError> {
     show.ibr
         .impostors
         .set_time_budget(Some(Duration::from_millis(REFRESH_MS)));
-    // The building is made when first entered (B).
+    // The building and the views moment are made when first entered (B, V).
     let mut tour: Option<BuildingTour> = None;
-    let mut in_building = args.building;
+    let mut views: Option<ViewsTour> = None;
+    let mut moment = match (args.building, args.views) {
+        (true, _) => Moment::Building,
+        (_, true) => Moment::Views,
+        _ => Moment::Outdoor,
+    };
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -381,18 +446,41 @@ fn window(args: &Args) -> Result<(), WindowError> {
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
     let (mut frame_no, mut statue) = (0u64, String::new());
-    while let Some((debug_taps, building_taps)) = poll(&window, &keys) {
+    while let Some(taps) = poll(&window, &keys) {
+        let debug_taps = taps.debug;
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
         last = now;
-        if toggled(in_building, building_taps) != in_building {
-            in_building = !in_building;
+        if moment.after(taps) != moment {
+            moment = moment.after(taps);
             recent.clear();
         }
         let (ww, wh) = fit(&window, &mut target);
         let (bw, bh) = (ww as usize, wh as usize);
         let (title, readout, help);
-        if in_building {
+        if moment == Moment::Views {
+            // Made at the window's size when entered (later sizes are scaled to): the
+            // panorama sky for 30 s, then the morph for 30 s, in a loop.
+            let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
+            const LOOP: f32 = 60.0;
+            let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+            let steps = 10_000;
+            let t0 = Instant::now();
+            readout = match tour.render((t * (steps - 1) as f32) as usize, steps) {
+                Ok(frame) => {
+                    frame.write_rgb_u32(&mut pixels, ww, wh);
+                    tour.readout()
+                }
+                Err(e) => {
+                    pixels.clear();
+                    pixels.resize(bw * bh, 0);
+                    e.to_uppercase()
+                }
+            };
+            recent.push(t0.elapsed());
+            title = "views (panorama sky, view morph)".to_string();
+            help = "V OUTDOORS  B BUILDING  ESC QUIT";
+        } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
                 tour.portals.debug_tint = args.debug_portals;
@@ -409,7 +497,8 @@ fn window(args: &Args) -> Result<(), WindowError> {
             recent.push(t0.elapsed());
             title = "building".to_string();
             readout = tour.readout();
-            help = "I TINT WARPED PIXELS  B OUTDOORS  ESC QUIT";
+            help = "I TINT WARPED PIXELS  B OUTDOORS  V VIEWS  ESC QUIT";
+            target.write_rgb_u32(&mut pixels);
         } else {
             let input = read_input(&window, &mut last_mouse, dt);
             fly.update(&input, dt);
@@ -442,9 +531,9 @@ fn window(args: &Args) -> Result<(), WindowError> {
             );
             readout = format!("{}{}", imp.line(), if debug { "  DEBUG" } else { "" });
             help = "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  \
-                    B BUILDING  ESC QUIT";
+                    B BUILDING  V VIEWS  ESC QUIT";
+            target.write_rgb_u32(&mut pixels);
         }
-        target.write_rgb_u32(&mut pixels);
         if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
             shown = Summary::of(&recent);
             recent.clear();
@@ -464,7 +553,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
         );
         font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
         font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &readout, 0x0080_ffc0);
-        if !in_building {
+        if moment == Moment::Outdoor {
             font::draw_text(&mut pixels, bw, bh, 6, 34, 2, &statue, 0x00ff_c080);
         }
         let bottom = bh.saturating_sub(18);
@@ -529,6 +618,48 @@ fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
             "wrote {n} frames to {}/building_0000.png ...",
             dir.display()
         );
+    }
+    Ok(())
+}
+
+/// The views moment over `show`'s scene (posed at time 0), `n` frames; writes PNGs unless
+/// `--no-save`; prints each frame's readout and a summary per part.
+fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Result<(), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    show.animate(0.0);
+    let mut tour = ViewsTour::new(show.scene, w, h);
+    println!(
+        "views: a panorama sky and a view morph of the plaza, {n} frames at {w}x{h} on {} \
+         threads",
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    for i in 0..n {
+        let start = Instant::now();
+        let frame = tour.render(i, n)?;
+        times.push(start.elapsed());
+        if !args.no_save {
+            let path = dir.join(format!("views_{i:04}.png"));
+            image::save_buffer(
+                &path,
+                &frame.rgba,
+                frame.width,
+                frame.height,
+                image::ColorType::Rgba8,
+            )
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        println!("  {i:4}: {}", tour.readout());
+    }
+    let summary = Summary::of(&times);
+    println!(
+        "views frame time (captures and the geometry it is measured against included): {summary}"
+    );
+    for line in tour.summary() {
+        println!("  {line}");
+    }
+    if !args.no_save {
+        println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
     }
     Ok(())
 }

@@ -1,0 +1,302 @@
+//! The showcase's views moment (`showcase --views`, V in the window): views made from
+//! images instead of all of their geometry, each beside its error against the geometry
+//! drawn from the same eye. The moment plays its parts one after another ([`Part::ALL`]):
+//! - [`Part::Sky`]: the scene beyond [`SPLIT`] units captured from above the plaza into a
+//!   cube-map panorama ([`ibr::panorama::Sky`]) and drawn behind the near scene as the eye
+//!   walks away from where it was captured; captured again where the predicted parallax
+//!   passes [`SKY_TOLERANCE_PX`];
+//! - [`Part::Morph`]: two views of the plaza morphed into each other (view morphing with
+//!   correspondences from depth, [`ibr::morph::ViewMorph`]), beside the plain morph without
+//!   prewarp, which is not shape preserving.
+//!
+//! A part is a case of [`Part`] and a submodule (`sky`, `morph`) holding its state, built
+//! when the part is first shown (captures and prewarp happen once), its frame function and
+//! its readout line; adding one is a new submodule, a case and its arms in
+//! [`ViewsTour::render_part`], [`ViewsTour::readout`] and [`ViewsTour::summary`]. Frames
+//! are opaque sRGB images over the showcase's sky colour.
+
+mod morph;
+mod sky;
+
+pub use morph::{MorphFrame, MORPH_EYES, MORPH_TARGET};
+pub use sky::{SkyFrame, SKY_CENTRE, SKY_TOLERANCE_PX, SPLIT};
+
+use crate::showcase::SKY;
+use engine::color::encode_srgb8;
+use engine::{Draw, Premul, Scene};
+use ibr::images::DepthImage;
+use ibr::metrics::ImageError;
+use morph::MorphPart;
+use sky::SkyPart;
+
+/// PSNR figures are capped here (a view identical to its geometry has an infinite one).
+const PSNR_CAP: f64 = 99.0;
+
+/// The parts of the moment, in the order they play.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Sky,
+    Morph,
+}
+
+impl Part {
+    pub const ALL: [Part; 2] = [Part::Sky, Part::Morph];
+
+    /// The part frame `i` of `n` shows and how far along it (0 to 1): the frames shared
+    /// out in order, a part of one frame shown halfway.
+    pub fn at(i: usize, n: usize) -> (Part, f32) {
+        let parts = Self::ALL.len();
+        let n = n.max(parts);
+        let i = i.min(n - 1);
+        let p = i * parts / n;
+        let (start, end) = ((p * n).div_ceil(parts), ((p + 1) * n).div_ceil(parts));
+        let t = if end - start > 1 {
+            (i - start) as f32 / (end - start - 1) as f32
+        } else {
+            0.5
+        };
+        (Self::ALL[p], t)
+    }
+}
+
+/// One frame of the moment: opaque sRGB RGBA8, row-major, top row first.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+impl Frame {
+    /// The frame as `0x00RRGGBB` pixels of a `width` x `height` window (nearest pixel).
+    pub fn write_rgb_u32(&self, out: &mut Vec<u32>, width: u32, height: u32) {
+        out.clear();
+        let (fw, fh) = (self.width.max(1) as u64, self.height.max(1) as u64);
+        for y in 0..height as u64 {
+            let sy = (y * fh / height.max(1) as u64) as usize;
+            out.extend((0..width as u64).map(|x| {
+                let i = (sy * fw as usize + (x * fw / width.max(1) as u64) as usize) * 4;
+                match self.rgba.get(i..i + 3) {
+                    Some(p) => u32::from_be_bytes([0, p[0], p[1], p[2]]),
+                    None => 0,
+                }
+            }));
+        }
+    }
+}
+
+/// What the last frame showed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Shown {
+    #[default]
+    Nothing,
+    Sky(SkyFrame),
+    Morph(MorphFrame),
+}
+
+/// The moment: the scene, each part's state once shown, the last frame and running totals.
+#[derive(Debug)]
+pub struct ViewsTour {
+    scene: Scene,
+    width: u32,
+    height: u32,
+    sky: Option<SkyPart>,
+    morph: Option<Result<MorphPart, String>>,
+    frame: Frame,
+    last: Shown,
+    sky_totals: Totals,
+    morph_totals: Totals,
+}
+
+/// Sums over the frames of one part, for the summary.
+#[derive(Clone, Copy, Debug, Default)]
+struct Totals {
+    frames: usize,
+    /// Frames measured, and the sums of their PSNRs (capped) and shares of wrong pixels:
+    /// the morph's frames between its ends only (the ends are the views, resampled).
+    measured: usize,
+    psnr: f64,
+    wrong: f64,
+    /// The plain morph's PSNR sum over the same frames.
+    plain_psnr: f64,
+    /// The largest predicted parallax before a frame (sky).
+    peak_px: f32,
+    /// The sum of the holes' shares of the prewarped view (morph).
+    holes: f64,
+}
+
+impl Totals {
+    fn add(&mut self, e: ImageError) {
+        self.measured += 1;
+        self.psnr += e.psnr_capped(PSNR_CAP);
+        self.wrong += e.frac_over;
+    }
+
+    fn mean(&self, sum: f64) -> f64 {
+        sum / self.measured.max(1) as f64
+    }
+}
+
+impl ViewsTour {
+    /// The moment over `scene` (as posed) at `width` x `height`; nothing is captured yet.
+    pub fn new(scene: Scene, width: u32, height: u32) -> ViewsTour {
+        ViewsTour {
+            scene,
+            width: width.max(1),
+            height: height.max(1),
+            sky: None,
+            morph: None,
+            frame: Frame::default(),
+            last: Shown::Nothing,
+            sky_totals: Totals::default(),
+            morph_totals: Totals::default(),
+        }
+    }
+
+    /// Frame `i` of `n` of the moment ([`Part::at`]).
+    pub fn render(&mut self, i: usize, n: usize) -> Result<&Frame, String> {
+        let (part, t) = Part::at(i, n);
+        self.render_part(part, t)
+    }
+
+    /// `part` a fraction `t` of the way along; builds the part when first shown. Fails
+    /// only when the views cannot be morphed (at a size too small to prewarp).
+    pub fn render_part(&mut self, part: Part, t: f32) -> Result<&Frame, String> {
+        let draws: Vec<Draw<'_>> = self.scene.draws().collect();
+        let lighting = &self.scene.lighting;
+        let (w, h) = (self.width, self.height);
+        let t = if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        match part {
+            Part::Sky => {
+                let sky = self
+                    .sky
+                    .get_or_insert_with(|| SkyPart::new(&draws, lighting, w, h));
+                let f = sky.frame(&draws, lighting, t, &mut self.frame);
+                let totals = &mut self.sky_totals;
+                totals.frames += 1;
+                totals.peak_px = totals.peak_px.max(f.before_px);
+                if let Some(e) = f.error {
+                    totals.add(e);
+                }
+                self.last = Shown::Sky(f);
+            }
+            Part::Morph => {
+                let morph = self
+                    .morph
+                    .get_or_insert_with(|| MorphPart::new(&draws, lighting, w, h))
+                    .as_mut()
+                    .map_err(|e| e.clone())?;
+                let f = morph.frame(&draws, lighting, t, &mut self.frame);
+                let totals = &mut self.morph_totals;
+                totals.frames += 1;
+                totals.holes += f.holes_share();
+                if let (Some((e, _)), Some((plain, _)), true) =
+                    (f.error, f.plain, t > 0.0 && t < 1.0)
+                {
+                    totals.add(e);
+                    totals.plain_psnr += plain.psnr_capped(PSNR_CAP);
+                }
+                self.last = Shown::Morph(f);
+            }
+        }
+        Ok(&self.frame)
+    }
+
+    /// The last frame rendered.
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// What the last frame showed.
+    pub fn last(&self) -> Shown {
+        self.last
+    }
+
+    /// Panorama captures so far (0 before the sky was shown).
+    pub fn captures(&self) -> u32 {
+        self.sky.as_ref().map_or(0, |s| s.sky.captures)
+    }
+
+    /// One line for the window and the console (upper case, for the bitmap font): the last
+    /// frame's part and its measured error.
+    pub fn readout(&self) -> String {
+        match self.last {
+            Shown::Nothing => "VIEWS".to_string(),
+            Shown::Sky(f) => f.line(),
+            Shown::Morph(f) => f.line(),
+        }
+    }
+
+    /// One line per part shown so far: its frames and mean error.
+    pub fn summary(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        let s = &self.sky_totals;
+        if let (Some(sky), true) = (&self.sky, s.frames > 0) {
+            lines.push(format!(
+                "panorama sky: {} frames, faces {} px, tolerance {SKY_TOLERANCE_PX} px: {} \
+                 captures ({} re-captures), predicted parallax up to {:.1} px; against the \
+                 geometry over the far scene's pixels: PSNR mean {:.1} dB, {:.1}% of pixels \
+                 off by more than 8 levels",
+                s.frames,
+                sky.sky.size,
+                sky.sky.captures,
+                sky.sky.captures.saturating_sub(1),
+                s.peak_px,
+                s.mean(s.psnr),
+                100.0 * s.mean(s.wrong)
+            ));
+        }
+        let m = &self.morph_totals;
+        if m.frames > 0 {
+            let between = if m.measured > 0 {
+                format!(
+                    "between them ({} frames) PSNR mean {:.1} dB against the geometry, the plain \
+                     morph's {:.1} dB",
+                    m.measured,
+                    m.mean(m.psnr),
+                    m.mean(m.plain_psnr)
+                )
+            } else {
+                "no frame between them".to_string()
+            };
+            lines.push(format!(
+                "view morph: {} frames from one view to the other; {between}; holes {:.0}% of \
+                 the prewarped view on average (open sky included)",
+                m.frames,
+                100.0 * m.holes / m.frames as f64
+            ));
+        }
+        lines
+    }
+}
+
+/// A PSNR for the readouts, capped; `-` when nothing was measured.
+fn db(e: Option<ImageError>) -> String {
+    match e {
+        Some(e) => format!("{:.1} DB", e.psnr_capped(PSNR_CAP)),
+        None => "-".to_string(),
+    }
+}
+
+/// `image` over the showcase's sky colour, as opaque sRGB RGBA8 bytes into `out`.
+fn over_sky(image: &DepthImage, out: &mut Vec<u8>) {
+    let sky = SKY.premultiply();
+    out.clear();
+    out.extend(image.color.iter().flat_map(|&c| {
+        let k = 1.0 - c.a.clamp(0.0, 1.0);
+        let Premul { r, g, b, .. } = c;
+        [
+            encode_srgb8(r + sky.r * k),
+            encode_srgb8(g + sky.g * k),
+            encode_srgb8(b + sky.b * k),
+            255,
+        ]
+    }));
+}
+
+#[cfg(test)]
+mod tests;

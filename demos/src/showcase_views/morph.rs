@@ -1,0 +1,118 @@
+//! The views moment's view morph: two views of the plaza, captured with depth from eyes
+//! apart across the view, morphed into each other ([`ibr::morph::ViewMorph`], prewarped
+//! once) and measured, beside the plain morph without prewarp, against the geometry drawn
+//! from each in-between camera.
+
+use super::{db, over_sky, Frame};
+use crate::showcase;
+use engine::{Draw, Lighting};
+use glam::Vec3;
+use ibr::capture::{capture_batch, Capturer};
+use ibr::images::DepthImage;
+use ibr::metrics::{compare_seen, ImageError};
+use ibr::morph::{plain_morph, Correspondence, MorphStats, ViewMorph};
+
+/// The morphed views' eyes, both looking at [`MORPH_TARGET`] (the "near" pair of
+/// `bench morph`: 4 units apart across the view, not parallel).
+pub const MORPH_EYES: [Vec3; 2] = [Vec3::new(-2.0, 3.0, 12.0), Vec3::new(2.0, 3.0, 12.0)];
+pub const MORPH_TARGET: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+
+/// What the morph part showed in one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MorphFrame {
+    /// How far from the first view to the second.
+    pub s: f32,
+    /// The morph and the plain morph against the geometry from the in-between camera, over
+    /// the pixels both cover, with the share of the geometry's pixels each covers.
+    pub error: Option<(ImageError, f64)>,
+    pub plain: Option<(ImageError, f64)>,
+    pub stats: MorphStats,
+    /// Pixels of the parallel in-between view (larger than the frame), which the holes of
+    /// `stats` are counted in: open sky and what neither view saw included.
+    pub prewarped_px: u64,
+}
+
+impl MorphFrame {
+    /// The readout line (upper case, for the bitmap font).
+    pub fn line(&self) -> String {
+        let seen = |e: Option<(ImageError, f64)>| {
+            let share = e.map_or(0.0, |e| 100.0 * e.1);
+            format!("{} ({share:.0}% SEEN)", db(e.map(|e| e.0)))
+        };
+        format!(
+            "VIEW MORPH S {:.2}  {}  PLAIN {}  HOLES {:.0}%",
+            self.s,
+            seen(self.error),
+            seen(self.plain),
+            100.0 * self.holes_share()
+        )
+    }
+
+    /// The holes' share of the prewarped view.
+    pub fn holes_share(&self) -> f64 {
+        self.stats.holes as f64 / self.prewarped_px.max(1) as f64
+    }
+}
+
+/// The two views, prewarped for morphing, and the images each frame reuses.
+#[derive(Debug)]
+pub(super) struct MorphPart {
+    views: Vec<DepthImage>,
+    morph: ViewMorph,
+    capturer: Capturer,
+    truth: DepthImage,
+}
+
+impl MorphPart {
+    pub(super) fn new(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        w: u32,
+        h: u32,
+    ) -> Result<MorphPart, String> {
+        let cameras = MORPH_EYES.map(|eye| showcase::camera(eye, MORPH_TARGET, w, h));
+        let views = capture_batch(draws, &cameras, lighting, w, h);
+        let morph = ViewMorph::new(&views[0], &views[1], Correspondence::Depth)
+            .map_err(|e| format!("the views moment's morph at {w}x{h}: {e}"))?;
+        let truth = DepthImage::new(0, 0, cameras[0]);
+        Ok(MorphPart {
+            views,
+            morph,
+            capturer: Capturer::new(),
+            truth,
+        })
+    }
+
+    /// The in-between view a fraction `s` of the way, measured with the plain morph
+    /// against the geometry from the in-between camera.
+    pub(super) fn frame(
+        &mut self,
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        s: f32,
+        out: &mut Frame,
+    ) -> MorphFrame {
+        let (view, stats) = self.morph.frame(s);
+        let camera = self.morph.camera_at(s);
+        let (w, h) = (view.width(), view.height());
+        self.capturer.capture(
+            draws.iter().copied(),
+            &camera,
+            lighting,
+            w,
+            h,
+            &mut self.truth,
+        );
+        let plain = plain_morph(&self.views[0], &self.views[1], s);
+        over_sky(&view, &mut out.rgba);
+        (out.width, out.height) = (w, h);
+        let p = &self.morph.prewarped().left;
+        MorphFrame {
+            s,
+            prewarped_px: p.width() as u64 * p.height() as u64,
+            error: compare_seen(&view, &self.truth).ok(),
+            plain: compare_seen(&plain, &self.truth).ok(),
+            stats,
+        }
+    }
+}

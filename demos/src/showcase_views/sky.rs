@@ -1,0 +1,209 @@
+//! The views moment's panorama sky: the showcase's scene beyond [`SPLIT`] units captured
+//! from above the plaza into a cube map ([`ibr::panorama::Sky`]) and drawn behind the near
+//! scene (drawn as geometry) while the eye walks away from the capture point; captured
+//! again at the eye when the predicted parallax passes [`SKY_TOLERANCE_PX`]. Each frame is
+//! measured against the whole geometry from the same eye, over the pixels the panorama
+//! fills.
+
+use super::{db, over_sky, Frame};
+use crate::showcase::{self, FAR};
+use engine::{Camera, Draw, Lighting};
+use glam::{Quat, Vec3};
+use ibr::capture::Capturer;
+use ibr::images::DepthImage;
+use ibr::metrics::{self, Image, ImageError, Options, Region};
+use ibr::panorama::Sky;
+
+/// The panorama holds what lies farther than this from where it was captured (along each
+/// cube face's axis); nearer geometry is drawn.
+pub const SPLIT: f32 = 10.0;
+/// Where the first panorama is captured: above the plaza's southern edge, looking north
+/// over it (from its centre the eye would be inside the torus).
+pub const SKY_CENTRE: Vec3 = Vec3::new(0.0, 3.0, 7.0);
+/// The panorama is captured again when its predicted parallax passes this many pixels.
+pub const SKY_TOLERANCE_PX: f32 = 6.0;
+/// The eye's walk: as far as would make the first panorama this many tolerances wrong, so
+/// every image size sees the same re-captures (0.7 units at 640x360).
+const SKY_WALK_TOLERANCES: f32 = 3.3;
+
+/// What the sky part showed in one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SkyFrame {
+    /// The predicted parallax of the panorama drawn (pixels; 0 right after a capture).
+    pub predicted_px: f32,
+    /// The prediction for the panorama held before the frame, which decided re-capturing.
+    pub before_px: f32,
+    pub recaptured: bool,
+    /// Captures so far (the first included).
+    pub captures: u32,
+    /// The share of the frame's pixels the panorama fills: what the near scene leaves and
+    /// the far scene (in the panorama or the geometry) covers; open sky left out.
+    pub far_share: f64,
+    /// The error over those pixels against the whole geometry from the same eye.
+    pub error: Option<ImageError>,
+    /// Pixels the geometry covers that neither the near scene nor the panorama fills.
+    pub unfilled: u64,
+}
+
+impl SkyFrame {
+    /// The readout line (upper case, for the bitmap font).
+    pub fn line(&self) -> String {
+        let f = self;
+        format!(
+            "PANORAMA SKY  PARALLAX {:.1} PX (TOL {:.0})  FAR {:.0}% OF FRAME: {}, {:.0}% WRONG  \
+             CAPTURES {}{}",
+            f.predicted_px,
+            SKY_TOLERANCE_PX,
+            100.0 * f.far_share,
+            db(f.error),
+            100.0 * f.error.map_or(0.0, |e| e.frac_over),
+            f.captures,
+            if f.recaptured {
+                format!("  RE-CAPTURED AT {:.1} PX", f.before_px)
+            } else {
+                String::new()
+            }
+        )
+    }
+}
+
+/// Focal length in pixels of `camera` for an image `width` wide.
+fn focal_px(camera: &Camera, width: u32) -> f32 {
+    camera.projection.gl_matrix().x_axis.x * 0.5 * width as f32
+}
+
+/// The panorama sky, its walk and the images each frame reuses.
+#[derive(Debug)]
+pub(super) struct SkyPart {
+    pub(super) sky: Sky,
+    width: u32,
+    height: u32,
+    focal: f32,
+    /// Length of the eye's walk from the first capture point.
+    walk: f32,
+    capturer: Capturer,
+    /// The near scene, it with the panorama behind, and the whole geometry.
+    near: DepthImage,
+    image: DepthImage,
+    truth: DepthImage,
+    truth_rgba: Vec<u8>,
+    mask: Vec<bool>,
+}
+
+impl SkyPart {
+    pub(super) fn new(draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
+        let focal = focal_px(&showcase::camera(SKY_CENTRE, Vec3::NEG_Z, w, h), w);
+        // Faces about as sharp as the view: half a face spans the focal length.
+        let size = ((2.0 * focal) as u32).clamp(64, 512);
+        let sky = Sky::new(
+            draws,
+            lighting,
+            SKY_CENTRE,
+            size,
+            (SPLIT, FAR),
+            SKY_TOLERANCE_PX,
+        );
+        let nearest = sky.map.nearest();
+        let walk = if nearest.is_finite() {
+            SKY_WALK_TOLERANCES * SKY_TOLERANCE_PX * nearest / focal.max(1.0)
+        } else {
+            1.0
+        };
+        let empty = DepthImage::new(0, 0, showcase::camera(SKY_CENTRE, Vec3::NEG_Z, w, h));
+        SkyPart {
+            sky,
+            width: w,
+            height: h,
+            focal,
+            walk: walk.clamp(0.1, 5.0),
+            capturer: Capturer::new(),
+            near: empty.clone(),
+            image: empty.clone(),
+            truth: empty,
+            truth_rgba: Vec::new(),
+            mask: Vec::new(),
+        }
+    }
+
+    /// The eye and the point it looks at, a fraction `t` along the walk: sideways from the
+    /// capture point, looking out over the plaza and turning a little.
+    fn pose(&self, t: f32) -> (Vec3, Vec3) {
+        let eye = SKY_CENTRE + Vec3::X * (self.walk * t);
+        let dir = Quat::from_rotation_y(0.15 - 0.3 * t) * Vec3::new(0.3, -0.1, -1.0);
+        (eye, eye + dir)
+    }
+
+    /// The near scene drawn, the panorama behind it (captured again first if needed), and
+    /// the whole geometry from the same eye to measure it against.
+    pub(super) fn frame(
+        &mut self,
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        t: f32,
+        out: &mut Frame,
+    ) -> SkyFrame {
+        let (w, h) = (self.width, self.height);
+        let (eye, at) = self.pose(t);
+        let camera = showcase::camera(eye, at, w, h);
+        let before_px = self.sky.map.predicted_px(eye, self.focal);
+        let recaptured = self.sky.update(draws, lighting, &camera, self.focal);
+        // Everything in the panorama's cube (half side SPLIT round its centre) is nearer
+        // than this: drawn, so nothing falls between the geometry and the panorama.
+        let reach = SPLIT * 3f32.sqrt() + (eye - self.sky.map.centre()).length();
+        let near = camera.with_depth_range(0.1, reach);
+        let cap = &mut self.capturer;
+        cap.capture(draws.iter().copied(), &near, lighting, w, h, &mut self.near);
+        cap.capture(
+            draws.iter().copied(),
+            &camera,
+            lighting,
+            w,
+            h,
+            &mut self.truth,
+        );
+        self.image.clone_from(&self.near);
+        self.sky.map.behind(&mut self.image);
+        self.mask.clear();
+        let (mut far, mut unfilled) = (0usize, 0u64);
+        for ((n, f), g) in self
+            .near
+            .color
+            .iter()
+            .zip(&self.image.color)
+            .zip(&self.truth.color)
+        {
+            let sky = n.a <= 0.0 && (f.a > 0.0 || g.a > 0.0);
+            far += sky as usize;
+            unfilled += (g.a > 0.0 && f.a <= 0.0) as u64;
+            self.mask.push(sky);
+        }
+        over_sky(&self.image, &mut out.rgba);
+        over_sky(&self.truth, &mut self.truth_rgba);
+        (out.width, out.height) = (w, h);
+        let error = compare_masked(&out.rgba, &self.truth_rgba, (w, h), &self.mask);
+        SkyFrame {
+            predicted_px: self.sky.map.predicted_px(eye, self.focal),
+            before_px,
+            recaptured,
+            captures: self.sky.captures,
+            far_share: far as f64 / (w as f64 * h as f64),
+            error,
+            unfilled,
+        }
+    }
+}
+
+/// The error of RGBA8 image `a` against `b`, both `size`, over the pixels of `mask`;
+/// `None` when there is none.
+fn compare_masked(a: &[u8], b: &[u8], (w, h): (u32, u32), mask: &[bool]) -> Option<ImageError> {
+    let options = Options {
+        region: Region::Mask(mask),
+        ..Options::default()
+    };
+    metrics::compare_rgba8(
+        Image::new(w, h, a).ok()?,
+        Image::new(w, h, b).ok()?,
+        &options,
+    )
+    .ok()
+}
