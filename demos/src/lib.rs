@@ -27,7 +27,6 @@ pub mod showcase;
 pub mod showcase_building;
 pub mod showcase_ibr;
 pub mod showcase_impostors;
-pub mod showcase_layers;
 pub mod showcase_lightfield;
 pub mod showcase_views;
 pub mod sweep;

@@ -1,6 +1,10 @@
 //! The showcase's views moment (`showcase --views`, V in the window): views made from
 //! images instead of all of their geometry, each beside its error against the geometry
 //! drawn from the same eye. The moment plays its parts one after another ([`Part::ALL`]):
+//! - [`Part::Layers`]: a layered background, the scene's objects beyond the plaza as image
+//!   layers warped by the perspective map fitted to their corners and re-rendered past a
+//!   pixel of error within a per-frame budget ([`ibr::layers`]), as the eye strolls across
+//!   the plaza and turns;
 //! - [`Part::Sky`]: the scene beyond [`SPLIT`] units captured from above the plaza into a
 //!   cube-map panorama ([`ibr::panorama::Sky`]) and drawn behind the near scene as the eye
 //!   walks away from where it was captured; captured again where the predicted parallax
@@ -9,15 +13,17 @@
 //!   correspondences from depth, [`ibr::morph::ViewMorph`]), beside the plain morph without
 //!   prewarp, which is not shape preserving.
 //!
-//! A part is a case of [`Part`] and a submodule (`sky`, `morph`) holding its state, built
+//! A part is a case of [`Part`] and a submodule (`layers`, `sky`, `morph`) holding its state, built
 //! when the part is first shown (captures and prewarp happen once), its frame function and
 //! its readout line; adding one is a new submodule, a case and its arms in
 //! [`ViewsTour::render_part`], [`ViewsTour::readout`] and [`ViewsTour::summary`]. Frames
 //! are opaque sRGB images over the showcase's sky colour.
 
+mod layers;
 mod morph;
 mod sky;
 
+pub use layers::{LayersFrame, LAYERS_BUDGET, LAYERS_TOLERANCE_PX};
 pub use morph::{MorphFrame, MORPH_EYES, MORPH_TARGET};
 pub use sky::{SkyFrame, SKY_CENTRE, SKY_TOLERANCE_PX, SPLIT};
 
@@ -26,6 +32,7 @@ use engine::color::encode_srgb8;
 use engine::{Draw, Premul, Scene};
 use ibr::images::DepthImage;
 use ibr::metrics::ImageError;
+use layers::LayersPart;
 use morph::MorphPart;
 use sky::SkyPart;
 
@@ -35,12 +42,13 @@ const PSNR_CAP: f64 = 99.0;
 /// The parts of the moment, in the order they play.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
+    Layers,
     Sky,
     Morph,
 }
 
 impl Part {
-    pub const ALL: [Part; 2] = [Part::Sky, Part::Morph];
+    pub const ALL: [Part; 3] = [Part::Layers, Part::Sky, Part::Morph];
 
     /// The part frame `i` of `n` shows and how far along it (0 to 1): the frames shared
     /// out in order, a part of one frame shown halfway.
@@ -90,6 +98,7 @@ impl Frame {
 pub enum Shown {
     #[default]
     Nothing,
+    Layers(LayersFrame),
     Sky(SkyFrame),
     Morph(MorphFrame),
 }
@@ -100,10 +109,12 @@ pub struct ViewsTour {
     scene: Scene,
     width: u32,
     height: u32,
+    layers: Option<LayersPart>,
     sky: Option<SkyPart>,
     morph: Option<Result<MorphPart, String>>,
     frame: Frame,
     last: Shown,
+    layers_totals: Totals,
     sky_totals: Totals,
     morph_totals: Totals,
 }
@@ -119,9 +130,10 @@ struct Totals {
     wrong: f64,
     /// The plain morph's PSNR sum over the same frames.
     plain_psnr: f64,
-    /// The largest predicted parallax before a frame (sky).
+    /// The largest predicted parallax before a frame (sky), or geometric error (layers).
     peak_px: f32,
-    /// The sum of the holes' shares of the prewarped view (morph).
+    /// The sum of the holes' shares of the prewarped view (morph), or of the layers
+    /// re-rendered (layers).
     holes: f64,
 }
 
@@ -144,10 +156,12 @@ impl ViewsTour {
             scene,
             width: width.max(1),
             height: height.max(1),
+            layers: None,
             sky: None,
             morph: None,
             frame: Frame::default(),
             last: Shown::Nothing,
+            layers_totals: Totals::default(),
             sky_totals: Totals::default(),
             morph_totals: Totals::default(),
         }
@@ -171,6 +185,20 @@ impl ViewsTour {
             0.0
         };
         match part {
+            Part::Layers => {
+                let part = self
+                    .layers
+                    .get_or_insert_with(|| LayersPart::new(&self.scene, w, h));
+                let f = part.frame(&self.scene, t, &mut self.frame);
+                let totals = &mut self.layers_totals;
+                totals.frames += 1;
+                totals.peak_px = totals.peak_px.max(f.max_px);
+                totals.holes += f.refreshes as f64;
+                if let Some(e) = f.error {
+                    totals.add(e);
+                }
+                self.last = Shown::Layers(f);
+            }
             Part::Sky => {
                 let sky = self
                     .sky
@@ -226,6 +254,7 @@ impl ViewsTour {
     pub fn readout(&self) -> String {
         match self.last {
             Shown::Nothing => "VIEWS".to_string(),
+            Shown::Layers(f) => f.line(),
             Shown::Sky(f) => f.line(),
             Shown::Morph(f) => f.line(),
         }
@@ -234,6 +263,23 @@ impl ViewsTour {
     /// One line per part shown so far: its frames and mean error.
     pub fn summary(&self) -> Vec<String> {
         let mut lines = Vec::new();
+        let l = &self.layers_totals;
+        if let (Some(part), true) = (&self.layers, l.frames > 0) {
+            lines.push(format!(
+                "layered background: {} frames, {} layers (the terrain and the plaza as \
+                 geometry), tolerance {LAYERS_TOLERANCE_PX} px, at most {LAYERS_BUDGET} \
+                 re-rendered a frame: {:.1} re-rendered a frame on average ({} in all), \
+                 predicted error up to {:.2} px; the frame against the geometry: PSNR mean \
+                 {:.1} dB, {:.1}% of pixels off by more than 8 levels",
+                l.frames,
+                part.layers.subjects.len(),
+                l.holes / l.frames as f64,
+                l.holes,
+                l.peak_px,
+                l.mean(l.psnr),
+                100.0 * l.mean(l.wrong)
+            ));
+        }
         let s = &self.sky_totals;
         if let (Some(sky), true) = (&self.sky, s.frames > 0) {
             lines.push(format!(

@@ -45,8 +45,11 @@ fn headless_writes_frames_and_prints_statistics() {
         .to_rgba8();
     assert_eq!(building.dimensions(), (160, 90));
     assert!(!dir.join("building_0001.png").exists());
-    // Then the views moment: two frames at least, the panorama sky's and the morph's.
+    // Then the views moment: three frames at least, the layers', the panorama sky's and
+    // the morph's.
     for word in [
+        "LAYERED BACKGROUND",
+        "layered background: 1 frames",
         "PANORAMA SKY",
         "VIEW MORPH",
         "panorama sky: 1 frames",
@@ -58,8 +61,8 @@ fn headless_writes_frames_and_prints_statistics() {
         .expect("views frame")
         .to_rgba8();
     assert_eq!(views.dimensions(), (160, 90));
-    assert!(dir.join("views_0001.png").exists());
-    assert!(!dir.join("views_0002.png").exists());
+    assert!(dir.join("views_0002.png").exists());
+    assert!(!dir.join("views_0003.png").exists());
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
     let f = &frames[0];
     let top = f.get_pixel(80, 2).0;

@@ -19,7 +19,8 @@
 //! building. `--building` shows only the building; `--debug-portals` (or I in the
 //! building) tints warped pixels green.
 //!
-//! Last comes the views moment (`demos::showcase_views`): a panorama sky re-captured as the
+//! Last comes the views moment (`demos::showcase_views`): a layered background of image
+//! layers warped instead of re-rendered, a panorama sky re-captured as the
 //! eye walks away from it, and two views of the plaza morphed into each other, each with
 //! its error against the geometry; headless after the building (`views_0000.png` ...,
 //! `--views-frames`), V in the window, `--views` alone.
@@ -77,12 +78,13 @@ struct Args {
     /// With --building: start with warped pixels tinted green (I toggles in the window).
     #[arg(long)]
     debug_portals: bool,
-    /// Only the views moment: a panorama sky and a view morph, each measured against the
+    /// Only the views moment: a layered background, a panorama sky and a view morph, each
+    /// measured against the
     /// geometry (the window starts in it).
     #[arg(long, conflicts_with = "building")]
     views: bool,
     /// Headless: frames of the views moment after the building (default: a tenth of
-    /// --frames, at least two; 0 skips it).
+    /// --frames, at least three; 0 skips it).
     #[arg(long, value_name = "N")]
     views_frames: Option<usize>,
 }
@@ -138,7 +140,7 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
         0 => {}
         frames => building_headless(args, dir, frames)?,
     }
-    match args.views_frames.unwrap_or((n / 10).max(2)) {
+    match args.views_frames.unwrap_or((n / 10).max(3)) {
         0 => Ok(()),
         frames => views_headless(args, dir, frames, show),
     }
@@ -460,7 +462,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
         let (title, readout, help);
         if moment == Moment::Views {
             // Made at the window's size when entered (later sizes are scaled to): the
-            // panorama sky for 30 s, then the morph for 30 s, in a loop.
+            // layered background, the panorama sky and the morph for 20 s each, in a loop.
             let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
             const LOOP: f32 = 60.0;
             let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
@@ -478,7 +480,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
                 }
             };
             recent.push(t0.elapsed());
-            title = "views (panorama sky, view morph)".to_string();
+            title = "views (layered background, panorama sky, view morph)".to_string();
             help = "V OUTDOORS  B BUILDING  ESC QUIT";
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
@@ -629,7 +631,7 @@ fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Resu
     show.animate(0.0);
     let mut tour = ViewsTour::new(show.scene, w, h);
     println!(
-        "views: a panorama sky and a view morph of the plaza, {n} frames at {w}x{h} on {} \
+        "views: a layered background, a panorama sky and a view morph of the plaza, {n} frames at {w}x{h} on {} \
          threads",
         rayon::current_num_threads()
     );

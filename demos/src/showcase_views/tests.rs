@@ -111,13 +111,18 @@ fn the_frames_are_shared_out_among_the_parts_in_order() {
     let shown: Vec<(Part, f32)> = (0..n).map(|i| Part::at(i, n)).collect();
     assert_eq!(
         shown.iter().map(|s| s.0).collect::<Vec<_>>(),
-        [[Part::Sky; 4].as_slice(), &[Part::Morph; 3]].concat()
+        [
+            [Part::Layers; 3].as_slice(),
+            &[Part::Sky; 2],
+            &[Part::Morph; 2]
+        ]
+        .concat()
     );
     let ts: Vec<f32> = shown.iter().map(|s| s.1).collect();
-    assert_eq!(ts, [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 0.0, 0.5, 1.0]);
+    assert_eq!(ts, [0.0, 0.5, 1.0, 0.0, 1.0, 0.0, 1.0]);
     // Fewer frames than parts: each part still shows, halfway, from one frame.
-    assert_eq!(Part::at(0, 1), (Part::Sky, 0.5));
-    assert_eq!(Part::at(1, 2), (Part::Morph, 0.5));
+    assert_eq!(Part::at(0, 1), (Part::Layers, 0.5));
+    assert_eq!(Part::at(2, 3), (Part::Morph, 0.5));
     assert_eq!(Part::at(9, 3), Part::at(2, 3));
 }
 
@@ -126,13 +131,59 @@ fn the_summary_has_a_line_per_part_shown() {
     let mut tour = ViewsTour::new(scene(), 48, 32);
     assert!(tour.summary().is_empty());
     assert_eq!(tour.readout(), "VIEWS");
-    for i in 0..4 {
-        tour.render(i, 4).expect("renders");
+    for i in 0..6 {
+        tour.render(i, 6).expect("renders");
     }
     let lines = tour.summary();
-    assert_eq!(lines.len(), 2, "{lines:?}");
-    assert!(lines[0].starts_with("panorama sky: 2 frames"), "{lines:?}");
-    assert!(lines[1].starts_with("view morph: 2 frames"), "{lines:?}");
+    assert_eq!(lines.len(), 3, "{lines:?}");
+    assert!(
+        lines[0].starts_with("layered background: 2 frames"),
+        "{lines:?}"
+    );
+    assert!(lines[1].starts_with("panorama sky: 2 frames"), "{lines:?}");
+    assert!(lines[2].starts_with("view morph: 2 frames"), "{lines:?}");
     assert!(!lines.concat().contains("NaN"), "{lines:?}");
     assert!(tour.captures() >= 1);
+}
+
+#[test]
+fn the_layered_background_warps_most_layers_and_stays_near_the_geometry() {
+    let mut tour = ViewsTour::new(scene(), 160, 96);
+    let mut frames = Vec::new();
+    // The first eighth of the stroll, frame by frame as the window would show it.
+    for k in 0..8 {
+        tour.render_part(Part::Layers, k as f32 / 64.0)
+            .expect("layers always render");
+        assert!(tour.readout().starts_with("LAYERED BACKGROUND"));
+        match tour.last() {
+            Shown::Layers(f) => frames.push(f),
+            other => panic!("showed {other:?}"),
+        }
+    }
+    let part = tour.layers.as_ref().expect("built");
+    assert!(
+        part.layers.subjects.len() > 40,
+        "{}",
+        part.layers.subjects.len()
+    );
+    let triangles = |gs: &[ibr::subject::MeshGroup]| {
+        gs.iter()
+            .map(ibr::subject::Subject::triangle_count)
+            .sum::<usize>()
+    };
+    let scene_triangles: usize = scene().draws().map(|d| d.mesh.triangle_count()).sum();
+    assert_eq!(
+        triangles(&part.layers.subjects) + triangles(&part.near),
+        scene_triangles,
+        "every object a layer or near geometry"
+    );
+    // The first frame takes the images in view (within the budget); later ones warp most.
+    assert_eq!(frames[0].refreshes, LAYERS_BUDGET, "{:?}", frames[0]);
+    let later: usize = frames[1..].iter().map(|f| f.refreshes).sum();
+    assert!(later < 7 * LAYERS_BUDGET, "{frames:?}");
+    for f in &frames {
+        assert!(f.max_px <= LAYERS_TOLERANCE_PX + 1e-3, "{f:?}");
+        let e = f.error.expect("same size");
+        assert!(e.psnr_db > 25.0 && e.frac_over < 0.05, "{}", f.line());
+    }
 }
