@@ -6,7 +6,7 @@
 
 use demos::showcase::{self, Showcase};
 use glam::Vec3;
-use ibr::stereo::{luminance, measure, BlockMatch, Sgm, StereoPair};
+use ibr::stereo::{luminance, measure, BlockMatch, Sgm, SgmBuffers, StereoPair};
 use std::time::Instant;
 
 fn main() {
@@ -19,11 +19,12 @@ fn main() {
     for name in ["block", "sgm"] {
         let mut best = f64::INFINITY;
         let mut est = None;
+        let mut buffers = SgmBuffers::default();
         for _ in 0..3 {
             let t = Instant::now();
             let d = match name {
                 "block" => BlockMatch::default().run(&l, &r, w, h),
-                _ => Sgm::default().run(&l, &r, w, h),
+                _ => Sgm::default().run_with(&mut buffers, &l, &r, w, h),
             }
             .expect("images of the size given");
             best = best.min(t.elapsed().as_secs_f64());

@@ -20,7 +20,7 @@ use crate::timing::Summary;
 use engine::load;
 use ibr::images::transforms::srgb8;
 use ibr::stereo::block::MIN_TEXTURE;
-use ibr::stereo::{luminance_rgba8, measure, BlockMatch, Disparity, Measured, Sgm};
+use ibr::stereo::{luminance_rgba8, measure, BlockMatch, Disparity, Measured, Sgm, SgmBuffers};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -171,6 +171,8 @@ pub fn run(
         for method in ["block", "sgm", "sgm-flat"] {
             tick(format!("{} {method}", scene.name));
             let mut last = None;
+            // Kept between runs, as OpenCV keeps its matcher's buffer.
+            let mut buffers = SgmBuffers::default();
             let times = plan.timing.run(|| {
                 let t = Instant::now();
                 let d = match method {
@@ -184,7 +186,7 @@ pub fn run(
                         min_texture: if method == "sgm" { MIN_TEXTURE } else { 0.0 },
                         ..Sgm::default()
                     }
-                    .run(&l, &r, w, h),
+                    .run_with(&mut buffers, &l, &r, w, h),
                 };
                 last = Some(d);
                 t.elapsed()

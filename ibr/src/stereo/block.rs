@@ -172,28 +172,40 @@ pub const MIN_TEXTURE: f32 = 0.5 / 255.0;
 /// Per pixel of a `w` x `h` luminance image, whether its 5x5 window (clamped at the edges)
 /// spans at least `min`: rows of ranges over five columns, then over five rows.
 pub(super) fn textured(image: &[f32], w: usize, h: usize, min: f32) -> Vec<bool> {
-    let span = |v: &[f32], i: usize, n: usize, stride: usize| {
-        let (lo, hi) = (i.saturating_sub(2), (i + 2).min(n - 1));
-        (lo..=hi).fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), k| {
-            (a.min(v[k * stride]), b.max(v[k * stride]))
-        })
-    };
-    // Per pixel, the least and greatest of its row's five.
-    let (mut lo, mut hi) = (vec![0.0; w * h], vec![0.0; w * h]);
-    for y in 0..h {
-        let row = &image[y * w..(y + 1) * w];
-        for x in 0..w {
-            (lo[y * w + x], hi[y * w + x]) = span(row, x, w, 1);
-        }
+    if w == 0 || h == 0 {
+        return Vec::new();
     }
-    (0..w * h)
-        .map(|i| {
-            let (x, y) = (i % w, i / w);
-            let (a, _) = span(&lo[x..], y, h, w);
-            let (_, b) = span(&hi[x..], y, h, w);
-            b - a >= min
-        })
-        .collect()
+    // Per pixel, the least and greatest of its row's five (edges clamped), row by row.
+    let mut lo = vec![0.0; w * h];
+    let mut hi = vec![0.0; w * h];
+    lo.par_chunks_mut(w)
+        .zip(hi.par_chunks_mut(w))
+        .zip(image.par_chunks(w))
+        .for_each(|((lo, hi), row)| {
+            for x in 0..w {
+                let window = &row[x.saturating_sub(2)..(x + 3).min(w)];
+                lo[x] = window.iter().fold(f32::INFINITY, |a, &v| a.min(v));
+                hi[x] = window.iter().fold(f32::NEG_INFINITY, |a, &v| a.max(v));
+            }
+        });
+    // Then over the five rows around each, element by element along the rows.
+    let mut out = vec![false; w * h];
+    out.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
+        let rows = y.saturating_sub(2)..(y + 3).min(h);
+        let mut a = vec![f32::INFINITY; w];
+        let mut b = vec![f32::NEG_INFINITY; w];
+        for r in rows {
+            let (l, g) = (&lo[r * w..(r + 1) * w], &hi[r * w..(r + 1) * w]);
+            for x in 0..w {
+                a[x] = a[x].min(l[x]);
+                b[x] = b[x].max(g[x]);
+            }
+        }
+        for ((o, a), b) in out.iter_mut().zip(&a).zip(&b) {
+            *o = b - a >= min;
+        }
+    });
+    out
 }
 
 /// The disparity map of the left image's best matches `left_best` (disparity, unique),

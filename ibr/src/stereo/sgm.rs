@@ -9,10 +9,13 @@
 //! The paths run in two raster passes (Hirschmüller's own scheme): top-left to bottom-right
 //! for the four directions that arrive from the left and from above, and back for the
 //! other four, on two threads, each keeping only the previous row of its paths and
-//! writing its sums as 16-bit integers (a path's cost is at most the largest census cost
-//! plus `P2`, so eight fit). Costs are computed row by row as a pass reaches them, so
-//! memory is the two passes' sums, 4 bytes per pixel and disparity. Integer sums: the same
-//! answer at any thread count.
+//! writing its sums of four. A path's cost is at most the largest census cost (24) plus
+//! `P2`, so with the default penalties paths are bytes (32 lanes to an AVX2 vector) and so
+//! are a pass's sums of four; larger penalties take 16 bits, with the same results. The
+//! matching costs are computed once, a byte per pixel and disparity, for both passes; with
+//! the passes' sums that is 3 bytes per pixel and disparity (5 with a large `P2`), kept in
+//! [`SgmBuffers`] from one pair to the next. Integer sums: the same answer at any thread
+//! count.
 
 use super::block::{left_right_checked, parabola, textured, MIN_TEXTURE};
 use super::{Disparity, StereoError};
@@ -21,7 +24,7 @@ use rayon::prelude::*;
 /// Semi-global matching's settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sgm {
-    /// Disparities `0..max_disparity` are searched.
+    /// Disparities `0..max_disparity` are searched (at most 65,535).
     pub max_disparity: u32,
     /// The penalties of a disparity change of one, and of more, between neighbours on a
     /// path (in census bits; above 4,000 they act as 4,000).
@@ -82,6 +85,47 @@ fn census(image: &[f32], w: usize, h: usize) -> Vec<u32> {
     codes
 }
 
+/// Memory semi-global matching reuses from one pair to the next: the two passes' sums, 2
+/// bytes per pixel and disparity (4 with a large P2). Keep one beside an [`Sgm`] to match a
+/// stream of pairs ([`Sgm::run_with`]) without allocating, and touching fresh pages, every
+/// time.
+#[derive(Clone, Debug, Default)]
+pub struct SgmBuffers {
+    /// Matching costs, a byte per pixel and disparity.
+    costs: Vec<u8>,
+    narrow: [Vec<u8>; 2],
+    wide: [Vec<u16>; 2],
+}
+
+/// How a pass stores its sums of four paths: `u8` while four times the largest census cost
+/// plus P2 fits one, else `u16`.
+trait Stored: Copy + Default + Send + Sync {
+    fn store(v: u16) -> Self;
+    fn load(self) -> u16;
+}
+
+impl Stored for u8 {
+    #[inline(always)]
+    fn store(v: u16) -> Self {
+        v as u8
+    }
+    #[inline(always)]
+    fn load(self) -> u16 {
+        u16::from(self)
+    }
+}
+
+impl Stored for u16 {
+    #[inline(always)]
+    fn store(v: u16) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn load(self) -> u16 {
+        self
+    }
+}
+
 impl Sgm {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
     /// An error when the images are not both `width x height`.
@@ -92,11 +136,24 @@ impl Sgm {
         width: u32,
         height: u32,
     ) -> Result<Disparity, StereoError> {
+        self.run_with(&mut SgmBuffers::default(), left, right, width, height)
+    }
+
+    /// [`Sgm::run`], in `buffers`' memory.
+    pub fn run_with(
+        &self,
+        buffers: &mut SgmBuffers,
+        left: &[f32],
+        right: &[f32],
+        width: u32,
+        height: u32,
+    ) -> Result<Disparity, StereoError> {
         if let Some(empty) = Disparity::inputs(left, right, width, height)? {
             return Ok(empty);
         }
         let (w, h) = (width as usize, height as usize);
-        let n = self.max_disparity.max(1) as usize;
+        // (At most 65,535: disparities are kept as 16-bit integers.)
+        let n = self.max_disparity.clamp(1, u32::from(u16::MAX)) as usize;
         let (cl, cr) = rayon::join(|| census(left, w, h), || census(right, w, h));
         let codes = Codes {
             left: &cl,
@@ -104,33 +161,28 @@ impl Sgm {
             w,
             n,
         };
-        let (forward, backward) = rayon::join(
-            || self.pass(&codes, h, false),
-            || self.pass(&codes, h, true),
-        );
-        // Per row: the eight paths' sums, the left image's best disparities, and the right
-        // image's (right pixel (xr, y): the best d over S(xr + d, y, d)).
+        // Every pixel's matching costs, computed once for both passes, row by row.
+        let costs = &mut buffers.costs;
+        costs.resize(w * h * n, 0);
+        costs
+            .par_chunks_mut(w * n)
+            .enumerate()
+            .for_each(|(y, row)| codes.row(y, row));
+        let costs = &buffers.costs[..];
+        // Path costs fit in bytes while the largest census cost plus P2 does (twice the
+        // lanes a vector), and a pass's sums of four while four times that does (half the
+        // memory); the same sums either way.
+        let p2 = u32::from(self.p2.min(MAX_PENALTY));
+        let path_bytes = u32::from(MAX_CENSUS) + p2 < u32::from(u8::MAX);
+        let sum_bytes = 4 * (u32::from(MAX_CENSUS) + p2) < u32::from(u8::MAX);
         let mut left_best = vec![(f32::INFINITY, false); w * h];
         let mut right_best = vec![f32::INFINITY; w * h];
-        let row = w * n;
-        left_best
-            .par_chunks_mut(w)
-            .zip(right_best.par_chunks_mut(w))
-            .zip(forward.par_chunks(row).zip(backward.par_chunks(row)))
-            .for_each(|((lb, rb), (f, b))| {
-                let sums: Vec<u16> = f.iter().zip(b).map(|(f, b)| f + b).collect();
-                for (x, best) in lb.iter_mut().enumerate() {
-                    *best = choose(&sums[x * n..(x + 1) * n], self.uniqueness);
-                }
-                let mut diagonal = vec![u16::MAX; n];
-                for (xr, best) in rb.iter_mut().enumerate() {
-                    for (d, s) in diagonal.iter_mut().enumerate() {
-                        let x = xr + d;
-                        *s = if x < w { sums[x * n + d] } else { u16::MAX };
-                    }
-                    *best = choose(&diagonal, 0.0).0;
-                }
-            });
+        let best = (&mut left_best[..], &mut right_best[..]);
+        match (path_bytes, sum_bytes) {
+            (true, true) => self.aggregate::<u8, u8>(costs, (w, n), &mut buffers.narrow, best),
+            (true, false) => self.aggregate::<u8, u16>(costs, (w, n), &mut buffers.wide, best),
+            _ => self.aggregate::<u16, u16>(costs, (w, n), &mut buffers.wide, best),
+        }
         Ok(left_right_checked(
             width,
             height,
@@ -141,19 +193,61 @@ impl Sgm {
         ))
     }
 
+    /// Both passes into `sums` (in paths of `L`, stored as `T`), side by side, then per row
+    /// the eight paths' sums, the left image's best disparities and the right image's
+    /// (right pixel (xr, y): the best d over S(xr + d, y, d)) into `best`.
+    fn aggregate<L: Lane, T: Stored>(
+        &self,
+        costs: &[u8],
+        (w, n): (usize, usize),
+        sums: &mut [Vec<T>; 2],
+        (left_best, right_best): (&mut [(f32, bool)], &mut [f32]),
+    ) {
+        let [forward, backward] = sums;
+        for s in [&mut *forward, &mut *backward] {
+            s.resize(costs.len(), T::default());
+        }
+        rayon::join(
+            || self.pass::<L, T>(costs, (w, n), false, forward),
+            || self.pass::<L, T>(costs, (w, n), true, backward),
+        );
+        let row = w * n;
+        left_best
+            .par_chunks_mut(w)
+            .zip(right_best.par_chunks_mut(w))
+            .zip(forward.par_chunks(row).zip(backward.par_chunks(row)))
+            .for_each_init(
+                || (Vec::new(), [Vec::new(), Vec::new()]),
+                |(sums, low), ((lb, rb), (f, b))| {
+                    sums.clear();
+                    sums.extend(f.iter().zip(b.iter()).map(|(f, b)| f.load() + b.load()));
+                    for (x, best) in lb.iter_mut().enumerate() {
+                        *best = choose(&sums[x * n..(x + 1) * n], self.uniqueness);
+                    }
+                    choose_right(sums, n, low, rb);
+                },
+            );
+    }
+
     /// One raster pass over the image: forward (rows top to bottom, pixels left to right)
     /// along the four directions arriving from the left, above-left, above and above-right;
     /// or (`back`) the mirror of it, the other four. Returns each pixel's sum of its four
     /// paths' costs, `n` a pixel, row-major.
-    fn pass(&self, codes: &Codes, h: usize, back: bool) -> Vec<u16> {
-        let (w, n) = (codes.w, codes.n);
+    fn pass<L: Lane, T: Stored>(
+        &self,
+        costs: &[u8],
+        (w, n): (usize, usize),
+        back: bool,
+        sums: &mut [T],
+    ) {
+        let h = costs.len() / (w * n).max(1);
         // A path's costs at a pixel, padded with a `u16::MAX` on each side so that the
         // neighbours `d - 1` and `d + 1` are plain shifted slices.
         let m = n + 2;
         let padded = |len: usize| {
-            let mut v = vec![0u16; len * m];
+            let mut v = vec![L::default(); len * m];
             for p in v.chunks_exact_mut(m) {
-                (p[0], p[m - 1]) = (u16::MAX, u16::MAX);
+                (p[0], p[m - 1]) = (L::NONE, L::NONE);
             }
             v
         };
@@ -161,22 +255,23 @@ impl Sgm {
         // above, above-right in the pass's own orientation), and the path from the left.
         let (mut prev, mut cur) = ([(); 3].map(|_| padded(w)), [(); 3].map(|_| padded(w)));
         let (mut prev_low, mut cur_low) = (
-            [(); 3].map(|_| vec![0u16; w]),
-            [(); 3].map(|_| vec![0u16; w]),
+            [(); 3].map(|_| vec![L::default(); w]),
+            [(); 3].map(|_| vec![L::default(); w]),
         );
         // The path from the left: the previous pixel's costs and the current one's.
         let (mut left, mut left_next) = (padded(1), padded(1));
-        let mut left_low = 0u16;
-        let mut cost = vec![0u8; w * n];
-        let mut sums = vec![0u16; w * h * n];
-        let (p1, p2) = (self.p1.min(MAX_PENALTY), self.p2.min(MAX_PENALTY));
+        let mut left_low = L::default();
+        let (p1, p2) = (
+            L::penalty(self.p1.min(MAX_PENALTY)),
+            L::penalty(self.p2.min(MAX_PENALTY)),
+        );
         for vy in 0..h {
             let y = if back { h - 1 - vy } else { vy };
-            codes.row(y, &mut cost);
+            let cost = &costs[y * w * n..][..w * n];
             for vx in 0..w {
                 let x = if back { w - 1 - vx } else { vx };
                 let c = &cost[x * n..(x + 1) * n];
-                let mut out = [0u16; 4];
+                let mut out = [L::default(); 4];
                 // From the left (in the pass's orientation).
                 out[0] = if vx == 0 {
                     start(c, &mut left_next)
@@ -201,19 +296,91 @@ impl Sgm {
                 let at = |k: usize| &cur[k][vx * m + 1..][..n];
                 let (a, b, c, d) = (&left[1..=n], at(0), at(1), at(2));
                 for i in 0..n {
-                    s[i] = a[i] + b[i] + c[i] + d[i];
+                    s[i] = T::store(a[i].wide() + b[i].wide() + c[i].wide() + d[i].wide());
                 }
             }
             std::mem::swap(&mut prev, &mut cur);
             std::mem::swap(&mut prev_low, &mut cur_low);
         }
-        sums
     }
 }
 
 /// The largest penalty used (larger ones act as this): eight paths' sums of census costs
 /// (at most 24) plus it stay below `u16::MAX`, the sums' "none" mark.
 const MAX_PENALTY: u16 = 4000;
+
+/// The largest census cost (24 bits differ).
+const MAX_CENSUS: u8 = 24;
+
+/// A path cost: `u8` while census costs plus P2 fit one (32 lanes to an AVX2 vector),
+/// else `u16`. A path's cost at a pixel is at most its matching cost plus P2, and its
+/// largest value, `NONE`, marks the padding beyond the disparity range.
+trait Lane: Copy + Ord + Default + Send + Sync + std::fmt::Debug {
+    const NONE: Self;
+    fn cost(c: u8) -> Self;
+    /// A penalty, within range (the callers make sure it is).
+    fn penalty(p: u16) -> Self;
+    fn saturating_add(self, o: Self) -> Self;
+    fn add(self, o: Self) -> Self;
+    fn sub(self, o: Self) -> Self;
+    fn wide(self) -> u16;
+}
+
+impl Lane for u8 {
+    const NONE: Self = u8::MAX;
+    #[inline(always)]
+    fn cost(c: u8) -> Self {
+        c
+    }
+    #[inline(always)]
+    fn penalty(p: u16) -> Self {
+        p.min(u16::from(u8::MAX)) as u8
+    }
+    #[inline(always)]
+    fn saturating_add(self, o: Self) -> Self {
+        u8::saturating_add(self, o)
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        self + o
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline(always)]
+    fn wide(self) -> u16 {
+        u16::from(self)
+    }
+}
+
+impl Lane for u16 {
+    const NONE: Self = u16::MAX;
+    #[inline(always)]
+    fn cost(c: u8) -> Self {
+        u16::from(c)
+    }
+    #[inline(always)]
+    fn penalty(p: u16) -> Self {
+        p
+    }
+    #[inline(always)]
+    fn saturating_add(self, o: Self) -> Self {
+        u16::saturating_add(self, o)
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        self + o
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        self - o
+    }
+    #[inline(always)]
+    fn wide(self) -> u16 {
+        self
+    }
+}
 
 /// The census codes of both images, and what a row of matching costs needs.
 struct Codes<'a> {
@@ -251,10 +418,10 @@ impl Codes<'_> {
 
 /// A path's first pixel: its costs are the matching costs. Returns their least.
 #[inline(always)]
-fn start(c: &[u8], out: &mut [u16]) -> u16 {
-    let mut low = u16::MAX;
+fn start<L: Lane>(c: &[u8], out: &mut [L]) -> L {
+    let mut low = L::NONE;
     for (o, &c) in out[1..=c.len()].iter_mut().zip(c) {
-        *o = u16::from(c);
+        *o = L::cost(c);
         low = low.min(*o);
     }
     low
@@ -263,24 +430,65 @@ fn start(c: &[u8], out: &mut [u16]) -> u16 {
 /// A path's next pixel from the previous one's costs `prev` (padded) and their least
 /// `low`: `L(d) = C(d) + min(L'(d), L'(d ± 1) + P1, low + P2) - low`, into `out` (padded).
 /// Returns the least of the new costs. Never below zero: every term of the `min` is at
-/// least `low`.
+/// least `low`, and at most `P2` above it, so `C(d) + (min - low)` stays in range.
 #[inline(always)]
-fn step(c: &[u8], prev: &[u16], low: u16, out: &mut [u16], p1: u16, p2: u16) -> u16 {
+fn step<L: Lane>(c: &[u8], prev: &[L], low: L, out: &mut [L], p1: L, p2: L) -> L {
     let n = c.len();
     let jump = low.saturating_add(p2);
     let (below, at, above) = (&prev[..n], &prev[1..=n], &prev[2..n + 2]);
     let out = &mut out[1..=n];
-    let mut least = u16::MAX;
+    let mut least = L::NONE;
     for d in 0..n {
         let best = at[d]
             .min(below[d].saturating_add(p1))
             .min(above[d].saturating_add(p1))
             .min(jump);
-        let v = u16::from(c[d]) + best - low;
+        let v = L::cost(c[d]).add(best.sub(low));
         out[d] = v;
         least = least.min(v);
     }
     least
+}
+
+/// The right image's best disparities along one row of sums (`n` a left pixel): right
+/// pixel `xr`'s is the least of `S(xr + d, d)` over `d` (the first of equal ones), refined
+/// by a parabola through its neighbours on that diagonal; infinity where it has none. One
+/// pass over the sums in memory order, keeping each right pixel's least so far in `low`.
+fn choose_right(sums: &[u16], n: usize, scratch: &mut [Vec<u32>; 2], out: &mut [f32]) {
+    let w = out.len();
+    let [low, keys] = scratch;
+    low.clear();
+    low.resize(w, u32::MAX);
+    keys.resize(n, 0);
+    for (x, s) in sums.chunks_exact(n).enumerate() {
+        // Right pixels x, x - 1, ..., as d grows. A sum and its disparity packed as
+        // `sum << 16 | d`: the least key is the least sum, the first of equal ones. Laid
+        // out in the right pixels' order first, so the minimum is a plain forward one.
+        let m = n.min(x + 1);
+        let keys = &mut keys[..m];
+        for (i, k) in keys.iter_mut().enumerate() {
+            let d = m - 1 - i;
+            *k = u32::from(s[d]) << 16 | d as u32;
+        }
+        for (e, &k) in low[x + 1 - m..=x].iter_mut().zip(keys.iter()) {
+            *e = (*e).min(k);
+        }
+    }
+    let at = |xr: usize, d: usize| {
+        sums.get((xr + d) * n + d)
+            .filter(|&&v| xr + d < w && d < n && v != u16::MAX)
+    };
+    for (xr, (o, &key)) in out.iter_mut().zip(scratch[0].iter()).enumerate() {
+        let (c, k) = ((key >> 16) as u16, (key & 0xffff) as usize);
+        *o = if c == u16::MAX {
+            f32::INFINITY
+        } else {
+            match (k.checked_sub(1).and_then(|j| at(xr, j)), at(xr, k + 1)) {
+                (Some(&a), Some(&b)) => parabola(k, a as f32, c as f32, b as f32),
+                _ => k as f32,
+            }
+        };
+    }
 }
 
 /// The best disparity of one pixel's sums (`u16::MAX`: none there), refined by a parabola,

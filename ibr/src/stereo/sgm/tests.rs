@@ -169,7 +169,8 @@ fn the_two_passes_give_the_definitions_answer() {
     // Every scene, and penalties that make paths matter (a large jump, none at all).
     for pair in [plane(), occluded(), slanted()] {
         let (l, r) = (luminance(&pair.left), luminance(&pair.right));
-        for (p1, p2) in [(3, 20), (1, 100), (0, 0)] {
+        // Paths and sums in bytes, paths in bytes and sums in 16 bits, both in 16 bits.
+        for (p1, p2) in [(3, 20), (0, 0), (1, 100), (2, 300)] {
             let sgm = Sgm { p1, p2, ..sgm() };
             let fast = sgm.run(&l, &r, W, H).expect("images of the size given");
             let slow = Reference(sgm)
