@@ -27,7 +27,7 @@ pub use block::{luminance, luminance_rgba8, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
 pub use rectify::{rectify, rectify_with, Framing, Rectified, RectifyError};
-pub use sgm::Sgm;
+pub use sgm::{Sgm, SgmBuffers};
 
 use engine::load::FloatImage;
 
