@@ -133,3 +133,44 @@ fn a_cylinder_turns_in_place_all_the_way_round_within_its_band() {
         assert!(shown * 10 < up.color.len(), "{shown} pixels above the band");
     });
 }
+
+#[test]
+fn after_a_large_translation_the_error_is_reported_not_garbage() {
+    with_draws(|draws| {
+        let map = CubeMap::capture(draws, &Lighting::default(), CENTRE, 64, 0.1, 50.0);
+        let mut last = 0.0f32;
+        // To the side, through the cards and out behind them, then far to the side.
+        for eye in [
+            CENTRE + Vec3::new(4.0, 0.0, 0.0),
+            CENTRE + Vec3::new(0.0, 0.0, -9.0),
+            CENTRE + Vec3::new(12.0, 3.0, 0.0),
+        ] {
+            let camera = looking(eye, Vec3::NEG_Z);
+            let view = map.view(&camera, W, H);
+            assert!(
+                view.color
+                    .iter()
+                    .all(|c| c.r.is_finite() && c.a.is_finite())
+                    && view.depth.iter().all(|d| !d.is_nan()),
+                "{eye}: a NaN in the view"
+            );
+            let truth = capture_batch(draws, &[camera], &Lighting::default(), W, H).remove(0);
+            // Measured where both see something; nothing in common is said so, not guessed.
+            match compare_seen(&view, &truth) {
+                Ok((e, _)) => assert!(!e.psnr_db.is_nan(), "{eye}: {e:?}"),
+                Err(e) => assert_eq!(e, crate::metrics::MetricsError::Empty, "{eye}"),
+            }
+            let predicted = map.predicted_px(eye, focal());
+            assert!(
+                predicted.is_finite() && predicted > last.max(20.0),
+                "{eye}: {predicted}"
+            );
+            last = predicted;
+        }
+        // A sky with a tolerance captures again rather than show that.
+        let mut sky = Sky::new(draws, &Lighting::default(), CENTRE, 64, (0.1, 50.0), 4.0);
+        let far = looking(CENTRE + Vec3::new(12.0, 3.0, 0.0), Vec3::NEG_Z);
+        assert!(sky.update(draws, &Lighting::default(), &far, focal()));
+        assert_eq!(sky.captures, 2);
+    });
+}
