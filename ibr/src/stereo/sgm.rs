@@ -104,28 +104,6 @@ trait Stored: Copy + Default + Send + Sync {
     fn load(self) -> u16;
 }
 
-impl Stored for u8 {
-    #[inline(always)]
-    fn store(v: u16) -> Self {
-        v as u8
-    }
-    #[inline(always)]
-    fn load(self) -> u16 {
-        u16::from(self)
-    }
-}
-
-impl Stored for u16 {
-    #[inline(always)]
-    fn store(v: u16) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn load(self) -> u16 {
-        self
-    }
-}
-
 impl Sgm {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
     /// An error when the images are not both `width x height`.
@@ -326,61 +304,53 @@ trait Lane: Copy + Ord + Default + Send + Sync + std::fmt::Debug {
     fn wide(self) -> u16;
 }
 
-impl Lane for u8 {
-    const NONE: Self = u8::MAX;
-    #[inline(always)]
-    fn cost(c: u8) -> Self {
-        c
-    }
-    #[inline(always)]
-    fn penalty(p: u16) -> Self {
-        p.min(u16::from(u8::MAX)) as u8
-    }
-    #[inline(always)]
-    fn saturating_add(self, o: Self) -> Self {
-        u8::saturating_add(self, o)
-    }
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        self + o
-    }
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    #[inline(always)]
-    fn wide(self) -> u16 {
-        u16::from(self)
-    }
+/// The lane types: the same operations on bytes and on 16 bits.
+macro_rules! lane {
+    ($t:ty) => {
+        impl Lane for $t {
+            const NONE: Self = <$t>::MAX;
+            #[inline(always)]
+            fn cost(c: u8) -> Self {
+                <$t>::from(c)
+            }
+            #[inline(always)]
+            fn penalty(p: u16) -> Self {
+                <$t>::try_from(p).unwrap_or(<$t>::MAX)
+            }
+            #[inline(always)]
+            fn saturating_add(self, o: Self) -> Self {
+                <$t>::saturating_add(self, o)
+            }
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                self + o
+            }
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                self - o
+            }
+            #[inline(always)]
+            fn wide(self) -> u16 {
+                u16::from(self)
+            }
+        }
+
+        impl Stored for $t {
+            /// (Sums of four fit by the choice of type; the most a lane holds otherwise.)
+            #[inline(always)]
+            fn store(v: u16) -> Self {
+                <$t>::try_from(v).unwrap_or(<$t>::MAX)
+            }
+            #[inline(always)]
+            fn load(self) -> u16 {
+                u16::from(self)
+            }
+        }
+    };
 }
 
-impl Lane for u16 {
-    const NONE: Self = u16::MAX;
-    #[inline(always)]
-    fn cost(c: u8) -> Self {
-        u16::from(c)
-    }
-    #[inline(always)]
-    fn penalty(p: u16) -> Self {
-        p
-    }
-    #[inline(always)]
-    fn saturating_add(self, o: Self) -> Self {
-        u16::saturating_add(self, o)
-    }
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        self + o
-    }
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    #[inline(always)]
-    fn wide(self) -> u16 {
-        self
-    }
-}
+lane!(u8);
+lane!(u16);
 
 /// The census codes of both images, and what a row of matching costs needs.
 struct Codes<'a> {
