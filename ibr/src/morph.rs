@@ -16,11 +16,18 @@
 //! the baseline along the view (an epipole inside the image: motion toward the scene), is
 //! refused with the rectifier's error, not morphed into garbage.
 //!
+//! Without cameras ([`ViewMorph::from_points`], [`uncalibrated`]) the prewarp comes from
+//! point pairs: their fundamental matrix by the normalised eight-point algorithm
+//! ([`fundamental`]), homographies sending both epipoles to infinity along x (Hartley's
+//! projective rectification), and the postwarp interpolates the two prewarps' inverses.
+//!
 //! [`plain_morph`] is the morph without the prewarp: points moved along straight lines
 //! between their positions in the two images, which is not shape preserving when the
 //! views are not parallel; it is here to be measured against.
 
 mod forward;
+pub mod fundamental;
+pub mod uncalibrated;
 
 use crate::images::DepthImage;
 use crate::stereo::rectify::resample;
@@ -48,6 +55,16 @@ pub enum MorphError {
     NoDepth,
     #[error("the stereo matcher failed: {0}")]
     Stereo(String),
+    #[error("cannot estimate the fundamental matrix from the point pairs: {0}")]
+    Fundamental(#[from] fundamental::FundamentalError),
+    #[error(
+        "the epipole of the {image} image is at ({x:.0}, {y:.0}) pixels, in or near the image: the eyes move toward the scene and rows cannot be made to match (move the cameras sideways)"
+    )]
+    EpipoleInImage { image: &'static str, x: f64, y: f64 },
+    #[error("the point pairs lie up to {needed} pixels apart in the prewarped pair, past the matcher's {max}")]
+    DisparityRange { needed: u32, max: u32 },
+    #[error("cannot prewarp from the point pairs: {0}")]
+    Pairs(&'static str),
 }
 
 /// What a morphed frame holds.
@@ -74,6 +91,8 @@ pub struct ViewMorph {
     /// The prewarped left and right views' disparities (pixels, infinity where unknown).
     left: Disparity,
     right: Disparity,
+    /// For a morph from point pairs: the postwarp's two ends, in place of the cameras.
+    postwarp: Option<uncalibrated::Postwarp>,
 }
 
 impl ViewMorph {
@@ -115,39 +134,7 @@ impl ViewMorph {
                 };
                 (of(&pair.left), of(&pair.right))
             }
-            Correspondence::Stereo { max_disparity } => {
-                let sgm = Sgm {
-                    max_disparity,
-                    ..Sgm::default()
-                };
-                let (l, r) = (luminance(&pair.left), luminance(&pair.right));
-                let run = |l: &[f32], r: &[f32]| {
-                    sgm.run(l, r, w, h)
-                        .map_err(|e| MorphError::Stereo(e.to_string()))
-                };
-                // The right view's disparities: the mirrored pair matched the same way.
-                let flip = |v: &[f32]| -> Vec<f32> {
-                    v.chunks(w as usize)
-                        .flat_map(|row| row.iter().rev().copied())
-                        .collect()
-                };
-                let mut left = run(&l, &r)?;
-                let mirrored = run(&flip(&r), &flip(&l))?;
-                let mut right =
-                    Disparity::new(w, h, flip(&mirrored.data)).expect("a matcher's disparities");
-                // What the checks left unknown (occlusions, mismatches) taken from the
-                // background side, where a disocclusion's pixels lie.
-                for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
-                    map.fill_from_background();
-                    // Unknown where the prewarped view saw nothing.
-                    for (d, c) in map.data.iter_mut().zip(&image.color) {
-                        if c.a <= 0.0 {
-                            *d = f32::INFINITY;
-                        }
-                    }
-                }
-                (left, right)
-            }
+            Correspondence::Stereo { max_disparity } => stereo(&pair, max_disparity)?,
         };
         Ok(ViewMorph {
             width: a.width(),
@@ -157,22 +144,26 @@ impl ViewMorph {
             pair,
             left,
             right,
+            postwarp: None,
         })
     }
 
-    /// The prewarped pair.
+    /// The prewarped pair. (From point pairs its cameras are the first image's, standing
+    /// in, and its baseline 0: unknown.)
     pub fn prewarped(&self) -> &Rectified {
         &self.pair
     }
 
     /// The in-between camera a fraction `s` of the way (0: the first view, 1: the second):
     /// its eye on the line between the two, its orientation interpolated spherically, the
-    /// first view's projection.
+    /// first view's projection. For a morph from point pairs, the images' own cameras,
+    /// which the morph did not use.
     pub fn camera_at(&self, s: f32) -> Camera {
         between(&self.from, &self.to, s)
     }
 
-    /// The in-between view a fraction `s` of the way, and what it is made of.
+    /// The in-between view a fraction `s` of the way, and what it is made of. (From point
+    /// pairs its depth is unknown: [`crate::images::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
@@ -183,8 +174,50 @@ impl ViewMorph {
         };
         let (image, stats) = forward::morph(p, &self.left, &self.right, s, parallel);
         let (w, h) = (self.width, self.height);
-        (resample(&image, &self.camera_at(s), w, h), stats)
+        let camera = self.camera_at(s);
+        match &self.postwarp {
+            Some(postwarp) => (postwarp.apply(&image, s, camera, w, h), stats),
+            None => (resample(&image, &camera, w, h), stats),
+        }
     }
+}
+
+/// The dense correspondences of a prewarped pair by semi-global matching, up to
+/// `max_disparity` pixels: the left view's disparities and the right's (the mirrored pair
+/// matched the same way), unknowns filled from the background side, infinite where the
+/// prewarped view saw nothing. Shared by the morph from points ([`uncalibrated`]).
+fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity), MorphError> {
+    let (w, h) = (pair.left.width(), pair.left.height());
+    let sgm = Sgm {
+        max_disparity,
+        ..Sgm::default()
+    };
+    let (l, r) = (luminance(&pair.left), luminance(&pair.right));
+    let run = |l: &[f32], r: &[f32]| {
+        sgm.run(l, r, w, h)
+            .map_err(|e| MorphError::Stereo(e.to_string()))
+    };
+    // The right view's disparities: the mirrored pair matched the same way.
+    let flip = |v: &[f32]| -> Vec<f32> {
+        v.chunks(w as usize)
+            .flat_map(|row| row.iter().rev().copied())
+            .collect()
+    };
+    let mut left = run(&l, &r)?;
+    let mirrored = run(&flip(&r), &flip(&l))?;
+    let mut right = Disparity::new(w, h, flip(&mirrored.data)).expect("a matcher's disparities");
+    // What the checks left unknown (occlusions, mismatches) taken from the
+    // background side, where a disocclusion's pixels lie.
+    for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
+        map.fill_from_background();
+        // Unknown where the prewarped view saw nothing.
+        for (d, c) in map.data.iter_mut().zip(&image.color) {
+            if c.a <= 0.0 {
+                *d = f32::INFINITY;
+            }
+        }
+    }
+    Ok((left, right))
 }
 
 /// `camera`'s view with its eye moved to `eye` (same orientation).

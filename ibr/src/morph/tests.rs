@@ -8,19 +8,19 @@ use crate::stereo::scenes::{with_scene_draws, H, W};
 use engine::Lighting;
 
 /// The cards (a large slanted one, a small one in front) seen from `cameras`.
-fn views(cameras: &[Camera]) -> Vec<DepthImage> {
+pub(super) fn views(cameras: &[Camera]) -> Vec<DepthImage> {
     with_scene_draws(|draws| capture_batch(draws, cameras, &Lighting::default(), W, H))
 }
 
 /// A camera at `eye` looking at `target`.
-fn looking(eye: Vec3, target: Vec3) -> Camera {
+pub(super) fn looking(eye: Vec3, target: Vec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 0.8, W as f32 / H as f32).with_depth_range(0.1, 50.0)
 }
 
 /// PSNR of `image` against `truth` over the pixels both cover: where the views agree on
 /// what is there, how well it is placed. (The prewarp crops what turns out of its frame,
 /// measured apart by [`covered`].)
-fn psnr(image: &DepthImage, truth: &DepthImage) -> f64 {
+pub(super) fn psnr(image: &DepthImage, truth: &DepthImage) -> f64 {
     compare_seen(image, truth)
         .expect("same size")
         .0
@@ -28,13 +28,13 @@ fn psnr(image: &DepthImage, truth: &DepthImage) -> f64 {
 }
 
 /// The share of `truth`'s covered pixels `image` covers.
-fn covered(image: &DepthImage, truth: &DepthImage) -> f64 {
+pub(super) fn covered(image: &DepthImage, truth: &DepthImage) -> f64 {
     compare_seen(image, truth).expect("same size").1
 }
 
 /// Two views converging on the cards from either side (turned toward each other by about
 /// 9 degrees: not parallel).
-fn verged() -> (Camera, Camera) {
+pub(super) fn verged() -> (Camera, Camera) {
     let target = Vec3::new(0.0, 0.0, 0.0);
     (
         looking(Vec3::new(-0.8, 0.1, 5.0), target),
