@@ -25,19 +25,21 @@
 //! drawn as geometry. [`split_by_depth`] cuts a large object into layers by depth range.
 
 mod fit;
+mod frame;
 mod split;
+mod technique;
 
 pub use fit::{project, unproject, Affine, Homography};
 pub use split::split_by_depth;
+pub use technique::Layered;
 
-use crate::billboard::{push_quad, UvRect};
+use frame::{bounds, build_quad, clip, finish, grow, job, overlaps, predict};
+
 use crate::impostor::{image_material, Frustum};
 use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
-use crate::technique::{Counters, FrameView, Technique};
-use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba};
+use engine::{Camera, Draw, Lighting, Material, Mesh};
 use glam::{Mat4, Vec2};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Settings of a [`LayerSet`].
@@ -375,252 +377,6 @@ impl LayerSet {
                 Mode::Culled => {}
             }
         }
-    }
-}
-
-/// The error of `layer`'s image warped to this frame's projections (`layer.screen`), and
-/// this frame's warp; `on_screen` is the part of the layer's rectangle inside the view.
-fn predict(layer: &mut Layer, version: u64, on_screen: (Vec2, Vec2), cfg: &Config) -> Predicted {
-    let Some(image) = layer.image else {
-        return Predicted {
-            ratio: f32::INFINITY,
-            ..Predicted::default()
-        };
-    };
-    let (from, to) = (&image.texels, &layer.screen);
-    let affine = Homography::from(Affine::fit(from, to, image.scale));
-    let mut pixels = affine.max_error(from, to);
-    let mut warp = affine;
-    if cfg.perspective {
-        if let Some(h) = Homography::fit(from, to) {
-            let e = h.max_error(from, to);
-            if e < pixels {
-                (warp, pixels) = (h, e);
-            }
-        }
-    }
-    layer.warp = warp;
-    let (w, h) = (image.width as f32, image.height as f32);
-    let centre = Vec2::new(w, h) * 0.5;
-    let (hi, lo) = Affine {
-        m: warp.jacobian(centre),
-        t: Vec2::ZERO,
-    }
-    .stretch();
-    let scale = image.scale.max(1e-12);
-    let octaves = (hi / scale).log2().abs().max((lo / scale).log2().abs());
-    // The on-screen part, taken back into the image, must lie within it on every side
-    // where the image was cut (a texel of slack); past the layer's own edges the warp's
-    // error is the geometric error's to measure.
-    // The image's corners must stay in front of the warp's horizon, to be drawn.
-    let [left, top, right, bottom] = image.cut;
-    let drawable = image_corners(w, h).iter().all(|&c| warp.map(c).is_some());
-    let covered = drawable
-        && warp.inverse().is_some_and(|back| {
-            let (a, b) = on_screen;
-            [a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)]
-                .iter()
-                .all(|&p| match back.map(p) {
-                    Some((t, _)) => {
-                        !(left && t.x < -1.0
-                            || top && t.y < -1.0
-                            || right && t.x > w + 1.0
-                            || bottom && t.y > h + 1.0)
-                    }
-                    None => false,
-                })
-        });
-    let ratio = if version != image.version || !covered {
-        f32::INFINITY
-    } else {
-        (pixels / cfg.tolerance_px.max(1e-6)).max(octaves / cfg.octaves.max(1e-6))
-    };
-    Predicted {
-        pixels,
-        octaves,
-        covered,
-        ratio: if ratio.is_nan() { f32::INFINITY } else { ratio },
-    }
-}
-
-/// The refresh of layer `i`: its screen rectangle within `grown`, widened to whole pixels,
-/// at [`Config::resolution`] (shrunk to [`Config::max_side`]); `None` when nothing of it
-/// is left.
-fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job> {
-    let whole = bounds(&layer.screen);
-    let (min, max) = clip(whole, grown);
-    let cut = [
-        whole.0.x < min.x,
-        whole.0.y < min.y,
-        whole.1.x > max.x,
-        whole.1.y > max.y,
-    ];
-    let (min, max) = (min.floor(), max.ceil());
-    let size = max - min;
-    if !(size.x >= 1.0 && size.y >= 1.0) {
-        return None;
-    }
-    let texels_per_px = cfg
-        .resolution
-        .min(cfg.max_side.max(1) as f32 / size.max_element())
-        .max(1e-6);
-    let n = |len: f32| ((len * texels_per_px).round() as u32).clamp(1, cfg.max_side.max(1));
-    Some(Job {
-        i,
-        min,
-        max,
-        width: n(size.x),
-        height: n(size.y),
-        cut,
-    })
-}
-
-/// Takes worker `w`'s image for `job`'s layer: the texture, where the characteristic
-/// points lie in it, and a warp that puts it back where it was rendered.
-fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64) {
-    if let (Some(tex), Some(held)) = (
-        w.refresher.texture.as_mut(),
-        layer.material.base_texture.as_mut().and_then(Arc::get_mut),
-    ) {
-        std::mem::swap(held, tex);
-    }
-    let size = job.max - job.min;
-    let scale = size.x / job.width as f32;
-    let per_texel = Vec2::new(job.width as f32, job.height as f32) / size;
-    layer.image = Some(Image {
-        texels: layer.screen.map(|p| (p - job.min) * per_texel),
-        width: job.width,
-        height: job.height,
-        scale,
-        version,
-        cut: job.cut,
-    });
-    layer.warp = Affine {
-        m: glam::Mat2::from_diagonal(size / Vec2::new(job.width as f32, job.height as f32)),
-        t: job.min,
-    }
-    .into();
-    layer.predicted = Predicted {
-        covered: true,
-        ..Predicted::default()
-    };
-    if layer.mode != Mode::Culled {
-        layer.mode = Mode::Image;
-    }
-    layer.refreshes += 1;
-}
-
-/// The quad that draws `layer`'s image: its corners where the warp puts them, the nearest
-/// at the layer's nearest depth and the others as much farther as their homogeneous
-/// weights are larger (all at one depth for an affine warp), so the renderer's
-/// perspective-correct interpolation across the quad is the warp.
-fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height: u32) {
-    let Some(image) = layer.image else {
-        return;
-    };
-    let (near, _) = camera.near_far();
-    let z = layer.nearest.max(near * 1.001);
-    // Bottom-left first, as `push_quad` takes them.
-    let [tl, tr, br, bl] = image_corners(image.width as f32, image.height as f32);
-    let mapped = [bl, br, tr, tl].map(|c| layer.warp.map(c));
-    let Some(least) = mapped
-        .iter()
-        .map(|m| m.map(|(_, w)| w))
-        .try_fold(f32::MAX, |a, w| Some(a.min(w?)))
-    else {
-        return;
-    };
-    let quad = mapped.map(|m| {
-        let (px, w) = m.unwrap_or((Vec2::ZERO, least));
-        unproject(camera, px, z * w / least, width, height)
-    });
-    let full = UvRect {
-        min: Vec2::ZERO,
-        max: Vec2::ONE,
-    };
-    layer.quad.clear();
-    push_quad(&mut layer.quad, quad, full, Rgba::WHITE, 1.0);
-    layer.quad.colors.clear();
-}
-
-/// The corners of a `w` x `h` image: top-left, top-right, bottom-right, bottom-left.
-fn image_corners(w: f32, h: f32) -> [Vec2; 4] {
-    [
-        Vec2::ZERO,
-        Vec2::new(w, 0.0),
-        Vec2::new(w, h),
-        Vec2::new(0.0, h),
-    ]
-}
-
-/// The rectangle around `points`.
-fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
-    let lo = points.iter().fold(Vec2::splat(f32::MAX), |a, &p| a.min(p));
-    let hi = points.iter().fold(Vec2::splat(f32::MIN), |a, &p| a.max(p));
-    (lo, hi)
-}
-
-fn overlaps(a: (Vec2, Vec2), b: (Vec2, Vec2)) -> bool {
-    a.0.x < b.1.x && a.0.y < b.1.y && b.0.x < a.1.x && b.0.y < a.1.y
-}
-
-fn clip(a: (Vec2, Vec2), to: (Vec2, Vec2)) -> (Vec2, Vec2) {
-    (a.0.max(to.0), a.1.min(to.1))
-}
-
-/// `r` grown by `f` of its size on every side.
-fn grow(r: (Vec2, Vec2), f: f32) -> (Vec2, Vec2) {
-    let d = (r.1 - r.0) * f.max(0.0);
-    (r.0 - d, r.1 + d)
-}
-
-/// Subjects drawn as [`LayerSet`] image layers (one each), as one [`Technique`].
-#[derive(Debug)]
-pub struct Layered<S> {
-    pub set: LayerSet,
-    pub subjects: Vec<S>,
-    /// What the last `prepare` did.
-    pub report: Report,
-    name: String,
-}
-
-impl<S: Subject> Layered<S> {
-    /// `subjects` as layers configured by `config`, named `name` in readouts.
-    pub fn new(name: impl Into<String>, config: Config, subjects: Vec<S>) -> Self {
-        Layered {
-            set: LayerSet::new(config, subjects.len()),
-            subjects,
-            report: Report::default(),
-            name: name.into(),
-        }
-    }
-}
-
-impl<S: Subject + Send> Technique for Layered<S> {
-    fn name(&self) -> &str {
-        &self.name
-    }
-    fn prepare(&mut self, view: &FrameView<'_>) {
-        let size = (view.width, view.height);
-        self.report = self
-            .set
-            .update(&mut self.subjects, view.camera, size, view.lighting);
-    }
-    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.set.draws(&self.subjects, out);
-    }
-    fn counters(&self) -> Counters {
-        let r = &self.report;
-        Counters {
-            quads: r.images as u64,
-            images: r.images as u64,
-            refreshes: r.refreshes as u64,
-            geometry: r.geometry as u64,
-            ..Counters::default()
-        }
-    }
-    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.subjects.iter().for_each(|s| s.draws(out));
     }
 }
 

@@ -5,8 +5,9 @@
 use super::*;
 use crate::metrics::{self, Options};
 use crate::subject::MeshGroup;
-use engine::{procedural, FrameOptions, Renderer, Target, Texture};
+use engine::{procedural, FrameOptions, Renderer, Rgba, Target, Texture};
 use glam::Vec3;
+use std::sync::Arc;
 
 const W: u32 = 128;
 const H: u32 = 96;
