@@ -97,13 +97,6 @@ pub struct SgmBuffers {
     wide: [Vec<u16>; 2],
 }
 
-/// How a pass stores its sums of four paths: `u8` while four times the largest census cost
-/// plus P2 fits one, else `u16`.
-trait Stored: Copy + Default + Send + Sync {
-    fn store(v: u16) -> Self;
-    fn load(self) -> u16;
-}
-
 impl Sgm {
     /// The left image's disparities (`left` and `right` luminance, `width` x `height`).
     /// An error when the images are not both `width x height`.
@@ -290,68 +283,6 @@ const MAX_PENALTY: u16 = 4000;
 /// The largest census cost (24 bits differ).
 const MAX_CENSUS: u8 = 24;
 
-/// A path cost: `u8` while census costs plus P2 fit one (32 lanes to an AVX2 vector),
-/// else `u16`. A path's cost at a pixel is at most its matching cost plus P2, and its
-/// largest value, `NONE`, marks the padding beyond the disparity range.
-trait Lane: Copy + Ord + Default + Send + Sync + std::fmt::Debug {
-    const NONE: Self;
-    fn cost(c: u8) -> Self;
-    /// A penalty, within range (the callers make sure it is).
-    fn penalty(p: u16) -> Self;
-    fn saturating_add(self, o: Self) -> Self;
-    fn add(self, o: Self) -> Self;
-    fn sub(self, o: Self) -> Self;
-    fn wide(self) -> u16;
-}
-
-/// The lane types: the same operations on bytes and on 16 bits.
-macro_rules! lane {
-    ($t:ty) => {
-        impl Lane for $t {
-            const NONE: Self = <$t>::MAX;
-            #[inline(always)]
-            fn cost(c: u8) -> Self {
-                <$t>::from(c)
-            }
-            #[inline(always)]
-            fn penalty(p: u16) -> Self {
-                <$t>::try_from(p).unwrap_or(<$t>::MAX)
-            }
-            #[inline(always)]
-            fn saturating_add(self, o: Self) -> Self {
-                <$t>::saturating_add(self, o)
-            }
-            #[inline(always)]
-            fn add(self, o: Self) -> Self {
-                self + o
-            }
-            #[inline(always)]
-            fn sub(self, o: Self) -> Self {
-                self - o
-            }
-            #[inline(always)]
-            fn wide(self) -> u16 {
-                u16::from(self)
-            }
-        }
-
-        impl Stored for $t {
-            /// (Sums of four fit by the choice of type; the most a lane holds otherwise.)
-            #[inline(always)]
-            fn store(v: u16) -> Self {
-                <$t>::try_from(v).unwrap_or(<$t>::MAX)
-            }
-            #[inline(always)]
-            fn load(self) -> u16 {
-                u16::from(self)
-            }
-        }
-    };
-}
-
-lane!(u8);
-lane!(u16);
-
 /// The census codes of both images, and what a row of matching costs needs.
 struct Codes<'a> {
     left: &'a [u32],
@@ -485,6 +416,10 @@ fn choose(sums: &[u16], uniqueness: f32) -> (f32, bool) {
     };
     (d, unique)
 }
+
+mod lanes;
+
+use lanes::{Lane, Stored};
 
 #[cfg(test)]
 mod tests;
