@@ -27,6 +27,16 @@ fn stereo(args: &[&str]) -> Output {
         .expect("run")
 }
 
+/// Runs `stereo` and fails the test with its stderr unless it succeeds.
+fn stereo_ok(args: &[&str]) {
+    let run = stereo(args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
 /// Random grey levels in 2x2 blocks (a fixed linear congruential sequence).
 fn dots(seed: u64) -> Vec<u8> {
     let mut s = seed;
@@ -75,7 +85,7 @@ fn a_random_dot_pair_gives_its_disparities_and_depth() {
     write_grey(&lp, &left);
     write_grey(&rp, &right);
     let out = tmp.path("out");
-    let run = stereo(&[
+    stereo_ok(&[
         "--left",
         lp.to_str().unwrap(),
         "--right",
@@ -89,11 +99,6 @@ fn a_random_dot_pair_gives_its_disparities_and_depth() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     let read = |name: &str| {
         engine::load::parse_pfm(&std::fs::read(out.join(name)).unwrap()).expect("a PFM")
     };
@@ -286,7 +291,7 @@ fn a_verged_pair_is_rectified_matched_and_placed_in_the_scene() {
     );
     let json = write_capture(&tmp.path("cap"), &[left, right]);
     let out = tmp.path("out");
-    let run = stereo(&[
+    stereo_ok(&[
         "--cameras",
         json.to_str().unwrap(),
         "--max-disparity",
@@ -294,11 +299,6 @@ fn a_verged_pair_is_rectified_matched_and_placed_in_the_scene() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     let (d, z) = (pfm(&out.join("disparity.pfm")), pfm(&out.join("depth.pfm")));
     assert_eq!((d.width, d.height), (VW, VH), "the rectified size");
     assert_eq!((z.width, z.height), (VW, VH));
