@@ -51,11 +51,7 @@ impl Plan {
             triangle_counts: vec![1_000, 10_000, 100_000, 1_000_000, 2_000_000],
             fixed_resolution: (1280, 720),
             models: true,
-            timing: Timing {
-                warmup: 3,
-                frames: 31,
-                budget: Duration::from_secs(3),
-            },
+            timing: Timing::new(3, 31, 3),
         }
     }
 

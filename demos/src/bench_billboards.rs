@@ -111,11 +111,7 @@ impl Plan {
             bake_px: 256,
             tree_counts: vec![100, 1_000, 10_000, 50_000],
             tree_size: (1280, 720),
-            timing: Timing {
-                warmup: 2,
-                frames: 21,
-                budget: Duration::from_secs(2),
-            },
+            timing: Timing::new(2, 21, 2),
         }
     }
 

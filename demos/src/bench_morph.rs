@@ -12,7 +12,7 @@ use glam::Vec3;
 use ibr::capture::capture_batch;
 use ibr::metrics::{compare_seen, ImageError};
 use ibr::morph::{plain_morph, Correspondence, ViewMorph};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
@@ -30,11 +30,7 @@ impl Plan {
             width: 128,
             height: 96,
             steps: 3,
-            timing: Timing {
-                warmup: 0,
-                frames: 1,
-                budget: Duration::ZERO,
-            },
+            timing: Timing::once(),
         }
     }
 
@@ -43,11 +39,7 @@ impl Plan {
             width: 320,
             height: 240,
             steps: 5,
-            timing: Timing {
-                warmup: 0,
-                frames: 2,
-                budget: Duration::from_secs(1),
-            },
+            timing: Timing::new(0, 2, 1),
         }
     }
 
@@ -56,11 +48,7 @@ impl Plan {
             width: 640,
             height: 480,
             steps: 11,
-            timing: Timing {
-                warmup: 1,
-                frames: 3,
-                budget: Duration::from_secs(2),
-            },
+            timing: Timing::new(1, 3, 2),
         }
     }
 }

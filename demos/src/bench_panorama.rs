@@ -10,7 +10,7 @@ use glam::Vec3;
 use ibr::capture::capture_batch;
 use ibr::metrics::{compare_seen, ImageError};
 use ibr::panorama::CubeMap;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
@@ -31,11 +31,7 @@ impl Plan {
             height: 64,
             face: 64,
             moves: vec![0.0, 2.0],
-            timing: Timing {
-                warmup: 0,
-                frames: 1,
-                budget: Duration::ZERO,
-            },
+            timing: Timing::once(),
         }
     }
 
@@ -45,11 +41,7 @@ impl Plan {
             height: 180,
             face: 256,
             moves: vec![0.0, 0.5, 1.0, 2.0, 4.0],
-            timing: Timing {
-                warmup: 0,
-                frames: 2,
-                budget: Duration::from_secs(1),
-            },
+            timing: Timing::new(0, 2, 1),
         }
     }
 
@@ -59,11 +51,7 @@ impl Plan {
             height: 360,
             face: 512,
             moves: vec![0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0],
-            timing: Timing {
-                warmup: 1,
-                frames: 3,
-                budget: Duration::from_secs(2),
-            },
+            timing: Timing::new(1, 3, 2),
         }
     }
 }

@@ -42,11 +42,7 @@ impl Plan {
             width: 128,
             height: 96,
             max_disparity: 16,
-            timing: Timing {
-                warmup: 0,
-                frames: 1,
-                budget: Duration::ZERO,
-            },
+            timing: Timing::once(),
         }
     }
 
@@ -55,11 +51,7 @@ impl Plan {
             width: 320,
             height: 240,
             max_disparity: 32,
-            timing: Timing {
-                warmup: 1,
-                frames: 3,
-                budget: Duration::from_secs(2),
-            },
+            timing: Timing::new(1, 3, 2),
         }
     }
 
@@ -68,11 +60,7 @@ impl Plan {
             width: 640,
             height: 480,
             max_disparity: 64,
-            timing: Timing {
-                warmup: 1,
-                frames: 5,
-                budget: Duration::from_secs(5),
-            },
+            timing: Timing::new(1, 5, 5),
         }
     }
 }

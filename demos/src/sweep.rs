@@ -52,6 +52,20 @@ pub struct Timing {
 }
 
 impl Timing {
+    /// `warmup` untimed frames, then up to `frames` timed ones within `budget_s` seconds.
+    pub const fn new(warmup: usize, frames: usize, budget_s: u64) -> Timing {
+        Timing {
+            warmup,
+            frames,
+            budget: Duration::from_secs(budget_s),
+        }
+    }
+
+    /// One timed frame and no warm-up ([`MIN_FRAMES`] still apply): smoke runs.
+    pub const fn once() -> Timing {
+        Timing::new(0, 1, 0)
+    }
+
     /// Runs the frames; what each timed `frame` returned, in order.
     pub fn run<T>(&self, mut frame: impl FnMut() -> T) -> Vec<T> {
         for _ in 0..self.warmup {
