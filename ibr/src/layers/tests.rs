@@ -390,3 +390,25 @@ fn a_ground_cut_by_depth_keeps_every_triangle_in_one_slab() {
     }
     assert!(split_by_depth(&MeshGroup::new(), Vec3::Z, 3).is_empty());
 }
+
+#[test]
+fn an_empty_target_and_a_broken_subject_do_not_panic() {
+    let mut broken = cube(Vec3::ZERO, Vec3::ONE);
+    broken.parts[0].transform = Mat4::from_translation(Vec3::NAN);
+    let mut subjects = [cube(Vec3::ZERO, Vec3::ONE), broken, MeshGroup::new()];
+    let mut set = LayerSet::new(Config::default(), 3);
+    let cam = camera(Vec3::new(0.0, 0.5, 4.0), Vec3::ZERO);
+    let r = set.update(&mut subjects, &cam, (0, 0), &lighting());
+    assert_eq!(r.images, 0, "{r:?}");
+    for _ in 0..2 {
+        let r = update(&mut set, &mut subjects, &cam);
+        assert!(r.max_px.is_finite(), "{r:?}");
+        for l in &set.layers {
+            assert!(!l.predicted.ratio.is_nan(), "{l:?}");
+        }
+    }
+    let mut draws = Vec::new();
+    set.draws(&subjects, &mut draws);
+    let frame = render(draws, &cam);
+    assert_eq!(frame.width(), W);
+}
