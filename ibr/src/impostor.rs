@@ -24,6 +24,7 @@
 //! Textures come from a [`Pool`]; impostors culled for long release theirs.
 
 mod capture;
+mod plan;
 mod pool;
 mod predict;
 mod refresh;
@@ -36,8 +37,9 @@ pub(crate) use pool::image_material;
 pub use pool::Pool;
 pub use predict::{error_color, needed_side, screen_rect};
 
+pub(crate) use predict::pixels_per_radian;
 pub(crate) use predict::Frustum;
-use predict::{pixels_per_radian, predict};
+use predict::{image_error, predict};
 use refresh::{Job, Worker};
 
 use crate::metrics::{self, ImageError, Options, Region};
@@ -391,18 +393,7 @@ impl ImpostorSet {
         for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
             match imp.mode {
                 Mode::Image => out.extend(self.image_draw(i).map(|mut d| {
-                    let to = s.bounds().center - eye;
-                    let dist = to.length().max(1e-6);
-                    let dir = to / dist;
-                    let nearest = s
-                        .corners()
-                        .iter()
-                        .map(|&c| (c - eye).dot(dir))
-                        .fold(dist, f32::min);
-                    let k = (nearest / dist).clamp(0.05, 1.0);
-                    d.transform = Mat4::from_translation(eye)
-                        * Mat4::from_scale(Vec3::splat(k))
-                        * Mat4::from_translation(-eye);
+                    d.transform = pull_near(s, eye);
                     d
                 })),
                 Mode::Geometry(_) => s.draws(out),
@@ -411,19 +402,26 @@ impl ImpostorSet {
         }
     }
 
-    /// The quad that draws impostor `i`'s image (world space, identity transform), when it
-    /// is drawn as an image this frame. Callers may change the transform, e.g. scale the
-    /// quad about the eye to move it nearer in depth without changing its pixels.
-    pub fn image_draw(&self, i: usize) -> Option<Draw<'_>> {
+    /// The quad and material of impostor `i`'s image whatever its mode (world space,
+    /// identity transform), if it has one.
+    fn quad_draw(&self, i: usize) -> Option<Draw<'_>> {
         let imp = self.impostors.get(i)?;
-        if imp.mode != Mode::Image {
-            return None;
-        }
+        imp.capture.as_ref()?;
         Some(Draw {
             mesh: &imp.quad,
             material: self.pool.material(imp.slot?)?,
             transform: Mat4::IDENTITY,
         })
+    }
+
+    /// The quad that draws impostor `i`'s image (world space, identity transform), when it
+    /// is drawn as an image this frame. Callers may change the transform, e.g. scale the
+    /// quad about the eye to move it nearer in depth without changing its pixels.
+    pub fn image_draw(&self, i: usize) -> Option<Draw<'_>> {
+        if self.impostors.get(i)?.mode != Mode::Image {
+            return None;
+        }
+        self.quad_draw(i)
     }
 
     /// The measured error of impostor `i` this frame: its image and its subject rendered
@@ -472,6 +470,21 @@ impl ImpostorSet {
         };
         metrics::compare(&truth, &image, &opts).ok()
     }
+}
+
+/// The transform that scales an image's quad about `eye` (the same pixels, only nearer) to
+/// the depth of `s`'s nearest corner along the line of sight ([`ImpostorSet::draws_near`]).
+fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
+    let to = s.bounds().center - eye;
+    let dist = to.length().max(1e-6);
+    let dir = to / dist;
+    let nearest = s
+        .corners()
+        .iter()
+        .map(|&c| (c - eye).dot(dir))
+        .fold(dist, f32::min);
+    let k = (nearest / dist).clamp(0.05, 1.0);
+    Mat4::from_translation(eye) * Mat4::from_scale(Vec3::splat(k)) * Mat4::from_translation(-eye)
 }
 
 #[cfg(test)]

@@ -18,6 +18,8 @@
 //! - [`impostor`]: runtime impostors refreshed when their predicted error is too large.
 //! - [`layers`]: image layers (Lengyel and Snyder): each subject's image warped by the affine
 //!   map fitted to its characteristic points, re-rendered when that errs too far.
+//! - [`plan`]: each object's representation chosen per frame under an error, a time and a
+//!   rebuild budget, among every representation that predicts its error and cost.
 //! - [`schedule`]: the refresh scheduler impostors and image layers share (budgeted,
 //!   largest error first).
 //! - [`cloud`]: cumulus particle clouds lit by a precomputed light pass (Harris and Lastra).
@@ -48,6 +50,7 @@ pub mod metrics;
 pub mod morph;
 pub mod octahedral;
 pub mod panorama;
+pub mod plan;
 pub mod portal;
 pub mod schedule;
 pub mod sprites;

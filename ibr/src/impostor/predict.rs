@@ -66,7 +66,7 @@ pub(super) fn predict<S: Subject>(
 /// parallax (at the ends) against the image; [`DISPLACEMENT`] and [`RESAMPLING`] are fitted
 /// so that the measured error is at most the prediction on 95% of the calibration run's
 /// images (`bench impostors`, BENCHMARKS.md).
-pub(super) fn image_error(c: &Capture, dist: f32, parallax_px: f32, px_per_radian: f32) -> f32 {
+pub(crate) fn image_error(c: &Capture, dist: f32, parallax_px: f32, px_per_radian: f32) -> f32 {
     // The subject's diameter on screen, pixels: the image's texels are this much larger
     // or smaller there.
     let screen = 2.0 * (c.radius / dist.max(c.radius * 1.0001)).asin() * px_per_radian;
@@ -80,7 +80,7 @@ pub const RESAMPLING: f32 = 0.15;
 pub const DISPLACEMENT: f32 = 0.57;
 
 /// Pixels per radian at the centre of an image `height` pixels tall.
-pub(super) fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
+pub(crate) fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
     match camera.projection {
         Projection::Perspective { fov_y, .. } => {
             height as f32 * 0.5 / (fov_y * 0.5).tan().max(1e-6)

@@ -26,7 +26,7 @@ pub(super) struct Worker {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Job {
     i: usize,
-    capture: Capture,
+    pub(super) capture: Capture,
     slot: usize,
 }
 

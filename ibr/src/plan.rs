@@ -1,0 +1,610 @@
+//! Choosing each object's representation every frame: the cheapest whose predicted error is
+//! within the error budget, rebuilds spent where they lower error or cost most, and the
+//! frame kept within a time budget by relaxing error where that costs least.
+//!
+//! A [`Planner`] owns a scene's objects ([`Subject`]s) and a list of [`Representation`]s
+//! (geometry, runtime impostors, image layers, ...), none special-cased. Each frame
+//! ([`Planner::plan`]):
+//! 1. *Cull*: objects whose bounding sphere is off the view are not drawn; what their
+//!    representations hold for them is released after [`Config::release_after`] frames
+//!    unused.
+//! 2. *Choose as things are*: every representation predicts each visible object's error
+//!    and draw cost ([`Estimate`], without rendering). The object takes the cheapest
+//!    within the error budget. Hysteresis: a representation the object is not using must
+//!    be within [`Config::hysteresis`] times the budget, and cheaper by
+//!    [`Config::min_saving`], to take over; the one in use keeps it up to the budget. If
+//!    none is within the budget, the least error is taken (and reported).
+//! 3. *Rebuild*: candidates are ranked in three tiers: objects over the error budget (by
+//!    the error a rebuild removes, times their pixels), images in use that have aged past
+//!    the hysteresis band (so they stay in use), then objects a rebuilt image would make
+//!    cheaper (by the time saved, net of the rebuild spread over
+//!    [`Config::payback_frames`]). They are taken within the rebuild budget (a count and
+//!    optionally predicted milliseconds), and each representation rebuilds its share in
+//!    one call (side by side).
+//! 4. *Fit the time budget*: while the frame's predicted time is over
+//!    [`Budgets::time_ms`], objects move to a cheaper representation, least added error
+//!    (times pixels) per millisecond saved first. Objects drawn over the error budget are
+//!    reported with the reason ([`Over`]).
+//!
+//! Everything is sequential and ordered by object index (rebuilds are the
+//! representations' own, deterministic), so the same frames make the same choices at any
+//! thread count.
+
+mod cost;
+mod represent;
+mod technique;
+
+pub use cost::{CostModel, Work};
+pub use represent::{Estimate, Geometry, Representation, Sight};
+
+use crate::impostor::{pixels_per_radian, Frustum};
+use crate::subject::Subject;
+use crate::technique::FrameView;
+use engine::Draw;
+
+/// What a frame may spend.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budgets {
+    /// Largest predicted error per object, in the impostors' unit: mean absolute 8-bit
+    /// error over the object's screen rectangle ([`Estimate`]). 0: geometry only.
+    pub error: f32,
+    /// Predicted frame time, milliseconds (`None`: no limit).
+    pub time_ms: Option<f32>,
+    /// Rebuilds per frame.
+    pub rebuilds: usize,
+    /// Predicted milliseconds of rebuilds per frame (`None`: no limit; the first
+    /// candidate is always allowed).
+    pub rebuild_ms: Option<f32>,
+}
+
+impl Default for Budgets {
+    fn default() -> Self {
+        Budgets {
+            error: 2.0,
+            time_ms: None,
+            rebuilds: 8,
+            rebuild_ms: None,
+        }
+    }
+}
+
+/// Settings of a [`Planner`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    pub budgets: Budgets,
+    /// A representation not in use takes over only within this fraction of the error
+    /// budget (in use, it keeps up to the whole budget).
+    pub hysteresis: f32,
+    /// A representation not in use takes over only if it saves this fraction of the
+    /// predicted draw time.
+    pub min_saving: f32,
+    /// A rebuild that only saves time is worth it if the time saved over this many frames
+    /// pays for it.
+    pub payback_frames: f32,
+    /// Frames an object's data may stay unused before its representation releases it.
+    pub release_after: u32,
+    pub cost: CostModel,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            budgets: Budgets::default(),
+            hysteresis: 0.75,
+            min_saving: 0.15,
+            payback_frames: 30.0,
+            release_after: 120,
+            cost: CostModel::default(),
+        }
+    }
+}
+
+/// Why an object is drawn with a predicted error over the error budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Over {
+    /// The time budget moved it to a cheaper representation.
+    Time,
+    /// A rebuild would have brought it within the budget, but the rebuild budget ran out.
+    Rebuilds,
+    /// No representation could draw it within the budget, even rebuilt.
+    Nothing,
+}
+
+/// One object's representation this frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Choice {
+    /// Index into the planner's representations; `None` when culled.
+    pub rep: Option<usize>,
+    /// Predicted error and draw time.
+    pub error: f32,
+    pub ms: f32,
+    /// Rebuilt this frame.
+    pub rebuilt: bool,
+    /// Drawn over the error budget, and why.
+    pub over: Option<Over>,
+}
+
+/// What the last frame's plan did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Report {
+    /// Objects drawn by each representation (in the planner's order).
+    pub counts: Vec<usize>,
+    pub culled: usize,
+    /// Visible objects whose representation changed since the frame before.
+    pub switches: usize,
+    pub rebuilds: usize,
+    /// Rebuilds wanted but left for a later frame.
+    pub deferred: usize,
+    /// Objects drawn over the error budget, and by reason.
+    pub over_budget: usize,
+    pub over_time: usize,
+    pub over_rebuilds: usize,
+    pub over_nothing: usize,
+    /// Predicted milliseconds: drawing, and rebuilding.
+    pub draw_ms: f32,
+    pub rebuild_ms: f32,
+    /// Largest predicted error, and the mean weighted by the objects' pixels.
+    pub max_error: f32,
+    pub mean_error: f32,
+    /// Bytes every representation holds.
+    pub memory: usize,
+}
+
+impl Report {
+    /// Predicted frame time, milliseconds.
+    pub fn predicted_ms(&self) -> f32 {
+        self.draw_ms + self.rebuild_ms
+    }
+}
+
+/// A rebuild a frame could do.
+#[derive(Clone, Copy, Debug)]
+struct Rebuild {
+    tier: u8,
+    key: f32,
+    object: usize,
+    rep: usize,
+}
+
+/// Objects and the representations the planner chooses among each frame.
+pub struct Planner<S> {
+    pub config: Config,
+    pub objects: Vec<S>,
+    reps: Vec<Box<dyn Representation<S>>>,
+    choices: Vec<Choice>,
+    /// Frames since each representation last drew or rebuilt each object (object-major).
+    idle: Vec<u32>,
+    /// This frame's estimates, for visible objects (`visible` order, representation-major
+    /// within an object), and scratch.
+    visible: Vec<usize>,
+    estimates: Vec<Option<Estimate>>,
+    rebuilds: Vec<Rebuild>,
+    batch: Vec<usize>,
+    pub report: Report,
+    eye: glam::Vec3,
+}
+
+impl<S> std::fmt::Debug for Planner<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = self.reps.iter().map(|r| r.name()).collect();
+        f.debug_struct("Planner")
+            .field("config", &self.config)
+            .field("objects", &self.objects.len())
+            .field("representations", &names)
+            .field("report", &self.report)
+            .finish()
+    }
+}
+
+impl<S: Subject + Send> Planner<S> {
+    /// A planner over `objects`, choosing among `reps` (each sized for these objects).
+    pub fn new(config: Config, objects: Vec<S>, reps: Vec<Box<dyn Representation<S>>>) -> Self {
+        let n = objects.len();
+        let r = reps.len();
+        Planner {
+            config,
+            objects,
+            reps,
+            choices: vec![Choice::default(); n],
+            idle: vec![0; n * r],
+            visible: Vec::new(),
+            estimates: Vec::new(),
+            rebuilds: Vec::new(),
+            batch: Vec::new(),
+            report: Report::default(),
+            eye: glam::Vec3::ZERO,
+        }
+    }
+
+    /// The representations' names, in order.
+    pub fn names(&self) -> Vec<&str> {
+        self.reps.iter().map(|r| r.name()).collect()
+    }
+
+    pub fn representation(&self, r: usize) -> Option<&dyn Representation<S>> {
+        self.reps.get(r).map(|b| b.as_ref())
+    }
+
+    /// Every object's choice of the last frame.
+    pub fn choices(&self) -> &[Choice] {
+        &self.choices
+    }
+
+    /// Chooses every object's representation for `view`, rebuilds within the budget, and
+    /// prepares the objects for drawing (see the module docs). Returns the report.
+    pub fn plan(&mut self, view: &FrameView<'_>) -> &Report {
+        let camera = view.camera;
+        let eye = camera.eye();
+        self.eye = eye;
+        let frustum = Frustum::new(camera.clip_from_world());
+        let ppr = pixels_per_radian(camera, view.height);
+        let frame_px = view.width as f32 * view.height as f32;
+        let nr = self.reps.len();
+        let previous: Vec<Option<usize>> = self.choices.iter().map(|c| c.rep).collect();
+        self.visible.clear();
+        self.estimates.clear();
+        for (i, s) in self.objects.iter().enumerate() {
+            let bounds = s.bounds();
+            for r in 0..nr {
+                self.idle[i * nr + r] = self.idle[i * nr + r].saturating_add(1);
+            }
+            if !frustum.sees(bounds.center, bounds.radius) {
+                self.choices[i] = Choice::default();
+                continue;
+            }
+            let distance = eye.distance(bounds.center);
+            let pixels = if distance > bounds.radius {
+                let r_px = (bounds.radius / distance).asin() * ppr;
+                (std::f32::consts::PI * r_px * r_px).min(frame_px)
+            } else {
+                frame_px
+            };
+            let sight = Sight {
+                camera,
+                eye,
+                width: view.width,
+                height: view.height,
+                px_per_radian: ppr,
+                bounds,
+                distance,
+                pixels,
+            };
+            self.visible.push(i);
+            for rep in &self.reps {
+                let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
+                self.estimates.push(e);
+            }
+        }
+        self.choose_as_is(&previous);
+        self.rebuild(view);
+        self.fit_time();
+        self.finish(view, &previous);
+        &self.report
+    }
+
+    /// Step 2: each visible object's cheapest representation within the budget as things
+    /// are, with hysteresis; rebuild candidates for step 3.
+    fn choose_as_is(&mut self, previous: &[Option<usize>]) {
+        let cfg = self.config;
+        let budget = cfg.budgets.error.max(0.0);
+        let nr = self.reps.len();
+        self.rebuilds.clear();
+        for (v, &i) in self.visible.iter().enumerate() {
+            let est = &self.estimates[v * nr..(v + 1) * nr];
+            let current = previous[i];
+            let ms = |e: &Estimate| cfg.cost.ms(e.draw);
+            let limit = |r: usize| {
+                if Some(r) == current {
+                    budget
+                } else {
+                    budget * cfg.hysteresis
+                }
+            };
+            // Cheapest within its limit (ties: earlier representation).
+            let mut best: Option<(usize, f32)> = None;
+            for (r, e) in est.iter().enumerate() {
+                let Some(e) = e else { continue };
+                if e.error <= limit(r) && best.is_none_or(|(_, b)| ms(e) < b) {
+                    best = Some((r, ms(e)));
+                }
+            }
+            // Keep the one in use unless the other saves enough.
+            if let (Some((b, b_ms)), Some(c)) = (best, current) {
+                if let Some(Some(e)) = est.get(c) {
+                    if b != c && e.error <= budget && b_ms > ms(e) * (1.0 - cfg.min_saving) {
+                        best = Some((c, ms(e)));
+                    }
+                }
+            }
+            let within = best.is_some();
+            // None within: the least error (ties: cheaper).
+            let best = best.or_else(|| {
+                let mut least: Option<(usize, f32, f32)> = None;
+                for (r, e) in est.iter().enumerate() {
+                    let Some(e) = e else { continue };
+                    let better = least
+                        .is_none_or(|(_, err, m)| e.error < err || (e.error == err && ms(e) < m));
+                    if better {
+                        least = Some((r, e.error, ms(e)));
+                    }
+                }
+                least.map(|(r, _, m)| (r, m))
+            });
+            let Some((r0, ms0)) = best else {
+                self.choices[i] = Choice {
+                    over: Some(Over::Nothing),
+                    error: f32::INFINITY,
+                    ..Choice::default()
+                };
+                continue;
+            };
+            let err0 = est[r0].map_or(f32::INFINITY, |e| e.error);
+            self.choices[i] = Choice {
+                rep: Some(r0),
+                error: err0,
+                ms: ms0,
+                rebuilt: false,
+                over: (!within).then_some(Over::Nothing),
+            };
+            if let Some(c) = self.rebuild_candidate(v, i, r0, err0, ms0, budget, current) {
+                self.rebuilds.push(c);
+            }
+        }
+    }
+
+    /// The best rebuild of visible object `v` (object `i`), now drawn by `r0` with `err0`
+    /// in `ms0`: see the tiers in the module docs.
+    #[allow(clippy::too_many_arguments)]
+    fn rebuild_candidate(
+        &self,
+        v: usize,
+        i: usize,
+        r0: usize,
+        err0: f32,
+        ms0: f32,
+        budget: f32,
+        current: Option<usize>,
+    ) -> Option<Rebuild> {
+        let cfg = self.config;
+        let nr = self.reps.len();
+        let est = &self.estimates[v * nr..(v + 1) * nr];
+        let pixels = self.pixels_of(v);
+        let mut out: Option<Rebuild> = None;
+        for (r, e) in est.iter().enumerate() {
+            let Some(e) = e else { continue };
+            let within = e.rebuilt <= budget * cfg.hysteresis;
+            if e.rebuild == Work::default() || !within {
+                continue;
+            }
+            let ms = cfg.cost.ms(e.draw);
+            let rb = cfg.cost.ms(e.rebuild);
+            let cand = if err0 > budget {
+                Some((0, (err0 - e.rebuilt).min(1e6) * pixels - ms))
+            } else if r == r0 && Some(r) == current && e.error > budget * cfg.hysteresis {
+                Some((1, e.error / budget.max(1e-6)))
+            } else if ms < ms0 * (1.0 - cfg.min_saving) && (ms0 - ms) * cfg.payback_frames >= rb {
+                Some((2, ms0 - ms - rb / cfg.payback_frames.max(1.0)))
+            } else {
+                None
+            };
+            if let Some((tier, key)) = cand {
+                let better = out.is_none_or(|o| tier < o.tier || (tier == o.tier && key > o.key));
+                if better {
+                    out = Some(Rebuild {
+                        tier,
+                        key,
+                        object: i,
+                        rep: r,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// The screen pixels of visible object `v` (from geometry's sight, shared by all).
+    fn pixels_of(&self, v: usize) -> f32 {
+        let nr = self.reps.len();
+        self.estimates[v * nr..(v + 1) * nr]
+            .iter()
+            .flatten()
+            .map(|e| e.draw.pixels as f32)
+            .fold(0.0, f32::max)
+            .max(1.0)
+    }
+
+    /// Step 3: the ranked rebuilds within the budget, each representation's in one call.
+    fn rebuild(&mut self, view: &FrameView<'_>) {
+        let cfg = self.config;
+        let nr = self.reps.len();
+        self.rebuilds.sort_by(|a, b| {
+            a.tier
+                .cmp(&b.tier)
+                .then(b.key.total_cmp(&a.key))
+                .then(a.object.cmp(&b.object))
+        });
+        let slot = |planner: &Self, i: usize| planner.visible.binary_search(&i).ok();
+        let mut taken = 0;
+        let mut spent = 0.0;
+        let mut deferred = 0;
+        let mut chosen = Vec::new();
+        for c in &self.rebuilds {
+            let Some(v) = slot(self, c.object) else {
+                continue;
+            };
+            let Some(e) = self.estimates[v * nr + c.rep] else {
+                continue;
+            };
+            let ms = cfg.cost.ms(e.rebuild);
+            let over_ms = cfg
+                .budgets
+                .rebuild_ms
+                .is_some_and(|t| taken > 0 && spent + ms > t);
+            if taken >= cfg.budgets.rebuilds || over_ms {
+                deferred += 1;
+                if c.tier == 0 {
+                    self.choices[c.object].over = Some(Over::Rebuilds);
+                }
+                continue;
+            }
+            taken += 1;
+            spent += ms;
+            chosen.push((c.rep, c.object, e));
+        }
+        self.report.deferred = deferred;
+        self.report.rebuild_ms = spent;
+        self.report.rebuilds = taken;
+        for r in 0..nr {
+            self.batch.clear();
+            self.batch
+                .extend(chosen.iter().filter(|c| c.0 == r).map(|c| c.1));
+            if self.batch.is_empty() {
+                continue;
+            }
+            self.batch.sort_unstable();
+            self.reps[r].rebuild(&self.batch, &mut self.objects, view);
+        }
+        for (r, i, e) in chosen {
+            self.idle[i * nr + r] = 0;
+            self.choices[i] = Choice {
+                rep: Some(r),
+                error: e.rebuilt,
+                ms: cfg.cost.ms(e.draw),
+                rebuilt: true,
+                over: None,
+            };
+        }
+    }
+
+    /// Step 4: cheaper representations, least added error per millisecond saved first,
+    /// until the predicted frame fits the time budget.
+    fn fit_time(&mut self) {
+        let cfg = self.config;
+        let nr = self.reps.len();
+        let draw: f32 = self.choices.iter().map(|c| c.ms).sum();
+        let mut total = draw + self.report.rebuild_ms;
+        let Some(limit) = cfg.budgets.time_ms else {
+            return;
+        };
+        if total <= limit {
+            return;
+        }
+        // (added error x pixels per ms saved, object, representation, saving)
+        let mut moves: Vec<(f32, usize, usize, f32)> = Vec::new();
+        for (v, &i) in self.visible.iter().enumerate() {
+            let c = self.choices[i];
+            let Some(r0) = c.rep else { continue };
+            let pixels = self.pixels_of(v);
+            let mut best: Option<(f32, usize, f32)> = None;
+            for r in 0..nr {
+                let Some(e) = self.estimates[v * nr + r] else {
+                    continue;
+                };
+                // A representation rebuilt this frame is drawn at its rebuilt error.
+                let err = if r == r0 { c.error } else { e.error };
+                let ms = cfg.cost.ms(e.draw);
+                if r == r0 || ms >= c.ms || !err.is_finite() {
+                    continue;
+                }
+                let ratio = (err - c.error).max(0.0) * pixels / (c.ms - ms);
+                if best.is_none_or(|b| ratio < b.0) {
+                    best = Some((ratio, r, c.ms - ms));
+                }
+            }
+            if let Some((ratio, r, saving)) = best {
+                moves.push((ratio, i, r, saving));
+            }
+        }
+        moves.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for (_, i, r, saving) in moves {
+            if total <= limit {
+                break;
+            }
+            let v = self.visible.binary_search(&i).unwrap_or(0);
+            let Some(e) = self.estimates[v * nr + r] else {
+                continue;
+            };
+            let over = e.error > cfg.budgets.error;
+            self.choices[i] = Choice {
+                rep: Some(r),
+                error: e.error,
+                ms: cfg.cost.ms(e.draw),
+                rebuilt: false,
+                over: over.then_some(Over::Time),
+            };
+            total -= saving;
+        }
+    }
+
+    /// The report, idle counts and releases, and prepares objects for their draws.
+    fn finish(&mut self, view: &FrameView<'_>, previous: &[Option<usize>]) {
+        let cfg = self.config;
+        let nr = self.reps.len();
+        let budget = cfg.budgets.error.max(0.0);
+        let r = &mut self.report;
+        r.counts.clear();
+        r.counts.resize(nr, 0);
+        (r.culled, r.switches, r.over_budget) = (0, 0, 0);
+        (r.over_time, r.over_rebuilds, r.over_nothing) = (0, 0, 0);
+        (r.draw_ms, r.max_error, r.mean_error) = (0.0, 0.0, 0.0);
+        let mut weight = 0.0;
+        for (v, &i) in self.visible.iter().enumerate() {
+            let c = &mut self.choices[i];
+            if c.error <= budget {
+                c.over = None;
+            } else if c.over.is_none() {
+                c.over = Some(Over::Nothing);
+            }
+            let Some(rep) = c.rep else {
+                r.over_budget += 1;
+                r.over_nothing += 1;
+                continue;
+            };
+            r.counts[rep] += 1;
+            self.idle[i * nr + rep] = 0;
+            r.switches += usize::from(previous[i].is_some_and(|p| p != rep));
+            r.draw_ms += c.ms;
+            r.max_error = r.max_error.max(c.error);
+            let px = self.estimates[v * nr..(v + 1) * nr]
+                .iter()
+                .flatten()
+                .map(|e| e.draw.pixels as f32)
+                .fold(0.0, f32::max)
+                .max(1.0);
+            r.mean_error += c.error * px;
+            weight += px;
+            match c.over {
+                Some(Over::Time) => r.over_time += 1,
+                Some(Over::Rebuilds) => r.over_rebuilds += 1,
+                Some(Over::Nothing) => r.over_nothing += 1,
+                None => {}
+            }
+            r.over_budget += usize::from(c.over.is_some());
+            if self.reps[rep].draws_subject() {
+                self.objects[i].prepare(view.camera, view.height);
+            }
+        }
+        r.mean_error /= f32::max(weight, 1.0);
+        r.culled = self.objects.len() - self.visible.len();
+        for i in 0..self.objects.len() {
+            for k in 0..nr {
+                if self.idle[i * nr + k] == cfg.release_after.saturating_add(1) {
+                    self.reps[k].release(i);
+                }
+            }
+        }
+        r.memory = self.reps.iter().map(|rep| rep.memory()).sum();
+    }
+
+    /// Appends every visible object's draws, by its chosen representation.
+    pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for (i, c) in self.choices.iter().enumerate() {
+            if let Some(r) = c.rep {
+                self.reps[r].draw(i, &self.objects[i], self.eye, out);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

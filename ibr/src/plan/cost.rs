@@ -1,0 +1,67 @@
+//! Predicted cost: the work a representation does (triangles set up, pixels shaded,
+//! offscreen captures started) and the measured per-unit times that turn work into
+//! milliseconds.
+
+use std::ops::{Add, AddAssign};
+
+/// Work one draw or rebuild does, in the renderer's own counters' units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Triangles submitted.
+    pub triangles: u64,
+    /// Pixels covered (shaded, blended or written).
+    pub pixels: u64,
+    /// Offscreen renders started (each clears and resolves a target of its own).
+    pub captures: u64,
+}
+
+impl Add for Work {
+    type Output = Work;
+    fn add(self, o: Work) -> Work {
+        Work {
+            triangles: self.triangles + o.triangles,
+            pixels: self.pixels + o.pixels,
+            captures: self.captures + o.captures,
+        }
+    }
+}
+
+impl AddAssign for Work {
+    fn add_assign(&mut self, o: Work) {
+        *self = *self + o;
+    }
+}
+
+/// Per-unit times, fitted by least squares to measured frames (`bench budget --calibrate`
+/// renders objects of many triangle counts and screen sizes, directly and through
+/// offscreen captures, and prints a model; BENCHMARKS.md gives the run the defaults come
+/// from). Times are for the whole machine (both cores), as a frame sees them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CostModel {
+    /// Nanoseconds per triangle submitted.
+    pub ns_per_triangle: f32,
+    /// Nanoseconds per pixel covered.
+    pub ns_per_pixel: f32,
+    /// Microseconds per offscreen render, besides its triangles and pixels.
+    pub us_per_capture: f32,
+}
+
+impl Default for CostModel {
+    /// The fit of `cargo run --release --bin bench -- budget --calibrate` on the 2-core
+    /// reference machine (BENCHMARKS.md, "Choosing representations").
+    fn default() -> Self {
+        CostModel {
+            ns_per_triangle: 60.0,
+            ns_per_pixel: 4.0,
+            us_per_capture: 150.0,
+        }
+    }
+}
+
+impl CostModel {
+    /// The predicted time of `w`, milliseconds.
+    pub fn ms(&self, w: Work) -> f32 {
+        (w.triangles as f32 * self.ns_per_triangle + w.pixels as f32 * self.ns_per_pixel) * 1e-6
+            + w.captures as f32 * self.us_per_capture * 1e-3
+    }
+}

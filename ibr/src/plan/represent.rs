@@ -1,0 +1,115 @@
+//! The per-object face of the technique interface: what the planner asks of every
+//! representation of an object (its predicted error and cost from this view, what a rebuild
+//! would cost and give, the memory it holds), and geometry, the representation every other
+//! one is measured against.
+
+use super::cost::Work;
+use crate::subject::Subject;
+use crate::technique::FrameView;
+use engine::{Camera, Draw, Sphere};
+use glam::Vec3;
+
+/// How one object is seen this frame: what every representation's prediction starts from.
+#[derive(Clone, Copy, Debug)]
+pub struct Sight<'a> {
+    pub camera: &'a Camera,
+    pub eye: Vec3,
+    /// The target's size, pixels.
+    pub width: u32,
+    pub height: u32,
+    /// Pixels per radian at the image centre.
+    pub px_per_radian: f32,
+    /// The object's bounding sphere, and the eye's distance from its centre.
+    pub bounds: Sphere,
+    pub distance: f32,
+    /// Pixels its bounding sphere covers on screen (the disc, at most the whole target):
+    /// what its fragments cost, whatever draws it.
+    pub pixels: f32,
+}
+
+impl Sight<'_> {
+    /// Whether the eye is within `k` radii of the centre (images of the object break down).
+    pub fn within(&self, k: f32) -> bool {
+        self.distance.partial_cmp(&(self.bounds.radius * k)) != Some(std::cmp::Ordering::Greater)
+    }
+}
+
+/// What one representation predicts for one object from this view, without rendering.
+///
+/// Errors are in the impostors' calibrated unit: the mean absolute 8-bit error (over RGB)
+/// the representation makes over the object's screen rectangle against its geometry
+/// ([`crate::impostor::Predicted::levels`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Drawn now from what it holds; infinite when it holds nothing to draw.
+    pub error: f32,
+    /// Drawn right after a rebuild this frame; infinite when it cannot be rebuilt.
+    pub rebuilt: f32,
+    /// The work of drawing it this frame.
+    pub draw: Work,
+    /// The work of a rebuild (zero when it needs none).
+    pub rebuild: Work,
+    /// Bytes it holds for the object after a rebuild (images, samples).
+    pub memory: usize,
+}
+
+/// One way of drawing objects: geometry, or an image-based technique's per-object images.
+/// The planner asks each for an [`Estimate`] per visible object per frame, chooses, asks
+/// for the chosen rebuilds in one call (so they can run side by side), then for the draws.
+/// Indices are the planner's object numbering; a representation keeps whatever per-object
+/// state it needs.
+pub trait Representation<S>: Send {
+    /// A short name for readouts, CSV rows and charts.
+    fn name(&self) -> &str;
+    /// Its prediction for object `i` seen as `sight`; `None` when it cannot draw it from
+    /// here at all (an image seen from inside its object).
+    fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate>;
+    /// Rebuilds its data for `objects` (ascending) from this view. Returns the work done.
+    fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work;
+    /// Appends the draws that show object `i` this frame (after `rebuild`).
+    fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>);
+    /// Whether its draws are the subject's own (prepared for the camera first, as
+    /// [`Subject::prepare`] asks).
+    fn draws_subject(&self) -> bool {
+        false
+    }
+    /// Frees what it holds for object `i` (long unused).
+    fn release(&mut self, _i: usize) {}
+    /// Bytes it holds over every object.
+    fn memory(&self) -> usize {
+        0
+    }
+}
+
+/// The object's own triangles: exact (error 0), costing its triangles every frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Geometry;
+
+impl<S: Subject + Send> Representation<S> for Geometry {
+    fn name(&self) -> &str {
+        "geometry"
+    }
+    fn estimate(&self, _i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
+        let draw = Work {
+            triangles: subject.triangle_count() as u64,
+            pixels: sight.pixels as u64,
+            ..Work::default()
+        };
+        Some(Estimate {
+            error: 0.0,
+            rebuilt: 0.0,
+            draw,
+            rebuild: Work::default(),
+            memory: 0,
+        })
+    }
+    fn rebuild(&mut self, _: &[usize], _: &mut [S], _: &FrameView<'_>) -> Work {
+        Work::default()
+    }
+    fn draws_subject(&self) -> bool {
+        true
+    }
+    fn draw<'a>(&'a self, _i: usize, subject: &'a S, _eye: Vec3, out: &mut Vec<Draw<'a>>) {
+        subject.draws(out);
+    }
+}

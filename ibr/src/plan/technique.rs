@@ -1,0 +1,39 @@
+//! The planner as a technique of the frame loop: `prepare` plans, `draws` gives each
+//! object's chosen representation, `reference` every object's geometry.
+
+use super::Planner;
+use crate::subject::Subject;
+use crate::technique::{Counters, FrameView, Technique};
+use engine::Draw;
+
+impl<S: Subject + Send> Technique for Planner<S> {
+    fn name(&self) -> &str {
+        "planner"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.plan(view);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        Planner::draws(self, out);
+    }
+    /// Objects drawn as their own geometry, as images (every other representation), and
+    /// the frame's rebuilds.
+    fn counters(&self) -> Counters {
+        let (mut geometry, mut images) = (0, 0);
+        for (r, &n) in self.report.counts.iter().enumerate() {
+            match self.representation(r) {
+                Some(rep) if rep.draws_subject() => geometry += n as u64,
+                _ => images += n as u64,
+            }
+        }
+        Counters {
+            images,
+            geometry,
+            refreshes: self.report.rebuilds as u64,
+            ..Counters::default()
+        }
+    }
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.objects.iter().for_each(|s| s.draws(out));
+    }
+}

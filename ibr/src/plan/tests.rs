@@ -1,0 +1,381 @@
+//! The planner's promises: no object goes missing, the error budget holds where it can and
+//! is reported where it cannot (a time budget, an exhausted rebuild budget, nothing able
+//! to draw it), a zero budget is all geometry and an enormous one all images, teleports
+//! and changing objects never show a stale image, hysteresis keeps choices still, and the
+//! same frames give the same pixels on any thread count.
+
+use super::*;
+use crate::impostor::{self, ImpostorSet};
+use crate::metrics::{self, Options, Region};
+use crate::subject::MeshGroup;
+use crate::technique::{FrameLoop, Technique};
+use engine::{procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
+use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+const W: u32 = 320;
+const H: u32 = 192;
+
+fn lighting() -> Lighting {
+    Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4))
+}
+
+/// Sixteen lit tori (1024 triangles each) in a 4 x 4 grid two units apart, from z = 0 back
+/// to z = -6.
+fn tori() -> Vec<MeshGroup> {
+    let mesh = Arc::new(procedural::torus(0.4, 0.15, 32, 16));
+    (0..16)
+        .map(|k| {
+            let at = Vec3::new((k % 4) as f32 * 2.0 - 3.0, 0.0, -((k / 4) as f32) * 2.0);
+            let tint = Rgba::new(
+                0.3 + 0.15 * (k % 4) as f32,
+                0.5,
+                0.9 - 0.2 * (k / 4) as f32,
+                1.0,
+            );
+            MeshGroup::new().with(
+                mesh.clone(),
+                Arc::new(Material::lit(tint)),
+                Mat4::from_translation(at) * Mat4::from_rotation_x(1.0 + 0.1 * k as f32),
+            )
+        })
+        .collect()
+}
+
+fn camera(eye: Vec3, target: Vec3) -> Camera {
+    Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
+}
+
+/// The grid from in front and above, at `x` across.
+fn view_at(x: f32) -> Camera {
+    camera(Vec3::new(x, 2.0, 7.0), Vec3::new(0.0, 0.0, -3.0))
+}
+
+fn planner(budgets: Budgets) -> Planner<MeshGroup> {
+    let objects = tori();
+    let n = objects.len();
+    let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
+        Box::new(Geometry),
+        Box::new(ImpostorSet::new(impostor::Config::default(), n)),
+    ];
+    let config = Config {
+        budgets,
+        ..Config::default()
+    };
+    Planner::new(config, objects, reps)
+}
+
+fn budgets(error: f32, rebuilds: usize) -> Budgets {
+    Budgets {
+        error,
+        rebuilds,
+        ..Budgets::default()
+    }
+}
+
+/// Renders one frame through the frame loop; returns the target.
+fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+    let light = lighting();
+    let view = FrameView::still(cam, W, H, &light);
+    let mut target = Target::new(W, H);
+    let mut techniques: [&mut dyn Technique; 1] = [p];
+    FrameLoop::new().render(
+        r,
+        std::iter::empty(),
+        &mut techniques,
+        &view,
+        &mut target,
+        &FrameOptions::default(),
+    );
+    target
+}
+
+/// Every object's geometry from `cam`.
+fn truth(p: &Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+    let mut draws = Vec::new();
+    p.reference(&mut draws);
+    let mut target = Target::new(W, H);
+    r.render(
+        draws,
+        cam,
+        &lighting(),
+        &mut target,
+        &FrameOptions::default(),
+    );
+    target
+}
+
+const GEOMETRY: usize = 0;
+const IMAGES: usize = 1;
+
+/// Every object the frustum keeps has a representation that draws something.
+fn assert_none_missing(p: &Planner<MeshGroup>) {
+    let visible = p.choices().iter().filter(|c| c.rep.is_some()).count();
+    assert_eq!(visible + p.report.culled, p.objects.len());
+    for (i, c) in p.choices().iter().enumerate() {
+        if let Some(r) = c.rep {
+            let mut out = Vec::new();
+            p.representation(r)
+                .unwrap()
+                .draw(i, &p.objects[i], p.eye, &mut out);
+            assert!(!out.is_empty(), "object {i} chose {r} but draws nothing");
+        }
+    }
+}
+
+#[test]
+fn a_zero_error_budget_draws_only_geometry_and_matches_it_exactly() {
+    let mut p = planner(budgets(0.0, 16));
+    let mut r = Renderer::new();
+    for x in [0.0, 0.5, 1.0] {
+        let cam = view_at(x);
+        let got = frame(&mut p, &cam, &mut r);
+        assert_eq!(p.report.counts[IMAGES], 0, "{:?}", p.report);
+        assert_eq!(p.report.counts[GEOMETRY], 16 - p.report.culled);
+        assert_eq!((p.report.rebuilds, p.report.over_budget), (0, 0));
+        assert_none_missing(&p);
+        let want = truth(&p, &cam, &mut r);
+        assert_eq!(got.to_rgba8(), want.to_rgba8());
+    }
+}
+
+#[test]
+fn an_enormous_budget_turns_everything_into_images_within_the_rebuild_budget() {
+    let mut p = planner(budgets(1e9, 5));
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    let mut images = Vec::new();
+    for _ in 0..5 {
+        frame(&mut p, &cam, &mut r);
+        assert!(p.report.rebuilds <= 5, "{:?}", p.report);
+        assert_none_missing(&p);
+        images.push(p.report.counts[IMAGES]);
+    }
+    let visible = 16 - p.report.culled;
+    assert!(visible >= 12, "{:?}", p.report);
+    // Five a frame until all are images; then nothing more to rebuild.
+    assert_eq!(images[0], 5);
+    assert_eq!(images[1], 10);
+    assert_eq!(*images.last().unwrap(), visible, "{images:?}");
+    assert_eq!(p.report.rebuilds, 0);
+    assert!(p.report.memory > 0);
+}
+
+#[test]
+fn an_exhausted_rebuild_budget_leaves_geometry_and_says_so() {
+    // No rebuilds at all: no image ever exists, so everything stays geometry, within the
+    // error budget, and the wanted rebuilds are counted as deferred.
+    let mut p = planner(budgets(4.0, 0));
+    let mut r = Renderer::new();
+    frame(&mut p, &view_at(0.0), &mut r);
+    assert_eq!(p.report.counts[IMAGES], 0);
+    assert_eq!(p.report.over_budget, 0);
+    assert!(p.report.deferred > 0, "{:?}", p.report);
+    assert_none_missing(&p);
+}
+
+#[test]
+fn without_geometry_an_object_nothing_can_draw_is_reported_not_hidden_in_the_mean() {
+    let objects = tori();
+    let n = objects.len();
+    let reps: Vec<Box<dyn Representation<MeshGroup>>> =
+        vec![Box::new(ImpostorSet::new(impostor::Config::default(), n))];
+    let config = Config {
+        budgets: budgets(2.0, 3),
+        ..Config::default()
+    };
+    let mut p = Planner::new(config, objects, reps);
+    let mut r = Renderer::new();
+    frame(&mut p, &view_at(0.0), &mut r);
+    let visible = n - p.report.culled;
+    assert_eq!(p.report.rebuilds, 3);
+    // Three images; the rest had nothing and are said to be over for want of rebuilds.
+    assert_eq!(p.report.counts[0], visible);
+    assert_eq!(p.report.over_rebuilds, visible - 3, "{:?}", p.report);
+    assert_eq!(p.report.over_budget, visible - 3);
+    assert!(p.report.max_error.is_infinite());
+}
+
+#[test]
+fn a_teleport_never_shows_a_stale_image() {
+    let mut p = planner(budgets(6.0, 2));
+    let mut r = Renderer::new();
+    for _ in 0..10 {
+        frame(&mut p, &view_at(0.0), &mut r);
+    }
+    assert!(p.report.counts[IMAGES] >= 8, "{:?}", p.report);
+    // To the other side of the grid, looking back: every image is far from its capture.
+    let behind = camera(Vec3::new(4.0, 3.0, -12.0), Vec3::new(0.0, 0.0, -3.0));
+    frame(&mut p, &behind, &mut r);
+    let rep = &p.report;
+    assert!(rep.switches > 0, "{rep:?}");
+    assert_eq!(rep.over_budget, 0, "{rep:?}");
+    assert!(rep.max_error <= 6.0, "{rep:?}");
+    assert_none_missing(&p);
+    for c in p.choices().iter().filter(|c| c.rep == Some(IMAGES)) {
+        assert!(c.rebuilt, "a stale image was kept: {c:?}");
+    }
+}
+
+#[test]
+fn a_changed_object_is_not_drawn_from_its_old_image() {
+    let mut p = planner(budgets(6.0, 16));
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    frame(&mut p, &cam, &mut r);
+    frame(&mut p, &cam, &mut r);
+    assert_eq!(p.choices()[5].rep, Some(IMAGES));
+    // Animate it: its image is invalid, so it is rebuilt (or drawn as geometry).
+    p.objects[5].version += 1;
+    p.config.budgets.rebuilds = 0;
+    frame(&mut p, &cam, &mut r);
+    assert_eq!(p.choices()[5].rep, Some(GEOMETRY), "{:?}", p.choices()[5]);
+    p.config.budgets.rebuilds = 16;
+    frame(&mut p, &cam, &mut r);
+    let c = p.choices()[5];
+    assert_eq!((c.rep, c.rebuilt), (Some(IMAGES), true), "{c:?}");
+}
+
+#[test]
+fn hysteresis_keeps_choices_still_under_small_oscillations() {
+    let mut p = planner(budgets(5.0, 4));
+    let mut r = Renderer::new();
+    let mut switches = 0;
+    for k in 0..40 {
+        // Back and forth by 2 cm: no object's error crosses its band every frame.
+        let x = if k % 2 == 0 { 0.0 } else { 0.02 };
+        frame(&mut p, &view_at(x), &mut r);
+        if k >= 10 {
+            switches += p.report.switches;
+            assert!(p.report.counts[IMAGES] >= 8, "{:?}", p.report);
+        }
+    }
+    assert!(switches <= 2, "{switches} switches");
+}
+
+#[test]
+fn a_time_budget_moves_objects_to_images_and_reports_their_error() {
+    let mut p = planner(budgets(0.0, 16));
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    // With a generous error budget first, so every object has an image.
+    p.config.budgets.error = 1e9;
+    for _ in 0..3 {
+        frame(&mut p, &cam, &mut r);
+    }
+    // A zero error budget wants geometry everywhere; a time budget of a third of that
+    // frame's predicted time forces images, least error first.
+    p.config.budgets.error = 0.0;
+    p.config.budgets.rebuilds = 0;
+    frame(&mut p, &cam, &mut r);
+    let full = p.report.predicted_ms();
+    assert_eq!(p.report.counts[IMAGES], 0);
+    p.config.budgets.time_ms = Some(full / 3.0);
+    frame(&mut p, &cam, &mut r);
+    let rep = p.report.clone();
+    assert!(rep.predicted_ms() <= full / 3.0, "{rep:?}");
+    assert!(
+        rep.counts[IMAGES] > 0 && rep.counts[GEOMETRY] > 0,
+        "{rep:?}"
+    );
+    assert_eq!(rep.over_time, rep.counts[IMAGES], "{rep:?}");
+    assert_none_missing(&p);
+    // Those moved are the ones whose images err least per millisecond saved: each one
+    // left as geometry would add at least as much error per millisecond.
+    let nr = 2;
+    let ratio = |v: usize| {
+        let (g, im) = (
+            p.estimates[v * nr].unwrap(),
+            p.estimates[v * nr + 1].unwrap(),
+        );
+        let saved = p.config.cost.ms(g.draw) - p.config.cost.ms(im.draw);
+        im.error * p.pixels_of(v) / saved
+    };
+    let (mut moved, mut kept) = (Vec::new(), Vec::new());
+    for (v, &i) in p.visible.iter().enumerate() {
+        match p.choices()[i].rep {
+            Some(IMAGES) => moved.push(ratio(v)),
+            _ => kept.push(ratio(v)),
+        }
+    }
+    let most = moved.iter().copied().fold(0.0, f32::max);
+    let least = kept.iter().copied().fold(f32::INFINITY, f32::min);
+    assert!(most <= least, "moved up to {most}, kept from {least}");
+}
+
+#[test]
+fn images_it_chooses_err_within_the_budget_when_measured() {
+    let budget = 6.0;
+    let mut p = planner(budgets(budget, 16));
+    let mut r = Renderer::new();
+    let (mut images, mut worst) = (0, 0.0f64);
+    for k in 0..12 {
+        let cam = view_at(0.05 * k as f32);
+        let got = frame(&mut p, &cam, &mut r);
+        assert!(p.report.max_error <= budget, "{:?}", p.report);
+        let want = truth(&p, &cam, &mut r);
+        // Each image, over its object's screen rectangle (neighbours' errors included).
+        for (i, c) in p.choices().iter().enumerate() {
+            if c.rep != Some(IMAGES) {
+                continue;
+            }
+            images += 1;
+            let b = p.objects[i].bounds();
+            let rect = impostor::screen_rect(&cam, b.center, b.radius, W, H).unwrap();
+            let opts = Options {
+                region: Region::Rect(rect),
+                ..Options::default()
+            };
+            let e = metrics::compare(&want, &got, &opts).unwrap();
+            worst = worst.max(e.mean_abs);
+            assert!(
+                e.mean_abs <= f64::from(budget),
+                "frame {k}, object {i}: {e:?} {c:?}"
+            );
+        }
+    }
+    assert!(images > 40, "{images} images");
+    eprintln!("worst measured {worst:.2} levels against a budget of {budget}");
+}
+
+#[test]
+fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut p = planner(budgets(2.0, 3));
+            let mut r = Renderer::new();
+            let mut out = Vec::new();
+            for k in 0..6 {
+                let t = frame(&mut p, &view_at(0.2 * k as f32), &mut r);
+                out.push((t.to_rgba8(), p.choices().to_vec()));
+            }
+            out
+        })
+    };
+    assert!(run(1) == run(2));
+}
+
+#[test]
+fn odd_views_neither_panic_nor_choose_nan() {
+    let mut p = planner(budgets(2.0, 4));
+    let mut r = Renderer::new();
+    // Inside an object, at a NaN eye, with an empty target.
+    let inside = camera(Vec3::new(-3.0, 0.0, 0.1), Vec3::new(-3.0, 0.0, -5.0));
+    frame(&mut p, &inside, &mut r);
+    assert_none_missing(&p);
+    let nan = camera(Vec3::NAN, Vec3::ZERO);
+    frame(&mut p, &nan, &mut r);
+    let light = lighting();
+    let cam = view_at(0.0);
+    p.plan(&FrameView::still(&cam, 0, 0, &light));
+    assert!(!p.report.mean_error.is_nan(), "{:?}", p.report);
+    // An empty planner.
+    let mut empty =
+        Planner::<MeshGroup>::new(Config::default(), Vec::new(), vec![Box::new(Geometry)]);
+    empty.plan(&FrameView::still(&cam, W, H, &light));
+    assert_eq!(empty.report.counts, vec![0]);
+}
