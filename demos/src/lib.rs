@@ -8,6 +8,7 @@
 
 pub mod bench;
 pub mod bench_billboards;
+pub mod bench_budget;
 pub mod bench_impostors;
 pub mod bench_layers;
 pub mod bench_lightfield;

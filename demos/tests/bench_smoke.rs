@@ -701,3 +701,48 @@ fn layers_sweep_writes_csv_and_png_charts() {
         ],
     );
 }
+
+#[test]
+fn budget_sweep_writes_csv_and_png_charts() {
+    let (dir, csv) = run_sweep("budget", &[]);
+    let t = Table::parse(&csv);
+    assert_eq!(&t.header[..3], ["scene", "method", "budget"]);
+    for scene in ["city", "world"] {
+        let geometry = t.of(scene, "geometry");
+        assert_eq!(geometry.len(), 1, "{csv}");
+        // Geometry is the truth it is measured against.
+        assert_eq!(t.num(geometry[0], "measured_mean"), 0.0, "{csv}");
+        for method in ["impostors", "planner", "layers"] {
+            assert_eq!(t.of(scene, method).len(), 1, "{scene} {method}: {csv}");
+        }
+        let planner = t.of(scene, "planner")[0];
+        // The planner draws within its predicted budget and shows every object.
+        assert!(
+            t.num(planner, "predicted_max") <= t.num(planner, "budget"),
+            "{csv}"
+        );
+        assert!(t.num(planner, "psnr_db") > 20.0, "{csv}");
+    }
+    assert_charts(
+        &dir,
+        &["budget_time_error_city.png", "budget_time_error_world.png"],
+    );
+}
+
+#[test]
+fn budget_calibration_fits_a_cost_model() {
+    let dir = out_dir("bench_smoke_calibrate");
+    let out = Command::new(env!("CARGO_BIN_EXE_bench"))
+        .args(["budget", "--calibrate", "--tiny", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("bench runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("cost model:"), "{stdout}");
+    let csv = std::fs::read_to_string(dir.join("calibrate.csv")).expect("calibrate.csv");
+    let t = Table::parse(&csv);
+    for experiment in ["triangles", "pixels", "images", "captures"] {
+        assert!(t.rows.iter().any(|r| r[0] == experiment), "{csv}");
+    }
+}

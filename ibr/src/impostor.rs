@@ -33,7 +33,7 @@ mod technique;
 pub use technique::Impostored;
 
 pub use capture::{capture_camera, Capture};
-pub(crate) use pool::image_material;
+pub use pool::image_material;
 pub use pool::Pool;
 pub use predict::{error_color, needed_side, screen_rect};
 
@@ -226,6 +226,9 @@ pub struct ImpostorSet {
     pub debug_tint: bool,
     /// Ranks refresh candidates within the budget (shared with image layers).
     scheduler: Scheduler,
+    /// What the images taken so far say about the next one's gradient (the planner's
+    /// prior for subjects never captured).
+    prior: plan::GradientPrior,
 }
 
 impl ImpostorSet {
@@ -239,6 +242,7 @@ impl ImpostorSet {
             jobs: Vec::new(),
             debug_tint: false,
             scheduler: Scheduler::default(),
+            prior: plan::GradientPrior::default(),
         }
     }
 

@@ -26,6 +26,7 @@
 
 mod fit;
 mod frame;
+mod plan;
 mod split;
 mod technique;
 
@@ -133,6 +134,10 @@ struct Image {
     /// Sides (left, top, right, bottom) where the image was cut at the margin beyond the
     /// view, not at the layer's edge: only there can the screen come to show what it lacks.
     cut: [bool; 4],
+    /// How busy the image is: the mean absolute difference between neighbouring texels,
+    /// 8-bit levels per texel (RGB), as the impostors' [`crate::impostor::Capture::gradient`]:
+    /// what turns the warp's error in pixels into an image error for the planner.
+    gradient: f32,
 }
 
 /// One layer's state.
@@ -196,11 +201,14 @@ pub struct Report {
     pub capture_triangles: u64,
 }
 
-/// A refresh's own [`Refresher`], and the triangles it rendered.
+/// A refresh's own [`Refresher`], the triangles it rendered, and its image's gradient
+/// (with the row scratch that measures it).
 #[derive(Debug, Default)]
 struct Worker {
     refresher: Refresher,
     triangles: u64,
+    gradient: f32,
+    rows: plan::Rows,
 }
 
 /// One refresh: which layer, which screen rectangle, at what size, cut on which sides.
@@ -251,17 +259,9 @@ impl LayerSet {
         let frustum = Frustum::new(camera.clip_from_world());
         self.scheduler.clear();
         for (i, (layer, s)) in self.layers.iter_mut().zip(subjects.iter()).enumerate() {
-            let mut points = [Vec2::ZERO; 8];
-            let mut nearest = f32::INFINITY;
-            let mut behind = false;
-            for (p, c) in points.iter_mut().zip(s.corners()) {
-                match project(camera, c, width, height) {
-                    Some((px, z)) => (*p, nearest) = (px, nearest.min(z)),
-                    None => behind = true,
-                }
-            }
+            let projected = project_corners(s, camera, width, height);
             layer.predicted = Predicted::default();
-            if behind {
+            let Some((points, nearest)) = projected else {
                 // Nothing to fit; the renderer clips the geometry, if it is in view at all.
                 let b = s.bounds();
                 layer.mode = if frustum.sees(b.center, b.radius) {
@@ -270,7 +270,7 @@ impl LayerSet {
                     Mode::Culled
                 };
                 continue;
-            }
+            };
             let rect = bounds(&points);
             let visible = overlaps(rect, view) && width > 0 && height > 0;
             layer.mode = Mode::Culled;
@@ -295,7 +295,7 @@ impl LayerSet {
         for k in 0..self.scheduler.ranked().len() {
             let c = self.scheduler.ranked()[k];
             let job = (self.jobs.len() < budget && c.index < subjects.len())
-                .then(|| job(c.index, &self.layers[c.index], grown, &cfg))
+                .then(|| job(c.index, &self.layers[c.index].screen, grown, &cfg))
                 .flatten();
             match job {
                 Some(job) => self.jobs.push(job),
@@ -303,15 +303,11 @@ impl LayerSet {
             }
         }
         let start = Instant::now();
-        self.render_jobs(subjects, camera, (width, height), lighting);
+        let (texels, triangles) = self.refresh(subjects, camera, (width, height), lighting);
         self.scheduler.measured(self.jobs.len(), start.elapsed());
         report.refreshes = self.jobs.len();
-        for (k, job) in self.jobs.iter().enumerate() {
-            let (layer, w) = (&mut self.layers[job.i], &mut self.workers[k]);
-            report.capture_texels += job.width as u64 * job.height as u64;
-            report.capture_triangles += w.triangles;
-            finish(layer, w, job, subjects[job.i].version());
-        }
+        report.capture_texels = texels;
+        report.capture_triangles = triangles;
         let mut px_sum = 0.0;
         for (layer, s) in self.layers.iter_mut().zip(subjects.iter_mut()) {
             if layer.mode == Mode::Image && layer.predicted.ratio > cfg.fallback_ratio {
@@ -337,6 +333,26 @@ impl LayerSet {
         report
     }
 
+    /// Renders the frame's refreshes (`self.jobs`) side by side and takes their images into
+    /// their layers; the texels and triangles rendered.
+    fn refresh<S: Subject + Send>(
+        &mut self,
+        subjects: &mut [S],
+        camera: &Camera,
+        size: (u32, u32),
+        lighting: &Lighting,
+    ) -> (u64, u64) {
+        self.render_jobs(subjects, camera, size, lighting);
+        let (mut texels, mut triangles) = (0, 0);
+        for (k, job) in self.jobs.iter().enumerate() {
+            let (layer, w) = (&mut self.layers[job.i], &mut self.workers[k]);
+            texels += job.width as u64 * job.height as u64;
+            triangles += w.triangles;
+            finish(layer, w, job, subjects[job.i].version());
+        }
+        (texels, triangles)
+    }
+
     /// Renders the frame's refreshes side by side, one worker each (each writes only its
     /// own target, so the images do not depend on the thread count).
     fn render_jobs<S: Subject + Send>(
@@ -359,6 +375,7 @@ impl LayerSet {
                     .refresher
                     .render(subject, &crop, lighting, size)
                     .triangles_set_up;
+                w.gradient = plan::gradient(w.refresher.target(), &mut w.rows);
             },
         );
     }
@@ -380,5 +397,25 @@ impl LayerSet {
     }
 }
 
+/// Where `s`'s characteristic points land on a `width` x `height` image of `camera`, and
+/// the nearest one's distance along the view direction; `None` when one is at or behind
+/// the near plane (no warp will do).
+fn project_corners<S: Subject>(
+    s: &S,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Option<([Vec2; 8], f32)> {
+    let mut points = [Vec2::ZERO; 8];
+    let mut nearest = f32::INFINITY;
+    for (p, c) in points.iter_mut().zip(s.corners()) {
+        let (px, z) = project(camera, c, width, height)?;
+        (*p, nearest) = (px, nearest.min(z));
+    }
+    Some((points, nearest))
+}
+
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod tests;

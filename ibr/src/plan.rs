@@ -177,6 +177,7 @@ pub struct Planner<S> {
     /// This frame's estimates, for visible objects (`visible` order, representation-major
     /// within an object), and scratch.
     visible: Vec<usize>,
+    pixels: Vec<f32>,
     estimates: Vec<Option<Estimate>>,
     rebuilds: Vec<Rebuild>,
     batch: Vec<usize>,
@@ -208,6 +209,7 @@ impl<S: Subject + Send> Planner<S> {
             choices: vec![Choice::default(); n],
             idle: vec![0; n * r],
             visible: Vec::new(),
+            pixels: Vec::new(),
             estimates: Vec::new(),
             rebuilds: Vec::new(),
             batch: Vec::new(),
@@ -242,6 +244,7 @@ impl<S: Subject + Send> Planner<S> {
         let nr = self.reps.len();
         let previous: Vec<Option<usize>> = self.choices.iter().map(|c| c.rep).collect();
         self.visible.clear();
+        self.pixels.clear();
         self.estimates.clear();
         for (i, s) in self.objects.iter().enumerate() {
             let bounds = s.bounds();
@@ -270,6 +273,7 @@ impl<S: Subject + Send> Planner<S> {
                 pixels,
             };
             self.visible.push(i);
+            self.pixels.push(pixels);
             for rep in &self.reps {
                 let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
                 self.estimates.push(e);
@@ -402,15 +406,9 @@ impl<S: Subject + Send> Planner<S> {
         out
     }
 
-    /// The screen pixels of visible object `v` (from geometry's sight, shared by all).
+    /// The screen pixels of visible object `v` ([`Sight::pixels`], at least 1).
     fn pixels_of(&self, v: usize) -> f32 {
-        let nr = self.reps.len();
-        self.estimates[v * nr..(v + 1) * nr]
-            .iter()
-            .flatten()
-            .map(|e| e.draw.pixels as f32)
-            .fold(0.0, f32::max)
-            .max(1.0)
+        self.pixels[v].max(1.0)
     }
 
     /// Step 3: the ranked rebuilds within the budget, each representation's in one call.
@@ -536,7 +534,8 @@ impl<S: Subject + Send> Planner<S> {
         }
     }
 
-    /// The report, idle counts and releases, and prepares objects for their draws.
+    /// The report, idle counts and releases, and prepares objects and representations for
+    /// their draws.
     fn finish(&mut self, view: &FrameView<'_>, previous: &[Option<usize>]) {
         let cfg = self.config;
         let nr = self.reps.len();
@@ -565,12 +564,7 @@ impl<S: Subject + Send> Planner<S> {
             r.switches += usize::from(previous[i].is_some_and(|p| p != rep));
             r.draw_ms += c.ms;
             r.max_error = r.max_error.max(c.error);
-            let px = self.estimates[v * nr..(v + 1) * nr]
-                .iter()
-                .flatten()
-                .map(|e| e.draw.pixels as f32)
-                .fold(0.0, f32::max)
-                .max(1.0);
+            let px = self.pixels[v].max(1.0);
             r.mean_error += c.error * px;
             weight += px;
             match c.over {
@@ -593,7 +587,14 @@ impl<S: Subject + Send> Planner<S> {
                 }
             }
         }
-        r.memory = self.reps.iter().map(|rep| rep.memory()).sum();
+        for (k, rep) in self.reps.iter_mut().enumerate() {
+            self.batch.clear();
+            let drawn = self.choices.iter().enumerate();
+            self.batch
+                .extend(drawn.filter(|(_, c)| c.rep == Some(k)).map(|(i, _)| i));
+            rep.prepare(&self.batch, &self.objects, view);
+        }
+        self.report.memory = self.reps.iter().map(|rep| rep.memory()).sum();
     }
 
     /// Appends every visible object's draws, by its chosen representation.

@@ -44,10 +44,15 @@
 //! - `panorama`: the showcase's far scene as a cube-map sky, seen from eyes moved away
 //!   from its capture point: error against the geometry, the predicted parallax, time
 //!   (`demos::bench_panorama`).
+//! - `budget`: the planner (each object's representation chosen per frame under an error
+//!   budget) against geometry and runtime impostors used everywhere, on the city and a large
+//!   world: frame time and measured error over the budgets (`demos::bench_budget`);
+//!   `--calibrate` times the planner's cost model's experiments and prints its fit.
 
 use clap::{Args, Parser, Subcommand};
 use demos::bench::{self, Plan};
 use demos::bench_billboards as bb;
+use demos::bench_budget as bbu;
 use demos::bench_impostors as bi;
 use demos::bench_layers as bly;
 use demos::bench_lightfield as bl;
@@ -107,6 +112,18 @@ enum Sweep {
     /// Image layers against runtime impostors on the city: re-renders, error and frame
     /// time against the threshold.
     Layers(Small),
+    /// The planner against single representations used everywhere: frame time and
+    /// measured error over the error budget, on the city and a large world.
+    Budget(BudgetArgs),
+}
+
+#[derive(Args, Debug)]
+struct BudgetArgs {
+    #[command(flatten)]
+    run: Small,
+    /// Time the cost model's experiments instead and print the fitted per-unit costs.
+    #[arg(long)]
+    calibrate: bool,
 }
 
 #[derive(Args, Debug)]
@@ -173,6 +190,7 @@ fn main() -> ExitCode {
         Sweep::Morph(c) => morph(c),
         Sweep::Panorama(c) => panorama(c),
         Sweep::Layers(c) => layers(c),
+        Sweep::Budget(c) => budget(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -654,4 +672,62 @@ fn layers(c: &Small) -> Result<(), String> {
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bly::run(&plan, progress));
     sweep(c, "layers", "rows", run, report, bly::charts)
+}
+
+fn budget(c: &BudgetArgs) -> Result<(), String> {
+    if c.calibrate {
+        let (size, scale, reps) = if c.run.tiny {
+            ((160, 96), 0.05, 1)
+        } else {
+            ((640, 360), 1.0, 9)
+        };
+        let run = |_: &mut dyn FnMut(usize, usize, &str)| {
+            let (model, rows) = bbu::calibrate(size, scale, reps);
+            println!(
+                "cost model: {:.1} ns per triangle, {:.2} ns per lit pixel, {:.2} ns per image pixel, {:.1} us per capture",
+                model.ns_per_triangle, model.ns_per_pixel, model.ns_per_image_pixel, model.us_per_capture
+            );
+            Ok(rows)
+        };
+        let report = |rows: &[bbu::Calibration]| {
+            for r in rows {
+                println!(
+                    "{:<9} {:>9} triangles {:>9} pixels {:>9} image pixels {:>4} captures {:>8.3} ms",
+                    r.experiment, r.triangles, r.pixels, r.image_pixels, r.captures, r.ms
+                );
+            }
+        };
+        return sweep(&c.run, "calibrate", "rows", run, report, |_| Vec::new());
+    }
+    let plan = c
+        .run
+        .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full);
+    let report = |rows: &[bbu::Row]| {
+        for r in rows {
+            println!(
+                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3}  geometry {:>7.1} images {:>7.1} switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB",
+                r.scene,
+                r.method,
+                r.budget,
+                r.width,
+                r.height,
+                r.objects,
+                r.triangles,
+                r.time.median_ms,
+                r.measured_mean,
+                r.measured_p99,
+                100.0 * r.within,
+                100.0 * r.objects_over,
+                r.predicted_mean,
+                r.predicted_max,
+                r.geometry_per_frame,
+                r.images_per_frame,
+                r.switches_per_frame,
+                r.rebuilds_per_frame,
+                r.memory_mb,
+            );
+        }
+    };
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::run(&plan, progress));
+    sweep(&c.run, "budget", "rows", run, report, bbu::charts)
 }

@@ -11,9 +11,50 @@ use engine::Draw;
 use glam::Vec3;
 
 /// The neighbour difference assumed for an object never captured (8-bit levels per
-/// texel), until its first image measures its own: a busy image, so the first estimate
-/// errs high.
+/// texel) before any image has been taken.
 pub const PRIOR_GRADIENT: f32 = 8.0;
+
+/// The gradient an image of a subject never captured is expected to have, learnt from the
+/// images taken so far: a least-squares line in `1 / side` (an image's outline adds
+/// differences in proportion to its side, its inside in proportion to its area, so the
+/// mean per texel is about `a / side + b`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct GradientPrior {
+    n: f64,
+    sx: f64,
+    sy: f64,
+    sxx: f64,
+    sxy: f64,
+}
+
+impl GradientPrior {
+    pub(crate) fn add(&mut self, side: u32, gradient: f32) {
+        if !gradient.is_finite() || side == 0 {
+            return;
+        }
+        let (x, y) = (1.0 / f64::from(side), f64::from(gradient));
+        self.n += 1.0;
+        self.sx += x;
+        self.sy += y;
+        self.sxx += x * x;
+        self.sxy += x * y;
+    }
+
+    /// The expected gradient of a `side`-texel image.
+    pub(crate) fn at(&self, side: u32) -> f32 {
+        if self.n < 1.0 {
+            return PRIOR_GRADIENT;
+        }
+        let mean = self.sy / self.n;
+        let var = self.sxx - self.sx * self.sx / self.n;
+        if var <= 1e-12 {
+            return mean as f32;
+        }
+        let a = (self.sxy - self.sx * self.sy / self.n) / var;
+        let b = (self.sy - a * self.sx) / self.n;
+        (a / f64::from(side.max(1)) + b).max(0.0) as f32
+    }
+}
 
 /// Bytes of an image `side` texels square with its mipmaps.
 fn image_bytes(side: u32) -> usize {
@@ -50,20 +91,27 @@ impl<S: Subject + Send> Representation<S> for ImpostorSet {
                 let fresh = super::Capture { side: needed, ..*c };
                 (error, image_error(&fresh, sight.distance, 0.0, ppr))
             }
-            None => (f32::INFINITY, RESAMPLING * PRIOR_GRADIENT),
+            None => {
+                // As `image_error` for a fresh image: texels per screen pixel times the
+                // resampling of the expected gradient.
+                let screen = 2.0 * (b.radius / sight.distance).min(1.0).asin() * ppr;
+                let scale = needed as f32 / screen.max(1.0);
+                (f32::INFINITY, scale * RESAMPLING * self.prior.at(needed))
+            }
         };
         Some(Estimate {
             error,
             rebuilt,
             draw: Work {
                 triangles: 2,
-                pixels: sight.pixels as u64,
-                captures: 0,
+                image_pixels: sight.pixels as u64,
+                ..Work::default()
             },
             rebuild: Work {
                 triangles: subject.triangle_count() as u64,
                 pixels: u64::from(needed) * u64::from(needed),
                 captures: 1,
+                ..Work::default()
             },
             memory: image_bytes(needed),
         })

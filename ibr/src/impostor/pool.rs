@@ -107,7 +107,7 @@ impl Pool {
 /// The material that draws an image in place of geometry (an impostor's, an image
 /// layer's): its premultiplied image, alpha-blended, unlit, clamped at the edges, seen from
 /// either side; a transparent `width` x `height` texture until it is filled.
-pub(crate) fn image_material(width: u32, height: u32, name: &str) -> Material {
+pub fn image_material(width: u32, height: u32, name: &str) -> Material {
     let (w, h) = (width.max(1), height.max(1));
     let texture =
         Texture::from_packed(w, h, vec![0; w as usize * h as usize], Encoding::Srgb, true)

@@ -102,6 +102,7 @@ impl ImpostorSet {
             depth_gradient,
             ..capture
         };
+        self.prior.add(side, gradient);
         let imp = &mut self.impostors[i];
         let m = &mut imp.quad;
         m.clear();

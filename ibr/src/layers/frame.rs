@@ -23,7 +23,21 @@ pub(super) fn predict(
             ..Predicted::default()
         };
     };
-    let (from, to) = (&image.texels, &layer.screen);
+    let (predicted, warp) = fit(&image, &layer.screen, version, on_screen, cfg);
+    layer.warp = warp;
+    predicted
+}
+
+/// The error of `image` warped to `screen` (its characteristic points' projections this
+/// frame), and the warp; `on_screen` is the part of the layer's rectangle inside the view.
+pub(super) fn fit(
+    image: &Image,
+    screen: &[Vec2; 8],
+    version: u64,
+    on_screen: (Vec2, Vec2),
+    cfg: &Config,
+) -> (Predicted, Homography) {
+    let (from, to) = (&image.texels, screen);
     let affine = Homography::from(Affine::fit(from, to, image.scale));
     let mut pixels = affine.max_error(from, to);
     let mut warp = affine;
@@ -35,7 +49,6 @@ pub(super) fn predict(
             }
         }
     }
-    layer.warp = warp;
     let (w, h) = (image.width as f32, image.height as f32);
     let centre = Vec2::new(w, h) * 0.5;
     let (hi, lo) = Affine {
@@ -71,19 +84,20 @@ pub(super) fn predict(
     } else {
         (pixels / cfg.tolerance_px.max(1e-6)).max(octaves / cfg.octaves.max(1e-6))
     };
-    Predicted {
+    let predicted = Predicted {
         pixels,
         octaves,
         covered,
         ratio: if ratio.is_nan() { f32::INFINITY } else { ratio },
-    }
+    };
+    (predicted, warp)
 }
 
-/// The refresh of layer `i`: its screen rectangle within `grown`, widened to whole pixels,
-/// at [`Config::resolution`] (shrunk to [`Config::max_side`]); `None` when nothing of it
-/// is left.
-pub(super) fn job(i: usize, layer: &Layer, grown: (Vec2, Vec2), cfg: &Config) -> Option<Job> {
-    let whole = bounds(&layer.screen);
+/// The refresh of layer `i`, its characteristic points at `screen`: its screen rectangle
+/// within `grown`, widened to whole pixels, at [`Config::resolution`] (shrunk to
+/// [`Config::max_side`]); `None` when nothing of it is left.
+pub(super) fn job(i: usize, screen: &[Vec2; 8], grown: (Vec2, Vec2), cfg: &Config) -> Option<Job> {
+    let whole = bounds(screen);
     let (min, max) = clip(whole, grown);
     let cut = [
         whole.0.x < min.x,
@@ -130,6 +144,7 @@ pub(super) fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64)
         scale,
         version,
         cut: job.cut,
+        gradient: w.gradient,
     });
     layer.warp = Affine {
         m: glam::Mat2::from_diagonal(size / Vec2::new(job.width as f32, job.height as f32)),

@@ -66,7 +66,12 @@ pub trait Representation<S>: Send {
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate>;
     /// Rebuilds its data for `objects` (ascending) from this view. Returns the work done.
     fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work;
-    /// Appends the draws that show object `i` this frame (after `rebuild`).
+    /// Called once per frame after the rebuilds, with the objects (ascending, possibly
+    /// none) this representation draws this frame, before any [`Representation::draw`]:
+    /// for what drawing needs from this view (a layer's warp fitted to it). By default
+    /// nothing.
+    fn prepare(&mut self, _objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {}
+    /// Appends the draws that show object `i` this frame (after `rebuild` and `prepare`).
     fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>);
     /// Whether its draws are the subject's own (prepared for the camera first, as
     /// [`Subject::prepare`] asks).

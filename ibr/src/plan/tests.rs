@@ -181,7 +181,7 @@ fn without_geometry_an_object_nothing_can_draw_is_reported_not_hidden_in_the_mea
     let reps: Vec<Box<dyn Representation<MeshGroup>>> =
         vec![Box::new(ImpostorSet::new(impostor::Config::default(), n))];
     let config = Config {
-        budgets: budgets(2.0, 3),
+        budgets: budgets(4.0, 3),
         ..Config::default()
     };
     let mut p = Planner::new(config, objects, reps);

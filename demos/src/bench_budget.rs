@@ -1,0 +1,581 @@
+//! The `bench budget` sweep: the planner ([`ibr::plan`]) against each single representation
+//! used everywhere, on the same frames of two scenes: the procedural [`City`] of the
+//! impostor benchmarks (16 buildings, sliding sideways) and a large [`World`] (tens of
+//! thousands of objects, over ten million triangles, flown over).
+//!
+//! Methods: `geometry` (every object's triangles, frustum-culled by the planner), `impostors`
+//! (runtime impostors with their own policy: refresh past a tolerance in levels, geometry
+//! for stale images), `layers` (image layers with theirs: re-render past a geometric error
+//! in pixels, the `budget` column's unit for these rows only), and `planner` (geometry, an
+//! impostor or a layer per object, chosen by predicted error and cost). Impostors and the
+//! planner are swept over the same error budgets in levels, layers over as many
+//! thresholds, all with the same rebuild budget per frame (a sixteenth of the objects, at
+//! least [`Plan::rebuilds`]). Each run first holds still for
+//! [`Plan::warmup`] frames at its first view (images are taken as a game loading a level
+//! would); then every frame is timed (the frame loop's `prepare`, rebuilds included, and the
+//! render) and measured against a render of all the geometry from the same eye:
+//! - per visible object, the mean absolute 8-bit error over its screen rectangle (the unit
+//!   the budget is in), from a summed-area table of the frame's error;
+//! - the frame's error: those means weighted by the rectangles' areas (`measured_mean` is
+//!   its mean over frames, `measured_p99` its 99th percentile, `within` the fraction of
+//!   frames at or under the budget), and `objects_over`, the fraction of visible objects
+//!   over the budget;
+//! - PSNR over the whole frame.
+//!
+//! Per frame the planner also reports its predicted error (pixel-weighted mean and
+//! maximum), the objects drawn each way, switches and rebuilds, and the memory images hold.
+
+mod calibrate;
+mod world;
+
+pub use calibrate::{calibrate, Calibration};
+pub use world::World;
+
+use crate::bench_impostors::frame_camera;
+use crate::city::{City, Path as CityPath};
+use crate::sweep::{self, CsvRow};
+use crate::timing::Summary;
+use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
+use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
+use ibr::layers::{self, LayerSet, Layered};
+use ibr::metrics::{self, Options};
+use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
+use ibr::schedule::Budget;
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::{FrameLoop, FrameView, Technique};
+use std::time::Duration;
+
+/// What a sweep measures.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub size: (u32, u32),
+    /// Error budgets, levels.
+    pub budgets: Vec<f32>,
+    /// Fewest rebuilds per frame (image refreshes) for every method; a sixteenth of the
+    /// objects when that is more.
+    pub rebuilds: usize,
+    /// Layers' thresholds, pixels.
+    pub layer_px: Vec<f32>,
+    /// Frames held at the first view before measuring (enough for every object's first
+    /// image at the rebuild budget, and a retry), and frames measured.
+    pub warmup: usize,
+    pub frames: usize,
+    /// The city's grid and detail; the world's lots per side (0: no world).
+    pub city: (u32, u32),
+    pub world: u32,
+}
+
+impl Plan {
+    /// 640 x 360; the city (16 buildings of 12,000 triangles) and a 150 x 150 world.
+    pub fn full() -> Plan {
+        Plan {
+            size: (640, 360),
+            budgets: vec![1.0, 2.0, 4.0, 8.0, 16.0],
+            rebuilds: 16,
+            layer_px: vec![0.5, 1.0, 2.0, 4.0, 8.0],
+            warmup: 20,
+            frames: 24,
+            city: (4, 10),
+            world: 150,
+        }
+    }
+
+    /// Every point, fewer frames.
+    pub fn quick() -> Plan {
+        Plan {
+            frames: 8,
+            ..Plan::full()
+        }
+    }
+
+    /// A seconds-long smoke run (tests).
+    pub fn tiny() -> Plan {
+        Plan {
+            size: (160, 96),
+            budgets: vec![4.0],
+            rebuilds: 16,
+            layer_px: vec![2.0],
+            warmup: 2,
+            frames: 3,
+            city: (2, 2),
+            world: 8,
+        }
+    }
+}
+
+/// One run.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub scene: &'static str,
+    /// `geometry`, `impostors`, `layers` or `planner`.
+    pub method: &'static str,
+    /// Levels (pixels for layers, 0 for geometry).
+    pub budget: f32,
+    pub objects: usize,
+    pub triangles: usize,
+    pub width: u32,
+    pub height: u32,
+    pub time: Summary,
+    pub measured_mean: f64,
+    pub measured_p99: f64,
+    pub within: f64,
+    pub objects_over: f64,
+    pub psnr_db: f64,
+    pub predicted_mean: f64,
+    pub predicted_max: f64,
+    pub geometry_per_frame: f64,
+    pub images_per_frame: f64,
+    pub switches_per_frame: f64,
+    pub rebuilds_per_frame: f64,
+    pub memory_mb: f64,
+}
+
+impl CsvRow for Row {
+    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,geometry_per_frame,images_per_frame,switches_per_frame,rebuilds_per_frame,memory_mb";
+
+    fn csv(&self) -> String {
+        format!(
+            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.1},{:.1},{:.2},{:.2},{:.2}",
+            self.scene,
+            self.method,
+            self.budget,
+            self.objects,
+            self.triangles,
+            self.width,
+            self.height,
+            self.time.frames,
+            self.time.median_ms,
+            self.time.mean_ms,
+            self.measured_mean,
+            self.measured_p99,
+            self.within,
+            self.objects_over,
+            self.psnr_db,
+            self.predicted_mean,
+            self.predicted_max,
+            self.geometry_per_frame,
+            self.images_per_frame,
+            self.switches_per_frame,
+            self.rebuilds_per_frame,
+            self.memory_mb,
+        )
+    }
+}
+
+/// Frame `f` of `n`'s camera for a target of the given size.
+type Frames = Box<dyn Fn(usize, usize, (u32, u32)) -> Camera>;
+
+/// A scene to plan over: its objects, the rest as plain geometry, the light and the frames.
+struct Scene {
+    name: &'static str,
+    objects: Vec<MeshGroup>,
+    ground: MeshGroup,
+    lighting: Lighting,
+    camera: Frames,
+}
+
+fn scenes(plan: &Plan) -> Vec<Scene> {
+    let city = City::new(plan.city.0, plan.city.1, 7);
+    let mut out = vec![Scene {
+        name: "city",
+        objects: city.buildings.clone(),
+        ground: city.ground.clone(),
+        lighting: city.lighting.clone(),
+        camera: Box::new(move |f, n, size| {
+            frame_camera(&city, CityPath::Translate, 0.25, f, n, size)
+        }),
+    }];
+    if plan.world > 0 {
+        let world = World::new(plan.world, 11);
+        let (objects, ground, lighting) = (
+            world.objects.clone(),
+            world.ground.clone(),
+            world.lighting.clone(),
+        );
+        out.push(Scene {
+            name: "world",
+            objects,
+            ground,
+            lighting,
+            camera: Box::new(move |f, n, size| {
+                world.camera(f as f32 / n.max(2) as f32 * 0.25, size)
+            }),
+        });
+    }
+    out
+}
+
+/// Runs the sweep.
+pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let scenes = scenes(plan);
+    let runs = scenes.len() * (1 + 2 * plan.budgets.len() + plan.layer_px.len());
+    let mut tick = sweep::ticker(runs, progress);
+    let mut rows = Vec::new();
+    for scene in &scenes {
+        tick(format!("{} geometry", scene.name));
+        let mut geometry = planner(scene, plan, 0.0, false);
+        rows.push(fly(scene, plan, 0.0, &mut geometry).row(scene, "geometry", 0.0, plan));
+        for &b in &plan.budgets {
+            tick(format!("{} impostors {b}", scene.name));
+            let flown = fly(scene, plan, b, &mut impostored(scene, plan, b));
+            rows.push(flown.row(scene, "impostors", b, plan));
+            tick(format!("{} planner {b}", scene.name));
+            let flown = fly(scene, plan, b, &mut planner(scene, plan, b, true));
+            rows.push(flown.row(scene, "planner", b, plan));
+        }
+        for &px in &plan.layer_px {
+            tick(format!("{} layers {px} px", scene.name));
+            let flown = fly(scene, plan, f32::INFINITY, &mut layered(scene, plan, px));
+            rows.push(flown.row(scene, "layers", px, plan));
+        }
+    }
+    rows
+}
+
+/// Rebuilds per frame for `scene`.
+fn rebuilds(scene: &Scene, plan: &Plan) -> usize {
+    plan.rebuilds.max(scene.objects.len() / 16)
+}
+
+/// The planner over the scene's objects: geometry, and runtime impostors and image layers
+/// when `images`.
+fn planner(scene: &Scene, plan: &Plan, budget: f32, images: bool) -> Planner<MeshGroup> {
+    let n = scene.objects.len();
+    let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
+    if images {
+        reps.push(Box::new(ImpostorSet::new(
+            image_config(scene, plan, budget),
+            n,
+        )));
+        reps.push(Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)));
+    }
+    let config = plan::Config {
+        budgets: Budgets {
+            error: budget,
+            rebuilds: rebuilds(scene, plan),
+            ..Budgets::default()
+        },
+        ..plan::Config::default()
+    };
+    Planner::new(config, scene.objects.clone(), reps)
+}
+
+/// Impostor settings shared by both impostor methods: enough textures for every object.
+fn image_config(scene: &Scene, plan: &Plan, levels: f32) -> impostor::Config {
+    impostor::Config {
+        tolerance: Tolerance {
+            levels: Some(levels),
+            ..Tolerance::default()
+        },
+        budget: Budget::count(rebuilds(scene, plan)),
+        pool_slots: 1 << 16,
+        prewarm: 0.0,
+        ..impostor::Config::default()
+    }
+}
+
+/// Layer settings: re-rendered past `px` of geometric error.
+fn layer_config(scene: &Scene, plan: &Plan, px: f32) -> layers::Config {
+    layers::Config {
+        tolerance_px: px,
+        budget: Budget::count(rebuilds(scene, plan)),
+        ..layers::Config::default()
+    }
+}
+
+/// Runtime impostors everywhere, refreshed past `levels` of predicted staleness.
+fn impostored(scene: &Scene, plan: &Plan, levels: f32) -> Impostored<MeshGroup> {
+    let cfg = image_config(scene, plan, levels);
+    let mut imp = Impostored::new("impostors", cfg, scene.objects.clone());
+    imp.near = true;
+    imp
+}
+
+/// Image layers everywhere, re-rendered past `px` of geometric error.
+fn layered(scene: &Scene, plan: &Plan, px: f32) -> Layered<MeshGroup> {
+    Layered::new(
+        "layers",
+        layer_config(scene, plan, px),
+        scene.objects.clone(),
+    )
+}
+
+/// What a run reads from its technique after each frame.
+trait Probe: Technique {
+    fn probe(&self) -> Sample;
+}
+
+/// One frame's counters.
+#[derive(Clone, Copy, Debug, Default)]
+struct Sample {
+    /// Objects drawn as geometry and as images.
+    geometry: usize,
+    images: usize,
+    switches: usize,
+    rebuilds: usize,
+    /// Bytes images hold.
+    memory: usize,
+    /// Predicted error of the drawn objects (mean, largest), levels (0 where not predicted).
+    predicted_mean: f32,
+    predicted_max: f32,
+}
+
+impl Probe for Planner<MeshGroup> {
+    fn probe(&self) -> Sample {
+        let r = &self.report;
+        let c = self.counters();
+        Sample {
+            geometry: c.geometry as usize,
+            images: c.images as usize,
+            switches: r.switches,
+            rebuilds: r.rebuilds,
+            memory: r.memory,
+            predicted_mean: r.mean_error,
+            predicted_max: r.max_error,
+        }
+    }
+}
+
+impl Probe for Impostored<MeshGroup> {
+    fn probe(&self) -> Sample {
+        let r = &self.report;
+        let shown = self
+            .set
+            .impostors
+            .iter()
+            .filter(|i| i.mode == impostor::Mode::Image);
+        let (mut sum, mut max, mut n) = (0.0, 0.0f32, 0);
+        for i in shown {
+            sum += i.predicted.levels;
+            max = max.max(i.predicted.levels);
+            n += 1;
+        }
+        let memory = self
+            .set
+            .impostors
+            .iter()
+            .filter(|i| i.has_texture())
+            .filter_map(|i| i.capture())
+            .map(|c| (c.side as usize).pow(2) * 16 / 3)
+            .sum();
+        Sample {
+            geometry: r.geometry,
+            images: r.images,
+            rebuilds: r.refreshes,
+            memory,
+            predicted_mean: sum / n.max(1) as f32,
+            predicted_max: max,
+            ..Sample::default()
+        }
+    }
+}
+
+impl Probe for Layered<MeshGroup> {
+    fn probe(&self) -> Sample {
+        let r = &self.report;
+        let memory = self.set.layers.iter().filter_map(|l| l.image_size());
+        let memory = memory.map(|(w, h)| (w * h) as usize * 16 / 3).sum();
+        Sample {
+            geometry: r.geometry,
+            images: r.images,
+            rebuilds: r.refreshes,
+            memory,
+            ..Sample::default()
+        }
+    }
+}
+
+/// One run's frames, and what it measured.
+#[derive(Default)]
+struct Flight {
+    times: Vec<Duration>,
+    frame_errors: Vec<f64>,
+    objects_over: Vec<f64>,
+    psnr: Vec<f64>,
+    probes: Vec<Sample>,
+    table: Vec<f64>,
+}
+
+fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
+    let (w, h) = plan.size;
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..FrameOptions::default()
+    };
+    let mut ground = Vec::new();
+    scene.ground.draws(&mut ground);
+    let (mut renderer, mut frame_loop) = (Renderer::new(), FrameLoop::new());
+    let (mut target, mut truth) = (Target::new(w, h), Target::new(w, h));
+    let mut out = Flight::default();
+    let frames = plan.frames.max(1);
+    for f in 0..plan.warmup + frames {
+        let k = f.saturating_sub(plan.warmup);
+        let camera = (scene.camera)(k, frames, plan.size);
+        let view = FrameView::still(&camera, w, h, &scene.lighting);
+        let techniques: &mut [&mut dyn Technique] = &mut [t];
+        frame_loop.render(
+            &mut renderer,
+            ground.iter().copied(),
+            techniques,
+            &view,
+            &mut target,
+            &opts,
+        );
+        if f < plan.warmup {
+            continue;
+        }
+        out.times.push(frame_loop.times.total);
+        out.probes.push(t.probe());
+        let mut all: Vec<Draw<'_>> = ground.clone();
+        scene.objects.iter().for_each(|o| o.draws(&mut all));
+        renderer.render(all, &camera, &scene.lighting, &mut truth, &opts);
+        let (frame, over) = measure(
+            &truth,
+            &target,
+            &scene.objects,
+            &camera,
+            budget,
+            &mut out.table,
+        );
+        out.frame_errors.push(frame);
+        out.objects_over.push(over);
+        if let Ok(e) = metrics::compare(&truth, &target, &Options::default()) {
+            out.psnr.push(e.psnr_capped(99.0));
+        }
+    }
+    out
+}
+
+/// The frame's error over the visible objects' screen rectangles, weighted by area, and
+/// the fraction of visible objects whose own rectangle's mean error is over `budget`.
+fn measure(
+    truth: &Target,
+    got: &Target,
+    objects: &[MeshGroup],
+    camera: &Camera,
+    budget: f32,
+    table: &mut Vec<f64>,
+) -> (f64, f64) {
+    let (w, h) = (truth.width() as usize, truth.height() as usize);
+    let (a, b) = (truth.to_rgba8(), got.to_rgba8());
+    // Summed-area table of the per-pixel mean absolute RGB difference.
+    table.clear();
+    table.resize((w + 1) * (h + 1), 0.0);
+    for y in 0..h {
+        let mut row = 0.0;
+        for x in 0..w {
+            let p = (y * w + x) * 4;
+            let d: u32 = (0..3).map(|c| u32::from(a[p + c].abs_diff(b[p + c]))).sum();
+            row += f64::from(d) / 3.0;
+            table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row;
+        }
+    }
+    let (mut sum, mut area, mut over, mut seen) = (0.0, 0.0, 0usize, 0usize);
+    for o in objects {
+        let s = o.bounds();
+        let Some(r) = impostor::screen_rect(camera, s.center, s.radius, w as u32, h as u32) else {
+            continue;
+        };
+        let (x0, y0, x1, y1) = (
+            r.x as usize,
+            r.y as usize,
+            (r.x + r.width) as usize,
+            (r.y + r.height) as usize,
+        );
+        let px = ((x1 - x0) * (y1 - y0)) as f64;
+        if px == 0.0 {
+            continue;
+        }
+        let at = |x: usize, y: usize| table[y * (w + 1) + x];
+        let total = at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
+        sum += total;
+        area += px;
+        seen += 1;
+        over += usize::from(total / px > f64::from(budget));
+    }
+    (sum / area.max(1.0), over as f64 / seen.max(1) as f64)
+}
+
+impl Flight {
+    fn row(self, scene: &Scene, method: &'static str, budget: f32, plan: &Plan) -> Row {
+        let n = self.frame_errors.len().max(1) as f64;
+        let mut sorted = self.frame_errors.clone();
+        sorted.sort_by(f64::total_cmp);
+        let p99 = sorted
+            .get(((sorted.len() as f64 * 0.99).ceil() as usize).saturating_sub(1))
+            .copied()
+            .unwrap_or(0.0);
+        let within = self
+            .frame_errors
+            .iter()
+            .filter(|&&e| e <= f64::from(budget))
+            .count();
+        let mean = |f: &dyn Fn(&Sample) -> f64| {
+            self.probes.iter().map(f).sum::<f64>() / self.probes.len().max(1) as f64
+        };
+        Row {
+            scene: scene.name,
+            method,
+            budget,
+            objects: scene.objects.len(),
+            triangles: scene.objects.iter().map(|o| o.triangle_count()).sum(),
+            width: plan.size.0,
+            height: plan.size.1,
+            time: Summary::of(&self.times),
+            measured_mean: self.frame_errors.iter().sum::<f64>() / n,
+            measured_p99: p99,
+            within: within as f64 / n,
+            objects_over: self.objects_over.iter().sum::<f64>() / n,
+            psnr_db: self.psnr.iter().sum::<f64>() / self.psnr.len().max(1) as f64,
+            predicted_mean: mean(&|p| f64::from(p.predicted_mean)),
+            predicted_max: self
+                .probes
+                .iter()
+                .map(|p| f64::from(p.predicted_max))
+                .fold(0.0, f64::max),
+            geometry_per_frame: mean(&|p| p.geometry as f64),
+            images_per_frame: mean(&|p| p.images as f64),
+            switches_per_frame: mean(&|p| p.switches as f64),
+            rebuilds_per_frame: mean(&|p| p.rebuilds as f64),
+            memory_mb: mean(&|p| p.memory as f64) / (1 << 20) as f64,
+        }
+    }
+}
+
+/// `(file, chart)` for every chart of the sweep: per scene, frame time against measured
+/// error, one line per method over the budgets.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
+    use crate::chart::{Chart, Line, Lines};
+    let mut out = Vec::new();
+    for (scene, file) in [
+        ("city", "budget_time_error_city.png"),
+        ("world", "budget_time_error_world.png"),
+    ] {
+        if !rows.iter().any(|r| r.scene == scene) {
+            continue;
+        }
+        let series = |method: &str| {
+            let pts = rows
+                .iter()
+                .filter(|r| r.scene == scene && r.method == method)
+                .map(|r| (r.time.median_ms, r.measured_mean))
+                .collect();
+            Line::new(format!("{method} ({scene})"), pts)
+        };
+        out.push((
+            file,
+            Chart::Lines(Lines::new(
+                "Measured error against frame time, over the error budget",
+                "median frame time (ms)",
+                "mean abs error over objects (8-bit levels)",
+                vec![
+                    series("geometry"),
+                    series("impostors"),
+                    series("layers"),
+                    series("planner"),
+                ],
+            )),
+        ));
+    }
+    out
+}

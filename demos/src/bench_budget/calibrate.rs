@@ -1,0 +1,291 @@
+//! Calibrating the planner's cost model ([`ibr::plan::CostModel`]) on this machine: the
+//! city at four detail levels with the same silhouettes and distant tori (triangle cost),
+//! stacks of
+//! screen-filling lit quads and image quads (pixel costs), and
+//! batches of impostor rebuilds through the planner's own call (capture cost), each timed
+//! as the median of several repeats; the per-unit times are a least-squares fit.
+
+use crate::bench_impostors::frame_camera;
+use crate::city::{City, Path as CityPath};
+use crate::sweep::CsvRow;
+use engine::procedural;
+use engine::{Camera, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
+use glam::{Mat4, Vec3};
+use ibr::impostor::{self, ImpostorSet};
+use ibr::plan::{CostModel, Representation};
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::FrameView;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// One timed configuration.
+#[derive(Clone, Debug)]
+pub struct Calibration {
+    pub experiment: &'static str,
+    pub triangles: u64,
+    pub pixels: u64,
+    pub image_pixels: u64,
+    pub captures: u64,
+    pub ms: f64,
+}
+
+impl CsvRow for Calibration {
+    const HEADER: &'static str = "experiment,triangles,pixels,image_pixels,captures,ms";
+
+    fn csv(&self) -> String {
+        format!(
+            "{},{},{},{},{},{:.4}",
+            self.experiment, self.triangles, self.pixels, self.image_pixels, self.captures, self.ms
+        )
+    }
+}
+
+/// The median of `reps` timings of `f`.
+fn median(reps: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<Duration> = (0..reps.max(1))
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed()
+        })
+        .collect();
+    t.sort();
+    t[t.len() / 2].as_secs_f64() * 1e3
+}
+
+/// Times the experiments at `size` (`scale` 1 for the full set, less for a smoke run) and
+/// fits the model.
+pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<Calibration>) {
+    let (w, h) = size;
+    let light = engine::Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4));
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 0.0, 10.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        1.0,
+        w as f32 / h as f32,
+    )
+    .with_depth_range(0.1, 2000.0);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions::default();
+    let mut rows = Vec::new();
+    let count = |n: f32| ((n * scale).round() as usize).max(1);
+    // Triangles: the city at four detail levels, the same silhouettes and pixels.
+    let lit = Arc::new(Material::lit(Rgba::new(0.7, 0.5, 0.3, 1.0)));
+    for k in [4, 8, 16, 24].map(|k| count(k as f32).max(2) as u32) {
+        let city = City::new(4, k, 7);
+        let cam = frame_camera(&city, CityPath::Translate, 0.25, 0, 2, size);
+        let mut draws = Vec::new();
+        city.buildings.iter().for_each(|b| b.draws(&mut draws));
+        let light = &city.lighting;
+        let stats = renderer.render(draws.iter().copied(), &cam, light, &mut target, &opts);
+        let ms = median(reps, || {
+            renderer.render(draws.iter().copied(), &cam, light, &mut target, &opts);
+        });
+        rows.push(Calibration {
+            experiment: "triangles",
+            triangles: stats.triangles_in,
+            pixels: stats.fragments_shaded,
+            image_pixels: 0,
+            captures: 0,
+            ms,
+        });
+    }
+    // Triangles far away: tori of 2000 triangles a few pixels across, as distant objects
+    // are (most of a large world's triangles).
+    let torus = Arc::new(procedural::torus_with_triangles(2000));
+    for n in [50.0, 100.0, 200.0, 400.0].map(count) {
+        let placed: Vec<Mat4> = (0..n)
+            .map(|k| {
+                let (x, y) = ((k % 20) as f32 - 9.5, (k / 20) as f32 - 9.5);
+                Mat4::from_translation(Vec3::new(x * 6.0, y * 4.0, -300.0))
+            })
+            .collect();
+        let draws = || {
+            placed.iter().map(|&m| engine::Draw {
+                mesh: &torus,
+                material: &lit,
+                transform: m,
+            })
+        };
+        let stats = renderer.render(draws(), &camera, &light, &mut target, &opts);
+        let ms = median(reps, || {
+            renderer.render(draws(), &camera, &light, &mut target, &opts);
+        });
+        rows.push(Calibration {
+            experiment: "far",
+            triangles: stats.triangles_in,
+            pixels: stats.fragments_shaded,
+            image_pixels: 0,
+            captures: 0,
+            ms,
+        });
+    }
+    // Pixels: stacks of quads filling the view, drawn back to front so each is shaded: lit
+    // geometry, then images (textured, blended).
+    let quad = Arc::new(quad_mesh());
+    let image = Arc::new(impostor::image_material(64, 64, "calibration"));
+    for (material, is_image) in [(&lit, false), (&image, true)] {
+        for k in [1usize, 2, 4, 8] {
+            let draws = || {
+                (0..k).map(|j| engine::Draw {
+                    mesh: &quad,
+                    material,
+                    transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -((k - 1 - j) as f32))),
+                })
+            };
+            let stats = renderer.render(draws(), &camera, &light, &mut target, &opts);
+            let ms = median(reps, || {
+                renderer.render(draws(), &camera, &light, &mut target, &opts);
+            });
+            let px = stats.fragments_shaded;
+            rows.push(Calibration {
+                experiment: if is_image { "images" } else { "pixels" },
+                triangles: stats.triangles_in,
+                pixels: if is_image { 0 } else { px },
+                image_pixels: if is_image { px } else { 0 },
+                captures: 0,
+                ms,
+            });
+        }
+    }
+    let fit = fit(&rows);
+    // Captures: batches of rebuilds of one small object's images through the planner's
+    // call, 16 to 32 texels a side.
+    let n = count(128.0);
+    let small = Arc::new(procedural::torus_with_triangles(200));
+    let objects: Vec<MeshGroup> = (0..n)
+        .map(|k| {
+            let at = Vec3::new(
+                (k % 16) as f32 * 3.0 - 22.5,
+                (k / 16) as f32 * 3.0 - 12.0,
+                -60.0,
+            );
+            MeshGroup::new().with(small.clone(), lit.clone(), Mat4::from_translation(at))
+        })
+        .collect();
+    let all: Vec<usize> = (0..n).collect();
+    let view = FrameView::still(&camera, w, h, &light);
+    let mut subjects = objects.clone();
+    let mut set = ImpostorSet::new(impostor::Config::default(), n);
+    let mut done = ibr::plan::Work::default();
+    let ms = median(reps, || {
+        done = Representation::<MeshGroup>::rebuild(&mut set, &all, &mut subjects, &view);
+    });
+    rows.push(Calibration {
+        experiment: "captures",
+        triangles: done.triangles,
+        pixels: done.pixels,
+        image_pixels: 0,
+        captures: done.captures,
+        ms,
+    });
+    let per_capture = (ms - fit.ms(done) as f64) / done.captures.max(1) as f64;
+    let model = CostModel {
+        us_per_capture: (per_capture * 1e3).max(0.0) as f32,
+        ..fit
+    };
+    (model, rows)
+}
+
+/// Least squares of `ms = a triangles + b pixels + c image_pixels + d` over the frame rows
+/// (`d`, a frame's fixed cost, is not per object and is left out of the model).
+fn fit(rows: &[Calibration]) -> CostModel {
+    let mut m = [[0.0f64; 4]; 4];
+    let mut v = [0.0f64; 4];
+    for r in rows.iter().filter(|r| r.captures == 0) {
+        let x = [
+            r.triangles as f64,
+            r.pixels as f64,
+            r.image_pixels as f64,
+            1.0,
+        ];
+        for i in 0..4 {
+            for j in 0..4 {
+                m[i][j] += x[i] * x[j];
+            }
+            v[i] += x[i] * r.ms;
+        }
+    }
+    let s = solve(m, v).unwrap_or([0.0; 4]);
+    CostModel {
+        ns_per_triangle: (s[0] * 1e6).max(0.0) as f32,
+        ns_per_pixel: (s[1] * 1e6).max(0.0) as f32,
+        ns_per_image_pixel: (s[2] * 1e6).max(0.0) as f32,
+        us_per_capture: 0.0,
+    }
+}
+
+/// `m x = v` by Gaussian elimination with partial pivoting.
+fn solve<const N: usize>(mut m: [[f64; N]; N], mut v: [f64; N]) -> Option<[f64; N]> {
+    for c in 0..N {
+        let p = (c..N).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))?;
+        if m[p][c].abs() < 1e-12 {
+            return None;
+        }
+        m.swap(c, p);
+        v.swap(c, p);
+        for r in c + 1..N {
+            let f = m[r][c] / m[c][c];
+            for k in c..N {
+                m[r][k] -= f * m[c][k];
+            }
+            v[r] -= f * v[c];
+        }
+    }
+    let mut x = [0.0; N];
+    for r in (0..N).rev() {
+        let s: f64 = (r + 1..N).map(|k| m[r][k] * x[k]).sum();
+        x[r] = (v[r] - s) / m[r][r];
+    }
+    Some(x)
+}
+
+/// A quad far larger than the view, facing +Z, at z = 0.
+fn quad_mesh() -> Mesh {
+    let mut m = procedural::plane(400.0, 400.0, 1, 1);
+    m.colors.clear();
+    // The plane lies in XZ facing +Y: stand it up to face the camera.
+    let r = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    for p in &mut m.positions {
+        *p = r.transform_point3(*p);
+    }
+    for n in &mut m.normals {
+        *n = r.transform_vector3(*n);
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fit_recovers_known_per_unit_costs() {
+        let points = [
+            (1000u64, 10u64, 0u64),
+            (5000, 200, 0),
+            (20000, 50, 0),
+            (3000, 900000, 0),
+            (2, 0, 400000),
+            (2, 0, 100000),
+        ];
+        let rows: Vec<Calibration> = points
+            .iter()
+            .map(|&(t, p, i)| Calibration {
+                experiment: "synthetic",
+                triangles: t,
+                pixels: p,
+                image_pixels: i,
+                captures: 0,
+                ms: (t as f64 * 40.0 + p as f64 * 3.0 + i as f64 * 5.0) * 1e-6 + 0.2,
+            })
+            .collect();
+        let m = fit(&rows);
+        assert!((m.ns_per_triangle - 40.0).abs() < 1e-2, "{m:?}");
+        assert!((m.ns_per_pixel - 3.0).abs() < 1e-3, "{m:?}");
+        assert!((m.ns_per_image_pixel - 5.0).abs() < 1e-3, "{m:?}");
+    }
+}
