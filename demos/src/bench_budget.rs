@@ -6,9 +6,10 @@
 //! Methods: `geometry` (every object's triangles, frustum-culled by the planner), `impostors`
 //! (runtime impostors with their own policy: refresh past a tolerance in levels, geometry
 //! for stale images), `layers` (image layers with theirs: re-render past a geometric error
-//! in pixels, the `budget` column's unit for these rows only), and `planner` (geometry, an
-//! impostor or a layer per object, chosen by predicted error and cost). Impostors and the
-//! planner are swept over the same error budgets in levels, layers over as many
+//! in pixels, the `budget` column's unit for these rows only), `planner` (geometry, an
+//! impostor or a layer per object, chosen by predicted error and cost, every object within
+//! the budget) and `planner-frame` (the same, with the budget on the frame's
+//! pixel-weighted mean error, [`Scope::Frame`]). Impostors and the planners are swept over the same error budgets in levels, layers over as many
 //! thresholds, all with the same rebuild budget per frame (a sixteenth of the objects, at
 //! least [`Plan::rebuilds`]). Each run first holds still for
 //! [`Plan::warmup`] frames at its first view (images are taken as a game loading a level
@@ -39,7 +40,7 @@ use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
 use ibr::metrics::{self, Options};
-use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
+use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
@@ -107,7 +108,8 @@ impl Plan {
 #[derive(Clone, Debug)]
 pub struct Row {
     pub scene: &'static str,
-    /// `geometry`, `impostors`, `layers` or `planner`.
+    /// `geometry`, `impostors`, `layers`, `planner` (the error budget per object) or
+    /// `planner-frame` (over the frame, [`Scope::Frame`]).
     pub method: &'static str,
     /// Levels (pixels for layers, 0 for geometry).
     pub budget: f32,
@@ -128,14 +130,15 @@ pub struct Row {
     pub switches_per_frame: f64,
     pub rebuilds_per_frame: f64,
     pub memory_mb: f64,
+    pub planning_ms: f64,
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,geometry_per_frame,images_per_frame,switches_per_frame,rebuilds_per_frame,memory_mb";
+    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,geometry_per_frame,images_per_frame,switches_per_frame,rebuilds_per_frame,memory_mb,planning_ms";
 
     fn csv(&self) -> String {
         format!(
-            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.1},{:.1},{:.2},{:.2},{:.2}",
+            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.1},{:.1},{:.2},{:.2},{:.2},{:.3}",
             self.scene,
             self.method,
             self.budget,
@@ -158,6 +161,7 @@ impl CsvRow for Row {
             self.switches_per_frame,
             self.rebuilds_per_frame,
             self.memory_mb,
+            self.planning_ms,
         )
     }
 }
@@ -208,7 +212,7 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
 /// Runs the sweep.
 pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let scenes = scenes(plan);
-    let runs = scenes.len() * (1 + 2 * plan.budgets.len() + plan.layer_px.len());
+    let runs = scenes.len() * (1 + 3 * plan.budgets.len() + plan.layer_px.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for scene in &scenes {
@@ -222,6 +226,11 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             tick(format!("{} planner {b}", scene.name));
             let flown = fly(scene, plan, b, &mut planner(scene, plan, b, true));
             rows.push(flown.row(scene, "planner", b, plan));
+            tick(format!("{} planner-frame {b}", scene.name));
+            let mut whole = planner(scene, plan, b, true);
+            whole.config.budgets.scope = Scope::Frame;
+            let flown = fly(scene, plan, b, &mut whole);
+            rows.push(flown.row(scene, "planner-frame", b, plan));
         }
         for &px in &plan.layer_px {
             tick(format!("{} layers {px} px", scene.name));
@@ -318,6 +327,8 @@ struct Sample {
     /// Predicted error of the drawn objects (mean, largest), levels (0 where not predicted).
     predicted_mean: f32,
     predicted_max: f32,
+    /// The planner's own time (predicting and choosing), milliseconds.
+    planning_ms: f32,
 }
 
 impl Probe for Planner<MeshGroup> {
@@ -332,6 +343,7 @@ impl Probe for Planner<MeshGroup> {
             memory: r.memory,
             predicted_mean: r.mean_error,
             predicted_max: r.max_error,
+            planning_ms: r.planning_ms,
         }
     }
 }
@@ -538,6 +550,7 @@ impl Flight {
             switches_per_frame: mean(&|p| p.switches as f64),
             rebuilds_per_frame: mean(&|p| p.rebuilds as f64),
             memory_mb: mean(&|p| p.memory as f64) / (1 << 20) as f64,
+            planning_ms: mean(&|p| f64::from(p.planning_ms)),
         }
     }
 }
@@ -573,9 +586,45 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
                     series("impostors"),
                     series("layers"),
                     series("planner"),
+                    series("planner-frame"),
                 ],
             )),
         ));
     }
+    // The planner's predicted against measured error, and the budget itself.
+    let planner = |scene: &str, f: &dyn Fn(&Row) -> f64| {
+        let pts = rows
+            .iter()
+            .filter(|r| r.scene == scene && r.method == "planner")
+            .map(|r| (f64::from(r.budget), f(r)))
+            .collect();
+        pts
+    };
+    let mut lines = Vec::new();
+    for scene in ["city", "world"] {
+        if rows.iter().any(|r| r.scene == scene) {
+            let predicted = planner(scene, &|r| r.predicted_mean);
+            let measured = planner(scene, &|r| r.measured_mean);
+            let p99 = planner(scene, &|r| r.measured_p99);
+            lines.push(Line::new(format!("predicted ({scene})"), predicted));
+            lines.push(Line::new(format!("measured ({scene})"), measured));
+            lines.push(Line::new(format!("measured, p99 frame ({scene})"), p99));
+        }
+    }
+    let budgets: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.method == "planner" && r.scene == "city")
+        .map(|r| (f64::from(r.budget), f64::from(r.budget)))
+        .collect();
+    lines.push(Line::new("the budget", budgets));
+    out.push((
+        "budget_predicted_measured.png",
+        Chart::Lines(Lines::new(
+            "The planner's error against its budget",
+            "error budget (8-bit levels)",
+            "error over objects (8-bit levels)",
+            lines,
+        )),
+    ));
     out
 }

@@ -7,8 +7,9 @@
 //! blended glass (`AlphaMode::Blend`), a house, trees and rocks, lit by a sun and two point
 //! lights (one orbiting the torus, marked by a glowing lamp). Its image-based layer
 //! ([`crate::showcase_ibr`]) adds a billboard forest, a laser exchange with explosions,
-//! the sun's lens flare, and a sky of clouds and a city district drawn through runtime
-//! impostors ([`crate::showcase_impostors`]).
+//! the sun's lens flare, a sky of clouds drawn through runtime impostors, and a city
+//! district whose buildings a planner draws as geometry, impostors or image layers
+//! ([`crate::showcase_impostors`]).
 
 mod build;
 mod fly;

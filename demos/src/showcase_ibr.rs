@@ -1,8 +1,8 @@
 //! The showcase's image-based layer: a forest of axial-billboard trees baked from the tree
 //! meshes, a laser exchange between two turrets with explosions where the bolts hit, a sun
-//! with a lens flare occluded by whatever is drawn in front of it, and the impostored sky
-//! of clouds and city district ([`crate::showcase_impostors`]), and a statue drawn from its
-//! light field ([`crate::showcase_lightfield`]).
+//! with a lens flare occluded by whatever is drawn in front of it, the impostored sky of
+//! clouds and the planned city district ([`crate::showcase_impostors`]), and a statue drawn
+//! from its light field ([`crate::showcase_lightfield`]).
 //!
 //! Everything here is driven by absolute time, so a headless run is deterministic: bolts
 //! are fired on a fixed schedule and the effects are stepped by the time since the last
@@ -40,7 +40,8 @@ pub struct IbrLayer {
     lasers: LaserBatch,
     effects: Effects,
     flare: Flare,
-    /// The clouds and the city, drawn through runtime impostors.
+    /// The clouds, drawn through runtime impostors, and the city, through a planner
+    /// choosing among geometry, impostors and image layers.
     pub impostors: Impostors,
     /// The statue on the plaza, drawn from its light field.
     pub statue: Statue,
@@ -204,13 +205,14 @@ impl IbrLayer {
     }
 }
 
-/// The impostored clouds and city as one technique (one per frame update of both sets).
+/// The impostored clouds and the planned city as one technique (one update of both per
+/// frame).
 impl Technique for Impostors {
     fn name(&self) -> &str {
         "impostors"
     }
     fn prepare(&mut self, view: &FrameView<'_>) {
-        self.update(view.camera, view.height, view.lighting);
+        self.update(view);
     }
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         Impostors::draws(self, out);

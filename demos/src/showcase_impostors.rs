@@ -1,24 +1,31 @@
-//! The showcase's impostored layer: a sky of cumulus clouds over the billboard forest and a
-//! small city district on the hills, every cloud and every building drawn through a runtime
-//! impostor ([`ibr::impostor`]) re-rendered only when its predicted error reaches the
-//! tolerance (0.125 degrees of parallax, or an octave of resolution), within a per-frame
-//! budget, largest error first.
+//! The showcase's image-based sky and city: a sky of cumulus clouds over the billboard
+//! forest, each cloud drawn through a runtime impostor ([`ibr::impostor`]), and a small city
+//! district on the hills whose buildings are the objects of a planner ([`ibr::plan`]) that
+//! chooses each frame how each is drawn: as its geometry, a runtime impostor or an image
+//! layer ([`ibr::layers`]), the cheapest whose predicted error is within
+//! [`CITY_ERROR_LEVELS`], the images rebuilt within a per-frame budget.
 //!
 //! - The sky: a [`CloudField`] of [`CLOUD_COUNT`] cumulus clouds of [`CLOUD_PARTICLES`]
 //!   particles, their flat bases at [`CLOUD_BASE`] (the camera path climbs into one), lit
-//!   by the scene's sun. A cloud is its impostor image from afar; within 1.25 radii of its
-//!   centre the image is refreshed every frame, and with the eye inside its bounding sphere
-//!   it is drawn as its particles, so flying into it does not pop.
+//!   by the scene's sun. A cloud is its impostor image from afar, re-rendered when its
+//!   predicted error reaches the tolerance, worst first within the budget; within 1.25
+//!   radii of its centre the image is refreshed every frame, and with the eye inside its
+//!   bounding sphere it is drawn as its particles, so flying into it does not pop.
 //! - The city: [`CITY_GRID`]² box buildings ([`crate::city::building`], faces split
 //!   [`CITY_DETAIL`]² with a vertex-coloured window pattern, lit) around [`CITY_CENTER`], on
 //!   a fairly flat stretch of the hills west of the plaza, their foundations sunk below the
-//!   lowest ground under them. Trees and rocks keep out of the district ([`in_city`]).
+//!   lowest ground under them. Trees and rocks keep out of the district ([`in_city`]). The
+//!   planner's representations are [`CITY_REPRESENTATIONS`], in that order; an impostor's
+//!   quad is drawn at the depth of its building's nearest box corner, so the ground in
+//!   front of the walls does not hide the bottom of the image.
 //!
-//! Both sets are updated every frame before the draw list is built; their images are
-//! blended quads, sorted back to front with the scene's other blended draws. The
-//! [`Readout`] of a frame and the [`RunStats`] of a run feed the showcase's on-screen line
-//! and its headless statistics; [`Impostors::set_debug`] colours each image by its
-//! predicted error (green 0, yellow at the tolerance, red at twice it).
+//! Both are updated every frame before the draw list is built; their images are blended
+//! quads, sorted back to front with the scene's other blended draws. The [`Readout`] of a
+//! frame and the [`RunStats`] of a run feed the showcase's on-screen lines and its headless
+//! statistics. [`Impostors::set_debug`] colours each cloud image by its predicted error
+//! (green 0, yellow at the tolerance, red at twice it) and each building by its
+//! representation ([`Impostors::legend`]: geometry flat white, impostors green, layers
+//! blue).
 
 mod chart;
 
@@ -26,11 +33,14 @@ pub use chart::tour_chart;
 
 use crate::city;
 use engine::procedural::{Terrain, XorShift};
-use engine::{Camera, Draw, Lighting, Material, Rgba, Shading, Sphere};
+use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Report, Tolerance};
+use ibr::impostor::{Budget, Config, ImpostorSet, Report, Tolerance};
+use ibr::layers::{self, LayerSet};
+use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::FrameView;
 use std::sync::Arc;
 
 /// Centre (XZ) of the city district.
@@ -49,9 +59,10 @@ pub const CLOUD_PARTICLES: usize = 200;
 pub const CLOUD_BASE: f32 = 30.0;
 /// Half the side of the square the clouds are scattered over (centred on the plaza).
 const CLOUD_AREA: f32 = 56.0;
-/// Refreshes a frame may do, per set (8 in all). A cloud's capture (200 blended puffs
-/// over up to 256² texels) costs about four times a building's (measured 4.4 against
-/// 1.1 ms on a loaded core), and near a cloud the every-frame refreshes come first.
+/// Refreshes a frame may do: the clouds' and the city's rebuilds (8 in all). A cloud's
+/// capture (200 blended puffs over up to 256² texels) costs about four times a building's
+/// (measured 4.4 against 1.1 ms on a loaded core), and near a cloud the every-frame
+/// refreshes come first.
 const CLOUD_BUDGET: usize = 2;
 const CITY_BUDGET: usize = 6;
 /// Largest impostor texture sides. Near a cloud its image spans a wide field of view
@@ -67,19 +78,21 @@ pub fn in_city(x: f32, z: f32, margin: f32) -> bool {
     (x - CITY_CENTER.x).abs() <= half && (z - CITY_CENTER.y).abs() <= half
 }
 
-/// The clouds, the buildings and their impostors.
+/// The city planner's representations, in its order (their indices: [`GEOMETRY`],
+/// [`IMPOSTORS`], [`LAYERS`]).
+pub const CITY_REPRESENTATIONS: [&str; 3] = ["geometry", "impostors", "layers"];
+pub const GEOMETRY: usize = 0;
+pub const IMPOSTORS: usize = 1;
+pub const LAYERS: usize = 2;
+
+/// The clouds and their impostors, and the buildings' planner.
 #[derive(Debug)]
 pub struct Impostors {
     pub clouds: CloudField,
     /// One impostor per cloud of `clouds.clouds`, same order.
     pub cloud_set: ImpostorSet,
-    pub buildings: Vec<MeshGroup>,
-    /// One impostor per building, same order.
-    pub city_set: ImpostorSet,
-    /// Per building: the half extents of its footprint (see [`Impostors::draws`]).
-    footprints: Vec<Vec2>,
-    /// The eye of the last update.
-    eye: Vec3,
+    /// The buildings (`city.objects`), each drawn as one of [`CITY_REPRESENTATIONS`].
+    pub city: Planner<MeshGroup>,
     last: Readout,
     run: RunStats,
 }
@@ -98,24 +111,8 @@ impl Impostors {
         if let Some((dir, color)) = lighting.sun() {
             clouds.relight(dir, color);
         }
-        let buildings = buildings(terrain);
-        let footprints = buildings
-            .iter()
-            .map(|b| {
-                let m = &b.parts[0].mesh;
-                let lo = m.positions.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
-                let hi = m
-                    .positions
-                    .iter()
-                    .fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
-                0.5 * Vec2::new(hi.x - lo.x, hi.z - lo.z)
-            })
-            .collect();
         let config = |refreshes: usize, max_side: u32| Config {
-            budget: Budget {
-                refreshes,
-                time: None,
-            },
+            budget: Budget::count(refreshes),
             max_side,
             // Tolerance in image units: staleness may add a predicted mean absolute error of
             // 1.5 levels over the subject (the calibrated prediction, `bench impostors`).
@@ -128,81 +125,77 @@ impl Impostors {
             fallback_ratio: 1.0,
             ..Config::default()
         };
+        let buildings = buildings(terrain);
+        let n = buildings.len();
+        let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
+            Box::new(Geometry),
+            Box::new(ImpostorSet::new(config(CITY_BUDGET, CITY_MAX_SIDE), n)),
+            Box::new(LayerSet::new(
+                layers::Config {
+                    budget: Budget::count(CITY_BUDGET),
+                    ..layers::Config::default()
+                },
+                n,
+            )),
+        ];
+        let city = plan::Config {
+            budgets: Budgets {
+                error: CITY_ERROR_LEVELS,
+                rebuilds: CITY_BUDGET,
+                ..Budgets::default()
+            },
+            ..plan::Config::default()
+        };
         Impostors {
             cloud_set: ImpostorSet::new(config(CLOUD_BUDGET, CLOUD_MAX_SIDE), clouds.clouds.len()),
-            city_set: ImpostorSet::new(config(CITY_BUDGET, CITY_MAX_SIDE), buildings.len()),
+            city: Planner::new(city, buildings, reps),
             clouds,
-            buildings,
-            footprints,
-            eye: Vec3::ZERO,
             last: Readout::default(),
             run: RunStats::default(),
         }
     }
 
-    /// Predicts every impostor's error for `camera` (an image `height` pixels tall),
-    /// refreshes the worst within each set's budget and decides how each cloud and
-    /// building is drawn this frame. Counts the frame in [`Impostors::run_stats`].
-    pub fn update(&mut self, camera: &Camera, height: u32, lighting: &Lighting) -> Readout {
+    /// Predicts every cloud impostor's error for the view and refreshes the worst within
+    /// the budget, and plans the city (each building's representation, its rebuilds).
+    /// Counts the frame in [`Impostors::run_stats`].
+    pub fn update(&mut self, view: &FrameView<'_>) -> Readout {
+        let (camera, lighting) = (view.camera, view.lighting);
         if let Some((dir, color)) = lighting.sun() {
             // Reruns the light pass only if the sun moved.
             self.clouds.relight(dir, color);
         }
         let clouds = self
             .cloud_set
-            .update(&mut self.clouds.clouds, camera, height, lighting);
-        let city = self
-            .city_set
-            .update(&mut self.buildings, camera, height, lighting);
-        self.eye = camera.eye();
-        self.last = Readout { clouds, city };
+            .update(&mut self.clouds.clouds, camera, view.height, lighting);
+        self.city.plan(view);
+        self.last = Readout {
+            clouds,
+            city: CityReport::of(&self.city),
+        };
         self.run.add(&self.last);
         self.last
     }
 
-    /// Appends this frame's draws (after [`Impostors::update`]): images as blended quads,
-    /// the rest as clouds' particles and buildings' meshes.
-    ///
-    /// A building's image quad stands through its centre, so from low down the ground
-    /// between its front walls and the quad would hide the bottom of the image. Each
-    /// building's quad is therefore scaled about the eye (the same pixels, only nearer in
-    /// depth) to the depth of the footprint's nearest corner: the image is never hidden by
-    /// ground in front of its walls, and the foundations it shows below the ground line
-    /// are only the little they are sunk.
+    /// Appends this frame's draws (after [`Impostors::update`]): each building by its
+    /// representation (an impostor's quad pulled to its building's nearest box corner),
+    /// cloud images as blended quads and the rest as their particles.
     pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        let buildings = self.buildings.iter().zip(&self.footprints).enumerate();
-        for (i, (b, &half)) in buildings {
-            match self.city_set.impostors[i].mode {
-                Mode::Culled => {}
-                Mode::Geometry(_) => b.draws(out),
-                Mode::Image => {
-                    if let Some(mut d) = self.city_set.image_draw(i) {
-                        let to = b.bounds().center - self.eye;
-                        let dist = to.length().max(1e-3);
-                        let dir = to / dist;
-                        let pull = half.x * dir.x.abs() + half.y * dir.z.abs();
-                        let s = ((dist - pull) / dist).clamp(0.05, 1.0);
-                        d.transform = Mat4::from_translation(self.eye)
-                            * Mat4::from_scale(Vec3::splat(s))
-                            * Mat4::from_translation(-self.eye);
-                        out.push(d);
-                    }
-                }
-            }
-        }
+        self.city.draws(out);
         self.cloud_set.draws(&self.clouds.clouds, out);
     }
 
-    /// Gives both sets a time budget for their refreshes each frame (`None`: counts only).
+    /// Gives the clouds a time budget for their refreshes each frame, and the city's planner
+    /// the same in predicted milliseconds of rebuilds (`None`: counts only).
     pub fn set_time_budget(&mut self, time: Option<std::time::Duration>) {
         self.cloud_set.config.budget.time = time;
-        self.city_set.config.budget.time = time;
+        self.city.config.budgets.rebuild_ms = time.map(|t| t.as_secs_f32() * 1e3);
     }
 
-    /// The debug view: impostor images tinted by their predicted error.
+    /// The debug view: cloud images tinted by their predicted error, buildings coloured by
+    /// their representation ([`Impostors::legend`]).
     pub fn set_debug(&mut self, on: bool) {
         self.cloud_set.debug_tint = on;
-        self.city_set.debug_tint = on;
+        self.city.set_tints(on);
     }
 
     pub fn debug(&self) -> bool {
@@ -244,8 +237,18 @@ impl Impostors {
     /// Triangles of the clouds and buildings drawn as geometry.
     pub fn triangle_count(&self) -> usize {
         let clouds = self.clouds.clouds.iter().map(Subject::triangle_count);
-        let city = self.buildings.iter().map(Subject::triangle_count);
+        let city = self.city.objects.iter().map(Subject::triangle_count);
         clouds.chain(city).sum()
+    }
+
+    /// The debug view's colours of the city's representations, for the readout:
+    /// `geometry=white impostors=green layers=blue` ([`plan::TINTS`]).
+    pub fn legend(&self) -> String {
+        let names = self.city.names().into_iter().enumerate();
+        let pairs: Vec<String> = names
+            .map(|(r, name)| format!("{name}={}", plan::tint(r).0))
+            .collect();
+        pairs.join(" ")
     }
 }
 
@@ -296,68 +299,142 @@ fn buildings(terrain: &Terrain) -> Vec<MeshGroup> {
     out
 }
 
-/// What one frame's impostor updates did.
+/// What one frame's city plan did (the planner's [`plan::Report`], as the readout needs it).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Readout {
-    pub clouds: Report,
-    pub city: Report,
+pub struct CityReport {
+    /// Buildings drawn by each representation ([`CITY_REPRESENTATIONS`]).
+    pub counts: [usize; 3],
+    pub culled: usize,
+    pub rebuilds: usize,
+    /// Rebuilds wanted but left for a later frame.
+    pub deferred: usize,
+    pub switches: usize,
+    /// Buildings drawn over the error budget.
+    pub over_budget: usize,
+    /// Largest predicted error, the mean over the buildings drawn as images, and the
+    /// budget (levels).
+    pub max_error: f32,
+    pub mean_image_error: f32,
+    pub budget: f32,
 }
 
-impl Readout {
-    pub fn refreshes(&self) -> usize {
-        self.clouds.refreshes + self.city.refreshes
-    }
-    pub fn images(&self) -> usize {
-        self.clouds.images + self.city.images
-    }
-    pub fn geometry(&self) -> usize {
-        self.clouds.geometry + self.city.geometry
-    }
-    pub fn culled(&self) -> usize {
-        self.clouds.culled + self.city.culled
-    }
-    /// Invalid impostors left stale (over budget).
-    pub fn stale(&self) -> usize {
-        self.clouds.stale + self.city.stale
-    }
-    /// Images drawn with a predicted error over their tolerance.
-    pub fn over_tolerance(&self) -> usize {
-        self.clouds.over_tolerance + self.city.over_tolerance
-    }
-    /// Subjects drawn as geometry because their image was too stale to show.
-    pub fn stale_fallbacks(&self) -> usize {
-        self.clouds.stale_fallbacks + self.city.stale_fallbacks
-    }
-    /// Refreshes of subjects about to come into view.
-    pub fn prewarmed(&self) -> usize {
-        self.clouds.prewarmed + self.city.prewarmed
-    }
-    /// Largest predicted error ratio over the drawn images (1 is the tolerance).
-    pub fn max_ratio(&self) -> f32 {
-        self.clouds.max_ratio.max(self.city.max_ratio)
-    }
-    /// Mean predicted error ratio over the drawn images.
-    pub fn mean_ratio(&self) -> f32 {
-        let (a, b) = (&self.clouds, &self.city);
-        let n = a.images + b.images;
-        if n == 0 {
-            0.0
-        } else {
-            (a.mean_ratio * a.images as f32 + b.mean_ratio * b.images as f32) / n as f32
+impl CityReport {
+    /// The planner's last frame.
+    pub fn of(city: &Planner<MeshGroup>) -> Self {
+        let r = &city.report;
+        let mut counts = [0; 3];
+        for (c, &n) in counts.iter_mut().zip(&r.counts) {
+            *c = n;
         }
+        let images = city
+            .choices()
+            .iter()
+            .filter(|c| c.rep.is_some_and(|k| k != GEOMETRY));
+        let (sum, n) = images.fold((0.0, 0), |(s, n), c| (s + c.error, n + 1));
+        CityReport {
+            counts,
+            culled: r.culled,
+            rebuilds: r.rebuilds,
+            deferred: r.deferred,
+            switches: r.switches,
+            over_budget: r.over_budget,
+            max_error: r.max_error,
+            mean_image_error: if n == 0 { 0.0 } else { sum / n as f32 },
+            budget: city.config.budgets.error,
+        }
+    }
+
+    /// Buildings drawn as images (impostors and layers).
+    pub fn images(&self) -> usize {
+        self.counts[IMPOSTORS] + self.counts[LAYERS]
+    }
+
+    /// Largest predicted error over the budget (1 is the budget).
+    pub fn max_ratio(&self) -> f32 {
+        self.max_error / self.budget.max(1e-6)
     }
 
     /// The on-screen line (upper case, for the bitmap font).
     pub fn line(&self) -> String {
+        let [g, i, l] = self.counts;
         format!(
-            "IMPOSTORS {}  IMG {}  GEO {}  REFRESH {}  STALE {}  ERR MAX {:.2} MEAN {:.2}",
-            self.images() + self.geometry(),
-            self.images(),
-            self.geometry(),
-            self.refreshes(),
-            self.stale(),
-            self.max_ratio(),
-            self.mean_ratio()
+            "CITY geometry {g} impostors {i} layers {l} | rebuilds {} switches {} | err {:.2}/{:.1}",
+            self.rebuilds, self.switches, self.max_error, self.budget
+        )
+        .to_uppercase()
+    }
+}
+
+/// What one frame's updates did: the clouds' impostors and the city's plan. The totals add
+/// the city's buildings to the clouds' counts: an image is a cloud's or a building's
+/// (impostor or layer), a refresh a cloud's or a rebuild of either kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Readout {
+    pub clouds: Report,
+    pub city: CityReport,
+}
+
+impl Readout {
+    pub fn refreshes(&self) -> usize {
+        self.clouds.refreshes + self.city.rebuilds
+    }
+    pub fn images(&self) -> usize {
+        self.clouds.images + self.city.images()
+    }
+    pub fn geometry(&self) -> usize {
+        self.clouds.geometry + self.city.counts[GEOMETRY]
+    }
+    pub fn culled(&self) -> usize {
+        self.clouds.culled + self.city.culled
+    }
+    /// Images wanted but not made this frame: invalid cloud impostors left stale, and the
+    /// city's deferred rebuilds.
+    pub fn stale(&self) -> usize {
+        self.clouds.stale + self.city.deferred
+    }
+    /// Images drawn with a predicted error over their tolerance (the city's: objects over
+    /// its error budget).
+    pub fn over_tolerance(&self) -> usize {
+        self.clouds.over_tolerance + self.city.over_budget
+    }
+    /// Clouds drawn as geometry because their image was too stale to show.
+    pub fn stale_fallbacks(&self) -> usize {
+        self.clouds.stale_fallbacks
+    }
+    /// Refreshes of clouds about to come into view.
+    pub fn prewarmed(&self) -> usize {
+        self.clouds.prewarmed
+    }
+    /// Largest predicted error ratio over the drawn images (1 is the tolerance; the
+    /// city's error over its budget).
+    pub fn max_ratio(&self) -> f32 {
+        self.clouds.max_ratio.max(self.city.max_ratio())
+    }
+    /// Mean predicted error ratio over the drawn images.
+    pub fn mean_ratio(&self) -> f32 {
+        let (a, b) = (&self.clouds, &self.city);
+        let n = a.images + b.images();
+        let city = b.mean_image_error / b.budget.max(1e-6);
+        if n == 0 {
+            0.0
+        } else {
+            (a.mean_ratio * a.images as f32 + city * b.images() as f32) / n as f32
+        }
+    }
+
+    /// The clouds' on-screen line (upper case, for the bitmap font); the city's is
+    /// [`CityReport::line`].
+    pub fn line(&self) -> String {
+        let c = &self.clouds;
+        format!(
+            "CLOUDS {}  IMG {}  GEO {}  REFRESH {}  STALE {}  ERR MAX {:.2} MEAN {:.2}",
+            c.images + c.geometry,
+            c.images,
+            c.geometry,
+            c.refreshes,
+            c.stale,
+            c.max_ratio,
+            c.mean_ratio
         )
         .to_uppercase()
     }
@@ -366,13 +443,30 @@ impl Readout {
 /// The impostors' tolerance: predicted mean absolute 8-bit error over the subject.
 pub const TOLERANCE_LEVELS: f32 = 1.5;
 
+/// The city planner's error budget: predicted mean absolute 8-bit error over a building,
+/// all of it (the impostors' tolerance is what staleness adds to a fresh image's own
+/// error). Twice the tolerance: the error a building's impostor showed before the planner
+/// (a fresh image's resampling makes about as much as the staleness allowed on top). At the
+/// tolerance itself no fresh image of a building is predicted within the hysteresis band
+/// (1.4 to 1.8 levels against 1.125), so the planner would draw the city as geometry only.
+pub const CITY_ERROR_LEVELS: f32 = 2.0 * TOLERANCE_LEVELS;
+
 /// Frames whose per-frame figures [`RunStats::per_frame`] keeps (the first ones).
 pub const HISTORY: usize = 1 << 14;
 
-/// Impostor statistics over a run of frames.
+/// Statistics over a run of frames: the clouds' and the city's together (as [`Readout`]'s
+/// totals), then the city's plan.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunStats {
     pub frames: usize,
+    /// The city's rebuilds, switches, and building-frames drawn by each representation
+    /// ([`CITY_REPRESENTATIONS`]) and over the error budget; its largest predicted error
+    /// (levels).
+    pub city_rebuilds: usize,
+    pub city_switches: usize,
+    pub city_frames: [usize; 3],
+    pub city_over_budget: usize,
+    pub city_max_error: f32,
     pub refreshes: usize,
     /// Most refreshes in one frame.
     pub peak_refreshes: usize,
@@ -383,7 +477,8 @@ pub struct RunStats {
     /// Frames that showed an image over its tolerance, and over twice it.
     pub frames_over: usize,
     pub frames_over_twice: usize,
-    /// Stale images replaced by geometry, summed over the frames; pre-warming refreshes.
+    /// Stale cloud images replaced by geometry, summed over the frames; pre-warming
+    /// refreshes.
     pub stale_fallbacks: usize,
     pub prewarmed: usize,
     /// Per frame (the first [`HISTORY`]): the largest predicted error ratio shown, and the
@@ -397,6 +492,14 @@ pub struct RunStats {
 impl RunStats {
     fn add(&mut self, r: &Readout) {
         self.frames += 1;
+        let city = &r.city;
+        self.city_rebuilds += city.rebuilds;
+        self.city_switches += city.switches;
+        for (t, n) in self.city_frames.iter_mut().zip(city.counts) {
+            *t += n;
+        }
+        self.city_over_budget += city.over_budget;
+        self.city_max_error = self.city_max_error.max(city.max_error);
         self.refreshes += r.refreshes();
         self.peak_refreshes = self.peak_refreshes.max(r.refreshes());
         self.stale += r.stale();

@@ -712,7 +712,7 @@ fn budget_sweep_writes_csv_and_png_charts() {
         assert_eq!(geometry.len(), 1, "{csv}");
         // Geometry is the truth it is measured against.
         assert_eq!(t.num(geometry[0], "measured_mean"), 0.0, "{csv}");
-        for method in ["impostors", "planner", "layers"] {
+        for method in ["impostors", "planner", "planner-frame", "layers"] {
             assert_eq!(t.of(scene, method).len(), 1, "{scene} {method}: {csv}");
         }
         let planner = t.of(scene, "planner")[0];

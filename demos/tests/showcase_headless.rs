@@ -128,17 +128,21 @@ fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
     };
     let (stdout, tinted) = run("showcase_debug_impostors", true);
     for words in [
-        "impostors: 14 clouds, 25 buildings (debug view",
+        "impostors: 14 clouds; planner: 25 buildings as geometry, impostors, layers (debug view",
+        "geometry=white impostors=green layers=blue",
         "refreshes: total",
         "per frame, peak",
-        "predicted error ratio (1 = tolerance) of the images shown: max",
-        "frames showing an impostor over its tolerance: ",
-        "last frame: IMPOSTORS",
+        "predicted error ratio (1 = tolerance or budget) of the images shown: max",
+        "frames showing an image over its tolerance: ",
+        "city: ",
+        "building-frames as geometry ",
+        "last frame: CLOUDS",
+        "last frame: CITY GEOMETRY",
         "median",
     ] {
         assert!(stdout.contains(words), "missing {words:?} in:\n{stdout}");
     }
-    // Impostors were refreshed: the first frame captures the visible ones.
+    // Images were made: the first frame captures the visible clouds and city's first few.
     let total: usize = stdout
         .split("refreshes: total ")
         .nth(1)
@@ -146,7 +150,8 @@ fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
         .and_then(|s| s.trim().parse().ok())
         .expect("a total");
     assert!(total > 0, "{stdout}");
-    // The first frame sees the city behind the house: its fresh images turn green.
+    // The first frame sees the city behind the house: its fresh impostors turn green, the
+    // buildings drawn as geometry flat white.
     let (plain_out, plain) = run("showcase_plain_impostors", false);
     assert!(!plain_out.contains("debug view"));
     let greener = plain
@@ -155,6 +160,14 @@ fn headless_debug_view_tints_impostors_and_prints_their_statistics() {
         .filter(|(p, q)| q[1] as i32 - q[0] as i32 > 40 && (p[1] as i32 - p[0] as i32) < 40)
         .count();
     assert!(greener > 20, "{greener} pixels turned green");
+    let white = |p: &image::Rgba<u8>| p.0[..3] == [255; 3];
+    let whiter = plain
+        .pixels()
+        .zip(tinted.pixels())
+        .filter(|(p, q)| white(q) && !white(p))
+        .count();
+    eprintln!("{greener} pixels turned green, {whiter} white");
+    assert!(whiter > 20, "{whiter} pixels turned white");
 }
 
 #[test]

@@ -229,6 +229,8 @@ pub struct ImpostorSet {
     /// What the images taken so far say about the next one's gradient (the planner's
     /// prior for subjects never captured).
     prior: plan::GradientPrior,
+    /// The planner's debug tint of the images it draws ([`crate::plan::Representation::set_tint`]).
+    plan_tint: Option<Rgba>,
 }
 
 impl ImpostorSet {
@@ -243,6 +245,7 @@ impl ImpostorSet {
             debug_tint: false,
             scheduler: Scheduler::default(),
             prior: plan::GradientPrior::default(),
+            plan_tint: None,
         }
     }
 

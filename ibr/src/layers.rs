@@ -39,7 +39,7 @@ use frame::{bounds, build_quad, clip, finish, grow, job, overlaps, predict};
 use crate::impostor::{image_material, Frustum};
 use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
-use engine::{Camera, Draw, Lighting, Material, Mesh};
+use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba};
 use glam::{Mat4, Vec2};
 use std::time::Instant;
 
@@ -230,6 +230,8 @@ pub struct LayerSet {
     scheduler: Scheduler,
     workers: Vec<Worker>,
     jobs: Vec<Job>,
+    /// The planner's debug tint of the layers' images ([`crate::plan::Representation::set_tint`]).
+    tint: Option<Rgba>,
 }
 
 impl LayerSet {
@@ -240,6 +242,7 @@ impl LayerSet {
             scheduler: Scheduler::default(),
             workers: Vec::new(),
             jobs: Vec::new(),
+            tint: None,
         }
     }
 

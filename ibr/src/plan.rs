@@ -29,8 +29,13 @@
 //! Everything is sequential and ordered by object index (rebuilds are the
 //! representations' own, deterministic), so the same frames make the same choices at any
 //! thread count.
+//!
+//! A debug view ([`Planner::set_tints`]) colours each object by the representation that
+//! draws it, the `r`-th in the planner's order taking the `r`-th colour of [`TINTS`]
+//! (white, green, blue, magenta, yellow, cyan; then again from white).
 
 mod cost;
+mod frame_budget;
 mod represent;
 mod technique;
 
@@ -40,14 +45,34 @@ pub use represent::{Estimate, Geometry, Representation, Sight};
 use crate::impostor::{pixels_per_radian, Frustum};
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::Draw;
+use engine::{Draw, Material, Rgba};
+
+/// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
+/// order (cycling past the sixth), with their names for a legend: geometry first in the
+/// usual order, so white; images tinted green, blue, ...
+pub const TINTS: [(&str, Rgba); 6] = [
+    ("white", Rgba::new(1.0, 1.0, 1.0, 1.0)),
+    ("green", Rgba::new(0.3, 1.0, 0.3, 1.0)),
+    ("blue", Rgba::new(0.35, 0.55, 1.0, 1.0)),
+    ("magenta", Rgba::new(1.0, 0.35, 1.0, 1.0)),
+    ("yellow", Rgba::new(1.0, 1.0, 0.3, 1.0)),
+    ("cyan", Rgba::new(0.3, 1.0, 1.0, 1.0)),
+];
+
+/// The debug colour of the `r`-th representation, and its name ([`TINTS`]).
+pub fn tint(r: usize) -> (&'static str, Rgba) {
+    TINTS[r % TINTS.len()]
+}
 
 /// What a frame may spend.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budgets {
-    /// Largest predicted error per object, in the impostors' unit: mean absolute 8-bit
-    /// error over the object's screen rectangle ([`Estimate`]). 0: geometry only.
+    /// Largest predicted error, in the impostors' unit: mean absolute 8-bit error over the
+    /// object's screen rectangle ([`Estimate`]), per object or over the frame ([`Scope`]).
+    /// 0: geometry only.
     pub error: f32,
+    /// What the error budget bounds.
+    pub scope: Scope,
     /// Predicted frame time, milliseconds (`None`: no limit).
     pub time_ms: Option<f32>,
     /// Rebuilds per frame.
@@ -61,11 +86,25 @@ impl Default for Budgets {
     fn default() -> Self {
         Budgets {
             error: 2.0,
+            scope: Scope::Object,
             time_ms: None,
             rebuilds: 8,
             rebuild_ms: None,
         }
     }
+}
+
+/// What the error budget bounds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scope {
+    /// Every object's predicted error.
+    #[default]
+    Object,
+    /// The mean of the visible objects' predicted errors weighted by their pixels: the
+    /// frame's error over its objects. Objects may then err more where that buys most
+    /// time ([`frame_budget`]); hysteresis discounts the representation in use by
+    /// [`Config::min_saving`] of its time.
+    Frame,
 }
 
 /// Settings of a [`Planner`].
@@ -148,6 +187,10 @@ pub struct Report {
     pub mean_error: f32,
     /// Bytes every representation holds.
     pub memory: usize,
+    /// Measured milliseconds of planning (predicting, choosing, the report and the
+    /// representations' `prepare`; rebuilds left out), for benchmarks: wall-clock time, so
+    /// never compared in tests.
+    pub planning_ms: f32,
 }
 
 impl Report {
@@ -183,6 +226,12 @@ pub struct Planner<S> {
     batch: Vec<usize>,
     pub report: Report,
     eye: glam::Vec3,
+    /// Each object's representation of the frame before (reused).
+    previous: Vec<Option<usize>>,
+    /// The debug view: on, and the flat unlit material of each representation's colour
+    /// that replaces the subject's own in the draws of those that draw the subject.
+    tinted: bool,
+    flat: Vec<Material>,
 }
 
 impl<S> std::fmt::Debug for Planner<S> {
@@ -215,7 +264,32 @@ impl<S: Subject + Send> Planner<S> {
             batch: Vec::new(),
             report: Report::default(),
             eye: glam::Vec3::ZERO,
+            previous: Vec::with_capacity(n),
+            tinted: false,
+            flat: (0..r)
+                .map(|k| Material {
+                    name: "plan tint".into(),
+                    vertex_colors: false,
+                    ..Material::unlit(tint(k).1)
+                })
+                .collect(),
         }
+    }
+
+    /// The debug view (see the module docs): with `on`, every image-based representation
+    /// multiplies its images by its colour ([`Representation::set_tint`]) and the draws of
+    /// those that draw the subject itself (geometry) take a flat unlit material of theirs,
+    /// mesh and transform kept; off, the frame is drawn as before.
+    pub fn set_tints(&mut self, on: bool) {
+        self.tinted = on;
+        for (k, rep) in self.reps.iter_mut().enumerate() {
+            rep.set_tint(on.then(|| tint(k).1));
+        }
+    }
+
+    /// Whether the debug view is on.
+    pub fn tints(&self) -> bool {
+        self.tinted
     }
 
     /// The representations' names, in order.
@@ -235,6 +309,7 @@ impl<S: Subject + Send> Planner<S> {
     /// Chooses every object's representation for `view`, rebuilds within the budget, and
     /// prepares the objects for drawing (see the module docs). Returns the report.
     pub fn plan(&mut self, view: &FrameView<'_>) -> &Report {
+        let start = std::time::Instant::now();
         let camera = view.camera;
         let eye = camera.eye();
         self.eye = eye;
@@ -242,7 +317,9 @@ impl<S: Subject + Send> Planner<S> {
         let ppr = pixels_per_radian(camera, view.height);
         let frame_px = view.width as f32 * view.height as f32;
         let nr = self.reps.len();
-        let previous: Vec<Option<usize>> = self.choices.iter().map(|c| c.rep).collect();
+        let mut previous = std::mem::take(&mut self.previous);
+        previous.clear();
+        previous.extend(self.choices.iter().map(|c| c.rep));
         self.visible.clear();
         self.pixels.clear();
         self.estimates.clear();
@@ -280,9 +357,13 @@ impl<S: Subject + Send> Planner<S> {
             }
         }
         self.choose_as_is(&previous);
+        let chosen = start.elapsed();
         self.rebuild(view);
+        let rebuilt = std::time::Instant::now();
         self.fit_time();
         self.finish(view, &previous);
+        self.previous = previous;
+        self.report.planning_ms = (chosen + rebuilt.elapsed()).as_secs_f32() * 1e3;
         &self.report
     }
 
@@ -293,6 +374,10 @@ impl<S: Subject + Send> Planner<S> {
         let budget = cfg.budgets.error.max(0.0);
         let nr = self.reps.len();
         self.rebuilds.clear();
+        if cfg.budgets.scope == Scope::Frame {
+            self.choose_for_frame(previous);
+            return;
+        }
         for (v, &i) in self.visible.iter().enumerate() {
             let est = &self.estimates[v * nr..(v + 1) * nr];
             let current = previous[i];
@@ -308,7 +393,8 @@ impl<S: Subject + Send> Planner<S> {
             let mut best: Option<(usize, f32)> = None;
             for (r, e) in est.iter().enumerate() {
                 let Some(e) = e else { continue };
-                if e.error <= limit(r) && best.is_none_or(|(_, b)| ms(e) < b) {
+                let fits = e.error.is_finite() && e.error <= limit(r);
+                if fits && best.is_none_or(|(_, b)| ms(e) < b) {
                     best = Some((r, ms(e)));
                 }
             }
@@ -354,6 +440,65 @@ impl<S: Subject + Send> Planner<S> {
                 self.rebuilds.push(c);
             }
         }
+    }
+
+    /// Step 2 with the budget over the frame ([`Scope::Frame`]): each object's option at
+    /// the frame's multiplier, and the rebuilds worth more than they cost at it (by the
+    /// time and weighted error they save, net of the rebuild spread over
+    /// [`Config::payback_frames`]).
+    fn choose_for_frame(&mut self, previous: &[Option<usize>]) {
+        let cfg = self.config;
+        let nr = self.reps.len();
+        let objects: Vec<frame_budget::Object<'_>> = self
+            .visible
+            .iter()
+            .enumerate()
+            .map(|(v, &i)| frame_budget::Object {
+                est: &self.estimates[v * nr..(v + 1) * nr],
+                pixels: self.pixels[v].max(1.0),
+                current: previous[i],
+            })
+            .collect();
+        let w = frame_budget::Weights {
+            cost: &cfg.cost,
+            stick: cfg.min_saving,
+            payback: cfg.payback_frames,
+        };
+        let lambda = frame_budget::multiplier(&objects, cfg.budgets.error, &w);
+        let mut rebuilds = Vec::new();
+        let mut choices = Vec::with_capacity(objects.len());
+        for (o, &i) in objects.iter().zip(&self.visible) {
+            let (as_is, best) = frame_budget::options(o, lambda, w.cost, w.stick, w.payback);
+            // Drawn as it is unless the rebuild happens (the rebuild budget decides).
+            choices.push((i, as_is));
+            if let (Some(b), now) = (best.filter(|b| b.rebuild), as_is) {
+                let value = now.map_or(f64::MAX, |n| n.score - b.score);
+                rebuilds.push(Rebuild {
+                    tier: if now.is_none() { 0 } else { 2 },
+                    key: value.min(f64::from(f32::MAX)) as f32,
+                    object: i,
+                    rep: b.rep,
+                });
+            }
+        }
+        drop(objects);
+        for (i, c) in choices {
+            self.choices[i] = match c {
+                Some(p) => Choice {
+                    rep: Some(p.rep),
+                    error: p.error,
+                    ms: p.ms,
+                    rebuilt: false,
+                    over: None,
+                },
+                None => Choice {
+                    over: Some(Over::Nothing),
+                    error: f32::INFINITY,
+                    ..Choice::default()
+                },
+            };
+        }
+        self.rebuilds = rebuilds;
     }
 
     /// The best rebuild of visible object `v` (object `i`), now drawn by `r0` with `err0`
@@ -546,10 +691,26 @@ impl<S: Subject + Send> Planner<S> {
         (r.culled, r.switches, r.over_budget) = (0, 0, 0);
         (r.over_time, r.over_rebuilds, r.over_nothing) = (0, 0, 0);
         (r.draw_ms, r.max_error, r.mean_error) = (0.0, 0.0, 0.0);
+        // Over the frame, objects are over only when the frame is.
+        let frame_over = cfg.budgets.scope == Scope::Frame && {
+            let (mut sum, mut w) = (0.0f64, 0.0f64);
+            for (v, &i) in self.visible.iter().enumerate() {
+                let px = f64::from(self.pixels[v].max(1.0));
+                sum += f64::from(self.choices[i].error) * px;
+                w += px;
+            }
+            let mean = sum / w.max(1e-9);
+            w > 0.0 && (mean > f64::from(budget) || mean.is_nan())
+        };
+        let allowed = match cfg.budgets.scope {
+            Scope::Object => budget,
+            Scope::Frame if frame_over => budget,
+            Scope::Frame => f32::INFINITY,
+        };
         let mut weight = 0.0;
         for (v, &i) in self.visible.iter().enumerate() {
             let c = &mut self.choices[i];
-            if c.error <= budget {
+            if c.error <= allowed && c.rep.is_some() {
                 c.over = None;
             } else if c.over.is_none() {
                 c.over = Some(Over::Nothing);
@@ -597,11 +758,18 @@ impl<S: Subject + Send> Planner<S> {
         self.report.memory = self.reps.iter().map(|rep| rep.memory()).sum();
     }
 
-    /// Appends every visible object's draws, by its chosen representation.
+    /// Appends every visible object's draws, by its chosen representation (in the debug
+    /// view, the subject's own draws with its representation's flat material).
     pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         for (i, c) in self.choices.iter().enumerate() {
             if let Some(r) = c.rep {
+                let first = out.len();
                 self.reps[r].draw(i, &self.objects[i], self.eye, out);
+                if self.tinted && self.reps[r].draws_subject() {
+                    for d in &mut out[first..] {
+                        d.material = &self.flat[r];
+                    }
+                }
             }
         }
     }

@@ -21,7 +21,7 @@ fn a_warm_showcase_frame_allocates_nothing() {
         clear: Some(SKY),
         ..Default::default()
     };
-    // A view with the plaza, the forest, the lasers, the city's impostors, clouds and the
+    // A view with the plaza, the forest, the lasers, the city's images, clouds and the
     // sun in it.
     let eye = Vec3::new(-6.0, 7.0, 24.0);
     let camera = showcase::camera(eye, Vec3::new(-20.0, 10.0, -10.0), w, h);

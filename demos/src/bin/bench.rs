@@ -705,7 +705,7 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
     let report = |rows: &[bbu::Row]| {
         for r in rows {
             println!(
-                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3}  geometry {:>7.1} images {:>7.1} switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB",
+                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3}  geometry {:>7.1} images {:>7.1} switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
                 r.scene,
                 r.method,
                 r.budget,
@@ -725,6 +725,7 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
                 r.switches_per_frame,
                 r.rebuilds_per_frame,
                 r.memory_mb,
+                r.planning_ms,
             );
         }
     };

@@ -3,13 +3,16 @@
 //!
 //! With a display it opens a window (`minifb`) with a fly camera: WASD move, mouse drag or
 //! arrow keys look, Q / E down / up, Shift faster, B enters the building and V the views
-//! moment (below), I toggles the impostor debug view (images tinted by predicted error),
-//! Esc quits; the frame time and the impostor readout (refreshes this frame, images,
-//! geometry fallbacks, largest predicted error) are shown in the title and in the corner
-//! of the image. Without a display (no `DISPLAY` / `WAYLAND_DISPLAY`, or the window cannot
-//! be opened), or with `--headless`, it renders a deterministic camera path to
-//! `DIR/frame_0000.png ...` and prints frame-time and impostor statistics and the last
-//! frame's counters.
+//! moment (below), I toggles the debug view (cloud impostors tinted by predicted error,
+//! the city's buildings coloured by how the planner draws them: geometry flat white,
+//! impostors green, image layers blue), Esc quits; the frame time, the clouds' impostor
+//! readout (refreshes this frame, images, geometry fallbacks, largest predicted error) and
+//! the city planner's (buildings drawn as geometry, impostors and layers, rebuilds,
+//! switches, largest predicted error against the budget) are shown in the title and in the
+//! corner of the image. Without a display (no `DISPLAY` / `WAYLAND_DISPLAY`, or the window
+//! cannot be opened), or with `--headless`, it renders a deterministic camera path to
+//! `DIR/frame_0000.png ...` and prints frame-time, impostor and planner statistics and the
+//! last frame's counters.
 //!
 //! The tour then enters a building (`demos::showcase_building`): a hall whose three
 //! furnished rooms are seen through LDI portals as the camera walks along it and through
@@ -63,8 +66,9 @@ struct Args {
     /// Headless: time the frames but do not write PNG files.
     #[arg(long)]
     no_save: bool,
-    /// Start with the impostor debug view: images tinted by their predicted error (green
-    /// 0, yellow at the tolerance, red at twice it). The I key toggles it in the window.
+    /// Start with the debug view: cloud impostors tinted by their predicted error (green
+    /// 0, yellow at the tolerance, red at twice it), buildings by their representation
+    /// (geometry white, impostors green, layers blue). The I key toggles it in the window.
     #[arg(long)]
     debug_impostors: bool,
     /// Only the building tour: rooms seen through LDI portals, walked past and into (the
@@ -159,7 +163,7 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
         ..Default::default()
     };
     println!(
-        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind impostors), \
+        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind images), \
          {n} frames at {w}x{h} on {} threads",
         show.scene.triangle_count(),
         show.scene.instances.len(),
@@ -193,37 +197,54 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
     );
     let imp = show.ibr.impostors.run_stats();
     println!(
-        "impostors: {} clouds, {} buildings{}",
+        "impostors: {} clouds; planner: {} buildings as {}{}",
         show.ibr.impostors.clouds.clouds.len(),
-        show.ibr.impostors.buildings.len(),
+        show.ibr.impostors.city.objects.len(),
+        show.ibr.impostors.city.names().join(", "),
         if args.debug_impostors {
-            " (debug view: images tinted by predicted error)"
+            format!(
+                " (debug view: cloud images tinted by predicted error; {})",
+                show.ibr.impostors.legend()
+            )
         } else {
-            ""
+            String::new()
         }
     );
     println!(
-        "  refreshes: total {}, mean {:.2} per frame, peak {}; {} left stale over the budget",
+        "  refreshes: total {}, mean {:.2} per frame, peak {} (the clouds' and the city's \
+         rebuilds); {} wanted but left for later",
         imp.refreshes,
         imp.mean_refreshes(),
         imp.peak_refreshes,
         imp.stale
     );
     println!(
-        "  predicted error ratio (1 = tolerance) of the images shown: max {:.3}, mean {:.3}",
+        "  predicted error ratio (1 = tolerance or budget) of the images shown: max {:.3}, \
+         mean {:.3}",
         imp.max_ratio,
         imp.mean_ratio()
     );
     let pct = |k: usize| 100.0 * k as f64 / imp.frames.max(1) as f64;
     println!(
-        "  frames showing an impostor over its tolerance: {} ({:.1}%), over twice it: {} \
-         ({:.1}%); stale images drawn as geometry instead: {}; pre-warmed refreshes: {}",
+        "  frames showing an image over its tolerance: {} ({:.1}%), over twice it: {} \
+         ({:.1}%); stale cloud images drawn as geometry instead: {}; pre-warmed refreshes: {}",
         imp.frames_over,
         pct(imp.frames_over),
         imp.frames_over_twice,
         pct(imp.frames_over_twice),
         imp.stale_fallbacks,
         imp.prewarmed
+    );
+    let [g, i, l] = imp.city_frames;
+    println!(
+        "  city: {} rebuilds, {} switches; building-frames as geometry {g}, impostors {i}, \
+         layers {l}; {} over the error budget; largest predicted error {:.2} levels \
+         (budget {:.1})",
+        imp.city_rebuilds,
+        imp.city_switches,
+        imp.city_over_budget,
+        imp.city_max_error,
+        show.ibr.impostors.city.config.budgets.error
     );
     if !args.no_save {
         let path = dir.join("impostor_error.png");
@@ -235,7 +256,9 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
             Err(e) => eprintln!("  could not write {}: {e}", path.display()),
         }
     }
-    println!("  last frame: {}", show.ibr.impostors.readout().line());
+    let last = show.ibr.impostors.readout();
+    println!("  last frame: {}", last.line());
+    println!("  last frame: {}", last.city.line());
     print_statue(&show, n);
     println!("last frame: {stats:#?}");
     if !args.no_save {
@@ -411,7 +434,8 @@ fn fit(window: &Window, target: &mut Target) -> (u32, u32) {
     (ww, wh)
 }
 
-/// Milliseconds of impostor refreshes per frame in the window, for each of the two sets.
+/// Milliseconds of image refreshes per frame in the window: the clouds' (measured), and the
+/// city's rebuilds (predicted by the planner's cost model).
 const REFRESH_MS: u64 = 3;
 
 fn window(args: &Args) -> Result<(), WindowError> {
@@ -460,6 +484,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
         let (ww, wh) = fit(&window, &mut target);
         let (bw, bh) = (ww as usize, wh as usize);
         let (title, readout, help);
+        let mut city = String::new();
         if moment == Moment::Views {
             // Made at the window's size when entered (later sizes are scaled to): the
             // layered background, the panorama sky and the morph for 20 s each, in a loop.
@@ -521,9 +546,10 @@ fn window(args: &Args) -> Result<(), WindowError> {
             statue = show.ibr.statue.line();
             let imp = show.ibr.impostors.readout();
             let debug = show.ibr.impostors.debug();
+            let [g, i, l] = imp.city.counts;
             title = format!(
                 "{tris} tris, {} shaded px - impostors: {} refreshed, {} images, {} geometry, \
-                 max error {:.2}{}",
+                 max error {:.2} - city: {g} geometry, {i} impostors, {l} layers{}",
                 stats.fragments_shaded,
                 imp.refreshes(),
                 imp.images(),
@@ -532,7 +558,11 @@ fn window(args: &Args) -> Result<(), WindowError> {
                 if debug { " (debug view)" } else { "" }
             );
             readout = format!("{}{}", imp.line(), if debug { "  DEBUG" } else { "" });
-            help = "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I IMPOSTOR ERROR  \
+            city = imp.city.line();
+            if debug {
+                city = format!("{city}  {}", show.ibr.impostors.legend().to_uppercase());
+            }
+            help = "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I DEBUG VIEW  \
                     B BUILDING  V VIEWS  ESC QUIT";
             target.write_rgb_u32(&mut pixels);
         }
@@ -556,7 +586,8 @@ fn window(args: &Args) -> Result<(), WindowError> {
         font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
         font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &readout, 0x0080_ffc0);
         if moment == Moment::Outdoor {
-            font::draw_text(&mut pixels, bw, bh, 6, 34, 2, &statue, 0x00ff_c080);
+            font::draw_text(&mut pixels, bw, bh, 6, 34, 2, &city, 0x0080_ffc0);
+            font::draw_text(&mut pixels, bw, bh, 6, 48, 2, &statue, 0x00ff_c080);
         }
         let bottom = bh.saturating_sub(18);
         font::draw_text(&mut pixels, bw, bh, 6, bottom, 2, help, 0x00e0_e0e0);

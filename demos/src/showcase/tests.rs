@@ -89,7 +89,8 @@ fn path_stays_clear_of_the_ground_and_obstacles() {
     let buildings: Vec<_> = show
         .ibr
         .impostors
-        .buildings
+        .city
+        .objects
         .iter()
         .map(|b| b.bounds())
         .collect();

@@ -7,7 +7,7 @@ use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, Imp
 use crate::plan::{Estimate, Representation, Sight, Work};
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::Draw;
+use engine::{Draw, Rgba};
 use glam::Vec3;
 
 /// The neighbour difference assumed for an object never captured (8-bit levels per
@@ -147,6 +147,17 @@ impl<S: Subject + Send> Representation<S> for ImpostorSet {
         work
     }
 
+    /// Tints the images of the objects drawn this frame (a texture taken from the pool since
+    /// [`Representation::set_tint`] gets it here).
+    fn prepare(&mut self, objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {
+        let tint = self.plan_tint.unwrap_or(Rgba::WHITE);
+        for &i in objects {
+            if let Some(slot) = self.impostors.get(i).and_then(|imp| imp.slot) {
+                self.pool.set_tint(slot, tint);
+            }
+        }
+    }
+
     /// The image's quad, pulled to the object's nearest corner.
     fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>) {
         if let Some(mut d) = self.quad_draw(i) {
@@ -161,6 +172,14 @@ impl<S: Subject + Send> Representation<S> for ImpostorSet {
                 self.pool.release(slot);
             }
             imp.capture = None;
+        }
+    }
+
+    /// Every pooled texture's material takes `tint` (white without).
+    fn set_tint(&mut self, tint: Option<Rgba>) {
+        self.plan_tint = tint;
+        for slot in 0..self.pool.usage().1 {
+            self.pool.set_tint(slot, tint.unwrap_or(Rgba::WHITE));
         }
     }
 

@@ -9,7 +9,7 @@ use crate::impostor::image_material;
 use crate::plan::{Estimate, Representation, Sight, Work};
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Draw, Target};
+use engine::{Draw, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
 
 /// The neighbour difference assumed for a layer never rendered (8-bit levels per texel),
@@ -188,8 +188,17 @@ impl<S: Subject + Send> Representation<S> for LayerSet {
         if let Some(layer) = self.layers.get_mut(i) {
             layer.image = None;
             layer.material = image_material(1, 1, "layer");
+            layer.material.base_color = self.tint.unwrap_or(Rgba::WHITE);
             layer.quad.clear();
             layer.mode = Mode::Culled;
+        }
+    }
+
+    /// Every layer's material takes `tint` (white without).
+    fn set_tint(&mut self, tint: Option<Rgba>) {
+        self.tint = tint;
+        for layer in &mut self.layers {
+            layer.material.base_color = tint.unwrap_or(Rgba::WHITE);
         }
     }
 

@@ -6,7 +6,7 @@
 use super::cost::Work;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Camera, Draw, Sphere};
+use engine::{Camera, Draw, Rgba, Sphere};
 use glam::Vec3;
 
 /// How one object is seen this frame: what every representation's prediction starts from.
@@ -84,6 +84,10 @@ pub trait Representation<S>: Send {
     fn memory(&self) -> usize {
         0
     }
+    /// Multiplies its images by `tint` from now on (`None`: drawn as they are), for a
+    /// debug view that tells representations apart ([`super::Planner::set_tints`]). By
+    /// default nothing (geometry is given a flat material by the planner instead).
+    fn set_tint(&mut self, _tint: Option<Rgba>) {}
 }
 
 /// The object's own triangles: exact (error 0), costing its triangles every frame.

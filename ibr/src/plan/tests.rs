@@ -1,11 +1,13 @@
 //! The planner's promises: no object goes missing, the error budget holds where it can and
 //! is reported where it cannot (a time budget, an exhausted rebuild budget, nothing able
 //! to draw it), a zero budget is all geometry and an enormous one all images, teleports
-//! and changing objects never show a stale image, hysteresis keeps choices still, and the
-//! same frames give the same pixels on any thread count.
+//! and changing objects never show a stale image, hysteresis keeps choices still, the
+//! same frames give the same pixels on any thread count, and the debug view colours each
+//! object by its representation and leaves no trace when turned off.
 
 use super::*;
 use crate::impostor::{self, ImpostorSet};
+use crate::layers::{self, LayerSet};
 use crate::metrics::{self, Options, Region};
 use crate::subject::MeshGroup;
 use crate::technique::{FrameLoop, Technique};
@@ -378,4 +380,117 @@ fn odd_views_neither_panic_nor_choose_nan() {
         Planner::<MeshGroup>::new(Config::default(), Vec::new(), vec![Box::new(Geometry)]);
     empty.plan(&FrameView::still(&cam, W, H, &light));
     assert_eq!(empty.report.counts, vec![0]);
+}
+
+#[test]
+fn tints_colour_each_representation_and_off_restore_the_frame_exactly() {
+    let objects = tori();
+    let n = objects.len();
+    let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
+        Box::new(Geometry),
+        Box::new(ImpostorSet::new(impostor::Config::default(), n)),
+        Box::new(LayerSet::new(layers::Config::default(), n)),
+    ];
+    let config = Config {
+        budgets: budgets(8.0, 6),
+        ..Config::default()
+    };
+    let mut p = Planner::new(config, objects, reps);
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    // Three frames of six rebuilds make a mix of all three; then no more rebuilds, so the
+    // choices stay.
+    for _ in 0..3 {
+        frame(&mut p, &cam, &mut r);
+    }
+    p.config.budgets.rebuilds = 0;
+    frame(&mut p, &cam, &mut r);
+    let plain = frame(&mut p, &cam, &mut r).to_rgba8();
+    let counts = p.report.counts.clone();
+    assert!(counts.iter().all(|&k| k > 0), "{counts:?}");
+    assert!(!p.tints());
+    p.set_tints(true);
+    assert!(p.tints());
+    let tinted = frame(&mut p, &cam, &mut r).to_rgba8();
+    assert_eq!(p.report.counts, counts);
+    // Each object's draws: geometry with the flat material of the first colour, images
+    // multiplied by their representation's.
+    let mut draws = Vec::new();
+    p.draws(&mut draws);
+    for (i, c) in p.choices().iter().enumerate() {
+        let Some(k) = c.rep else { continue };
+        let mut own = Vec::new();
+        p.representation(k)
+            .unwrap()
+            .draw(i, &p.objects[i], p.eye, &mut own);
+        for d in &own {
+            let m = draws
+                .iter()
+                .find(|e| std::ptr::eq(e.mesh, d.mesh))
+                .unwrap()
+                .material;
+            if k == GEOMETRY {
+                assert_eq!(m.base_color, tint(0).1);
+                assert!(m.base_texture.is_none() && !m.vertex_colors);
+                assert_eq!(m.shading, engine::Shading::Unlit);
+            } else {
+                assert_eq!(m.base_color, tint(k).1, "object {i} by {k}");
+            }
+        }
+    }
+    // Geometry shows flat white; nothing was white before.
+    let white = |t: &[u8]| t.chunks_exact(4).filter(|p| p[..3] == [255; 3]).count();
+    assert_eq!(white(&plain), 0);
+    assert!(white(&tinted) > 100, "{}", white(&tinted));
+    // Images tinted: an impostor's pixels keep their green and lose red and blue, a
+    // layer's keep their blue and lose red and green.
+    let turned = |keep: usize, lose: usize| {
+        let f = |(p, q): (&[u8], &[u8])| {
+            q[keep].abs_diff(p[keep]) <= 3 && q[0] + 20 < p[0] && q[lose] + 10 < p[lose]
+        };
+        plain
+            .chunks_exact(4)
+            .zip(tinted.chunks_exact(4))
+            .filter(|&pq| f(pq))
+            .count()
+    };
+    let (green, blue) = (turned(1, 2), turned(2, 1));
+    assert!(
+        green > 50 && blue > 50,
+        "{green} pixels turned green, {blue} blue"
+    );
+    p.set_tints(false);
+    let again = frame(&mut p, &cam, &mut r).to_rgba8();
+    assert!(again == plain, "turning the tints off restores the frame");
+}
+
+#[test]
+fn a_frame_budget_bounds_the_weighted_mean_and_costs_no_more_than_per_object() {
+    let run = |scope: Scope, error: f32| {
+        let mut p = planner(Budgets {
+            scope,
+            ..budgets(error, 16)
+        });
+        let mut r = Renderer::new();
+        for k in 0..8 {
+            frame(&mut p, &view_at(0.1 * k as f32), &mut r);
+            assert_none_missing(&p);
+        }
+        p.report.clone()
+    };
+    for error in [0.0, 2.0, 4.0, 8.0] {
+        let (object, whole) = (run(Scope::Object, error), run(Scope::Frame, error));
+        // The frame's pixel-weighted predicted error is within the budget, and it is
+        // reported over nothing.
+        assert!(whole.mean_error <= error + 1e-4, "{error}: {whole:?}");
+        assert_eq!(whole.over_budget, 0, "{error}: {whole:?}");
+        // Per object is the stricter promise: it costs at least as much.
+        assert!(
+            whole.draw_ms <= object.draw_ms + 1e-6,
+            "{error}: {whole:?} {object:?}"
+        );
+        if error == 0.0 {
+            assert_eq!(whole.counts[IMAGES], 0);
+        }
+    }
 }
