@@ -71,23 +71,10 @@ impl City {
                 ));
             }
         }
-        let mut plate = engine::procedural::plane(half_extent * 2.4, half_extent * 2.4, 1, 1);
-        plate.colors.clear();
-        let ground = MeshGroup::new().with(
-            Arc::new(plate),
-            Arc::new(Material::lit(Rgba::from_srgb8(90, 96, 92))),
-            Mat4::IDENTITY,
-        );
         City {
             buildings,
-            ground,
-            lighting: Lighting {
-                ambient: Rgba::new(0.25, 0.27, 0.32, 1.0),
-                lights: vec![Light::Directional {
-                    direction: Vec3::new(-0.4, -0.8, -0.45).normalize(),
-                    color: Rgba::new(1.0, 0.96, 0.88, 1.0),
-                }],
-            },
+            ground: ground(half_extent * 2.4, Rgba::from_srgb8(90, 96, 92)),
+            lighting: daylight(),
             half_extent,
         }
     }
@@ -127,6 +114,28 @@ impl City {
                 (eye, Vec3::new(0.0, 2.0, 0.0))
             }
         }
+    }
+}
+
+/// A flat lit plate `side` units square on y = 0, centred on the origin.
+pub fn ground(side: f32, color: Rgba) -> MeshGroup {
+    let mut plate = engine::procedural::plane(side, side, 1, 1);
+    plate.colors.clear();
+    MeshGroup::new().with(
+        Arc::new(plate),
+        Arc::new(Material::lit(color)),
+        Mat4::IDENTITY,
+    )
+}
+
+/// A bluish ambient and a warm sun from high on one side.
+pub fn daylight() -> Lighting {
+    Lighting {
+        ambient: Rgba::new(0.25, 0.27, 0.32, 1.0),
+        lights: vec![Light::Directional {
+            direction: Vec3::new(-0.4, -0.8, -0.45).normalize(),
+            color: Rgba::new(1.0, 0.96, 0.88, 1.0),
+        }],
     }
 }
 

@@ -40,7 +40,7 @@ mod represent;
 mod technique;
 
 pub use cost::{CostModel, Work};
-pub use represent::{Estimate, Geometry, Representation, Sight};
+pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
 use crate::impostor::{pixels_per_radian, Frustum};
 use crate::subject::Subject;
@@ -464,15 +464,17 @@ impl<S: Subject + Send> Planner<S> {
             stick: cfg.min_saving,
             payback: cfg.payback_frames,
         };
-        let lambda = frame_budget::multiplier(&objects, cfg.budgets.error, &w);
+        let options = frame_budget::Options::new(&objects, &w);
+        drop(objects);
+        let lambda = frame_budget::multiplier(&options, cfg.budgets.error);
         let mut rebuilds = Vec::new();
-        let mut choices = Vec::with_capacity(objects.len());
-        for (o, &i) in objects.iter().zip(&self.visible) {
-            let (as_is, best) = frame_budget::options(o, lambda, w.cost, w.stick, w.payback);
+        let mut choices = Vec::with_capacity(self.visible.len());
+        for (k, &i) in self.visible.iter().enumerate() {
+            let (as_is, best) = options.pick(k, lambda);
             // Drawn as it is unless the rebuild happens (the rebuild budget decides).
             choices.push((i, as_is));
             if let (Some(b), now) = (best.filter(|b| b.rebuild), as_is) {
-                let value = now.map_or(f64::MAX, |n| n.score - b.score);
+                let value = now.map_or(f64::MAX, |n| n.score(lambda) - b.score(lambda));
                 rebuilds.push(Rebuild {
                     tier: if now.is_none() { 0 } else { 2 },
                     key: value.min(f64::from(f32::MAX)) as f32,
@@ -481,7 +483,6 @@ impl<S: Subject + Send> Planner<S> {
                 });
             }
         }
-        drop(objects);
         for (i, c) in choices {
             self.choices[i] = match c {
                 Some(p) => Choice {
@@ -776,4 +777,4 @@ impl<S: Subject + Send> Planner<S> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

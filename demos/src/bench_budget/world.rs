@@ -3,9 +3,9 @@
 //! rocks and torus statues), tens of thousands of objects and over ten million triangles,
 //! and the low fly-over the runs follow.
 
-use crate::city::building;
+use crate::city::{building, daylight, ground};
 use engine::procedural::{self, TreeKind, XorShift};
-use engine::{Camera, Light, Lighting, Material, Mesh, Rgba, Shading};
+use engine::{Camera, Lighting, Material, Mesh, Rgba, Shading};
 use glam::{Mat4, Vec3};
 use ibr::subject::{MeshGroup, Subject};
 use std::sync::Arc;
@@ -80,23 +80,10 @@ impl World {
                 objects.push(MeshGroup::new().with(mesh, material, place));
             }
         }
-        let mut plate = procedural::plane(half_extent * 2.2, half_extent * 2.2, 1, 1);
-        plate.colors.clear();
-        let ground = MeshGroup::new().with(
-            Arc::new(plate),
-            Arc::new(Material::lit(Rgba::from_srgb8(92, 104, 84))),
-            Mat4::IDENTITY,
-        );
         World {
             objects,
-            ground,
-            lighting: Lighting {
-                ambient: Rgba::new(0.25, 0.27, 0.32, 1.0),
-                lights: vec![Light::Directional {
-                    direction: Vec3::new(-0.4, -0.8, -0.45).normalize(),
-                    color: Rgba::new(1.0, 0.96, 0.88, 1.0),
-                }],
-            },
+            ground: ground(half_extent * 2.2, Rgba::from_srgb8(92, 104, 84)),
+            lighting: daylight(),
             half_extent,
         }
     }

@@ -4,7 +4,7 @@
 
 use super::predict::RESAMPLING;
 use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, ImpostorSet};
-use crate::plan::{Estimate, Representation, Sight, Work};
+use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Draw, Rgba};
@@ -56,11 +56,6 @@ impl GradientPrior {
     }
 }
 
-/// Bytes of an image `side` texels square with its mipmaps.
-fn image_bytes(side: u32) -> usize {
-    (side as usize).pow(2) * 4 * 4 / 3
-}
-
 impl<S: Subject + Send> Representation<S> for ImpostorSet {
     fn name(&self) -> &str {
         "impostors"
@@ -99,22 +94,15 @@ impl<S: Subject + Send> Representation<S> for ImpostorSet {
                 (f32::INFINITY, scale * RESAMPLING * self.prior.at(needed))
             }
         };
-        Some(Estimate {
+        let texels = (needed, needed);
+        let triangles = subject.triangle_count();
+        Some(Estimate::image(
             error,
             rebuilt,
-            draw: Work {
-                triangles: 2,
-                image_pixels: sight.pixels as u64,
-                ..Work::default()
-            },
-            rebuild: Work {
-                triangles: subject.triangle_count() as u64,
-                pixels: u64::from(needed) * u64::from(needed),
-                captures: 1,
-                ..Work::default()
-            },
-            memory: image_bytes(needed),
-        })
+            sight.pixels,
+            triangles,
+            texels,
+        ))
     }
 
     /// Re-renders the objects' images from the eye, side by side (as
@@ -186,7 +174,7 @@ impl<S: Subject + Send> Representation<S> for ImpostorSet {
     fn memory(&self) -> usize {
         let held = self.impostors.iter().filter(|imp| imp.slot.is_some());
         held.filter_map(|imp| imp.capture.as_ref())
-            .map(|c| image_bytes(c.side))
+            .map(|c| image_bytes(c.side, c.side))
             .sum()
     }
 }

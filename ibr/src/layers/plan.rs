@@ -6,7 +6,7 @@
 use super::frame::{bounds, build_quad, clip, fit, grow, job, predict};
 use super::{project_corners, LayerSet, Mode, Why};
 use crate::impostor::image_material;
-use crate::plan::{Estimate, Representation, Sight, Work};
+use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Draw, Rgba, Target};
@@ -39,11 +39,6 @@ pub const RESAMPLING: f32 = 0.55;
 /// cards facing away, nine layers, needed 0.12 and 0.54), these hold for 98.5% of them
 /// (99.8% over the object's rectangle).
 pub const DISPLACEMENT: f32 = 0.12;
-
-/// Bytes of a `width` x `height` image with its mipmaps.
-fn image_bytes(width: u32, height: u32) -> usize {
-    width as usize * height as usize * 4 * 4 / 3
-}
 
 /// The predicted image error of a layer whose image has `gradient` levels per texel and
 /// `texels_per_px` texels per screen pixel, warped with a geometric error of `pixels`:
@@ -96,22 +91,14 @@ impl<S: Subject + Send> Representation<S> for LayerSet {
             }
             None => (f32::INFINITY, (0, 0)),
         };
-        Some(Estimate {
-            error: if error.is_nan() { f32::INFINITY } else { error },
+        let triangles = subject.triangle_count();
+        Some(Estimate::image(
+            error,
             rebuilt,
-            draw: Work {
-                triangles: 2,
-                image_pixels: sight.pixels as u64,
-                ..Work::default()
-            },
-            rebuild: Work {
-                triangles: subject.triangle_count() as u64,
-                pixels: u64::from(texels.0) * u64::from(texels.1),
-                captures: 1,
-                ..Work::default()
-            },
-            memory: image_bytes(texels.0, texels.1),
-        })
+            sight.pixels,
+            triangles,
+            texels,
+        ))
     }
 
     /// Re-renders the objects' images for this view, side by side (as

@@ -6,17 +6,12 @@ use crate::impostor::{self, ImpostorSet};
 use crate::metrics::{self, Options, Region};
 use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
 use crate::subject::MeshGroup;
-use crate::technique::{FrameLoop, FrameView, Technique};
+use crate::technique::FrameView;
 use engine::{procedural, FrameOptions, Renderer, Rgba, Target, Texture};
 use glam::{Mat3, Vec3};
 use std::sync::Arc;
 
-const W: u32 = 320;
-const H: u32 = 192;
-
-fn lighting() -> Lighting {
-    Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4))
-}
+use crate::plan::tests::{frame, lighting, truth, H, W};
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
@@ -321,38 +316,6 @@ fn geometry_and_layers(error: f32, rebuilds: usize) -> Planner<MeshGroup> {
         Box::new(LayerSet::new(Config::default(), 16)),
     ];
     planner(reps, error, rebuilds)
-}
-
-/// One frame through the frame loop.
-fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
-    let light = lighting();
-    let view = FrameView::still(cam, W, H, &light);
-    let mut target = Target::new(W, H);
-    let mut techniques: [&mut dyn Technique; 1] = [p];
-    FrameLoop::new().render(
-        r,
-        std::iter::empty(),
-        &mut techniques,
-        &view,
-        &mut target,
-        &FrameOptions::default(),
-    );
-    target
-}
-
-/// Every object's geometry.
-fn truth(p: &Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
-    let mut draws = Vec::new();
-    p.reference(&mut draws);
-    let mut target = Target::new(W, H);
-    r.render(
-        draws,
-        cam,
-        &lighting(),
-        &mut target,
-        &FrameOptions::default(),
-    );
-    target
 }
 
 /// Every object the frustum keeps is drawn by its representation.

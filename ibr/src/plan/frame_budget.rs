@@ -26,66 +26,17 @@ pub(super) struct Pick {
     pub error: f32,
     /// Drawing it, milliseconds (the rebuild left out).
     pub ms: f32,
-    /// What the multiplier weighs: `ms` (less the hysteresis discount, plus the spread
-    /// rebuild) and `lambda * error * pixels`.
-    pub score: f64,
+    /// What the multiplier weighs: `time + lambda * weighted`, where `time` is `ms` less
+    /// the hysteresis discount, plus the spread rebuild, and `weighted` is error times
+    /// pixels.
+    time: f64,
+    weighted: f64,
 }
 
-/// The options of `o` at multiplier `lambda`: the best as it is, and the best of all
-/// (rebuilds included), by `ms + lambda * error * pixels`, the representation in use
-/// discounted by `stick` (a fraction of its time) and a rebuild's time spread over
-/// `payback` frames. Options with an infinite error are never taken.
-pub(super) fn options(
-    o: &Object<'_>,
-    lambda: f64,
-    cost: &CostModel,
-    stick: f32,
-    payback: f32,
-) -> (Option<Pick>, Option<Pick>) {
-    let (mut as_is, mut best): (Option<Pick>, Option<Pick>) = (None, None);
-    for (r, e) in o.est.iter().enumerate() {
-        let Some(e) = e else { continue };
-        let ms = cost.ms(e.draw);
-        let held = if Some(r) == o.current {
-            ms * (1.0 - stick)
-        } else {
-            ms
-        };
-        let spread = cost.ms(e.rebuild) / payback.max(1.0);
-        let weigh = |err: f32, t: f32| f64::from(t) + lambda * f64::from(err) * f64::from(o.pixels);
-        let mut consider = |pick: Pick, only_best: bool| {
-            if !pick.error.is_finite() {
-                return;
-            }
-            if !only_best && as_is.is_none_or(|b| pick.score < b.score) {
-                as_is = Some(pick);
-            }
-            if best.is_none_or(|b| pick.score < b.score) {
-                best = Some(pick);
-            }
-        };
-        consider(
-            Pick {
-                rep: r,
-                rebuild: false,
-                error: e.error,
-                ms,
-                score: weigh(e.error, held),
-            },
-            false,
-        );
-        if e.rebuild != Work::default() {
-            let pick = Pick {
-                rep: r,
-                rebuild: true,
-                error: e.rebuilt,
-                ms,
-                score: weigh(e.rebuilt, ms + spread),
-            };
-            consider(pick, true);
-        }
+impl Pick {
+    pub(super) fn score(&self, lambda: f64) -> f64 {
+        self.time + lambda * self.weighted
     }
-    (as_is, best)
 }
 
 /// How options are weighed besides the multiplier.
@@ -97,32 +48,108 @@ pub(super) struct Weights<'c> {
     pub payback: f32,
 }
 
-/// The pixel-weighted mean error of the objects' best options at `lambda`.
-fn mean_error(objects: &[Object<'_>], lambda: f64, w: &Weights) -> f64 {
-    let (mut sum, mut weight) = (0.0, 0.0);
-    for o in objects {
-        if let (_, Some(p)) = options(o, lambda, w.cost, w.stick, w.payback) {
-            sum += f64::from(p.error) * f64::from(o.pixels);
-            weight += f64::from(o.pixels);
+/// Every visible object's options with a finite error, flattened once per frame so that
+/// the bisection only does arithmetic.
+pub(super) struct Options {
+    picks: Vec<Pick>,
+    /// Each object's range of `picks`, and its pixels.
+    ranges: Vec<(usize, usize)>,
+    pixels: Vec<f64>,
+}
+
+impl Options {
+    pub(super) fn new(objects: &[Object<'_>], w: &Weights<'_>) -> Options {
+        let mut out = Options {
+            picks: Vec::new(),
+            ranges: Vec::with_capacity(objects.len()),
+            pixels: Vec::with_capacity(objects.len()),
+        };
+        for o in objects {
+            let first = out.picks.len();
+            let px = f64::from(o.pixels);
+            for (r, e) in o.est.iter().enumerate() {
+                let Some(e) = e else { continue };
+                let ms = w.cost.ms(e.draw);
+                let held = if Some(r) == o.current {
+                    ms * (1.0 - w.stick)
+                } else {
+                    ms
+                };
+                if e.error.is_finite() {
+                    out.picks.push(Pick {
+                        rep: r,
+                        rebuild: false,
+                        error: e.error,
+                        ms,
+                        time: f64::from(held),
+                        weighted: f64::from(e.error) * px,
+                    });
+                }
+                if e.rebuild != Work::default() && e.rebuilt.is_finite() {
+                    let spread = w.cost.ms(e.rebuild) / w.payback.max(1.0);
+                    out.picks.push(Pick {
+                        rep: r,
+                        rebuild: true,
+                        error: e.rebuilt,
+                        ms,
+                        time: f64::from(ms + spread),
+                        weighted: f64::from(e.rebuilt) * px,
+                    });
+                }
+            }
+            out.ranges.push((first, out.picks.len()));
+            out.pixels.push(px);
         }
+        out
     }
-    if weight > 0.0 {
-        sum / weight
-    } else {
-        0.0
+
+    /// Object `k`'s options at multiplier `lambda`: the best as it is, and the best of
+    /// all (rebuilds included), least `time + lambda * error * pixels` (ties: the first).
+    pub(super) fn pick(&self, k: usize, lambda: f64) -> (Option<Pick>, Option<Pick>) {
+        let (a, b) = self.ranges[k];
+        let (mut as_is, mut best): (Option<Pick>, Option<Pick>) = (None, None);
+        for p in &self.picks[a..b] {
+            let score = p.score(lambda);
+            if !p.rebuild && as_is.is_none_or(|q| score < q.score(lambda)) {
+                as_is = Some(*p);
+            }
+            if best.is_none_or(|q| score < q.score(lambda)) {
+                best = Some(*p);
+            }
+        }
+        (as_is, best)
+    }
+
+    /// The pixel-weighted mean error of the objects' best options at `lambda`.
+    fn mean_error(&self, lambda: f64) -> f64 {
+        let (mut sum, mut weight) = (0.0, 0.0);
+        for (k, &(a, b)) in self.ranges.iter().enumerate() {
+            let best = self.picks[a..b]
+                .iter()
+                .min_by(|p, q| p.score(lambda).total_cmp(&q.score(lambda)));
+            if let Some(p) = best {
+                sum += p.weighted;
+                weight += self.pixels[k];
+            }
+        }
+        if weight > 0.0 {
+            sum / weight
+        } else {
+            0.0
+        }
     }
 }
 
 /// The least multiplier whose choices keep the mean error within `budget` (the largest
 /// tried, 1e9 ms per level-pixel, when none does: the frame is then as accurate as its
 /// options allow).
-pub(super) fn multiplier(objects: &[Object<'_>], budget: f32, w: &Weights) -> f64 {
+pub(super) fn multiplier(options: &Options, budget: f32) -> f64 {
     let budget = f64::from(budget.max(0.0));
-    if mean_error(objects, 0.0, w) <= budget {
+    if options.mean_error(0.0) <= budget {
         return 0.0;
     }
     let (mut lo, mut hi) = (0.0f64, 1e-12f64);
-    while mean_error(objects, hi, w) > budget {
+    while options.mean_error(hi) > budget {
         lo = hi;
         hi *= 4.0;
         if hi > 1e9 {
@@ -132,7 +159,7 @@ pub(super) fn multiplier(objects: &[Object<'_>], budget: f32, w: &Weights) -> f6
     // Geometric bisection between lo (over) and hi (within).
     for _ in 0..40 {
         let mid = if lo > 0.0 { (lo * hi).sqrt() } else { hi * 0.5 };
-        if mean_error(objects, mid, w) > budget {
+        if options.mean_error(mid) > budget {
             lo = mid;
         } else {
             hi = mid;
@@ -179,19 +206,16 @@ mod tests {
             current: None,
         };
         let objects = [object(&big[..], 1000.0), object(&small[..], 10.0)];
-        let pick = |l: f64| {
-            objects
-                .each_ref()
-                .map(|o| options(o, l, &cost, 0.0, 30.0).1.unwrap().rep)
-        };
+        let options = Options::new(&objects, &w);
+        let pick = |l: f64| [0, 1].map(|k| options.pick(k, l).1.unwrap().rep);
         // Within 0.5 only one image fits, the small one's (80 / 1010): the big one, whose
         // image would cost more error for the same time, is drawn as geometry.
-        let l = multiplier(&objects, 0.5, &w);
+        let l = multiplier(&options, 0.5);
         assert_eq!(pick(l), [0, 1]);
-        assert!(mean_error(&objects, l, &w) <= 0.5);
+        assert!(options.mean_error(l) <= 0.5);
         // A generous budget takes both images; a zero one both geometries.
-        assert_eq!(multiplier(&objects, 2.0, &w), 0.0);
+        assert_eq!(multiplier(&options, 2.0), 0.0);
         assert_eq!(pick(0.0), [1, 1]);
-        assert_eq!(pick(multiplier(&objects, 0.0, &w)), [0, 0]);
+        assert_eq!(pick(multiplier(&options, 0.0)), [0, 0]);
     }
 }

@@ -53,6 +53,41 @@ pub struct Estimate {
     pub memory: usize,
 }
 
+impl Estimate {
+    /// An image's estimate: one quad over the object's pixels to draw, and to rebuild, a
+    /// capture of `triangles` into `texels` (width, height) held with its mipmaps.
+    pub fn image(
+        error: f32,
+        rebuilt: f32,
+        pixels: f32,
+        triangles: usize,
+        texels: (u32, u32),
+    ) -> Estimate {
+        let area = u64::from(texels.0) * u64::from(texels.1);
+        Estimate {
+            error: if error.is_nan() { f32::INFINITY } else { error },
+            rebuilt,
+            draw: Work {
+                triangles: 2,
+                image_pixels: pixels as u64,
+                ..Work::default()
+            },
+            rebuild: Work {
+                triangles: triangles as u64,
+                pixels: area,
+                captures: 1,
+                ..Work::default()
+            },
+            memory: image_bytes(texels.0, texels.1),
+        }
+    }
+}
+
+/// Bytes of a `width` x `height` RGBA8 image with its mipmaps.
+pub fn image_bytes(width: u32, height: u32) -> usize {
+    width as usize * height as usize * 4 * 4 / 3
+}
+
 /// One way of drawing objects: geometry, or an image-based technique's per-object images.
 /// The planner asks each for an [`Estimate`] per visible object per frame, chooses, asks
 /// for the chosen rebuilds in one call (so they can run side by side), then for the draws.

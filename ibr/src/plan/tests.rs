@@ -15,10 +15,10 @@ use engine::{procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgb
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
-const W: u32 = 320;
-const H: u32 = 192;
+pub(crate) const W: u32 = 320;
+pub(crate) const H: u32 = 192;
 
-fn lighting() -> Lighting {
+pub(crate) fn lighting() -> Lighting {
     Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4))
 }
 
@@ -76,7 +76,7 @@ fn budgets(error: f32, rebuilds: usize) -> Budgets {
 }
 
 /// Renders one frame through the frame loop; returns the target.
-fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+pub(crate) fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
     let light = lighting();
     let view = FrameView::still(cam, W, H, &light);
     let mut target = Target::new(W, H);
@@ -93,7 +93,7 @@ fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
 }
 
 /// Every object's geometry from `cam`.
-fn truth(p: &Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+pub(crate) fn truth(p: &Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
     let mut draws = Vec::new();
     p.reference(&mut draws);
     let mut target = Target::new(W, H);
