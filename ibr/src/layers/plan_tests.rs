@@ -11,7 +11,7 @@ use engine::{procedural, FrameOptions, Renderer, Rgba, Target, Texture};
 use glam::{Mat3, Vec3};
 use std::sync::Arc;
 
-use crate::plan::tests::{frame, lighting, truth, H, W};
+use crate::plan::tests::{frame, lighting, tori, truth, H, W};
 
 fn camera(eye: Vec3, target: Vec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
@@ -266,25 +266,6 @@ fn predicted_error_bounds_the_measured_on_the_calibration_run() {
     assert!(all.len() >= 600, "{} images", all.len());
     assert!(most > 3.0, "the paths reach {most} px");
     assert!(both >= 0.95, "{both}");
-}
-
-/// Sixteen lit tori (1024 triangles each) in a 4 x 4 grid two units apart, from z = 0 back
-/// to z = -6 (the planner tests' scene): each costs far more drawn than as an image.
-fn tori() -> Vec<MeshGroup> {
-    let mesh = Arc::new(procedural::torus(0.4, 0.15, 32, 16));
-    (0..16)
-        .map(|k| {
-            let at = Vec3::new((k % 4) as f32 * 2.0 - 3.0, 0.0, -((k / 4) as f32) * 2.0);
-            let tint = Rgba::new(
-                0.3 + 0.15 * (k % 4) as f32,
-                0.5,
-                0.9 - 0.2 * (k / 4) as f32,
-                1.0,
-            );
-            let place = Mat4::from_translation(at) * Mat4::from_rotation_x(1.0 + 0.1 * k as f32);
-            MeshGroup::new().with(mesh.clone(), Arc::new(Material::lit(tint)), place)
-        })
-        .collect()
 }
 
 /// The grid from in front and above, slid `x` across.

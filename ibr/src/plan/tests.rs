@@ -23,8 +23,8 @@ pub(crate) fn lighting() -> Lighting {
 }
 
 /// Sixteen lit tori (1024 triangles each) in a 4 x 4 grid two units apart, from z = 0 back
-/// to z = -6.
-fn tori() -> Vec<MeshGroup> {
+/// to z = -6: each costs far more drawn than as an image.
+pub(crate) fn tori() -> Vec<MeshGroup> {
     let mesh = Arc::new(procedural::torus(0.4, 0.15, 32, 16));
     (0..16)
         .map(|k| {
