@@ -56,6 +56,9 @@ use engine::{
 use glam::{IVec2, Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
+mod plan;
+pub use plan::OctahedralSet;
+
 /// Fewest and most views per side of the grid ([`OctahedralImpostor::bake`] clamps).
 pub const MIN_GRID: u32 = 2;
 pub const MAX_GRID: u32 = 64;
@@ -461,6 +464,11 @@ impl OctahedralImpostor {
         }
     }
 
+    /// Multiplies the drawn image by `tint` (white: as baked), for the planner's debug view.
+    pub fn set_tint(&mut self, tint: Rgba) {
+        self.material.base_color = tint;
+    }
+
     /// The frames of the current image and their weights (Nearest: `[k; 3]`, `[1, 0, 0]`).
     pub fn frames(&self) -> ([u32; 3], [f32; 3]) {
         self.frames
@@ -510,5 +518,7 @@ impl OctahedralImpostor {
     }
 }
 
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod tests;

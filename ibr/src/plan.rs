@@ -18,17 +18,20 @@
 //!    the error a rebuild removes, times their pixels), images in use that have aged past
 //!    the hysteresis band (so they stay in use), then objects a rebuilt image would make
 //!    cheaper (by the time saved, net of the rebuild spread over
-//!    [`Config::payback_frames`]). They are taken within the rebuild budget (a count and
-//!    optionally predicted milliseconds), and each representation rebuilds its share in
-//!    one call (side by side).
+//!    [`Config::payback_frames`], or the representation's own
+//!    [`Representation::payback_frames`]). They are taken within the rebuild budget (a count, and
+//!    optionally predicted milliseconds and the bytes every representation may hold), at
+//!    most one per object (the best that fits: an object whose octahedral bake would pass
+//!    the memory budget may take an impostor instead), and each representation rebuilds
+//!    its share in one call (side by side).
 //! 4. *Fit the time budget*: while the frame's predicted time is over
 //!    [`Budgets::time_ms`], objects move to a cheaper representation, least added error
 //!    (times pixels) per millisecond saved first. Objects drawn over the error budget are
 //!    reported with the reason ([`Over`]).
 //!
-//! Everything is sequential and ordered by object index (rebuilds are the
-//! representations' own, deterministic), so the same frames make the same choices at any
-//! thread count.
+//! Predictions run side by side over chunks of objects and are gathered in object order;
+//! choosing is sequential and ordered by object index (rebuilds are the representations'
+//! own, deterministic), so the same frames make the same choices at any thread count.
 //!
 //! A debug view ([`Planner::set_tints`]) colours each object by the representation that
 //! draws it, the `r`-th in the planner's order taking the `r`-th colour of [`TINTS`]
@@ -40,12 +43,15 @@ mod represent;
 mod technique;
 
 pub use cost::{CostModel, Work};
+pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
-use crate::impostor::{pixels_per_radian, Frustum};
+use crate::impostor::{pixels_per_radian, screen_rect, Frustum};
+use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Draw, Material, Rgba};
+use rayon::prelude::*;
 
 /// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
 /// order (cycling past the sixth), with their names for a legend: geometry first in the
@@ -80,6 +86,10 @@ pub struct Budgets {
     /// Predicted milliseconds of rebuilds per frame (`None`: no limit; the first
     /// candidate is always allowed).
     pub rebuild_ms: Option<f32>,
+    /// Bytes every representation may hold together (`None`: no limit): a rebuild that
+    /// would pass it waits (its object may take another representation's instead) until
+    /// unused data is released ([`Config::release_after`]).
+    pub memory: Option<usize>,
 }
 
 impl Default for Budgets {
@@ -90,6 +100,7 @@ impl Default for Budgets {
             time_ms: None,
             rebuilds: 8,
             rebuild_ms: None,
+            memory: None,
         }
     }
 }
@@ -100,12 +111,15 @@ pub enum Scope {
     /// Every object's predicted error.
     #[default]
     Object,
-    /// The mean of the visible objects' predicted errors weighted by their pixels: the
-    /// frame's error over its objects. Objects may then err more where that buys most
-    /// time ([`frame_budget`]); hysteresis discounts the representation in use by
-    /// [`Config::min_saving`] of its time.
+    /// The frame's error (the objects' errors weighted by their rectangles' areas), with a
+    /// margin for its spread so that it holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
+    /// may then err more where that buys most time; hysteresis discounts the
+    /// representation in use by [`Config::min_saving`] of its time.
     Frame,
 }
+
+/// The default [`Config::spread`]: see there. Fitted on `bench budget` (BENCHMARKS.md).
+pub const SPREAD: f32 = 0.5;
 
 /// Settings of a [`Planner`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,6 +136,11 @@ pub struct Config {
     pub payback_frames: f32,
     /// Frames an object's data may stay unused before its representation releases it.
     pub release_after: u32,
+    /// How far an object's measured error scatters about its prediction, as a fraction of
+    /// it: the frame scope keeps a bound that holds on 99% of frames, the mean plus 2.3
+    /// times the spread of the objects' weighted errors ([`frame_budget`]). 0: the mean
+    /// alone.
+    pub spread: f32,
     pub cost: CostModel,
 }
 
@@ -133,6 +152,7 @@ impl Default for Config {
             min_saving: 0.15,
             payback_frames: 30.0,
             release_after: 120,
+            spread: SPREAD,
             cost: CostModel::default(),
         }
     }
@@ -143,7 +163,8 @@ impl Default for Config {
 pub enum Over {
     /// The time budget moved it to a cheaper representation.
     Time,
-    /// A rebuild would have brought it within the budget, but the rebuild budget ran out.
+    /// A rebuild would have brought it within the budget, but the rebuild budget (its
+    /// count, milliseconds or the memory budget) ran out.
     Rebuilds,
     /// No representation could draw it within the budget, even rebuilt.
     Nothing,
@@ -182,9 +203,17 @@ pub struct Report {
     /// Predicted milliseconds: drawing, and rebuilding.
     pub draw_ms: f32,
     pub rebuild_ms: f32,
-    /// Largest predicted error, and the mean weighted by the objects' pixels.
+    /// Largest predicted error, and the frame's: the objects' errors over their screen
+    /// rectangles weighted by the rectangles' areas ([`frame_budget`]).
     pub max_error: f32,
     pub mean_error: f32,
+    /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the
+    /// spread, [`Config::spread`]): what the frame scope keeps within the budget.
+    pub bound: f32,
+    /// The spread of the frame's mean error per unit of [`Config::spread`]: the root sum
+    /// of the squared weighted errors over the rectangles' total area (`bound = mean_error
+    /// + 2.326 * spread * scatter`).
+    pub scatter: f32,
     /// Bytes every representation holds.
     pub memory: usize,
     /// Measured milliseconds of planning (predicting, choosing, the report and the
@@ -198,6 +227,17 @@ impl Report {
     pub fn predicted_ms(&self) -> f32 {
         self.draw_ms + self.rebuild_ms
     }
+}
+
+/// Objects per chunk of the predictions run side by side.
+const CHUNK: usize = 256;
+
+/// What a chunk of objects' predictions found: the visible objects (index, pixels,
+/// rectangle) and their estimates (representation-major within an object).
+#[derive(Default)]
+struct Seen {
+    objects: Vec<(usize, f32, Rect)>,
+    estimates: Vec<Option<Estimate>>,
 }
 
 /// A rebuild a frame could do.
@@ -221,6 +261,19 @@ pub struct Planner<S> {
     /// within an object), and scratch.
     visible: Vec<usize>,
     pixels: Vec<f32>,
+    /// Visible objects' screen rectangles, their weights in the frame's error (their
+    /// areas, at least 1) and the sum of those.
+    rects: Vec<Rect>,
+    /// Each representation's payback frames ([`Representation::payback_frames`]).
+    payback: Vec<f32>,
+    /// Per object, what step 3 did with its rebuilds this frame.
+    state: Vec<u8>,
+    /// The frame budget's last multipliers, where the next frame's bisections start.
+    warm: [f64; 2],
+    /// Each chunk of objects' predictions (reused frame to frame).
+    seen: Vec<Seen>,
+    weights: Vec<f32>,
+    area: f64,
     estimates: Vec<Option<Estimate>>,
     rebuilds: Vec<Rebuild>,
     batch: Vec<usize>,
@@ -246,7 +299,7 @@ impl<S> std::fmt::Debug for Planner<S> {
     }
 }
 
-impl<S: Subject + Send> Planner<S> {
+impl<S: Subject + Send + Sync> Planner<S> {
     /// A planner over `objects`, choosing among `reps` (each sized for these objects).
     pub fn new(config: Config, objects: Vec<S>, reps: Vec<Box<dyn Representation<S>>>) -> Self {
         let n = objects.len();
@@ -259,6 +312,13 @@ impl<S: Subject + Send> Planner<S> {
             idle: vec![0; n * r],
             visible: Vec::new(),
             pixels: Vec::new(),
+            rects: Vec::new(),
+            payback: Vec::new(),
+            state: Vec::new(),
+            warm: [0.0; 2],
+            seen: Vec::new(),
+            weights: Vec::new(),
+            area: 0.0,
             estimates: Vec::new(),
             rebuilds: Vec::new(),
             batch: Vec::new(),
@@ -316,46 +376,74 @@ impl<S: Subject + Send> Planner<S> {
         let frustum = Frustum::new(camera.clip_from_world());
         let ppr = pixels_per_radian(camera, view.height);
         let frame_px = view.width as f32 * view.height as f32;
-        let nr = self.reps.len();
         let mut previous = std::mem::take(&mut self.previous);
         previous.clear();
         previous.extend(self.choices.iter().map(|c| c.rep));
         self.visible.clear();
+        self.payback.clear();
+        let own = self.reps.iter().map(|r| r.payback_frames());
+        self.payback
+            .extend(own.map(|p| p.unwrap_or(self.config.payback_frames)));
         self.pixels.clear();
+        self.rects.clear();
         self.estimates.clear();
-        for (i, s) in self.objects.iter().enumerate() {
-            let bounds = s.bounds();
-            for r in 0..nr {
-                self.idle[i * nr + r] = self.idle[i * nr + r].saturating_add(1);
-            }
-            if !frustum.sees(bounds.center, bounds.radius) {
-                self.choices[i] = Choice::default();
-                continue;
-            }
-            let distance = eye.distance(bounds.center);
-            let pixels = if distance > bounds.radius {
-                let r_px = (bounds.radius / distance).asin() * ppr;
-                (std::f32::consts::PI * r_px * r_px).min(frame_px)
-            } else {
-                frame_px
-            };
-            let sight = Sight {
-                camera,
-                eye,
-                width: view.width,
-                height: view.height,
-                px_per_radian: ppr,
-                bounds,
-                distance,
-                pixels,
-            };
-            self.visible.push(i);
-            self.pixels.push(pixels);
-            for rep in &self.reps {
-                let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
-                self.estimates.push(e);
-            }
+        for idle in &mut self.idle {
+            *idle = idle.saturating_add(1);
         }
+        // Culled objects keep the default choice; visible ones are chosen below.
+        self.choices.fill(Choice::default());
+        // Predictions side by side over chunks of objects, gathered in object order (so the
+        // same at any thread count).
+        let chunks = self.objects.len().div_ceil(CHUNK);
+        if self.seen.len() < chunks {
+            self.seen.resize_with(chunks, Seen::default);
+        }
+        let reps = &self.reps;
+        let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
+        work.enumerate().for_each(|(c, (chunk, seen))| {
+            seen.objects.clear();
+            seen.estimates.clear();
+            for (k, s) in chunk.iter().enumerate() {
+                let bounds = s.bounds();
+                if !frustum.sees(bounds.center, bounds.radius) {
+                    continue;
+                }
+                let distance = eye.distance(bounds.center);
+                let pixels = if distance > bounds.radius {
+                    let r_px = (bounds.radius / distance).asin() * ppr;
+                    (std::f32::consts::PI * r_px * r_px).min(frame_px)
+                } else {
+                    frame_px
+                };
+                let sight = Sight {
+                    camera,
+                    eye,
+                    width: view.width,
+                    height: view.height,
+                    px_per_radian: ppr,
+                    bounds,
+                    distance,
+                    pixels,
+                };
+                let (w, h) = (view.width, view.height);
+                let rect = screen_rect(camera, bounds.center, bounds.radius, w, h);
+                let i = c * CHUNK + k;
+                seen.objects.push((i, pixels, rect.unwrap_or_default()));
+                for rep in reps {
+                    let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
+                    seen.estimates.push(e);
+                }
+            }
+        });
+        for seen in &self.seen[..chunks] {
+            for &(i, pixels, rect) in &seen.objects {
+                self.visible.push(i);
+                self.pixels.push(pixels);
+                self.rects.push(rect);
+            }
+            self.estimates.extend_from_slice(&seen.estimates);
+        }
+        self.weigh();
         self.choose_as_is(&previous);
         let chosen = start.elapsed();
         self.rebuild(view);
@@ -378,6 +466,7 @@ impl<S: Subject + Send> Planner<S> {
             self.choose_for_frame(previous);
             return;
         }
+        let mut rebuilds = std::mem::take(&mut self.rebuilds);
         for (v, &i) in self.visible.iter().enumerate() {
             let est = &self.estimates[v * nr..(v + 1) * nr];
             let current = previous[i];
@@ -436,10 +525,9 @@ impl<S: Subject + Send> Planner<S> {
                 rebuilt: false,
                 over: (!within).then_some(Over::Nothing),
             };
-            if let Some(c) = self.rebuild_candidate(v, i, r0, err0, ms0, budget, current) {
-                self.rebuilds.push(c);
-            }
+            self.rebuild_candidates(v, i, r0, err0, ms0, budget, current, &mut rebuilds);
         }
+        self.rebuilds = rebuilds;
     }
 
     /// Step 2 with the budget over the frame ([`Scope::Frame`]): each object's option at
@@ -455,32 +543,36 @@ impl<S: Subject + Send> Planner<S> {
             .enumerate()
             .map(|(v, &i)| frame_budget::Object {
                 est: &self.estimates[v * nr..(v + 1) * nr],
-                pixels: self.pixels[v].max(1.0),
+                weight: self.weights[v],
                 current: previous[i],
             })
             .collect();
         let w = frame_budget::Weights {
             cost: &cfg.cost,
             stick: cfg.min_saving,
-            payback: cfg.payback_frames,
+            payback: &self.payback,
+            spread: cfg.spread,
         };
-        let options = frame_budget::Options::new(&objects, &w);
+        let options = frame_budget::Options::new(&objects, self.area, &w);
         drop(objects);
-        let lambda = frame_budget::multiplier(&options, cfg.budgets.error);
+        let price = frame_budget::price(&options, cfg.budgets.error, &mut self.warm);
         let mut rebuilds = Vec::new();
         let mut choices = Vec::with_capacity(self.visible.len());
         for (k, &i) in self.visible.iter().enumerate() {
-            let (as_is, best) = options.pick(k, lambda);
-            // Drawn as it is unless the rebuild happens (the rebuild budget decides).
+            let as_is = options.pick(k, price).0;
+            // Drawn as it is unless a rebuild happens (the rebuild budget decides): every
+            // rebuild that scores better is a candidate, the best taken first.
             choices.push((i, as_is));
-            if let (Some(b), now) = (best.filter(|b| b.rebuild), as_is) {
-                let value = now.map_or(f64::MAX, |n| n.score(lambda) - b.score(lambda));
-                rebuilds.push(Rebuild {
-                    tier: if now.is_none() { 0 } else { 2 },
-                    key: value.min(f64::from(f32::MAX)) as f32,
-                    object: i,
-                    rep: b.rep,
-                });
+            for b in options.rebuilds(k) {
+                let value = as_is.map_or(f64::MAX, |n| price.score(&n) - price.score(b));
+                if value > 0.0 {
+                    rebuilds.push(Rebuild {
+                        tier: if as_is.is_none() { 0 } else { 2 },
+                        key: value.min(f64::from(f32::MAX)) as f32,
+                        object: i,
+                        rep: b.rep,
+                    });
+                }
             }
         }
         for (i, c) in choices {
@@ -502,10 +594,11 @@ impl<S: Subject + Send> Planner<S> {
         self.rebuilds = rebuilds;
     }
 
-    /// The best rebuild of visible object `v` (object `i`), now drawn by `r0` with `err0`
-    /// in `ms0`: see the tiers in the module docs.
+    /// The rebuilds of visible object `v` (object `i`), now drawn by `r0` with `err0` in
+    /// `ms0`, one per representation that qualifies, appended to `out`: see the tiers in
+    /// the module docs. Step 3 takes at most one per object, the best that fits.
     #[allow(clippy::too_many_arguments)]
-    fn rebuild_candidate(
+    fn rebuild_candidates(
         &self,
         v: usize,
         i: usize,
@@ -514,12 +607,12 @@ impl<S: Subject + Send> Planner<S> {
         ms0: f32,
         budget: f32,
         current: Option<usize>,
-    ) -> Option<Rebuild> {
+        out: &mut Vec<Rebuild>,
+    ) {
         let cfg = self.config;
         let nr = self.reps.len();
         let est = &self.estimates[v * nr..(v + 1) * nr];
         let pixels = self.pixels_of(v);
-        let mut out: Option<Rebuild> = None;
         for (r, e) in est.iter().enumerate() {
             let Some(e) = e else { continue };
             let within = e.rebuilt <= budget * cfg.hysteresis;
@@ -532,29 +625,37 @@ impl<S: Subject + Send> Planner<S> {
                 Some((0, (err0 - e.rebuilt).min(1e6) * pixels - ms))
             } else if r == r0 && Some(r) == current && e.error > budget * cfg.hysteresis {
                 Some((1, e.error / budget.max(1e-6)))
-            } else if ms < ms0 * (1.0 - cfg.min_saving) && (ms0 - ms) * cfg.payback_frames >= rb {
-                Some((2, ms0 - ms - rb / cfg.payback_frames.max(1.0)))
+            } else if ms < ms0 * (1.0 - cfg.min_saving) && (ms0 - ms) * self.payback[r] >= rb {
+                Some((2, ms0 - ms - rb / self.payback[r].max(1.0)))
             } else {
                 None
             };
             if let Some((tier, key)) = cand {
-                let better = out.is_none_or(|o| tier < o.tier || (tier == o.tier && key > o.key));
-                if better {
-                    out = Some(Rebuild {
-                        tier,
-                        key,
-                        object: i,
-                        rep: r,
-                    });
-                }
+                out.push(Rebuild {
+                    tier,
+                    key,
+                    object: i,
+                    rep: r,
+                });
             }
         }
-        out
     }
 
     /// The screen pixels of visible object `v` ([`Sight::pixels`], at least 1).
     fn pixels_of(&self, v: usize) -> f32 {
         self.pixels[v].max(1.0)
+    }
+
+    /// Each visible object's weight in the frame's error (its rectangle's area, at least
+    /// 1) and their sum: see [`frame_budget`].
+    fn weigh(&mut self) {
+        self.weights.clear();
+        self.weights.extend(
+            self.rects
+                .iter()
+                .map(|r| (r.width as f32 * r.height as f32).max(1.0)),
+        );
+        self.area = self.weights.iter().map(|&w| f64::from(w)).sum();
     }
 
     /// Step 3: the ranked rebuilds within the budget, each representation's in one call.
@@ -570,9 +671,20 @@ impl<S: Subject + Send> Planner<S> {
         let slot = |planner: &Self, i: usize| planner.visible.binary_search(&i).ok();
         let mut taken = 0;
         let mut spent = 0.0;
-        let mut deferred = 0;
+        // Bytes held now, and what the rebuilds taken will hold (counted in full: an image
+        // replaced is freed only after).
+        let mut held: usize = match cfg.budgets.memory {
+            Some(_) => self.reps.iter().map(|r| r.memory()).sum(),
+            None => 0,
+        };
+        // Per object: 1 once a rebuild is taken, 2 while one is deferred.
+        self.state.clear();
+        self.state.resize(self.objects.len(), 0);
         let mut chosen = Vec::new();
         for c in &self.rebuilds {
+            if self.state[c.object] == 1 {
+                continue;
+            }
             let Some(v) = slot(self, c.object) else {
                 continue;
             };
@@ -584,18 +696,21 @@ impl<S: Subject + Send> Planner<S> {
                 .budgets
                 .rebuild_ms
                 .is_some_and(|t| taken > 0 && spent + ms > t);
-            if taken >= cfg.budgets.rebuilds || over_ms {
-                deferred += 1;
+            let over_memory = cfg.budgets.memory.is_some_and(|m| held + e.memory > m);
+            if taken >= cfg.budgets.rebuilds || over_ms || over_memory {
+                self.state[c.object] = 2;
                 if c.tier == 0 {
                     self.choices[c.object].over = Some(Over::Rebuilds);
                 }
                 continue;
             }
+            self.state[c.object] = 1;
             taken += 1;
             spent += ms;
+            held += e.memory;
             chosen.push((c.rep, c.object, e));
         }
-        self.report.deferred = deferred;
+        self.report.deferred = self.state.iter().filter(|&&s| s == 2).count();
         self.report.rebuild_ms = spent;
         self.report.rebuilds = taken;
         for r in 0..nr {
@@ -691,25 +806,31 @@ impl<S: Subject + Send> Planner<S> {
         r.counts.resize(nr, 0);
         (r.culled, r.switches, r.over_budget) = (0, 0, 0);
         (r.over_time, r.over_rebuilds, r.over_nothing) = (0, 0, 0);
-        (r.draw_ms, r.max_error, r.mean_error) = (0.0, 0.0, 0.0);
-        // Over the frame, objects are over only when the frame is.
-        let frame_over = cfg.budgets.scope == Scope::Frame && {
-            let (mut sum, mut w) = (0.0f64, 0.0f64);
-            for (v, &i) in self.visible.iter().enumerate() {
-                let px = f64::from(self.pixels[v].max(1.0));
-                sum += f64::from(self.choices[i].error) * px;
-                w += px;
+        (r.draw_ms, r.max_error) = (0.0, 0.0);
+        // The frame's mean and bound over what is drawn (what nothing draws is reported
+        // apart); over the frame, objects are over only when the bound is.
+        let (mut sum, mut squares) = (0.0f64, 0.0f64);
+        for (v, &i) in self.visible.iter().enumerate() {
+            let c = &self.choices[i];
+            if c.rep.is_some() {
+                let e = f64::from(c.error) * f64::from(self.weights[v]);
+                (sum, squares) = (sum + e, squares + e * e);
             }
-            let mean = sum / w.max(1e-9);
-            w > 0.0 && (mean > f64::from(budget) || mean.is_nan())
-        };
+        }
+        let margin = Z99 * f64::from(cfg.spread.max(0.0));
+        let r = &mut self.report;
+        r.mean_error = frame_budget::bound(sum, squares, self.area, 0.0) as f32;
+        r.scatter = frame_budget::bound(0.0, squares, self.area, 1.0) as f32;
+        r.bound = frame_budget::bound(sum, squares, self.area, margin) as f32;
+        let frame_over = cfg.budgets.scope == Scope::Frame
+            && !self.visible.is_empty()
+            && (r.bound > budget || r.bound.is_nan());
         let allowed = match cfg.budgets.scope {
             Scope::Object => budget,
             Scope::Frame if frame_over => budget,
             Scope::Frame => f32::INFINITY,
         };
-        let mut weight = 0.0;
-        for (v, &i) in self.visible.iter().enumerate() {
+        for &i in &self.visible {
             let c = &mut self.choices[i];
             if c.error <= allowed && c.rep.is_some() {
                 c.over = None;
@@ -726,9 +847,6 @@ impl<S: Subject + Send> Planner<S> {
             r.switches += usize::from(previous[i].is_some_and(|p| p != rep));
             r.draw_ms += c.ms;
             r.max_error = r.max_error.max(c.error);
-            let px = self.pixels[v].max(1.0);
-            r.mean_error += c.error * px;
-            weight += px;
             match c.over {
                 Some(Over::Time) => r.over_time += 1,
                 Some(Over::Rebuilds) => r.over_rebuilds += 1,
@@ -740,7 +858,6 @@ impl<S: Subject + Send> Planner<S> {
                 self.objects[i].prepare(view.camera, view.height);
             }
         }
-        r.mean_error /= f32::max(weight, 1.0);
         r.culled = self.objects.len() - self.visible.len();
         for i in 0..self.objects.len() {
             for k in 0..nr {

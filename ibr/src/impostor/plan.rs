@@ -56,7 +56,7 @@ impl GradientPrior {
     }
 }
 
-impl<S: Subject + Send> Representation<S> for ImpostorSet {
+impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     fn name(&self) -> &str {
         "impostors"
     }

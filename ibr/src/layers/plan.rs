@@ -47,7 +47,7 @@ pub fn layer_error(gradient: f32, texels_per_px: f32, pixels: f32) -> f32 {
     gradient * texels_per_px * (RESAMPLING + DISPLACEMENT * pixels)
 }
 
-impl<S: Subject + Send> Representation<S> for LayerSet {
+impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
     fn name(&self) -> &str {
         "layers"
     }

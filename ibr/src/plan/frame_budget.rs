@@ -1,18 +1,41 @@
-//! The error budget over the whole frame: the pixel-weighted mean of the visible objects'
-//! predicted errors kept within the budget at the least predicted time, by a Lagrange
-//! multiplier. Each object takes the option least in `ms + lambda * error * pixels`; the
-//! mean error falls as `lambda` grows, and `lambda` is the least (found by bisection) whose
-//! choices bring it within the budget. Small objects may then err more than the budget
-//! where that buys most time, as long as the frame as a whole does not.
+//! The error budget over the whole frame: a bound on the frame's mean error over the pixels
+//! its visible objects cover kept within the budget at the least predicted time, by a
+//! Lagrange multiplier. Small objects may then err more than the budget where that buys
+//! most time, as long as the frame as a whole does not.
+//!
+//! **The frame's error.** Each object's error is a mean over its screen rectangle, of area
+//! `w`; the frame's is those means weighted by the areas, `sum(w e) / A` with `A =
+//! sum(w)`.
+//!
+//! **The bound.** An object's measured error scatters about its prediction `e`; take its
+//! spread as `s * e` ([`super::Config::spread`]), independently per object. With weights
+//! `w` the frame's error is about `sum(w e) / A` give or take
+//! `s * sqrt(sum((w e)^2)) / A`, and the bound is the mean plus [`Z99`] of those: the
+//! frame stays within it on 99% of frames. Where many objects share the error (a world of
+//! thousands) the second term vanishes and the bound is the mean; where one image fills
+//! the frame it is that image's error times `1 + 2.3 s`, so the budget then holds for the
+//! frame as it would for that one object.
+//!
+//! **The multiplier.** Each object takes the option least in
+//! `ms + lambda * (w e + kappa * (w e)^2)`, and `lambda` is the least (found by bisection)
+//! whose choices keep the bound within the budget. `kappa` is the bound's slope in
+//! `(w e)^2` against its slope in `w e` (`Z99 * s / (2 sqrt(sum((w e)^2)))`), taken at the
+//! choices of a first bisection with `kappa = 0`: one large error then costs more than
+//! many small ones adding up to it, as it does in the bound.
 
 use super::cost::{CostModel, Work};
 use super::represent::Estimate;
+use rayon::prelude::*;
+
+/// The standard normal's 99th percentile: the bound holds on 99% of frames.
+pub const Z99: f64 = 2.326;
 
 /// One visible object's options this frame, as the multiplier weighs them.
 pub(super) struct Object<'e> {
     /// Per representation (`None`: cannot draw it).
     pub est: &'e [Option<Estimate>],
-    pub pixels: f32,
+    /// Its weight: its screen rectangle's area, pixels.
+    pub weight: f32,
     /// The representation in use, whose time is discounted by the hysteresis.
     pub current: Option<usize>,
 }
@@ -26,16 +49,22 @@ pub(super) struct Pick {
     pub error: f32,
     /// Drawing it, milliseconds (the rebuild left out).
     pub ms: f32,
-    /// What the multiplier weighs: `time + lambda * weighted`, where `time` is `ms` less
-    /// the hysteresis discount, plus the spread rebuild, and `weighted` is error times
-    /// pixels.
+    /// What the multiplier weighs ([`Price::score`]): `time` is `ms` less the hysteresis
+    /// discount, plus the spread rebuild, and `weighted` is error times pixels.
     time: f64,
     weighted: f64,
 }
 
-impl Pick {
-    pub(super) fn score(&self, lambda: f64) -> f64 {
-        self.time + lambda * self.weighted
+/// What error costs in time: the multiplier and the weight of large errors (module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Price {
+    pub lambda: f64,
+    pub kappa: f64,
+}
+
+impl Price {
+    pub(super) fn score(&self, p: &Pick) -> f64 {
+        p.time + self.lambda * (p.weighted + self.kappa * p.weighted * p.weighted)
     }
 }
 
@@ -44,29 +73,36 @@ pub(super) struct Weights<'c> {
     pub cost: &'c CostModel,
     /// The hysteresis discount on the representation in use, a fraction of its time.
     pub stick: f32,
-    /// Frames a rebuild's time is spread over.
-    pub payback: f32,
+    /// Frames a rebuild's time is spread over, per representation.
+    pub payback: &'c [f32],
+    /// An object's relative error spread ([`super::Config::spread`]).
+    pub spread: f32,
 }
 
 /// Every visible object's options with a finite error, flattened once per frame so that
 /// the bisection only does arithmetic.
 pub(super) struct Options {
     picks: Vec<Pick>,
-    /// Each object's range of `picks`, and its pixels.
+    /// Each object's range of `picks`.
     ranges: Vec<(usize, usize)>,
-    pixels: Vec<f64>,
+    /// The sum of the objects' rectangles' areas, pixels.
+    area: f64,
+    /// `Z99` times the objects' relative spread.
+    margin: f64,
 }
 
 impl Options {
-    pub(super) fn new(objects: &[Object<'_>], w: &Weights<'_>) -> Options {
+    /// The options of `objects`, whose rectangles add up to `area` pixels.
+    pub(super) fn new(objects: &[Object<'_>], area: f64, w: &Weights<'_>) -> Options {
         let mut out = Options {
             picks: Vec::new(),
             ranges: Vec::with_capacity(objects.len()),
-            pixels: Vec::with_capacity(objects.len()),
+            area: area.max(1.0),
+            margin: Z99 * f64::from(w.spread.max(0.0)),
         };
         for o in objects {
             let first = out.picks.len();
-            let px = f64::from(o.pixels);
+            let px = f64::from(o.weight);
             for (r, e) in o.est.iter().enumerate() {
                 let Some(e) = e else { continue };
                 let ms = w.cost.ms(e.draw);
@@ -86,7 +122,8 @@ impl Options {
                     });
                 }
                 if e.rebuild != Work::default() && e.rebuilt.is_finite() {
-                    let spread = w.cost.ms(e.rebuild) / w.payback.max(1.0);
+                    let frames = w.payback.get(r).copied().unwrap_or(1.0);
+                    let spread = w.cost.ms(e.rebuild) / frames.max(1.0);
                     out.picks.push(Pick {
                         rep: r,
                         rebuild: true,
@@ -98,77 +135,154 @@ impl Options {
                 }
             }
             out.ranges.push((first, out.picks.len()));
-            out.pixels.push(px);
         }
         out
     }
 
-    /// Object `k`'s options at multiplier `lambda`: the best as it is, and the best of
-    /// all (rebuilds included), least `time + lambda * error * pixels` (ties: the first).
-    pub(super) fn pick(&self, k: usize, lambda: f64) -> (Option<Pick>, Option<Pick>) {
+    /// Object `k`'s rebuild options (at most one per representation).
+    pub(super) fn rebuilds(&self, k: usize) -> impl Iterator<Item = &Pick> {
+        let (a, b) = self.ranges[k];
+        self.picks[a..b].iter().filter(|p| p.rebuild)
+    }
+
+    /// Object `k`'s options at `price`: the best as it is, and the best of all (rebuilds
+    /// included), least in [`Price::score`] (ties: the first).
+    pub(super) fn pick(&self, k: usize, price: Price) -> (Option<Pick>, Option<Pick>) {
         let (a, b) = self.ranges[k];
         let (mut as_is, mut best): (Option<Pick>, Option<Pick>) = (None, None);
         for p in &self.picks[a..b] {
-            let score = p.score(lambda);
-            if !p.rebuild && as_is.is_none_or(|q| score < q.score(lambda)) {
+            let score = price.score(p);
+            if !p.rebuild && as_is.is_none_or(|q| score < price.score(&q)) {
                 as_is = Some(*p);
             }
-            if best.is_none_or(|q| score < q.score(lambda)) {
+            if best.is_none_or(|q| score < price.score(&q)) {
                 best = Some(*p);
             }
         }
         (as_is, best)
     }
 
-    /// The pixel-weighted mean error of the objects' best options at `lambda`.
-    fn mean_error(&self, lambda: f64) -> f64 {
-        let (mut sum, mut weight) = (0.0, 0.0);
-        for (k, &(a, b)) in self.ranges.iter().enumerate() {
-            let best = self.picks[a..b]
-                .iter()
-                .min_by(|p, q| p.score(lambda).total_cmp(&q.score(lambda)));
-            if let Some(p) = best {
-                sum += p.weighted;
-                weight += self.pixels[k];
+    /// Of the objects' best options at `price`: the sum of weighted errors and of their
+    /// squares. Summed side by side over fixed chunks of objects, the chunks' sums added
+    /// in order (the same at any thread count).
+    fn sums(&self, price: Price) -> (f64, f64) {
+        let chunk = |ranges: &[(usize, usize)]| {
+            let (mut sum, mut squares) = (0.0, 0.0);
+            for &(a, b) in ranges {
+                let best = self.picks[a..b]
+                    .iter()
+                    .min_by(|p, q| price.score(p).total_cmp(&price.score(q)));
+                if let Some(p) = best {
+                    sum += p.weighted;
+                    squares += p.weighted * p.weighted;
+                }
+            }
+            (sum, squares)
+        };
+        let parts: Vec<(f64, f64)> = self.ranges.par_chunks(1024).map(chunk).collect();
+        parts
+            .iter()
+            .fold((0.0, 0.0), |(s, q), &(a, b)| (s + a, q + b))
+    }
+
+    /// The bound on the frame's mean error of the objects' best options at `price`
+    /// (module docs).
+    pub(super) fn bound(&self, price: Price) -> f64 {
+        let (sum, squares) = self.sums(price);
+        bound(sum, squares, self.area, self.margin)
+    }
+
+    /// The least multiplier at `kappa` whose choices keep the bound within `budget` (the
+    /// largest tried, 1e9 ms per level-pixel, when none does), to 0.1%, bracketed from
+    /// `start` (the last frame's: a few steps when the view changed little).
+    fn lambda(&self, kappa: f64, budget: f64, start: f64) -> f64 {
+        let over = |lambda| self.bound(Price { lambda, kappa }) > budget;
+        if !over(0.0) {
+            return 0.0;
+        }
+        let start = if start.is_finite() && start > 0.0 {
+            start.clamp(1e-12, 1e9)
+        } else {
+            1e-6
+        };
+        // lo over (or 0), hi within.
+        let (mut lo, mut hi) = (start, start);
+        if over(start) {
+            while over(hi) {
+                lo = hi;
+                hi *= 4.0;
+                if hi > 1e9 {
+                    return 1e9;
+                }
+            }
+        } else {
+            while !over(lo) {
+                hi = lo;
+                lo *= 0.25;
+                if lo < 1e-12 {
+                    lo = 0.0;
+                    break;
+                }
             }
         }
-        if weight > 0.0 {
-            sum / weight
-        } else {
-            0.0
+        for _ in 0..60 {
+            if hi - lo <= hi * 1e-3 {
+                break;
+            }
+            let mid = if lo > 0.0 { (lo * hi).sqrt() } else { hi * 0.5 };
+            if over(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
         }
+        hi
     }
 }
 
-/// The least multiplier whose choices keep the mean error within `budget` (the largest
-/// tried, 1e9 ms per level-pixel, when none does: the frame is then as accurate as its
-/// options allow).
-pub(super) fn multiplier(options: &Options, budget: f32) -> f64 {
+/// The least price whose choices keep the bound on the frame's error within `budget`
+/// (module docs); at the largest multiplier tried when none does (the frame is then as
+/// accurate as its options allow). `warm` holds the last frame's two multipliers (without
+/// and with `kappa`), each bisection's starting point, and is updated.
+pub(super) fn price(options: &Options, budget: f32, warm: &mut [f64; 2]) -> Price {
     let budget = f64::from(budget.max(0.0));
-    if options.mean_error(0.0) <= budget {
-        return 0.0;
+    let first = Price {
+        lambda: options.lambda(0.0, budget, warm[0]),
+        kappa: 0.0,
+    };
+    if first.lambda > 0.0 {
+        warm[0] = first.lambda;
     }
-    let (mut lo, mut hi) = (0.0f64, 1e-12f64);
-    while options.mean_error(hi) > budget {
-        lo = hi;
-        hi *= 4.0;
-        if hi > 1e9 {
-            return 1e9;
-        }
+    if first.lambda == 0.0 || options.margin == 0.0 {
+        return first;
     }
-    // Geometric bisection between lo (over) and hi (within).
-    for _ in 0..40 {
-        let mid = if lo > 0.0 { (lo * hi).sqrt() } else { hi * 0.5 };
-        if options.mean_error(mid) > budget {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= hi * 1e-4 {
-            break;
-        }
+    // The spread's term matters only where few objects carry the error: when it adds
+    // under 5% to the mean at the first choices, they stand.
+    let (sum, squares) = options.sums(first);
+    if squares <= 0.0 || options.margin * squares.sqrt() < 0.05 * sum {
+        return first;
     }
-    hi
+    let kappa = options.margin / (2.0 * squares.sqrt());
+    let second = Price {
+        lambda: options.lambda(kappa, budget, warm[1]),
+        kappa,
+    };
+    // The second bisection's choices are within the bound or as accurate as they can be;
+    // keep the first's when the second found nothing within.
+    if second.lambda >= 1e9 {
+        first
+    } else {
+        if second.lambda > 0.0 {
+            warm[1] = second.lambda;
+        }
+        second
+    }
+}
+
+/// The bound on the frame's error from the sum of the objects' weighted errors and of their
+/// squares, the sum of their rectangles' areas, and `Z99` times the relative spread.
+pub(super) fn bound(sum: f64, squares: f64, area: f64, margin: f64) -> f64 {
+    (sum + margin * squares.sqrt()) / area.max(1.0)
 }
 
 #[cfg(test)]
@@ -188,34 +302,107 @@ mod tests {
         })
     }
 
+    fn weights(cost: &CostModel, spread: f32) -> Weights<'_> {
+        Weights {
+            cost,
+            stick: 0.0,
+            payback: &[30.0, 30.0],
+            spread,
+        }
+    }
+
+    fn object(est: &[Option<Estimate>], area: f32) -> Object<'_> {
+        Object {
+            est,
+            weight: area,
+            current: None,
+        }
+    }
+
+    /// Options of objects whose rectangles do not overlap.
+    fn apart(objects: &[Object<'_>], w: &Weights<'_>) -> Options {
+        Options::new(
+            objects,
+            objects.iter().map(|o| f64::from(o.weight)).sum(),
+            w,
+        )
+    }
+
     #[test]
     fn the_multiplier_spends_error_where_it_buys_most_time() {
         // Two objects, each geometry (exact, costly) or an image (cheap, erring), saving
         // the same time: the big one's image costs 1000 level-pixels, the small one's 80.
+        // The mean alone (no spread).
         let cost = CostModel::default();
-        let w = Weights {
-            cost: &cost,
-            stick: 0.0,
-            payback: 30.0,
-        };
+        let w = weights(&cost, 0.0);
         let big = [est(0.0, 10_000), est(1.0, 2)];
         let small = [est(0.0, 10_000), est(8.0, 2)];
-        let object = |est, pixels| Object {
-            est,
-            pixels,
-            current: None,
-        };
-        let objects = [object(&big[..], 1000.0), object(&small[..], 10.0)];
-        let options = Options::new(&objects, &w);
-        let pick = |l: f64| [0, 1].map(|k| options.pick(k, l).1.unwrap().rep);
+        let objects = [object(&big, 1000.0), object(&small, 10.0)];
+        let options = apart(&objects, &w);
+        let pick = |p: Price| [0, 1].map(|k| options.pick(k, p).1.unwrap().rep);
         // Within 0.5 only one image fits, the small one's (80 / 1010): the big one, whose
         // image would cost more error for the same time, is drawn as geometry.
-        let l = multiplier(&options, 0.5);
-        assert_eq!(pick(l), [0, 1]);
-        assert!(options.mean_error(l) <= 0.5);
+        let p = price(&options, 0.5, &mut [0.0; 2]);
+        assert_eq!(pick(p), [0, 1]);
+        assert!(options.bound(p) <= 0.5);
         // A generous budget takes both images; a zero one both geometries.
-        assert_eq!(multiplier(&options, 2.0), 0.0);
-        assert_eq!(pick(0.0), [1, 1]);
-        assert_eq!(pick(multiplier(&options, 0.0)), [0, 0]);
+        assert_eq!(price(&options, 2.0, &mut [0.0; 2]), Price::default());
+        assert_eq!(pick(Price::default()), [1, 1]);
+        assert_eq!(pick(price(&options, 0.0, &mut [0.0; 2])), [0, 0]);
+    }
+
+    #[test]
+    fn the_bound_is_the_mean_over_many_objects_and_one_objects_bound_alone() {
+        // An image of error 1 in place of each object's geometry, half the spread.
+        let cost = CostModel::default();
+        let w = weights(&cost, 0.5);
+        let options = [est(0.0, 10_000), est(1.0, 2)];
+        let margin = Z99 * 0.5;
+        // Alone, the image's error scatters as the frame's does: 1 + 1.16, over 1.5.
+        let one = [object(&options, 1000.0)];
+        let one = apart(&one, &w);
+        let p = price(&one, 1.5, &mut [0.0; 2]);
+        assert_eq!(one.pick(0, p).1.unwrap().rep, 0);
+        assert!((one.bound(Price::default()) - (1.0 + margin)).abs() < 1e-9);
+        assert_eq!(
+            one.pick(0, price(&one, 2.2, &mut [0.0; 2])).1.unwrap().rep,
+            1
+        );
+        // A hundred such images of a tenth the size: their errors average out, 1 + 0.116.
+        let many: Vec<Object<'_>> = (0..100).map(|_| object(&options, 10.0)).collect();
+        let many = apart(&many, &w);
+        let p = price(&many, 1.5, &mut [0.0; 2]);
+        assert_eq!(p, Price::default());
+        assert!((many.bound(p) - (1.0 + margin / 10.0)).abs() < 1e-9);
+        assert!((0..100).all(|k| many.pick(k, p).1.unwrap().rep == 1));
+    }
+
+    #[test]
+    fn large_errors_weigh_more_than_many_small_ones() {
+        // One large object and ten small ones of the same total pixels, whose images save
+        // time in proportion to their pixels: the mean alone is indifferent between them.
+        // The budget (1.1) fits either the large image (bound 1.08) or the ten small ones
+        // (0.68), not both (1.61). The mean alone takes the large one, by a hair; the bound
+        // takes the small ones, at the same time saved and a lower bound.
+        let cost = CostModel::default();
+        let w = weights(&cost, 0.5);
+        let large = [est(0.0, 100_000), est(1.0, 2)];
+        let small = [est(0.0, 10_000), est(1.0, 2)];
+        let mut objects = vec![object(&large, 1000.0)];
+        objects.extend((0..10).map(|_| object(&small, 100.0)));
+        let all = apart(&objects, &w);
+        let reps = |p: Price| {
+            (0..11)
+                .map(|k| all.pick(k, p).1.unwrap().rep)
+                .collect::<Vec<_>>()
+        };
+        let linear = Price {
+            lambda: all.lambda(0.0, 1.1, 0.0),
+            kappa: 0.0,
+        };
+        assert_eq!(reps(linear), [&[1][..], &[0; 10]].concat());
+        let p = price(&all, 1.1, &mut [0.0; 2]);
+        assert_eq!(reps(p), [&[0][..], &[1; 10]].concat());
+        assert!(all.bound(p) < all.bound(linear) && all.bound(linear) <= 1.1);
     }
 }

@@ -93,7 +93,7 @@ pub fn image_bytes(width: u32, height: u32) -> usize {
 /// for the chosen rebuilds in one call (so they can run side by side), then for the draws.
 /// Indices are the planner's object numbering; a representation keeps whatever per-object
 /// state it needs.
-pub trait Representation<S>: Send {
+pub trait Representation<S>: Send + Sync {
     /// A short name for readouts, CSV rows and charts.
     fn name(&self) -> &str;
     /// Its prediction for object `i` seen as `sight`; `None` when it cannot draw it from
@@ -113,6 +113,12 @@ pub trait Representation<S>: Send {
     fn draws_subject(&self) -> bool {
         false
     }
+    /// Frames a rebuild of its data lasts, for weighing a rebuild that only saves time
+    /// (`None`: the planner's [`super::Config::payback_frames`]). A view-independent bake
+    /// lasts until its object changes; an image taken from one eye only until the eye moves.
+    fn payback_frames(&self) -> Option<f32> {
+        None
+    }
     /// Frees what it holds for object `i` (long unused).
     fn release(&mut self, _i: usize) {}
     /// Bytes it holds over every object.
@@ -129,7 +135,7 @@ pub trait Representation<S>: Send {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Geometry;
 
-impl<S: Subject + Send> Representation<S> for Geometry {
+impl<S: Subject + Send + Sync> Representation<S> for Geometry {
     fn name(&self) -> &str {
         "geometry"
     }

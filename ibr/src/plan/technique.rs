@@ -6,7 +6,7 @@ use crate::subject::Subject;
 use crate::technique::{Counters, FrameView, Technique};
 use engine::Draw;
 
-impl<S: Subject + Send> Technique for Planner<S> {
+impl<S: Subject + Send + Sync> Technique for Planner<S> {
     fn name(&self) -> &str {
         "planner"
     }

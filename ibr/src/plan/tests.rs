@@ -44,12 +44,12 @@ pub(crate) fn tori() -> Vec<MeshGroup> {
         .collect()
 }
 
-fn camera(eye: Vec3, target: Vec3) -> Camera {
+pub(crate) fn camera(eye: Vec3, target: Vec3) -> Camera {
     Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
 }
 
 /// The grid from in front and above, at `x` across.
-fn view_at(x: f32) -> Camera {
+pub(crate) fn view_at(x: f32) -> Camera {
     camera(Vec3::new(x, 2.0, 7.0), Vec3::new(0.0, 0.0, -3.0))
 }
 
@@ -111,7 +111,7 @@ const GEOMETRY: usize = 0;
 const IMAGES: usize = 1;
 
 /// Every object the frustum keeps has a representation that draws something.
-fn assert_none_missing(p: &Planner<MeshGroup>) {
+pub(crate) fn assert_none_missing(p: &Planner<MeshGroup>) {
     let visible = p.choices().iter().filter(|c| c.rep.is_some()).count();
     assert_eq!(visible + p.report.culled, p.objects.len());
     for (i, c) in p.choices().iter().enumerate() {
@@ -161,6 +161,35 @@ fn an_enormous_budget_turns_everything_into_images_within_the_rebuild_budget() {
     assert_eq!(*images.last().unwrap(), visible, "{images:?}");
     assert_eq!(p.report.rebuilds, 0);
     assert!(p.report.memory > 0);
+}
+
+#[test]
+fn a_memory_budget_caps_what_the_images_hold() {
+    // An enormous error budget, plenty of rebuilds, and memory for about four images of
+    // the first frame's sizes: images stop at the memory, the rest stay geometry and are
+    // counted as deferred; nothing is missing.
+    let mut probe = planner(budgets(1e9, 16));
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    frame(&mut probe, &cam, &mut r);
+    let per_image = probe.report.memory / probe.report.counts[IMAGES].max(1);
+    assert!(per_image > 0, "{:?}", probe.report);
+    let cap = per_image * 4 + per_image / 2;
+    for scope in [Scope::Object, Scope::Frame] {
+        let mut p = planner(Budgets {
+            memory: Some(cap),
+            scope,
+            ..budgets(1e9, 16)
+        });
+        for _ in 0..3 {
+            frame(&mut p, &cam, &mut r);
+            assert_none_missing(&p);
+            assert!(p.report.memory <= cap, "{scope:?} {:?}", p.report);
+        }
+        let images = p.report.counts[IMAGES];
+        assert!((1..=6).contains(&images), "{scope:?} {:?}", p.report);
+        assert!(p.report.deferred > 0, "{scope:?} {:?}", p.report);
+    }
 }
 
 #[test]
@@ -323,7 +352,7 @@ fn images_it_chooses_err_within_the_budget_when_measured() {
             }
             images += 1;
             let b = p.objects[i].bounds();
-            let rect = impostor::screen_rect(&cam, b.center, b.radius, W, H).unwrap();
+            let rect = screen_rect(&cam, b.center, b.radius, W, H).unwrap();
             let opts = Options {
                 region: Region::Rect(rect),
                 ..Options::default()
@@ -466,11 +495,12 @@ fn tints_colour_each_representation_and_off_restore_the_frame_exactly() {
 
 #[test]
 fn a_frame_budget_bounds_the_weighted_mean_and_costs_no_more_than_per_object() {
-    let run = |scope: Scope, error: f32| {
+    let run = |scope: Scope, error: f32, spread: f32| {
         let mut p = planner(Budgets {
             scope,
             ..budgets(error, 16)
         });
+        p.config.spread = spread;
         let mut r = Renderer::new();
         for k in 0..8 {
             frame(&mut p, &view_at(0.1 * k as f32), &mut r);
@@ -478,19 +508,26 @@ fn a_frame_budget_bounds_the_weighted_mean_and_costs_no_more_than_per_object() {
         }
         p.report.clone()
     };
-    for error in [0.0, 2.0, 4.0, 8.0] {
-        let (object, whole) = (run(Scope::Object, error), run(Scope::Frame, error));
-        // The frame's pixel-weighted predicted error is within the budget, and it is
-        // reported over nothing.
-        assert!(whole.mean_error <= error + 1e-4, "{error}: {whole:?}");
-        assert_eq!(whole.over_budget, 0, "{error}: {whole:?}");
-        // Per object is the stricter promise: it costs at least as much.
-        assert!(
-            whole.draw_ms <= object.draw_ms + 1e-6,
-            "{error}: {whole:?} {object:?}"
-        );
-        if error == 0.0 {
-            assert_eq!(whole.counts[IMAGES], 0);
+    for spread in [0.0, SPREAD] {
+        // Every object within `error / (1 + 2.3 spread)` keeps the bound within `error`
+        // (the spread term is at most the mean's), so the frame scope, choosing the
+        // cheapest plan whose bound fits, costs no more.
+        let strict = 1.0 + 2.326 * spread;
+        for error in [0.0, 2.0, 4.0, 8.0] {
+            let whole = run(Scope::Frame, error, spread);
+            let object = run(Scope::Object, error / strict, spread);
+            // The frame's bound is within the budget, the mean within the bound, and it
+            // is reported over nothing.
+            assert!(whole.bound <= error + 1e-4, "{error}: {whole:?}");
+            assert!(whole.mean_error <= whole.bound + 1e-4, "{error}: {whole:?}");
+            assert_eq!(whole.over_budget, 0, "{error}: {whole:?}");
+            assert!(
+                whole.draw_ms <= object.draw_ms + 1e-6,
+                "{error}: {whole:?} {object:?}"
+            );
+            if error == 0.0 {
+                assert_eq!(whole.counts[IMAGES], 0);
+            }
         }
     }
 }
