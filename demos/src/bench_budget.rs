@@ -7,24 +7,23 @@
 //! (runtime impostors with their own policy: refresh past a tolerance in levels, geometry
 //! for stale images), `layers` (image layers with theirs: re-render past a geometric error
 //! in pixels, the `budget` column's unit for these rows only), `planner` (geometry, an
-//! impostor or a layer per object, chosen by predicted error and cost, every object within
-//! the budget) and `planner-frame` (the same, with the budget on the frame's
-//! pixel-weighted mean error, [`Scope::Frame`]). Impostors and the planners are swept over the same error budgets in levels, layers over as many
-//! thresholds, all with the same rebuild budget per frame (a sixteenth of the objects, at
+//! impostor, a layer or an octahedral bake per object ([`REPRESENTATIONS`]), chosen by
+//! predicted error and cost within [`MEMORY`], every object within the budget) and `planner-frame` (the same, with the budget on the frame's
+//! error with a margin for its spread, [`Scope::Frame`]). Impostors and the planners are
+//! swept over the same error budgets in levels, layers over as many thresholds, all with the same rebuild budget per frame (a sixteenth of the objects, at
 //! least [`Plan::rebuilds`]). Each run first holds still for
 //! [`Plan::warmup`] frames at its first view (images are taken as a game loading a level
 //! would); then every frame is timed (the frame loop's `prepare`, rebuilds included, and the
 //! render) and measured against a render of all the geometry from the same eye:
 //! - per visible object, the mean absolute 8-bit error over its screen rectangle (the unit
 //!   the budget is in), from a summed-area table of the frame's error;
-//! - the frame's error: those means weighted by the rectangles' areas (`measured_mean` is
-//!   its mean over frames, `measured_p99` its 99th percentile, `within` the fraction of
-//!   frames at or under the budget), and `objects_over`, the fraction of visible objects
-//!   over the budget;
+//! - the frame's error: those means weighted by the rectangles' areas (`measured_mean` is its mean over frames, `measured_p99` its 99th percentile, `within`
+//!   the fraction of frames at or under the budget), and `objects_over`, the fraction of
+//!   visible objects over the budget;
 //! - PSNR over the whole frame.
 //!
-//! Per frame the planner also reports its predicted error (pixel-weighted mean and
-//! maximum), the objects drawn each way, switches and rebuilds, and the memory images hold.
+//! Per frame the planner also reports its predicted error (the frame's, its 99% bound,
+//! and the largest object's), the objects drawn each way, switches and rebuilds, and the memory images hold.
 
 mod calibrate;
 mod world;
@@ -40,6 +39,7 @@ use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
 use ibr::metrics::{self, Options};
+use ibr::octahedral::{Layout, OctahedralSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
@@ -64,6 +64,10 @@ pub struct Plan {
     /// The city's grid and detail; the world's lots per side (0: no world).
     pub city: (u32, u32),
     pub world: u32,
+    /// Only the scene of this name (`city`, `world`; `None`: both).
+    pub only: Option<String>,
+    /// The planners' [`plan::Config::spread`] (`None`: the default, [`plan::SPREAD`]).
+    pub spread: Option<f32>,
 }
 
 impl Plan {
@@ -78,6 +82,8 @@ impl Plan {
             frames: 24,
             city: (4, 10),
             world: 150,
+            only: None,
+            spread: None,
         }
     }
 
@@ -100,6 +106,8 @@ impl Plan {
             frames: 3,
             city: (2, 2),
             world: 8,
+            only: None,
+            spread: None,
         }
     }
 }
@@ -125,8 +133,15 @@ pub struct Row {
     pub psnr_db: f64,
     pub predicted_mean: f64,
     pub predicted_max: f64,
+    /// The planner's bound on the frame's error (mean over frames), and the spread that
+    /// would have made it hold on 99% of frames ([`spread_fit`]).
+    pub predicted_bound: f64,
+    pub spread_fit: f64,
     pub geometry_per_frame: f64,
     pub images_per_frame: f64,
+    /// The planners' objects per frame by representation ([`REPRESENTATIONS`]), e.g.
+    /// `geometry 8.9 impostors 3.0 layers 4.1 octahedral 0.0` (empty for other methods).
+    pub mix: String,
     pub switches_per_frame: f64,
     pub rebuilds_per_frame: f64,
     pub memory_mb: f64,
@@ -134,11 +149,11 @@ pub struct Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,geometry_per_frame,images_per_frame,switches_per_frame,rebuilds_per_frame,memory_mb,planning_ms";
+    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,predicted_bound,spread_fit,geometry_per_frame,images_per_frame,mix,switches_per_frame,rebuilds_per_frame,memory_mb,planning_ms";
 
     fn csv(&self) -> String {
         format!(
-            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.1},{:.1},{:.2},{:.2},{:.2},{:.3}",
+            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{},{:.2},{:.2},{:.2},{:.3}",
             self.scene,
             self.method,
             self.budget,
@@ -156,8 +171,11 @@ impl CsvRow for Row {
             self.psnr_db,
             self.predicted_mean,
             self.predicted_max,
+            self.predicted_bound,
+            self.spread_fit,
             self.geometry_per_frame,
             self.images_per_frame,
+            self.mix,
             self.switches_per_frame,
             self.rebuilds_per_frame,
             self.memory_mb,
@@ -180,7 +198,8 @@ struct Scene {
 
 fn scenes(plan: &Plan) -> Vec<Scene> {
     let city = City::new(plan.city.0, plan.city.1, 7);
-    let mut out = vec![Scene {
+    let mut out = Vec::new();
+    out.push(Scene {
         name: "city",
         objects: city.buildings.clone(),
         ground: city.ground.clone(),
@@ -188,7 +207,7 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
         camera: Box::new(move |f, n, size| {
             frame_camera(&city, CityPath::Translate, 0.25, f, n, size)
         }),
-    }];
+    });
     if plan.world > 0 {
         let world = World::new(plan.world, 11);
         let (objects, ground, lighting) = (
@@ -206,6 +225,7 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
             }),
         });
     }
+    out.retain(|s| plan.only.as_deref().is_none_or(|o| o == s.name));
     out
 }
 
@@ -241,6 +261,15 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     rows
 }
 
+/// The planners' representations, in their order: geometry, runtime impostors, image
+/// layers, baked octahedral impostors (8 x 8 views of 32 pixels over the upper
+/// hemisphere).
+pub const REPRESENTATIONS: [&str; 4] = ["geometry", "impostors", "layers", "octahedral"];
+
+/// The planners' memory budget, bytes: what a game might give images (the other methods
+/// hold at most 46 MB in these scenes; an octahedral bake holds 1.3 MB).
+pub const MEMORY: usize = 256 << 20;
+
 /// Rebuilds per frame for `scene`.
 fn rebuilds(scene: &Scene, plan: &Plan) -> usize {
     plan.rebuilds.max(scene.objects.len() / 16)
@@ -257,13 +286,16 @@ fn planner(scene: &Scene, plan: &Plan, budget: f32, images: bool) -> Planner<Mes
             n,
         )));
         reps.push(Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)));
+        reps.push(Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)));
     }
     let config = plan::Config {
         budgets: Budgets {
             error: budget,
             rebuilds: rebuilds(scene, plan),
+            memory: Some(MEMORY),
             ..Budgets::default()
         },
+        spread: plan.spread.unwrap_or(plan::SPREAD),
         ..plan::Config::default()
     };
     Planner::new(config, scene.objects.clone(), reps)
@@ -317,9 +349,11 @@ trait Probe: Technique {
 /// One frame's counters.
 #[derive(Clone, Copy, Debug, Default)]
 struct Sample {
-    /// Objects drawn as geometry and as images.
+    /// Objects drawn as geometry and as images, and by each of the planner's
+    /// representations ([`REPRESENTATIONS`]).
     geometry: usize,
     images: usize,
+    mix: [usize; 4],
     switches: usize,
     rebuilds: usize,
     /// Bytes images hold.
@@ -327,6 +361,9 @@ struct Sample {
     /// Predicted error of the drawn objects (mean, largest), levels (0 where not predicted).
     predicted_mean: f32,
     predicted_max: f32,
+    /// The planner's bound on the frame's error, and its scatter ([`plan::Report`]).
+    bound: f32,
+    scatter: f32,
     /// The planner's own time (predicting and choosing), milliseconds.
     planning_ms: f32,
 }
@@ -335,7 +372,10 @@ impl Probe for Planner<MeshGroup> {
     fn probe(&self) -> Sample {
         let r = &self.report;
         let c = self.counters();
+        let mut mix = [0; 4];
+        mix.iter_mut().zip(&r.counts).for_each(|(m, &n)| *m = n);
         Sample {
+            mix,
             geometry: c.geometry as usize,
             images: c.images as usize,
             switches: r.switches,
@@ -343,6 +383,8 @@ impl Probe for Planner<MeshGroup> {
             memory: r.memory,
             predicted_mean: r.mean_error,
             predicted_max: r.max_error,
+            bound: r.bound,
+            scatter: r.scatter,
             planning_ms: r.planning_ms,
         }
     }
@@ -458,8 +500,9 @@ fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
     out
 }
 
-/// The frame's error over the visible objects' screen rectangles, weighted by area, and
-/// the fraction of visible objects whose own rectangle's mean error is over `budget`.
+/// The frame's error: the visible objects' errors over their screen rectangles weighted by
+/// the rectangles' areas (where rectangles overlap, a pixel counts once for each), and the
+/// fraction of visible objects whose own rectangle's mean error is over `budget`.
 fn measure(
     truth: &Target,
     got: &Target,
@@ -545,14 +588,43 @@ impl Flight {
                 .iter()
                 .map(|p| f64::from(p.predicted_max))
                 .fold(0.0, f64::max),
+            predicted_bound: mean(&|p| f64::from(p.bound)),
+            spread_fit: spread_fit(&self.probes, &self.frame_errors),
             geometry_per_frame: mean(&|p| p.geometry as f64),
             images_per_frame: mean(&|p| p.images as f64),
+            mix: if method.starts_with("planner") {
+                let per = |k: usize| mean(&|p| p.mix[k] as f64);
+                let names = REPRESENTATIONS.iter().enumerate();
+                let parts: Vec<String> = names.map(|(k, n)| format!("{n} {:.1}", per(k))).collect();
+                parts.join(" ")
+            } else {
+                String::new()
+            },
             switches_per_frame: mean(&|p| p.switches as f64),
             rebuilds_per_frame: mean(&|p| p.rebuilds as f64),
             memory_mb: mean(&|p| p.memory as f64) / (1 << 20) as f64,
             planning_ms: mean(&|p| f64::from(p.planning_ms)),
         }
     }
+}
+
+/// The least [`plan::Config::spread`] whose bound would have held on 99% of the frames:
+/// the 99th percentile over frames of the measured error's excess over the predicted mean,
+/// in units of the frame's scatter, over [`plan::Z99`] (0 when the planner predicted
+/// nothing, or never erred beyond its mean).
+fn spread_fit(probes: &[Sample], measured: &[f64]) -> f64 {
+    let mut z: Vec<f64> = probes
+        .iter()
+        .zip(measured)
+        .filter(|(p, _)| p.scatter > 0.0)
+        .map(|(p, &m)| (m - f64::from(p.predicted_mean)) / f64::from(p.scatter))
+        .collect();
+    if z.is_empty() {
+        return 0.0;
+    }
+    z.sort_by(f64::total_cmp);
+    let p99 = z[((z.len() as f64 * 0.99).ceil() as usize).saturating_sub(1)];
+    (p99 / plan::Z99).max(0.0)
 }
 
 /// `(file, chart)` for every chart of the sweep: per scene, frame time against measured

@@ -124,6 +124,14 @@ struct BudgetArgs {
     /// Time the cost model's experiments instead and print the fitted per-unit costs.
     #[arg(long)]
     calibrate: bool,
+    /// Only this scene.
+    #[arg(long, value_parser = ["city", "world"])]
+    scene: Option<String>,
+    /// The planners' relative error spread (default: the planner's own, `plan::SPREAD`;
+    /// 0: the frame scope keeps the predicted mean alone). The `spread_fit` column says
+    /// what spread each run's frames needed.
+    #[arg(long)]
+    spread: Option<f32>,
 }
 
 #[derive(Args, Debug)]
@@ -699,13 +707,16 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         };
         return sweep(&c.run, "calibrate", "rows", run, report, |_| Vec::new());
     }
-    let plan = c
-        .run
-        .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full);
+    let plan = bbu::Plan {
+        only: c.scene.clone(),
+        spread: c.spread,
+        ..c.run
+            .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full)
+    };
     let report = |rows: &[bbu::Row]| {
         for r in rows {
             println!(
-                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3}  geometry {:>7.1} images {:>7.1} switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
+                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3} bound {:>6.3} (spread fit {:>5.2})  geometry {:>7.1} images {:>7.1} [{}] switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
                 r.scene,
                 r.method,
                 r.budget,
@@ -720,8 +731,11 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
                 100.0 * r.objects_over,
                 r.predicted_mean,
                 r.predicted_max,
+                r.predicted_bound,
+                r.spread_fit,
                 r.geometry_per_frame,
                 r.images_per_frame,
+                r.mix,
                 r.switches_per_frame,
                 r.rebuilds_per_frame,
                 r.memory_mb,
