@@ -4,18 +4,14 @@
 use super::*;
 use crate::impostor::{self, ImpostorSet};
 use crate::metrics::{self, Options, Region};
-use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
+use crate::plan::{self, Budgets, Geometry, Planner, Representation};
 use crate::subject::MeshGroup;
 use crate::technique::FrameView;
-use engine::{procedural, FrameOptions, Renderer, Rgba, Target, Texture};
+use engine::{procedural, Renderer, Rgba, Target, Texture};
 use glam::{Mat3, Vec3};
 use std::sync::Arc;
 
-use crate::plan::tests::{frame, lighting, tori, truth, H, W};
-
-fn camera(eye: Vec3, target: Vec3) -> Camera {
-    Camera::look_at(eye, target, Vec3::Y, 0.9, W as f32 / H as f32).with_depth_range(0.05, 100.0)
-}
+use crate::plan::tests::{camera, frame, lighting, render, sight, tori, truth, H, W};
 
 /// Tori, boxes and checkered cards, several of each, spread over a few units in depth.
 fn scene() -> Vec<MeshGroup> {
@@ -55,35 +51,6 @@ fn scene() -> Vec<MeshGroup> {
             }
         })
         .collect()
-}
-
-/// How the planner sees object `s` from `camera` (its pixels as the planner counts them).
-fn sight<'a>(camera: &'a Camera, s: &MeshGroup) -> Sight<'a> {
-    let bounds = s.bounds();
-    let eye = camera.eye();
-    let distance = eye.distance(bounds.center);
-    let px_per_radian = impostor::pixels_per_radian(camera, H);
-    let r_px = (bounds.radius / distance).min(1.0).asin() * px_per_radian;
-    Sight {
-        camera,
-        eye,
-        width: W,
-        height: H,
-        px_per_radian,
-        bounds,
-        distance,
-        pixels: (std::f32::consts::PI * r_px * r_px).min((W * H) as f32),
-    }
-}
-
-fn render(draws: Vec<Draw<'_>>, camera: &Camera, r: &mut Renderer) -> Target {
-    let mut target = Target::new(W, H);
-    let opts = FrameOptions {
-        clear: Some(Rgba::TRANSPARENT),
-        ..FrameOptions::default()
-    };
-    r.render(draws, camera, &lighting(), &mut target, &opts);
-    target
 }
 
 /// The layer's own screen rectangle this frame (its box's, within the view, grown by 2

@@ -4,16 +4,15 @@
 
 use super::plan::{octahedral_error, view_terms, Gradients};
 use super::*;
-use crate::impostor;
 use crate::metrics::{self, Options, Region};
 use crate::plan::tests::{
-    assert_none_missing, camera, frame, lighting, tori, truth, view_at, H, W,
+    assert_none_missing, camera, frame, lighting, render, sight, tori, truth, view_at, H, W,
 };
 use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
 use crate::subject::MeshGroup;
 use crate::technique::FrameView;
 use engine::procedural::{self, XorShift};
-use engine::{FrameOptions, Renderer, Target, Texture};
+use engine::{Renderer, Target, Texture};
 
 type Rep = dyn Representation<MeshGroup>;
 
@@ -28,35 +27,6 @@ fn camera_at(s: &MeshGroup, dir: Vec3, distance: f32, fov: f32) -> Camera {
 
 /// The planner tests' field of view.
 const FOV: f32 = 0.9;
-
-/// How the planner sees object `s` from `camera` (its pixels as the planner counts them).
-fn sight<'a>(camera: &'a Camera, s: &MeshGroup) -> Sight<'a> {
-    let bounds = s.bounds();
-    let eye = camera.eye();
-    let distance = eye.distance(bounds.center);
-    let px_per_radian = impostor::pixels_per_radian(camera, H);
-    let r_px = (bounds.radius / distance).min(1.0).asin() * px_per_radian;
-    Sight {
-        camera,
-        eye,
-        width: W,
-        height: H,
-        px_per_radian,
-        bounds,
-        distance,
-        pixels: (std::f32::consts::PI * r_px * r_px).min((W * H) as f32),
-    }
-}
-
-fn render(draws: Vec<Draw<'_>>, camera: &Camera, r: &mut Renderer) -> Target {
-    let mut target = Target::new(W, H);
-    let opts = FrameOptions {
-        clear: Some(Rgba::TRANSPARENT),
-        ..FrameOptions::default()
-    };
-    r.render(draws, camera, &lighting(), &mut target, &opts);
-    target
-}
 
 /// Mean absolute error over the object's screen rectangle, as the planner's unit is.
 fn measured(s: &MeshGroup, camera: &Camera, got: &Target, want: &Target) -> f64 {

@@ -53,6 +53,36 @@ pub(crate) fn view_at(x: f32) -> Camera {
     camera(Vec3::new(x, 2.0, 7.0), Vec3::new(0.0, 0.0, -3.0))
 }
 
+/// How the planner sees object `s` from `camera` (its pixels as the planner counts them).
+pub(crate) fn sight<'a>(camera: &'a Camera, s: &MeshGroup) -> Sight<'a> {
+    let bounds = s.bounds();
+    let eye = camera.eye();
+    let distance = eye.distance(bounds.center);
+    let px_per_radian = pixels_per_radian(camera, H);
+    let r_px = (bounds.radius / distance).min(1.0).asin() * px_per_radian;
+    Sight {
+        camera,
+        eye,
+        width: W,
+        height: H,
+        px_per_radian,
+        bounds,
+        distance,
+        pixels: (std::f32::consts::PI * r_px * r_px).min((W * H) as f32),
+    }
+}
+
+/// Renders `draws` on a transparent target under the tests' light.
+pub(crate) fn render(draws: Vec<Draw<'_>>, camera: &Camera, r: &mut Renderer) -> Target {
+    let mut target = Target::new(W, H);
+    let opts = FrameOptions {
+        clear: Some(Rgba::TRANSPARENT),
+        ..FrameOptions::default()
+    };
+    r.render(draws, camera, &lighting(), &mut target, &opts);
+    target
+}
+
 fn planner(budgets: Budgets) -> Planner<MeshGroup> {
     let objects = tori();
     let n = objects.len();
