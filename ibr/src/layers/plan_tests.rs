@@ -11,7 +11,9 @@ use engine::{procedural, Renderer, Rgba, Target, Texture};
 use glam::{Mat3, Vec3};
 use std::sync::Arc;
 
-use crate::plan::tests::{camera, frame, lighting, render, sight, tori, truth, H, W};
+use crate::plan::tests::{
+    assert_released_when_away, camera, fit_bound, frame, lighting, render, sight, tori, truth, H, W,
+};
 
 /// Tori, boxes and checkered cards, several of each, spread over a few units in depth.
 fn scene() -> Vec<MeshGroup> {
@@ -138,28 +140,6 @@ fn samples(
     out
 }
 
-/// The pair (resampling, displacement) with the least mean prediction that keeps a
-/// fraction `keep` of `samples` at or below it (displacement in steps of 0.01).
-fn fit(samples: &[Sample], keep: f64) -> (f32, f32) {
-    let mut best = (f32::INFINITY, 0.0, 0.0);
-    for k in 0..50 {
-        let k = k as f32 * 0.01;
-        // Each image's floor needed with this slope, in units of its gradient.
-        let mut need: Vec<f32> = samples
-            .iter()
-            .map(|s| s.object.max(s.own) as f32 / s.gradient - k * s.pixels)
-            .collect();
-        need.sort_by(f32::total_cmp);
-        let at = ((need.len() as f64 * keep).ceil() as usize).clamp(1, need.len()) - 1;
-        let floor = need[at];
-        let mean = samples.iter().map(|s| floor + k * s.pixels).sum::<f32>();
-        if mean < best.0 {
-            best = (mean, floor, k);
-        }
-    }
-    (best.1, best.2)
-}
-
 #[test]
 fn predicted_error_bounds_the_measured_on_the_calibration_run() {
     // The run the constants come from (plan.rs, DISPLACEMENT): every layer of the mixed
@@ -219,7 +199,12 @@ fn predicted_error_bounds_the_measured_on_the_calibration_run() {
         within(|s| s.own),
         within(|s| s.object.max(s.own)),
     );
-    let (floor, k) = fit(&all, 0.95);
+    // In units of each image's gradient: a floor and a slope per pixel of geometric error.
+    let terms: Vec<(f32, f32, f32)> = all
+        .iter()
+        .map(|s| (1.0, s.pixels, s.object.max(s.own) as f32 / s.gradient))
+        .collect();
+    let (floor, k) = fit_bound(&terms, 0.95, 50);
     let most = all.iter().map(|s| s.pixels).fold(0.0, f32::max);
     eprintln!(
         "{} images, up to {most:.1} px: measured within predicted on {:.1}% over the object's \
@@ -424,16 +409,7 @@ fn release_frees_a_layers_memory() {
     assert!(held > 0, "{:?}", p.report);
     let layers = p.representation(LAYERS).expect("layers");
     assert_eq!(layers.memory(), held);
-    // Looking away: every object culled, and released once idle long enough.
-    let away = camera(Vec3::new(0.0, 2.0, 7.0), Vec3::new(0.0, 2.0, 20.0));
-    for k in 0..6 {
-        frame(&mut p, &away, &mut r);
-        assert_eq!(p.report.culled, p.objects.len());
-        if k < 2 {
-            assert_eq!(p.report.memory, held, "frame {k}");
-        }
-    }
-    assert_eq!(p.report.memory, 0, "{:?}", p.report);
+    assert_released_when_away(&mut p, held, &mut r);
     // Directly: releasing one layer frees exactly its image.
     let mut set = LayerSet::new(Config::default(), 16);
     let mut objects = tori();

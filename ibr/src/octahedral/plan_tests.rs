@@ -6,7 +6,8 @@ use super::plan::{octahedral_error, view_terms, Gradients};
 use super::*;
 use crate::metrics::{self, Options, Region};
 use crate::plan::tests::{
-    assert_none_missing, camera, frame, lighting, render, sight, tori, truth, view_at, H, W,
+    assert_none_missing, assert_released_when_away, camera, fit_bound, frame, lighting, render,
+    sight, tori, truth, view_at, H, W,
 };
 use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
 use crate::subject::MeshGroup;
@@ -153,33 +154,6 @@ fn sample(
     })
 }
 
-/// The pair (resampling, displacement) with the least mean prediction that keeps a
-/// fraction `keep` of `samples` at or below it (displacement in steps of 0.01).
-fn fit(samples: &[Sample], keep: f64) -> (f32, f32) {
-    let mut best = (f32::INFINITY, 0.0, 0.0);
-    for k in 0..150 {
-        let k = k as f32 * 0.01;
-        let mut need: Vec<f32> = samples
-            .iter()
-            .map(|s| {
-                let (a, b) = s.terms();
-                (s.measured as f32 - k * b) / a.max(1e-6)
-            })
-            .collect();
-        need.sort_by(f32::total_cmp);
-        let at = ((need.len() as f64 * keep).ceil() as usize).clamp(1, need.len()) - 1;
-        let floor = need[at];
-        let mean: f32 = samples
-            .iter()
-            .map(|s| floor * s.terms().0 + k * s.terms().1)
-            .sum();
-        if mean < best.0 {
-            best = (mean, floor, k);
-        }
-    }
-    (best.1, best.2)
-}
-
 #[test]
 fn predicted_error_bounds_the_measured_on_the_calibration_run() {
     // The run the constants come from (plan.rs, DISPLACEMENT): each subject baked with
@@ -221,7 +195,11 @@ fn predicted_error_bounds_the_measured_on_the_calibration_run() {
     let within = all.iter().filter(|s| s.measured <= f64::from(s.predicted));
     let within = within.count();
     let fraction = within as f64 / all.len() as f64;
-    let (res, disp) = fit(&all, 0.95);
+    let terms: Vec<(f32, f32, f32)> = all
+        .iter()
+        .map(|s| (s.terms().0, s.terms().1, s.measured as f32))
+        .collect();
+    let (res, disp) = fit_bound(&terms, 0.95, 150);
     let mean = |f: fn(&Sample) -> f64| all.iter().map(f).sum::<f64>() / all.len() as f64;
     let most = |f: fn(&Sample) -> f32| all.iter().map(f).fold(0.0, f32::max);
     let least = |f: fn(&Sample) -> f32| all.iter().map(f).fold(f32::INFINITY, f32::min);
@@ -436,16 +414,7 @@ fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let held = p.report.memory;
     let set = p.representation(OCTAHEDRAL).expect("octahedral");
     assert!(held > 0 && set.memory() == held, "{:?}", p.report);
-    // Looking away: every object culled, and released once idle long enough.
-    let away = camera(Vec3::new(0.0, 2.0, 7.0), Vec3::new(0.0, 2.0, 20.0));
-    for k in 0..6 {
-        frame(&mut p, &away, &mut r);
-        assert_eq!(p.report.culled, p.objects.len());
-        if k < 2 {
-            assert_eq!(p.report.memory, held, "frame {k}");
-        }
-    }
-    assert_eq!(p.report.memory, 0, "{:?}", p.report);
+    assert_released_when_away(&mut p, held, &mut r);
     // Directly: releasing one bake frees exactly its bytes; indices out of range are
     // ignored by every call.
     let mut subjects = subjects();

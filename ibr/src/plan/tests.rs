@@ -83,6 +83,42 @@ pub(crate) fn render(draws: Vec<Draw<'_>>, camera: &Camera, r: &mut Renderer) ->
     target
 }
 
+/// The fit of a two-term error model `floor * a + slope * b` to calibration samples `(a,
+/// b, measured)`: the pair with the least summed prediction that keeps a fraction `keep`
+/// of the measurements at or below it, the slope in steps of 0.01 below `steps` / 100.
+pub(crate) fn fit_bound(samples: &[(f32, f32, f32)], keep: f64, steps: u32) -> (f32, f32) {
+    let mut best = (f32::INFINITY, 0.0, 0.0);
+    let mut need: Vec<f32> = Vec::with_capacity(samples.len());
+    for k in 0..steps {
+        let k = k as f32 * 0.01;
+        // Each sample's floor needed with this slope.
+        need.clear();
+        need.extend(samples.iter().map(|&(a, b, m)| (m - k * b) / a.max(1e-6)));
+        need.sort_by(f32::total_cmp);
+        let at = ((need.len() as f64 * keep).ceil() as usize).clamp(1, need.len()) - 1;
+        let floor = need[at];
+        let total: f32 = samples.iter().map(|&(a, b, _)| floor * a + k * b).sum();
+        if total < best.0 {
+            best = (total, floor, k);
+        }
+    }
+    (best.1, best.2)
+}
+
+/// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
+/// culled, the bytes held for two frames, then all released.
+pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize, r: &mut Renderer) {
+    let away = camera(Vec3::new(0.0, 2.0, 7.0), Vec3::new(0.0, 2.0, 20.0));
+    for k in 0..6 {
+        frame(p, &away, r);
+        assert_eq!(p.report.culled, p.objects.len());
+        if k < 2 {
+            assert_eq!(p.report.memory, held, "frame {k}");
+        }
+    }
+    assert_eq!(p.report.memory, 0, "{:?}", p.report);
+}
+
 fn planner(budgets: Budgets) -> Planner<MeshGroup> {
     let objects = tori();
     let n = objects.len();
