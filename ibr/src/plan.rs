@@ -50,7 +50,7 @@ use crate::impostor::{pixels_per_radian, screen_rect, Frustum};
 use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Draw, Material, Rgba};
+use engine::{Draw, FrameStats, Material, Rgba, Target};
 use rayon::prelude::*;
 
 /// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
@@ -890,6 +890,16 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 }
             }
         }
+    }
+
+    /// Runs every representation's image passes over the frame rendered from
+    /// [`Planner::draws`] (in the planner's order); returns their work.
+    pub fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let mut stats = FrameStats::default();
+        for rep in &self.reps {
+            stats += rep.passes(view, target);
+        }
+        stats
     }
 }
 

@@ -215,6 +215,7 @@ fn fit(rows: &[Calibration]) -> CostModel {
         ns_per_pixel: (s[1] * 1e6).max(0.0) as f32,
         ns_per_image_pixel: (s[2] * 1e6).max(0.0) as f32,
         us_per_capture: 0.0,
+        ns_per_sample: CostModel::default().ns_per_sample,
     }
 }
 

@@ -15,6 +15,9 @@ pub struct Work {
     pub image_pixels: u64,
     /// Offscreen renders started (each clears and resolves a target of its own).
     pub captures: u64,
+    /// Reference samples read by image passes (a depth image's texels warped, a light
+    /// field's samples blended), besides the pixels they write.
+    pub samples: u64,
 }
 
 impl Add for Work {
@@ -25,6 +28,7 @@ impl Add for Work {
             pixels: self.pixels + o.pixels,
             image_pixels: self.image_pixels + o.image_pixels,
             captures: self.captures + o.captures,
+            samples: self.samples + o.samples,
         }
     }
 }
@@ -51,6 +55,8 @@ pub struct CostModel {
     pub ns_per_image_pixel: f32,
     /// Microseconds per offscreen render, besides its triangles and pixels.
     pub us_per_capture: f32,
+    /// Nanoseconds per reference sample an image pass reads.
+    pub ns_per_sample: f32,
 }
 
 impl Default for CostModel {
@@ -62,6 +68,7 @@ impl Default for CostModel {
             ns_per_pixel: 5.8,
             ns_per_image_pixel: 6.4,
             us_per_capture: 13.0,
+            ns_per_sample: 5.0,
         }
     }
 }
@@ -71,7 +78,8 @@ impl CostModel {
     pub fn ms(&self, w: Work) -> f32 {
         let ns = w.triangles as f32 * self.ns_per_triangle
             + w.pixels as f32 * self.ns_per_pixel
-            + w.image_pixels as f32 * self.ns_per_image_pixel;
+            + w.image_pixels as f32 * self.ns_per_image_pixel
+            + w.samples as f32 * self.ns_per_sample;
         ns * 1e-6 + w.captures as f32 * self.us_per_capture * 1e-3
     }
 }

@@ -6,7 +6,7 @@
 use super::cost::Work;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Camera, Draw, Rgba, Sphere};
+use engine::{Camera, Draw, FrameStats, Rgba, Sphere, Target};
 use glam::Vec3;
 
 /// How one object is seen this frame: what every representation's prediction starts from.
@@ -107,7 +107,14 @@ pub trait Representation<S>: Send + Sync {
     /// nothing.
     fn prepare(&mut self, _objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {}
     /// Appends the draws that show object `i` this frame (after `rebuild` and `prepare`).
+    /// A representation drawn by image passes alone appends nothing here.
     fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>);
+    /// Runs its per-pixel image passes over the rendered frame for the objects it draws
+    /// this frame (those [`Representation::prepare`] was given), writing colour and depth
+    /// depth-tested against what is there. Returns their work. By default nothing.
+    fn passes(&self, _view: &FrameView<'_>, _target: &mut Target) -> FrameStats {
+        FrameStats::default()
+    }
     /// Whether its draws are the subject's own (prepared for the camera first, as
     /// [`Subject::prepare`] asks).
     fn draws_subject(&self) -> bool {

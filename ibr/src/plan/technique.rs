@@ -4,7 +4,7 @@
 use super::Planner;
 use crate::subject::Subject;
 use crate::technique::{Counters, FrameView, Technique};
-use engine::Draw;
+use engine::{Draw, FrameStats, Target};
 
 impl<S: Subject + Send + Sync> Technique for Planner<S> {
     fn name(&self) -> &str {
@@ -15,6 +15,9 @@ impl<S: Subject + Send + Sync> Technique for Planner<S> {
     }
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         Planner::draws(self, out);
+    }
+    fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        Planner::passes(self, view, target)
     }
     /// Objects drawn as their own geometry, as images (every other representation), and
     /// the frame's rebuilds.
