@@ -11,7 +11,9 @@ use crate::layers::{self, LayerSet};
 use crate::metrics::{self, Options, Region};
 use crate::subject::MeshGroup;
 use crate::technique::{FrameLoop, Technique};
-use engine::{procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
+use engine::{
+    procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target, Texture,
+};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
@@ -103,6 +105,66 @@ pub(crate) fn fit_bound(samples: &[(f32, f32, f32)], keep: f64, steps: u32) -> (
         }
     }
     (best.1, best.2)
+}
+
+/// A perspective camera with a vertical field of view of `fov` radians at `distance`
+/// radii from the subject's centre along `dir`, looking at it.
+pub(crate) fn camera_at(s: &MeshGroup, dir: Vec3, distance: f32, fov: f32) -> Camera {
+    let b = s.bounds();
+    let eye = b.center + dir * distance * b.radius;
+    Camera::look_at(eye, b.center, Vec3::Y, fov, W as f32 / H as f32)
+        .with_depth_range(0.05, distance * b.radius * 2.0 + 10.0)
+}
+
+/// The planner tests' field of view.
+pub(crate) const FOV: f32 = 0.9;
+
+/// Mean absolute error over the object's screen rectangle, as the planner's unit is.
+pub(crate) fn measured(s: &MeshGroup, camera: &Camera, got: &Target, want: &Target) -> f64 {
+    let b = s.bounds();
+    let rect = screen_rect(camera, b.center, b.radius, W, H).unwrap_or_default();
+    let opts = Options {
+        region: Region::Rect(rect),
+        ..Options::default()
+    };
+    metrics::compare(want, got, &opts)
+        .expect("same size")
+        .mean_abs
+}
+
+/// A tilted lit torus, a lit box, a double-sided checkered card and a torus through a box:
+/// silhouettes, flat faces, texture detail and depth spread over the sphere.
+pub(crate) fn subjects() -> Vec<MeshGroup> {
+    let lit = |c: Rgba| Arc::new(Material::lit(c));
+    let torus = Arc::new(procedural::torus(0.8, 0.3, 32, 12));
+    let cube = Arc::new(procedural::cuboid(Vec3::new(1.0, 1.3, 0.7)));
+    let card = Arc::new(procedural::quad(1.6, 1.6));
+    let checker = Arc::new(Texture::checker(
+        64,
+        8,
+        Rgba::new(0.9, 0.8, 0.2, 1.0),
+        Rgba::new(0.1, 0.2, 0.6, 1.0),
+    ));
+    let tilt = Mat4::from_rotation_x(0.6) * Mat4::from_rotation_z(0.3);
+    let checkered = Material::unlit(Rgba::WHITE)
+        .with_texture(checker)
+        .double_sided(true);
+    vec![
+        MeshGroup::new().with(torus.clone(), lit(Rgba::new(0.3, 0.6, 0.9, 1.0)), tilt),
+        MeshGroup::new().with(
+            cube.clone(),
+            lit(Rgba::new(0.9, 0.5, 0.2, 1.0)),
+            Mat4::from_rotation_y(0.4) * Mat4::from_rotation_x(0.2),
+        ),
+        MeshGroup::new().with(card, Arc::new(checkered), tilt),
+        MeshGroup::new()
+            .with(torus, lit(Rgba::new(0.8, 0.8, 0.8, 1.0)), tilt)
+            .with(
+                Arc::new(procedural::cuboid(Vec3::new(0.5, 1.4, 0.3))),
+                lit(Rgba::new(0.9, 0.5, 0.1, 1.0)),
+                Mat4::from_translation(Vec3::new(0.3, 0.1, 0.0)),
+            ),
+    ]
 }
 
 /// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
