@@ -309,7 +309,21 @@ impl Subject for Cloud {
     fn triangle_count(&self) -> usize {
         2 * self.particles.len()
     }
+
+    /// Every particle's quad is blended: their areas (side twice the radius) summed over
+    /// the bounding sphere's disc.
+    fn overdraw(&self) -> f32 {
+        let r = self.bounds().radius;
+        if r <= 0.0 || !r.is_finite() {
+            return 1.0;
+        }
+        let valid = self.particles.iter().filter(|p| p.valid());
+        let quads: f32 = valid.map(|p| 4.0 * p.radius * p.radius).sum();
+        (quads / (std::f32::consts::PI * r * r)).max(1.0)
+    }
 }
 
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod tests;

@@ -29,6 +29,14 @@ pub trait Subject {
     /// Triangles drawn by [`Subject::draws`] (for the triangles-against-pixels figures).
     fn triangle_count(&self) -> usize;
 
+    /// Fragments its draws shade per pixel of its bounding sphere's disc, seen from
+    /// anywhere: 1 for opaque surfaces (the depth test keeps the nearest), more for
+    /// blended layers that are all shaded (a cloud's overlapping particles). The planner's
+    /// cost of drawing it as geometry.
+    fn overdraw(&self) -> f32 {
+        1.0
+    }
+
     /// World-space corners of a box around everything [`Subject::draws`] draws: the
     /// characteristic points an image layer's warp is fitted to. By default the cube around
     /// [`Subject::bounds`]; subjects that know a tighter box say so.
@@ -66,6 +74,9 @@ impl<T: Subject + ?Sized> Subject for Box<T> {
     }
     fn triangle_count(&self) -> usize {
         (**self).triangle_count()
+    }
+    fn overdraw(&self) -> f32 {
+        (**self).overdraw()
     }
     fn corners(&self) -> [Vec3; 8] {
         (**self).corners()

@@ -90,4 +90,17 @@ impl Subject for CloudField {
     fn triangle_count(&self) -> usize {
         self.clouds.iter().map(Subject::triangle_count).sum()
     }
+
+    /// The clouds' overdraw, each weighted by its disc, over the field's disc.
+    fn overdraw(&self) -> f32 {
+        let r = self.bounds().radius;
+        if r <= 0.0 || !r.is_finite() {
+            return 1.0;
+        }
+        let each = self
+            .clouds
+            .iter()
+            .map(|c| c.overdraw() * c.bounds().radius.powi(2));
+        (each.sum::<f32>() / (r * r)).max(1.0)
+    }
 }

@@ -138,7 +138,8 @@ pub trait Representation<S>: Send + Sync {
     fn set_tint(&mut self, _tint: Option<Rgba>) {}
 }
 
-/// The object's own triangles: exact (error 0), costing its triangles every frame.
+/// The object's own triangles: exact (error 0), costing its triangles and its fragments
+/// ([`Subject::overdraw`] per pixel of its disc) every frame.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Geometry;
 
@@ -149,7 +150,7 @@ impl<S: Subject + Send + Sync> Representation<S> for Geometry {
     fn estimate(&self, _i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         let draw = Work {
             triangles: subject.triangle_count() as u64,
-            pixels: sight.pixels as u64,
+            pixels: (sight.pixels * subject.overdraw()) as u64,
             ..Work::default()
         };
         Some(Estimate {

@@ -56,7 +56,7 @@ pub(crate) fn view_at(x: f32) -> Camera {
 }
 
 /// How the planner sees object `s` from `camera` (its pixels as the planner counts them).
-pub(crate) fn sight<'a>(camera: &'a Camera, s: &MeshGroup) -> Sight<'a> {
+pub(crate) fn sight<'a>(camera: &'a Camera, s: &impl Subject) -> Sight<'a> {
     let bounds = s.bounds();
     let eye = camera.eye();
     let distance = eye.distance(bounds.center);
@@ -120,7 +120,7 @@ pub(crate) fn camera_at(s: &MeshGroup, dir: Vec3, distance: f32, fov: f32) -> Ca
 pub(crate) const FOV: f32 = 0.9;
 
 /// Mean absolute error over the object's screen rectangle, as the planner's unit is.
-pub(crate) fn measured(s: &MeshGroup, camera: &Camera, got: &Target, want: &Target) -> f64 {
+pub(crate) fn measured(s: &impl Subject, camera: &Camera, got: &Target, want: &Target) -> f64 {
     let b = s.bounds();
     let rect = screen_rect(camera, b.center, b.radius, W, H).unwrap_or_default();
     let opts = Options {
@@ -204,7 +204,11 @@ fn budgets(error: f32, rebuilds: usize) -> Budgets {
 }
 
 /// Renders one frame through the frame loop; returns the target.
-pub(crate) fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+pub(crate) fn frame<S: Subject + Send + Sync>(
+    p: &mut Planner<S>,
+    cam: &Camera,
+    r: &mut Renderer,
+) -> Target {
     let light = lighting();
     let view = FrameView::still(cam, W, H, &light);
     let mut target = Target::new(W, H);
@@ -221,7 +225,11 @@ pub(crate) fn frame(p: &mut Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) 
 }
 
 /// Every object's geometry from `cam`.
-pub(crate) fn truth(p: &Planner<MeshGroup>, cam: &Camera, r: &mut Renderer) -> Target {
+pub(crate) fn truth<S: Subject + Send + Sync>(
+    p: &Planner<S>,
+    cam: &Camera,
+    r: &mut Renderer,
+) -> Target {
     let mut draws = Vec::new();
     p.reference(&mut draws);
     let mut target = Target::new(W, H);
