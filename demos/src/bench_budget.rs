@@ -1,7 +1,9 @@
 //! The `bench budget` sweep: the planner ([`ibr::plan`]) against each single representation
-//! used everywhere, on the same frames of two scenes: the procedural [`City`] of the
-//! impostor benchmarks (16 buildings, sliding sideways) and a large [`World`] (tens of
-//! thousands of objects, over ten million triangles, flown over).
+//! used everywhere, on the same frames of three scenes: the showcase's city district
+//! along the showcase's own path (its buildings planned, the rest of its scene as
+//! geometry), the procedural [`City`] of the impostor benchmarks (16 buildings, sliding
+//! sideways) and a large [`World`] (tens of thousands of objects, over ten million
+//! triangles, flown over).
 //!
 //! Methods: `geometry` (every object's triangles, frustum-culled by the planner), `impostors`
 //! (runtime impostors with their own policy: refresh past a tolerance in levels, geometry
@@ -33,9 +35,10 @@ pub use world::World;
 
 use crate::bench_impostors::frame_camera;
 use crate::city::{City, Path as CityPath};
+use crate::showcase::{self, Showcase};
 use crate::sweep::{self, CsvRow};
 use crate::timing::Summary;
-use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
+use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
 use ibr::metrics::{self, Options};
@@ -44,6 +47,7 @@ use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// What a sweep measures.
@@ -64,7 +68,9 @@ pub struct Plan {
     /// The city's grid and detail; the world's lots per side (0: no world).
     pub city: (u32, u32),
     pub world: u32,
-    /// Only the scene of this name (`city`, `world`; `None`: both).
+    /// The showcase's city district along the showcase's own path.
+    pub showcase: bool,
+    /// Only the scene of this name (`showcase`, `city`, `world`; `None`: all).
     pub only: Option<String>,
     /// The planners' [`plan::Config::spread`] (`None`: the default, [`plan::SPREAD`]).
     pub spread: Option<f32>,
@@ -82,6 +88,7 @@ impl Plan {
             frames: 24,
             city: (4, 10),
             world: 150,
+            showcase: true,
             only: None,
             spread: None,
         }
@@ -106,6 +113,7 @@ impl Plan {
             frames: 3,
             city: (2, 2),
             world: 8,
+            showcase: false,
             only: None,
             spread: None,
         }
@@ -199,6 +207,9 @@ struct Scene {
 fn scenes(plan: &Plan) -> Vec<Scene> {
     let city = City::new(plan.city.0, plan.city.1, 7);
     let mut out = Vec::new();
+    if plan.showcase {
+        out.push(showcase_scene());
+    }
     out.push(Scene {
         name: "city",
         objects: city.buildings.clone(),
@@ -227,6 +238,36 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
     }
     out.retain(|s| plan.only.as_deref().is_none_or(|o| o == s.name));
     out
+}
+
+/// The showcase's planned objects (its city district's buildings), the rest of its scene
+/// as plain geometry, and the part of its headless path that flies over the district (the
+/// tour's 72% to 82%).
+fn showcase_scene() -> Scene {
+    let show = Showcase::new();
+    let objects = show.ibr.impostors.city.objects.clone();
+    let s = &show.scene;
+    let mut ground = MeshGroup::new();
+    let meshes: Vec<Arc<Mesh>> = s.meshes.iter().cloned().map(Arc::new).collect();
+    let materials: Vec<Arc<Material>> = s.materials.iter().cloned().map(Arc::new).collect();
+    for i in &s.instances {
+        if let (Some(m), Some(mat)) = (meshes.get(i.mesh), materials.get(i.material)) {
+            ground = ground.with(m.clone(), mat.clone(), i.transform);
+        }
+    }
+    let lighting = s.lighting.clone();
+    Scene {
+        name: "showcase",
+        objects,
+        ground,
+        lighting,
+        camera: Box::new(move |f, n, (w, h)| {
+            const STEPS: usize = 10_000;
+            let at = 0.72 + 0.1 * f as f32 / n.max(1) as f32;
+            let (eye, target) = show.path((at * STEPS as f32) as usize, STEPS);
+            showcase::camera(eye, target, w, h)
+        }),
+    }
 }
 
 /// Runs the sweep.

@@ -125,7 +125,7 @@ struct BudgetArgs {
     #[arg(long)]
     calibrate: bool,
     /// Only this scene.
-    #[arg(long, value_parser = ["city", "world"])]
+    #[arg(long, value_parser = ["showcase", "city", "world"])]
     scene: Option<String>,
     /// The planners' relative error spread (default: the planner's own, `plan::SPREAD`;
     /// 0: the frame scope keeps the predicted mean alone). The `spread_fit` column says
@@ -716,7 +716,7 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
     let report = |rows: &[bbu::Row]| {
         for r in rows {
             println!(
-                "{:<5} {:<9} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3} bound {:>6.3} (spread fit {:>5.2})  geometry {:>7.1} images {:>7.1} [{}] switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
+                "{:<8} {:<13} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3} bound {:>6.3} (spread fit {:>5.2})  geometry {:>7.1} images {:>7.1} [{}] switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
                 r.scene,
                 r.method,
                 r.budget,
