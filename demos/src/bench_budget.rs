@@ -28,9 +28,11 @@
 //! and the largest object's), the objects drawn each way, switches and rebuilds, and the memory images hold.
 
 mod calibrate;
+mod objects;
 mod world;
 
 pub use calibrate::{calibrate, Calibration};
+pub use objects::{objects, ObjectRow};
 pub use world::World;
 
 use crate::bench_impostors::frame_camera;
@@ -316,18 +318,24 @@ fn rebuilds(scene: &Scene, plan: &Plan) -> usize {
     plan.rebuilds.max(scene.objects.len() / 16)
 }
 
-/// The planner over the scene's objects: geometry, and runtime impostors and image layers
-/// when `images`.
+/// The planner over the scene's objects: geometry, and every other representation of
+/// [`REPRESENTATIONS`] when `images`.
 fn planner(scene: &Scene, plan: &Plan, budget: f32, images: bool) -> Planner<MeshGroup> {
+    let all: Vec<usize> = (1..REPRESENTATIONS.len()).collect();
+    planner_of(scene, plan, budget, if images { &all } else { &[] })
+}
+
+/// The planner over the scene's objects choosing among geometry and the representations
+/// `which` (indices into [`REPRESENTATIONS`], in order).
+fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Planner<MeshGroup> {
     let n = scene.objects.len();
     let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
-    if images {
-        reps.push(Box::new(ImpostorSet::new(
-            image_config(scene, plan, budget),
-            n,
-        )));
-        reps.push(Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)));
-        reps.push(Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)));
+    for &k in which {
+        reps.push(match k {
+            1 => Box::new(ImpostorSet::new(image_config(scene, plan, budget), n)),
+            2 => Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)),
+            _ => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
+        });
     }
     let config = plan::Config {
         budgets: Budgets {
@@ -489,9 +497,24 @@ struct Flight {
     psnr: Vec<f64>,
     probes: Vec<Sample>,
     table: Vec<f64>,
+    /// The last frame's visible objects: index, measured error over its screen rectangle,
+    /// and the rectangle.
+    seen: Vec<(usize, f64, metrics::Rect)>,
 }
 
 fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
+    fly_with(scene, plan, budget, t, &mut |_, _| {})
+}
+
+/// [`fly`], calling `each` after every measured frame with the technique and the visible
+/// objects' measured errors ([`Flight::seen`]).
+fn fly_with<T: Probe>(
+    scene: &Scene,
+    plan: &Plan,
+    budget: f32,
+    t: &mut T,
+    each: &mut dyn FnMut(&T, &[(usize, f64, metrics::Rect)]),
+) -> Flight {
     let (w, h) = plan.size;
     let opts = FrameOptions {
         clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
@@ -530,8 +553,9 @@ fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
             &scene.objects,
             &camera,
             budget,
-            &mut out.table,
+            (&mut out.table, &mut out.seen),
         );
+        each(t, &out.seen);
         out.frame_errors.push(frame);
         out.objects_over.push(over);
         if let Ok(e) = metrics::compare(&truth, &target, &Options::default()) {
@@ -550,7 +574,7 @@ fn measure(
     objects: &[MeshGroup],
     camera: &Camera,
     budget: f32,
-    table: &mut Vec<f64>,
+    (table, seen): (&mut Vec<f64>, &mut Vec<(usize, f64, metrics::Rect)>),
 ) -> (f64, f64) {
     let (w, h) = (truth.width() as usize, truth.height() as usize);
     let (a, b) = (truth.to_rgba8(), got.to_rgba8());
@@ -566,8 +590,9 @@ fn measure(
             table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row;
         }
     }
-    let (mut sum, mut area, mut over, mut seen) = (0.0, 0.0, 0usize, 0usize);
-    for o in objects {
+    seen.clear();
+    let (mut sum, mut area, mut over) = (0.0, 0.0, 0usize);
+    for (i, o) in objects.iter().enumerate() {
         let s = o.bounds();
         let Some(r) = impostor::screen_rect(camera, s.center, s.radius, w as u32, h as u32) else {
             continue;
@@ -586,10 +611,10 @@ fn measure(
         let total = at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0);
         sum += total;
         area += px;
-        seen += 1;
+        seen.push((i, total / px, r));
         over += usize::from(total / px > f64::from(budget));
     }
-    (sum / area.max(1.0), over as f64 / seen.max(1) as f64)
+    (sum / area.max(1.0), over as f64 / seen.len().max(1) as f64)
 }
 
 impl Flight {

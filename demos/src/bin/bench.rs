@@ -124,6 +124,10 @@ struct BudgetArgs {
     /// Time the cost model's experiments instead and print the fitted per-unit costs.
     #[arg(long)]
     calibrate: bool,
+    /// Instead, each image representation's predicted against measured error on the
+    /// objects it draws, binned by their size on screen (`budget_objects.csv`).
+    #[arg(long)]
+    objects: bool,
     /// Only this scene.
     #[arg(long, value_parser = ["showcase", "city", "world"])]
     scene: Option<String>,
@@ -713,6 +717,20 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         ..c.run
             .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full)
     };
+    if c.objects {
+        let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::objects(&plan, progress));
+        let report = |rows: &[bbu::ObjectRow]| {
+            for r in rows {
+                println!(
+                    "{:<8} {:<11} side >= {:>3} px {:>7} object-frames  predicted {:>7.3}  measured {:>6.3} (p95 {:>6.3})  within prediction {:>5.1}%  overlap {:>5.2}",
+                    r.scene, r.representation, r.side, r.count, r.predicted_mean, r.measured_mean, r.measured_p95, 100.0 * r.within, r.overlap
+                );
+            }
+        };
+        return sweep(&c.run, "budget_objects", "bins", run, report, |_| {
+            Vec::new()
+        });
+    }
     let report = |rows: &[bbu::Row]| {
         for r in rows {
             println!(
