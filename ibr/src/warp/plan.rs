@@ -5,24 +5,26 @@
 //! parallax the eye's move makes ([`super::predict::parallax_px`]) and the image's
 //! gradients, in the impostors' unit (levels).
 
-use super::holes::{Fill, Filler};
-use super::predict::{depth_range, parallax_px};
+mod composite;
+mod reference;
+
+use super::holes::Filler;
+use super::predict::parallax_px;
 use super::technique::ImagePass;
-use super::{Prepared, WarpOptions, Warped, Warper, ENCODING, HOLE};
+use super::{Prepared, WarpOptions, Warped, Warper};
 use crate::capture::Capturer;
-use crate::images::{unproject, DepthImage};
 use crate::impostor::{needed_side, pixels_per_radian, screen_rect, Capture};
 use crate::metrics::Rect;
 use crate::plan::{Estimate, Representation, Sight, Work};
 use crate::schedule::refresh_side_by_side;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::color::{unpack, Encoder};
+use composite::{fill_inside, tint, Cropped};
 use engine::{
-    run_packed_pass, Camera, Draw, Encoding, FrameStats, PackedFragment, PackedPass, PassMode,
-    PixelRect, Rgba, Sphere, Target,
+    run_packed_pass, Camera, Draw, FrameStats, PassMode, PixelRect, Rgba, Sphere, Target,
 };
 use glam::{Vec2, Vec3};
+use reference::capture;
 
 /// Error per level of gradient (times texels per pixel) a fresh reference makes by
 /// resampling alone: the warp takes the nearest sample (splats) where the geometry samples
@@ -450,211 +452,5 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
 
     fn set_tint(&mut self, tint: Option<Rgba>) {
         self.tint = tint;
-    }
-}
-
-/// Captures `job`'s subject (prepared for the capture camera) alone: a depth image, or an
-/// LDI by depth peeling; returns the prepared reference and the renders it took.
-fn capture<S: Subject>(
-    job: &Job,
-    subject: &mut S,
-    capturer: &mut Capturer,
-    lighting: &engine::Lighting,
-    cfg: &Config,
-) -> (Reference, u64) {
-    let (camera, side, edge) = (job.camera, job.side, cfg.options.edge);
-    subject.prepare(&camera, side);
-    let subject = &*subject;
-    let draws = || {
-        let mut out = Vec::new();
-        subject.draws(&mut out);
-        out
-    };
-    let (front, prepared, renders) = if cfg.layers <= 1 {
-        let mut image = DepthImage::new(0, 0, camera);
-        capturer.capture(draws(), &camera, lighting, side, side, &mut image);
-        let prepared = Prepared::from_image(&image, edge);
-        (image, prepared, 1)
-    } else {
-        let ldi = capturer.capture_layers(draws, &camera, lighting, side, side, cfg.layers);
-        // Peeling stops after the first empty layer (rendered too) or at the most layers.
-        let renders = (ldi.depth_complexity().max(1) + 1).min(cfg.layers) as u64;
-        (ldi.layer(0), Prepared::from_ldi(&ldi, edge), renders)
-    };
-    let (gradient, edge_gradient) = gradients(&front, edge);
-    let reference = Reference {
-        prepared,
-        eye: job.eye,
-        bounds: job.bounds,
-        version: job.version,
-        side,
-        range: depth_range(&front),
-        gradient,
-        edge_gradient,
-    };
-    (reference, renders)
-}
-
-/// The mean absolute difference between horizontally and vertically neighbouring pixels
-/// of `image` over RGB of their stored 8-bit values (levels per texel, as the impostors
-/// measure theirs), and the same counting only pairs across a depth edge or a silhouette
-/// (depths apart by more than a relative `edge`, or one empty).
-fn gradients(image: &DepthImage, edge: f32) -> (f32, f32) {
-    let (w, h) = (image.width() as usize, image.height() as usize);
-    let enc = Encoder::new(ENCODING);
-    let px: Vec<[u8; 4]> = image
-        .color
-        .iter()
-        .map(|c| enc.pack(c.r, c.g, c.b, c.a).to_le_bytes())
-        .collect();
-    let z = &image.depth;
-    let split = |a: usize, b: usize| match (z[a].is_finite(), z[b].is_finite()) {
-        (true, true) => (z[a] - z[b]).abs() > edge * z[a].min(z[b]),
-        (fa, fb) => fa != fb,
-    };
-    let (mut sum, mut at_edges, mut n) = (0u64, 0u64, 0u64);
-    let mut pair = |a: usize, b: usize| {
-        let d: u64 = (0..3).map(|k| u64::from(px[a][k].abs_diff(px[b][k]))).sum();
-        sum += d;
-        if split(a, b) {
-            at_edges += d;
-        }
-        n += 3;
-    };
-    for y in 0..h {
-        for x in 0..w {
-            let a = y * w + x;
-            if x + 1 < w {
-                pair(a, a + 1);
-            }
-            if y + 1 < h {
-                pair(a, a + w);
-            }
-        }
-    }
-    let n = n.max(1) as f32;
-    (sum as f32 / n, at_edges as f32 / n)
-}
-
-/// Fills the holes of a warped rectangle from the background side, keeping a fill only
-/// where the reference saw something in front of it (a disocclusion: the hole's surface,
-/// at the depth it was filled with, projects into the reference behind a nearer sample)
-/// or where the hole is a crack between samples of one surface; the rest is the object's
-/// surroundings (or parts the reference never saw) and stays empty.
-fn fill_inside(
-    out: &mut Warped,
-    filler: &mut Filler,
-    holes: &mut Vec<bool>,
-    r: &Reference,
-    edge: f32,
-) {
-    holes.clear();
-    holes.extend(out.disparity.iter().map(|&d| d < 0.0));
-    if !holes.iter().any(|&h| h) {
-        return;
-    }
-    filler.fill(out, Fill::Background, edge);
-    let (w, h) = (out.width() as usize, out.height() as usize);
-    let camera = out.camera;
-    let similar = |a: f32, b: f32| (a - b).abs() <= edge * a.min(b);
-    for y in 0..h {
-        for x in 0..w {
-            let i = y * w + x;
-            if !holes[i] || out.disparity[i] < 0.0 {
-                continue;
-            }
-            // Samples on two opposite sides, of one surface, as they were before the fill.
-            let sample = |j: usize| (!holes[j]).then_some(out.disparity[j]);
-            let across =
-                |a: Option<usize>, b: Option<usize>| match (a.and_then(sample), b.and_then(sample))
-                {
-                    (Some(p), Some(q)) => similar(p, q),
-                    _ => false,
-                };
-            let crack = across(
-                x.checked_sub(1).map(|x| y * w + x),
-                (x + 1 < w).then_some(i + 1),
-            ) || across(i.checked_sub(w), (y + 1 < h).then_some(i + w));
-            let d = out.disparity[i];
-            let keep = crack || occluded(r, &camera, (x, y), 1.0 / d, (w, h), edge);
-            if !keep {
-                out.color[i] = 0;
-                out.disparity[i] = HOLE;
-            }
-        }
-    }
-}
-
-/// Whether the point seen at pixel `(x, y)` of a `size` image by `camera` at axial
-/// `depth` lies behind a sample of the reference nearer by more than `edge` (relative).
-fn occluded(
-    r: &Reference,
-    camera: &Camera,
-    (x, y): (usize, usize),
-    depth: f32,
-    (w, h): (usize, usize),
-    edge: f32,
-) -> bool {
-    let (sx, sy) = (x as f32 + 0.5, y as f32 + 0.5);
-    let Some(world) = unproject(camera, sx, sy, depth, w as u32, h as u32) else {
-        return false;
-    };
-    let from = r.prepared.camera();
-    let c = from.clip_from_world() * world.extend(1.0);
-    if c.w <= 1e-6 {
-        return false;
-    }
-    let (rw, rh) = r.prepared.size();
-    let u = (c.x / c.w + 1.0) * 0.5 * rw as f32;
-    let v = (1.0 - c.y / c.w) * 0.5 * rh as f32;
-    if u.is_nan() || v.is_nan() || u < 0.0 || v < 0.0 || u >= rw as f32 || v >= rh as f32 {
-        return false;
-    }
-    let k = v as usize * rw as usize + u as usize;
-    let p = &r.prepared;
-    // The nearest sample of the pixel: a depth image's only one, an LDI's last (painted
-    // back to front).
-    let nearest = if p.first.is_empty() {
-        p.disparity.get(k).copied()
-    } else {
-        match (p.first.get(k), p.first.get(k + 1)) {
-            (Some(&a), Some(&b)) if b > a => Some(p.disparity[b as usize - 1]),
-            _ => None,
-        }
-    };
-    let z = -from.view.transform_point3(world).z;
-    nearest.is_some_and(|d| d >= 0.0 && z > 0.0 && d * z > 1.0 + edge)
-}
-
-/// Multiplies every sample of `out` by `t` (premultiplied: colour by its colour and alpha,
-/// alpha by its alpha).
-fn tint(out: &mut Warped, t: Rgba) {
-    let enc = Encoder::new(ENCODING);
-    for (c, &d) in out.color.iter_mut().zip(&out.disparity) {
-        if d >= 0.0 {
-            let p = unpack(ENCODING, *c);
-            let a = t.a;
-            *c = enc.pack(p.r * t.r * a, p.g * t.g * a, p.b * t.b * a, p.a * a);
-        }
-    }
-}
-
-/// An image pass over a crop of the frame: pixel `(x, y)` of the frame is pixel
-/// `(x - x0, y - y0)` of the crop (as the light-field objects' own).
-struct Cropped<'a> {
-    pass: ImagePass<'a>,
-    x0: u32,
-    y0: u32,
-}
-
-impl PackedPass for Cropped<'_> {
-    fn encoding(&self) -> Encoding {
-        self.pass.encoding()
-    }
-
-    fn shade_span(&self, x0: u32, y: u32, out: &mut [Option<PackedFragment>]) {
-        if x0 >= self.x0 && y >= self.y0 {
-            self.pass.shade_span(x0 - self.x0, y - self.y0, out);
-        }
     }
 }

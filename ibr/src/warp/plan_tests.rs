@@ -318,6 +318,25 @@ fn in_a_planner_depth_images_and_ldis_err_within_the_budget_and_none_is_missing(
         eprintln!("{layers} layers: {images} object-frames, worst measured {worst:.2} levels");
         assert!(images >= 40, "{layers} layers: {images}");
         assert!(p.report.memory > 0);
+        // The debug view multiplies the images by their colour (green: red and blue fall,
+        // green stays), and off restores the frame exactly.
+        p.config.budgets.rebuilds = 0;
+        let cam = view_at(0.5);
+        frame(&mut p, &cam, &mut r);
+        let plain = frame(&mut p, &cam, &mut r).to_rgba8();
+        p.set_tints(true);
+        let tinted = frame(&mut p, &cam, &mut r).to_rgba8();
+        let turned = plain
+            .chunks_exact(4)
+            .zip(tinted.chunks_exact(4))
+            .filter(|(a, b)| a[1].abs_diff(b[1]) <= 3 && b[0] + 20 < a[0] && b[2] + 20 < a[2])
+            .count();
+        assert!(
+            turned > 100,
+            "{layers} layers: {turned} pixels turned green"
+        );
+        p.set_tints(false);
+        assert!(frame(&mut p, &cam, &mut r).to_rgba8() == plain);
     }
 }
 
