@@ -35,6 +35,7 @@ pub mod holes;
 pub mod ldi;
 pub mod mesh;
 pub mod order;
+pub mod plan;
 pub mod predict;
 pub mod prepared;
 mod rows;
@@ -47,6 +48,7 @@ use engine::simd::LANES;
 use engine::{Camera, Premul};
 use equation::Equation;
 use order::Run;
+pub use plan::DepthImageSet;
 pub use prepared::Prepared;
 use prepared::BLOCK;
 use rayon::prelude::*;
@@ -560,5 +562,7 @@ fn merge_nearer(out: &mut Warped, layer: &Warped, edge: f32) {
         });
 }
 
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod tests;
