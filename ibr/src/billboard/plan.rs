@@ -33,7 +33,7 @@ use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::schedule::pick_mut;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{BlendMode, Draw, Filter, Material, Mesh, Rgba, Sphere, Texture, Wrap};
+use engine::{BlendMode, Draw, Filter, Material, Mesh, Projection, Rgba, Sphere, Texture, Wrap};
 use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -105,7 +105,14 @@ pub fn billboard_error(
 /// horizontal `side`: azimuth and elevation (radians), texels per pixel and perspective
 /// shift (texels) for a `px` image. `None` for a broken view or an eye at the centre.
 pub fn view_terms(side: Vec3, px: u32, sight: &Sight<'_>) -> Option<(f32, f32, f32, f32)> {
-    let v = (sight.eye - sight.bounds.center).try_normalize()?;
+    // Toward a perspective eye, or against an orthographic camera's view direction.
+    let v = match sight.camera.projection {
+        Projection::Orthographic { .. } => -sight.camera.forward(),
+        Projection::Perspective { .. } | Projection::Frustum { .. } => {
+            sight.eye - sight.bounds.center
+        }
+    };
+    let v = v.try_normalize()?;
     let right = Vec3::Y.cross(side);
     let azimuth = v.dot(right).atan2(v.dot(side));
     let elevation = v.y.clamp(-1.0, 1.0).asin();
