@@ -9,6 +9,11 @@
 use engine::{Camera, Draw, Material, Mesh, Projection, Rgba};
 use glam::{Mat4, Vec2, Vec3};
 
+mod bake;
+mod plan;
+pub use bake::{Profile, AZIMUTHS, ELEVATIONS};
+pub use plan::{BillboardSet, MAX_ELEVATION};
+
 /// How a billboard turns to face the viewer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Facing {
@@ -450,5 +455,7 @@ pub fn push_quad(m: &mut Mesh, q: [Vec3; 4], region: UvRect, tint: Rgba, fade: f
 
 #[cfg(test)]
 mod fade_tests;
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod tests;

@@ -481,7 +481,7 @@ impl ImpostorSet {
 
 /// The transform that scales an image's quad about `eye` (the same pixels, only nearer) to
 /// the depth of `s`'s nearest corner along the line of sight ([`ImpostorSet::draws_near`]).
-fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
+pub(crate) fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
     let to = s.bounds().center - eye;
     let dist = to.length().max(1e-6);
     let dir = to / dist;
