@@ -44,7 +44,9 @@ use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgb
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
 use ibr::metrics::{self, Options};
+use ibr::billboard::BillboardSet;
 use ibr::octahedral::{Layout, OctahedralSet};
+use ibr::warp::{self, DepthImageSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
@@ -306,8 +308,21 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
 
 /// The planners' representations, in their order: geometry, runtime impostors, image
 /// layers, baked octahedral impostors (8 x 8 views of 32 pixels over the upper
-/// hemisphere).
-pub const REPRESENTATIONS: [&str; 4] = ["geometry", "impostors", "layers", "octahedral"];
+/// hemisphere), depth images and LDIs of [`LDI_LAYERS`] layers (each object's captured
+/// from the eye and warped to the view), and axial billboards (64 pixels, baked from the
+/// side).
+pub const REPRESENTATIONS: [&str; 7] = [
+    "geometry",
+    "impostors",
+    "layers",
+    "octahedral",
+    "depth images",
+    "LDIs",
+    "billboards",
+];
+
+/// Layers the planners' LDIs peel.
+pub const LDI_LAYERS: usize = 3;
 
 /// The planners' memory budget, bytes: what a game might give images (the other methods
 /// hold at most 46 MB in these scenes; an octahedral bake holds 1.3 MB).
@@ -331,10 +346,17 @@ fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Plann
     let n = scene.objects.len();
     let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
     for &k in which {
+        let depth = |layers| warp::plan::Config {
+            layers,
+            ..warp::plan::Config::default()
+        };
         reps.push(match k {
             1 => Box::new(ImpostorSet::new(image_config(scene, plan, budget), n)),
             2 => Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)),
-            _ => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
+            3 => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
+            4 => Box::new(DepthImageSet::new(depth(1), n)),
+            5 => Box::new(DepthImageSet::new(depth(LDI_LAYERS), n)),
+            _ => Box::new(BillboardSet::new(n, 64)),
         });
     }
     let config = plan::Config {
@@ -402,7 +424,7 @@ struct Sample {
     /// representations ([`REPRESENTATIONS`]).
     geometry: usize,
     images: usize,
-    mix: [usize; 4],
+    mix: [usize; REPRESENTATIONS.len()],
     switches: usize,
     rebuilds: usize,
     /// Bytes images hold.
@@ -421,7 +443,7 @@ impl Probe for Planner<MeshGroup> {
     fn probe(&self) -> Sample {
         let r = &self.report;
         let c = self.counters();
-        let mut mix = [0; 4];
+        let mut mix = [0; REPRESENTATIONS.len()];
         mix.iter_mut().zip(&r.counts).for_each(|(m, &n)| *m = n);
         Sample {
             mix,
@@ -488,6 +510,9 @@ impl Probe for Layered<MeshGroup> {
     }
 }
 
+/// A visible object's index, its measured error over its screen rectangle, the rectangle.
+type ObjectError = (usize, f64, metrics::Rect);
+
 /// One run's frames, and what it measured.
 #[derive(Default)]
 struct Flight {
@@ -499,7 +524,7 @@ struct Flight {
     table: Vec<f64>,
     /// The last frame's visible objects: index, measured error over its screen rectangle,
     /// and the rectangle.
-    seen: Vec<(usize, f64, metrics::Rect)>,
+    seen: Vec<ObjectError>,
 }
 
 fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
@@ -513,7 +538,7 @@ fn fly_with<T: Probe>(
     plan: &Plan,
     budget: f32,
     t: &mut T,
-    each: &mut dyn FnMut(&T, &[(usize, f64, metrics::Rect)]),
+    each: &mut dyn FnMut(&T, &[ObjectError]),
 ) -> Flight {
     let (w, h) = plan.size;
     let opts = FrameOptions {
@@ -574,7 +599,7 @@ fn measure(
     objects: &[MeshGroup],
     camera: &Camera,
     budget: f32,
-    (table, seen): (&mut Vec<f64>, &mut Vec<(usize, f64, metrics::Rect)>),
+    (table, seen): (&mut Vec<f64>, &mut Vec<ObjectError>),
 ) -> (f64, f64) {
     let (w, h) = (truth.width() as usize, truth.height() as usize);
     let (a, b) = (truth.to_rgba8(), got.to_rgba8());
