@@ -222,13 +222,18 @@ pub(crate) fn choose_slab<'s>(
         })
         .filter(|d| *d != Vec3::ZERO)
         .map(|d| c + d.normalize() * r);
-    slabs
+    // Best aligned first (ties: the first slab), the first that sees every point taken:
+    // asked of every object every frame by the planner, and the best aligned usually sees.
+    let mut order: Vec<(usize, f32, &Slab)> = slabs
         .enumerate()
         .filter(|(_, s)| !s.infinite[1])
-        .filter(|(_, s)| points.clone().all(|p| sees(s, eye, p - eye)))
-        .map(|(k, s)| (k, s.forward().dot(dir)))
-        .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-        .map(|(k, _)| k)
+        .map(|(k, s)| (k, s.forward().dot(dir), s))
+        .collect();
+    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    order
+        .into_iter()
+        .find(|(_, _, s)| points.clone().all(|p| sees(s, eye, p - eye)))
+        .map(|(k, _, _)| k)
 }
 
 /// The pixels of a `width` x `height` view `slab`'s focal plane can cover: the bounds of
