@@ -383,7 +383,8 @@ impl<S: Subject + Send + Sync> Representation<S> for LightFieldSet {
                 captures,
                 ..Work::default()
             },
-            memory: slot.as_ref().map_or(bake_bytes(counts), Baked::bytes),
+            // What a bake with the set's settings holds (as much as this one, if made so).
+            memory: bake_bytes(counts),
         })
     }
 
