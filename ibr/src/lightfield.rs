@@ -17,6 +17,8 @@
 //! - Saved and loaded as one versioned file ([`file`]: `LightField::save`, `load`).
 //! - In a scene ([`LightFieldObject`], a technique): rendered into the screen rectangle
 //!   its focal plane covers and composited by a depth-tested image pass.
+//! - Among the planner's representations ([`LightFieldSet`], [`plan`]): baked per object
+//!   on a cube of slabs, chosen by predicted error and cost.
 //!
 //! Samples are stored as the frame stores colour (packed premultiplied sRGB bytes,
 //! [`ENCODING`]) and blended in that encoding, image `(u, v)` after image, each an
@@ -24,6 +26,7 @@
 
 pub mod file;
 pub mod object;
+pub mod plan;
 pub mod rebin;
 pub mod render;
 pub mod vq;
@@ -34,6 +37,7 @@ use engine::color::Encoder;
 use engine::{Camera, Draw, Lighting, Projection};
 use glam::{Mat4, Vec3};
 pub use object::{LightFieldObject, Showing};
+pub use plan::LightFieldSet;
 pub use rebin::{rebin, Rebinned};
 pub use render::{render, Interpolation, LightFieldFrame, Lookup};
 use std::sync::OnceLock;
@@ -671,6 +675,8 @@ impl LightField {
 
 #[cfg(test)]
 mod infinity_tests;
+#[cfg(test)]
+mod plan_tests;
 #[cfg(test)]
 mod rebin_tests;
 #[cfg(test)]

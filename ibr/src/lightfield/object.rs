@@ -13,11 +13,11 @@ use super::{LightField, Slab};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::{Counters, FrameView, Technique};
 use crate::warp::technique::ImagePass;
-use crate::warp::Warped;
-use engine::Sphere;
+use crate::warp::{Warped, ENCODING};
+use engine::color::{unpack, Encoder};
 use engine::{
     run_packed_pass, Camera, Draw, Encoding, FrameStats, PackedFragment, PackedPass, PassMode,
-    PixelRect, Target,
+    PixelRect, Rgba, Sphere, Target,
 };
 use glam::{Vec2, Vec3};
 
@@ -47,10 +47,8 @@ pub struct LightFieldObject {
     /// The geometry captured into the light field, if kept: drawn when no slab sees the
     /// object.
     pub reference: Option<MeshGroup>,
-    image: Warped,
-    rect: Option<PixelRect>,
+    image: Composite,
     showing: Showing,
-    last: LightFieldFrame,
 }
 
 impl LightFieldObject {
@@ -85,16 +83,14 @@ impl LightFieldObject {
             bounds,
             lookup: Lookup::default(),
             reference: None,
-            image: Warped::new(0, 0, camera),
-            rect: None,
+            image: Composite::new(camera),
             showing: Showing::Nothing,
-            last: LightFieldFrame::default(),
         }
     }
 
     /// The last frame's work.
     pub fn last(&self) -> LightFieldFrame {
-        self.last
+        self.image.last
     }
 
     /// What the last frame showed.
@@ -104,7 +100,7 @@ impl LightFieldObject {
 
     /// The pixels the last frame's light-field image covered (`None` when it drew none).
     pub fn rect(&self) -> Option<PixelRect> {
-        self.rect
+        self.image.rect
     }
 
     /// Bytes of all slabs' samples in memory.
@@ -116,78 +112,7 @@ impl LightFieldObject {
     /// A slab with its `st` plane at infinity (an environment, not an object) is taken
     /// first when `eye` lies over its `uv` rectangle (along the slab's forward).
     pub fn choose(&self, eye: Vec3) -> Option<usize> {
-        let environment = self.slabs.iter().position(|f| {
-            let s = &f.slab;
-            s.infinite[1]
-                && s.cross(0, eye, s.forward())
-                    .is_some_and(|(_, a, b)| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
-        });
-        if environment.is_some() {
-            return environment;
-        }
-        let to = self.bounds.center - eye;
-        if to.length().is_nan() || to.length() <= self.bounds.radius {
-            return None;
-        }
-        let dir = to.normalize();
-        // Points all round the sphere (26 directions), a little outside it.
-        let (c, r) = (self.bounds.center, self.bounds.radius * 1.05);
-        let points = (0..27)
-            .map(|k| {
-                Vec3::new(
-                    (k % 3) as f32 - 1.0,
-                    (k / 3 % 3) as f32 - 1.0,
-                    (k / 9) as f32 - 1.0,
-                )
-            })
-            .filter(|d| *d != Vec3::ZERO)
-            .map(|d| c + d.normalize() * r);
-        self.slabs
-            .iter()
-            .enumerate()
-            .filter(|(_, f)| !f.slab.infinite[1])
-            .filter(|(_, f)| points.clone().all(|p| sees(&f.slab, eye, p - eye)))
-            .map(|(k, f)| (k, f.slab.forward().dot(dir)))
-            .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-            .map(|(k, _)| k)
-    }
-
-    /// The pixels of a `width` x `height` view the focal plane can cover: the bounds of its
-    /// corners on screen, or the whole view when a corner is behind the eye; `None` when
-    /// off screen.
-    fn screen_rect(&self, camera: &Camera, width: u32, height: u32) -> Option<PixelRect> {
-        let m = camera.clip_from_world();
-        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
-        let slab = &self.slabs[self.showing_slab()?].slab;
-        let st = &slab.st;
-        // A plane at infinity's corners are directions: points at infinity.
-        let w = if slab.infinite[1] { 0.0 } else { 1.0 };
-        for p in [
-            st.at(0.0, 0.0),
-            st.at(1.0, 0.0),
-            st.at(1.0, 1.0),
-            st.at(0.0, 1.0),
-        ] {
-            let c = m * p.extend(w);
-            if c.w.is_nan() || c.w <= 1e-6 {
-                return Some(PixelRect::full(width, height));
-            }
-            let px = Vec2::new(
-                (c.x / c.w + 1.0) * 0.5 * width as f32,
-                (1.0 - c.y / c.w) * 0.5 * height as f32,
-            );
-            lo = lo.min(px);
-            hi = hi.max(px);
-        }
-        let clamp = |v: f32, n: u32| v.clamp(0.0, n as f32);
-        let (x0, y0) = (clamp(lo.x.floor(), width), clamp(lo.y.floor(), height));
-        let (x1, y1) = (clamp(hi.x.ceil(), width), clamp(hi.y.ceil(), height));
-        (x0 < x1 && y0 < y1).then_some(PixelRect {
-            x0: x0 as u32,
-            y0: y0 as u32,
-            x1: x1 as u32,
-            y1: y1 as u32,
-        })
+        choose_slab(self.slabs.iter().map(|f| &f.slab), self.bounds, eye)
     }
 }
 
@@ -220,15 +145,6 @@ impl PackedPass for Cropped<'_> {
     }
 }
 
-impl LightFieldObject {
-    fn showing_slab(&self) -> Option<usize> {
-        match self.showing {
-            Showing::Slab(k) => Some(k),
-            _ => None,
-        }
-    }
-}
-
 impl Technique for LightFieldObject {
     fn name(&self) -> &str {
         &self.name
@@ -240,14 +156,9 @@ impl Technique for LightFieldObject {
             None if self.reference.is_some() => Showing::Geometry,
             None => Showing::Nothing,
         };
-        self.rect = self.screen_rect(view.camera, view.width, view.height);
-        self.last = LightFieldFrame::default();
-        if let (Some(r), Some(k)) = (self.rect, self.showing_slab()) {
-            let lo = Vec2::new(r.x0 as f32, r.y0 as f32);
-            let hi = Vec2::new(r.x1 as f32, r.y1 as f32);
-            let crop = view.camera.crop(lo, hi, view.width, view.height);
-            let (w, h) = (r.x1 - r.x0, r.y1 - r.y0);
-            self.last = render(&self.slabs[k], &crop, w, h, self.lookup, &mut self.image);
+        match self.showing {
+            Showing::Slab(k) => self.image.render(&self.slabs[k], view, self.lookup, None),
+            _ => self.image.clear(),
         }
     }
 
@@ -258,6 +169,182 @@ impl Technique for LightFieldObject {
     }
 
     fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        self.image.pass(target)
+    }
+
+    fn counters(&self) -> Counters {
+        Counters {
+            images: self.image.rect.is_some() as u64,
+            geometry: (self.showing == Showing::Geometry) as u64,
+            pixels: self.image.last.pixels,
+            samples: self.image.last.taps,
+            ..Counters::default()
+        }
+    }
+
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        if let Some(g) = &self.reference {
+            g.draws(out);
+        }
+    }
+}
+
+/// The slab of `slabs` that sees the whole sphere `bounds` from `eye`, best aligned with
+/// the view of it (see [`LightFieldObject::choose`]); `None` from inside the sphere, from a
+/// NaN eye, or where no slab sees all of it.
+pub(crate) fn choose_slab<'s>(
+    slabs: impl Iterator<Item = &'s Slab> + Clone,
+    bounds: Sphere,
+    eye: Vec3,
+) -> Option<usize> {
+    let environment = slabs.clone().position(|s| {
+        s.infinite[1]
+            && s.cross(0, eye, s.forward())
+                .is_some_and(|(_, a, b)| (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b))
+    });
+    if environment.is_some() {
+        return environment;
+    }
+    let to = bounds.center - eye;
+    if to.length().is_nan() || to.length() <= bounds.radius {
+        return None;
+    }
+    let dir = to.normalize();
+    // Points all round the sphere (26 directions), a little outside it.
+    let (c, r) = (bounds.center, bounds.radius * 1.05);
+    let points = (0..27)
+        .map(|k| {
+            Vec3::new(
+                (k % 3) as f32 - 1.0,
+                (k / 3 % 3) as f32 - 1.0,
+                (k / 9) as f32 - 1.0,
+            )
+        })
+        .filter(|d| *d != Vec3::ZERO)
+        .map(|d| c + d.normalize() * r);
+    // Best aligned first (ties: the first slab), the first that sees every point taken:
+    // asked of every object every frame by the planner, and the best aligned usually sees.
+    let mut order: Vec<(usize, f32, &Slab)> = slabs
+        .enumerate()
+        .filter(|(_, s)| !s.infinite[1])
+        .map(|(k, s)| (k, s.forward().dot(dir), s))
+        .collect();
+    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    order
+        .into_iter()
+        .find(|(_, _, s)| points.clone().all(|p| sees(s, eye, p - eye)))
+        .map(|(k, _, _)| k)
+}
+
+/// The pixels of a `width` x `height` view `slab`'s focal plane can cover: the bounds of
+/// its corners on screen, or the whole view when a corner is behind the eye; `None` when
+/// off screen.
+fn focal_rect(slab: &Slab, camera: &Camera, width: u32, height: u32) -> Option<PixelRect> {
+    let m = camera.clip_from_world();
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
+    let st = &slab.st;
+    // A plane at infinity's corners are directions: points at infinity.
+    let w = if slab.infinite[1] { 0.0 } else { 1.0 };
+    for p in st.corners() {
+        let c = m * p.extend(w);
+        if c.w.is_nan() || c.w <= 1e-6 {
+            return Some(PixelRect::full(width, height));
+        }
+        let px = Vec2::new(
+            (c.x / c.w + 1.0) * 0.5 * width as f32,
+            (1.0 - c.y / c.w) * 0.5 * height as f32,
+        );
+        lo = lo.min(px);
+        hi = hi.max(px);
+    }
+    let clamp = |v: f32, n: u32| v.clamp(0.0, n as f32);
+    let (x0, y0) = (clamp(lo.x.floor(), width), clamp(lo.y.floor(), height));
+    let (x1, y1) = (clamp(hi.x.ceil(), width), clamp(hi.y.ceil(), height));
+    (x0 < x1 && y0 < y1).then_some(PixelRect {
+        x0: x0 as u32,
+        y0: y0 as u32,
+        x1: x1 as u32,
+        y1: y1 as u32,
+    })
+}
+
+/// The pixels a render of `slab` covers: its focal plane's ([`focal_rect`]), within `clip`
+/// if given; `None` when empty.
+pub(crate) fn drawn_rect(
+    slab: &Slab,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    clip: Option<PixelRect>,
+) -> Option<PixelRect> {
+    let f = focal_rect(slab, camera, width, height)?;
+    let Some(c) = clip else { return Some(f) };
+    let (x0, y0) = (f.x0.max(c.x0), f.y0.max(c.y0));
+    let (x1, y1) = (f.x1.min(c.x1), f.y1.min(c.y1));
+    (x0 < x1 && y0 < y1).then_some(PixelRect { x0, y0, x1, y1 })
+}
+
+/// One frame's image of a light field and its composite, shared by [`LightFieldObject`]
+/// and the planner's light fields ([`super::plan::LightFieldSet`]): a slab rendered
+/// through a crop of the frame camera into the screen rectangle its focal plane covers
+/// (its buffers kept frame to frame), then drawn over the frame by a depth-tested image
+/// pass that blends its edges "over" and writes its proxy's depth.
+#[derive(Debug)]
+pub(crate) struct Composite {
+    image: Warped,
+    /// The pixels the image covers (`None`: nothing to draw).
+    pub(crate) rect: Option<PixelRect>,
+    /// The last render's work.
+    pub(crate) last: LightFieldFrame,
+}
+
+impl Composite {
+    /// Nothing to draw; `camera` is a placeholder for the empty image's.
+    pub(crate) fn new(camera: Camera) -> Self {
+        Composite {
+            image: Warped::new(0, 0, camera),
+            rect: None,
+            last: LightFieldFrame::default(),
+        }
+    }
+
+    /// Nothing to draw this frame (the buffers are kept).
+    pub(crate) fn clear(&mut self) {
+        self.rect = None;
+        self.last = LightFieldFrame::default();
+    }
+
+    /// Renders `field` as `view` sees it into the pixels its focal plane covers, within
+    /// `clip` if given (nothing when off screen or the view is empty).
+    pub(crate) fn render(
+        &mut self,
+        field: &LightField,
+        view: &FrameView<'_>,
+        lookup: Lookup,
+        clip: Option<PixelRect>,
+    ) {
+        self.clear();
+        self.rect = drawn_rect(&field.slab, view.camera, view.width, view.height, clip);
+        if let Some(r) = self.rect {
+            let lo = Vec2::new(r.x0 as f32, r.y0 as f32);
+            let hi = Vec2::new(r.x1 as f32, r.y1 as f32);
+            let crop = view.camera.crop(lo, hi, view.width, view.height);
+            let (w, h) = (r.x1 - r.x0, r.y1 - r.y0);
+            self.last = render(field, &crop, w, h, lookup, &mut self.image);
+        }
+    }
+
+    /// Multiplies the rendered colours by `tint` (premultiplied linear, alpha kept).
+    pub(crate) fn tint(&mut self, tint: Rgba) {
+        let enc = Encoder::new(ENCODING);
+        for c in self.image.color.iter_mut().filter(|c| **c != 0) {
+            let p = unpack(ENCODING, *c);
+            *c = enc.pack(p.r * tint.r, p.g * tint.g, p.b * tint.b, p.a);
+        }
+    }
+
+    /// Composites the image over `target`, depth-tested; returns the pass's work.
+    pub(crate) fn pass(&self, target: &mut Target) -> FrameStats {
         let Some(rect) = self.rect else {
             return FrameStats::default();
         };
@@ -271,21 +358,5 @@ impl Technique for LightFieldObject {
             ..PassMode::default()
         };
         run_packed_pass(target, rect, &pass, mode)
-    }
-
-    fn counters(&self) -> Counters {
-        Counters {
-            images: self.rect.is_some() as u64,
-            geometry: (self.showing == Showing::Geometry) as u64,
-            pixels: self.last.pixels,
-            samples: self.last.taps,
-            ..Counters::default()
-        }
-    }
-
-    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        if let Some(g) = &self.reference {
-            g.draws(out);
-        }
     }
 }
