@@ -41,16 +41,17 @@ use crate::showcase::{self, Showcase};
 use crate::sweep::{self, CsvRow};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
+use ibr::billboard::BillboardSet;
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
+use ibr::lightfield::LightFieldSet;
 use ibr::metrics::{self, Options};
-use ibr::billboard::BillboardSet;
 use ibr::octahedral::{Layout, OctahedralSet};
-use ibr::warp::{self, DepthImageSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
+use ibr::warp::{self, DepthImageSet};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -309,9 +310,9 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
 /// The planners' representations, in their order: geometry, runtime impostors, image
 /// layers, baked octahedral impostors (8 x 8 views of 32 pixels over the upper
 /// hemisphere), depth images and LDIs of [`LDI_LAYERS`] layers (each object's captured
-/// from the eye and warped to the view), and axial billboards (64 pixels, baked from the
-/// side).
-pub const REPRESENTATIONS: [&str; 7] = [
+/// from the eye and warped to the view), axial billboards (64 pixels, baked from the
+/// side) and light fields (six slabs of 8 x 8 cameras of 32 pixels around each object).
+pub const REPRESENTATIONS: [&str; 8] = [
     "geometry",
     "impostors",
     "layers",
@@ -319,6 +320,7 @@ pub const REPRESENTATIONS: [&str; 7] = [
     "depth images",
     "LDIs",
     "billboards",
+    "light fields",
 ];
 
 /// Layers the planners' LDIs peel.
@@ -356,7 +358,8 @@ fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Plann
             3 => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
             4 => Box::new(DepthImageSet::new(depth(1), n)),
             5 => Box::new(DepthImageSet::new(depth(LDI_LAYERS), n)),
-            _ => Box::new(BillboardSet::new(n, 64)),
+            6 => Box::new(BillboardSet::new(n, 64)),
+            _ => Box::new(LightFieldSet::new(n, 8, 32)),
         });
     }
     let config = plan::Config {

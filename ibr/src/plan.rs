@@ -46,7 +46,7 @@ pub use cost::{CostModel, Work};
 pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
-use crate::impostor::{pixels_per_radian, screen_rect, Frustum};
+use crate::impostor::{screen_rect, Frustum};
 use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::FrameView;
@@ -54,15 +54,17 @@ use engine::{Draw, FrameStats, Material, Rgba, Target};
 use rayon::prelude::*;
 
 /// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
-/// order (cycling past the sixth), with their names for a legend: geometry first in the
+/// order (cycling past the eighth), with their names for a legend: geometry first in the
 /// usual order, so white; images tinted green, blue, ...
-pub const TINTS: [(&str, Rgba); 6] = [
+pub const TINTS: [(&str, Rgba); 8] = [
     ("white", Rgba::new(1.0, 1.0, 1.0, 1.0)),
     ("green", Rgba::new(0.3, 1.0, 0.3, 1.0)),
     ("blue", Rgba::new(0.35, 0.55, 1.0, 1.0)),
     ("magenta", Rgba::new(1.0, 0.35, 1.0, 1.0)),
     ("yellow", Rgba::new(1.0, 1.0, 0.3, 1.0)),
     ("cyan", Rgba::new(0.3, 1.0, 1.0, 1.0)),
+    ("orange", Rgba::new(1.0, 0.6, 0.2, 1.0)),
+    ("violet", Rgba::new(0.6, 0.35, 1.0, 1.0)),
 ];
 
 /// The debug colour of the `r`-th representation, and its name ([`TINTS`]).
@@ -374,8 +376,6 @@ impl<S: Subject + Send + Sync> Planner<S> {
         let eye = camera.eye();
         self.eye = eye;
         let frustum = Frustum::new(camera.clip_from_world());
-        let ppr = pixels_per_radian(camera, view.height);
-        let frame_px = view.width as f32 * view.height as f32;
         let mut previous = std::mem::take(&mut self.previous);
         previous.clear();
         previous.extend(self.choices.iter().map(|c| c.rep));
@@ -408,24 +408,9 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 if !frustum.sees(bounds.center, bounds.radius) {
                     continue;
                 }
-                let distance = eye.distance(bounds.center);
-                let pixels = if distance > bounds.radius {
-                    let r_px = (bounds.radius / distance).asin() * ppr;
-                    (std::f32::consts::PI * r_px * r_px).min(frame_px)
-                } else {
-                    frame_px
-                };
-                let sight = Sight {
-                    camera,
-                    eye,
-                    width: view.width,
-                    height: view.height,
-                    px_per_radian: ppr,
-                    bounds,
-                    distance,
-                    pixels,
-                };
                 let (w, h) = (view.width, view.height);
+                let sight = Sight::new(camera, w, h, bounds);
+                let pixels = sight.pixels;
                 let rect = screen_rect(camera, bounds.center, bounds.radius, w, h);
                 let i = c * CHUNK + k;
                 seen.objects.push((i, pixels, rect.unwrap_or_default()));

@@ -2,8 +2,10 @@
 //! city at four detail levels with the same silhouettes and distant tori (triangle cost),
 //! stacks of
 //! screen-filling lit quads and image quads (pixel costs), and
-//! batches of impostor rebuilds through the planner's own call (capture cost), each timed
-//! as the median of several repeats; the per-unit times are a least-squares fit.
+//! batches of impostor rebuilds through the planner's own call (capture cost), and the
+//! image passes of depth images, LDIs and light fields (sample cost), each timed as the
+//! median of several repeats; the per-unit times are a least-squares fit, the capture and
+//! sample costs what the fit leaves unexplained per capture and per sample.
 
 use crate::bench_impostors::frame_camera;
 use crate::city::{City, Path as CityPath};
@@ -12,30 +14,46 @@ use engine::procedural;
 use engine::{Camera, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};
 use ibr::impostor::{self, ImpostorSet};
-use ibr::plan::{CostModel, Representation};
+use ibr::lightfield::LightFieldSet;
+use ibr::plan::{CostModel, Representation, Sight};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::FrameView;
+use ibr::warp::{self, DepthImageSet};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// One timed configuration.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Calibration {
     pub experiment: &'static str,
     pub triangles: u64,
     pub pixels: u64,
     pub image_pixels: u64,
     pub captures: u64,
+    /// Image passes, the pixels they cover and the reference samples they read
+    /// (predicted).
+    pub passes: u64,
+    pub pass_pixels: u64,
+    pub samples: u64,
     pub ms: f64,
 }
 
 impl CsvRow for Calibration {
-    const HEADER: &'static str = "experiment,triangles,pixels,image_pixels,captures,ms";
+    const HEADER: &'static str =
+        "experiment,triangles,pixels,image_pixels,captures,passes,pass_pixels,samples,ms";
 
     fn csv(&self) -> String {
         format!(
-            "{},{},{},{},{},{:.4}",
-            self.experiment, self.triangles, self.pixels, self.image_pixels, self.captures, self.ms
+            "{},{},{},{},{},{},{},{},{:.4}",
+            self.experiment,
+            self.triangles,
+            self.pixels,
+            self.image_pixels,
+            self.captures,
+            self.passes,
+            self.pass_pixels,
+            self.samples,
+            self.ms
         )
     }
 }
@@ -91,6 +109,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             image_pixels: 0,
             captures: 0,
             ms,
+            ..Calibration::default()
         });
     }
     // Triangles far away: tori of 2000 triangles a few pixels across, as distant objects
@@ -121,6 +140,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             image_pixels: 0,
             captures: 0,
             ms,
+            ..Calibration::default()
         });
     }
     // Pixels: stacks of quads filling the view, drawn back to front so each is shaded: lit
@@ -148,6 +168,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
                 image_pixels: if is_image { px } else { 0 },
                 captures: 0,
                 ms,
+                ..Calibration::default()
             });
         }
     }
@@ -181,12 +202,77 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
         image_pixels: 0,
         captures: done.captures,
         ms,
+        ..Calibration::default()
     });
     let per_capture = (ms - fit.ms(done) as f64) / done.captures.max(1) as f64;
-    let model = CostModel {
+    let mut model = CostModel {
         us_per_capture: (per_capture * 1e3).max(0.0) as f32,
         ..fit
     };
+    // Image passes: objects held as depth images, LDIs and light fields (4 x 4 tori of
+    // 2000 triangles, at three distances), prepared and composited; what the fit above
+    // leaves of each time is fitted to the passes, their pixels and their samples.
+    let grid = count(16.0).min(16);
+    let first = rows.len();
+    for z in [-7.0, -14.0, -28.0] {
+        let spread = -z / 14.0;
+        let held: Vec<MeshGroup> = (0..grid)
+            .map(|k| {
+                let x = (k % 4) as f32 * 3.0 - 4.5;
+                let y = (k / 4) as f32 * 2.4 - 3.6;
+                let at = Vec3::new(x * spread, y * spread, z);
+                MeshGroup::new().with(torus.clone(), lit.clone(), Mat4::from_translation(at))
+            })
+            .collect();
+        let ldi = warp::plan::Config {
+            layers: 3,
+            ..warp::plan::Config::default()
+        };
+        let held_by: [(&'static str, Box<dyn Representation<MeshGroup>>); 3] = [
+            (
+                "warps",
+                Box::new(DepthImageSet::new(Default::default(), grid)),
+            ),
+            ("ldi warps", Box::new(DepthImageSet::new(ldi, grid))),
+            ("fields", Box::new(LightFieldSet::new(grid, 8, 32))),
+        ];
+        for (experiment, mut rep) in held_by {
+            let mut subjects = held.clone();
+            let all: Vec<usize> = (0..grid).collect();
+            rep.rebuild(&all, &mut subjects, &view);
+            let mut work = ibr::plan::Work::default();
+            for (i, s) in subjects.iter().enumerate() {
+                let sight = Sight::new(&camera, w, h, s.bounds());
+                work += rep
+                    .estimate(i, s, &sight)
+                    .map(|e| e.draw)
+                    .unwrap_or_default();
+            }
+            let ms = median(reps, || {
+                rep.prepare(&all, &subjects, &view);
+                rep.passes(&view, &mut target);
+            });
+            rows.push(Calibration {
+                experiment,
+                passes: work.passes,
+                pass_pixels: work.pass_pixels,
+                samples: work.samples,
+                // Time besides the passes' own work (none for these representations).
+                ms: ms
+                    - model.ms(ibr::plan::Work {
+                        passes: 0,
+                        pass_pixels: 0,
+                        samples: 0,
+                        ..work
+                    }) as f64,
+                ..Calibration::default()
+            });
+        }
+    }
+    let [a, b, c] = fit_passes(&rows[first..]);
+    model.us_per_pass = (a * 1e3).max(0.0) as f32;
+    model.ns_per_pass_pixel = (b * 1e6).max(0.0) as f32;
+    model.ns_per_sample = (c * 1e6).max(0.0) as f32;
     (model, rows)
 }
 
@@ -214,9 +300,26 @@ fn fit(rows: &[Calibration]) -> CostModel {
         ns_per_triangle: (s[0] * 1e6).max(0.0) as f32,
         ns_per_pixel: (s[1] * 1e6).max(0.0) as f32,
         ns_per_image_pixel: (s[2] * 1e6).max(0.0) as f32,
+        // Fitted apart (see `calibrate`).
         us_per_capture: 0.0,
-        ns_per_sample: CostModel::default().ns_per_sample,
+        ..CostModel::default()
     }
+}
+
+/// Least squares of `ms = a passes + b pass_pixels + c samples` over `rows`.
+fn fit_passes(rows: &[Calibration]) -> [f64; 3] {
+    let mut m = [[0.0f64; 3]; 3];
+    let mut v = [0.0f64; 3];
+    for r in rows {
+        let x = [r.passes as f64, r.pass_pixels as f64, r.samples as f64];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += x[i] * x[j];
+            }
+            v[i] += x[i] * r.ms;
+        }
+    }
+    solve(m, v).unwrap_or([0.0; 3])
 }
 
 /// `m x = v` by Gaussian elimination with partial pivoting.
@@ -280,13 +383,39 @@ mod tests {
                 triangles: t,
                 pixels: p,
                 image_pixels: i,
-                captures: 0,
                 ms: (t as f64 * 40.0 + p as f64 * 3.0 + i as f64 * 5.0) * 1e-6 + 0.2,
+                ..Calibration::default()
             })
             .collect();
         let m = fit(&rows);
         assert!((m.ns_per_triangle - 40.0).abs() < 1e-2, "{m:?}");
         assert!((m.ns_per_pixel - 3.0).abs() < 1e-3, "{m:?}");
         assert!((m.ns_per_image_pixel - 5.0).abs() < 1e-3, "{m:?}");
+    }
+
+    #[test]
+    fn the_pass_fit_recovers_known_per_unit_costs() {
+        let rows: Vec<Calibration> = [
+            (16u64, 60000u64, 20000u64),
+            (16, 30000, 130000),
+            (16, 6000, 60000),
+            (8, 15000, 5000),
+        ]
+        .iter()
+        .map(|&(n, px, s)| Calibration {
+            experiment: "synthetic",
+            passes: n,
+            pass_pixels: px,
+            samples: s,
+            ms: n as f64 * 0.04 + (px as f64 * 58.0 + s as f64 * 4.0) * 1e-6,
+            ..Calibration::default()
+        })
+        .collect();
+        let [a, b, c] = fit_passes(&rows);
+        assert!(
+            (a - 0.04).abs() < 1e-6 && (b * 1e6 - 58.0).abs() < 1e-3,
+            "{a} {b}"
+        );
+        assert!((c * 1e6 - 4.0).abs() < 1e-3, "{c}");
     }
 }

@@ -696,16 +696,16 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         let run = |_: &mut dyn FnMut(usize, usize, &str)| {
             let (model, rows) = bbu::calibrate(size, scale, reps);
             println!(
-                "cost model: {:.1} ns per triangle, {:.2} ns per lit pixel, {:.2} ns per image pixel, {:.1} us per capture",
-                model.ns_per_triangle, model.ns_per_pixel, model.ns_per_image_pixel, model.us_per_capture
+                "cost model: {:.1} ns per triangle, {:.2} ns per lit pixel, {:.2} ns per image pixel, {:.1} us per capture, {:.1} us per image pass, {:.2} ns per pass pixel, {:.2} ns per sample",
+                model.ns_per_triangle, model.ns_per_pixel, model.ns_per_image_pixel, model.us_per_capture, model.us_per_pass, model.ns_per_pass_pixel, model.ns_per_sample
             );
             Ok(rows)
         };
         let report = |rows: &[bbu::Calibration]| {
             for r in rows {
                 println!(
-                    "{:<9} {:>9} triangles {:>9} pixels {:>9} image pixels {:>4} captures {:>8.3} ms",
-                    r.experiment, r.triangles, r.pixels, r.image_pixels, r.captures, r.ms
+                    "{:<9} {:>9} triangles {:>9} pixels {:>9} image pixels {:>4} captures {:>3} passes {:>7} pass pixels {:>7} samples {:>8.3} ms",
+                    r.experiment, r.triangles, r.pixels, r.image_pixels, r.captures, r.passes, r.pass_pixels, r.samples, r.ms
                 );
             }
         };

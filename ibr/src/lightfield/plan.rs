@@ -373,8 +373,9 @@ impl<S: Subject + Send + Sync> Representation<S> for LightFieldSet {
             error,
             rebuilt,
             draw: Work {
+                passes: 1,
+                pass_pixels: area,
                 samples: area * taps(self.lookup),
-                image_pixels: sight.pixels as u64,
                 ..Work::default()
             },
             rebuild: Work {

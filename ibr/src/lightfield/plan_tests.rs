@@ -7,8 +7,8 @@ use super::plan::{bake_bytes, lightfield_error, taps, view_terms, Gradients, Lig
 use super::*;
 use crate::impostor::screen_rect;
 use crate::plan::tests::{
-    assert_released_when_away, camera, camera_at, fit_bound, frame, lighting, measured, render,
-    sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_released_when_away, camera, camera_at, dear_geometry, fit_bound, frame, lighting,
+    measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
 };
 use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -293,6 +293,7 @@ fn planner(error: f32) -> Planner<MeshGroup> {
             rebuilds: 8,
             ..Budgets::default()
         },
+        cost: dear_geometry(),
         ..plan::Config::default()
     };
     Planner::new(config, objects, reps)

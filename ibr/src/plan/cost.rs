@@ -15,8 +15,14 @@ pub struct Work {
     pub image_pixels: u64,
     /// Offscreen renders started (each clears and resolves a target of its own).
     pub captures: u64,
-    /// Reference samples read by image passes (a depth image's texels warped, a light
-    /// field's samples blended), besides the pixels they write.
+    /// Image passes run (one per object an image pass draws: its buffers cleared, its
+    /// work dispatched).
+    pub passes: u64,
+    /// Pixels image passes cover (each object's rectangle: warped into, holes filled,
+    /// composited).
+    pub pass_pixels: u64,
+    /// Reference samples image passes read (a depth image's texels warped, a light
+    /// field's samples blended).
     pub samples: u64,
 }
 
@@ -28,6 +34,8 @@ impl Add for Work {
             pixels: self.pixels + o.pixels,
             image_pixels: self.image_pixels + o.image_pixels,
             captures: self.captures + o.captures,
+            passes: self.passes + o.passes,
+            pass_pixels: self.pass_pixels + o.pass_pixels,
             samples: self.samples + o.samples,
         }
     }
@@ -41,8 +49,9 @@ impl AddAssign for Work {
 
 /// Per-unit times, fitted by least squares to measured frames (`bench budget --calibrate`
 /// renders the city at several triangle counts with the same silhouettes and many distant
-/// tori, stacks of lit and of image quads, and batches of impostor rebuilds, and prints a
-/// model; BENCHMARKS.md gives the runs the defaults come from). Times are for the whole
+/// tori, stacks of lit and of image quads, batches of impostor rebuilds, and the image
+/// passes of depth images, LDIs and light fields at three sizes, and prints a model;
+/// BENCHMARKS.md gives the runs the defaults come from). Times are for the whole
 /// machine (both cores), as a frame sees them. One cost per triangle is a compromise: the
 /// city's mid-sized triangles alone fit 84 to 93 ns, distant tori's 24.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,7 +64,10 @@ pub struct CostModel {
     pub ns_per_image_pixel: f32,
     /// Microseconds per offscreen render, besides its triangles and pixels.
     pub us_per_capture: f32,
-    /// Nanoseconds per reference sample an image pass reads.
+    /// Microseconds per image pass, nanoseconds per pixel it covers and per reference
+    /// sample it reads.
+    pub us_per_pass: f32,
+    pub ns_per_pass_pixel: f32,
     pub ns_per_sample: f32,
 }
 
@@ -68,7 +80,13 @@ impl Default for CostModel {
             ns_per_pixel: 5.8,
             ns_per_image_pixel: 6.4,
             us_per_capture: 13.0,
-            ns_per_sample: 5.0,
+            // Image passes: the mean of two runs' fits (37 and 66 us per pass, 82 and 80 ns
+            // per pixel). Warps cost more per pixel than light fields (93 against 48 ns)
+            // though they read a tenth of the samples, so the shared fit puts no cost on
+            // samples: one cost per pass pixel is a compromise, as per triangle is.
+            us_per_pass: 52.0,
+            ns_per_pass_pixel: 81.0,
+            ns_per_sample: 0.0,
         }
     }
 }
@@ -79,7 +97,9 @@ impl CostModel {
         let ns = w.triangles as f32 * self.ns_per_triangle
             + w.pixels as f32 * self.ns_per_pixel
             + w.image_pixels as f32 * self.ns_per_image_pixel
+            + w.pass_pixels as f32 * self.ns_per_pass_pixel
             + w.samples as f32 * self.ns_per_sample;
-        ns * 1e-6 + w.captures as f32 * self.us_per_capture * 1e-3
+        let us = w.captures as f32 * self.us_per_capture + w.passes as f32 * self.us_per_pass;
+        ns * 1e-6 + us * 1e-3
     }
 }

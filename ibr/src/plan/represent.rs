@@ -27,7 +27,32 @@ pub struct Sight<'a> {
     pub pixels: f32,
 }
 
-impl Sight<'_> {
+impl<'a> Sight<'a> {
+    /// How an object with bounding sphere `bounds` is seen by `camera` in a `width` x
+    /// `height` target (the planner's own, for callers that estimate outside it).
+    pub fn new(camera: &'a Camera, width: u32, height: u32, bounds: Sphere) -> Sight<'a> {
+        let eye = camera.eye();
+        let px_per_radian = crate::impostor::pixels_per_radian(camera, height);
+        let distance = eye.distance(bounds.center);
+        let frame_px = width as f32 * height as f32;
+        let pixels = if distance > bounds.radius {
+            let r_px = (bounds.radius / distance).asin() * px_per_radian;
+            (std::f32::consts::PI * r_px * r_px).min(frame_px)
+        } else {
+            frame_px
+        };
+        Sight {
+            camera,
+            eye,
+            width,
+            height,
+            px_per_radian,
+            bounds,
+            distance,
+            pixels,
+        }
+    }
+
     /// Whether the eye is within `k` radii of the centre (images of the object break down).
     pub fn within(&self, k: f32) -> bool {
         self.distance.partial_cmp(&(self.bounds.radius * k)) != Some(std::cmp::Ordering::Greater)

@@ -57,21 +57,7 @@ pub(crate) fn view_at(x: f32) -> Camera {
 
 /// How the planner sees object `s` from `camera` (its pixels as the planner counts them).
 pub(crate) fn sight<'a>(camera: &'a Camera, s: &impl Subject) -> Sight<'a> {
-    let bounds = s.bounds();
-    let eye = camera.eye();
-    let distance = eye.distance(bounds.center);
-    let px_per_radian = pixels_per_radian(camera, H);
-    let r_px = (bounds.radius / distance).min(1.0).asin() * px_per_radian;
-    Sight {
-        camera,
-        eye,
-        width: W,
-        height: H,
-        px_per_radian,
-        bounds,
-        distance,
-        pixels: (std::f32::consts::PI * r_px * r_px).min((W * H) as f32),
-    }
+    Sight::new(camera, W, H, s.bounds())
 }
 
 /// Renders `draws` on a transparent target under the tests' light.
@@ -165,6 +151,18 @@ pub(crate) fn subjects() -> Vec<MeshGroup> {
                 Mat4::from_translation(Vec3::new(0.3, 0.1, 0.0)),
             ),
     ]
+}
+
+/// The cost model with the tori's triangles priced as a detailed model's (a hundred times
+/// the calibrated cost each): what makes a representation drawn by image passes, tens of
+/// microseconds each, cheaper than an object's geometry, for tests of the planner with
+/// them among its choices.
+pub(crate) fn dear_geometry() -> CostModel {
+    let cost = CostModel::default();
+    CostModel {
+        ns_per_triangle: cost.ns_per_triangle * 100.0,
+        ..cost
+    }
 }
 
 /// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is

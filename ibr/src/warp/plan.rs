@@ -286,8 +286,9 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
             error,
             rebuilt,
             draw: Work {
+                passes: 1,
+                pass_pixels: u64::from(rect.width) * u64::from(rect.height),
                 samples,
-                image_pixels: u64::from(rect.width) * u64::from(rect.height),
                 ..Work::default()
             },
             rebuild: Work {

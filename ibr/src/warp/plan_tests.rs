@@ -5,8 +5,8 @@
 
 use super::plan::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use crate::plan::tests::{
-    assert_released_when_away, camera, camera_at, fit_bound, frame, lighting, measured, render,
-    sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_released_when_away, camera, camera_at, dear_geometry, fit_bound, frame, lighting,
+    measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
 };
 use crate::plan::{self, Budgets, Estimate, Geometry, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -201,7 +201,7 @@ fn a_changed_or_moved_subject_and_a_never_captured_one_have_infinite_error() {
     let fresh = Rep::estimate(&set, 0, &subjects[0], &seen).expect("seen");
     assert!(fresh.error.is_finite(), "{fresh:?}");
     assert!(
-        fresh.draw.samples > 0 && fresh.draw.image_pixels > 0,
+        fresh.draw.samples > 0 && fresh.draw.pass_pixels > 0 && fresh.draw.passes == 1,
         "{fresh:?}"
     );
     assert_eq!(fresh.memory, Rep::memory(&set));
@@ -253,6 +253,7 @@ fn planner(layers: usize, error: f32) -> Planner<MeshGroup> {
             rebuilds: 8,
             ..Budgets::default()
         },
+        cost: dear_geometry(),
         ..plan::Config::default()
     };
     Planner::new(config, objects, reps)
@@ -282,10 +283,8 @@ fn assert_all_shown(p: &Planner<MeshGroup>, cam: &Camera, got: &Target, r: &mut 
                 }
             }
         }
-        assert!(
-            covered > 0 && shown * 10 >= covered * 9,
-            "object {i}: {shown} of {covered}"
-        );
+        // (An object whose sphere the frustum keeps may itself lie off the view.)
+        assert!(shown * 10 >= covered * 9, "object {i}: {shown} of {covered}");
     }
 }
 
