@@ -5,15 +5,18 @@
 //! sideways) and a large [`World`] (tens of thousands of objects, over ten million
 //! triangles, flown over).
 //!
-//! Methods: `geometry` (every object's triangles, frustum-culled by the planner), `impostors`
-//! (runtime impostors with their own policy: refresh past a tolerance in levels, geometry
-//! for stale images), `layers` (image layers with theirs: re-render past a geometric error
-//! in pixels, the `budget` column's unit for these rows only), `planner` (geometry, an
-//! impostor, a layer or an octahedral bake per object ([`REPRESENTATIONS`]), chosen by
-//! predicted error and cost within [`MEMORY`], every object within the budget) and `planner-frame` (the same, with the budget on the frame's
-//! error with a margin for its spread, [`Scope::Frame`]). Impostors and the planners are
-//! swept over the same error budgets in levels, layers over as many thresholds, all with the same rebuild budget per frame (a sixteenth of the objects, at
-//! least [`Plan::rebuilds`]). Each run first holds still for
+//! Methods: `geometry` (every object's triangles, frustum-culled by the planner),
+//! `impostors` (runtime impostors with their own policy: refresh past a tolerance in
+//! levels, geometry for stale images), `layers` (image layers with theirs: re-render past a
+//! geometric error in pixels, the `budget` column's unit for these rows only), each other
+//! representation alone (`octahedral`, `depth images`, `LDIs`, `billboards`, `light
+//! fields`: wherever its predicted error is within the budget, geometry elsewhere,
+//! [`ALONE`]), `planner` (any of the eight [`REPRESENTATIONS`] per object, chosen by
+//! predicted error and cost within [`MEMORY`], every object within the budget) and
+//! `planner-frame` (the same, with the budget on the frame's error with a margin for its
+//! spread, [`Scope::Frame`]). All but layers are swept over the same error budgets in
+//! levels, layers over as many thresholds, all with the same rebuild budget per frame (a
+//! sixteenth of the objects, at least [`Plan::rebuilds`]). Each run first holds still for
 //! [`Plan::warmup`] frames at its first view (images are taken as a game loading a level
 //! would); then every frame is timed (the frame loop's `prepare`, rebuilds included, and the
 //! render) and measured against a render of all the geometry from the same eye:
@@ -129,8 +132,9 @@ impl Plan {
 #[derive(Clone, Debug)]
 pub struct Row {
     pub scene: &'static str,
-    /// `geometry`, `impostors`, `layers`, `planner` (the error budget per object) or
-    /// `planner-frame` (over the frame, [`Scope::Frame`]).
+    /// `geometry`, `impostors`, `layers`, `planner` (the error budget per object),
+    /// `planner-frame` (over the frame, [`Scope::Frame`]) or a representation run alone
+    /// ([`ALONE`]).
     pub method: &'static str,
     /// Levels (pixels for layers, 0 for geometry).
     pub budget: f32,
@@ -278,7 +282,8 @@ fn showcase_scene() -> Scene {
 /// Runs the sweep.
 pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let scenes = scenes(plan);
-    let runs = scenes.len() * (1 + 3 * plan.budgets.len() + plan.layer_px.len());
+    let alone = REPRESENTATIONS.len() - ALONE;
+    let runs = scenes.len() * (1 + (3 + alone) * plan.budgets.len() + plan.layer_px.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for scene in &scenes {
@@ -297,6 +302,11 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             whole.config.budgets.scope = Scope::Frame;
             let flown = fly(scene, plan, b, &mut whole);
             rows.push(flown.row(scene, "planner-frame", b, plan));
+            for (k, &name) in REPRESENTATIONS.iter().enumerate().skip(ALONE) {
+                tick(format!("{} {name} {b}", scene.name));
+                let flown = fly(scene, plan, b, &mut planner_of(scene, plan, b, &[k]));
+                rows.push(flown.row(scene, name, b, plan));
+            }
         }
         for &px in &plan.layer_px {
             tick(format!("{} layers {px} px", scene.name));
@@ -322,6 +332,12 @@ pub const REPRESENTATIONS: [&str; 8] = [
     "billboards",
     "light fields",
 ];
+
+/// The representations from this one on ([`REPRESENTATIONS`]) are also run alone, each
+/// wherever its predicted error is within the budget and geometry elsewhere (the planner
+/// choosing between the two): those before have single-technique runs of their own
+/// policies (`impostors`, `layers`).
+pub const ALONE: usize = 3;
 
 /// Layers the planners' LDIs peel.
 pub const LDI_LAYERS: usize = 3;
@@ -727,6 +743,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
     use crate::chart::{Chart, Line, Lines};
     let mut out = Vec::new();
     for (scene, file) in [
+        ("showcase", "budget_time_error_showcase.png"),
         ("city", "budget_time_error_city.png"),
         ("world", "budget_time_error_world.png"),
     ] {
@@ -747,13 +764,12 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
                 "Measured error against frame time, over the error budget",
                 "median frame time (ms)",
                 "mean abs error over objects (8-bit levels)",
-                vec![
-                    series("geometry"),
-                    series("impostors"),
-                    series("layers"),
-                    series("planner"),
-                    series("planner-frame"),
-                ],
+                ["geometry", "impostors", "layers"]
+                    .into_iter()
+                    .chain(REPRESENTATIONS[ALONE..].iter().copied())
+                    .chain(["planner", "planner-frame"])
+                    .map(series)
+                    .collect(),
             )),
         ));
     }
@@ -767,7 +783,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
         pts
     };
     let mut lines = Vec::new();
-    for scene in ["city", "world"] {
+    for scene in ["showcase", "city", "world"] {
         if rows.iter().any(|r| r.scene == scene) {
             let predicted = planner(scene, &|r| r.predicted_mean);
             let measured = planner(scene, &|r| r.measured_mean);

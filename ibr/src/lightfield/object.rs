@@ -222,18 +222,20 @@ pub(crate) fn choose_slab<'s>(
         })
         .filter(|d| *d != Vec3::ZERO)
         .map(|d| c + d.normalize() * r);
-    // Best aligned first (ties: the first slab), the first that sees every point taken:
-    // asked of every object every frame by the planner, and the best aligned usually sees.
-    let mut order: Vec<(usize, f32, &Slab)> = slabs
-        .enumerate()
-        .filter(|(_, s)| !s.infinite[1])
-        .map(|(k, s)| (k, s.forward().dot(dir), s))
-        .collect();
-    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    order
-        .into_iter()
-        .find(|(_, _, s)| points.clone().all(|p| sees(s, eye, p - eye)))
-        .map(|(k, _, _)| k)
+    // The best aligned (ties: the first slab) of those that see every point: asked of
+    // every object every frame by the planner, so a slab is checked only when it would be
+    // better aligned than the best found, and nothing is allocated.
+    let mut best: Option<(usize, f32)> = None;
+    for (k, s) in slabs.enumerate().filter(|(_, s)| !s.infinite[1]) {
+        let align = s.forward().dot(dir);
+        if best.is_some_and(|(_, b)| align <= b) {
+            continue;
+        }
+        if points.clone().all(|p| sees(s, eye, p - eye)) {
+            best = Some((k, align));
+        }
+    }
+    best.map(|(k, _)| k)
 }
 
 /// The pixels of a `width` x `height` view `slab`'s focal plane can cover: the bounds of

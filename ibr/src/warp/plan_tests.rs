@@ -284,7 +284,10 @@ fn assert_all_shown(p: &Planner<MeshGroup>, cam: &Camera, got: &Target, r: &mut 
             }
         }
         // (An object whose sphere the frustum keeps may itself lie off the view.)
-        assert!(shown * 10 >= covered * 9, "object {i}: {shown} of {covered}");
+        assert!(
+            shown * 10 >= covered * 9,
+            "object {i}: {shown} of {covered}"
+        );
     }
 }
 
