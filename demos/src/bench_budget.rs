@@ -342,6 +342,12 @@ pub const ALONE: usize = 3;
 /// Layers the planners' LDIs peel.
 pub const LDI_LAYERS: usize = 3;
 
+/// The planners' predicted milliseconds of rebuilds per frame: what a game might give
+/// them, and what keeps bakes of many captures each (a billboard's 57, a light field's
+/// 384) from taking whole seconds while the count budget allows them (the impostors' own
+/// rebuilds predict about 30 ms at the world's count budget).
+pub const REBUILD_MS: f32 = 40.0;
+
 /// The planners' memory budget, bytes: what a game might give images (the other methods
 /// hold at most 46 MB in these scenes; an octahedral bake holds 1.3 MB).
 pub const MEMORY: usize = 256 << 20;
@@ -382,6 +388,7 @@ fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Plann
         budgets: Budgets {
             error: budget,
             rebuilds: rebuilds(scene, plan),
+            rebuild_ms: Some(REBUILD_MS),
             memory: Some(MEMORY),
             ..Budgets::default()
         },

@@ -28,7 +28,7 @@
 
 use super::bake::{bake, bake_bounds, bake_work, horizontal, Profile, ELEVATIONS};
 use super::{push_quad, UvRect};
-use crate::impostor::pull_near;
+use crate::impostor::{needed_side, pixels_per_radian, pull_near};
 use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::schedule::pick_mut;
 use crate::subject::Subject;
@@ -80,6 +80,9 @@ pub const PRIOR: (f32, f32, f32, f32) = (4.0, 0.2, 1.0, 40.0);
 
 /// The frames a bake is weighed as lasting by default: a minute at 60 frames a second.
 pub const PAYBACK: f32 = 3600.0;
+
+/// The smallest bake, pixels a side ([`BillboardSet::px`] the largest).
+pub const MIN_PX: u32 = 16;
 
 /// The predicted mean absolute 8-bit error over the object's screen rectangle of a
 /// billboard with profile `p` seen from `azimuth` and `elevation` (radians) off its baked
@@ -161,7 +164,8 @@ fn texture_bytes(t: &Texture) -> usize {
 /// changes or moves.
 #[derive(Clone, Debug)]
 pub struct BillboardSet {
-    /// Side of a new bake's image, and of its probes, pixels.
+    /// Largest side of a new bake's image (each object's is twice its screen diameter when
+    /// baked, from [`MIN_PX`] up to this), and the side of its probes, pixels.
     pub px: u32,
     pub probe_px: u32,
     /// The horizontal direction a new bake is taken from (toward the viewer).
@@ -179,7 +183,7 @@ pub struct BillboardSet {
 }
 
 impl BillboardSet {
-    /// A set for `count` objects, none baked; images of `px` pixels from +Z, 32-pixel
+    /// A set for `count` objects, none baked; images of up to `px` pixels from +Z, 32-pixel
     /// probes.
     pub fn new(count: usize, px: u32) -> Self {
         BillboardSet {
@@ -192,6 +196,15 @@ impl BillboardSet {
             sum: None,
             tint: None,
         }
+    }
+
+    /// The side of a bake of an object with bounds `b` seen from `distance` at
+    /// `px_per_radian`: twice its screen diameter (room to come twice as near) as a power
+    /// of two, from [`MIN_PX`] to [`BillboardSet::px`], so distant objects hold small
+    /// images.
+    fn bake_px(&self, b: Sphere, distance: f32, px_per_radian: f32) -> u32 {
+        let max = self.px.max(MIN_PX);
+        needed_side(b.radius, distance, 2.0 * px_per_radian, MIN_PX, max)
     }
 
     /// What object `i`'s bake measured, if it has one.
@@ -293,7 +306,8 @@ impl<S: Subject + Send + Sync> Representation<S> for BillboardSet {
             let (a, e, tpp, shift) = view_terms(side, px, sight)?;
             Some(billboard_error(p, a, e, tpp, shift))
         };
-        let fresh = (horizontal(self.side), self.px.max(4));
+        let px = self.bake_px(b, sight.distance, sight.px_per_radian);
+        let fresh = (horizontal(self.side), px);
         let (error, rebuilt, memory) = match slot {
             Some(baked) => {
                 let valid = subject.version() == baked.version && same_place(b, baked.bounds);
@@ -330,19 +344,31 @@ impl<S: Subject + Send + Sync> Representation<S> for BillboardSet {
     /// Bakes the objects from [`BillboardSet::side`], side by side on the pool (each bake
     /// with its own capturer, so the bakes do not depend on the thread count).
     fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work {
-        let (px, probe, lighting) = (self.px, self.probe_px, view.lighting);
+        let (probe, lighting) = (self.probe_px, view.lighting);
         let side = horizontal(self.side);
         let n = self.baked.len().min(subjects.len());
         let wanted: Vec<usize> = objects.iter().copied().filter(|&i| i < n).collect();
+        let (eye, ppr) = (
+            view.camera.eye(),
+            pixels_per_radian(view.camera, view.height),
+        );
+        let sizes: Vec<u32> = wanted
+            .iter()
+            .map(|&i| {
+                let b = subjects[i].bounds();
+                self.bake_px(b, eye.distance(b.center), ppr)
+            })
+            .collect();
         let chosen = pick_mut(subjects, wanted.iter().copied());
         let bakes: Vec<_> = chosen
             .into_par_iter()
+            .zip(sizes.par_iter())
             .with_max_len(1)
-            .map(|s| (s.triangle_count(), bake(s, lighting, side, px, probe)))
+            .map(|(s, &px)| (s.triangle_count(), px, bake(s, lighting, side, px, probe)))
             .collect();
         let mut work = Work::default();
         let tint = self.tint.unwrap_or(Rgba::WHITE);
-        for (&i, (triangles, bake)) in wanted.iter().zip(bakes) {
+        for (&i, (triangles, px, bake)) in wanted.iter().zip(bakes) {
             work += Work {
                 triangles: bake.captures * triangles as u64,
                 pixels: bake.pixels,

@@ -223,19 +223,37 @@ pub(crate) fn choose_slab<'s>(
         .filter(|d| *d != Vec3::ZERO)
         .map(|d| c + d.normalize() * r);
     // The best aligned (ties: the first slab) of those that see every point: asked of
-    // every object every frame by the planner, so a slab is checked only when it would be
-    // better aligned than the best found, and nothing is allocated.
+    // every object every frame by the planner, so the slabs are tried best aligned first
+    // and the first that sees is taken (the best aligned usually does), sorted on the
+    // stack: nothing is allocated. Past `ON_STACK` slabs, every better aligned one is
+    // checked in turn.
+    const ON_STACK: usize = 8;
+    let mut order = [(usize::MAX, f32::NEG_INFINITY); ON_STACK];
+    let mut n = 0;
     let mut best: Option<(usize, f32)> = None;
+    let all = slabs.clone();
     for (k, s) in slabs.enumerate().filter(|(_, s)| !s.infinite[1]) {
         let align = s.forward().dot(dir);
-        if best.is_some_and(|(_, b)| align <= b) {
-            continue;
-        }
-        if points.clone().all(|p| sees(s, eye, p - eye)) {
+        if n < ON_STACK {
+            order[n] = (k, align);
+            n += 1;
+        } else if best.is_none_or(|(_, b)| align > b)
+            && points.clone().all(|p| sees(s, eye, p - eye))
+        {
             best = Some((k, align));
         }
     }
-    best.map(|(k, _)| k)
+    let order = &mut order[..n];
+    order.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let on_stack = order.iter().find(|&&(k, _)| {
+        let s = all.clone().nth(k);
+        s.is_some_and(|s| points.clone().all(|p| sees(s, eye, p - eye)))
+    });
+    match (on_stack, best) {
+        (Some(&(k, a)), Some((j, b))) => Some(if b > a { j } else { k }),
+        (Some(&(k, _)), None) => Some(k),
+        (None, b) => b.map(|(j, _)| j),
+    }
 }
 
 /// The pixels of a `width` x `height` view `slab`'s focal plane can cover: the bounds of
