@@ -6,10 +6,10 @@
 use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
 use super::*;
 use crate::plan::tests::{
-    assert_none_missing, assert_released_when_away, camera, camera_at, fit_bound, frame, lighting,
-    measured, render, sight, subjects, truth, FOV, H, W,
+    assert_none_missing, assert_released_when_away, beside_geometry, camera, camera_at, fit_bound,
+    frame, lighting, measured, render, sight, subjects, truth, FOV, H, W,
 };
-use crate::plan::{tint, Budgets, Config as PlanConfig, Geometry, Planner, Representation, Sight};
+use crate::plan::{tint, CostModel, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::FrameView;
 use engine::procedural::{self, XorShift};
@@ -374,17 +374,8 @@ fn grove() -> Vec<MeshGroup> {
 /// Geometry and billboards (64-pixel images) of [`grove`].
 fn planner(error: f32) -> Planner<MeshGroup> {
     let objects = grove();
-    let n = objects.len();
-    let reps: Vec<Box<Rep>> = vec![Box::new(Geometry), Box::new(BillboardSet::new(n, 64))];
-    let config = PlanConfig {
-        budgets: Budgets {
-            error,
-            rebuilds: 16,
-            ..Budgets::default()
-        },
-        ..PlanConfig::default()
-    };
-    Planner::new(config, objects, reps)
+    let set = Box::new(BillboardSet::new(objects.len(), 64));
+    beside_geometry(objects, set, error, 16, CostModel::default())
 }
 
 /// The path: at eye level across the grove, then high above it looking down.

@@ -7,10 +7,10 @@ use super::plan::{bake_bytes, lightfield_error, taps, view_terms, Gradients, Lig
 use super::*;
 use crate::impostor::screen_rect;
 use crate::plan::tests::{
-    assert_released_when_away, camera, camera_at, dear_geometry, fit_bound, frame, lighting,
-    measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_released_when_away, beside_geometry, camera, camera_at, dear_geometry, fit_bound, frame,
+    lighting, measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
 };
-use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
+use crate::plan::{Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::FrameView;
 use engine::procedural::XorShift;
@@ -285,18 +285,8 @@ const LIGHT_FIELD: usize = 1;
 /// sixteen tori.
 fn planner(error: f32) -> Planner<MeshGroup> {
     let objects = tori();
-    let n = objects.len();
-    let reps: Vec<Box<Rep>> = vec![Box::new(Geometry), Box::new(LightFieldSet::new(n, 6, 24))];
-    let config = plan::Config {
-        budgets: Budgets {
-            error,
-            rebuilds: 8,
-            ..Budgets::default()
-        },
-        cost: dear_geometry(),
-        ..plan::Config::default()
-    };
-    Planner::new(config, objects, reps)
+    let set = Box::new(LightFieldSet::new(objects.len(), 6, 24));
+    beside_geometry(objects, set, error, 8, dear_geometry())
 }
 
 /// Every object the frustum keeps is drawn: geometry draws something, and every object

@@ -5,10 +5,10 @@
 use super::plan::{octahedral_error, view_terms, Gradients};
 use super::*;
 use crate::plan::tests::{
-    assert_none_missing, assert_released_when_away, camera, camera_at, fit_bound, frame, lighting,
-    measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_none_missing, assert_released_when_away, beside_geometry, camera, camera_at, fit_bound,
+    frame, lighting, measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
 };
-use crate::plan::{self, Budgets, Geometry, Planner, Representation, Sight};
+use crate::plan::{self, CostModel, Planner, Representation, Sight};
 use crate::subject::MeshGroup;
 use crate::technique::FrameView;
 use engine::procedural::XorShift;
@@ -271,20 +271,8 @@ const OCTAHEDRAL: usize = 1;
 /// image's 30.
 fn planner(error: f32) -> Planner<MeshGroup> {
     let objects = tori();
-    let n = objects.len();
-    let reps: Vec<Box<Rep>> = vec![
-        Box::new(Geometry),
-        Box::new(OctahedralSet::new(n, 12, 32, Layout::Hemi)),
-    ];
-    let config = plan::Config {
-        budgets: Budgets {
-            error,
-            rebuilds: 8,
-            ..Budgets::default()
-        },
-        ..plan::Config::default()
-    };
-    Planner::new(config, objects, reps)
+    let set = Box::new(OctahedralSet::new(objects.len(), 12, 32, Layout::Hemi));
+    beside_geometry(objects, set, error, 8, CostModel::default())
 }
 
 #[test]

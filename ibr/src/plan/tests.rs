@@ -165,6 +165,27 @@ pub(crate) fn dear_geometry() -> CostModel {
     }
 }
 
+/// A planner over `objects` choosing between geometry and `rep`, with an error budget per
+/// object, `rebuilds` a frame and the cost model `cost`.
+pub(crate) fn beside_geometry(
+    objects: Vec<MeshGroup>,
+    rep: Box<dyn Representation<MeshGroup>>,
+    error: f32,
+    rebuilds: usize,
+    cost: CostModel,
+) -> Planner<MeshGroup> {
+    let config = Config {
+        budgets: Budgets {
+            error,
+            rebuilds,
+            ..Budgets::default()
+        },
+        cost,
+        ..Config::default()
+    };
+    Planner::new(config, objects, vec![Box::new(Geometry), rep])
+}
+
 /// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
 /// culled, the bytes held for two frames, then all released.
 pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize, r: &mut Renderer) {

@@ -5,10 +5,10 @@
 
 use super::plan::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use crate::plan::tests::{
-    assert_released_when_away, camera, camera_at, dear_geometry, fit_bound, frame, lighting,
-    measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_released_when_away, beside_geometry, camera, camera_at, dear_geometry, fit_bound, frame,
+    lighting, measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
 };
-use crate::plan::{self, Budgets, Estimate, Geometry, Planner, Representation, Sight};
+use crate::plan::{Estimate, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::FrameView;
 use engine::{Camera, Renderer, Target};
@@ -245,18 +245,8 @@ const DEPTH: usize = 1;
 /// Geometry and depth images (or LDIs) of the planner tests' sixteen tori.
 fn planner(layers: usize, error: f32) -> Planner<MeshGroup> {
     let objects = tori();
-    let n = objects.len();
-    let reps: Vec<Box<Rep>> = vec![Box::new(Geometry), Box::new(depth_set(layers, n))];
-    let config = plan::Config {
-        budgets: Budgets {
-            error,
-            rebuilds: 8,
-            ..Budgets::default()
-        },
-        cost: dear_geometry(),
-        ..plan::Config::default()
-    };
-    Planner::new(config, objects, reps)
+    let set = Box::new(depth_set(layers, objects.len()));
+    beside_geometry(objects, set, error, 8, dear_geometry())
 }
 
 /// Every object the frustum keeps is chosen and shows in `got`: geometry draws something,
