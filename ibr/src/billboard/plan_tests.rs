@@ -6,8 +6,9 @@
 use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
 use super::*;
 use crate::plan::tests::{
-    assert_none_missing, assert_released_when_away, beside_geometry, camera, camera_at, fit_bound,
-    frame, lighting, measured, render, sight, subjects, truth, FOV, H, W,
+    assert_changes_invalidate, assert_none_missing, assert_released_when_away, beside_geometry,
+    camera, camera_at, fit_bound, frame, lighting, measured, render, sight, subjects, truth, FOV,
+    H, W,
 };
 use crate::plan::{tint, CostModel, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -323,24 +324,7 @@ fn a_changed_or_moved_subject_and_an_unbaked_object_have_infinite_error() {
     assert_eq!(fresh.memory, held);
     // Its prior is now its own profile.
     assert_eq!(set.prior(), *set.profile(4).unwrap());
-    // Animated: the bake no longer shows it; a rebuild would.
-    subjects[4].version += 1;
-    let stale = Rep::estimate(&set, 4, &subjects[4], &seen).expect("seen");
-    assert!(stale.error.is_infinite(), "{stale:?}");
-    assert_eq!(stale.rebuilt, fresh.rebuilt);
-    Rep::rebuild(&mut set, &[4], &mut subjects, &view);
-    let again = Rep::estimate(&set, 4, &subjects[4], &seen).expect("seen");
-    assert_eq!(again.error, fresh.error);
-    // Moved without a new version: the bake sits where the subject was.
-    subjects[4].parts[0].transform *= Mat4::from_translation(Vec3::X * 0.1);
-    let seen = sight(&cam, &subjects[4]);
-    let moved = Rep::estimate(&set, 4, &subjects[4], &seen).expect("seen");
-    assert!(
-        moved.error.is_infinite() && moved.rebuilt.is_finite(),
-        "{moved:?}"
-    );
-    // Out of the set's range: nothing to say.
-    assert!(Rep::estimate(&set, n, &subjects[4], &seen).is_none());
+    assert_changes_invalidate(&mut set, &mut subjects, 4, &cam, fresh);
 }
 
 const BILLBOARDS: usize = 1;

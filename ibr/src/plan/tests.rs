@@ -186,6 +186,43 @@ pub(crate) fn beside_geometry(
     Planner::new(config, objects, vec![Box::new(Geometry), rep])
 }
 
+/// A baked representation's promises about a changed subject, for object `i` of
+/// `subjects` seen from `cam`, whose bake (already made) errs `fresh` from there: a new
+/// version makes its error infinite and a rebuild's the same as before, the rebuild
+/// restores it, a move without a new version makes it infinite again (a rebuild finite),
+/// and an object past the set's range has no estimate.
+pub(crate) fn assert_changes_invalidate(
+    set: &mut dyn Representation<MeshGroup>,
+    subjects: &mut [MeshGroup],
+    i: usize,
+    cam: &Camera,
+    fresh: Estimate,
+) {
+    let light = lighting();
+    let view = FrameView::still(cam, W, H, &light);
+    let seen = sight(cam, &subjects[i]);
+    // Animated: the bake no longer shows it; a rebuild would.
+    subjects[i].version += 1;
+    let stale = set.estimate(i, &subjects[i], &seen).expect("seen");
+    assert!(stale.error.is_infinite(), "{stale:?}");
+    assert_eq!(stale.rebuilt, fresh.rebuilt);
+    set.rebuild(&[i], subjects, &view);
+    let again = set.estimate(i, &subjects[i], &seen).expect("seen");
+    assert_eq!(again.error, fresh.error);
+    // Moved without a new version: the bake sits where the subject was.
+    subjects[i].parts[0].transform *= Mat4::from_translation(Vec3::X * 0.1);
+    let seen = sight(cam, &subjects[i]);
+    let moved = set.estimate(i, &subjects[i], &seen).expect("seen");
+    assert!(
+        moved.error.is_infinite() && moved.rebuilt.is_finite(),
+        "{moved:?}"
+    );
+    // An object out of the set's range: nothing to say.
+    assert!(set
+        .estimate(subjects.len().max(1) * 1000, &subjects[i], &seen)
+        .is_none());
+}
+
 /// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
 /// culled, the bytes held for two frames, then all released.
 pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize, r: &mut Renderer) {
