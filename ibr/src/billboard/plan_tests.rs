@@ -7,8 +7,8 @@ use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
 use super::*;
 use crate::plan::tests::{
     assert_changes_invalidate, assert_none_missing, assert_released_when_away, beside_geometry,
-    camera, camera_at, fit_bound, frame, lighting, measured, render, sight, subjects, truth, FOV,
-    H, W,
+    camera, camera_at, fit_bound, fly_on_threads, frame, lighting, measured, render, sight,
+    subjects, truth, FOV, H, W,
 };
 use crate::plan::{tint, CostModel, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -428,24 +428,11 @@ fn in_a_planner_billboards_err_within_the_budget_and_not_from_above() {
 
 #[test]
 fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut p = planner(10.0);
-            let mut r = Renderer::new();
-            (0..7)
-                .map(|k| {
-                    let t = frame(&mut p, &path(k), &mut r);
-                    (t.to_rgba8(), p.choices().to_vec())
-                })
-                .collect::<Vec<_>>()
-        })
-    };
+    let cams: Vec<Camera> = (0..7).map(path).collect();
+    let run = |threads| fly_on_threads(threads, || planner(10.0), &cams);
     let one = run(1);
     assert!(one
+        .0
         .iter()
         .any(|f| f.1.iter().any(|c| c.rep == Some(BILLBOARDS))));
     assert!(one == run(2));

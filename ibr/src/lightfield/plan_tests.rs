@@ -8,8 +8,8 @@ use super::*;
 use crate::impostor::screen_rect;
 use crate::plan::tests::{
     assert_changes_invalidate, assert_released_when_away, beside_geometry, camera, camera_at,
-    dear_geometry, fit_bound, frame, lighting, measured, render, sight, subjects, tori, truth,
-    view_at, FOV, H, W,
+    dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured, render, sight, subjects,
+    tori, truth, view_at, FOV, H, W,
 };
 use crate::plan::{Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -366,24 +366,11 @@ fn in_a_planner_light_fields_err_within_the_budget_and_none_go_missing() {
 
 #[test]
 fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut p = planner(20.0);
-            let mut r = Renderer::new();
-            let mut out = Vec::new();
-            for k in 0..3 {
-                let t = frame(&mut p, &view_at(0.2 * k as f32), &mut r);
-                out.push((t.to_rgba8(), p.choices().to_vec()));
-            }
-            assert!(p.report.counts[LIGHT_FIELD] > 0, "{:?}", p.report);
-            out
-        })
-    };
-    assert!(run(1) == run(2));
+    let cams: Vec<Camera> = (0..3).map(|k| view_at(0.2 * k as f32)).collect();
+    let run = |threads| fly_on_threads(threads, || planner(20.0), &cams);
+    let one = run(1);
+    assert!(one.1[LIGHT_FIELD] > 0, "{:?}", one.1);
+    assert!(one == run(2));
 }
 
 #[test]

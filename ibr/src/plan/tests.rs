@@ -223,6 +223,30 @@ pub(crate) fn assert_changes_invalidate(
         .is_none());
 }
 
+/// Each frame's pixels and choices, and the objects each representation drew in the last.
+pub(crate) type Flown = (Vec<(Vec<u8>, Vec<Choice>)>, Vec<usize>);
+
+/// The planner `make` gives, flown through `cams` in order on a pool of `threads`.
+pub(crate) fn fly_on_threads(
+    threads: usize,
+    make: impl FnOnce() -> Planner<MeshGroup> + Send,
+    cams: &[Camera],
+) -> Flown {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let (mut p, mut r) = (make(), Renderer::new());
+        let frames = cams.iter().map(|cam| {
+            let t = frame(&mut p, cam, &mut r);
+            (t.to_rgba8(), p.choices().to_vec())
+        });
+        let frames = frames.collect();
+        (frames, p.report.counts.clone())
+    })
+}
+
 /// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
 /// culled, the bytes held for two frames, then all released.
 pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize, r: &mut Renderer) {
@@ -563,22 +587,8 @@ fn images_it_chooses_err_within_the_budget_when_measured() {
 
 #[test]
 fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
-    let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut p = planner(budgets(2.0, 3));
-            let mut r = Renderer::new();
-            let mut out = Vec::new();
-            for k in 0..6 {
-                let t = frame(&mut p, &view_at(0.2 * k as f32), &mut r);
-                out.push((t.to_rgba8(), p.choices().to_vec()));
-            }
-            out
-        })
-    };
+    let cams: Vec<Camera> = (0..6).map(|k| view_at(0.2 * k as f32)).collect();
+    let run = |threads| fly_on_threads(threads, || planner(budgets(2.0, 3)), &cams);
     assert!(run(1) == run(2));
 }
 

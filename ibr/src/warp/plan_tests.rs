@@ -5,8 +5,9 @@
 
 use super::plan::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use crate::plan::tests::{
-    assert_released_when_away, beside_geometry, camera, camera_at, dear_geometry, fit_bound, frame,
-    lighting, measured, render, sight, subjects, tori, truth, view_at, FOV, H, W,
+    assert_released_when_away, beside_geometry, camera, camera_at, dear_geometry, fit_bound,
+    fly_on_threads, frame, lighting, measured, render, sight, subjects, tori, truth, view_at, FOV,
+    H, W,
 };
 use crate::plan::{Estimate, Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -337,25 +338,12 @@ fn in_a_planner_depth_images_and_ldis_err_within_the_budget_and_none_is_missing(
 
 #[test]
 fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
-    let run = |threads: usize, layers: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut p = planner(layers, 12.0);
-            let mut r = Renderer::new();
-            let mut out = Vec::new();
-            for k in 0..5 {
-                let t = frame(&mut p, &view_at(0.15 * k as f32), &mut r);
-                out.push((t.to_rgba8(), p.choices().to_vec()));
-            }
-            assert!(p.report.counts[DEPTH] > 0, "{:?}", p.report);
-            out
-        })
-    };
+    let cams: Vec<Camera> = (0..5).map(|k| view_at(0.15 * k as f32)).collect();
     for layers in [1, 3] {
-        assert!(run(1, layers) == run(2, layers), "{layers} layers");
+        let run = |threads| fly_on_threads(threads, || planner(layers, 12.0), &cams);
+        let one = run(1);
+        assert!(one.1[DEPTH] > 0, "{layers} layers: {:?}", one.1);
+        assert!(one == run(2), "{layers} layers");
     }
 }
 
