@@ -19,8 +19,10 @@
 //!    the hysteresis band (so they stay in use), then objects a rebuilt image would make
 //!    cheaper (by the time saved, net of the rebuild spread over
 //!    [`Config::payback_frames`], or the representation's own
-//!    [`Representation::payback_frames`]). They are taken within the rebuild budget (a count, and
-//!    optionally predicted milliseconds and the bytes every representation may hold), at
+//!    [`Representation::payback_frames`]); under a budget of rebuild milliseconds, by
+//!    that worth per predicted millisecond of the rebuild, so that one long bake does not
+//!    crowd out many short rebuilds). They are taken within the rebuild budget (a count,
+//!    and optionally predicted milliseconds and the bytes every representation may hold), at
 //!    most one per object (the best that fits: an object whose octahedral bake would pass
 //!    the memory budget may take an impostor instead), and each representation rebuilds
 //!    its share in one call (side by side).
@@ -399,6 +401,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
             self.seen.resize_with(chunks, Seen::default);
         }
         let reps = &self.reps;
+        let cost = &self.config.cost;
+        let before = &previous;
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
         work.enumerate().for_each(|(c, (chunk, seen))| {
             seen.objects.clear();
@@ -414,8 +418,21 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 let rect = screen_rect(camera, bounds.center, bounds.radius, w, h);
                 let i = c * CHUNK + k;
                 seen.objects.push((i, pixels, rect.unwrap_or_default()));
-                for rep in reps {
-                    let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
+                // The least time of an exact option so far: a representation that cannot
+                // draw for less is never chosen, so it is not asked (unless in use).
+                let mut exact = f32::INFINITY;
+                for (r, rep) in reps.iter().enumerate() {
+                    let least = rep.least_draw();
+                    let dominated =
+                        least != Work::default() && before[i] != Some(r) && cost.ms(least) >= exact;
+                    let e = if dominated {
+                        None
+                    } else {
+                        rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan())
+                    };
+                    if let Some(e) = e.filter(|e| e.error <= 0.0) {
+                        exact = exact.min(cost.ms(e.draw));
+                    }
                     seen.estimates.push(e);
                 }
             }
@@ -605,7 +622,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 continue;
             }
             let ms = cfg.cost.ms(e.draw);
-            let rb = cfg.cost.ms(e.rebuild);
+            let rb = cfg.cost.rebuild_ms(e.rebuild);
             let cand = if err0 > budget {
                 Some((0, (err0 - e.rebuilt).min(1e6) * pixels - ms))
             } else if r == r0 && Some(r) == current && e.error > budget * cfg.hysteresis {
@@ -647,6 +664,18 @@ impl<S: Subject + Send + Sync> Planner<S> {
     fn rebuild(&mut self, view: &FrameView<'_>) {
         let cfg = self.config;
         let nr = self.reps.len();
+        if cfg.budgets.rebuild_ms.is_some() {
+            // Under a time budget, what a rebuild is worth per millisecond it takes: one
+            // long bake must not take the place of many short rebuilds worth more in all.
+            for c in &mut self.rebuilds {
+                let Ok(v) = self.visible.binary_search(&c.object) else {
+                    continue;
+                };
+                if let Some(e) = self.estimates[v * nr + c.rep] {
+                    c.key /= cfg.cost.rebuild_ms(e.rebuild).max(1e-3);
+                }
+            }
+        }
         self.rebuilds.sort_by(|a, b| {
             a.tier
                 .cmp(&b.tier)
@@ -676,7 +705,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             let Some(e) = self.estimates[v * nr + c.rep] else {
                 continue;
             };
-            let ms = cfg.cost.ms(e.rebuild);
+            let ms = cfg.cost.rebuild_ms(e.rebuild);
             let over_ms = cfg
                 .budgets
                 .rebuild_ms
@@ -888,5 +917,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
     }
 }
 
+#[cfg(test)]
+mod ranking_tests;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -174,39 +174,60 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
     }
     let fit = fit(&rows);
     // Captures: batches of rebuilds of one small object's images through the planner's
-    // call, 16 to 32 texels a side.
+    // call, far (16 to 32 texels a side) and near (64), so that what the fit leaves
+    // unexplained splits into a cost per capture and one per captured texel.
     let n = count(128.0);
     let small = Arc::new(procedural::torus_with_triangles(200));
-    let objects: Vec<MeshGroup> = (0..n)
-        .map(|k| {
-            let at = Vec3::new(
-                (k % 16) as f32 * 3.0 - 22.5,
-                (k / 16) as f32 * 3.0 - 12.0,
-                -60.0,
-            );
-            MeshGroup::new().with(small.clone(), lit.clone(), Mat4::from_translation(at))
-        })
-        .collect();
-    let all: Vec<usize> = (0..n).collect();
     let view = FrameView::still(&camera, w, h, &light);
-    let mut subjects = objects.clone();
-    let mut set = ImpostorSet::new(impostor::Config::default(), n);
-    let mut done = ibr::plan::Work::default();
-    let ms = median(reps, || {
-        done = Representation::<MeshGroup>::rebuild(&mut set, &all, &mut subjects, &view);
-    });
-    rows.push(Calibration {
-        experiment: "captures",
-        triangles: done.triangles,
-        pixels: done.pixels,
-        image_pixels: 0,
-        captures: done.captures,
-        ms,
-        ..Calibration::default()
-    });
-    let per_capture = (ms - fit.ms(done) as f64) / done.captures.max(1) as f64;
+    let all: Vec<usize> = (0..n).collect();
+    let mut left = Vec::new();
+    for z in [-60.0, -20.0] {
+        let objects: Vec<MeshGroup> = (0..n)
+            .map(|k| {
+                let spread = -z / 60.0;
+                let at = Vec3::new(
+                    ((k % 16) as f32 * 3.0 - 22.5) * spread,
+                    ((k / 16) as f32 * 3.0 - 12.0) * spread,
+                    z,
+                );
+                MeshGroup::new().with(small.clone(), lit.clone(), Mat4::from_translation(at))
+            })
+            .collect();
+        let mut subjects = objects.clone();
+        let mut set = ImpostorSet::new(impostor::Config::default(), n);
+        let mut done = ibr::plan::Work::default();
+        let ms = median(reps, || {
+            done = Representation::<MeshGroup>::rebuild(&mut set, &all, &mut subjects, &view);
+        });
+        rows.push(Calibration {
+            experiment: "captures",
+            triangles: done.triangles,
+            pixels: done.pixels,
+            image_pixels: 0,
+            captures: done.captures,
+            ms,
+            ..Calibration::default()
+        });
+        left.push((done, ms - fit.ms(done) as f64));
+    }
+    // Two batches, two unknowns: `left = a captures + b texels` (ms); a texel cost below
+    // zero is noise, and then the captures take all that is left.
+    let (a, b) = match left[..] {
+        [(d0, l0), (d1, l1)] => {
+            let m = [
+                [d0.captures as f64, d0.pixels as f64],
+                [d1.captures as f64, d1.pixels as f64],
+            ];
+            match solve(m, [l0, l1]) {
+                Some([a, b]) if b >= 0.0 => (a, b),
+                _ => ((l0 + l1) / (d0.captures + d1.captures).max(1) as f64, 0.0),
+            }
+        }
+        _ => (0.0, 0.0),
+    };
     let mut model = CostModel {
-        us_per_capture: (per_capture * 1e3).max(0.0) as f32,
+        us_per_capture: (a * 1e3).max(0.0) as f32,
+        ns_per_capture_texel: (b * 1e6) as f32,
         ..fit
     };
     // Image passes: objects held as depth images, LDIs and light fields (4 x 4 tori of

@@ -696,8 +696,8 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         let run = |_: &mut dyn FnMut(usize, usize, &str)| {
             let (model, rows) = bbu::calibrate(size, scale, reps);
             println!(
-                "cost model: {:.1} ns per triangle, {:.2} ns per lit pixel, {:.2} ns per image pixel, {:.1} us per capture, {:.1} us per image pass, {:.2} ns per pass pixel, {:.2} ns per sample",
-                model.ns_per_triangle, model.ns_per_pixel, model.ns_per_image_pixel, model.us_per_capture, model.us_per_pass, model.ns_per_pass_pixel, model.ns_per_sample
+                "cost model: {:.1} ns per triangle, {:.2} ns per lit pixel, {:.2} ns per image pixel, {:.1} us per capture, {:.2} ns per captured texel, {:.1} us per image pass, {:.2} ns per pass pixel, {:.2} ns per sample",
+                model.ns_per_triangle, model.ns_per_pixel, model.ns_per_image_pixel, model.us_per_capture, model.ns_per_capture_texel, model.us_per_pass, model.ns_per_pass_pixel, model.ns_per_sample
             );
             Ok(rows)
         };

@@ -322,6 +322,14 @@ impl<S: Subject + Send + Sync> Representation<S> for LightFieldSet {
         "light field"
     }
 
+    /// One image pass.
+    fn least_draw(&self) -> Work {
+        Work {
+            passes: 1,
+            ..Work::default()
+        }
+    }
+
     fn payback_frames(&self) -> Option<f32> {
         Some(self.payback_frames)
     }

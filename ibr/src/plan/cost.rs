@@ -64,6 +64,10 @@ pub struct CostModel {
     pub ns_per_image_pixel: f32,
     /// Microseconds per offscreen render, besides its triangles and pixels.
     pub us_per_capture: f32,
+    /// Nanoseconds per texel of an offscreen render besides shading it (clearing,
+    /// resolving and copying it out): a rebuild's `pixels` are its captures' texels
+    /// ([`CostModel::rebuild_ms`]).
+    pub ns_per_capture_texel: f32,
     /// Microseconds per image pass, nanoseconds per pixel it covers and per reference
     /// sample it reads.
     pub us_per_pass: f32,
@@ -79,7 +83,11 @@ impl Default for CostModel {
             ns_per_triangle: 28.0,
             ns_per_pixel: 5.8,
             ns_per_image_pixel: 6.4,
-            us_per_capture: 13.0,
+            // Captures: two runs with a second, nearer batch fitted 7.0 and 7.6 us per
+            // capture and 21.1 and 20.4 ns per captured texel (one batch alone had put all
+            // on the captures: 13 us, under-predicting near rebuilds up to threefold).
+            us_per_capture: 7.3,
+            ns_per_capture_texel: 20.8,
             // Image passes: the mean of two runs' fits (37 and 66 us per pass, 82 and 80 ns
             // per pixel). Warps cost more per pixel than light fields (93 against 48 ns)
             // though they read a tenth of the samples, so the shared fit puts no cost on
@@ -101,5 +109,11 @@ impl CostModel {
             + w.samples as f32 * self.ns_per_sample;
         let us = w.captures as f32 * self.us_per_capture + w.passes as f32 * self.us_per_pass;
         ns * 1e-6 + us * 1e-3
+    }
+
+    /// The predicted time of a rebuild doing `w`, milliseconds: [`CostModel::ms`] plus
+    /// what its captures' texels (its `pixels`) cost besides shading.
+    pub fn rebuild_ms(&self, w: Work) -> f32 {
+        self.ms(w) + w.pixels as f32 * self.ns_per_capture_texel * 1e-6
     }
 }

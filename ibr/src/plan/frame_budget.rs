@@ -123,7 +123,7 @@ impl Options {
                 }
                 if e.rebuild != Work::default() && e.rebuilt.is_finite() {
                     let frames = w.payback.get(r).copied().unwrap_or(1.0);
-                    let spread = w.cost.ms(e.rebuild) / frames.max(1.0);
+                    let spread = w.cost.rebuild_ms(e.rebuild) / frames.max(1.0);
                     out.picks.push(Pick {
                         rep: r,
                         rebuild: true,

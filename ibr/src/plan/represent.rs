@@ -151,6 +151,13 @@ pub trait Representation<S>: Send + Sync {
     fn payback_frames(&self) -> Option<f32> {
         None
     }
+    /// A bound below the work of drawing any object this way (zero, the default: none
+    /// known). The planner does not ask for an estimate where an exact option (error 0,
+    /// the object's geometry) draws for no more than this bound: this representation
+    /// could never be chosen there. An image pass costs at least its setup.
+    fn least_draw(&self) -> Work {
+        Work::default()
+    }
     /// Frees what it holds for object `i` (long unused).
     fn release(&mut self, _i: usize) {}
     /// Bytes it holds over every object.

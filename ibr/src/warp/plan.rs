@@ -433,6 +433,14 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
     /// depth-weighted gradient), and parallax grows linearly with the eye's move, so a
     /// reference lasts several times the impostors' 30 frames: 90, rounded down from that
     /// ratio (a reasoned figure, not a measured one).
+    /// One image pass.
+    fn least_draw(&self) -> Work {
+        Work {
+            passes: 1,
+            ..Work::default()
+        }
+    }
+
     fn payback_frames(&self) -> Option<f32> {
         Some(90.0)
     }

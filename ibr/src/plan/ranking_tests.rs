@@ -1,0 +1,195 @@
+//! How the planner spends its work: a representation that could never be chosen is not
+//! asked for estimates, and under a budget of rebuild milliseconds many short rebuilds go
+//! before one long bake worth less per millisecond. Driven by a scripted representation
+//! whose predictions are set by the test.
+
+use super::tests::{dear_geometry, frame, tori, view_at};
+use super::*;
+use crate::subject::MeshGroup;
+use engine::Renderer;
+use glam::Vec3;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// Predictions set by the test: `error` once built (infinite before), `rebuilt` after a
+/// rebuild, drawing and rebuilding at the given work; draws the subject's geometry.
+struct Scripted {
+    name: &'static str,
+    rebuilt: f32,
+    draw: Work,
+    rebuild: Work,
+    least: Work,
+    payback: Option<f32>,
+    built: Vec<bool>,
+    /// Estimates asked for, shared with the test.
+    asked: Arc<AtomicUsize>,
+}
+
+impl Scripted {
+    fn new(name: &'static str, n: usize, draw: Work, rebuild: Work) -> Scripted {
+        Scripted {
+            name,
+            rebuilt: 0.5,
+            draw,
+            rebuild,
+            least: Work::default(),
+            payback: None,
+            built: vec![false; n],
+            asked: Arc::default(),
+        }
+    }
+}
+
+impl Representation<MeshGroup> for Scripted {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn estimate(&self, i: usize, _s: &MeshGroup, _sight: &Sight<'_>) -> Option<Estimate> {
+        self.asked.fetch_add(1, Ordering::Relaxed);
+        let built = *self.built.get(i)?;
+        Some(Estimate {
+            error: if built { self.rebuilt } else { f32::INFINITY },
+            rebuilt: self.rebuilt,
+            draw: self.draw,
+            rebuild: self.rebuild,
+            memory: 0,
+        })
+    }
+    fn rebuild(&mut self, objects: &[usize], _: &mut [MeshGroup], _: &FrameView<'_>) -> Work {
+        for &i in objects {
+            self.built[i] = true;
+        }
+        Work {
+            captures: self.rebuild.captures * objects.len() as u64,
+            ..Work::default()
+        }
+    }
+    fn draw<'a>(&'a self, _i: usize, s: &'a MeshGroup, _eye: Vec3, out: &mut Vec<Draw<'a>>) {
+        s.draws(out);
+    }
+    fn least_draw(&self) -> Work {
+        self.least
+    }
+    fn payback_frames(&self) -> Option<f32> {
+        self.payback
+    }
+    fn release(&mut self, i: usize) {
+        self.built[i] = false;
+    }
+}
+
+fn captures(n: u64) -> Work {
+    Work {
+        captures: n,
+        ..Work::default()
+    }
+}
+
+fn planner(budgets: Budgets, cost: CostModel, reps: Vec<Scripted>) -> Planner<MeshGroup> {
+    let config = Config {
+        budgets,
+        cost,
+        ..Config::default()
+    };
+    let mut all: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
+    all.extend(
+        reps.into_iter()
+            .map(|r| Box::new(r) as Box<dyn Representation<MeshGroup>>),
+    );
+    Planner::new(config, tori(), all)
+}
+
+#[test]
+fn a_pass_that_costs_more_than_the_exact_geometry_is_not_asked_unless_in_use() {
+    // Each torus's geometry costs about 35 us at the default costs, less than one image
+    // pass's setup (52 us): the pass could never be chosen, so it is not asked.
+    let least = Work {
+        passes: 1,
+        ..Work::default()
+    };
+    let mut pass = Scripted::new("pass", 16, least, captures(1));
+    pass.least = least;
+    let asked = pass.asked.clone();
+    let budgets = Budgets {
+        error: 2.0,
+        rebuilds: 16,
+        ..Budgets::default()
+    };
+    let mut p = planner(budgets, CostModel::default(), vec![pass]);
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    frame(&mut p, &cam, &mut r);
+    let visible = p.objects.len() - p.report.culled;
+    assert!(visible > 0);
+    assert_eq!(asked.load(Ordering::Relaxed), 0);
+    assert!(p.choices().iter().all(|c| c.rep != Some(1)));
+
+    // Geometry made dear: the pass is asked for every visible object, rebuilt and used.
+    p.config.cost = dear_geometry();
+    frame(&mut p, &cam, &mut r);
+    assert_eq!(asked.load(Ordering::Relaxed), visible);
+    let using = p.choices().iter().filter(|c| c.rep == Some(1)).count();
+    assert_eq!(using, visible, "{:?}", p.report);
+
+    // Geometry cheap again: the objects using the pass are still asked (so the
+    // hysteresis weighs them), and the pass goes only where it loses.
+    p.config.cost = CostModel::default();
+    asked.store(0, Ordering::Relaxed);
+    frame(&mut p, &cam, &mut r);
+    assert_eq!(asked.load(Ordering::Relaxed), visible);
+    frame(&mut p, &cam, &mut r);
+    assert!(p.choices().iter().all(|c| c.rep != Some(1)));
+}
+
+#[test]
+fn under_a_rebuild_time_budget_short_rebuilds_go_before_a_long_bake_worth_less_per_ms() {
+    // A bake: drawn for almost nothing, rebuilt in 2,000 captures (26 ms), lasting 3,600
+    // frames. A quick image: drawn for 10,000 image pixels (64 us), rebuilt in 40 captures
+    // (0.5 ms), lasting 30 frames. Each saves nearly the whole of a dear geometry, the
+    // bake a little more; per millisecond of rebuild the quick image is worth 50 times as
+    // much. With 10 ms of rebuilds a frame, the quick images are taken first.
+    let tiny = Work {
+        image_pixels: 10,
+        ..Work::default()
+    };
+    let mut bake = Scripted::new("bake", 16, tiny, captures(2000));
+    bake.payback = Some(3600.0);
+    let quick_draw = Work {
+        image_pixels: 10_000,
+        ..Work::default()
+    };
+    let quick = Scripted::new("quick", 16, quick_draw, captures(40));
+    let budgets = Budgets {
+        error: 2.0,
+        rebuilds: 16,
+        rebuild_ms: Some(10.0),
+        ..Budgets::default()
+    };
+    let cost = dear_geometry();
+    let mut p = planner(budgets, cost, vec![bake, quick]);
+    let mut r = Renderer::new();
+    frame(&mut p, &view_at(0.0), &mut r);
+    let quick_ms = cost.ms(captures(40));
+    let visible = p.objects.len() - p.report.culled;
+    let fit = ((10.0 / quick_ms) as usize).min(visible);
+    assert!(fit >= 8, "{fit}");
+    assert_eq!(p.report.rebuilds, fit, "{:?}", p.report);
+    assert!(p.report.rebuild_ms <= 10.0, "{:?}", p.report);
+    let quick_ones = p.choices().iter().filter(|c| c.rep == Some(2)).count();
+    assert_eq!(quick_ones, fit);
+
+    // Without the time budget the count alone limits rebuilds, ranked by what each saves:
+    // the bakes (saving a little more) are taken.
+    let mut bake = Scripted::new("bake", 16, tiny, captures(2000));
+    bake.payback = Some(3600.0);
+    let quick = Scripted::new("quick", 16, quick_draw, captures(40));
+    let budgets = Budgets {
+        rebuild_ms: None,
+        rebuilds: 4,
+        ..budgets
+    };
+    let mut p = planner(budgets, cost, vec![bake, quick]);
+    frame(&mut p, &view_at(0.0), &mut r);
+    let bakes = p.choices().iter().filter(|c| c.rep == Some(1)).count();
+    assert_eq!(bakes, 4, "{:?}", p.report);
+}
