@@ -30,7 +30,7 @@ mod plan;
 mod split;
 mod technique;
 
-pub use fit::{project, unproject, Affine, Homography};
+pub use fit::{project, unproject, Affine, Homography, Projector, Unprojector};
 pub use split::split_by_depth;
 pub use technique::Layered;
 
@@ -411,8 +411,9 @@ fn project_corners<S: Subject>(
 ) -> Option<([Vec2; 8], f32)> {
     let mut points = [Vec2::ZERO; 8];
     let mut nearest = f32::INFINITY;
+    let projector = Projector::new(camera, width, height);
     for (p, c) in points.iter_mut().zip(s.corners()) {
-        let (px, z) = project(camera, c, width, height)?;
+        let (px, z) = projector.project(c)?;
         (*p, nearest) = (px, nearest.min(z));
     }
     Some((points, nearest))

@@ -52,7 +52,7 @@ use crate::impostor::{screen_rect, Frustum};
 use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Draw, FrameStats, Material, Rgba, Target};
+use engine::{Draw, FrameStats, Material, Rgba, Sphere, Target};
 use rayon::prelude::*;
 
 /// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
@@ -280,6 +280,8 @@ pub struct Planner<S> {
     area: f64,
     estimates: Vec<Option<Estimate>>,
     rebuilds: Vec<Rebuild>,
+    /// The frame scope's options (reused frame to frame).
+    options: frame_budget::Options,
     batch: Vec<usize>,
     pub report: Report,
     eye: glam::Vec3,
@@ -325,6 +327,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             area: 0.0,
             estimates: Vec::new(),
             rebuilds: Vec::new(),
+            options: frame_budget::Options::default(),
             batch: Vec::new(),
             report: Report::default(),
             eye: glam::Vec3::ZERO,
@@ -402,6 +405,15 @@ impl<S: Subject + Send + Sync> Planner<S> {
         }
         let reps = &self.reps;
         let cost = &self.config.cost;
+        let base = Sight::new(
+            camera,
+            view.width,
+            view.height,
+            Sphere {
+                center: eye,
+                radius: 0.0,
+            },
+        );
         let before = &previous;
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
         work.enumerate().for_each(|(c, (chunk, seen))| {
@@ -413,7 +425,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     continue;
                 }
                 let (w, h) = (view.width, view.height);
-                let sight = Sight::new(camera, w, h, bounds);
+                let sight = base.at(bounds);
                 let pixels = sight.pixels;
                 let rect = screen_rect(camera, bounds.center, bounds.radius, w, h);
                 let i = c * CHUNK + k;
@@ -539,7 +551,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
     fn choose_for_frame(&mut self, previous: &[Option<usize>]) {
         let cfg = self.config;
         let nr = self.reps.len();
-        let objects: Vec<frame_budget::Object<'_>> = self
+        let objects = self
             .visible
             .iter()
             .enumerate()
@@ -547,24 +559,21 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 est: &self.estimates[v * nr..(v + 1) * nr],
                 weight: self.weights[v],
                 current: previous[i],
-            })
-            .collect();
+            });
         let w = frame_budget::Weights {
             cost: &cfg.cost,
             stick: cfg.min_saving,
             payback: &self.payback,
             spread: cfg.spread,
         };
-        let options = frame_budget::Options::new(&objects, self.area, &w);
-        drop(objects);
+        let mut options = std::mem::take(&mut self.options);
+        options.fill(objects, self.area, &w);
         let price = frame_budget::price(&options, cfg.budgets.error, &mut self.warm);
-        let mut rebuilds = Vec::new();
-        let mut choices = Vec::with_capacity(self.visible.len());
+        let mut rebuilds = std::mem::take(&mut self.rebuilds);
         for (k, &i) in self.visible.iter().enumerate() {
             let as_is = options.pick(k, price).0;
             // Drawn as it is unless a rebuild happens (the rebuild budget decides): every
             // rebuild that scores better is a candidate, the best taken first.
-            choices.push((i, as_is));
             for b in options.rebuilds(k) {
                 let value = as_is.map_or(f64::MAX, |n| price.score(&n) - price.score(b));
                 if value > 0.0 {
@@ -576,9 +585,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     });
                 }
             }
-        }
-        for (i, c) in choices {
-            self.choices[i] = match c {
+            self.choices[i] = match as_is {
                 Some(p) => Choice {
                     rep: Some(p.rep),
                     error: p.error,
@@ -593,6 +600,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 },
             };
         }
+        self.options = options;
         self.rebuilds = rebuilds;
     }
 

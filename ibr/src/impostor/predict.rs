@@ -130,9 +130,10 @@ pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -
         return None;
     }
     let m = camera.clip_from_world();
-    let right = camera.view.inverse().x_axis.truncate().normalize_or_zero();
-    let up = camera.view.inverse().y_axis.truncate().normalize_or_zero();
-    let fwd = camera.forward();
+    let to_world = camera.view.inverse();
+    let right = to_world.x_axis.truncate().normalize_or_zero();
+    let up = to_world.y_axis.truncate().normalize_or_zero();
+    let fwd = -to_world.z_axis.truncate().normalize_or_zero();
     let (mut lo, mut hi) = (
         glam::Vec2::splat(f32::INFINITY),
         glam::Vec2::splat(f32::NEG_INFINITY),

@@ -235,32 +235,86 @@ fn solve8(mut a: [[f64; 8]; 8], mut b: [f64; 8]) -> Option<[f64; 8]> {
 /// Where `p` lands on a `width` x `height` image of `camera` (pixels) and its distance
 /// along the view direction; `None` at or behind the near plane.
 pub fn project(camera: &Camera, p: Vec3, width: u32, height: u32) -> Option<(Vec2, f32)> {
-    let z = -(camera.view * p.extend(1.0)).z;
-    let (near, _) = camera.near_far();
-    if z.is_nan() || z <= near {
-        return None;
-    }
-    let clip = camera.gl_view_proj() * p.extend(1.0);
-    let ndc = clip.xy() / clip.w;
-    let px = Vec2::new(
-        (ndc.x + 1.0) * 0.5 * width as f32,
-        (1.0 - ndc.y) * 0.5 * height as f32,
-    );
-    px.is_finite().then_some((px, z))
+    Projector::new(camera, width, height).project(p)
 }
 
 /// The world point at pixel `px` of a `width` x `height` image of `camera`, `z` along its
 /// view direction (the inverse of [`project`]).
 pub fn unproject(camera: &Camera, px: Vec2, z: f32, width: u32, height: u32) -> Vec3 {
-    let (origin, dir) = camera.pixel_ray(px.x, px.y, width, height);
-    let (eye, forward) = (camera.eye(), camera.forward());
-    let along = forward.dot(dir);
-    let t = if along.abs() > 1e-9 {
-        (z - forward.dot(origin - eye)) / along
-    } else {
-        0.0
-    };
-    origin + dir * t
+    Unprojector::new(camera, width, height).unproject(px, z)
+}
+
+/// [`project`] for many points of one camera and image: the matrix taken once.
+#[derive(Clone, Copy, Debug)]
+pub struct Projector {
+    view: glam::Mat4,
+    clip: glam::Mat4,
+    near: f32,
+    size: Vec2,
+}
+
+impl Projector {
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Projector {
+        Projector {
+            view: camera.view,
+            clip: camera.gl_view_proj(),
+            near: camera.near_far().0,
+            size: Vec2::new(width as f32, height as f32),
+        }
+    }
+
+    /// [`project`].
+    pub fn project(&self, p: Vec3) -> Option<(Vec2, f32)> {
+        let z = -(self.view * p.extend(1.0)).z;
+        if z.is_nan() || z <= self.near {
+            return None;
+        }
+        let clip = self.clip * p.extend(1.0);
+        let ndc = clip.xy() / clip.w;
+        let px = Vec2::new(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 * self.size;
+        px.is_finite().then_some((px, z))
+    }
+}
+
+/// [`unproject`] for many points of one camera and image: the inverses taken once.
+#[derive(Clone, Copy, Debug)]
+pub struct Unprojector {
+    unclip: glam::Mat4,
+    eye: Vec3,
+    forward: Vec3,
+    size: Vec2,
+}
+
+impl Unprojector {
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Unprojector {
+        let to_world = camera.view.inverse();
+        Unprojector {
+            unclip: camera.gl_view_proj().inverse(),
+            eye: to_world.w_axis.truncate(),
+            forward: -to_world.z_axis.truncate().normalize_or_zero(),
+            size: Vec2::new(width as f32, height as f32),
+        }
+    }
+
+    /// [`unproject`]: the point along the pixel's ray (through the near and far planes, as
+    /// [`Camera::pixel_ray`]) at `z` along the view direction.
+    pub fn unproject(&self, px: Vec2, z: f32) -> Vec3 {
+        let ndc = Vec2::new(
+            2.0 * px.x / self.size.x - 1.0,
+            1.0 - 2.0 * px.y / self.size.y,
+        );
+        let near = self.unclip * glam::Vec4::new(ndc.x, ndc.y, -1.0, 1.0);
+        let far = self.unclip * glam::Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        let origin = near.truncate() / near.w;
+        let dir = (far.truncate() / far.w - origin).normalize_or_zero();
+        let along = self.forward.dot(dir);
+        let t = if along.abs() > 1e-9 {
+            (z - self.forward.dot(origin - self.eye)) / along
+        } else {
+            0.0
+        };
+        origin + dir * t
+    }
 }
 
 #[cfg(test)]

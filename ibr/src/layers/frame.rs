@@ -2,7 +2,7 @@
 //! fitted warp, the screen rectangle a refresh renders, taking a refresh's image, and the
 //! quad that draws the warped image; with the screen-rectangle arithmetic they share.
 
-use super::unproject;
+use super::Unprojector;
 use super::{Affine, Config, Homography, Image, Job, Layer, Mode, Predicted, Worker};
 use crate::billboard::{push_quad, UvRect};
 use engine::{Camera, Rgba};
@@ -181,9 +181,10 @@ pub(super) fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height:
     else {
         return;
     };
+    let unprojector = Unprojector::new(camera, width, height);
     let quad = mapped.map(|m| {
         let (px, w) = m.unwrap_or((Vec2::ZERO, least));
-        unproject(camera, px, z * w / least, width, height)
+        unprojector.unproject(px, z * w / least)
     });
     let full = UvRect {
         min: Vec2::ZERO,

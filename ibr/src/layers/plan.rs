@@ -11,6 +11,7 @@ use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Draw, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
+use rayon::prelude::*;
 
 /// The neighbour difference assumed for a layer never rendered (8-bit levels per texel),
 /// until its first image measures its own: a busy image, so the first estimate errs high
@@ -133,16 +134,19 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         let cfg = self.config;
         let (w, h) = (view.width, view.height);
         let on_view = (Vec2::ZERO, Vec2::new(w as f32, h as f32));
-        for layer in &mut self.layers {
+        // Each layer on its own (side by side: the same at any thread count).
+        let layers = self.layers.par_iter_mut().enumerate();
+        layers.for_each(|(i, layer)| {
             layer.mode = Mode::Culled;
-        }
-        for &i in objects {
-            let (Some(s), Some(layer)) = (subjects.get(i), self.layers.get_mut(i)) else {
-                continue;
+            let Some(s) = subjects
+                .get(i)
+                .filter(|_| objects.binary_search(&i).is_ok())
+            else {
+                return;
             };
             let Some((points, nearest)) = project_corners(s, view.camera, w, h) else {
                 layer.mode = Mode::Geometry(Why::Behind);
-                continue;
+                return;
             };
             (layer.screen, layer.nearest) = (points, nearest);
             layer.predicted = predict(layer, s.version(), clip(bounds(&points), on_view), &cfg);
@@ -155,7 +159,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             } else {
                 Mode::Image
             };
-        }
+        });
     }
 
     /// The warped image's quad; the subject's geometry if the layer has none to draw (the

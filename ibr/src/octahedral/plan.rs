@@ -265,11 +265,11 @@ impl OctahedralSet {
 
 /// Unit direction from `centre` towards the viewer (against an orthographic camera's view
 /// direction), as the impostor selects its frames by; `None` for a broken camera or an
-/// eye at the centre.
-fn toward_viewer(camera: &Camera, centre: Vec3) -> Option<Vec3> {
+/// eye at the centre. `eye` is the camera's.
+fn toward_viewer(camera: &Camera, eye: Vec3, centre: Vec3) -> Option<Vec3> {
     let d = match camera.projection {
         Projection::Orthographic { .. } => -camera.forward(),
-        Projection::Perspective { .. } | Projection::Frustum { .. } => camera.eye() - centre,
+        Projection::Perspective { .. } | Projection::Frustum { .. } => eye - centre,
     };
     d.try_normalize()
 }
@@ -355,7 +355,7 @@ impl<S: Subject + Send + Sync> Representation<S> for OctahedralSet {
         if sight.width == 0 || sight.height == 0 || !sane || sight.within(self.near) {
             return None;
         }
-        let v = toward_viewer(sight.camera, b.center)?;
+        let v = toward_viewer(sight.camera, sight.eye, b.center)?;
         let (fresh_grid, fresh_px) = self.sizes();
         let predict = |layout: Layout, grid: u32, px: u32, g: Gradients| {
             let (tpp, shift) = view_terms(layout, grid, px, self.blend, sight, v);
@@ -452,12 +452,13 @@ impl<S: Subject + Send + Sync> Representation<S> for OctahedralSet {
     /// Recomposes each drawn object's image for this view, side by side.
     fn prepare(&mut self, objects: &[usize], _subjects: &[S], view: &FrameView<'_>) {
         let (camera, blend) = (view.camera, self.blend);
+        let eye = camera.eye();
         let mut drawn = pick_mut(&mut self.baked, objects.iter().copied());
         drawn.par_iter_mut().with_max_len(1).for_each(|slot| {
             if let Some(b) = slot.as_mut() {
                 b.imp.set_blend(blend);
                 b.imp.update(camera);
-                let v = toward_viewer(camera, b.imp.info().bounds.center);
+                let v = toward_viewer(camera, eye, b.imp.info().bounds.center);
                 b.shown = v.map(key);
             }
         });

@@ -31,6 +31,7 @@ use rayon::prelude::*;
 pub const Z99: f64 = 2.326;
 
 /// One visible object's options this frame, as the multiplier weighs them.
+#[derive(Clone, Copy)]
 pub(super) struct Object<'e> {
     /// Per representation (`None`: cannot draw it).
     pub est: &'e [Option<Estimate>],
@@ -64,7 +65,11 @@ pub(super) struct Price {
 
 impl Price {
     pub(super) fn score(&self, p: &Pick) -> f64 {
-        p.time + self.lambda * (p.weighted + self.kappa * p.weighted * p.weighted)
+        self.score_of(p.time, p.weighted)
+    }
+
+    fn score_of(&self, time: f64, weighted: f64) -> f64 {
+        time + self.lambda * (weighted + self.kappa * weighted * weighted)
     }
 }
 
@@ -81,6 +86,7 @@ pub(super) struct Weights<'c> {
 
 /// Every visible object's options with a finite error, flattened once per frame so that
 /// the bisection only does arithmetic.
+#[derive(Default)]
 pub(super) struct Options {
     picks: Vec<Pick>,
     /// Each object's range of `picks`.
@@ -89,17 +95,37 @@ pub(super) struct Options {
     area: f64,
     /// `Z99` times the objects' relative spread.
     margin: f64,
+    /// Each object's options no other beats in both time and weighted error (`[time,
+    /// weighted]`, by time), and its range of them: the best at any price is one of these,
+    /// so the bisection looks at these alone.
+    front: Vec<[f64; 2]>,
+    front_ranges: Vec<(usize, usize)>,
 }
 
 impl Options {
     /// The options of `objects`, whose rectangles add up to `area` pixels.
+    #[cfg(test)]
     pub(super) fn new(objects: &[Object<'_>], area: f64, w: &Weights<'_>) -> Options {
-        let mut out = Options {
-            picks: Vec::new(),
-            ranges: Vec::with_capacity(objects.len()),
-            area: area.max(1.0),
-            margin: Z99 * f64::from(w.spread.max(0.0)),
-        };
+        let mut out = Options::default();
+        out.fill(objects.iter().copied(), area, w);
+        out
+    }
+
+    /// The options of `objects`, whose rectangles add up to `area` pixels, in place of
+    /// what it held (its memory reused).
+    pub(super) fn fill<'e>(
+        &mut self,
+        objects: impl Iterator<Item = Object<'e>>,
+        area: f64,
+        w: &Weights<'_>,
+    ) {
+        self.picks.clear();
+        self.ranges.clear();
+        self.front.clear();
+        self.front_ranges.clear();
+        self.area = area.max(1.0);
+        self.margin = Z99 * f64::from(w.spread.max(0.0));
+        let out = self;
         for o in objects {
             let first = out.picks.len();
             let px = f64::from(o.weight);
@@ -135,8 +161,25 @@ impl Options {
                 }
             }
             out.ranges.push((first, out.picks.len()));
+            // The front: by time (then weighted error), each less in error than all before.
+            let start = out.front.len();
+            let picks = &out.picks[first..];
+            out.front.extend(picks.iter().map(|p| [p.time, p.weighted]));
+            let mine = &mut out.front[start..];
+            mine.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+            let mut kept = start;
+            let mut least = f64::INFINITY;
+            for j in start..out.front.len() {
+                let f = out.front[j];
+                if f[1] < least {
+                    least = f[1];
+                    out.front[kept] = f;
+                    kept += 1;
+                }
+            }
+            out.front.truncate(kept);
+            out.front_ranges.push((start, kept));
         }
-        out
     }
 
     /// Object `k`'s rebuild options (at most one per representation).
@@ -166,20 +209,21 @@ impl Options {
     /// squares. Summed side by side over fixed chunks of objects, the chunks' sums added
     /// in order (the same at any thread count).
     fn sums(&self, price: Price) -> (f64, f64) {
+        let score = |f: &[f64; 2]| price.score_of(f[0], f[1]);
         let chunk = |ranges: &[(usize, usize)]| {
             let (mut sum, mut squares) = (0.0, 0.0);
             for &(a, b) in ranges {
-                let best = self.picks[a..b]
+                let best = self.front[a..b]
                     .iter()
-                    .min_by(|p, q| price.score(p).total_cmp(&price.score(q)));
-                if let Some(p) = best {
-                    sum += p.weighted;
-                    squares += p.weighted * p.weighted;
+                    .min_by(|p, q| score(p).total_cmp(&score(q)));
+                if let Some(&[_, weighted]) = best {
+                    sum += weighted;
+                    squares += weighted * weighted;
                 }
             }
             (sum, squares)
         };
-        let parts: Vec<(f64, f64)> = self.ranges.par_chunks(1024).map(chunk).collect();
+        let parts: Vec<(f64, f64)> = self.front_ranges.par_chunks(1024).map(chunk).collect();
         parts
             .iter()
             .fold((0.0, 0.0), |(s, q), &(a, b)| (s + a, q + b))
@@ -326,6 +370,53 @@ mod tests {
             objects.iter().map(|o| f64::from(o.weight)).sum(),
             w,
         )
+    }
+
+    #[test]
+    fn the_bound_over_undominated_options_is_the_bound_over_all() {
+        // Objects of eight options each, many dominated (slower and no more accurate than
+        // another), some tied: at every price the bound from the fronts alone is the bound
+        // from every option, its best option per object found by brute force.
+        let cost = CostModel::default();
+        let w = weights(&cost, 0.5);
+        let ests: Vec<[Option<Estimate>; 8]> = (0..50u64)
+            .map(|k| {
+                std::array::from_fn(|r| {
+                    let r = r as u64;
+                    let error = ((k * 7 + r * 13) % 11) as f32 * 0.5;
+                    (r != 3 || k % 2 == 0)
+                        .then(|| est(error, 100 + (k * 31 + r * 17) % 900).unwrap())
+                })
+            })
+            .collect();
+        let objects: Vec<Object<'_>> = ests
+            .iter()
+            .enumerate()
+            .map(|(k, e)| object(e, 10.0 + k as f32 * 3.0))
+            .collect();
+        let options = apart(&objects, &w);
+        assert!(
+            options.front.len() < options.picks.len() / 2,
+            "{}",
+            options.front.len()
+        );
+        for lambda in [0.0, 1e-6, 1e-4, 1e-2, 1.0] {
+            for kappa in [0.0, 1e-3] {
+                let price = Price { lambda, kappa };
+                let (mut sum, mut squares) = (0.0, 0.0);
+                for &(a, b) in &options.ranges {
+                    let best = options.picks[a..b]
+                        .iter()
+                        .map(|p| (price.score(p), p.weighted))
+                        .min_by(|x, y| x.0.total_cmp(&y.0))
+                        .unwrap();
+                    (sum, squares) = (sum + best.1, squares + best.1 * best.1);
+                }
+                let want = bound(sum, squares, options.area, options.margin);
+                let got = options.bound(price);
+                assert!((got - want).abs() <= 1e-9 * want.max(1.0), "{got} {want}");
+            }
+        }
     }
 
     #[test]

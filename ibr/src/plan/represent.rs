@@ -31,8 +31,25 @@ impl<'a> Sight<'a> {
     /// How an object with bounding sphere `bounds` is seen by `camera` in a `width` x
     /// `height` target (the planner's own, for callers that estimate outside it).
     pub fn new(camera: &'a Camera, width: u32, height: u32, bounds: Sphere) -> Sight<'a> {
-        let eye = camera.eye();
         let px_per_radian = crate::impostor::pixels_per_radian(camera, height);
+        Sight {
+            camera,
+            eye: camera.eye(),
+            width,
+            height,
+            px_per_radian,
+            bounds,
+            distance: 0.0,
+            pixels: 0.0,
+        }
+        .at(bounds)
+    }
+
+    /// The same camera and target seeing an object with bounding sphere `bounds` (what
+    /// depends on the camera alone is not worked out again).
+    pub fn at(&self, bounds: Sphere) -> Sight<'a> {
+        let (eye, px_per_radian) = (self.eye, self.px_per_radian);
+        let (camera, width, height) = (self.camera, self.width, self.height);
         let distance = eye.distance(bounds.center);
         let frame_px = width as f32 * height as f32;
         let pixels = if distance > bounds.radius {
