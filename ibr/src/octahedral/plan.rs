@@ -351,8 +351,7 @@ impl<S: Subject + Send + Sync> Representation<S> for OctahedralSet {
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         let slot = self.baked.get(i)?;
         let b = sight.bounds;
-        let sane = b.radius > 0.0 && b.radius.is_finite() && b.center.is_finite();
-        if sight.width == 0 || sight.height == 0 || !sane || sight.within(self.near) {
+        if !sight.sane() || sight.within(self.near) {
             return None;
         }
         let v = toward_viewer(sight.camera, sight.eye, b.center)?;

@@ -70,6 +70,14 @@ impl<'a> Sight<'a> {
         }
     }
 
+    /// Whether there is anything to predict: a target with pixels, a finite eye and a
+    /// bounding sphere of finite centre and positive, finite radius.
+    pub fn sane(&self) -> bool {
+        let b = self.bounds;
+        let sphere = b.radius > 0.0 && b.radius.is_finite() && b.center.is_finite();
+        self.width > 0 && self.height > 0 && sphere && self.eye.is_finite()
+    }
+
     /// Whether the eye is within `k` radii of the centre (images of the object break down).
     pub fn within(&self, k: f32) -> bool {
         self.distance.partial_cmp(&(self.bounds.radius * k)) != Some(std::cmp::Ordering::Greater)

@@ -240,8 +240,7 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
         let cfg = &self.config;
         let b = sight.bounds;
         let (w, h) = (sight.width, sight.height);
-        let valid = w > 0 && h > 0 && sight.eye.is_finite() && b.radius > 0.0;
-        if !valid || sight.within(cfg.transition) {
+        if !sight.sane() || sight.within(cfg.transition) {
             return None;
         }
         let rect = screen_rect(sight.camera, b.center, b.radius, w, h)?;
