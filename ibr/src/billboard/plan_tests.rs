@@ -6,11 +6,12 @@
 use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
 use super::*;
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_none_missing, assert_released_when_away, beside_geometry,
-    camera, camera_at, fit_bound, fly_on_threads, frame, lighting, measured, render, sight,
-    subjects, truth, FOV, H, W,
+    assert_changes_invalidate, assert_no_estimate_from_odd_views, assert_none_missing,
+    assert_released_when_away, beside_geometry, camera, camera_at, fit_bound, fly_on_threads,
+    frame, lighting, measured, release_one_and_ignore_out_of_range, render, sight, subjects, truth,
+    FOV, H, W,
 };
-use crate::plan::{tint, CostModel, Planner, Representation, Sight};
+use crate::plan::{tint, CostModel, Planner, Representation};
 use crate::subject::{MeshGroup, Subject};
 use crate::technique::FrameView;
 use engine::procedural::{self, XorShift};
@@ -454,32 +455,16 @@ fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut subjects = calibration_subjects();
     let mut set = baked(&mut subjects, 32);
     let both = Rep::memory(&set);
-    Rep::release(&mut set, 1);
-    Rep::release(&mut set, 99);
-    assert_eq!(Rep::memory(&set), both - both / subjects.len());
-    assert!(set.image(1).is_none() && set.image(0).is_some());
     let light = lighting();
     let cam = path(2);
     let view = FrameView::still(&cam, W, H, &light);
-    assert_eq!(
-        Rep::rebuild(&mut set, &[99], &mut subjects, &view),
-        Default::default()
-    );
-    Rep::prepare(&mut set, &[1, 99], &subjects, &view);
-    // A NaN eye, an eye at the centre and an empty target: no estimate; prepared and
-    // drawn at a NaN eye, the quad stays as it was.
+    release_one_and_ignore_out_of_range(&mut set, &mut subjects, &view);
+    assert_eq!(Rep::memory(&set), both - both / subjects.len());
+    assert!(set.image(1).is_none() && set.image(0).is_some());
+    // Odd views: no estimate; prepared and drawn at a NaN eye, the quad stays as it was.
     let s = &subjects[0];
+    assert_no_estimate_from_odd_views(&set, s, &cam);
     let nan = camera(Vec3::NAN, Vec3::ZERO);
-    assert!(Rep::estimate(&set, 0, s, &sight(&nan, s)).is_none());
-    let c = s.bounds().center;
-    let inside = camera(c, c + Vec3::Z);
-    assert!(Rep::estimate(&set, 0, s, &sight(&inside, s)).is_none());
-    let empty = Sight {
-        width: 0,
-        height: 0,
-        ..sight(&cam, s)
-    };
-    assert!(Rep::estimate(&set, 0, s, &empty).is_none());
     Rep::prepare(&mut set, &[0], &subjects, &view);
     let quad = |set: &BillboardSet| {
         let mut out = Vec::new();

@@ -3,13 +3,14 @@
 //! promises with light fields among its choices, thread counts, release, a memory budget
 //! and odd inputs.
 
-use super::plan::{bake_bytes, lightfield_error, taps, view_terms, Gradients, LightFieldSet};
+use super::plan::{bake_bytes, lightfield_error, taps, view_terms, LightFieldSet};
 use super::*;
 use crate::impostor::screen_rect;
 use crate::plan::tests::{
     assert_changes_invalidate, assert_released_when_away, beside_geometry, camera, camera_at,
-    dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured, render, sight, subjects,
-    tori, truth, view_at, FOV, H, W,
+    dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured,
+    release_one_and_ignore_out_of_range, render, sight, subjects, tori, truth, view_at, Sample,
+    FOV, H, W,
 };
 use crate::plan::{Planner, Representation, Sight};
 use crate::subject::{MeshGroup, Subject};
@@ -34,27 +35,6 @@ fn baked(subjects: &mut [MeshGroup], grid: u32, st: u32) -> LightFieldSet {
     );
     assert_eq!(work.captures, 6 * u64::from(grid * grid) * n as u64);
     set
-}
-
-/// One object's terms, predicted and measured error from one view.
-#[derive(Clone, Copy, Debug)]
-struct Sample {
-    gradients: Gradients,
-    texels_per_px: f32,
-    shift: f32,
-    predicted: f32,
-    measured: f64,
-}
-
-impl Sample {
-    /// The prediction's two terms without their constants: texels and ghosting.
-    fn terms(&self) -> (f32, f32) {
-        let g = self.gradients;
-        (
-            g.gradient * self.texels_per_px.max(1.0),
-            g.depth_gradient * self.shift,
-        )
-    }
 }
 
 /// Object `i` of `set` (baked) seen alone from `camera`: its estimate, and its light field
@@ -84,7 +64,8 @@ fn sample(
     let g = set.gradients(i)?[k];
     assert_eq!(e.error, lightfield_error(g, texels_per_px, shift));
     Some(Sample {
-        gradients: g,
+        gradient: g.gradient,
+        depth_gradient: g.depth_gradient,
         texels_per_px,
         shift,
         predicted: e.error,
@@ -411,18 +392,12 @@ fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut set = baked(&mut subjects, 2, 8);
     let both = Rep::memory(&set);
     let one = bake_bytes([2, 2, 8, 8]);
-    Rep::release(&mut set, 1);
-    Rep::release(&mut set, 99);
-    assert_eq!(Rep::memory(&set), both - one);
-    assert!(set.fields(1).is_none() && set.fields(0).is_some());
     let light = lighting();
     let cam = view_at(0.0);
     let view = FrameView::still(&cam, W, H, &light);
-    assert_eq!(
-        Rep::rebuild(&mut set, &[99], &mut subjects, &view),
-        Default::default()
-    );
-    Rep::prepare(&mut set, &[1, 99], &subjects, &view);
+    release_one_and_ignore_out_of_range(&mut set, &mut subjects, &view);
+    assert_eq!(Rep::memory(&set), both - one);
+    assert!(set.fields(1).is_none() && set.fields(0).is_some());
     // A NaN eye, an eye inside the object, one near it off the cube's axes and an empty
     // target: no estimate, and preparing and compositing at those views draws nothing.
     let s = &subjects[0];

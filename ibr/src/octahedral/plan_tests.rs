@@ -2,14 +2,15 @@
 //! error (the calibration run), a fresh bake at its own views, invalidation, the planner's
 //! promises with octahedral impostors among its choices, release and odd inputs.
 
-use super::plan::{octahedral_error, view_terms, Gradients};
+use super::plan::{octahedral_error, view_terms};
 use super::*;
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_none_missing, assert_released_when_away, beside_geometry,
-    camera, camera_at, fit_bound, frame, lighting, measured, render, sight, subjects, tori, truth,
-    view_at, FOV, H, W,
+    assert_changes_invalidate, assert_no_estimate_from_odd_views, assert_none_missing,
+    assert_released_when_away, beside_geometry, camera, camera_at, fit_bound, frame, lighting,
+    measured, release_one_and_ignore_out_of_range, render, sight, subjects, tori, truth, view_at,
+    Sample, FOV, H, W,
 };
-use crate::plan::{self, CostModel, Planner, Representation, Sight};
+use crate::plan::{self, CostModel, Planner, Representation};
 use crate::subject::MeshGroup;
 use crate::technique::FrameView;
 use engine::procedural::XorShift;
@@ -33,27 +34,6 @@ fn baked(subjects: &mut [MeshGroup], grid: u32, px: u32, layout: Layout) -> Octa
     let renders = u64::from(set.impostor(0).expect("baked").bake_renders());
     assert_eq!(work.captures, renders * n as u64);
     set
-}
-
-/// One object's terms, predicted and measured error from one view.
-#[derive(Clone, Copy, Debug)]
-struct Sample {
-    gradients: Gradients,
-    texels_per_px: f32,
-    shift: f32,
-    predicted: f32,
-    measured: f64,
-}
-
-impl Sample {
-    /// The prediction's two terms without their constants: resampling and parallax.
-    fn terms(&self) -> (f32, f32) {
-        let g = self.gradients;
-        (
-            g.gradient * self.texels_per_px.max(1.0),
-            g.depth_gradient * self.shift,
-        )
-    }
 }
 
 /// Object `i` of `set` (baked) seen from `camera`: its estimate, and its image drawn
@@ -86,7 +66,8 @@ fn sample(
         octahedral_error(g.gradient, g.depth_gradient, texels_per_px, shift)
     );
     Some(Sample {
-        gradients: g,
+        gradient: g.gradient,
+        depth_gradient: g.depth_gradient,
         texels_per_px,
         shift,
         predicted: e.error,
@@ -327,32 +308,16 @@ fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut set = baked(&mut subjects, 4, 16, Layout::Full);
     let both = Rep::memory(&set);
     let one = set.impostor(1).expect("baked").bytes();
-    Rep::release(&mut set, 1);
-    Rep::release(&mut set, 99);
-    assert_eq!(Rep::memory(&set), both - one);
-    assert!(set.impostor(1).is_none() && set.impostor(0).is_some());
     let light = lighting();
     let cam = view_at(0.0);
     let view = FrameView::still(&cam, W, H, &light);
-    assert_eq!(
-        Rep::rebuild(&mut set, &[99], &mut subjects, &view),
-        Default::default()
-    );
-    Rep::prepare(&mut set, &[1, 99], &subjects, &view);
-    // A NaN eye, an eye at the centre and an empty target: no estimate, and the image
-    // stays as it was.
+    release_one_and_ignore_out_of_range(&mut set, &mut subjects, &view);
+    assert_eq!(Rep::memory(&set), both - one);
+    assert!(set.impostor(1).is_none() && set.impostor(0).is_some());
+    // Odd views: no estimate, and the image stays as it was.
     let s = &subjects[0];
+    assert_no_estimate_from_odd_views(&set, s, &cam);
     let nan = camera(Vec3::NAN, Vec3::ZERO);
-    assert!(Rep::estimate(&set, 0, s, &sight(&nan, s)).is_none());
-    let c = s.bounds().center;
-    let inside = camera(c, c + Vec3::Z);
-    assert!(Rep::estimate(&set, 0, s, &sight(&inside, s)).is_none());
-    let empty = Sight {
-        width: 0,
-        height: 0,
-        ..sight(&cam, s)
-    };
-    assert!(Rep::estimate(&set, 0, s, &empty).is_none());
     let before = set.impostor(0).unwrap().image().cloned();
     Rep::prepare(
         &mut set,

@@ -261,6 +261,63 @@ pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize,
     assert_eq!(p.report.memory, 0, "{:?}", p.report);
 }
 
+/// One object's view in a calibration run of a baked representation: its image's
+/// gradients (levels per texel, and depth-weighted), the view's texels per screen pixel
+/// and parallax shift (texels), and the error predicted and measured.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Sample {
+    pub gradient: f32,
+    pub depth_gradient: f32,
+    pub texels_per_px: f32,
+    pub shift: f32,
+    pub predicted: f32,
+    pub measured: f64,
+}
+
+impl Sample {
+    /// The prediction's two terms without their constants: resampling (texel density)
+    /// and parallax (ghosting).
+    pub(crate) fn terms(&self) -> (f32, f32) {
+        (
+            self.gradient * self.texels_per_px.max(1.0),
+            self.depth_gradient * self.shift,
+        )
+    }
+}
+
+/// `s` (object 0 of `set`) seen by a NaN eye, by an eye at its centre and from `cam` on an
+/// empty target: no estimate.
+pub(crate) fn assert_no_estimate_from_odd_views(
+    set: &dyn Representation<MeshGroup>,
+    s: &MeshGroup,
+    cam: &Camera,
+) {
+    let nan = camera(Vec3::NAN, Vec3::ZERO);
+    let c = s.bounds().center;
+    let inside = camera(c, c + Vec3::Z);
+    let empty = Sight {
+        width: 0,
+        height: 0,
+        ..sight(cam, s)
+    };
+    for seen in [sight(&nan, s), sight(&inside, s), empty] {
+        assert!(set.estimate(0, s, &seen).is_none(), "{seen:?}");
+    }
+}
+
+/// Object 1 released, then indices past `set`'s objects: ignored by `release`, by
+/// `rebuild` (no work) and by `prepare` (with object 1, now holding nothing).
+pub(crate) fn release_one_and_ignore_out_of_range(
+    set: &mut dyn Representation<MeshGroup>,
+    subjects: &mut [MeshGroup],
+    view: &FrameView<'_>,
+) {
+    set.release(1);
+    set.release(99);
+    assert_eq!(set.rebuild(&[99], subjects, view), Work::default());
+    set.prepare(&[1, 99], subjects, view);
+}
+
 fn planner(budgets: Budgets) -> Planner<MeshGroup> {
     let objects = tori();
     let n = objects.len();
