@@ -166,7 +166,7 @@ impl Options {
             let picks = &out.picks[first..];
             out.front.extend(picks.iter().map(|p| [p.time, p.weighted]));
             let mine = &mut out.front[start..];
-            mine.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+            mine.sort_unstable_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
             let mut kept = start;
             let mut least = f64::INFINITY;
             for j in start..out.front.len() {
