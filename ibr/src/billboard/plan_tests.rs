@@ -6,10 +6,10 @@
 use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
 use super::*;
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_no_estimate_from_odd_views, assert_none_missing,
-    assert_released_when_away, beside_geometry, camera, camera_at, fit_bound, fly_on_threads,
-    frame, lighting, measured, release_one_and_ignore_out_of_range, render, sight, subjects, truth,
-    FOV, H, W,
+    assert_changes_invalidate, assert_holds_then_releases_when_away,
+    assert_no_estimate_from_odd_views, assert_none_missing, beside_geometry, camera, camera_at,
+    drawn_alone, fit_bound, fly_on_threads, frame, lighting, measured,
+    release_one_and_ignore_out_of_range, sight, subjects, truth, FOV, H, W,
 };
 use crate::plan::{tint, CostModel, Planner, Representation};
 use crate::subject::{MeshGroup, Subject};
@@ -90,17 +90,9 @@ fn sample(
     camera: &Camera,
     r: &mut Renderer,
 ) -> Option<Sample> {
+    let (e, got, want) = drawn_alone(set, subjects, i, camera, r)?;
     let s = &subjects[i];
     let seen = sight(camera, s);
-    let e = Rep::estimate(set, i, s, &seen)?;
-    let light = lighting();
-    Rep::prepare(set, &[i], subjects, &FrameView::still(camera, W, H, &light));
-    let mut draws = Vec::new();
-    Rep::draw(set, i, s, camera.eye(), &mut draws);
-    let got = render(draws, camera, r);
-    let mut draws = Vec::new();
-    s.draws(&mut draws);
-    let want = render(draws, camera, r);
     let (a, el, tpp, shift) = view_terms(Vec3::Z, set.px, &seen)?;
     let p = set.profile(i)?;
     assert_eq!(e.error, billboard_error(p, a, el, tpp, shift));
@@ -442,15 +434,8 @@ fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
 #[test]
 fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut p = planner(1e9);
-    p.config.release_after = 3;
     let mut r = Renderer::new();
-    for _ in 0..2 {
-        frame(&mut p, &path(2), &mut r);
-    }
-    let held = p.report.memory;
-    let set = p.representation(BILLBOARDS).expect("billboards");
-    assert!(held > 0 && set.memory() == held, "{:?}", p.report);
-    assert_released_when_away(&mut p, held, &mut r);
+    assert_holds_then_releases_when_away(&mut p, BILLBOARDS, &path(2), 2, &mut r);
     // Directly: releasing one bake frees exactly its share; out of range is ignored.
     let mut subjects = calibration_subjects();
     let mut set = baked(&mut subjects, 32);

@@ -12,7 +12,8 @@ use glam::{Mat3, Vec3};
 use std::sync::Arc;
 
 use crate::plan::tests::{
-    assert_released_when_away, camera, fit_bound, frame, lighting, render, sight, tori, truth, H, W,
+    assert_holds_then_releases_when_away, camera, fit_bound, frame, lighting, render, sight, tori,
+    truth, H, W,
 };
 
 /// Tori, boxes and checkered cards, several of each, spread over a few units in depth.
@@ -402,14 +403,8 @@ fn with_impostors_and_layers_none_is_missing_and_the_budget_holds() {
 #[test]
 fn release_frees_a_layers_memory() {
     let mut p = geometry_and_layers(1e9, 16);
-    p.config.release_after = 3;
     let mut r = Renderer::new();
-    frame(&mut p, &slid(0.0), &mut r);
-    let held = p.report.memory;
-    assert!(held > 0, "{:?}", p.report);
-    let layers = p.representation(LAYERS).expect("layers");
-    assert_eq!(layers.memory(), held);
-    assert_released_when_away(&mut p, held, &mut r);
+    assert_holds_then_releases_when_away(&mut p, LAYERS, &slid(0.0), 1, &mut r);
     // Directly: releasing one layer frees exactly its image.
     let mut set = LayerSet::new(Config::default(), 16);
     let mut objects = tori();

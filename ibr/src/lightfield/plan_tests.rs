@@ -7,8 +7,8 @@ use super::plan::{bake_bytes, lightfield_error, taps, view_terms, LightFieldSet}
 use super::*;
 use crate::impostor::screen_rect;
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_released_when_away, beside_geometry, camera, camera_at,
-    dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured,
+    assert_changes_invalidate, assert_holds_then_releases_when_away, beside_geometry, camera,
+    camera_at, dear_geometry, drawn_alone, fit_bound, fly_on_threads, frame, lighting, measured,
     release_one_and_ignore_out_of_range, render, sight, subjects, tori, truth, view_at, Sample,
     FOV, H, W,
 };
@@ -47,17 +47,9 @@ fn sample(
     camera: &Camera,
     r: &mut Renderer,
 ) -> Option<Sample> {
+    let (e, got, want) = drawn_alone(set, subjects, i, camera, r)?;
     let s = &subjects[i];
     let seen = sight(camera, s);
-    let e = Rep::estimate(set, i, s, &seen)?;
-    let light = lighting();
-    let view = FrameView::still(camera, W, H, &light);
-    Rep::prepare(set, &[i], subjects, &view);
-    let mut got = render(Vec::new(), camera, r);
-    Rep::passes(set, &view, &mut got);
-    let mut draws = Vec::new();
-    s.draws(&mut draws);
-    let want = render(draws, camera, r);
     let fields = set.fields(i)?;
     let k = object::choose_slab(fields.iter().map(|f| &f.slab), s.bounds(), camera.eye())?;
     let (texels_per_px, shift) = view_terms(&fields[k].slab, &seen);
@@ -377,15 +369,8 @@ fn a_memory_budget_caps_what_the_light_fields_hold() {
 #[test]
 fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut p = planner(1e9);
-    p.config.release_after = 3;
     let mut r = Renderer::new();
-    for _ in 0..2 {
-        frame(&mut p, &view_at(0.0), &mut r);
-    }
-    let held = p.report.memory;
-    let set = p.representation(LIGHT_FIELD).expect("light fields");
-    assert!(held > 0 && set.memory() == held, "{:?}", p.report);
-    assert_released_when_away(&mut p, held, &mut r);
+    assert_holds_then_releases_when_away(&mut p, LIGHT_FIELD, &view_at(0.0), 2, &mut r);
     // Directly: releasing one bake frees exactly its bytes; indices out of range are
     // ignored by every call.
     let mut subjects = subjects();

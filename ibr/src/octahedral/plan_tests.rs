@@ -5,10 +5,10 @@
 use super::plan::{octahedral_error, view_terms};
 use super::*;
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_no_estimate_from_odd_views, assert_none_missing,
-    assert_released_when_away, beside_geometry, camera, camera_at, fit_bound, frame, lighting,
-    measured, release_one_and_ignore_out_of_range, render, sight, subjects, tori, truth, view_at,
-    Sample, FOV, H, W,
+    assert_changes_invalidate, assert_holds_then_releases_when_away,
+    assert_no_estimate_from_odd_views, assert_none_missing, beside_geometry, camera, camera_at,
+    drawn_alone, fit_bound, frame, lighting, measured, release_one_and_ignore_out_of_range, sight,
+    subjects, tori, truth, view_at, Sample, FOV, H, W,
 };
 use crate::plan::{self, CostModel, Planner, Representation};
 use crate::subject::MeshGroup;
@@ -45,17 +45,9 @@ fn sample(
     camera: &Camera,
     r: &mut Renderer,
 ) -> Option<Sample> {
+    let (e, got, want) = drawn_alone(set, subjects, i, camera, r)?;
     let s = &subjects[i];
     let seen = sight(camera, s);
-    let e = Rep::estimate(set, i, s, &seen)?;
-    let light = lighting();
-    Rep::prepare(set, &[i], subjects, &FrameView::still(camera, W, H, &light));
-    let mut draws = Vec::new();
-    Rep::draw(set, i, s, camera.eye(), &mut draws);
-    let got = render(draws, camera, r);
-    let mut draws = Vec::new();
-    s.draws(&mut draws);
-    let want = render(draws, camera, r);
     let info = set.impostor(i)?.info();
     let v = (camera.eye() - info.bounds.center).normalize();
     let (texels_per_px, shift) =
@@ -293,15 +285,8 @@ fn in_a_planner_octahedral_impostors_err_within_the_budget_and_a_large_one_takes
 #[test]
 fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
     let mut p = planner(1e9);
-    p.config.release_after = 3;
     let mut r = Renderer::new();
-    for _ in 0..2 {
-        frame(&mut p, &view_at(0.0), &mut r);
-    }
-    let held = p.report.memory;
-    let set = p.representation(OCTAHEDRAL).expect("octahedral");
-    assert!(held > 0 && set.memory() == held, "{:?}", p.report);
-    assert_released_when_away(&mut p, held, &mut r);
+    assert_holds_then_releases_when_away(&mut p, OCTAHEDRAL, &view_at(0.0), 2, &mut r);
     // Directly: releasing one bake frees exactly its bytes; indices out of range are
     // ignored by every call.
     let mut subjects = subjects();

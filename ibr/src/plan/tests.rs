@@ -247,9 +247,23 @@ pub(crate) fn fly_on_threads(
     })
 }
 
-/// Looking away from a planner (`release_after` 3) holding `held` bytes: every object is
-/// culled, the bytes held for two frames, then all released.
-pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize, r: &mut Renderer) {
+/// Planner `p` flown for `frames` frames at `cam` (releasing what is unused after 3)
+/// holds images, all of them its representation `rep`'s; looking away, it keeps them two
+/// frames and then frees them all. Returns the bytes it held.
+pub(crate) fn assert_holds_then_releases_when_away(
+    p: &mut Planner<MeshGroup>,
+    rep: usize,
+    cam: &Camera,
+    frames: usize,
+    r: &mut Renderer,
+) -> usize {
+    p.config.release_after = 3;
+    for _ in 0..frames {
+        frame(p, cam, r);
+    }
+    let held = p.report.memory;
+    let set = p.representation(rep).expect("the representation");
+    assert!(held > 0 && set.memory() == held, "{:?}", p.report);
     let away = camera(Vec3::new(0.0, 2.0, 7.0), Vec3::new(0.0, 2.0, 20.0));
     for k in 0..6 {
         frame(p, &away, r);
@@ -259,6 +273,31 @@ pub(crate) fn assert_released_when_away(p: &mut Planner<MeshGroup>, held: usize,
         }
     }
     assert_eq!(p.report.memory, 0, "{:?}", p.report);
+    held
+}
+
+/// Object `i` of `set` seen alone from `camera`: its estimate, then its image drawn on an
+/// empty frame (prepared, then by its draws and its passes), and the object's geometry
+/// drawn alone. `None` where `set` gives no estimate.
+pub(crate) fn drawn_alone(
+    set: &mut dyn Representation<MeshGroup>,
+    subjects: &[MeshGroup],
+    i: usize,
+    camera: &Camera,
+    r: &mut Renderer,
+) -> Option<(Estimate, Target, Target)> {
+    let s = &subjects[i];
+    let e = set.estimate(i, s, &sight(camera, s))?;
+    let light = lighting();
+    let view = FrameView::still(camera, W, H, &light);
+    set.prepare(&[i], subjects, &view);
+    let mut draws = Vec::new();
+    set.draw(i, s, camera.eye(), &mut draws);
+    let mut got = render(draws, camera, r);
+    set.passes(&view, &mut got);
+    let mut draws = Vec::new();
+    s.draws(&mut draws);
+    Some((e, got, render(draws, camera, r)))
 }
 
 /// One object's view in a calibration run of a baked representation: its image's

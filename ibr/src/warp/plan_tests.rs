@@ -5,9 +5,9 @@
 
 use super::plan::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use crate::plan::tests::{
-    assert_no_estimate_from_odd_views, assert_released_when_away, beside_geometry, camera,
-    camera_at, dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured, render, sight,
-    subjects, tori, truth, view_at, FOV, H, W,
+    assert_holds_then_releases_when_away, assert_no_estimate_from_odd_views, beside_geometry,
+    camera, camera_at, dear_geometry, fit_bound, fly_on_threads, frame, lighting, measured, render,
+    sight, subjects, tori, truth, view_at, FOV, H, W,
 };
 use crate::plan::{Estimate, Planner, Representation};
 use crate::subject::{MeshGroup, Subject};
@@ -350,14 +350,8 @@ fn the_same_frames_give_the_same_pixels_on_one_and_two_threads() {
 #[test]
 fn release_frees_the_references_and_odd_views_neither_panic_nor_estimate() {
     let mut p = planner(1, 1e9);
-    p.config.release_after = 3;
     let mut r = Renderer::new();
-    for _ in 0..2 {
-        frame(&mut p, &view_at(0.0), &mut r);
-    }
-    let held = p.report.memory;
-    assert!(held > 0 && p.report.counts[DEPTH] >= 12, "{:?}", p.report);
-    assert_released_when_away(&mut p, held, &mut r);
+    assert_holds_then_releases_when_away(&mut p, DEPTH, &view_at(0.0), 2, &mut r);
     // Directly: an eye inside the object, a NaN eye, an empty target.
     let mut subjects = subjects();
     let mut set = depth_set(3, subjects.len());
