@@ -85,6 +85,13 @@ fn captures(n: u64) -> Work {
     }
 }
 
+fn image_pixels(n: u64) -> Work {
+    Work {
+        image_pixels: n,
+        ..Work::default()
+    }
+}
+
 fn planner(budgets: Budgets, cost: CostModel, reps: Vec<Scripted>) -> Planner<MeshGroup> {
     let config = Config {
         budgets,
@@ -143,21 +150,15 @@ fn a_pass_that_costs_more_than_the_exact_geometry_is_not_asked_unless_in_use() {
 
 #[test]
 fn under_a_rebuild_time_budget_short_rebuilds_go_before_a_long_bake_worth_less_per_ms() {
-    // A bake: drawn for almost nothing, rebuilt in 2,000 captures (26 ms), lasting 3,600
-    // frames. A quick image: drawn for 10,000 image pixels (64 us), rebuilt in 40 captures
-    // (0.5 ms), lasting 30 frames. Each saves nearly the whole of a dear geometry, the
+    // A bake: drawn for almost nothing, rebuilt in 2,000 captures (15 ms at the default
+    // costs), lasting 3,600 frames. A quick image: drawn for 10,000 image pixels (64 us),
+    // rebuilt in 40 captures (0.3 ms), lasting 30 frames. Each saves nearly the whole of a dear geometry, the
     // bake a little more; per millisecond of rebuild the quick image is worth 50 times as
     // much. With 10 ms of rebuilds a frame, the quick images are taken first.
-    let tiny = Work {
-        image_pixels: 10,
-        ..Work::default()
-    };
+    let tiny = image_pixels(10);
     let mut bake = Scripted::new("bake", 16, tiny, captures(2000));
     bake.payback = Some(3600.0);
-    let quick_draw = Work {
-        image_pixels: 10_000,
-        ..Work::default()
-    };
+    let quick_draw = image_pixels(10_000);
     let quick = Scripted::new("quick", 16, quick_draw, captures(40));
     let budgets = Budgets {
         error: 2.0,
