@@ -154,8 +154,8 @@ const CHUNK_RUNS: usize = 16;
 /// The largest target side (entries hold `u16` coordinates).
 pub const MAX_SIDE: u32 = u16::MAX as u32;
 
-/// A piece of a run, within one block of its row: pixels `lo..hi` of row `y`, taken right
-/// to left when `reverse`.
+/// A piece of a run, one or more neighbouring blocks of its row that reach the same bands:
+/// pixels `lo..hi` of row `y`, taken right to left when `reverse`.
 #[derive(Clone, Copy, Debug)]
 struct Segment {
     y: u32,
@@ -325,13 +325,10 @@ fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2
                 let (lo, hi) = run.span();
                 let reverse = run.step < 0;
                 let (b_lo, b_hi) = (lo / BLOCK, hi.div_ceil(BLOCK));
-                for i in 0..b_hi - b_lo {
-                    let b = if reverse { b_hi - 1 - i } else { b_lo + i };
-                    let (s0, s1) = ((b * BLOCK).max(lo), ((b + 1) * BLOCK).min(hi));
-                    let Some((y0, y1)) = lane.bound(run.y, s0, s1, source.block(run.y, b)) else {
-                        continue;
-                    };
-                    let (b0, b1) = (y0 / BAND_ROWS, (y1 - 1) / BAND_ROWS);
+                // Neighbouring blocks that reach the same bands join one segment (fewer,
+                // longer segments: each costs a setup); `(lo, hi, first band, last band)`.
+                let mut pending: Option<(u32, u32, u32, u32)> = None;
+                let mut list = |(s0, s1, b0, b1): (u32, u32, u32, u32)| {
                     for band in b0..=b1 {
                         bins[band as usize].push(Segment {
                             y: run.y,
@@ -341,7 +338,47 @@ fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2
                             first: band == b0,
                         });
                     }
+                };
+                let blocks = b_hi - b_lo;
+                for first in (0..blocks).step_by(LANES) {
+                    let pieces: [(u32, u32, [f32; 2]); LANES] = std::array::from_fn(|l| {
+                        let i = first + l as u32;
+                        let b = if reverse {
+                            b_hi.wrapping_sub(1 + i)
+                        } else {
+                            b_lo + i
+                        };
+                        let (s0, s1) = ((b * BLOCK).max(lo), ((b + 1) * BLOCK).min(hi));
+                        (
+                            s0,
+                            s1,
+                            if i < blocks {
+                                source.block(run.y, b)
+                            } else {
+                                [0.0; 2]
+                            },
+                        )
+                    });
+                    let n = LANES.min((blocks - first) as usize);
+                    let bounds = lane.bounds(run.y, &pieces[..n]);
+                    for ((s0, s1, _), bound) in pieces.into_iter().zip(bounds).take(n) {
+                        let Some((y0, y1)) = bound else {
+                            pending.take().map(&mut list);
+                            continue;
+                        };
+                        let bands = (y0 / BAND_ROWS, (y1 - 1) / BAND_ROWS);
+                        pending = match pending {
+                            Some((p0, p1, b0, b1)) if (b0, b1) == bands => {
+                                Some((p0.min(s0), p1.max(s1), b0, b1))
+                            }
+                            other => {
+                                other.map(&mut list);
+                                Some((s0, s1, bands.0, bands.1))
+                            }
+                        };
+                    }
                 }
+                pending.map(list);
             }
         });
 }

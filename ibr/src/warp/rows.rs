@@ -113,49 +113,74 @@ impl Lane {
         (landing, h.z > 0.0)
     }
 
-    /// The target rows `[y0, y1)` that samples of reference row `y`, pixels `lo..hi`, with
-    /// disparities within `range` can cover; `None` when none can land on the image. Taken
-    /// from the four corners of `[lo, hi) x range`: where `h.z` is positive over that
-    /// rectangle the target position is a ratio of linear functions, whose extremes lie at
-    /// corners. Near `h.z = 0` (or behind the eye) every row. Conservative by a pixel
-    /// (plus rounding), so a sample it leaves out lands nowhere.
-    pub(super) fn bound(&self, y: u32, lo: u32, hi: u32, range: [f32; 2]) -> Option<(u32, u32)> {
-        if range[0].partial_cmp(&range[1]).is_none_or(|o| o.is_gt()) || lo >= hi {
-            return None;
-        }
+    /// For each of up to [`LANES`] pieces of reference row `y` (pixels `lo[l]..hi[l]`, with
+    /// disparities within `range[l]`), the target rows `[y0, y1)` its samples can cover;
+    /// `None` when none can land on the image. Taken from the four corners of
+    /// `[lo, hi) x range`: where `h.z` is positive over that rectangle the target position
+    /// is a ratio of linear functions, whose extremes lie at corners. Near `h.z = 0` (or
+    /// behind the eye) every row. Conservative by a pixel (plus rounding), so a sample it
+    /// leaves out lands nowhere. Eight pieces at once: a frame bounds tens of thousands.
+    pub(super) fn bounds(
+        &self,
+        y: u32,
+        pieces: &[(u32, u32, [f32; 2])],
+    ) -> [Option<(u32, u32)>; LANES] {
+        let splat = F8::splat;
+        let lane = |f: &dyn Fn(&(u32, u32, [f32; 2])) -> f32, pad: f32| {
+            F8::from_array(std::array::from_fn(|l| pieces.get(l).map_or(pad, f)))
+        };
+        // Absent lanes are empty pieces.
+        let (lo, hi) = (lane(&|p| p.0 as f32, 0.0), lane(&|p| p.1 as f32, 0.0));
+        let (r0, r1) = (lane(&|p| p.2[0], 1.0), lane(&|p| p.2[1], 0.0));
         let eq = &self.eq;
         let rb = eq.a[1] * (y as f32 + 0.5) + eq.a[2];
-        let every = Some((0, self.h2 as u32));
-        let (mut x_lo, mut x_hi) = (f32::INFINITY, f32::NEG_INFINITY);
-        let (mut y_lo, mut y_hi) = (f32::INFINITY, f32::NEG_INFINITY);
-        for u in [lo as f32 + 0.5, hi as f32 - 0.5] {
-            for d in range {
-                let h = eq.a[0] * u + rb + eq.b * d;
+        let (zero, inf) = (splat(0.0), splat(f32::INFINITY));
+        let ninf = splat(f32::NEG_INFINITY);
+        let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (inf, ninf, inf, ninf);
+        let mut clear = M8::from_bits((1 << LANES) - 1);
+        for u in [lo + splat(0.5), hi - splat(0.5)] {
+            for d in [r0, r1] {
+                // `a0 u + rb + b d`, as `Vec3` arithmetic rounds it.
+                let h = |a: f32, r: f32, b: f32| splat(a) * u + splat(r) + splat(b) * d;
+                let (hx, hy, hz) = (
+                    h(eq.a[0].x, rb.x, eq.b.x),
+                    h(eq.a[0].y, rb.y, eq.b.y),
+                    h(eq.a[0].z, rb.z, eq.b.z),
+                );
                 // The size of the terms `h.z` sums: well away from zero relative to them,
                 // rounding cannot move a sample's position far from these corners'.
-                let scale = (eq.a[0].z * u).abs() + rb.z.abs() + (eq.b.z * d).abs();
-                let clear = h.z.partial_cmp(&(1e-2 * scale)).is_some_and(|o| o.is_gt());
-                if !clear || !h.is_finite() {
-                    return every;
-                }
-                let (x, y) = (h.x / h.z, h.y / h.z);
+                let scale =
+                    (splat(eq.a[0].z) * u).abs() + splat(rb.z.abs()) + (splat(eq.b.z) * d).abs();
+                let finite = hx.abs().lt(inf).and(hy.abs().lt(inf)).and(hz.abs().lt(inf));
+                clear = clear.and(hz.gt(splat(1e-2) * scale)).and(finite);
+                let (x, y) = (hx / hz, hy / hz);
                 (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
                 (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
             }
         }
-        let half = if self.splats {
+        let half = splat(if self.splats {
             self.max_splat * 0.5
         } else {
             0.5
-        };
-        let slack = |v: f32| half + 0.51 + 1e-4 * v.abs();
+        });
+        let slack = |v: F8| half + splat(0.51) + splat(1e-4) * v.abs();
         let (mx, my) = (slack(x_lo).max(slack(x_hi)), slack(y_lo).max(slack(y_hi)));
-        if !(x_hi + mx >= 0.0 && x_lo - mx < self.w2) {
-            return None;
-        }
-        let y0 = (y_lo - my).floor().max(0.0);
-        let y1 = ((y_hi + my).floor() + 1.0).min(self.h2);
-        (y0 < y1).then_some((y0 as u32, y1 as u32))
+        let on_image = (x_hi + mx).ge(zero).and((x_lo - mx).lt(splat(self.w2)));
+        let y0 = (y_lo - my).floor().max(zero).to_array();
+        let y1 = ((y_hi + my).floor() + splat(1.0))
+            .min(splat(self.h2))
+            .to_array();
+        let (clear, on_image) = (clear.bits(), on_image.bits());
+        std::array::from_fn(|l| {
+            let (lo, hi, range) = *pieces.get(l)?;
+            if range[0].partial_cmp(&range[1]).is_none_or(|o| o.is_gt()) || lo >= hi {
+                None
+            } else if clear >> l & 1 == 0 {
+                Some((0, self.h2 as u32))
+            } else {
+                (on_image >> l & 1 == 1 && y0[l] < y1[l]).then(|| (y0[l] as u32, y1[l] as u32))
+            }
+        })
     }
 
     /// The target rectangle of a landing, `[x0, x1) x [y0, y1)`; empty (`x0 >= x1` or
