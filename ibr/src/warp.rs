@@ -52,7 +52,7 @@ pub use plan::DepthImageSet;
 pub use prepared::Prepared;
 use prepared::BLOCK;
 use rayon::prelude::*;
-use rows::{warp_row, Group, Lane};
+use rows::{warp_row, Group, Lane, Piece};
 pub use warped::{Warped, ENCODING, HOLE};
 
 /// How competing samples are resolved.
@@ -341,7 +341,7 @@ fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2
                 };
                 let blocks = b_hi - b_lo;
                 for first in (0..blocks).step_by(LANES) {
-                    let pieces: [(u32, u32, [f32; 2]); LANES] = std::array::from_fn(|l| {
+                    let pieces: [Piece; LANES] = std::array::from_fn(|l| {
                         let i = first + l as u32;
                         let b = if reverse {
                             b_hi.wrapping_sub(1 + i)

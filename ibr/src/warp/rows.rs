@@ -12,6 +12,9 @@ use super::{Entry, Prepared, Reconstruction, WarpOptions, WarpStats};
 use engine::simd::{F8, I8, LANES, M8};
 use glam::Vec3;
 
+/// Pixels `lo..hi` of a reference row and the range of their disparities: `(lo, hi, range)`.
+pub(super) type Piece = (u32, u32, [f32; 2]);
+
 /// What warping a sample needs besides the sample.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Lane {
@@ -120,13 +123,9 @@ impl Lane {
     /// is a ratio of linear functions, whose extremes lie at corners. Near `h.z = 0` (or
     /// behind the eye) every row. Conservative by a pixel (plus rounding), so a sample it
     /// leaves out lands nowhere. Eight pieces at once: a frame bounds tens of thousands.
-    pub(super) fn bounds(
-        &self,
-        y: u32,
-        pieces: &[(u32, u32, [f32; 2])],
-    ) -> [Option<(u32, u32)>; LANES] {
+    pub(super) fn bounds(&self, y: u32, pieces: &[Piece]) -> [Option<(u32, u32)>; LANES] {
         let splat = F8::splat;
-        let lane = |f: &dyn Fn(&(u32, u32, [f32; 2])) -> f32, pad: f32| {
+        let lane = |f: &dyn Fn(&Piece) -> f32, pad: f32| {
             F8::from_array(std::array::from_fn(|l| pieces.get(l).map_or(pad, f)))
         };
         // Absent lanes are empty pieces.
