@@ -1,7 +1,8 @@
 //! Times the two phases of a 1920x1080 warp (the warp itself, then the pull-push fill) on
 //! the criterion bench's frame, and prints a hash of the filled image, so a change meant to
 //! keep the pixels can be checked to keep them:
-//! `cargo run --release -p demos --example warp_phases -- [SIDEWAYS] [--frames N] [--no-fill]`
+//! `cargo run --release -p demos --example warp_phases -- [SIDEWAYS] [--frames N] [--no-fill]
+//! [--background]` (the background-side fill instead of pull-push)
 //! (SIDEWAYS: how far the eye moves, default 0.3; `RAYON_NUM_THREADS=1` for one thread).
 //! Wall-clock figures from a shared machine: compare runs alternated, not one against an
 //! old number.
@@ -23,7 +24,11 @@ fn main() {
         .and_then(|n| n.parse::<usize>().ok())
         .unwrap_or(40)
         .max(1);
-    let fill = flag("--no-fill").is_none();
+    let fill = match (flag("--no-fill"), flag("--background")) {
+        (Some(_), _) => Fill::None,
+        (None, Some(_)) => Fill::Background,
+        (None, None) => Fill::PullPush,
+    };
     let (w, h) = (1920, 1080);
     let (reference, moved) = showcase_reference(w, h, sideways);
     let options = WarpOptions::default();
@@ -38,9 +43,7 @@ fn main() {
         warper.begin(&moved, w, h);
         warper.add_prepared(&prepared, &options);
         let t1 = Instant::now();
-        if fill {
-            filler.fill(warper.output_mut(), Fill::PullPush, options.edge);
-        }
+        filler.fill(warper.output_mut(), fill, options.edge);
         let t2 = Instant::now();
         if i >= 5 {
             (warp, filling) = (warp + (t1 - t0), filling + (t2 - t1));
@@ -57,7 +60,7 @@ fn main() {
         });
     let ms = |d: Duration| d.as_secs_f64() * 1e3 / frames as f64;
     println!(
-        "1920x1080, {sideways} sideways, {frames} frames on {} threads: warp {:.2} ms, fill {:.2} ms (fastest {:.2} and {:.2}); image hash {hash:016x}",
+        "1920x1080, {sideways} sideways, {fill:?} fill, {frames} frames on {} threads: warp {:.2} ms, fill {:.2} ms (fastest {:.2} and {:.2}); image hash {hash:016x}",
         rayon::current_num_threads(),
         ms(warp),
         ms(filling),

@@ -19,6 +19,7 @@
 //! and runs row by row on the thread pool; the pixels it gives do not depend on the thread
 //! count.
 
+mod background;
 mod pull_push;
 
 use super::on_pool;
@@ -105,8 +106,8 @@ pub fn classify(image: &Warped, edge: f32) -> HoleStats {
 pub struct Filler {
     /// Levels 1, 2, ... of the pyramid (level 0 is the image).
     levels: Vec<pull_push::Level>,
-    /// Background fill: the nearest farthest sample of each hole.
-    best: Vec<Option<usize>>,
+    /// The background fill's planes.
+    background: background::Background,
 }
 
 impl Filler {
@@ -116,50 +117,7 @@ impl Filler {
         match fill {
             Fill::None => 0,
             Fill::PullPush => on_pool(|| pull_push::fill(image, &mut self.levels, edge)),
-            Fill::Background => background(image, &mut self.best),
+            Fill::Background => on_pool(|| self.background.fill(image)),
         }
     }
-}
-
-/// Fills each hole with the farthest of the nearest samples to its left, right, top and
-/// bottom (read from the unfilled image). Returns the pixels filled.
-fn background(image: &mut Warped, best: &mut Vec<Option<usize>>) -> u64 {
-    let (w, h) = (image.width() as usize, image.height() as usize);
-    if w == 0 || h == 0 {
-        return 0;
-    }
-    let disparity = &image.disparity;
-    best.clear();
-    best.resize(w * h, None);
-    // One sweep along a line of pixels: each hole considers the last sample passed, and
-    // keeps the farthest (least disparity) of those its sweeps offer.
-    let mut sweep = |line: &mut dyn Iterator<Item = usize>| {
-        let mut last: Option<usize> = None;
-        for i in line {
-            if disparity[i] >= 0.0 {
-                last = Some(i);
-            } else if let Some(s) = last {
-                if best[i].is_none_or(|b| disparity[s] < disparity[b]) {
-                    best[i] = Some(s);
-                }
-            }
-        }
-    };
-    for y in 0..h {
-        sweep(&mut (y * w..(y + 1) * w));
-        sweep(&mut (y * w..(y + 1) * w).rev());
-    }
-    for x in 0..w {
-        sweep(&mut (0..h).map(|y| y * w + x));
-        sweep(&mut (0..h).rev().map(|y| y * w + x));
-    }
-    let mut count = 0;
-    for (i, b) in best.iter().enumerate() {
-        if let Some(s) = *b {
-            image.color[i] = image.color[s];
-            image.disparity[i] = image.disparity[s];
-            count += 1;
-        }
-    }
-    count
 }
