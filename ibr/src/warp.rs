@@ -52,7 +52,7 @@ pub use plan::DepthImageSet;
 pub use prepared::Prepared;
 use prepared::BLOCK;
 use rayon::prelude::*;
-use rows::{warp_row, Group, Lane, Piece};
+use rows::{warp_row, Emit, Group, Lane, Piece};
 pub use warped::{Warped, ENCODING, HOLE};
 
 /// How competing samples are resolved.
@@ -421,9 +421,14 @@ fn write(
                 let mut seen = WarpStats::default();
                 let mut written = 0;
                 if source.single() {
-                    seen = warp_row(lane, source, y, (lo, hi), segment.reverse, |g| {
-                        written += put.group(&mut band, g, segment.reverse);
-                    });
+                    let mut writer = Writer {
+                        put: &put,
+                        band: &mut band,
+                        reverse: segment.reverse,
+                        written: 0,
+                    };
+                    seen = warp_row(lane, source, y, (lo, hi), segment.reverse, &mut writer);
+                    written = writer.written;
                 } else {
                     let mut each = |x: u32| {
                         let p = y as usize * w1 + x as usize;
@@ -462,6 +467,22 @@ struct Band<'a> {
     /// The target row of the band's first row.
     y_base: usize,
     rows: usize,
+}
+
+/// A band's writer of a segment's groups, lanes in order or (`reverse`) last first.
+struct Writer<'p, 'b, 'a> {
+    put: &'p Put,
+    band: &'b mut Band<'a>,
+    reverse: bool,
+    /// Pixels written.
+    written: u64,
+}
+
+impl Emit for Writer<'_, '_, '_> {
+    #[inline(always)]
+    fn group(&mut self, g: &Group) {
+        self.written += self.put.group(self.band, g, self.reverse);
+    }
 }
 
 /// How entries are written.

@@ -37,11 +37,12 @@ fn sequential(source: &Prepared, target: &Camera, w2: u32, h2: u32, o: &WarpOpti
         if source.single() {
             // Sample by sample (the banded warp copies runs of points as blocks).
             let reverse = run.step < 0;
-            warp_row(&lane, source, run.y, (lo, hi), reverse, |g| {
+            let mut each = |g: &Group| {
                 for i in 0..g.n {
                     put.sample(&mut band, g, if reverse { g.n - 1 - i } else { i });
                 }
-            });
+            };
+            warp_row(&lane, source, run.y, (lo, hi), reverse, &mut each);
         } else {
             for x in run.pixels() {
                 let p = (run.y * w1 + x) as usize;
