@@ -376,12 +376,9 @@ fn warp_row_with<const SPLATS: bool>(
             let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
             let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
             let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
-            // At least one pixel (a NaN too), at most the largest splat.
-            let size = |a: F8, b: F8| {
-                let s = (a.abs() + b.abs()) * inv;
-                let s = s.gt(one).select(s, one);
-                max_splat.lt(s).select(max_splat, s)
-            };
+            // At least one pixel (a NaN too: `max` returns its second operand then), at
+            // most the largest splat; `clamp_splat`'s comparisons, one instruction each.
+            let size = |a: F8, b: F8| ((a.abs() + b.abs()) * inv).max(one).min(max_splat);
             let (half_x, half_y) = (size(jxx, jyx) * half, size(jxy, jyy) * half);
             let (cx, cy) = (x + half, y + half);
             let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
