@@ -6,12 +6,13 @@
 //! frame size. Each target eye is the home eye moved sideways (`distance`, a fraction of the
 //! city's half width) or orbited about the centre (`angle`, degrees). For every method
 //! (references x points or splats, later references composited by depth or only into
-//! holes; and one LDI built from the home view and the four around it; holes filled by
-//! pull-push) a point records the error
+//! holes; holes filled by pull-push, or from the background side for `splats-background`;
+//! and one LDI built from the home view and the four around it, filled by pull-push) a
+//! point records the error
 //! against the geometry frame (PSNR over the frame and over the pixels the references saw
 //! before filling, mean error, fraction over the threshold), the holes, and the times of
 //! the warp frame and the geometry frame. A `speed` series times one reference warped with
-//! splats and filled at 1920x1080 (smaller in quick and tiny runs).
+//! splats and filled each way at 1920x1080 (smaller in quick and tiny runs).
 
 mod charts;
 
@@ -34,14 +35,32 @@ use ibr::warp::technique::WarpedView;
 use ibr::warp::{Composite, Reconstruction, Visibility};
 use std::time::{Duration, Instant};
 
-/// The warp methods: (name, reconstruction, how references composite).
-const METHODS: [(&str, Reconstruction, Composite); 3] = [
-    ("points", Reconstruction::Points, Composite::Depth),
-    ("splats", Reconstruction::Splats, Composite::Depth),
+/// The warp methods: (name, reconstruction, how references composite, how holes are
+/// filled).
+const METHODS: [(&str, Reconstruction, Composite, Fill); 4] = [
+    (
+        "points",
+        Reconstruction::Points,
+        Composite::Depth,
+        Fill::PullPush,
+    ),
+    (
+        "splats",
+        Reconstruction::Splats,
+        Composite::Depth,
+        Fill::PullPush,
+    ),
     (
         "splats-priority",
         Reconstruction::Splats,
         Composite::Priority,
+        Fill::PullPush,
+    ),
+    (
+        "splats-background",
+        Reconstruction::Splats,
+        Composite::Depth,
+        Fill::Background,
     ),
 ];
 
@@ -116,7 +135,8 @@ pub struct Row {
     pub series: &'static str,
     /// The move: fraction of the half width, or degrees.
     pub value: f32,
-    /// `geometry`, or `points` / `splats` / `splats-priority` for a warp of the nearest
+    /// `geometry`, or `points` / `splats` / `splats-priority` / `splats-background` for a
+    /// warp of the nearest
     /// references, or `ldi`: one layered depth image at the home eye built from five views
     /// (references: 5), splatted; or `mesh`: the home view as a mesh broken at depth edges,
     /// drawn by the rasterizer (references: 1).
@@ -356,7 +376,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             ..Row::timed("geometry", plan.size, &city, &times)
         });
         for (n, view) in views.iter_mut() {
-            for (method, rec, composite) in METHODS {
+            for (method, rec, composite, fill) in METHODS {
                 if *n == 1 && composite == Composite::Priority {
                     continue;
                 }
@@ -366,6 +386,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 view.options.visibility = Visibility::Ordered;
                 let row = measure(
                     view,
+                    fill,
                     &cam,
                     &city,
                     &truth,
@@ -403,6 +424,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         ldi_view.options.reconstruction = Reconstruction::Splats;
         let row = measure(
             &mut ldi_view,
+            Fill::PullPush,
             &cam,
             &city,
             &truth,
@@ -420,13 +442,15 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         });
     }
     tick("speed".into());
-    rows.push(speed(plan, &city, &mut renderer, &mut frame));
+    rows.extend(speed(plan, &city, &mut renderer, &mut frame));
     rows
 }
 
-/// One warp point: counted and compared once (untimed), then timed without the hole count.
+/// One warp point, holes filled by `fill`: counted and compared once (untimed), then timed
+/// without the hole count.
 fn measure(
     view: &mut WarpedView,
+    fill: Fill,
     cam: &Camera,
     city: &City,
     truth: &Target,
@@ -442,7 +466,7 @@ fn measure(
     view.count_holes = true;
     let counted = view.warp_to(cam, w, h);
     let seen: Vec<bool> = view.image().disparity.iter().map(|d| *d >= 0.0).collect();
-    view.fill = Fill::PullPush;
+    view.fill = fill;
     view.count_holes = false;
     let mut list: [&mut dyn Technique; 1] = [view];
     let times = plan.frames.run(|| {
@@ -506,9 +530,10 @@ fn mesh_point(
     }
 }
 
-/// One reference warped with splats and pull-push fill at the speed size, timed as the
-/// warp alone (no geometry in the frame, no hole count).
-fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoop) -> Row {
+/// One reference warped with splats at the speed size, holes filled by pull-push
+/// (`splats`) and from the background side (`splats-background`), each timed as the warp
+/// alone (no geometry in the frame, no hole count).
+fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoop) -> Vec<Row> {
     let (w, h) = plan.speed_size;
     let (eye, at) = home(city);
     let mut target = Target::new(w, h);
@@ -518,19 +543,28 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
     view.nearest = 1;
     view.count_holes = false;
     let moved = camera(target_eye(city, "distance", 0.05), at, (w, h), city);
-    let times = plan.frames.run(|| {
-        let t = Instant::now();
-        view.warp_to(&moved, w, h);
-        t.elapsed()
-    });
-    Row {
-        series: "speed",
-        value: 0.05,
-        references: 1,
-        samples: view.last().stats.samples,
-        predicted_px: view.last().predicted_px,
-        ..Row::timed("splats", (w, h), city, &times)
-    }
+    [
+        ("splats", Fill::PullPush),
+        ("splats-background", Fill::Background),
+    ]
+    .into_iter()
+    .map(|(method, fill)| {
+        view.fill = fill;
+        let times = plan.frames.run(|| {
+            let t = Instant::now();
+            view.warp_to(&moved, w, h);
+            t.elapsed()
+        });
+        Row {
+            series: "speed",
+            value: 0.05,
+            references: 1,
+            samples: view.last().stats.samples,
+            predicted_px: view.last().predicted_px,
+            ..Row::timed(method, (w, h), city, &times)
+        }
+    })
+    .collect()
 }
 
 /// The criterion warp bench's frame (`benches/warp.rs`, `examples/warp_phases.rs`): the

@@ -416,11 +416,11 @@ fn warp_sweep_writes_csv_and_png_charts() {
         .filter(|r| {
             r[0] == "distance"
                 && r[1] == "0"
-                && (r[method] == "points" || r[method] == "splats")
+                && ["points", "splats", "splats-background"].contains(&r[method])
                 && t.num(r, "references") == 1.0
         })
         .collect();
-    assert_eq!(home.len(), 2, "{csv}");
+    assert_eq!(home.len(), 3, "{csv}");
     for r in home {
         assert_eq!(t.num(r, "psnr_db"), 99.0, "{r:?}");
         assert_eq!(t.num(r, "holes"), 0.0, "{r:?}");
@@ -446,7 +446,13 @@ fn warp_sweep_writes_csv_and_png_charts() {
             assert!(t.num(r, "samples") > 0.0, "{r:?}");
         }
     }
-    assert!(rows.iter().any(|r| r[0] == "speed"), "{csv}");
+    // The speed series times both fills.
+    for fill in ["splats", "splats-background"] {
+        assert!(
+            rows.iter().any(|r| r[0] == "speed" && r[method] == fill),
+            "{fill}: {csv}"
+        );
+    }
     assert!(rows.iter().any(|r| r[method] == "ldi"), "{csv}");
     // The home view's mesh was drawn.
     assert!(
