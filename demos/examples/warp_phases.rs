@@ -2,12 +2,13 @@
 //! the criterion bench's frame, and prints a hash of the filled image, so a change meant to
 //! keep the pixels can be checked to keep them:
 //! `cargo run --release -p demos --example warp_phases -- [SIDEWAYS] [--frames N] [--no-fill]
-//! [--background]` (the background-side fill instead of pull-push)
+//! [--background] [--city]` (the background-side fill instead of pull-push; the `bench warp`
+//! speed series' city frame, 500k triangles, instead of the showcase's)
 //! (SIDEWAYS: how far the eye moves, default 0.3; `RAYON_NUM_THREADS=1` for one thread).
 //! Wall-clock figures from a shared machine: compare runs alternated, not one against an
 //! old number.
 
-use demos::bench_warp::showcase_reference;
+use demos::bench_warp::{city_reference, showcase_reference};
 use ibr::warp::holes::{Fill, Filler};
 use ibr::warp::{Prepared, WarpOptions, Warper};
 use std::time::{Duration, Instant};
@@ -30,7 +31,13 @@ fn main() {
         (None, None) => Fill::PullPush,
     };
     let (w, h) = (1920, 1080);
-    let (reference, moved) = showcase_reference(w, h, sideways);
+    let (reference, moved) = if flag("--city").is_some() {
+        let city = demos::city::City::with_triangles(4, 500_000, 7);
+        let (mut renderer, mut frame) = (engine::Renderer::new(), ibr::technique::FrameLoop::new());
+        city_reference(&city, &mut renderer, &mut frame, (w, h))
+    } else {
+        showcase_reference(w, h, sideways)
+    };
     let options = WarpOptions::default();
     let prepared = Prepared::from_image(&reference, options.edge);
     let (mut warper, mut filler) = (Warper::new(), Filler::default());
@@ -41,7 +48,10 @@ fn main() {
     for i in 0..frames + 5 {
         let t0 = Instant::now();
         warper.begin(&moved, w, h);
-        warper.add_prepared(&prepared, &options);
+        let stats = warper.add_prepared(&prepared, &options);
+        if i == 0 && std::env::var_os("STATS").is_some() {
+            eprintln!("{stats:?}");
+        }
         let t1 = Instant::now();
         filler.fill(warper.output_mut(), fill, options.edge);
         let t2 = Instant::now();

@@ -535,14 +535,10 @@ fn mesh_point(
 /// alone (no geometry in the frame, no hole count).
 fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoop) -> Vec<Row> {
     let (w, h) = plan.speed_size;
-    let (eye, at) = home(city);
-    let mut target = Target::new(w, h);
-    let cam = camera(eye, at, (w, h), city);
-    geometry(renderer, frame, city, &cam, &mut target);
-    let mut view = WarpedView::new("speed", vec![DepthImage::from_target(&target, &cam)]);
+    let (reference, moved) = city_reference(city, renderer, frame, (w, h));
+    let mut view = WarpedView::new("speed", vec![reference]);
     view.nearest = 1;
     view.count_holes = false;
-    let moved = camera(target_eye(city, "distance", 0.05), at, (w, h), city);
     [
         ("splats", Fill::PullPush),
         ("splats-background", Fill::Background),
@@ -565,6 +561,22 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
         }
     })
     .collect()
+}
+
+/// The `speed` series' frame: the city seen from the home eye at `w` x `h` as a depth
+/// image, and the home eye moved 0.05 of the city's half width sideways.
+pub fn city_reference(
+    city: &City,
+    renderer: &mut Renderer,
+    frame: &mut FrameLoop,
+    (w, h): (u32, u32),
+) -> (DepthImage, Camera) {
+    let (eye, at) = home(city);
+    let mut target = Target::new(w, h);
+    let cam = camera(eye, at, (w, h), city);
+    geometry(renderer, frame, city, &cam, &mut target);
+    let moved = camera(target_eye(city, "distance", 0.05), at, (w, h), city);
+    (DepthImage::from_target(&target, &cam), moved)
 }
 
 /// The criterion warp bench's frame (`benches/warp.rs`, `examples/warp_phases.rs`): the
