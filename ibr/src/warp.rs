@@ -350,21 +350,13 @@ fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2
                 for first in (0..blocks).step_by(LANES) {
                     let pieces: [Piece; LANES] = std::array::from_fn(|l| {
                         let i = first + l as u32;
-                        let b = if reverse {
-                            b_hi.wrapping_sub(1 + i)
-                        } else {
-                            b_lo + i
-                        };
+                        if i >= blocks {
+                            // Past the run: left out below.
+                            return (0, 0, [0.0; 2]);
+                        }
+                        let b = if reverse { b_hi - 1 - i } else { b_lo + i };
                         let (s0, s1) = ((b * BLOCK).max(lo), ((b + 1) * BLOCK).min(hi));
-                        (
-                            s0,
-                            s1,
-                            if i < blocks {
-                                source.block(run.y, b)
-                            } else {
-                                [0.0; 2]
-                            },
-                        )
+                        (s0, s1, source.block(run.y, b))
                     });
                     let n = LANES.min((blocks - first) as usize);
                     let bounds = lane.bounds(run.y, &pieces[..n]);
