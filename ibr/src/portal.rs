@@ -520,30 +520,33 @@ impl Portals {
 
 /// Holes of `image` (the outline's rectangle) inside `outline` (before filling).
 fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
-    let w = image.width();
-    let [x0, y0, x1, y1] = outline.bounds;
-    let mut holes = 0;
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let i = ((y - y0) * w + (x - x0)) as usize;
-            if outline.contains(x, y) && !image.is_filled(i) {
-                holes += 1;
-            }
-        }
-    }
-    holes
+    let w = image.width() as usize;
+    let [x0, y0, _, y1] = outline.bounds;
+    (y0..y1)
+        .map(|y| {
+            let (a, b) = outline.span(y);
+            let row = (y - y0) as usize * w;
+            let span = row + (a - x0) as usize..row + (b - x0) as usize;
+            image.disparity[span]
+                .iter()
+                .filter(|&&d| d.is_nan() || d < 0.0)
+                .count() as u64
+        })
+        .sum()
 }
 
 /// Copies the pixels of `from` (the outline's rectangle) inside `outline` into `into` (the
 /// frame; tinted green if asked); returns the filled pixels copied.
 fn clip_into(into: &mut Warped, from: &Warped, outline: &Outline, tint: bool) -> u64 {
-    let (w, fw) = (into.width(), from.width());
-    let [x0, y0, x1, y1] = outline.bounds;
+    let (w, fw) = (into.width() as usize, from.width() as usize);
+    let [x0, y0, _, y1] = outline.bounds;
     let mut copied = 0;
     for y in y0..y1 {
-        for x in x0..x1 {
-            let (i, j) = ((y * w + x) as usize, ((y - y0) * fw + (x - x0)) as usize);
-            if outline.contains(x, y) && from.is_filled(j) {
+        let (a, b) = outline.span(y);
+        let (i0, j0) = (y as usize * w, (y - y0) as usize * fw);
+        for x in a as usize..b as usize {
+            let (i, j) = (i0 + x, j0 + x - x0 as usize);
+            if from.is_filled(j) {
                 let c = from.color[j];
                 into.color[i] = if tint { tinted(c) } else { c };
                 into.disparity[i] = from.disparity[j];

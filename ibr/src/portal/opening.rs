@@ -1,5 +1,6 @@
 //! A portal's opening (a door or window: a planar convex quad) and its outline on screen:
-//! clipped against the near plane, projected to pixels, and tested pixel by pixel.
+//! clipped against the near plane, projected to pixels, and taken a row at a time (a row
+//! of a convex outline is one run of pixels).
 
 use engine::Camera;
 use glam::{Vec2, Vec3, Vec4};
@@ -148,9 +149,65 @@ impl Outline {
 
     /// Pixels covered (centres inside).
     pub fn area_px(&self) -> u64 {
-        let [x0, y0, x1, y1] = self.bounds;
+        let [_, y0, _, y1] = self.bounds;
         (y0..y1)
-            .map(|y| (x0..x1).filter(|&x| self.contains(x, y)).count() as u64)
+            .map(|y| {
+                let (a, b) = self.span(y);
+                u64::from(b - a)
+            })
             .sum()
+    }
+
+    /// The pixels `[a, b)` of row `y` (within the bounds) whose centres are inside: the
+    /// pixels [`Outline::contains`] takes, as a row of a convex outline is one run. Solved
+    /// from the edges' lines, then its ends settled by `contains` itself, so a row costs a
+    /// few tests rather than one per pixel.
+    pub fn span(&self, y: u32) -> (u32, u32) {
+        let [x0, _, x1, _] = self.bounds;
+        let pts = self.points();
+        // The winding: twice the signed area.
+        let area: f32 = (0..pts.len())
+            .map(|i| pts[i].perp_dot(pts[(i + 1) % pts.len()]))
+            .sum();
+        let (mut a, mut b) = if area.abs() < 1.0 {
+            // Too thin to solve for: every pixel of the row, settled below.
+            (x0, x1)
+        } else {
+            // Each edge keeps the centres on its inner side: `s (C - d.y px) >= 0`.
+            let (s, yc) = (area.signum(), y as f32 + 0.5);
+            let (mut lo, mut hi) = (f32::NEG_INFINITY, f32::INFINITY);
+            for i in 0..pts.len() {
+                let (p, d) = (pts[i], pts[(i + 1) % pts.len()] - pts[i]);
+                let c = d.x * (yc - p.y) + d.y * p.x;
+                if s * d.y > 0.0 {
+                    hi = hi.min(c / d.y);
+                } else if s * d.y < 0.0 {
+                    lo = lo.max(c / d.y);
+                } else if s * c < 0.0 {
+                    (lo, hi) = (f32::INFINITY, f32::NEG_INFINITY);
+                }
+            }
+            let clamp = |v: f32| v.clamp(x0 as f32, x1 as f32) as u32;
+            let a = clamp((lo - 0.5).ceil());
+            (a, clamp((hi - 0.5).floor() + 1.0).max(a))
+        };
+        if a >= b {
+            // Empty as solved: start from its nearest pixel, then grow.
+            b = a.min(x1);
+            a = b;
+        }
+        while a > x0 && self.contains(a - 1, y) {
+            a -= 1;
+        }
+        while b < x1 && self.contains(b, y) {
+            b += 1;
+        }
+        while a < b && !self.contains(a, y) {
+            a += 1;
+        }
+        while b > a && !self.contains(b - 1, y) {
+            b -= 1;
+        }
+        (a, b)
     }
 }

@@ -535,3 +535,37 @@ fn a_room_entered_through_the_next_door_culls_this_one() {
     render(&mut q, &camera(Vec3::new(0.0, 1.4, -2.0)), &[]);
     assert_eq!(q.portals[0].mode(), PortalMode::Culled);
 }
+
+#[test]
+fn a_rows_span_is_the_pixels_the_outline_contains() {
+    // Openings of every tilt seen from eyes all round, some near enough to be clipped by
+    // the near plane: each row's span holds exactly the pixels `contains` takes.
+    let mut rng = procedural::XorShift::new(5);
+    let mut unit = || (rng.next_u64() % 2001) as f32 / 1000.0 - 1.0;
+    let (mut rows, mut pixels) = (0, 0);
+    for _ in 0..200 {
+        let base = Vec3::new(unit(), unit() * 0.5, unit());
+        let toward = Vec3::new(unit(), 0.0, unit() + 0.01);
+        let mut opening =
+            Opening::upright(base, 0.5 + unit().abs(), 0.5 + 2.0 * unit().abs(), toward);
+        // A skewed corner too: still planar-ish and convex on screen.
+        opening.corners[2] += Vec3::new(0.1 * unit(), 0.1 * unit(), 0.0);
+        let eye = Vec3::new(3.0 * unit(), 1.0 + unit(), 3.0 * unit()) + opening.normal() * 0.3;
+        let cam = Camera::look_at(eye, opening.center(), Vec3::Y, 1.0, W as f32 / H as f32);
+        let Some(outline) = opening.outline(&cam, W, H) else {
+            continue;
+        };
+        let [x0, y0, x1, y1] = outline.bounds;
+        for y in y0..y1 {
+            let (a, b) = outline.span(y);
+            let inside: Vec<u32> = (x0..x1).filter(|&x| outline.contains(x, y)).collect();
+            assert_eq!(inside, (a..b).collect::<Vec<_>>(), "row {y} of {outline:?}");
+            rows += 1;
+            pixels += inside.len();
+        }
+    }
+    assert!(
+        rows > 1000 && pixels > 10_000,
+        "{rows} rows, {pixels} pixels"
+    );
+}
