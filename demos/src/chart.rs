@@ -32,9 +32,9 @@ pub enum Drawn {
 }
 
 const SIZE: (u32, u32) = (960, 600);
-/// Series colours in order (the first four as before; ten in all, so a chart of up to ten
-/// lines, such as the warp sweep's methods, tells every line apart).
-const SERIES: [RGBColor; 10] = [
+/// Series colours in order (the first four as before; fourteen in all, so a chart of up to
+/// fourteen lines, such as the warp sweep's thirteen methods, tells every line apart).
+const SERIES: [RGBColor; 14] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -45,6 +45,10 @@ const SERIES: [RGBColor; 10] = [
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
     RGBColor(23, 190, 207),
+    RGBColor(0, 0, 0),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
+    RGBColor(0, 128, 128),
 ];
 
 /// A chart ready to draw with [`draw`].
@@ -53,7 +57,7 @@ pub enum Chart {
     /// Each line's points joined.
     Lines(Lines),
     /// Each line's points as dots, not joined (a scatter: one colour per line, repeating
-    /// after ten).
+    /// after fourteen).
     Scatter(Lines),
     /// One labelled line and loose labelled dots.
     LineAndDots(LineAndDots),

@@ -26,7 +26,7 @@ impl Line {
     }
 }
 
-/// A chart of several lines sharing two axes (colours in order, repeating after ten).
+/// A chart of several lines sharing two axes (colours in order, repeating after fourteen).
 #[derive(Clone, Debug)]
 pub struct Lines {
     pub title: String,
