@@ -311,8 +311,9 @@ pub fn is_filled(c: Premul) -> bool {
     c.a > 0.0
 }
 
-/// Stage 3: the runs cut into segments (at most a block of [`prepared::BLOCK`] pixels of
-/// a row), each listed, in order, in the bands of target rows its samples can cover.
+/// Stage 3: the runs cut into blocks of [`prepared::BLOCK`] pixels of a row, each block's
+/// target rows bounded, neighbouring blocks that reach the same bands joined into a
+/// segment, and each segment listed, in order, in the bands of target rows it can cover.
 fn bin(lane: &Lane, source: &Prepared, runs: &[Run], chunks: &mut Vec<Chunk>, h2: u32) {
     let band_rows = band_rows(h2);
     let bands = h2.div_ceil(band_rows).max(1) as usize;
