@@ -275,6 +275,27 @@ pub(super) struct Group {
     /// Whether all [`LANES`] are points on consecutive pixels (`at[0] + l`), which can be
     /// written as one block in any order.
     pub(super) run: bool,
+    /// Whether all [`LANES`] are points, written with no branch per lane.
+    pub(super) points: bool,
+}
+
+/// Groups [`warp_row`] computes before handing them on.
+const BATCH: usize = 16;
+
+impl Group {
+    /// No sample.
+    const EMPTY: Group = Group {
+        x0: [0; LANES],
+        y0: [0; LANES],
+        x1: [0; LANES],
+        y1: [0; LANES],
+        disparity: [0.0; LANES],
+        color: [0; LANES],
+        at: [-1; LANES],
+        n: 0,
+        run: false,
+        points: false,
+    };
 }
 
 /// Where [`warp_row`] hands its groups. A trait rather than a closure so that the band
@@ -350,90 +371,104 @@ fn warp_row_with<const SPLATS: bool>(
     let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
     let zero = splat(0.0);
     let (one, half) = (splat(1.0), splat(0.5));
-    let (max_splat, w2, h2) = (splat(lane.max_splat), splat(lane.w2), splat(lane.h2));
+    let (max_half, w2, h2) = (splat(lane.max_splat * 0.5), splat(lane.w2), splat(lane.h2));
     let (mut behind, mut warped) = (0u32, 0u32);
     let groups = n.div_ceil(LANES);
-    for g in 0..groups {
-        let k = LANES * if reverse { groups - 1 - g } else { g };
-        let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
-        let d0 = lanes(disparity, k, HOLE);
-        let d = d0.max(zero);
-        let bx = splat(a0.x).fma(u, splat(rb.x));
-        let by = splat(a0.y).fma(u, splat(rb.y));
-        let bz = splat(a0.z).fma(u, splat(rb.z));
-        let hx = splat(b.x).fma(d, bx);
-        let hy = splat(b.y).fma(d, by);
-        let hz = splat(b.z).fma(d, bz);
-        let inv = one / hz;
-        let (x, y) = (hx * inv, hy * inv);
-        let (rx0, rx1, ry0, ry1) = if SPLATS {
-            // The footprint: the columns of the warp's Jacobian (a reference pixel step in
-            // x and in y along the surface), summed in magnitude; as `Lane::land`.
-            let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
-            let px = x.fnma(splat(b.z), splat(b.x));
-            let py = y.fnma(splat(b.z), splat(b.y));
-            let jxx = sx.fma(px, x.fnma(splat(a0.z), splat(a0.x)));
-            let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
-            let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
-            let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
-            // At least one pixel (a NaN too: `max` returns its second operand then), at
-            // most the largest splat; `clamp_splat`'s comparisons, one instruction each.
-            let size = |a: F8, b: F8| ((a.abs() + b.abs()) * inv).max(one).min(max_splat);
-            let (half_x, half_y) = (size(jxx, jyx) * half, size(jxy, jyy) * half);
-            let (cx, cy) = (x + half, y + half);
-            let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
-            let (sx1, sy1) = ((cx + half_x).floor(), (cy + half_y).floor());
-            let (sx1, sy1) = (sx1.max(sx0 + one), sy1.max(sy0 + one));
-            (sx0, sx1, sy0, sy1)
-        } else {
-            let (px, py) = (x.floor(), y.floor());
-            (px, px + one, py, py + one)
-        };
-        // A NaN bound is kept (`max` and `min` return their second operand then), and
-        // compares false below.
-        let (rx0, rx1) = (zero.max(rx0), w2.min(rx1));
-        let (ry0, ry1) = (zero.max(ry0), h2.min(ry1));
-        let filled = d0.ge(zero);
-        let front = hz.gt(zero);
-        let hit = filled.and(front).and(rx0.lt(rx1)).and(ry0.lt(ry1));
-        // Lanes that miss hold an empty rectangle (and no out-of-range conversion).
-        let ix0 = hit.select(rx0, zero).to_i32();
-        let ix1 = hit.select(rx1, zero).to_i32();
-        let iy0 = hit.select(ry0, zero).to_i32();
-        let iy1 = hit.select(ry1, zero).to_i32();
-        let c = if k + LANES <= n {
-            I8::load_u32(&color[k..])
-        } else {
-            I8::from_array(std::array::from_fn(|l| {
-                color.get(k + l).map_or(0, |&c| c as i32)
-            }))
-        };
-        let opaque = c.shr::<24>().eq(I8::splat(255));
-        let ones = I8::splat(1);
-        let point = M8::from_bits(marks)
-            .and(hit)
-            .and(opaque)
-            .and(ix1.eq(ix0 + ones))
-            .and(iy1.eq(iy0 + ones));
-        let at = point.select_i32(iy0.mul_lo(width) + ix0, I8::splat(-1));
-        let first = I8::splat(at.to_array()[0]);
-        let full = (1 << LANES) - 1;
-        let run = k + LANES <= n
-            && point.bits() == full
-            && at.eq(I8::ramp_times(1) + first).bits() == full;
-        behind += filled.and_not(front).bits().count_ones();
-        warped += hit.bits().count_ones();
-        emit.group(&Group {
-            x0: ix0.to_array(),
-            y0: iy0.to_array(),
-            x1: ix1.to_array(),
-            y1: iy1.to_array(),
-            disparity: (d * inv).to_array(),
-            color: c.to_array().map(|c| c as u32),
-            at: at.to_array(),
-            n: LANES.min(n - k),
-            run,
-        });
+    // A batch of groups is computed, then written: the writer's branches (a run or not, a
+    // point or a splat) then neither wait on a group's long chain of vector work nor,
+    // mispredicted, throw away the next group's (measured on the city frame: 7.4 ms
+    // before, 7.0 after).
+    let mut batch = [Group::EMPTY; BATCH];
+    for first in (0..groups).step_by(BATCH) {
+        let m = BATCH.min(groups - first);
+        for (slot, g) in batch.iter_mut().zip(first..first + m) {
+            let k = LANES * if reverse { groups - 1 - g } else { g };
+            let u = F8::ramp() + splat((lo + k) as f32 + 0.5);
+            let d0 = lanes(disparity, k, HOLE);
+            let d = d0.max(zero);
+            let bx = splat(a0.x).fma(u, splat(rb.x));
+            let by = splat(a0.y).fma(u, splat(rb.y));
+            let bz = splat(a0.z).fma(u, splat(rb.z));
+            let hx = splat(b.x).fma(d, bx);
+            let hy = splat(b.y).fma(d, by);
+            let hz = splat(b.z).fma(d, bz);
+            let inv = one / hz;
+            let (x, y) = (hx * inv, hy * inv);
+            let (rx0, rx1, ry0, ry1) = if SPLATS {
+                // The footprint: the columns of the warp's Jacobian (a reference pixel step in
+                // x and in y along the surface), summed in magnitude; as `Lane::land`.
+                let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
+                let px = x.fnma(splat(b.z), splat(b.x));
+                let py = y.fnma(splat(b.z), splat(b.y));
+                let jxx = sx.fma(px, x.fnma(splat(a0.z), splat(a0.x)));
+                let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
+                let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
+                let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
+                // At least one pixel (a NaN too: `max` returns its second operand then), at
+                // most the largest splat; `clamp_splat`'s comparisons, one instruction each.
+                // Halved by a factor taken into `inv` (scaling by two rounds nothing: the same
+                // values as halving the clamped size).
+                let inv_half = inv * half;
+                let half_size =
+                    |a: F8, b: F8| ((a.abs() + b.abs()) * inv_half).max(half).min(max_half);
+                let (half_x, half_y) = (half_size(jxx, jyx), half_size(jxy, jyy));
+                let (cx, cy) = (x + half, y + half);
+                let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
+                let (sx1, sy1) = ((cx + half_x).floor(), (cy + half_y).floor());
+                let (sx1, sy1) = (sx1.max(sx0 + one), sy1.max(sy0 + one));
+                (sx0, sx1, sy0, sy1)
+            } else {
+                let (px, py) = (x.floor(), y.floor());
+                (px, px + one, py, py + one)
+            };
+            // A NaN bound is kept (`max` and `min` return their second operand then), and
+            // compares false below.
+            let (rx0, rx1) = (zero.max(rx0), w2.min(rx1));
+            let (ry0, ry1) = (zero.max(ry0), h2.min(ry1));
+            let filled = d0.ge(zero);
+            let front = hz.gt(zero);
+            let hit = filled.and(front).and(rx0.lt(rx1)).and(ry0.lt(ry1));
+            // Lanes that miss hold an empty rectangle (and no out-of-range conversion).
+            let ix0 = hit.select(rx0, zero).to_i32();
+            let ix1 = hit.select(rx1, zero).to_i32();
+            let iy0 = hit.select(ry0, zero).to_i32();
+            let iy1 = hit.select(ry1, zero).to_i32();
+            let c = if k + LANES <= n {
+                I8::load_u32(&color[k..])
+            } else {
+                I8::from_array(std::array::from_fn(|l| {
+                    color.get(k + l).map_or(0, |&c| c as i32)
+                }))
+            };
+            let opaque = c.shr::<24>().eq(I8::splat(255));
+            let ones = I8::splat(1);
+            let point = M8::from_bits(marks)
+                .and(hit)
+                .and(opaque)
+                .and(ix1.eq(ix0 + ones))
+                .and(iy1.eq(iy0 + ones));
+            let at = point.select_i32(iy0.mul_lo(width) + ix0, I8::splat(-1));
+            let first = I8::splat(at.to_array()[0]);
+            let full = (1 << LANES) - 1;
+            let run = k + LANES <= n
+                && point.bits() == full
+                && at.eq(I8::ramp_times(1) + first).bits() == full;
+            behind += filled.and_not(front).bits().count_ones();
+            warped += hit.bits().count_ones();
+            *slot = Group {
+                x0: ix0.to_array(),
+                y0: iy0.to_array(),
+                x1: ix1.to_array(),
+                y1: iy1.to_array(),
+                disparity: (d * inv).to_array(),
+                color: c.to_array().map(|c| c as u32),
+                at: at.to_array(),
+                n: LANES.min(n - k),
+                run,
+                points: k + LANES <= n && point.bits() == full,
+            };
+        }
+        batch[..m].iter().for_each(|g| emit.group(g));
     }
     WarpStats {
         samples: 0,
