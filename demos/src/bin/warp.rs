@@ -204,7 +204,9 @@ fn run(a: &Args) -> Result<(), String> {
         FillArg::PullPush => Fill::PullPush,
         FillArg::Background => Fill::Background,
     };
-    let filled = Filler::default().fill(&mut image, fill, view.options.edge);
+    let filled = Filler::default()
+        .fill(&mut image, fill, view.options.edge)
+        .filled;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     if let Some(path) = &a.holes {
         let mask: Vec<u8> = view

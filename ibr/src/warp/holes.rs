@@ -101,6 +101,14 @@ pub fn classify(image: &Warped, edge: f32) -> HoleStats {
         })
 }
 
+/// What a fill did: the holes it filled and those it left (none to fill them from, or
+/// [`Fill::None`]), so that the filled image's samples are known without a count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Filled {
+    pub filled: u64,
+    pub left: u64,
+}
+
 /// Scratch memory of the fill, reused frame to frame.
 #[derive(Debug, Default)]
 pub struct Filler {
@@ -112,12 +120,16 @@ pub struct Filler {
 
 impl Filler {
     /// Fills the holes of `image` by `fill`; `edge` is the relative depth difference that
-    /// separates surfaces. Returns the pixels filled.
-    pub fn fill(&mut self, image: &mut Warped, fill: Fill, edge: f32) -> u64 {
-        match fill {
-            Fill::None => 0,
+    /// separates surfaces.
+    pub fn fill(&mut self, image: &mut Warped, fill: Fill, edge: f32) -> Filled {
+        let (filled, holes) = match fill {
+            Fill::None => (0, image.disparity.len() as u64 - image.filled()),
             Fill::PullPush => on_pool(|| pull_push::fill(image, &mut self.levels, edge)),
             Fill::Background => on_pool(|| self.background.fill(image)),
+        };
+        Filled {
+            filled,
+            left: holes - filled,
         }
     }
 }

@@ -145,10 +145,11 @@ impl WarpedView {
         if self.count_holes {
             frame.holes = classify(self.warper.output(), self.options.edge);
         }
-        frame.filled = self
+        let fill = self
             .filler
             .fill(self.warper.output_mut(), self.fill, self.options.edge);
-        frame.pixels = self.warper.output().filled();
+        frame.filled = fill.filled;
+        frame.pixels = self.warper.output().disparity.len() as u64 - fill.left;
         self.last = frame;
         frame
     }

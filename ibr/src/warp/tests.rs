@@ -351,6 +351,10 @@ fn disocclusions_are_counted_and_filled_from_the_background() {
         assert!(holes.disocclusions > 20, "{holes:?}");
         let filled = Filler::default().fill(warper.output_mut(), fill, 0.05);
         let after = warper.output();
+        // What it says it left is what it left.
+        let n = after.disparity.len() as u64;
+        assert_eq!(filled.left, n - after.filled(), "{fill:?}");
+        let filled = filled.filled;
         assert!(
             filled >= holes.total() - holes.total() / 10,
             "{fill:?}: {filled} of {holes:?}"

@@ -32,11 +32,11 @@ pub(super) struct Background {
 }
 
 impl Background {
-    /// Fills the holes of `image`; returns how many.
-    pub(super) fn fill(&mut self, image: &mut Warped) -> u64 {
+    /// Fills the holes of `image`; returns how many it filled, and how many there were.
+    pub(super) fn fill(&mut self, image: &mut Warped) -> (u64, u64) {
         let (w, h) = (image.width() as usize, image.height() as usize);
         if w == 0 || h == 0 {
-            return 0;
+            return (0, 0);
         }
         let strips = w.div_ceil(STRIP);
         let area = STRIP * h;
@@ -76,8 +76,9 @@ impl Background {
             .zip(bits.par_chunks(strips))
             .enumerate()
             .map(|(y, ((row_color, row), words))| {
-                let mut filled = 0;
+                let (mut filled, mut holes) = (0, 0);
                 for (k, &word) in words.iter().enumerate() {
+                    holes += u64::from(word.count_ones());
                     let width = STRIP.min(w - k * STRIP);
                     let base = k * area + y * width;
                     for_each_bit(word, |col| {
@@ -89,9 +90,9 @@ impl Background {
                         }
                     });
                 }
-                filled
+                (filled, holes)
             })
-            .sum()
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     }
 }
 

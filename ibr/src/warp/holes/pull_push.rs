@@ -49,12 +49,12 @@ impl Level {
     }
 }
 
-/// Fills the holes of `image` (returns how many) using `levels` as scratch: levels 1, 2,
-/// ... up to a single cell.
-pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> u64 {
+/// Fills the holes of `image` using `levels` as scratch: levels 1, 2, ... up to a single
+/// cell. Returns how many it filled, and how many there were.
+pub(super) fn fill(image: &mut Warped, levels: &mut Vec<Level>, edge: f32) -> (u64, u64) {
     let (w, h) = (image.width() as usize, image.height() as usize);
     if w == 0 || h == 0 || (w == 1 && h == 1) {
-        return 0;
+        return (0, image.disparity.len() as u64 - image.filled());
     }
     let keep = 1.0 - edge;
     // Pull: level 1 from the image, then halve until one cell.
@@ -278,7 +278,7 @@ fn push(fine: &mut Level, coarse: &Level, keep: f32) {
 
 /// Fills the image's holes from level 1 (its samples stay as they are). Returns the pixels
 /// filled.
-fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> u64 {
+fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> (u64, u64) {
     let w = image.width() as usize;
     image
         .color
@@ -287,10 +287,10 @@ fn push_image(image: &mut Warped, coarse: &Level, keep: f32) -> u64 {
         .enumerate()
         .map(|(y, (color, disparity))| {
             let mut row = ImageRow { color, filled: 0 };
-            each_hole(disparity, coarse, y, keep, &mut row);
-            row.filled
+            let holes = each_hole(disparity, coarse, y, keep, &mut row);
+            (row.filled, holes)
         })
-        .sum()
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
 /// Where the push writes a row's filled holes, besides their disparity.
@@ -367,9 +367,11 @@ impl Fill for ImageRow<'_> {
 /// parents in `coarse` can fill, in order, through `fill`. Holes are found eight at a time;
 /// a group of eight away from the level's left and right edges takes its parents eight at
 /// a time too ([`parents`]), the others one by one ([`parent`]), with the same values.
+/// Returns the holes it found.
 #[inline(always)]
-fn each_hole(row: &mut [f32], coarse: &Level, y: usize, keep: f32, fill: &mut impl Fill) {
+fn each_hole(row: &mut [f32], coarse: &Level, y: usize, keep: f32, fill: &mut impl Fill) -> u64 {
     let zero = F8::splat(0.0);
+    let mut holes = 0;
     for k in (0..row.len()).step_by(LANES) {
         let group = &row[k..row.len().min(k + LANES)];
         let mask = if group.len() == LANES {
@@ -383,6 +385,7 @@ fn each_hole(row: &mut [f32], coarse: &Level, y: usize, keep: f32, fill: &mut im
         if mask == 0 {
             continue;
         }
+        holes += u64::from(mask.count_ones());
         if group.len() == LANES && k >= LANES && k / 2 - 1 + LANES <= coarse.w {
             let (d, c, some) = parents(coarse, k, y, keep);
             if mask & some != 0 {
@@ -396,6 +399,7 @@ fn each_hole(row: &mut [f32], coarse: &Level, y: usize, keep: f32, fill: &mut im
             });
         }
     }
+    holes
 }
 
 /// [`parent`] for fine cells `x..x + 8` of row `y` at once (`x` a multiple of eight, at

@@ -83,3 +83,26 @@ fn warped_samples_and_geometry_hide_each_other_by_depth() {
     assert_eq!(c.pixels, (W * H) as u64);
     assert_eq!(c.holes, 0);
 }
+
+#[test]
+fn the_pixels_a_frame_offers_are_the_filled_pixels_whatever_the_fill() {
+    // An eye moved sideways sees holes beside the wall; one turned away sees nothing, so
+    // no fill has anything to fill from.
+    let mut moved = camera();
+    moved.view *= Mat4::from_translation(Vec3::new(0.8, 0.1, 0.0));
+    let away = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 1.0, W as f32 / H as f32);
+    for (eye, sees) in [(moved, true), (away, false)] {
+        for fill in [Fill::None, Fill::PullPush, Fill::Background] {
+            let mut view = WarpedView::new("wall", vec![wall()]);
+            view.fill = fill;
+            let frame = view.warp_to(&eye, W, H);
+            assert_eq!(frame.pixels, view.image().filled(), "{fill:?}");
+            let warped = frame.stats.pixels_written;
+            match (sees, fill) {
+                (false, _) => assert_eq!(frame.pixels, 0, "{fill:?}"),
+                (true, Fill::None) => assert!(frame.pixels < u64::from(W * H), "{frame:?}"),
+                (true, _) => assert!(frame.pixels > warped, "{fill:?}: {frame:?}"),
+            }
+        }
+    }
+}

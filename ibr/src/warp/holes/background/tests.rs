@@ -86,9 +86,11 @@ fn the_fill_is_the_four_sweeps() {
         for holes in [0.0, 0.05, 0.3, 0.7, 0.97, 1.0] {
             let start = image(w, h, holes, &mut rng);
             let (mut fast, mut slow) = (start.clone(), start);
-            let filled = fill.fill(&mut fast);
+            let holes_before = start_holes(&fast);
+            let (filled, counted) = fill.fill(&mut fast);
             let expected = reference(&mut slow);
             assert_eq!(filled, expected, "{w}x{h}, {holes} holes: count");
+            assert_eq!(counted, holes_before, "{w}x{h}, {holes} holes: holes");
             assert_eq!(fast.color, slow.color, "{w}x{h}, {holes} holes: colour");
             // Bitwise: NaN holes that stay holes stay NaN.
             let bits = |d: &[f32]| d.iter().map(|d| d.to_bits()).collect::<Vec<_>>();
@@ -109,6 +111,15 @@ fn scratch_from_a_larger_image_leaves_no_trace() {
     fill.fill(&mut big);
     let start = image(70, 20, 0.5, &mut rng);
     let (mut fast, mut slow) = (start.clone(), start);
-    assert_eq!(fill.fill(&mut fast), reference(&mut slow));
+    assert_eq!(fill.fill(&mut fast).0, reference(&mut slow));
     assert_eq!(fast.color, slow.color);
+}
+
+/// The holes of `image`: pixels whose disparity is negative or NaN.
+fn start_holes(image: &Warped) -> u64 {
+    image
+        .disparity
+        .iter()
+        .filter(|d| (**d).partial_cmp(&0.0).is_none_or(|o| o.is_lt()))
+        .count() as u64
 }
