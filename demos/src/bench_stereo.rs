@@ -13,7 +13,7 @@ mod charts;
 mod scenes;
 
 pub use charts::charts;
-pub use scenes::{scenes, Scene};
+pub use scenes::{repeated_pair, scenes, Scene};
 
 use crate::sweep::{self, CsvRow, Timing};
 use crate::timing::Summary;

@@ -123,9 +123,25 @@ pub fn scenes(w: u32, h: u32) -> Vec<Scene> {
     }
     out.push(rendered("thin", &thin));
     out.push(rendered("low-texture", &cards(&noise(5, 120, 136))));
-    out.push(rendered("repeated", &cards(&repeated())));
+    out.push(repeated_pair(w, h));
     out.push(unrectified(w, h, &cards(&textured), &lighting));
     out
+}
+
+/// The `repeated` pair alone: the wall and cards of one repeated 16-texel tile.
+pub fn repeated_pair(w: u32, h: u32) -> Scene {
+    let parts = cards(&repeated());
+    Scene {
+        name: "repeated".into(),
+        pair: StereoPair::render(
+            &draws(&parts),
+            &Lighting::default(),
+            &camera(w, h),
+            BASELINE,
+            w,
+            h,
+        ),
+    }
 }
 
 /// The showcase's plaza seen from its edge (a 0.3-unit baseline).

@@ -1,6 +1,8 @@
 //! Semi-global matching (Hirschmüller 2008): a census transform of each image (a 5x5
 //! window's comparisons with its centre, 24 bits), the Hamming distance between census
-//! codes as the matching cost of every pixel and disparity, costs aggregated along eight
+//! codes as the matching cost of every pixel and disparity, drawn toward twice the pair's
+//! match at half size ([`prior`]: coarse to fine, so that a repeated pattern's aliases do
+//! not win), costs aggregated along eight
 //! paths (`L(p, d) = C(p, d) + min(L(p - r, d), L(p - r, d ± 1) + P1, min_k L(p - r, k) +
 //! P2) - min_k L(p - r, k)`), their sum's best disparity per pixel refined by a parabola,
 //! and checked as [`super::BlockMatch`] checks: unique, and consistent with the right
@@ -37,6 +39,10 @@ pub struct Sgm {
     /// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched
     /// ([`super::block::MIN_TEXTURE`] by default; 0 takes what the paths give flat regions).
     pub min_texture: f32,
+    /// Coarse to fine ([`prior`]): the pair is matched at half size first, and each
+    /// matching cost raised by one per pixel of disparity beyond 3 from twice the
+    /// half-size match, by at most this (0: off; above 8 it acts as 8).
+    pub prior: u8,
 }
 
 impl Default for Sgm {
@@ -48,6 +54,7 @@ impl Default for Sgm {
             uniqueness: 0.03,
             lr_tolerance: 1.0,
             min_texture: MIN_TEXTURE,
+            prior: 4,
         }
     }
 }
@@ -95,6 +102,9 @@ pub struct SgmBuffers {
     costs: Vec<u8>,
     narrow: [Vec<u8>; 2],
     wide: [Vec<u16>; 2],
+    /// Each pixel's expected disparity, and the half-size match's buffers.
+    expected: Vec<u16>,
+    coarse: Option<Box<SgmBuffers>>,
 }
 
 impl Sgm {
@@ -125,10 +135,23 @@ impl Sgm {
         let (w, h) = (width as usize, height as usize);
         // (At most 65,535: disparities are kept as 16-bit integers.)
         let n = self.max_disparity.clamp(1, u32::from(u16::MAX)) as usize;
-        let (cl, cr) = rayon::join(|| census(left, w, h), || census(right, w, h));
+        let cap = self.prior.min(prior::MAX_PRIOR);
+        let ((cl, cr), ()) = rayon::join(
+            || rayon::join(|| census(left, w, h), || census(right, w, h)),
+            || {
+                buffers.expected.clear();
+                if cap > 0 {
+                    let coarse = buffers.coarse.get_or_insert_with(Box::default);
+                    let images = (left, right);
+                    prior::expected(self, coarse, images, (w, h), &mut buffers.expected);
+                }
+            },
+        );
         let codes = Codes {
             left: &cl,
             right: &cr,
+            expected: &buffers.expected,
+            prior: prior::Prior::new(n, cap),
             w,
             n,
         };
@@ -144,8 +167,9 @@ impl Sgm {
         // lanes a vector), and a pass's sums of four while four times that does (half the
         // memory); the same sums either way.
         let p2 = u32::from(self.p2.min(MAX_PENALTY));
-        let path_bytes = u32::from(MAX_CENSUS) + p2 < u32::from(u8::MAX);
-        let sum_bytes = 4 * (u32::from(MAX_CENSUS) + p2) < u32::from(u8::MAX);
+        let max_cost = u32::from(MAX_CENSUS + cap);
+        let path_bytes = max_cost + p2 < u32::from(u8::MAX);
+        let sum_bytes = 4 * (max_cost + p2) < u32::from(u8::MAX);
         let mut left_best = vec![(f32::INFINITY, false); w * h];
         let mut right_best = vec![f32::INFINITY; w * h];
         let best = (&mut left_best[..], &mut right_best[..]);
@@ -188,7 +212,7 @@ impl Sgm {
             .zip(right_best.par_chunks_mut(w))
             .zip(forward.par_chunks(row).zip(backward.par_chunks(row)))
             .for_each_init(
-                || (Vec::new(), [Vec::new(), Vec::new()]),
+                || (Vec::new(), Vec::new()),
                 |(sums, low), ((lb, rb), (f, b))| {
                     sums.clear();
                     sums.extend(f.iter().zip(b.iter()).map(|(f, b)| f.load() + b.load()));
@@ -276,8 +300,8 @@ impl Sgm {
     }
 }
 
-/// The largest penalty used (larger ones act as this): eight paths' sums of census costs
-/// (at most 24) plus it stay below `u16::MAX`, the sums' "none" mark.
+/// The largest penalty used (larger ones act as this): eight paths' sums of matching costs
+/// (at most 24 + 8) plus it stay below `u16::MAX`, the sums' "none" mark.
 const MAX_PENALTY: u16 = 4000;
 
 /// The largest census cost (24 bits differ).
@@ -287,6 +311,9 @@ const MAX_CENSUS: u8 = 24;
 struct Codes<'a> {
     left: &'a [u32],
     right: &'a [u32],
+    /// Per pixel, the disparity its costs are drawn toward (empty: none), and by how much.
+    expected: &'a [u16],
+    prior: prior::Prior,
     w: usize,
     n: usize,
 }
@@ -294,7 +321,7 @@ struct Codes<'a> {
 impl Codes<'_> {
     /// Row `y`'s matching costs, `n` a pixel: left pixel `(x, y)` at disparity `d` against
     /// right pixel `(x - d, y)`; past the right image's edge, the cost of its first
-    /// column's match (no information).
+    /// column's match (no information). Then drawn toward the expected disparities, if any.
     fn row(&self, y: usize, cost: &mut [u8]) {
         let (w, n) = (self.w, self.n);
         let (left, right) = (
@@ -312,6 +339,11 @@ impl Codes<'_> {
                 for (d, c) in c.iter_mut().enumerate() {
                     *c = (l ^ right[x.saturating_sub(d)]).count_ones() as u8;
                 }
+            }
+        }
+        if let Some(expected) = self.expected.get(y * w..(y + 1) * w) {
+            for (c, &e) in cost.chunks_exact_mut(n).zip(expected) {
+                self.prior.draw(c, e);
             }
         }
     }
@@ -355,31 +387,27 @@ fn step<L: Lane>(c: &[u8], prev: &[L], low: L, out: &mut [L], p1: L, p2: L) -> L
 /// pixel `xr`'s is the least of `S(xr + d, d)` over `d` (the first of equal ones), refined
 /// by a parabola through its neighbours on that diagonal; infinity where it has none. One
 /// pass over the sums in memory order, keeping each right pixel's least so far in `low`.
-fn choose_right(sums: &[u16], n: usize, scratch: &mut [Vec<u32>; 2], out: &mut [f32]) {
+fn choose_right(sums: &[u16], n: usize, low: &mut Vec<u32>, out: &mut [f32]) {
     let w = out.len();
-    let [low, keys] = scratch;
     low.clear();
     low.resize(w, u32::MAX);
-    keys.resize(n, 0);
+    // `low` holds the right pixels last first (`low[w - 1 - xr]`), so that left pixel x's
+    // sums, right pixels x, x - 1, ..., as d grows, meet it in memory order: a forward
+    // loop, which the compiler vectorises. A sum and its disparity packed as
+    // `sum << 16 | d`: the least key is the least sum, the first of equal ones.
     for (x, s) in sums.chunks_exact(n).enumerate() {
-        // Right pixels x, x - 1, ..., as d grows. A sum and its disparity packed as
-        // `sum << 16 | d`: the least key is the least sum, the first of equal ones. Laid
-        // out in the right pixels' order first, so the minimum is a plain forward one.
         let m = n.min(x + 1);
-        let keys = &mut keys[..m];
-        for (i, k) in keys.iter_mut().enumerate() {
-            let d = m - 1 - i;
-            *k = u32::from(s[d]) << 16 | d as u32;
-        }
-        for (e, &k) in low[x + 1 - m..=x].iter_mut().zip(keys.iter()) {
-            *e = (*e).min(k);
+        let base = w - 1 - x;
+        for (d, (e, &v)) in low[base..base + m].iter_mut().zip(&s[..m]).enumerate() {
+            *e = (*e).min(u32::from(v) << 16 | d as u32);
         }
     }
+    low.reverse();
     let at = |xr: usize, d: usize| {
         sums.get((xr + d) * n + d)
             .filter(|&&v| xr + d < w && d < n && v != u16::MAX)
     };
-    for (xr, (o, &key)) in out.iter_mut().zip(scratch[0].iter()).enumerate() {
+    for (xr, (o, &key)) in out.iter_mut().zip(low.iter()).enumerate() {
         let (c, k) = ((key >> 16) as u16, (key & 0xffff) as usize);
         *o = if c == u16::MAX {
             f32::INFINITY
@@ -418,6 +446,7 @@ fn choose(sums: &[u16], uniqueness: f32) -> (f32, bool) {
 }
 
 mod lanes;
+mod prior;
 
 use lanes::{Lane, Stored};
 

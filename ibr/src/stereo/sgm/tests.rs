@@ -45,16 +45,28 @@ impl Reference {
         let (w, h) = (width as usize, height as usize);
         let n = self.0.max_disparity.max(1) as usize;
         let (cl, cr) = (census(left, w, h), census(right, w, h));
+        // The disparities the costs are drawn toward: the half-size match's, doubled.
+        let mut expected = Vec::new();
+        let cap = u32::from(self.0.prior.min(8));
+        if cap > 0 {
+            let mut half = SgmBuffers::default();
+            prior::expected(&self.0, &mut half, (left, right), (w, h), &mut expected);
+        }
         // Matching costs: pixel (x, y) at disparity d against right pixel (x - d, y); past
         // the right image's edge, the cost of its first column's match (no information).
+        // Plus one per pixel of disparity beyond 3 from the expected one (when it is
+        // known and in the range), at most `cap`.
         let cost: Vec<u8> = (0..w * h)
             .into_par_iter()
             .flat_map_iter(|i| {
                 let (x, y) = (i % w, i / w);
                 let (cl, cr) = (&cl, &cr);
+                let e = expected.get(i).map(|&e| usize::from(e)).filter(|&e| e < n);
                 (0..n).map(move |d| {
                     let xr = x.saturating_sub(d);
-                    (cl[i] ^ cr[y * w + xr]).count_ones() as u8
+                    let census = (cl[i] ^ cr[y * w + xr]).count_ones();
+                    let drawn = e.map_or(0, |e| (d.abs_diff(e) as u32).saturating_sub(3).min(cap));
+                    (census + drawn) as u8
                 })
             })
             .collect();
@@ -166,17 +178,24 @@ impl Reference {
 
 #[test]
 fn the_two_passes_give_the_definitions_answer() {
-    // Every scene, and penalties that make paths matter (a large jump, none at all).
+    // Every scene, and penalties that make paths matter (a large jump, none at all), with
+    // the half-size match's pull and without.
     for pair in [plane(), occluded(), slanted()] {
         let (l, r) = (luminance(&pair.left), luminance(&pair.right));
         // Paths and sums in bytes, paths in bytes and sums in 16 bits, both in 16 bits.
-        for (p1, p2) in [(3, 20), (0, 0), (1, 100), (2, 300)] {
-            let sgm = Sgm { p1, p2, ..sgm() };
+        let settings = [(3, 20, 4), (3, 20, 0), (0, 0, 8), (1, 100, 4), (2, 300, 4)];
+        for (p1, p2, prior) in settings {
+            let sgm = Sgm {
+                p1,
+                p2,
+                prior,
+                ..sgm()
+            };
             let fast = sgm.run(&l, &r, W, H).expect("images of the size given");
             let slow = Reference(sgm)
                 .run(&l, &r, W, H)
                 .expect("images of the size given");
-            assert!(fast == slow, "p1 {p1}, p2 {p2}");
+            assert!(fast == slow, "p1 {p1}, p2 {p2}, prior {prior}");
         }
     }
 }
@@ -357,4 +376,33 @@ fn a_search_range_too_small_for_the_scene_leaves_pixels_unknown() {
     // the rest unknown. (Measured: 8,974 of 17,880 given: SGM's paths make a smooth wrong
     // surface as readily as a right one; the range must cover the scene.)
     assert!(known * 5 < n * 3, "{known} of {n}");
+}
+
+#[test]
+fn the_half_size_match_expects_the_planes_disparity() {
+    let pair = plane();
+    let (l, r) = (luminance(&pair.left), luminance(&pair.right));
+    let (w, h) = (W as usize, H as usize);
+    let mut expected = Vec::new();
+    let mut half = SgmBuffers::default();
+    prior::expected(&sgm(), &mut half, (&l, &r), (w, h), &mut expected);
+    assert_eq!(expected.len(), w * h);
+    let (mut near, mut seen) = (0, 0);
+    for (i, &e) in expected.iter().enumerate() {
+        let t = pair.truth.data[i];
+        if pair.visible[i] && t.is_finite() {
+            seen += 1;
+            near += u32::from(e != u16::MAX && (f32::from(e) - t).abs() <= 2.0);
+        }
+    }
+    assert!(near as f32 > 0.9 * seen as f32, "{near} of {seen}");
+    // Too small to halve: nothing expected.
+    prior::expected(
+        &sgm(),
+        &mut half,
+        (&l[..100], &r[..100]),
+        (10, 10),
+        &mut expected,
+    );
+    assert!(expected.is_empty());
 }
