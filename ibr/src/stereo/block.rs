@@ -175,6 +175,10 @@ pub(super) fn textured(image: &[f32], w: usize, h: usize, min: f32) -> Vec<bool>
     if w == 0 || h == 0 {
         return Vec::new();
     }
+    if min <= 0.0 && image.par_iter().all(|v| v.is_finite()) {
+        // Every finite window spans at least nothing.
+        return vec![true; w * h];
+    }
     // Per pixel, the least and greatest of its row's five (edges clamped), row by row.
     let mut lo = vec![0.0; w * h];
     let mut hi = vec![0.0; w * h];
