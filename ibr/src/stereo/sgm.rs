@@ -1,8 +1,8 @@
 //! Semi-global matching (Hirschmüller 2008): a census transform of each image (a 5x5
 //! window's comparisons with its centre, 24 bits), the Hamming distance between census
 //! codes as the matching cost of every pixel and disparity, drawn toward twice the pair's
-//! match at half size ([`prior`]: coarse to fine, so that a repeated pattern's aliases do
-//! not win), costs aggregated along eight
+//! match at half width and a quarter height ([`prior`]: coarse to fine, so that a
+//! repeated pattern's aliases do not win), costs aggregated along eight
 //! paths (`L(p, d) = C(p, d) + min(L(p - r, d), L(p - r, d ± 1) + P1, min_k L(p - r, k) +
 //! P2) - min_k L(p - r, k)`), their sum's best disparity per pixel refined by a parabola,
 //! and checked as [`super::BlockMatch`] checks: unique, and consistent with the right
@@ -39,9 +39,9 @@ pub struct Sgm {
     /// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched
     /// ([`super::block::MIN_TEXTURE`] by default; 0 takes what the paths give flat regions).
     pub min_texture: f32,
-    /// Coarse to fine ([`prior`]): the pair is matched at half size first, and each
-    /// matching cost raised by one per pixel of disparity beyond 3 from twice the
-    /// half-size match, by at most this (0: off; above 8 it acts as 8).
+    /// Coarse to fine ([`prior`]): the pair is matched at half width (a quarter height)
+    /// first, and each matching cost raised by one per pixel of disparity beyond 3 from
+    /// twice the small match, by at most this (0: off; above 8 it acts as 8).
     pub prior: u8,
 }
 
@@ -102,7 +102,7 @@ pub struct SgmBuffers {
     costs: Vec<u8>,
     narrow: [Vec<u8>; 2],
     wide: [Vec<u16>; 2],
-    /// Each pixel's expected disparity, and the half-size match's buffers.
+    /// Each pixel's expected disparity, and the small match's buffers.
     expected: Vec<u16>,
     coarse: Option<Box<SgmBuffers>>,
 }
