@@ -1,10 +1,10 @@
-//! Depth from stereo (issue 16, begun): disparity maps in the Middlebury convention, their
+//! Depth from stereo (issue 16): disparity maps in the Middlebury convention, their
 //! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
 //! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
-//! ([`sgm`]), both with left-right checks; unknown pixels filled from the background side
-//! and the left view made a depth image for the 3D warp ([`depth`]); pairs from any two
-//! cameras rectified first ([`rectify`]). `bench stereo` against OpenCV's `StereoSGBM`
-//! comes next.
+//! ([`sgm`], coarse to fine), both with left-right checks; unknown pixels filled from the
+//! background side and the left view made a depth image for the 3D warp ([`depth`]);
+//! pairs from any two cameras rectified first ([`rectify`]). `bench stereo` measures them
+//! against OpenCV's `StereoSGBM` on the same pairs.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
 //! left image shows the point that pixel `(x - d, y)` of the right image shows, `d` in
