@@ -5,8 +5,8 @@
 //! the small images the pattern is blurred and the surfaces' outlines decide. Disparity
 //! runs along rows, so rows are averaged four at a time, which halves the small match's
 //! cost against half height: the whole match took 39.8 to 40.6 ms against 42.4 to 44.4
-//! (`stereo_frame` made to keep the best of 20 runs, three alternated runs each), with bad
-//! 2 within a point on the `bench stereo` pairs.
+//! (`stereo_frame -- --runs 20 --sgm`, three alternated runs each), with bad 2 within a
+//! point on the `bench stereo` pairs.
 
 use super::{Sgm, SgmBuffers};
 use rayon::prelude::*;
