@@ -1,7 +1,7 @@
 //! Stage 2 of the warp, per sample: where it lands and which target pixels its footprint
 //! covers. [`warp_row`] does a row of a depth image, eight samples at a time in vector
 //! registers ([`engine::simd`]), with no branches (invalid samples are masked, not
-//! skipped), and hands each group straight to the writer; [`Lane::sample`] does one sample
+//! skipped), and hands the groups to the writer sixteen at a time; [`Lane::sample`] does one sample
 //! of an LDI. Both compute the same values by the same formulas (products and sums fused,
 //! rounded once, on both).
 
