@@ -38,7 +38,7 @@ pub use pool::Pool;
 pub use predict::{error_color, needed_side, screen_rect};
 
 pub(crate) use predict::pixels_per_radian;
-pub(crate) use predict::Frustum;
+pub use predict::Frustum;
 use predict::{image_error, predict};
 use refresh::{Job, Worker};
 

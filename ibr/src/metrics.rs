@@ -30,6 +30,9 @@ use crate::images::DepthImage;
 use engine::Target;
 use std::fmt;
 
+mod cover;
+pub use cover::RectCover;
+
 /// Default [`Options::threshold`]: an error of more than 8 levels (about 3%) is visible.
 pub const DEFAULT_THRESHOLD: u8 = 8;
 

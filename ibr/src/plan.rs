@@ -41,6 +41,7 @@
 
 mod cost;
 mod frame_budget;
+pub mod occlusion;
 mod represent;
 mod technique;
 
@@ -49,11 +50,13 @@ pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
 use crate::impostor::{screen_rect, Frustum};
-use crate::metrics::Rect;
+use crate::metrics::{Rect, RectCover};
 use crate::subject::Subject;
 use crate::technique::FrameView;
-use engine::{Draw, FrameStats, Material, Rgba, Sphere, Target};
+use engine::{Camera, Draw, FrameStats, Material, Rgba, Sphere, Target};
+use occlusion::Occlusion;
 use rayon::prelude::*;
+use std::sync::{Mutex, PoisonError};
 
 /// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
 /// order (cycling past the eighth), with their names for a legend: geometry first in the
@@ -115,8 +118,9 @@ pub enum Scope {
     /// Every object's predicted error.
     #[default]
     Object,
-    /// The frame's error (the objects' errors weighted by their rectangles' areas), with a
-    /// margin for its spread so that it holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
+    /// The frame's error (the mean error over the pixels the visible objects' rectangles
+    /// cover, each object's error weighted by the part of its rectangle where it may show:
+    /// [`frame_budget`], [`occlusion`]), with a margin for its spread so that it holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
     /// may then err more where that buys most time; hysteresis discounts the
     /// representation in use by [`Config::min_saving`] of its time.
     Frame,
@@ -207,17 +211,21 @@ pub struct Report {
     /// Predicted milliseconds: drawing, and rebuilding.
     pub draw_ms: f32,
     pub rebuild_ms: f32,
-    /// Largest predicted error, and the frame's: the objects' errors over their screen
-    /// rectangles weighted by the rectangles' areas ([`frame_budget`]).
+    /// Largest predicted error, and the frame's: the mean over the pixels the visible
+    /// objects' rectangles cover, of each object's error over its rectangle times the part
+    /// of it where it may show ([`frame_budget`]).
     pub max_error: f32,
     pub mean_error: f32,
     /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the
     /// spread, [`Config::spread`]): what the frame scope keeps within the budget.
     pub bound: f32,
     /// The spread of the frame's mean error per unit of [`Config::spread`]: the root sum
-    /// of the squared weighted errors over the rectangles' total area (`bound = mean_error
-    /// + 2.326 * spread * scatter`).
+    /// of the squared weighted errors over the pixels the rectangles cover (`bound =
+    /// mean_error + 2.326 * spread * scatter`).
     pub scatter: f32,
+    /// Pixels the visible objects' screen rectangles cover (each once): the frame's error
+    /// is a mean over these.
+    pub covered: u64,
     /// Bytes every representation holds.
     pub memory: usize,
     /// Measured milliseconds of planning (predicting, choosing, the report and the
@@ -266,7 +274,8 @@ pub struct Planner<S> {
     visible: Vec<usize>,
     pixels: Vec<f32>,
     /// Visible objects' screen rectangles, their weights in the frame's error (their
-    /// areas, at least 1) and the sum of those.
+    /// areas, at least 1, times the share where they may show) and the pixels the
+    /// rectangles cover.
     rects: Vec<Rect>,
     /// Each representation's payback frames ([`Representation::payback_frames`]).
     payback: Vec<f32>,
@@ -278,6 +287,9 @@ pub struct Planner<S> {
     seen: Vec<Seen>,
     weights: Vec<f32>,
     area: f64,
+    cover: RectCover,
+    /// What the last finished frame hid ([`occlusion`]): taken in `observe`, behind `&self`.
+    occlusion: Mutex<Occlusion>,
     estimates: Vec<Option<Estimate>>,
     rebuilds: Vec<Rebuild>,
     /// The frame scope's options (reused frame to frame).
@@ -325,6 +337,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
             seen: Vec::new(),
             weights: Vec::new(),
             area: 0.0,
+            cover: RectCover::default(),
+            occlusion: Mutex::default(),
             estimates: Vec::new(),
             rebuilds: Vec::new(),
             options: frame_budget::Options::default(),
@@ -371,6 +385,12 @@ impl<S: Subject + Send + Sync> Planner<S> {
     /// Every object's choice of the last frame.
     pub fn choices(&self) -> &[Choice] {
         &self.choices
+    }
+
+    /// The last frame's visible objects and their weights in the frame's error (pixels of
+    /// their rectangles where they may show, [`occlusion`]).
+    pub fn weights(&self) -> (&[usize], &[f32]) {
+        (&self.visible, &self.weights)
     }
 
     /// Chooses every object's representation for `view`, rebuilds within the budget, and
@@ -457,7 +477,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             }
             self.estimates.extend_from_slice(&seen.estimates);
         }
-        self.weigh();
+        self.weigh(camera, view.width, view.height);
         self.choose_as_is(&previous);
         let chosen = start.elapsed();
         self.rebuild(view);
@@ -656,16 +676,36 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.pixels[v].max(1.0)
     }
 
-    /// Each visible object's weight in the frame's error (its rectangle's area, at least
-    /// 1) and their sum: see [`frame_budget`].
-    fn weigh(&mut self) {
-        self.weights.clear();
-        self.weights.extend(
-            self.rects
-                .iter()
-                .map(|r| (r.width as f32 * r.height as f32).max(1.0)),
+    /// Each visible object's weight in the frame's error (the pixels of its rectangle where
+    /// the last frame says it may show, each split among the objects that may show there:
+    /// [`occlusion`]), and the pixels the rectangles cover on a `width` x `height` target
+    /// (each once, at least 1): see [`frame_budget`].
+    fn weigh(&mut self, camera: &Camera, width: u32, height: u32) {
+        let hidden = self
+            .occlusion
+            .get_mut()
+            .unwrap_or_else(PoisonError::into_inner);
+        let (objects, visible) = (&self.objects, &self.visible);
+        let bounds = |k: usize| objects[visible[k]].bounds();
+        hidden.weigh(
+            bounds,
+            &self.rects,
+            camera,
+            (width, height),
+            &mut self.weights,
         );
-        self.area = self.weights.iter().map(|&w| f64::from(w)).sum();
+        self.cover.count(width, height, self.rects.iter().copied());
+        self.area = (self.cover.area() as f64).max(1.0);
+    }
+
+    /// Takes what the finished frame `target`, seen from `camera`, hides for the next
+    /// frame's weights ([`occlusion`]).
+    pub fn observe_frame(&self, target: &Target, camera: &Camera) {
+        let mut hidden = self
+            .occlusion
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        hidden.observe(target, camera);
     }
 
     /// Step 3: the ranked rebuilds within the budget, each representation's in one call.
@@ -844,6 +884,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         r.mean_error = frame_budget::bound(sum, squares, self.area, 0.0) as f32;
         r.scatter = frame_budget::bound(0.0, squares, self.area, 1.0) as f32;
         r.bound = frame_budget::bound(sum, squares, self.area, margin) as f32;
+        r.covered = self.cover.area();
         let frame_over = cfg.budgets.scope == Scope::Frame
             && !self.visible.is_empty()
             && (r.bound > budget || r.bound.is_nan());
@@ -925,6 +966,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
     }
 }
 
+#[cfg(test)]
+mod occlusion_tests;
 #[cfg(test)]
 mod ranking_tests;
 #[cfg(test)]

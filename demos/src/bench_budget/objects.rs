@@ -11,7 +11,7 @@
 
 use super::{fly_with, planner_of, scenes, Plan, REPRESENTATIONS};
 use crate::sweep::{self, CsvRow};
-use ibr::metrics::Rect;
+use ibr::metrics::{Rect, RectCover};
 
 /// Rectangle sides (pixels, the square root of its area) the bins start at.
 pub const BINS: [f64; 6] = [0.0, 4.0, 8.0, 16.0, 32.0, 64.0];
@@ -110,57 +110,21 @@ pub fn objects(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec
     rows
 }
 
-/// How many rectangles cover each pixel of a frame, as a summed-area table.
+/// How many rectangles cover each pixel of a frame.
 #[derive(Default)]
-struct Coverage {
-    width: usize,
-    table: Vec<i64>,
-}
+struct Coverage(RectCover);
 
 impl Coverage {
     /// Counts `rects` over a frame of `size`.
     fn count(&mut self, size: (u32, u32), rects: impl Iterator<Item = Rect>) {
-        let (w, h) = (size.0 as usize, size.1 as usize);
-        self.width = w + 1;
-        self.table.clear();
-        self.table.resize((w + 1) * (h + 1), 0);
-        // Corner increments, then prefix sums twice: the per-pixel counts' table.
-        let mut diff = vec![0i64; (w + 1) * (h + 1)];
-        for r in rects {
-            let (x0, y0) = (r.x as usize, r.y as usize);
-            let (x1, y1) = (
-                (x0 + r.width as usize).min(w),
-                (y0 + r.height as usize).min(h),
-            );
-            diff[y0 * (w + 1) + x0] += 1;
-            diff[y0 * (w + 1) + x1] -= 1;
-            diff[y1 * (w + 1) + x0] -= 1;
-            diff[y1 * (w + 1) + x1] += 1;
-        }
-        let mut counts = vec![0i64; w * h];
-        for y in 0..h {
-            let mut row = 0;
-            for x in 0..w {
-                row += diff[y * (w + 1) + x];
-                counts[y * w + x] = row + if y > 0 { counts[(y - 1) * w + x] } else { 0 };
-            }
-        }
-        for y in 0..h {
-            let mut row = 0;
-            for x in 0..w {
-                row += counts[y * w + x];
-                self.table[(y + 1) * (w + 1) + x + 1] = self.table[y * (w + 1) + x + 1] + row;
-            }
-        }
+        self.0.count(size.0, size.1, rects);
+        self.0.summed();
     }
 
     /// How many other rectangles cover each pixel of `r`, on average.
     fn others(&self, r: Rect) -> f64 {
-        let at = |x: u32, y: u32| self.table[y as usize * self.width + x as usize];
-        let (x1, y1) = (r.x + r.width, r.y + r.height);
-        let sum = at(x1, y1) - at(r.x, y1) - at(x1, r.y) + at(r.x, r.y);
-        let area = i64::from(r.width) * i64::from(r.height);
-        (sum - area) as f64 / area.max(1) as f64
+        let area = u64::from(r.width) * u64::from(r.height);
+        (self.0.sum(r) as f64 - area as f64) / area.max(1) as f64
     }
 }
 

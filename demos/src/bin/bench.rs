@@ -128,6 +128,10 @@ struct BudgetArgs {
     /// objects it draws, binned by their size on screen (`budget_objects.csv`).
     #[arg(long)]
     objects: bool,
+    /// Instead, the frame-scope planner at this error budget, object by object and frame
+    /// by frame: representation, predicted and measured error (`budget_trace.csv`).
+    #[arg(long)]
+    trace: Option<f32>,
     /// Only this scene.
     #[arg(long, value_parser = ["showcase", "city", "world"])]
     scene: Option<String>,
@@ -717,6 +721,22 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         ..c.run
             .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full)
     };
+    if let Some(b) = c.trace {
+        let run = |_: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::trace(&plan, b));
+        let report = |rows: &[bbu::TraceRow]| {
+            let mut last = None;
+            for r in rows {
+                if last != Some((r.scene, r.frame)) {
+                    last = Some((r.scene, r.frame));
+                    println!(
+                        "{} frame {:>3}: measured {:>7.3} bound {:>7.3}",
+                        r.scene, r.frame, r.frame_measured, r.frame_bound
+                    );
+                }
+            }
+        };
+        return sweep(&c.run, "budget_trace", "rows", run, report, |_| Vec::new());
+    }
     if c.objects {
         let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::objects(&plan, progress));
         let report = |rows: &[bbu::ObjectRow]| {

@@ -171,11 +171,14 @@ pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -
     Some(Rect::new(x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)).grow(2, w, h))
 }
 
-/// The six planes of a view frustum (Gribb and Hartmann), for sphere tests.
-pub(crate) struct Frustum([Vec4; 6]);
+/// The six planes of a view frustum (Gribb and Hartmann), for sphere tests: what the
+/// planner and the benchmarks' error measures count as visible.
+#[derive(Clone, Copy, Debug)]
+pub struct Frustum([Vec4; 6]);
 
 impl Frustum {
-    pub(crate) fn new(m: Mat4) -> Self {
+    /// The frustum of the clip-from-world matrix `m`.
+    pub fn new(m: Mat4) -> Self {
         let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
         let planes = [
             r[3] + r[0],
@@ -196,7 +199,7 @@ impl Frustum {
     }
 
     /// Whether a sphere is at least partly inside (conservative).
-    pub(crate) fn sees(&self, c: Vec3, r: f32) -> bool {
+    pub fn sees(&self, c: Vec3, r: f32) -> bool {
         if !(c.is_finite() && r.is_finite()) {
             return false;
         }

@@ -3,9 +3,13 @@
 //! Lagrange multiplier. Small objects may then err more than the budget where that buys
 //! most time, as long as the frame as a whole does not.
 //!
-//! **The frame's error.** Each object's error is a mean over its screen rectangle, of area
-//! `w`; the frame's is those means weighted by the areas, `sum(w e) / A` with `A =
-//! sum(w)`.
+//! **The frame's error.** The mean error over the `A` pixels the visible objects' screen
+//! rectangles cover, each pixel once however many rectangles cover it. Each object's
+//! predicted error `e` is a mean over its own rectangle, so it adds `w e` to the frame's
+//! total, `w` its rectangle's area times the share of it where the last frame says it may
+//! show ([`super::occlusion`]: an object behind others adds nothing), and the frame's
+//! error is `sum(w e) / A`. Where two objects' errors fall on one pixel they are added,
+//! which errs high.
 //!
 //! **The bound.** An object's measured error scatters about its prediction `e`; take its
 //! spread as `s * e` ([`super::Config::spread`]), independently per object. With weights
@@ -35,7 +39,7 @@ pub const Z99: f64 = 2.326;
 pub(super) struct Object<'e> {
     /// Per representation (`None`: cannot draw it).
     pub est: &'e [Option<Estimate>],
-    /// Its weight: its screen rectangle's area, pixels.
+    /// Its weight: its screen rectangle's area times the share where it may show, pixels.
     pub weight: f32,
     /// The representation in use, whose time is discounted by the hysteresis.
     pub current: Option<usize>,
@@ -91,7 +95,7 @@ pub(super) struct Options {
     picks: Vec<Pick>,
     /// Each object's range of `picks`.
     ranges: Vec<(usize, usize)>,
-    /// The sum of the objects' rectangles' areas, pixels.
+    /// The pixels the objects' rectangles cover.
     area: f64,
     /// `Z99` times the objects' relative spread.
     margin: f64,
@@ -103,7 +107,7 @@ pub(super) struct Options {
 }
 
 impl Options {
-    /// The options of `objects`, whose rectangles add up to `area` pixels.
+    /// The options of `objects`, whose rectangles cover `area` pixels.
     #[cfg(test)]
     pub(super) fn new(objects: &[Object<'_>], area: f64, w: &Weights<'_>) -> Options {
         let mut out = Options::default();
@@ -111,7 +115,7 @@ impl Options {
         out
     }
 
-    /// The options of `objects`, whose rectangles add up to `area` pixels, in place of
+    /// The options of `objects`, whose rectangles cover `area` pixels, in place of
     /// what it held (its memory reused).
     pub(super) fn fill<'e>(
         &mut self,
@@ -324,7 +328,7 @@ pub(super) fn price(options: &Options, budget: f32, warm: &mut [f64; 2]) -> Pric
 }
 
 /// The bound on the frame's error from the sum of the objects' weighted errors and of their
-/// squares, the sum of their rectangles' areas, and `Z99` times the relative spread.
+/// squares, the pixels their rectangles cover, and `Z99` times the relative spread.
 pub(super) fn bound(sum: f64, squares: f64, area: f64, margin: f64) -> f64 {
     (sum + margin * squares.sqrt()) / area.max(1.0)
 }

@@ -3,7 +3,7 @@
 
 use super::Planner;
 use crate::subject::Subject;
-use crate::technique::{Counters, FrameView, Technique};
+use crate::technique::{Counters, FrameView, Observed, Technique};
 use engine::{Draw, FrameStats, Target};
 
 impl<S: Subject + Send + Sync> Technique for Planner<S> {
@@ -18,6 +18,11 @@ impl<S: Subject + Send + Sync> Technique for Planner<S> {
     }
     fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
         Planner::passes(self, view, target)
+    }
+    /// Takes what the finished frame hides, for the next frame's weights.
+    fn observe(&self, seen: &mut Observed<'_, '_>) -> Option<f32> {
+        self.observe_frame(seen.target, seen.camera);
+        None
     }
     /// Objects drawn as their own geometry, as images (every other representation), and
     /// the frame's rebuilds.
