@@ -718,9 +718,16 @@ fn budget_sweep_writes_csv_and_png_charts() {
         assert_eq!(geometry.len(), 1, "{csv}");
         // Geometry is the truth it is measured against.
         assert_eq!(t.num(geometry[0], "measured_mean"), 0.0, "{csv}");
-        for method in ["impostors", "planner", "planner-frame", "layers"] {
+        for method in ["impostors", "planner", "layers"] {
             assert_eq!(t.of(scene, method).len(), 1, "{scene} {method}: {csv}");
         }
+        // The frame scope also at its larger budget.
+        let whole: Vec<f64> = t
+            .of(scene, "planner-frame")
+            .iter()
+            .map(|r| t.num(r, "budget"))
+            .collect();
+        assert_eq!(whole, [4.0, 16.0], "{scene}: {csv}");
         let planner = t.of(scene, "planner")[0];
         // The planner draws within its predicted budget and shows every object.
         assert!(
