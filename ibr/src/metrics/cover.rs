@@ -16,6 +16,8 @@ pub struct RectCover {
     /// summed-area table (`(w + 1) x (h + 1)`).
     table: Vec<i64>,
     summed: bool,
+    /// A row's running counts.
+    above: Vec<i64>,
 }
 
 impl RectCover {
@@ -42,7 +44,9 @@ impl RectCover {
         // Rows' running sums, each added to the row above's: the counts.
         self.counts.clear();
         self.counts.resize(w * h, 0);
-        let mut above = vec![0i64; w];
+        let above = &mut self.above;
+        above.clear();
+        above.resize(w, 0);
         for y in 0..h {
             let mut run = 0;
             for x in 0..w {
