@@ -31,7 +31,8 @@ pub enum AlphaMode {
     Opaque,
     /// Fragments with alpha below the cutoff are discarded; opaque pass.
     Mask { cutoff: f32 },
-    /// Blended in the second pass, back to front, without depth writes.
+    /// Blended in the second pass, back to front, without depth writes (unless
+    /// [`Material::blend_depth`]).
     Blend,
     /// Screen-door transparency: a fragment is kept where its alpha exceeds a 4 x 4 ordered
     /// dither threshold at its pixel; opaque pass, with depth writes. Fades alpha-tested
@@ -70,6 +71,11 @@ pub struct Material {
     pub soft_distance: f32,
     /// Emitted colour added after lighting.
     pub emissive: Rgba,
+    /// Blended only: also write depth where a fragment's alpha (after the soft fade) is at
+    /// least this (`None`: blended fragments write no depth). An image standing in for an
+    /// opaque object sets it, so that what reads the depth after it (the planner's
+    /// occlusion, soft particles, image passes) sees the object.
+    pub blend_depth: Option<f32>,
 }
 
 impl Default for Material {
@@ -87,6 +93,7 @@ impl Default for Material {
             depth_test: true,
             soft_distance: 0.0,
             emissive: Rgba::new(0.0, 0.0, 0.0, 0.0),
+            blend_depth: None,
         }
     }
 }

@@ -176,7 +176,7 @@ impl<S: FragShader> Rows<'_, S> {
                         m &= !(((1u64 << SMALL) - 1) << (SMALL as u32 * j));
                         wrote |= self.row(buf, block, bx, j as i32, bits, &mut prepared);
                     }
-                    if wrote && self.mode.depth_write {
+                    if wrote && self.mode.writes_depth() {
                         buf.mark_far_stale(block);
                     }
                 }
@@ -291,7 +291,7 @@ impl<S: FragShader> Rows<'_, S> {
                     };
                     wrote |= self.row(buf, block, bx, j, cov.bits(), &mut prepared);
                 }
-                if wrote && self.mode.depth_write {
+                if wrote && self.mode.writes_depth() {
                     buf.update_block_far(block);
                 }
                 bx += BLOCK;
@@ -429,6 +429,10 @@ fn write_row(
             }
             let d = F8::load(a);
             d.mul_add(ia, alpha).blend_into(m, a);
+            if mode.blend_depth <= 1.0 {
+                let solid = m.and(alpha.ge(F8::splat(mode.blend_depth)));
+                z.blend_into(solid, &mut buf.depth[base..]);
+            }
         }
     }
     if mode.depth_write {

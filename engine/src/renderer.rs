@@ -201,6 +201,10 @@ impl Renderer {
                 mode: PixelMode {
                     depth_test: d.material.depth_test,
                     depth_write: !blended,
+                    blend_depth: match d.material.blend_depth {
+                        Some(a) if blended && a.is_finite() => a.clamp(0.0, 1.0),
+                        _ => f32::INFINITY,
+                    },
                     alpha: d.material.alpha_mode,
                     blend: d.material.blend,
                     soft: if blended {

@@ -13,6 +13,8 @@ use glam::Mat4;
 pub struct PixelMode {
     pub depth_test: bool,
     pub depth_write: bool,
+    /// Blended fragments write depth where their alpha is at least this (above 1: never).
+    pub blend_depth: f32,
     pub alpha: AlphaMode,
     pub blend: BlendMode,
     /// Soft-particle fade distance (view units); 0 = off.
@@ -20,6 +22,13 @@ pub struct PixelMode {
     /// Depth peeling: only fragments strictly behind the tile's peel depth
     /// ([`TileBuf::peel`]) pass, the second depth compare.
     pub peel: bool,
+}
+
+impl PixelMode {
+    /// Whether any of its fragments may write depth.
+    pub fn writes_depth(&self) -> bool {
+        self.depth_write || self.blend_depth <= 1.0
+    }
 }
 
 /// The fragment shader family a draw uses.

@@ -33,8 +33,8 @@ mod technique;
 pub use technique::Impostored;
 
 pub use capture::{capture_camera, Capture};
-pub use pool::image_material;
 pub use pool::Pool;
+pub use pool::{image_material, IMAGE_DEPTH_ALPHA};
 pub use predict::{error_color, needed_side, screen_rect};
 
 pub(crate) use predict::pixels_per_radian;

@@ -320,6 +320,7 @@ impl OctahedralImpostor {
             .blended(BlendMode::Alpha)
             .double_sided(true);
         (material.sampler.wrap_u, material.sampler.wrap_v) = (Wrap::Clamp, Wrap::Clamp);
+        material.blend_depth = Some(crate::impostor::IMAGE_DEPTH_ALPHA);
         let bounds = Sphere { center, radius: r };
         let version = subject.version();
         let mut imp = OctahedralImpostor {

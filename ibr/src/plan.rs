@@ -119,8 +119,9 @@ pub enum Scope {
     #[default]
     Object,
     /// The frame's error (the mean error over the pixels the visible objects' rectangles
-    /// cover, each object's error weighted by the part of its rectangle where it may show:
-    /// [`frame_budget`], [`occlusion`]), with a margin for its spread so that it holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
+    /// cover, each object's error weighted by its rectangle's area times the share of it that
+    /// shows: [`frame_budget`], [`occlusion`]), with a margin for its spread so that it
+    /// holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
     /// may then err more where that buys most time; hysteresis discounts the
     /// representation in use by [`Config::min_saving`] of its time.
     Frame,
@@ -213,7 +214,7 @@ pub struct Report {
     pub rebuild_ms: f32,
     /// Largest predicted error, and the frame's: the mean over the pixels the visible
     /// objects' rectangles cover, of each object's error over its rectangle times the part
-    /// of it where it may show ([`frame_budget`]).
+    /// of it that shows ([`frame_budget`]).
     pub max_error: f32,
     pub mean_error: f32,
     /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the
@@ -274,7 +275,7 @@ pub struct Planner<S> {
     visible: Vec<usize>,
     pixels: Vec<f32>,
     /// Visible objects' screen rectangles, their weights in the frame's error (their
-    /// areas, at least 1, times the share where they may show) and the pixels the
+    /// areas, at least 1, times the share of them that shows) and the pixels the
     /// rectangles cover.
     rects: Vec<Rect>,
     /// Each representation's payback frames ([`Representation::payback_frames`]).
@@ -290,6 +291,8 @@ pub struct Planner<S> {
     cover: RectCover,
     /// What the last finished frame hid ([`occlusion`]): taken in `observe`, behind `&self`.
     occlusion: Mutex<Occlusion>,
+    /// Each object's bounds in the last frame planned, where it was visible.
+    then: Vec<Option<Sphere>>,
     estimates: Vec<Option<Estimate>>,
     rebuilds: Vec<Rebuild>,
     /// The frame scope's options (reused frame to frame).
@@ -339,6 +342,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             area: 0.0,
             cover: RectCover::default(),
             occlusion: Mutex::default(),
+            then: Vec::new(),
             estimates: Vec::new(),
             rebuilds: Vec::new(),
             options: frame_budget::Options::default(),
@@ -387,8 +391,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
         &self.choices
     }
 
-    /// The last frame's visible objects and their weights in the frame's error (pixels of
-    /// their rectangles where they may show, [`occlusion`]).
+    /// The last frame's visible objects and their weights in the frame's error (their
+    /// rectangles' pixels times the share of them that shows, [`occlusion`]).
     pub fn weights(&self) -> (&[usize], &[f32]) {
         (&self.visible, &self.weights)
     }
@@ -676,24 +680,29 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.pixels[v].max(1.0)
     }
 
-    /// Each visible object's weight in the frame's error (the pixels of its rectangle where
-    /// the last frame says it may show, each split among the objects that may show there:
-    /// [`occlusion`]), and the pixels the rectangles cover on a `width` x `height` target
+    /// Each visible object's weight in the frame's error (its rectangle's pixels times the
+    /// share of it that showed in the last frame: [`occlusion`]), and the pixels the rectangles cover on a `width` x `height` target
     /// (each once, at least 1): see [`frame_budget`].
     fn weigh(&mut self, camera: &Camera, width: u32, height: u32) {
         let hidden = self
             .occlusion
             .get_mut()
             .unwrap_or_else(PoisonError::into_inner);
-        let (objects, visible) = (&self.objects, &self.visible);
-        let bounds = |k: usize| objects[visible[k]].bounds();
+        let (then, visible, rects) = (&self.then, &self.visible, &self.rects);
         hidden.weigh(
-            bounds,
-            &self.rects,
+            visible.len(),
+            |k| then.get(visible[k]).copied().flatten(),
+            |k| rects[k].width as f32 * rects[k].height as f32,
             camera,
             (width, height),
             &mut self.weights,
         );
+        // This frame's bounds, for the next frame's lookups (none for what is not drawn).
+        self.then.clear();
+        self.then.resize(self.objects.len(), None);
+        for &i in &self.visible {
+            self.then[i] = Some(self.objects[i].bounds());
+        }
         self.cover.count(width, height, self.rects.iter().copied());
         self.area = (self.cover.area() as f64).max(1.0);
     }

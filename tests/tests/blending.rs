@@ -1,6 +1,7 @@
 //! Blending: premultiplied "over" and additive blending in linear space, blended draws
 //! composited back to front whatever their submission order, depth-tested against opaque
-//! geometry but never writing depth.
+//! geometry and writing depth only where a material asks (images standing in for opaque
+//! objects).
 
 use engine::{BlendMode, Cull, Encoding, Material, Rgba, Scene};
 use glam::{Mat4, Vec3};
@@ -17,6 +18,15 @@ const BYTE_TOL: i32 = 1;
 
 /// A full-target quad at view depth `-z`, unlit in `color` with `material` settings.
 fn layer(scene: &mut Scene, z: f32, color: Rgba, blend: Option<BlendMode>) {
+    let mut m = Material::unlit(color).double_sided(true);
+    if let Some(b) = blend {
+        m = m.blended(b);
+    }
+    quad(scene, z, m);
+}
+
+/// A full-target quad at view depth `-z` of material `m`.
+fn quad(scene: &mut Scene, z: f32, m: Material) {
     let c = |x: f64, y: f64| {
         let p = px(x, y);
         Vec3::new(p.x, p.y, z)
@@ -25,10 +35,6 @@ fn layer(scene: &mut Scene, z: f32, color: Rgba, blend: Option<BlendMode>) {
         [c(-1.0, -1.0), c(40.0, -1.0), c(40.0, 40.0)],
         [c(-1.0, -1.0), c(40.0, 40.0), c(-1.0, 40.0)],
     ]);
-    let mut m = Material::unlit(color).double_sided(true);
-    if let Some(b) = blend {
-        m = m.blended(b);
-    }
     scene.add(quad, m, Mat4::IDENTITY);
 }
 
@@ -128,6 +134,72 @@ fn blended_layers_are_depth_tested_but_write_no_depth() {
     let g = [0.4 * 0.6, 1.0 * 0.4 + 0.4 * 0.6, 0.4 * 0.6];
     let want = [g[0] * 0.5, g[1] * 0.5, 1.0 * 0.5 + g[2] * 0.5];
     check_uniform("stacked blended layers", &scene, Encoding::Unorm, want);
+}
+
+/// An image standing in for an opaque object ([`Material::blend_depth`]) writes depth
+/// where its alpha reaches the cutoff, and only there, without changing what blended layers
+/// behind it show.
+#[test]
+fn blended_layers_write_depth_where_their_alpha_reaches_the_cutoff() {
+    let image = |alpha: f32, cutoff: Option<f32>| Material {
+        blend_depth: cutoff,
+        ..Material::unlit(Rgba::new(0.0, 0.0, 1.0, alpha))
+            .double_sided(true)
+            .blended(BlendMode::Alpha)
+    };
+    for (alpha, cutoff, writes) in [
+        (0.6, Some(0.5), true),
+        (0.4, Some(0.5), false),
+        (1.0, None, false),
+    ] {
+        let mut scene = Scene::default();
+        quad(&mut scene, -1.0, image(alpha, cutoff));
+        let (target, _) = render(
+            &scene,
+            &pixel_camera(W, H),
+            W,
+            H,
+            Encoding::Unorm,
+            Cull::None,
+        );
+        for y in 0..H {
+            for x in 0..W {
+                let written = target.depth_gl(x, y).unwrap() < 1.0;
+                assert_eq!(
+                    written, writes,
+                    "alpha {alpha}, cutoff {cutoff:?}: ({x}, {y})"
+                );
+            }
+        }
+    }
+    // Blended draws are sorted back to front, so a farther layer is drawn before the image
+    // and its depth writes hide nothing of it: the pixels are those of an image that writes
+    // no depth.
+    let stacked = |cutoff: Option<f32>| {
+        let mut scene = Scene::default();
+        quad(&mut scene, -1.0, image(0.6, cutoff));
+        layer(
+            &mut scene,
+            -2.0,
+            Rgba::new(1.0, 0.0, 0.0, 0.5),
+            Some(BlendMode::Alpha),
+        );
+        render(
+            &scene,
+            &pixel_camera(W, H),
+            W,
+            H,
+            Encoding::Unorm,
+            Cull::None,
+        )
+        .0
+    };
+    let (with, without) = (stacked(Some(0.5)), stacked(None));
+    for y in 0..H {
+        for x in 0..W {
+            assert_eq!(with.pixel(x, y), without.pixel(x, y), "({x}, {y})");
+        }
+    }
 }
 
 #[test]

@@ -92,7 +92,8 @@ fn the_sun_behind_an_impostor_is_hidden_as_behind_its_geometry() {
             "through {p}: geometry {geo}, impostor {imp}"
         );
     }
-    // Before this was fixed the impostor, which writes no depth, never hid the sun.
+    // The impostor writes depth where its image is more than half covered, so the depth
+    // buffer alone now hides the sun too (before, it wrote none and never did).
     let depth_only = {
         let mut target = Target::new(W, H);
         Renderer::new().render(
@@ -106,9 +107,9 @@ fn the_sun_behind_an_impostor_is_hidden_as_behind_its_geometry() {
         f.update(&cam, &target, sun_through(Vec3::new(0.0, 4.0, 1.5)), 1.0);
         f.measured()
     };
-    assert_eq!(
-        depth_only, 1.0,
-        "the depth buffer alone does not see impostors"
+    assert!(
+        depth_only <= 0.01,
+        "the depth buffer alone sees the impostor: {depth_only}"
     );
 }
 

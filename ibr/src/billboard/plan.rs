@@ -28,7 +28,7 @@
 
 use super::bake::{bake, bake_bounds, bake_work, horizontal, Profile, ELEVATIONS};
 use super::{push_quad, UvRect};
-use crate::impostor::{needed_side, pixels_per_radian, pull_near};
+use crate::impostor::{needed_side, pixels_per_radian, pull_near, IMAGE_DEPTH_ALPHA};
 use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::schedule::pick_mut;
 use crate::subject::Subject;
@@ -252,7 +252,8 @@ impl BillboardSet {
     }
 }
 
-/// The material that draws a billboard's image: premultiplied, alpha-blended, unlit,
+/// The material that draws a billboard's image: premultiplied, alpha-blended (writing
+/// depth where more than half covered, [`IMAGE_DEPTH_ALPHA`]), unlit,
 /// clamped, seen from either side, mipmapped (one image is seen at every distance).
 fn material(image: Texture, tint: Rgba) -> Material {
     let mut m = Material::unlit(tint)
@@ -260,6 +261,7 @@ fn material(image: Texture, tint: Rgba) -> Material {
         .blended(BlendMode::Alpha)
         .double_sided(true);
     m.vertex_colors = false;
+    m.blend_depth = Some(IMAGE_DEPTH_ALPHA);
     (m.sampler.wrap_u, m.sampler.wrap_v) = (Wrap::Clamp, Wrap::Clamp);
     m.sampler.filter = Filter::Trilinear;
     m.name = "billboard".into();

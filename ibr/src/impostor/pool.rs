@@ -104,9 +104,15 @@ impl Pool {
     }
 }
 
+/// The alpha from which an image drawn in place of an opaque object writes depth
+/// ([`engine::Material::blend_depth`]): what reads the depth after it sees the object
+/// where it is more than half covered.
+pub const IMAGE_DEPTH_ALPHA: f32 = 0.5;
+
 /// The material that draws an image in place of geometry (an impostor's, an image
-/// layer's): its premultiplied image, alpha-blended, unlit, clamped at the edges, seen from
-/// either side; a transparent `width` x `height` texture until it is filled.
+/// layer's): its premultiplied image, alpha-blended, writing depth where more than half
+/// covered ([`IMAGE_DEPTH_ALPHA`]), unlit, clamped at the edges, seen from either side; a
+/// transparent `width` x `height` texture until it is filled.
 pub fn image_material(width: u32, height: u32, name: &str) -> Material {
     let (w, h) = (width.max(1), height.max(1));
     let texture =
@@ -117,6 +123,7 @@ pub fn image_material(width: u32, height: u32, name: &str) -> Material {
         .blended(BlendMode::Alpha)
         .double_sided(true);
     m.vertex_colors = false;
+    m.blend_depth = Some(IMAGE_DEPTH_ALPHA);
     // Bilinear: the resolution predictor keeps the texture near the screen size, where a
     // trilinear blend toward the next mip would only blur.
     m.sampler = Sampler {

@@ -6,8 +6,8 @@
 //! **The frame's error.** The mean error over the `A` pixels the visible objects' screen
 //! rectangles cover, each pixel once however many rectangles cover it. Each object's
 //! predicted error `e` is a mean over its own rectangle, so it adds `w e` to the frame's
-//! total, `w` its rectangle's area times the share of it where the last frame says it may
-//! show ([`super::occlusion`]: an object behind others adds nothing), and the frame's
+//! total, `w` its rectangle's area times the share of it that the last frame says shows
+//! ([`super::occlusion`]: an object behind others adds nothing), and the frame's
 //! error is `sum(w e) / A`. Where two objects' errors fall on one pixel they are added,
 //! which errs high.
 //!
@@ -39,7 +39,7 @@ pub const Z99: f64 = 2.326;
 pub(super) struct Object<'e> {
     /// Per representation (`None`: cannot draw it).
     pub est: &'e [Option<Estimate>],
-    /// Its weight: its screen rectangle's area times the share where it may show, pixels.
+    /// Its weight: its screen rectangle's area times the share of it that shows, pixels.
     pub weight: f32,
     /// The representation in use, whose time is discounted by the hysteresis.
     pub current: Option<usize>,

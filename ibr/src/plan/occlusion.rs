@@ -1,28 +1,42 @@
-//! What the last frame hid: the farthest depth in each cell of the finished frame, so that
-//! the frame scope counts an object's error only over the part of its rectangle where it
-//! may still show. An object behind others (most of a dense world's, seen low over it)
-//! shows none of its error, whatever draws it.
+//! What the last frame hid: the surface drawn in each cell of the finished frame, so that
+//! the frame scope counts an object's error only over the part of it that still shows. An
+//! object behind others (most of a dense world's, seen low over it) shows none of its
+//! error, whatever draws it.
 //!
-//! **The test.** Under the grid's camera, an object may show in a cell unless all drawn
-//! there is nearer than the nearest point of its bounding sphere. Its share is the part of
-//! its rectangle's cells where it may show. The sphere reaches nearer than the object, and
-//! a cell shows the object wherever anything farther is drawn in it, so the share errs
-//! high: the frame's predicted error adds up every object's error where it may show, as
-//! if none of them hid another.
+//! **The test.** An object's predicted error is a mean over its screen rectangle, with the
+//! object alone in front of the background, and lies on its silhouette. In the last
+//! frame, seen from its camera, each cell of the object's rectangle there holds one
+//! surface point, which is
+//! - *in front* of the object's bounding sphere (nearer than its nearest point, by more
+//!   than an image of it may be pulled forward, [`SLACK`]): the object is hidden there, if
+//!   it reaches there;
+//! - *within* the sphere's depth: the object itself, its image, or what lies beside it at
+//!   its depth (the ground it stands on, a neighbour), showing;
+//! - *behind* the sphere, or nothing drawn: the object does not reach there, and says
+//!   nothing.
 //!
-//! **The next frame.** The eye has moved since: an object's cells are looked up where its
-//! centre was on the grid's image, in a pyramid of grids of cells 1, 2, 4 and 8 times as
-//! wide, each cell holding the farthest depth in it and its eight neighbours: the finest
-//! whose neighbours reach as far as the eye's move slides an occluder at half the
-//! object's distance across it. Where that is more, or the eye
-//! moved more than [`MAX_MOVE`] of the object's distance, or the target changed size, or
-//! the object was not wholly in front of the grid's camera, its share is 1: a teleport
-//! weighs objects as if nothing hid them.
+//! The object's error lies where it shows, and just beside that, where an image that
+//! misses part of its object shows what lies behind instead. Its share is (in + behind
+//! beside in) / (in + behind beside in + in front): the part of where its error may lie
+//! that shows. Where it shows nowhere although something of it is not hidden (an image
+//! that missed it all, or an object too thin for the cells), the share is the part of its
+//! cells not hidden; 1 when no cell says.
+//!
+//! Its weight in the frame's error is its rectangle's area this frame times its share: an
+//! object in the open weighs its whole rectangle, one half behind a wall half of it, one in
+//! a crowd the part of it that shows between its neighbours, whatever lies beyond it.
+//! Neighbours at its depth count as it (the share errs high there).
+//!
+//! **The next frame.** The object is looked up where it was (its bounds of the last
+//! frame) under the last frame's camera, so neither the eye's nor the object's move
+//! slides the cells; the share then stands for this frame unless the eye moved more than
+//! [`MAX_MOVE`] of the object's distance, or the target changed size, or the object was
+//! not wholly in front of the last camera's near plane, or was not in view: then its
+//! share is 1, as if nothing hid it. The cells are point samples (one pixel each); an
+//! object's rectangle is read with a stride that keeps at most [`SAMPLES`] of them.
 
-use crate::impostor::pixels_per_radian;
-use crate::metrics::Rect;
+use crate::impostor::screen_rect;
 use engine::{Camera, Sphere, Target};
-use glam::Vec2;
 use rayon::prelude::*;
 
 /// Pixels a side of a cell: small, as most of a crowd's objects are tens of pixels across.
@@ -32,34 +46,46 @@ pub const CELL: u32 = 2;
 /// object's distance, for which the grid still says what hides the object.
 pub const MAX_MOVE: f32 = 0.1;
 
-/// The pyramid's levels: level `k`'s cells are `2^k` cells wide and reach as far.
-const LEVELS: usize = 4;
+/// How far in front of an object's bounding sphere a surface may lie, in radii, and still
+/// count as the object: an image's quad is drawn through the nearest corner of its box
+/// ([`crate::subject::Subject::corners`]), which lies within the cube around the sphere,
+/// up to `sqrt(3) - 1` radii in front of it; and depth is stored in 32 bits.
+pub const SLACK: f32 = 0.75;
 
-/// The farthest reversed depth per cell of the last finished frame, and its camera.
+/// The most cells read for one object: a larger rectangle is read with a stride.
+pub const SAMPLES: u32 = 256;
+
+/// The surface point of each cell of the last finished frame, and its camera.
 #[derive(Clone, Debug, Default)]
 pub struct Occlusion {
     camera: Option<Camera>,
     size: (u32, u32),
     cols: usize,
     rows: usize,
-    /// Per level, its columns and rows and per cell, row-major: the least reversed depth
-    /// drawn in it and its neighbours (the farthest; 0: nothing drawn somewhere).
-    dims: [(usize, usize); LEVELS],
-    far: [Vec<f32>; LEVELS],
-    /// Per level, per cell: the least reversed depth drawn in it.
-    raw: [Vec<f32>; LEVELS],
+    /// Per cell, row-major: the view-space `z` (negative ahead) of the point drawn at its
+    /// first pixel; `NEG_INFINITY` where nothing was drawn.
+    points: Vec<f32>,
     row: (Vec<u32>, Vec<f32>),
-    scratch: Vec<f32>,
 }
 
-/// Where an object's cells are looked up on the grids, and the reversed depth of its
-/// sphere's nearest point.
-#[derive(Clone, Copy, Debug)]
-struct Map {
-    dx: i64,
-    dy: i64,
-    level: usize,
-    near: f32,
+/// Where an object's cells say it shows, and where they say it is hidden.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Cells {
+    pub shows: u32,
+    pub hidden: u32,
+    /// Cells behind the object beside one where it shows: where an image that misses part
+    /// of its object errs.
+    pub edge: u32,
+    /// Every cell read.
+    pub read: u32,
+}
+
+/// What one cell says of an object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Class {
+    Hidden,
+    Shows,
+    Behind,
 }
 
 impl Occlusion {
@@ -68,41 +94,20 @@ impl Occlusion {
         let (w, h) = (target.width(), target.height());
         self.size = (w, h);
         (self.cols, self.rows) = (w.div_ceil(CELL) as usize, h.div_ceil(CELL) as usize);
-        let cols = self.cols;
-        let raw = &mut self.raw[0];
-        raw.clear();
-        raw.resize(cols * self.rows, f32::INFINITY);
+        self.points.clear();
+        self.points.reserve(self.cols * self.rows);
         let (colors, depth) = (&mut self.row.0, &mut self.row.1);
-        for y in 0..h {
+        for y in (0..h).step_by(CELL as usize) {
             target.read_row(y, colors, depth);
-            let cells = &mut raw[(y / CELL) as usize * cols..];
-            for (cell, run) in cells.iter_mut().zip(depth.chunks(CELL as usize)) {
-                *cell = run.iter().fold(*cell, |m, &d| m.min(d));
-            }
-        }
-        // Each level from the last, 2 x 2 cells to one; then each cell with its neighbours.
-        self.dims[0] = (cols, self.rows);
-        for k in 1..LEVELS {
-            let (c, r) = self.dims[k - 1];
-            let (nc, nr) = (c.div_ceil(2), r.div_ceil(2));
-            let (done, rest) = self.raw.split_at_mut(k);
-            let (fine, coarse) = (&done[k - 1], &mut rest[0]);
-            coarse.clear();
-            coarse.resize(nc * nr, f32::INFINITY);
-            for (i, &d) in fine.iter().enumerate() {
-                let at = (i / c.max(1)) / 2 * nc + (i % c.max(1)) / 2;
-                coarse[at] = coarse[at].min(d);
-            }
-            self.dims[k] = (nc, nr);
-        }
-        for k in 0..LEVELS {
-            spread_min(
-                &self.raw[k],
-                &mut self.scratch,
-                &mut self.far[k],
-                self.dims[k],
-                1,
-            );
+            let drawn = depth.iter().step_by(CELL as usize).map(|&d| {
+                let z = -camera.view_depth_from_reversed(d);
+                if d > 0.0 && z.is_finite() {
+                    z
+                } else {
+                    f32::NEG_INFINITY
+                }
+            });
+            self.points.extend(drawn);
         }
         self.camera = Some(*camera);
     }
@@ -112,167 +117,121 @@ impl Occlusion {
         self.camera = None;
     }
 
-    /// The lookup of an object with bounds `b` seen from `now` on a `width` x `height`
-    /// target (`None`: nothing known, it may show everywhere).
-    fn map(&self, b: Sphere, now: &Camera, width: u32, height: u32) -> Option<Map> {
+    /// What the last frame's cells say of an object with bounds `then` in it, seen from
+    /// `now` on a `width` x `height` target (`None`: nothing known; see the module docs).
+    pub fn cells(&self, then: Sphere, now: &Camera, width: u32, height: u32) -> Option<Cells> {
         let old = self.camera.as_ref()?;
-        if (width, height) != self.size || !(b.center.is_finite() && b.radius.is_finite()) {
+        if (width, height) != self.size || !(then.center.is_finite() && then.radius.is_finite()) {
             return None;
         }
-        let depth = -old.view.transform_point3(b.center).z;
-        if depth - b.radius <= old.near_far().0 {
+        let c = old.view.transform_point3(then.center);
+        if -c.z - then.radius <= old.near_far().0 {
             return None;
         }
-        let then = pixel(old, b, width, height)?;
-        let here = pixel(now, b, width, height)?;
         let moved = now.eye().distance(old.eye());
-        let distance = now.eye().distance(b.center).max(1e-6);
-        if moved > MAX_MOVE * distance {
+        let within = moved <= MAX_MOVE * now.eye().distance(then.center);
+        if !within {
             return None;
         }
-        let parallax = 2.0 * moved / distance * pixels_per_radian(now, height);
-        // Rounding to a cell slides by up to half of one.
-        let reach = parallax / CELL as f32 + 0.5;
-        let level = (0..LEVELS).find(|&k| reach <= (1 << k) as f32)?;
-        let shift = (then - here) / CELL as f32;
-        if !shift.is_finite() || shift.abs().max_element() > (self.cols + self.rows) as f32 {
+        let r = screen_rect(old, then.center, then.radius, width, height)?.clip(width, height);
+        if r.is_empty() {
             return None;
         }
-        Some(Map {
-            dx: shift.x.round() as i64,
-            dy: shift.y.round() as i64,
-            level,
-            near: old.reversed_from_view_depth(depth - b.radius),
-        })
-    }
-
-    /// Whether an object looked up by `m` may show in this frame's cell `(cx, cy)` (off
-    /// the grid it may).
-    fn shows(&self, m: Map, cx: i64, cy: i64) -> bool {
-        let (x, y) = (cx + m.dx, cy + m.dy);
-        if x < 0 || y < 0 || x >= self.cols as i64 || y >= self.rows as i64 {
-            return true;
+        let (x0, y0) = (r.x / CELL, r.y / CELL);
+        let (x1, y1) = (
+            (r.x + r.width).div_ceil(CELL),
+            (r.y + r.height).div_ceil(CELL),
+        );
+        // The least stride that keeps the cells read within SAMPLES.
+        let mut stride = 1;
+        let sampled = |s: u32| ((x1 - x0).div_ceil(s), (y1 - y0).div_ceil(s));
+        while sampled(stride).0 * sampled(stride).1 > SAMPLES {
+            stride += 1;
         }
-        let (x, y) = ((x as usize) >> m.level, (y as usize) >> m.level);
-        m.near >= self.far[m.level][y * self.dims[m.level].0 + x]
-    }
-
-    /// The share of the screen rectangle `r` of an object with bounds `b` where it may
-    /// show, seen from `now` on a `width` x `height` target ([module docs](self)): from 0
-    /// (hidden) to 1.
-    pub fn share(&self, b: Sphere, r: Rect, now: &Camera, width: u32, height: u32) -> f32 {
-        self.share_of(self.map(b, now, width, height), r, width, height)
-    }
-
-    fn share_of(&self, m: Option<Map>, r: Rect, width: u32, height: u32) -> f32 {
-        let Some(m) = m else {
-            return 1.0;
-        };
-        let (mut shows, mut all) = (0u64, 0u64);
-        for_cells(r, width, height, |cx, cy, px| {
-            all += px;
-            if self.shows(m, cx, cy) {
-                shows += px;
+        let (nx, ny) = (sampled(stride).0 as usize, sampled(stride).1 as usize);
+        // View z (negative ahead) of the sphere's nearest point, less what an image's quad
+        // may be pulled forward, and of its farthest.
+        let near = c.z + then.radius * (1.0 + SLACK);
+        let far = c.z - then.radius;
+        let mut class = [Class::Behind; SAMPLES as usize];
+        for (j, cy) in (y0..y1).step_by(stride as usize).enumerate() {
+            let row = &self.points[cy as usize * self.cols..][..self.cols];
+            for (i, cx) in (x0..x1).step_by(stride as usize).enumerate() {
+                let z = row[cx as usize];
+                class[j * nx + i] = if z > near {
+                    Class::Hidden
+                } else if z >= far {
+                    Class::Shows
+                } else {
+                    Class::Behind
+                };
             }
-        });
-        if all == 0 {
-            1.0
-        } else {
-            shows as f32 / all as f32
+        }
+        let mut out = Cells {
+            read: (nx * ny) as u32,
+            ..Cells::default()
+        };
+        let class = &class[..nx * ny];
+        for (k, &c) in class.iter().enumerate() {
+            match c {
+                Class::Hidden => out.hidden += 1,
+                Class::Shows => out.shows += 1,
+                Class::Behind => {
+                    let (i, j) = (k % nx, k / nx);
+                    let shows = |i: usize, j: usize| class[j * nx + i] == Class::Shows;
+                    let edge = (i > 0 && shows(i - 1, j))
+                        || (i + 1 < nx && shows(i + 1, j))
+                        || (j > 0 && shows(i, j - 1))
+                        || (j + 1 < ny && shows(i, j + 1));
+                    out.edge += u32::from(edge);
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// The share of an object with bounds `then` in the last frame that shows, seen from
+    /// `now` on a `width` x `height` target ([module docs](self)): from 0 (hidden) to 1.
+    pub fn share(&self, then: Sphere, now: &Camera, width: u32, height: u32) -> f32 {
+        match self.cells(then, now, width, height) {
+            Some(c) if c.shows > 0 => {
+                (c.shows + c.edge) as f32 / (c.shows + c.edge + c.hidden) as f32
+            }
+            Some(c) if c.read > 0 => 1.0 - c.hidden as f32 / c.read as f32,
+            _ => 1.0,
         }
     }
 
     /// Each visible object's weight in the frame's error into `out`: its rectangle's area
-    /// (at least 1) times its share. The objects' bounds are `bounds(k)` and their screen
-    /// rectangles `rects` this frame, seen from `now` on a `width` x `height` target. Side
-    /// by side over the objects, gathered in order: the same at any thread count.
+    /// this frame, `areas(k)` (at least 1), times its share, from its bounds in the last
+    /// frame, `then(k)` (`None`: not in it, share 1), seen from `now` on a `width` x
+    /// `height` target. Side by side over the objects, gathered in order: the same at any
+    /// thread count.
     pub fn weigh(
-        &mut self,
-        bounds: impl Fn(usize) -> Sphere + Sync,
-        rects: &[Rect],
+        &self,
+        n: usize,
+        then: impl Fn(usize) -> Option<Sphere> + Sync,
+        areas: impl Fn(usize) -> f32 + Sync,
         now: &Camera,
         (width, height): (u32, u32),
         out: &mut Vec<f32>,
     ) {
-        let this = &*self;
-        rects
-            .par_iter()
-            .enumerate()
-            .map(|(k, &r)| {
-                let area = (r.width as f32 * r.height as f32).max(1.0);
-                area * this.share(bounds(k), r, now, width, height)
+        (0..n)
+            .into_par_iter()
+            .map(|k| {
+                let share = then(k).map_or(1.0, |b| self.share(b, now, width, height));
+                areas(k).max(1.0) * share
             })
             .collect_into_vec(out);
     }
 }
 
-/// Calls `f(cx, cy, pixels)` for each cell the rectangle `r` (clipped to a `width` x
-/// `height` image) touches, with the pixels of `r` in it.
-fn for_cells(r: Rect, width: u32, height: u32, mut f: impl FnMut(i64, i64, u64)) {
-    let r = r.clip(width, height);
-    if r.is_empty() {
-        return;
-    }
-    let (x0, y0, x1, y1) = (r.x, r.y, r.x + r.width, r.y + r.height);
-    for cy in y0 / CELL..y1.div_ceil(CELL) {
-        let h = (y1.min((cy + 1) * CELL) - y0.max(cy * CELL)) as u64;
-        for cx in x0 / CELL..x1.div_ceil(CELL) {
-            let w = (x1.min((cx + 1) * CELL) - x0.max(cx * CELL)) as u64;
-            f(i64::from(cx), i64::from(cy), w * h);
-        }
-    }
-}
-
-/// The least of `source` within `by` cells (a square), into `out`; `scratch` holds the
-/// rows' pass.
-fn spread_min(
-    source: &[f32],
-    scratch: &mut Vec<f32>,
-    out: &mut Vec<f32>,
-    (cols, rows): (usize, usize),
-    by: i64,
-) {
-    let by = by.max(0) as usize;
-    scratch.clear();
-    scratch.resize(source.len(), 0.0);
-    for y in 0..rows {
-        let row = &source[y * cols..(y + 1) * cols];
-        for x in 0..cols {
-            let (a, b) = (x.saturating_sub(by), (x + by + 1).min(cols));
-            scratch[y * cols + x] = row[a..b].iter().fold(f32::INFINITY, |m, &d| m.min(d));
-        }
-    }
-    out.clear();
-    out.resize(source.len(), 0.0);
-    for y in 0..rows {
-        let (a, b) = (y.saturating_sub(by), (y + by + 1).min(rows));
-        for x in 0..cols {
-            let column = (a..b).map(|yy| scratch[yy * cols + x]);
-            out[y * cols + x] = column.fold(f32::INFINITY, f32::min);
-        }
-    }
-}
-
-/// Where the centre of `b` lands on a `width` x `height` image from `camera`, pixels
-/// (`None` at or behind the eye).
-fn pixel(camera: &Camera, b: Sphere, width: u32, height: u32) -> Option<Vec2> {
-    let c = camera.clip_from_world() * b.center.extend(1.0);
-    if c.w <= 1e-6 || !c.is_finite() {
-        return None;
-    }
-    let ndc = Vec2::new(c.x, c.y) / c.w;
-    Some(Vec2::new(
-        (ndc.x * 0.5 + 0.5) * width as f32,
-        (0.5 - ndc.y * 0.5) * height as f32,
-    ))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::impostor::screen_rect;
     use engine::{procedural, Draw, FrameOptions, Lighting, Material, Renderer, Rgba};
-    use glam::{Mat4, Vec3};
+    use glam::Mat4;
+    use glam::Vec3;
 
     const W: u32 = 160;
     const H: u32 = 96;
@@ -282,23 +241,6 @@ mod tests {
             .with_depth_range(0.05, 100.0)
     }
 
-    /// The grid of a 2 x 2 wall through the origin facing +Z, seen from `eye`.
-    fn wall_from(eye: Vec3) -> Occlusion {
-        let mesh = procedural::cuboid(Vec3::new(2.0, 2.0, 0.1));
-        let material = Material::unlit(Rgba::WHITE);
-        let draw = Draw {
-            mesh: &mesh,
-            material: &material,
-            transform: Mat4::IDENTITY,
-        };
-        let (cam, mut target) = (camera(eye), Target::new(W, H));
-        let opts = FrameOptions::default();
-        Renderer::new().render([draw], &cam, &Lighting::default(), &mut target, &opts);
-        let mut o = Occlusion::default();
-        o.observe(&target, &cam);
-        o
-    }
-
     fn ball(x: f32, z: f32) -> Sphere {
         Sphere {
             center: Vec3::new(x, 0.0, z),
@@ -306,41 +248,88 @@ mod tests {
         }
     }
 
+    /// The grid of a 2 x 2 wall through the origin facing +Z, and balls of bounds `balls`
+    /// (cubes inscribed in them), seen from `eye`.
+    fn wall_from(eye: Vec3, balls: &[Sphere]) -> Occlusion {
+        let wall = procedural::cuboid(Vec3::new(2.0, 2.0, 0.1));
+        let cube = procedural::cuboid(Vec3::splat(0.3));
+        let material = Material::unlit(Rgba::WHITE);
+        let mut draws = vec![Draw {
+            mesh: &wall,
+            material: &material,
+            transform: Mat4::IDENTITY,
+        }];
+        draws.extend(balls.iter().map(|b| Draw {
+            mesh: &cube,
+            material: &material,
+            transform: Mat4::from_translation(b.center),
+        }));
+        let (cam, mut target) = (camera(eye), Target::new(W, H));
+        let opts = FrameOptions::default();
+        Renderer::new().render(draws, &cam, &Lighting::default(), &mut target, &opts);
+        let mut o = Occlusion::default();
+        o.observe(&target, &cam);
+        o
+    }
+
     #[test]
     fn behind_the_wall_nothing_shows_beside_or_in_front_all_of_it() {
         let eye = Vec3::new(0.0, 0.0, 5.0);
-        let o = wall_from(eye);
-        let share = |b: Sphere, eye: Vec3| {
-            let cam = camera(eye);
-            let r = screen_rect(&cam, b.center, b.radius, W, H).unwrap();
-            o.share(b, r, &cam, W, H)
-        };
-        assert_eq!(share(ball(0.0, -1.0), eye), 0.0);
-        assert_eq!(share(ball(0.0, 1.0), eye), 1.0);
-        assert_eq!(share(ball(2.5, -1.0), eye), 1.0);
-        // Straddling the wall's edge: some of it.
-        let edge = share(ball(1.2, -1.0), eye);
+        let balls = [
+            ball(0.0, -1.0),
+            ball(0.0, 1.0),
+            ball(2.5, -1.0),
+            ball(1.2, -1.0),
+        ];
+        let o = wall_from(eye, &balls);
+        let share = |b: Sphere, eye: Vec3| o.share(b, &camera(eye), W, H);
+        assert_eq!(share(balls[0], eye), 0.0);
+        assert_eq!(share(balls[1], eye), 1.0);
+        assert_eq!(share(balls[2], eye), 1.0);
+        // Straddling the wall's edge: some of it, counting the background beside the cube.
+        let edge = share(balls[3], eye);
         assert!(edge > 0.1 && edge < 0.9, "{edge}");
+        let c = o.cells(balls[3], &camera(eye), W, H).unwrap();
+        assert!(c.edge > 0 && c.shows > 0 && c.hidden > 0, "{c:?}");
+        // Straddling it but not drawn (an image that missed its object): the part of its
+        // cells not hidden.
+        let missed = ball(1.2, -1.5);
+        let c = o.cells(missed, &camera(eye), W, H).unwrap();
+        assert!(c.shows == 0 && c.hidden > 0 && c.hidden < c.read, "{c:?}");
+        let want = 1.0 - c.hidden as f32 / c.read as f32;
+        assert_eq!(share(missed, eye), want);
+        // Where nothing reached (an object new to the frame, in front of the wall): nothing
+        // hides it.
+        assert_eq!(share(ball(-0.5, 1.0), eye), 1.0);
         // A small step of the eye: still hidden. A teleport behind the wall, a new size or
         // a forgotten frame: nothing known, all of it may show.
-        assert_eq!(share(ball(0.0, -1.0), Vec3::new(0.05, 0.0, 5.0)), 0.0);
-        assert_eq!(share(ball(0.0, -1.0), Vec3::new(0.0, 0.0, -8.0)), 1.0);
-        let whole = Rect::new(0, 0, W, H);
-        assert_eq!(o.share(ball(0.0, -1.0), whole, &camera(eye), W / 2, H), 1.0);
+        assert_eq!(share(balls[0], Vec3::new(0.05, 0.0, 5.0)), 0.0);
+        assert_eq!(share(balls[0], Vec3::new(0.0, 0.0, -8.0)), 1.0);
+        assert_eq!(o.share(balls[0], &camera(eye), W / 2, H), 1.0);
         let mut forgot = o.clone();
         forgot.clear();
-        assert_eq!(
-            forgot.share(ball(0.0, -1.0), whole, &camera(eye), W, H),
-            1.0
-        );
+        assert_eq!(forgot.share(balls[0], &camera(eye), W, H), 1.0);
+    }
+
+    #[test]
+    fn a_large_object_is_read_with_a_stride() {
+        let eye = Vec3::new(0.0, 0.0, 5.0);
+        let big = Sphere {
+            center: Vec3::new(0.0, 0.0, -1.0),
+            radius: 3.0,
+        };
+        let o = wall_from(eye, &[]);
+        let c = o.cells(big, &camera(eye), W, H).unwrap();
+        assert!(c.shows + c.hidden <= SAMPLES, "{c:?}");
+        // The wall is in its sphere: it shows.
+        assert!(c.shows > 0 && c.hidden == 0, "{c:?}");
     }
 
     #[test]
     fn odd_frames_and_bounds_give_a_share_between_zero_and_one() {
         let mut o = Occlusion::default();
         let cam = camera(Vec3::new(0.0, 0.0, 5.0));
-        let whole = Rect::new(0, 0, W, H);
-        assert_eq!(o.share(ball(0.0, 0.0), whole, &cam, W, H), 1.0);
+        assert_eq!(o.share(ball(0.0, 0.0), &cam, W, H), 1.0);
         o.observe(&Target::new(0, 0), &cam);
         let odd = [
             ball(0.0, 0.0),
@@ -354,9 +343,14 @@ mod tests {
         ];
         for b in odd {
             for (w, h) in [(0, 0), (W, H)] {
-                let s = o.share(b, whole, &cam, w, h);
+                let s = o.share(b, &cam, w, h);
                 assert!((0.0..=1.0).contains(&s), "{b:?} {w}x{h}: {s}");
             }
+        }
+        let o = wall_from(Vec3::new(0.0, 0.0, 5.0), &[]);
+        for b in odd {
+            let s = o.share(b, &cam, W, H);
+            assert!((0.0..=1.0).contains(&s), "{b:?}: {s}");
         }
     }
 }

@@ -1,9 +1,11 @@
 //! The frame scope with what the last frame hid: objects behind a wall weigh nothing in the
-//! frame's error, so they take the cheapest representation whatever its error, and the
-//! frame's measured error stays within its budget.
+//! frame's error, so they take the cheapest representation whatever its error, objects
+//! behind others weigh what shows of them, and the frame's measured error stays within
+//! its budget.
 
 use super::tests::{budgets, lighting, planner, view_at, H, IMAGES, W};
 use super::*;
+use crate::impostor::screen_rect;
 use crate::metrics::{self, Options, Region};
 use crate::subject::MeshGroup;
 use crate::technique::{FrameLoop, Technique};
@@ -60,6 +62,26 @@ fn objects_behind_a_wall_weigh_nothing_and_take_the_cheapest_representation() {
             assert!(w > 0.0, "object {i} at {:?}", b.center);
         }
     }
+    // In the right half, the rows behind show between the ones in front: the last row
+    // weighs under half of its rectangle, the first all of it.
+    let share = |i: usize| {
+        let b = p.objects[i].bounds();
+        let r = screen_rect(&view_at(0.0), b.center, b.radius, W, H).unwrap();
+        let k = visible.iter().position(|&v| v == i).unwrap();
+        weights[k] / (r.width * r.height) as f32
+    };
+    assert!(
+        share(2) == 1.0 && share(3) == 1.0,
+        "{} {}",
+        share(2),
+        share(3)
+    );
+    assert!(
+        share(14) < 0.5 && share(15) < 0.5,
+        "{} {}",
+        share(14),
+        share(15)
+    );
     // The right half, in view, keeps the frame within its budget: most stay geometry.
     let shown: Vec<usize> = (0..16).filter(|k| k % 4 >= 2).collect();
     let images = shown
