@@ -35,7 +35,7 @@ pub use technique::Impostored;
 pub use capture::{capture_camera, Capture};
 pub use pool::Pool;
 pub use pool::{image_material, IMAGE_DEPTH_ALPHA};
-pub use predict::{error_color, needed_side, screen_rect};
+pub use predict::{error_color, needed_side, screen_rect, RectProjector};
 
 pub(crate) use predict::pixels_per_radian;
 pub use predict::Frustum;

@@ -49,7 +49,7 @@ pub use cost::{CostModel, Work};
 pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
-use crate::impostor::{screen_rect, Frustum};
+use crate::impostor::{Frustum, RectProjector};
 use crate::metrics::{Rect, RectCover};
 use crate::subject::Subject;
 use crate::technique::FrameView;
@@ -302,6 +302,11 @@ pub struct Planner<S> {
     eye: glam::Vec3,
     /// Each object's representation of the frame before (reused).
     previous: Vec<Option<usize>>,
+    /// Bytes each representation holds, taken again only after it rebuilt or released
+    /// (scanning every object's slot is a cost in a world of thousands), and which released
+    /// this frame.
+    held: Vec<usize>,
+    touched: Vec<bool>,
     /// The debug view: on, and the flat unlit material of each representation's colour
     /// that replaces the subject's own in the draws of those that draw the subject.
     tinted: bool,
@@ -325,6 +330,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
     pub fn new(config: Config, objects: Vec<S>, reps: Vec<Box<dyn Representation<S>>>) -> Self {
         let n = objects.len();
         let r = reps.len();
+        let held = reps.iter().map(|r| r.memory()).collect();
         Planner {
             config,
             objects,
@@ -350,6 +356,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
             report: Report::default(),
             eye: glam::Vec3::ZERO,
             previous: Vec::with_capacity(n),
+            held,
+            touched: vec![false; r],
             tinted: false,
             flat: (0..r)
                 .map(|k| Material {
@@ -439,6 +447,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             },
         );
         let before = &previous;
+        let project = RectProjector::new(camera, view.width, view.height);
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
         work.enumerate().for_each(|(c, (chunk, seen))| {
             seen.objects.clear();
@@ -448,10 +457,9 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 if !frustum.sees(bounds.center, bounds.radius) {
                     continue;
                 }
-                let (w, h) = (view.width, view.height);
                 let sight = base.at(bounds);
                 let pixels = sight.pixels;
-                let rect = screen_rect(camera, bounds.center, bounds.radius, w, h);
+                let rect = project.rect(bounds.center, bounds.radius);
                 let i = c * CHUNK + k;
                 seen.objects.push((i, pixels, rect.unwrap_or_default()));
                 // The least time of an exact option so far: a representation that cannot
@@ -745,7 +753,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         // Bytes held now, and what the rebuilds taken will hold (counted in full: an image
         // replaced is freed only after).
         let mut held: usize = match cfg.budgets.memory {
-            Some(_) => self.reps.iter().map(|r| r.memory()).sum(),
+            Some(_) => self.held.iter().sum(),
             None => 0,
         };
         // Per object: 1 once a rebuild is taken, 2 while one is deferred.
@@ -793,6 +801,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             }
             self.batch.sort_unstable();
             self.reps[r].rebuild(&self.batch, &mut self.objects, view);
+            self.held[r] = self.reps[r].memory();
         }
         for (r, i, e) in chosen {
             self.idle[i * nr + r] = 0;
@@ -935,6 +944,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             for k in 0..nr {
                 if self.idle[i * nr + k] == cfg.release_after.saturating_add(1) {
                     self.reps[k].release(i);
+                    self.touched[k] = true;
                 }
             }
         }
@@ -945,7 +955,12 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 .extend(drawn.filter(|(_, c)| c.rep == Some(k)).map(|(i, _)| i));
             rep.prepare(&self.batch, &self.objects, view);
         }
-        self.report.memory = self.reps.iter().map(|rep| rep.memory()).sum();
+        for (k, rep) in self.reps.iter().enumerate() {
+            if std::mem::take(&mut self.touched[k]) {
+                self.held[k] = rep.memory();
+            }
+        }
+        self.report.memory = self.held.iter().sum();
     }
 
     /// Appends every visible object's draws, by its chosen representation (in the debug

@@ -124,51 +124,80 @@ pub fn error_color(ratio: f32) -> Rgba {
 /// The pixel rectangle covering a sphere's projection (grown by 2 pixels), or `None` when
 /// it is behind the eye or off the image.
 pub fn screen_rect(camera: &Camera, center: Vec3, radius: f32, w: u32, h: u32) -> Option<Rect> {
-    // View space looks down -Z: a sphere wholly at or behind the eye's plane is not seen.
-    let depth = -camera.view.transform_point3(center).z;
-    if depth + radius <= 0.0 {
-        return None;
-    }
-    let m = camera.clip_from_world();
-    let to_world = camera.view.inverse();
-    let right = to_world.x_axis.truncate().normalize_or_zero();
-    let up = to_world.y_axis.truncate().normalize_or_zero();
-    let fwd = -to_world.z_axis.truncate().normalize_or_zero();
-    let (mut lo, mut hi) = (
-        glam::Vec2::splat(f32::INFINITY),
-        glam::Vec2::splat(f32::NEG_INFINITY),
-    );
-    for corner in [-1.0f32, 1.0] {
-        for sx in [-1.0f32, 1.0] {
-            for sy in [-1.0f32, 1.0] {
-                let p = center + (right * sx + up * sy + fwd * corner) * radius;
-                let c = m * p.extend(1.0);
-                if c.w <= 1e-6 {
-                    return Some(Rect::new(0, 0, w, h));
-                }
-                let ndc = glam::Vec2::new(c.x, c.y) / c.w;
-                let px = glam::Vec2::new(
-                    (ndc.x * 0.5 + 0.5) * w as f32,
-                    (0.5 - ndc.y * 0.5) * h as f32,
-                );
-                lo = lo.min(px);
-                hi = hi.max(px);
-            }
+    RectProjector::new(camera, w, h).rect(center, radius)
+}
+
+/// [`screen_rect`] for many spheres under one camera: the camera's matrices taken once.
+#[derive(Clone, Copy, Debug)]
+pub struct RectProjector {
+    view: Mat4,
+    clip: Mat4,
+    right: Vec3,
+    up: Vec3,
+    fwd: Vec3,
+    w: u32,
+    h: u32,
+}
+
+impl RectProjector {
+    /// Projects onto a `w` x `h` image from `camera`.
+    pub fn new(camera: &Camera, w: u32, h: u32) -> Self {
+        let to_world = camera.view.inverse();
+        RectProjector {
+            view: camera.view,
+            clip: camera.clip_from_world(),
+            right: to_world.x_axis.truncate().normalize_or_zero(),
+            up: to_world.y_axis.truncate().normalize_or_zero(),
+            fwd: -to_world.z_axis.truncate().normalize_or_zero(),
+            w,
+            h,
         }
     }
-    if !(lo.is_finite() && hi.is_finite())
-        || hi.x < 0.0
-        || hi.y < 0.0
-        || lo.x > w as f32
-        || lo.y > h as f32
-    {
-        return None;
+
+    /// [`screen_rect`] of the sphere at `center` of `radius`.
+    pub fn rect(&self, center: Vec3, radius: f32) -> Option<Rect> {
+        let (w, h) = (self.w, self.h);
+        // View space looks down -Z: a sphere wholly at or behind the eye's plane is not seen.
+        let depth = -self.view.transform_point3(center).z;
+        if depth + radius <= 0.0 {
+            return None;
+        }
+        let (mut lo, mut hi) = (
+            glam::Vec2::splat(f32::INFINITY),
+            glam::Vec2::splat(f32::NEG_INFINITY),
+        );
+        for corner in [-1.0f32, 1.0] {
+            for sx in [-1.0f32, 1.0] {
+                for sy in [-1.0f32, 1.0] {
+                    let p = center + (self.right * sx + self.up * sy + self.fwd * corner) * radius;
+                    let c = self.clip * p.extend(1.0);
+                    if c.w <= 1e-6 {
+                        return Some(Rect::new(0, 0, w, h));
+                    }
+                    let ndc = glam::Vec2::new(c.x, c.y) / c.w;
+                    let px = glam::Vec2::new(
+                        (ndc.x * 0.5 + 0.5) * w as f32,
+                        (0.5 - ndc.y * 0.5) * h as f32,
+                    );
+                    lo = lo.min(px);
+                    hi = hi.max(px);
+                }
+            }
+        }
+        if !(lo.is_finite() && hi.is_finite())
+            || hi.x < 0.0
+            || hi.y < 0.0
+            || lo.x > w as f32
+            || lo.y > h as f32
+        {
+            return None;
+        }
+        let x0 = lo.x.max(0.0) as u32;
+        let y0 = lo.y.max(0.0) as u32;
+        let x1 = (hi.x.ceil().max(0.0) as u32).min(w);
+        let y1 = (hi.y.ceil().max(0.0) as u32).min(h);
+        Some(Rect::new(x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)).grow(2, w, h))
     }
-    let x0 = lo.x.max(0.0) as u32;
-    let y0 = lo.y.max(0.0) as u32;
-    let x1 = (hi.x.ceil().max(0.0) as u32).min(w);
-    let y1 = (hi.y.ceil().max(0.0) as u32).min(h);
-    Some(Rect::new(x0, y0, x1.saturating_sub(x0), y1.saturating_sub(y0)).grow(2, w, h))
 }
 
 /// The six planes of a view frustum (Gribb and Hartmann), for sphere tests: what the

@@ -35,7 +35,7 @@
 //! share is 1, as if nothing hid it. The cells are point samples (one pixel each); an
 //! object's rectangle is read with a stride that keeps at most [`SAMPLES`] of them.
 
-use crate::impostor::screen_rect;
+use crate::impostor::RectProjector;
 use engine::{Camera, Sphere, Target};
 use rayon::prelude::*;
 
@@ -59,6 +59,8 @@ pub const SAMPLES: u32 = 256;
 #[derive(Clone, Debug, Default)]
 pub struct Occlusion {
     camera: Option<Camera>,
+    /// Screen rectangles under `camera`.
+    project: Option<RectProjector>,
     size: (u32, u32),
     cols: usize,
     rows: usize,
@@ -110,6 +112,7 @@ impl Occlusion {
             self.points.extend(drawn);
         }
         self.camera = Some(*camera);
+        self.project = Some(RectProjector::new(camera, w, h));
     }
 
     /// Forgets the last frame: every object may show.
@@ -133,7 +136,10 @@ impl Occlusion {
         if !within {
             return None;
         }
-        let r = screen_rect(old, then.center, then.radius, width, height)?.clip(width, height);
+        let r = self
+            .project?
+            .rect(then.center, then.radius)?
+            .clip(width, height);
         if r.is_empty() {
             return None;
         }

@@ -185,7 +185,8 @@ pub trait Representation<S>: Send + Sync {
     }
     /// Frees what it holds for object `i` (long unused).
     fn release(&mut self, _i: usize) {}
-    /// Bytes it holds over every object.
+    /// Bytes it holds over every object. The planner asks again only after it rebuilt or
+    /// released: what it holds changes there alone.
     fn memory(&self) -> usize {
         0
     }

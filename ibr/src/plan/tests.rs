@@ -6,6 +6,7 @@
 //! object by its representation and leaves no trace when turned off.
 
 use super::*;
+use crate::impostor::screen_rect;
 use crate::impostor::{self, ImpostorSet};
 use crate::layers::{self, LayerSet};
 use crate::metrics::{self, Options, Region};
