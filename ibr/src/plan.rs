@@ -246,11 +246,22 @@ impl Report {
 const CHUNK: usize = 256;
 
 /// What a chunk of objects' predictions found: the visible objects (index, pixels,
-/// rectangle) and their estimates (representation-major within an object).
+/// rectangle, bounds) and their estimates (representation-major within an object).
 #[derive(Default)]
 struct Seen {
-    objects: Vec<(usize, f32, Rect)>,
+    objects: Vec<(usize, f32, Rect, Sphere)>,
     estimates: Vec<Option<Estimate>>,
+}
+
+/// Visible object `v`'s estimates, one per representation of `nr` (found by `at`).
+fn estimates<'s>(
+    seen: &'s [Seen],
+    at: &[(u32, u32)],
+    nr: usize,
+    v: usize,
+) -> &'s [Option<Estimate>] {
+    let (c, k) = at[v];
+    &seen[c as usize].estimates[k as usize..k as usize + nr]
 }
 
 /// A rebuild a frame could do.
@@ -270,8 +281,7 @@ pub struct Planner<S> {
     choices: Vec<Choice>,
     /// Frames since each representation last drew or rebuilt each object (object-major).
     idle: Vec<u32>,
-    /// This frame's estimates, for visible objects (`visible` order, representation-major
-    /// within an object), and scratch.
+    /// This frame's visible objects, in order, and scratch.
     visible: Vec<usize>,
     pixels: Vec<f32>,
     /// Visible objects' screen rectangles, their weights in the frame's error (their
@@ -293,7 +303,10 @@ pub struct Planner<S> {
     occlusion: Mutex<Occlusion>,
     /// Each object's bounds in the last frame planned, where it was visible.
     then: Vec<Option<Sphere>>,
-    estimates: Vec<Option<Estimate>>,
+    /// Where each visible object's estimates are: its chunk in `seen`, and the first of
+    /// them there (one per representation). Left where the chunks put them: a world's
+    /// estimates are megabytes a frame.
+    at: Vec<(u32, u32)>,
     rebuilds: Vec<Rebuild>,
     /// The frame scope's options (reused frame to frame).
     options: frame_budget::Options,
@@ -349,7 +362,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             cover: RectCover::default(),
             occlusion: Mutex::default(),
             then: Vec::new(),
-            estimates: Vec::new(),
+            at: Vec::new(),
             rebuilds: Vec::new(),
             options: frame_budget::Options::default(),
             batch: Vec::new(),
@@ -423,7 +436,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             .extend(own.map(|p| p.unwrap_or(self.config.payback_frames)));
         self.pixels.clear();
         self.rects.clear();
-        self.estimates.clear();
+        self.at.clear();
         for idle in &mut self.idle {
             *idle = idle.saturating_add(1);
         }
@@ -461,7 +474,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 let pixels = sight.pixels;
                 let rect = project.rect(bounds.center, bounds.radius);
                 let i = c * CHUNK + k;
-                seen.objects.push((i, pixels, rect.unwrap_or_default()));
+                seen.objects
+                    .push((i, pixels, rect.unwrap_or_default(), bounds));
                 // The least time of an exact option so far: a representation that cannot
                 // draw for less is never chosen, so it is not asked (unless in use).
                 let mut exact = f32::INFINITY;
@@ -481,13 +495,14 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 }
             }
         });
-        for seen in &self.seen[..chunks] {
-            for &(i, pixels, rect) in &seen.objects {
+        let nr = self.reps.len();
+        for (c, seen) in self.seen[..chunks].iter().enumerate() {
+            for (k, &(i, pixels, rect, _)) in seen.objects.iter().enumerate() {
                 self.visible.push(i);
                 self.pixels.push(pixels);
                 self.rects.push(rect);
+                self.at.push((c as u32, (k * nr) as u32));
             }
-            self.estimates.extend_from_slice(&seen.estimates);
         }
         self.weigh(camera, view.width, view.height);
         self.choose_as_is(&previous);
@@ -514,7 +529,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         }
         let mut rebuilds = std::mem::take(&mut self.rebuilds);
         for (v, &i) in self.visible.iter().enumerate() {
-            let est = &self.estimates[v * nr..(v + 1) * nr];
+            let est = estimates(&self.seen, &self.at, nr, v);
             let current = previous[i];
             let ms = |e: &Estimate| cfg.cost.ms(e.draw);
             let limit = |r: usize| {
@@ -583,15 +598,13 @@ impl<S: Subject + Send + Sync> Planner<S> {
     fn choose_for_frame(&mut self, previous: &[Option<usize>]) {
         let cfg = self.config;
         let nr = self.reps.len();
-        let objects = self
-            .visible
-            .iter()
-            .enumerate()
-            .map(|(v, &i)| frame_budget::Object {
-                est: &self.estimates[v * nr..(v + 1) * nr],
-                weight: self.weights[v],
-                current: previous[i],
-            });
+        let (seen, at, visible) = (&self.seen, &self.at, &self.visible);
+        let weights = &self.weights;
+        let object = |v: usize| frame_budget::Object {
+            est: estimates(seen, at, nr, v),
+            weight: weights[v],
+            current: previous[visible[v]],
+        };
         let w = frame_budget::Weights {
             cost: &cfg.cost,
             stick: cfg.min_saving,
@@ -599,7 +612,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             spread: cfg.spread,
         };
         let mut options = std::mem::take(&mut self.options);
-        options.fill(objects, self.area, &w);
+        options.fill(self.visible.len(), object, self.area, &w);
         let price = frame_budget::price(&options, cfg.budgets.error, &mut self.warm);
         let mut rebuilds = std::mem::take(&mut self.rebuilds);
         for (k, &i) in self.visible.iter().enumerate() {
@@ -653,7 +666,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
     ) {
         let cfg = self.config;
         let nr = self.reps.len();
-        let est = &self.estimates[v * nr..(v + 1) * nr];
+        let est = estimates(&self.seen, &self.at, nr, v);
         let pixels = self.pixels_of(v);
         for (r, e) in est.iter().enumerate() {
             let Some(e) = e else { continue };
@@ -708,8 +721,10 @@ impl<S: Subject + Send + Sync> Planner<S> {
         // This frame's bounds, for the next frame's lookups (none for what is not drawn).
         self.then.clear();
         self.then.resize(self.objects.len(), None);
-        for &i in &self.visible {
-            self.then[i] = Some(self.objects[i].bounds());
+        for seen in &self.seen[..self.objects.len().div_ceil(CHUNK)] {
+            for &(i, _, _, bounds) in &seen.objects {
+                self.then[i] = Some(bounds);
+            }
         }
         self.cover.count(width, height, self.rects.iter().copied());
         self.area = (self.cover.area() as f64).max(1.0);
@@ -736,7 +751,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 let Ok(v) = self.visible.binary_search(&c.object) else {
                     continue;
                 };
-                if let Some(e) = self.estimates[v * nr + c.rep] {
+                if let Some(e) = estimates(&self.seen, &self.at, nr, v)[c.rep] {
                     c.key /= cfg.cost.rebuild_ms(e.rebuild).max(1e-3);
                 }
             }
@@ -767,7 +782,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             let Some(v) = slot(self, c.object) else {
                 continue;
             };
-            let Some(e) = self.estimates[v * nr + c.rep] else {
+            let Some(e) = estimates(&self.seen, &self.at, nr, v)[c.rep] else {
                 continue;
             };
             let ms = cfg.cost.rebuild_ms(e.rebuild);
@@ -836,7 +851,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             let pixels = self.pixels_of(v);
             let mut best: Option<(f32, usize, f32)> = None;
             for r in 0..nr {
-                let Some(e) = self.estimates[v * nr + r] else {
+                let Some(e) = estimates(&self.seen, &self.at, nr, v)[r] else {
                     continue;
                 };
                 // A representation rebuilt this frame is drawn at its rebuilt error.
@@ -860,7 +875,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 break;
             }
             let v = self.visible.binary_search(&i).unwrap_or(0);
-            let Some(e) = self.estimates[v * nr + r] else {
+            let Some(e) = estimates(&self.seen, &self.at, nr, v)[r] else {
                 continue;
             };
             let over = e.error > cfg.budgets.error;

@@ -104,31 +104,66 @@ pub(super) struct Options {
     /// so the bisection looks at these alone.
     front: Vec<[f64; 2]>,
     front_ranges: Vec<(usize, usize)>,
+    /// Each chunk's options while they are filled side by side (reused).
+    parts: Vec<Options>,
 }
+
+/// Objects per chunk of [`Options::fill`].
+const FILL_CHUNK: usize = 1024;
 
 impl Options {
     /// The options of `objects`, whose rectangles cover `area` pixels.
     #[cfg(test)]
     pub(super) fn new(objects: &[Object<'_>], area: f64, w: &Weights<'_>) -> Options {
         let mut out = Options::default();
-        out.fill(objects.iter().copied(), area, w);
+        out.fill(objects.len(), |k| objects[k], area, w);
         out
     }
 
-    /// The options of `objects`, whose rectangles cover `area` pixels, in place of
-    /// what it held (its memory reused).
+    /// The options of `n` objects, object `k` being `object(k)`, whose rectangles cover
+    /// `area` pixels, in place of what it held (its memory reused). Side by side over
+    /// chunks of objects, joined in order.
     pub(super) fn fill<'e>(
         &mut self,
-        objects: impl Iterator<Item = Object<'e>>,
+        n: usize,
+        object: impl Fn(usize) -> Object<'e> + Sync,
         area: f64,
         w: &Weights<'_>,
     ) {
+        self.area = area.max(1.0);
+        self.margin = Z99 * f64::from(w.spread.max(0.0));
+        let chunks = n.div_ceil(FILL_CHUNK);
+        if self.parts.len() < chunks {
+            self.parts.resize_with(chunks, Options::default);
+        }
+        self.parts[..chunks]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(c, part)| {
+                let objects = c * FILL_CHUNK..((c + 1) * FILL_CHUNK).min(n);
+                part.fill_part(objects.map(&object), w);
+            });
         self.picks.clear();
         self.ranges.clear();
         self.front.clear();
         self.front_ranges.clear();
-        self.area = area.max(1.0);
-        self.margin = Z99 * f64::from(w.spread.max(0.0));
+        for part in &self.parts[..chunks] {
+            let (p, f) = (self.picks.len(), self.front.len());
+            self.picks.extend_from_slice(&part.picks);
+            self.front.extend_from_slice(&part.front);
+            self.ranges
+                .extend(part.ranges.iter().map(|&(a, b)| (a + p, b + p)));
+            self.front_ranges
+                .extend(part.front_ranges.iter().map(|&(a, b)| (a + f, b + f)));
+        }
+    }
+
+    /// The options of `objects` into this part, from its start.
+    fn fill_part<'e>(&mut self, objects: impl Iterator<Item = Object<'e>>, w: &Weights<'_>) {
+        self.picks.clear();
+        self.ranges.clear();
+        self.front.clear();
+        self.front_ranges.clear();
         let out = self;
         for o in objects {
             let first = out.picks.len();

@@ -628,10 +628,8 @@ fn a_time_budget_moves_objects_to_images_and_reports_their_error() {
     // left as geometry would add at least as much error per millisecond.
     let nr = 2;
     let ratio = |v: usize| {
-        let (g, im) = (
-            p.estimates[v * nr].unwrap(),
-            p.estimates[v * nr + 1].unwrap(),
-        );
+        let est = estimates(&p.seen, &p.at, nr, v);
+        let (g, im) = (est[0].unwrap(), est[1].unwrap());
         let saved = p.config.cost.ms(g.draw) - p.config.cost.ms(im.draw);
         im.error * p.pixels_of(v) / saved
     };
