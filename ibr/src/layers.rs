@@ -261,8 +261,9 @@ impl LayerSet {
         let grown = grow(view, cfg.margin);
         let frustum = Frustum::new(camera.clip_from_world());
         self.scheduler.clear();
+        let projector = Projector::new(camera, width, height);
         for (i, (layer, s)) in self.layers.iter_mut().zip(subjects.iter()).enumerate() {
-            let projected = project_corners(s, camera, width, height);
+            let projected = project_corners(s, &projector);
             layer.predicted = Predicted::default();
             let Some((points, nearest)) = projected else {
                 // Nothing to fit; the renderer clips the geometry, if it is in view at all.
@@ -312,6 +313,7 @@ impl LayerSet {
         report.capture_texels = texels;
         report.capture_triangles = triangles;
         let mut px_sum = 0.0;
+        let unprojector = Unprojector::new(camera, width, height);
         for (layer, s) in self.layers.iter_mut().zip(subjects.iter_mut()) {
             if layer.mode == Mode::Image && layer.predicted.ratio > cfg.fallback_ratio {
                 layer.mode = Mode::Geometry(Why::Stale);
@@ -323,7 +325,7 @@ impl LayerSet {
                     report.max_px = report.max_px.max(layer.predicted.pixels);
                     report.over_tolerance += (layer.predicted.ratio > 1.0) as usize;
                     px_sum += layer.predicted.pixels;
-                    build_quad(layer, camera, width, height);
+                    build_quad(layer, &unprojector, camera.near_far().0);
                 }
                 Mode::Geometry(_) => {
                     report.geometry += 1;
@@ -400,18 +402,12 @@ impl LayerSet {
     }
 }
 
-/// Where `s`'s characteristic points land on a `width` x `height` image of `camera`, and
+/// Where `s`'s characteristic points land through `projector` (a camera's image), and
 /// the nearest one's distance along the view direction; `None` when one is at or behind
 /// the near plane (no warp will do).
-fn project_corners<S: Subject>(
-    s: &S,
-    camera: &Camera,
-    width: u32,
-    height: u32,
-) -> Option<([Vec2; 8], f32)> {
+fn project_corners<S: Subject>(s: &S, projector: &Projector) -> Option<([Vec2; 8], f32)> {
     let mut points = [Vec2::ZERO; 8];
     let mut nearest = f32::INFINITY;
-    let projector = Projector::new(camera, width, height);
     for (p, c) in points.iter_mut().zip(s.corners()) {
         let (px, z) = projector.project(c)?;
         (*p, nearest) = (px, nearest.min(z));

@@ -9,11 +9,13 @@
 //!    representations hold for them is released after [`Config::release_after`] frames
 //!    unused.
 //! 2. *Choose as things are*: every representation predicts each visible object's error
-//!    and draw cost ([`Estimate`], without rendering). The object takes the cheapest
-//!    within the error budget. Hysteresis: a representation the object is not using must
-//!    be within [`Config::hysteresis`] times the budget, and cheaper by
-//!    [`Config::min_saving`], to take over; the one in use keeps it up to the budget. If
-//!    none is within the budget, the least error is taken (and reported).
+//!    and draw cost ([`Estimate`], without rendering); between the frames that ask them
+//!    all ([`Config::reask`]), only those on the object's front then and the one in use.
+//!    The object takes the cheapest within the error budget. Hysteresis: a
+//!    representation the object is not using must be within [`Config::hysteresis`] times
+//!    the budget, and cheaper by [`Config::min_saving`], to take over; the one in use
+//!    keeps it up to the budget. If none is within the budget, the least error is taken
+//!    (and reported).
 //! 3. *Rebuild*: candidates are ranked in three tiers: objects over the error budget (by
 //!    the error a rebuild removes, times their pixels), images in use that have aged past
 //!    the hysteresis band (so they stay in use), then objects a rebuilt image would make
@@ -45,6 +47,7 @@ pub mod occlusion;
 mod represent;
 mod technique;
 
+use cost::Priced;
 pub use cost::{CostModel, Work};
 pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
@@ -150,8 +153,21 @@ pub struct Config {
     /// times the spread of the objects' weighted errors ([`frame_budget`]). 0: the mean
     /// alone.
     pub spread: f32,
+    /// Every representation is asked for an object's prediction at least once in this
+    /// many frames (1: every frame). Between, only those on the object's front when last
+    /// all were asked (no other option then both cheaper and more accurate, as it was, or
+    /// rebuilt, its rebuild spread over the payback frames) and the one in use are asked,
+    /// while the eye stays within [`REASK_MOVE`] of the object's distance of where it was
+    /// and the object is unchanged: an option far from the front does not reach it in a
+    /// few frames, and predicting eight representations of every object of a world every
+    /// frame is most of the planning.
+    pub reask: u32,
     pub cost: CostModel,
 }
+
+/// How far the eye may move, as a fraction of its distance from an object, before every
+/// representation is asked for the object's prediction again ([`Config::reask`]).
+pub const REASK_MOVE: f32 = 0.05;
 
 impl Default for Config {
     fn default() -> Self {
@@ -162,6 +178,7 @@ impl Default for Config {
             payback_frames: 30.0,
             release_after: 120,
             spread: SPREAD,
+            reask: 8,
             cost: CostModel::default(),
         }
     }
@@ -229,6 +246,8 @@ pub struct Report {
     pub covered: u64,
     /// Bytes every representation holds.
     pub memory: usize,
+    /// Predictions asked of the representations ([`Config::reask`]): a work counter.
+    pub estimates: usize,
     /// Measured milliseconds of planning (predicting, choosing, the report and the
     /// representations' `prepare`; rebuilds left out), for benchmarks: wall-clock time, so
     /// never compared in tests.
@@ -250,16 +269,67 @@ const CHUNK: usize = 256;
 #[derive(Default)]
 struct Seen {
     objects: Vec<(usize, f32, Rect, Sphere)>,
-    estimates: Vec<Option<Estimate>>,
+    estimates: Vec<Option<Priced>>,
+    /// Predictions asked.
+    asked: usize,
+}
+
+/// What the planner keeps of an object's last prediction by every representation
+/// ([`Config::reask`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct Asked {
+    /// The representations on the object's front then (bit `r`); 0: none known.
+    front: u32,
+    /// The eye's offset from the object's centre then, and the object's version.
+    offset: glam::Vec3,
+    version: u64,
+}
+
+impl Asked {
+    /// Whether the front still stands for object `i` in frame `frame`, seen from `offset`
+    /// (the eye less its centre), at `version`, asking all every `reask` frames.
+    fn stands(&self, i: usize, frame: u32, reask: u32, offset: glam::Vec3, version: u64) -> bool {
+        let due = (frame as usize)
+            .wrapping_add(i)
+            .is_multiple_of(reask.max(1) as usize);
+        let moved = offset.distance(self.offset) > REASK_MOVE * self.offset.length();
+        self.front != 0 && !due && !moved && version == self.version
+    }
+}
+
+/// The representations (bit `r`) with an option on the front of `est`: none both cheaper
+/// and more accurate (as it is, or rebuilt with its rebuild spread over `payback[r]`
+/// frames).
+fn front(est: &[Option<Priced>], payback: &[f32]) -> u32 {
+    let mut options = [(0.0f32, 0.0f32, 0usize); 32];
+    let mut n = 0;
+    for (r, e) in est.iter().enumerate().take(16) {
+        let Some(e) = e else { continue };
+        if e.error.is_finite() {
+            options[n] = (e.ms, e.error, r);
+            n += 1;
+        }
+        if e.rebuilds && e.rebuilt.is_finite() {
+            let spread = e.rebuild_ms / payback.get(r).copied().unwrap_or(1.0).max(1.0);
+            options[n] = (e.ms + spread, e.rebuilt, r);
+            n += 1;
+        }
+    }
+    let options = &options[..n];
+    let mut mask = 0;
+    for &(t, e, r) in options {
+        let beaten = options
+            .iter()
+            .any(|&(u, f, _)| u <= t && f <= e && (u < t || f < e));
+        if !beaten {
+            mask |= 1 << r;
+        }
+    }
+    mask
 }
 
 /// Visible object `v`'s estimates, one per representation of `nr` (found by `at`).
-fn estimates<'s>(
-    seen: &'s [Seen],
-    at: &[(u32, u32)],
-    nr: usize,
-    v: usize,
-) -> &'s [Option<Estimate>] {
+fn estimates<'s>(seen: &'s [Seen], at: &[(u32, u32)], nr: usize, v: usize) -> &'s [Option<Priced>] {
     let (c, k) = at[v];
     &seen[c as usize].estimates[k as usize..k as usize + nr]
 }
@@ -281,6 +351,11 @@ pub struct Planner<S> {
     choices: Vec<Choice>,
     /// Frames since each representation last drew or rebuilt each object (object-major).
     idle: Vec<u32>,
+    /// Per object, its front when every representation was last asked, and frames planned.
+    asked: Vec<Asked>,
+    frame: u32,
+    /// The cost model and payback frames the fronts were found with (another forgets them).
+    fronts_by: (CostModel, Vec<f32>),
     /// This frame's visible objects, in order, and scratch.
     visible: Vec<usize>,
     pixels: Vec<f32>,
@@ -308,8 +383,9 @@ pub struct Planner<S> {
     /// estimates are megabytes a frame.
     at: Vec<(u32, u32)>,
     rebuilds: Vec<Rebuild>,
-    /// The frame scope's options (reused frame to frame).
+    /// The frame scope's options and each object's pick (reused frame to frame).
     options: frame_budget::Options,
+    picks: Vec<Option<frame_budget::Pick>>,
     batch: Vec<usize>,
     pub report: Report,
     eye: glam::Vec3,
@@ -350,6 +426,9 @@ impl<S: Subject + Send + Sync> Planner<S> {
             reps,
             choices: vec![Choice::default(); n],
             idle: vec![0; n * r],
+            asked: vec![Asked::default(); n],
+            frame: 0,
+            fronts_by: (CostModel::default(), Vec::new()),
             visible: Vec::new(),
             pixels: Vec::new(),
             rects: Vec::new(),
@@ -365,6 +444,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             at: Vec::new(),
             rebuilds: Vec::new(),
             options: frame_budget::Options::default(),
+            picks: Vec::new(),
             batch: Vec::new(),
             report: Report::default(),
             eye: glam::Vec3::ZERO,
@@ -461,19 +541,31 @@ impl<S: Subject + Send + Sync> Planner<S> {
         );
         let before = &previous;
         let project = RectProjector::new(camera, view.width, view.height);
+        self.asked.resize(self.objects.len(), Asked::default());
+        if self.fronts_by.0 != self.config.cost || self.fronts_by.1 != self.payback {
+            self.asked.fill(Asked::default());
+            self.fronts_by.0 = self.config.cost;
+            self.fronts_by.1.clone_from(&self.payback);
+        }
+        let (frame, reask, payback) = (self.frame, self.config.reask, &self.payback);
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
-        work.enumerate().for_each(|(c, (chunk, seen))| {
+        let work = work.zip(self.asked.par_chunks_mut(CHUNK));
+        work.enumerate().for_each(|(c, ((chunk, seen), asked))| {
             seen.objects.clear();
             seen.estimates.clear();
+            seen.asked = 0;
             for (k, s) in chunk.iter().enumerate() {
                 let bounds = s.bounds();
                 if !frustum.sees(bounds.center, bounds.radius) {
                     continue;
                 }
+                let i = c * CHUNK + k;
+                let (offset, version) = (eye - bounds.center, s.version());
+                let known = asked[k].stands(i, frame, reask, offset, version);
+                let first = seen.estimates.len();
                 let sight = base.at(bounds);
                 let pixels = sight.pixels;
                 let rect = project.rect(bounds.center, bounds.radius);
-                let i = c * CHUNK + k;
                 seen.objects
                     .push((i, pixels, rect.unwrap_or_default(), bounds));
                 // The least time of an exact option so far: a representation that cannot
@@ -483,18 +575,31 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     let least = rep.least_draw();
                     let dominated =
                         least != Work::default() && before[i] != Some(r) && cost.ms(least) >= exact;
-                    let e = if dominated {
+                    let off_front = known && asked[k].front & (1 << r) == 0 && before[i] != Some(r);
+                    let e = if dominated || off_front {
                         None
                     } else {
-                        rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan())
+                        seen.asked += 1;
+                        let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
+                        e.map(|e| Priced::new(&e, cost))
                     };
                     if let Some(e) = e.filter(|e| e.error <= 0.0) {
-                        exact = exact.min(cost.ms(e.draw));
+                        exact = exact.min(e.ms);
                     }
                     seen.estimates.push(e);
                 }
+                if !known {
+                    let front = front(&seen.estimates[first..], payback);
+                    asked[k] = Asked {
+                        front,
+                        offset,
+                        version,
+                    };
+                }
             }
         });
+        self.frame = self.frame.wrapping_add(1);
+        self.report.estimates = self.seen[..chunks].iter().map(|s| s.asked).sum();
         let nr = self.reps.len();
         for (c, seen) in self.seen[..chunks].iter().enumerate() {
             for (k, &(i, pixels, rect, _)) in seen.objects.iter().enumerate() {
@@ -531,7 +636,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         for (v, &i) in self.visible.iter().enumerate() {
             let est = estimates(&self.seen, &self.at, nr, v);
             let current = previous[i];
-            let ms = |e: &Estimate| cfg.cost.ms(e.draw);
+            let ms = |e: &Priced| e.ms;
             let limit = |r: usize| {
                 if Some(r) == current {
                     budget
@@ -606,7 +711,6 @@ impl<S: Subject + Send + Sync> Planner<S> {
             current: previous[visible[v]],
         };
         let w = frame_budget::Weights {
-            cost: &cfg.cost,
             stick: cfg.min_saving,
             payback: &self.payback,
             spread: cfg.spread,
@@ -615,8 +719,14 @@ impl<S: Subject + Send + Sync> Planner<S> {
         options.fill(self.visible.len(), object, self.area, &w);
         let price = frame_budget::price(&options, cfg.budgets.error, &mut self.warm);
         let mut rebuilds = std::mem::take(&mut self.rebuilds);
+        // Each object's best as it is, side by side (each alone: the same at any count).
+        let mut picks = std::mem::take(&mut self.picks);
+        (0..self.visible.len())
+            .into_par_iter()
+            .map(|k| options.pick(k, price).0)
+            .collect_into_vec(&mut picks);
         for (k, &i) in self.visible.iter().enumerate() {
-            let as_is = options.pick(k, price).0;
+            let as_is = picks[k];
             // Drawn as it is unless a rebuild happens (the rebuild budget decides): every
             // rebuild that scores better is a candidate, the best taken first.
             for b in options.rebuilds(k) {
@@ -647,6 +757,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         }
         self.options = options;
         self.rebuilds = rebuilds;
+        self.picks = picks;
     }
 
     /// The rebuilds of visible object `v` (object `i`), now drawn by `r0` with `err0` in
@@ -671,11 +782,10 @@ impl<S: Subject + Send + Sync> Planner<S> {
         for (r, e) in est.iter().enumerate() {
             let Some(e) = e else { continue };
             let within = e.rebuilt <= budget * cfg.hysteresis;
-            if e.rebuild == Work::default() || !within {
+            if !e.rebuilds || !within {
                 continue;
             }
-            let ms = cfg.cost.ms(e.draw);
-            let rb = cfg.cost.rebuild_ms(e.rebuild);
+            let (ms, rb) = (e.ms, e.rebuild_ms);
             let cand = if err0 > budget {
                 Some((0, (err0 - e.rebuilt).min(1e6) * pixels - ms))
             } else if r == r0 && Some(r) == current && e.error > budget * cfg.hysteresis {
@@ -752,7 +862,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     continue;
                 };
                 if let Some(e) = estimates(&self.seen, &self.at, nr, v)[c.rep] {
-                    c.key /= cfg.cost.rebuild_ms(e.rebuild).max(1e-3);
+                    c.key /= e.rebuild_ms.max(1e-3);
                 }
             }
         }
@@ -785,7 +895,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             let Some(e) = estimates(&self.seen, &self.at, nr, v)[c.rep] else {
                 continue;
             };
-            let ms = cfg.cost.rebuild_ms(e.rebuild);
+            let ms = e.rebuild_ms;
             let over_ms = cfg
                 .budgets
                 .rebuild_ms
@@ -823,7 +933,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             self.choices[i] = Choice {
                 rep: Some(r),
                 error: e.rebuilt,
-                ms: cfg.cost.ms(e.draw),
+                ms: e.ms,
                 rebuilt: true,
                 over: None,
             };
@@ -856,7 +966,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 };
                 // A representation rebuilt this frame is drawn at its rebuilt error.
                 let err = if r == r0 { c.error } else { e.error };
-                let ms = cfg.cost.ms(e.draw);
+                let ms = e.ms;
                 if r == r0 || ms >= c.ms || !err.is_finite() {
                     continue;
                 }
@@ -882,7 +992,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             self.choices[i] = Choice {
                 rep: Some(r),
                 error: e.error,
-                ms: cfg.cost.ms(e.draw),
+                ms: e.ms,
                 rebuilt: false,
                 over: over.then_some(Over::Time),
             };

@@ -5,7 +5,7 @@
 use super::Unprojector;
 use super::{Affine, Config, Homography, Image, Job, Layer, Mode, Predicted, Worker};
 use crate::billboard::{push_quad, UvRect};
-use engine::{Camera, Rgba};
+use engine::Rgba;
 use glam::Vec2;
 use std::sync::Arc;
 
@@ -164,12 +164,12 @@ pub(super) fn finish(layer: &mut Layer, w: &mut Worker, job: &Job, version: u64)
 /// The quad that draws `layer`'s image: its corners where the warp puts them, the nearest
 /// at the layer's nearest depth and the others as much farther as their homogeneous
 /// weights are larger (all at one depth for an affine warp), so the renderer's
-/// perspective-correct interpolation across the quad is the warp.
-pub(super) fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height: u32) {
+/// perspective-correct interpolation across the quad is the warp. `unprojector` is the
+/// camera's, `near` its near plane.
+pub(super) fn build_quad(layer: &mut Layer, unprojector: &Unprojector, near: f32) {
     let Some(image) = layer.image else {
         return;
     };
-    let (near, _) = camera.near_far();
     let z = layer.nearest.max(near * 1.001);
     // Bottom-left first, as `push_quad` takes them.
     let [tl, tr, br, bl] = image_corners(image.width as f32, image.height as f32);
@@ -181,7 +181,6 @@ pub(super) fn build_quad(layer: &mut Layer, camera: &Camera, width: u32, height:
     else {
         return;
     };
-    let unprojector = Unprojector::new(camera, width, height);
     let quad = mapped.map(|m| {
         let (px, w) = m.unwrap_or((Vec2::ZERO, least));
         unprojector.unproject(px, z * w / least)

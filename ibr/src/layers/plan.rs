@@ -4,7 +4,7 @@
 //! and its warp fitted to the view once the frame's choices are made.
 
 use super::frame::{bounds, build_quad, clip, fit, grow, job, predict};
-use super::{project_corners, LayerSet, Mode, Why};
+use super::{project_corners, LayerSet, Mode, Projector, Unprojector, Why};
 use crate::impostor::image_material;
 use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
 use crate::subject::Subject;
@@ -64,7 +64,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         if w == 0 || h == 0 {
             return None;
         }
-        let (points, _) = project_corners(subject, sight.camera, w, h)?;
+        let (points, _) = project_corners(subject, &Projector::new(sight.camera, w, h))?;
         let view = (Vec2::ZERO, Vec2::new(w as f32, h as f32));
         let fresh = job(i, &points, grow(view, cfg.margin), cfg);
         let (error, gradient) = match &layer.image {
@@ -108,12 +108,13 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         let cfg = self.config;
         let (w, h) = (view.width, view.height);
         let grown = grow((Vec2::ZERO, Vec2::new(w as f32, h as f32)), cfg.margin);
+        let projector = Projector::new(view.camera, w, h);
         self.jobs.clear();
         for &i in objects {
             let (Some(s), Some(layer)) = (subjects.get(i), self.layers.get_mut(i)) else {
                 continue;
             };
-            let Some((points, nearest)) = project_corners(s, view.camera, w, h) else {
+            let Some((points, nearest)) = project_corners(s, &projector) else {
                 continue;
             };
             (layer.screen, layer.nearest) = (points, nearest);
@@ -134,6 +135,11 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         let cfg = self.config;
         let (w, h) = (view.width, view.height);
         let on_view = (Vec2::ZERO, Vec2::new(w as f32, h as f32));
+        let (projector, unprojector) = (
+            Projector::new(view.camera, w, h),
+            Unprojector::new(view.camera, w, h),
+        );
+        let near = view.camera.near_far().0;
         // Each layer on its own (side by side: the same at any thread count).
         let layers = self.layers.par_iter_mut().enumerate();
         layers.for_each(|(i, layer)| {
@@ -144,7 +150,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             else {
                 return;
             };
-            let Some((points, nearest)) = project_corners(s, view.camera, w, h) else {
+            let Some((points, nearest)) = project_corners(s, &projector) else {
                 layer.mode = Mode::Geometry(Why::Behind);
                 return;
             };
@@ -152,7 +158,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             layer.predicted = predict(layer, s.version(), clip(bounds(&points), on_view), &cfg);
             layer.quad.clear();
             if layer.image.is_some() {
-                build_quad(layer, view.camera, w, h);
+                build_quad(layer, &unprojector, near);
             }
             layer.mode = if layer.quad.indices.is_empty() {
                 Mode::Geometry(Why::NoImage)

@@ -37,6 +37,7 @@
 use super::object::{choose_slab, drawn_rect, Composite};
 use super::{Interpolation, LightField, Lookup, Slab};
 use crate::impostor::screen_rect;
+use crate::metrics::Rect;
 use crate::plan::{Estimate, Representation, Sight, Work};
 use crate::schedule::pick_mut;
 use crate::subject::Subject;
@@ -277,7 +278,11 @@ fn same_place(b: Sphere, baked: Sphere) -> bool {
 /// The pixels of a `width` x `height` view the sphere `b` can cover (the planner's screen
 /// rectangle of it; empty when off screen).
 fn sphere_rect(camera: &Camera, b: Sphere, width: u32, height: u32) -> PixelRect {
-    let r = screen_rect(camera, b.center, b.radius, width, height).unwrap_or_default();
+    pixel_rect(screen_rect(camera, b.center, b.radius, width, height).unwrap_or_default())
+}
+
+/// `r` as a [`PixelRect`].
+fn pixel_rect(r: Rect) -> PixelRect {
     PixelRect {
         x0: r.x,
         y0: r.y,
@@ -366,7 +371,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LightFieldSet {
             }
             None => (f32::INFINITY, predict(&fresh[k], self.prior())),
         };
-        let clip = sphere_rect(sight.camera, b, sight.width, sight.height);
+        let clip = pixel_rect(sight.rect().unwrap_or_default());
         let rect = drawn_rect(
             &fresh[k],
             sight.camera,

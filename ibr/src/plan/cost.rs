@@ -2,6 +2,7 @@
 //! offscreen captures started) and the measured per-unit times that turn work into
 //! milliseconds.
 
+use super::represent::Estimate;
 use std::ops::{Add, AddAssign};
 
 /// Work one draw or rebuild does, in the renderer's own counters' units.
@@ -115,5 +116,41 @@ impl CostModel {
     /// what its captures' texels (its `pixels`) cost besides shading.
     pub fn rebuild_ms(&self, w: Work) -> f32 {
         self.ms(w) + w.pixels as f32 * self.ns_per_capture_texel * 1e-6
+    }
+}
+
+/// An [`Estimate`] priced in milliseconds, as the planner keeps it: a world's estimates are
+/// a hundred thousand a frame, read several times over, so they are kept small.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Priced {
+    /// [`Estimate::error`] and [`Estimate::rebuilt`].
+    pub error: f32,
+    pub rebuilt: f32,
+    /// Drawing it, milliseconds.
+    pub ms: f32,
+    /// Rebuilding it, milliseconds ([`CostModel::rebuild_ms`]), if it needs a rebuild at
+    /// all.
+    pub rebuild_ms: f32,
+    pub rebuilds: bool,
+    /// [`Estimate::memory`].
+    pub memory: usize,
+}
+
+impl Priced {
+    /// `e` priced by `cost`.
+    pub fn new(e: &Estimate, cost: &CostModel) -> Priced {
+        let rebuilds = e.rebuild != Work::default();
+        Priced {
+            error: e.error,
+            rebuilt: e.rebuilt,
+            ms: cost.ms(e.draw),
+            rebuild_ms: if rebuilds {
+                cost.rebuild_ms(e.rebuild)
+            } else {
+                0.0
+            },
+            rebuilds,
+            memory: e.memory,
+        }
     }
 }

@@ -27,8 +27,7 @@
 //! choices of a first bisection with `kappa = 0`: one large error then costs more than
 //! many small ones adding up to it, as it does in the bound.
 
-use super::cost::{CostModel, Work};
-use super::represent::Estimate;
+use super::cost::Priced;
 use rayon::prelude::*;
 
 /// The standard normal's 99th percentile: the bound holds on 99% of frames.
@@ -38,7 +37,7 @@ pub const Z99: f64 = 2.326;
 #[derive(Clone, Copy)]
 pub(super) struct Object<'e> {
     /// Per representation (`None`: cannot draw it).
-    pub est: &'e [Option<Estimate>],
+    pub est: &'e [Option<Priced>],
     /// Its weight: its screen rectangle's area times the share of it that shows, pixels.
     pub weight: f32,
     /// The representation in use, whose time is discounted by the hysteresis.
@@ -79,7 +78,6 @@ impl Price {
 
 /// How options are weighed besides the multiplier.
 pub(super) struct Weights<'c> {
-    pub cost: &'c CostModel,
     /// The hysteresis discount on the representation in use, a fraction of its time.
     pub stick: f32,
     /// Frames a rebuild's time is spread over, per representation.
@@ -89,23 +87,30 @@ pub(super) struct Weights<'c> {
 }
 
 /// Every visible object's options with a finite error, flattened once per frame so that
-/// the bisection only does arithmetic.
+/// the bisection only does arithmetic: in parts of [`FILL_CHUNK`] objects, filled and
+/// read side by side (object `k` in part `k / FILL_CHUNK`).
 #[derive(Default)]
 pub(super) struct Options {
-    picks: Vec<Pick>,
-    /// Each object's range of `picks`.
-    ranges: Vec<(usize, usize)>,
+    /// The parts in use, and their memory kept beyond them.
+    parts: Vec<Part>,
+    used: usize,
     /// The pixels the objects' rectangles cover.
     area: f64,
     /// `Z99` times the objects' relative spread.
     margin: f64,
+}
+
+/// The options of [`FILL_CHUNK`] objects (fewer in the last part).
+#[derive(Default)]
+struct Part {
+    picks: Vec<Pick>,
+    /// Each object's range of `picks`.
+    ranges: Vec<(usize, usize)>,
     /// Each object's options no other beats in both time and weighted error (`[time,
     /// weighted]`, by time), and its range of them: the best at any price is one of these,
     /// so the bisection looks at these alone.
     front: Vec<[f64; 2]>,
     front_ranges: Vec<(usize, usize)>,
-    /// Each chunk's options while they are filled side by side (reused).
-    parts: Vec<Options>,
 }
 
 /// Objects per chunk of [`Options::fill`].
@@ -134,32 +139,29 @@ impl Options {
         self.margin = Z99 * f64::from(w.spread.max(0.0));
         let chunks = n.div_ceil(FILL_CHUNK);
         if self.parts.len() < chunks {
-            self.parts.resize_with(chunks, Options::default);
+            self.parts.resize_with(chunks, Part::default);
         }
+        self.used = chunks;
         self.parts[..chunks]
             .par_iter_mut()
             .enumerate()
             .for_each(|(c, part)| {
                 let objects = c * FILL_CHUNK..((c + 1) * FILL_CHUNK).min(n);
-                part.fill_part(objects.map(&object), w);
+                part.fill(objects.map(&object), w);
             });
-        self.picks.clear();
-        self.ranges.clear();
-        self.front.clear();
-        self.front_ranges.clear();
-        for part in &self.parts[..chunks] {
-            let (p, f) = (self.picks.len(), self.front.len());
-            self.picks.extend_from_slice(&part.picks);
-            self.front.extend_from_slice(&part.front);
-            self.ranges
-                .extend(part.ranges.iter().map(|&(a, b)| (a + p, b + p)));
-            self.front_ranges
-                .extend(part.front_ranges.iter().map(|&(a, b)| (a + f, b + f)));
-        }
     }
 
+    /// Object `k`'s options.
+    fn of(&self, k: usize) -> &[Pick] {
+        let part = &self.parts[k / FILL_CHUNK];
+        let (a, b) = part.ranges[k % FILL_CHUNK];
+        &part.picks[a..b]
+    }
+}
+
+impl Part {
     /// The options of `objects` into this part, from its start.
-    fn fill_part<'e>(&mut self, objects: impl Iterator<Item = Object<'e>>, w: &Weights<'_>) {
+    fn fill<'e>(&mut self, objects: impl Iterator<Item = Object<'e>>, w: &Weights<'_>) {
         self.picks.clear();
         self.ranges.clear();
         self.front.clear();
@@ -170,7 +172,7 @@ impl Options {
             let px = f64::from(o.weight);
             for (r, e) in o.est.iter().enumerate() {
                 let Some(e) = e else { continue };
-                let ms = w.cost.ms(e.draw);
+                let ms = e.ms;
                 let held = if Some(r) == o.current {
                     ms * (1.0 - w.stick)
                 } else {
@@ -186,9 +188,9 @@ impl Options {
                         weighted: f64::from(e.error) * px,
                     });
                 }
-                if e.rebuild != Work::default() && e.rebuilt.is_finite() {
+                if e.rebuilds && e.rebuilt.is_finite() {
                     let frames = w.payback.get(r).copied().unwrap_or(1.0);
-                    let spread = w.cost.rebuild_ms(e.rebuild) / frames.max(1.0);
+                    let spread = e.rebuild_ms / frames.max(1.0);
                     out.picks.push(Pick {
                         rep: r,
                         rebuild: true,
@@ -220,19 +222,19 @@ impl Options {
             out.front_ranges.push((start, kept));
         }
     }
+}
 
+impl Options {
     /// Object `k`'s rebuild options (at most one per representation).
     pub(super) fn rebuilds(&self, k: usize) -> impl Iterator<Item = &Pick> {
-        let (a, b) = self.ranges[k];
-        self.picks[a..b].iter().filter(|p| p.rebuild)
+        self.of(k).iter().filter(|p| p.rebuild)
     }
 
     /// Object `k`'s options at `price`: the best as it is, and the best of all (rebuilds
     /// included), least in [`Price::score`] (ties: the first).
     pub(super) fn pick(&self, k: usize, price: Price) -> (Option<Pick>, Option<Pick>) {
-        let (a, b) = self.ranges[k];
         let (mut as_is, mut best): (Option<Pick>, Option<Pick>) = (None, None);
-        for p in &self.picks[a..b] {
+        for p in self.of(k) {
             let score = price.score(p);
             if !p.rebuild && as_is.is_none_or(|q| score < price.score(&q)) {
                 as_is = Some(*p);
@@ -245,14 +247,14 @@ impl Options {
     }
 
     /// Of the objects' best options at `price`: the sum of weighted errors and of their
-    /// squares. Summed side by side over fixed chunks of objects, the chunks' sums added
-    /// in order (the same at any thread count).
+    /// squares. Summed side by side over the parts, their sums added in order (the same
+    /// at any thread count).
     fn sums(&self, price: Price) -> (f64, f64) {
         let score = |f: &[f64; 2]| price.score_of(f[0], f[1]);
-        let chunk = |ranges: &[(usize, usize)]| {
+        let chunk = |part: &Part| {
             let (mut sum, mut squares) = (0.0, 0.0);
-            for &(a, b) in ranges {
-                let best = self.front[a..b]
+            for &(a, b) in &part.front_ranges {
+                let best = part.front[a..b]
                     .iter()
                     .min_by(|p, q| score(p).total_cmp(&score(q)));
                 if let Some(&[_, weighted]) = best {
@@ -262,9 +264,9 @@ impl Options {
             }
             (sum, squares)
         };
-        let parts: Vec<(f64, f64)> = self.front_ranges.par_chunks(1024).map(chunk).collect();
-        parts
-            .iter()
+        let parts = &self.parts[..self.used];
+        let sums: Vec<(f64, f64)> = parts.par_iter().map(chunk).collect();
+        sums.iter()
             .fold((0.0, 0.0), |(s, q), &(a, b)| (s + a, q + b))
     }
 
@@ -372,8 +374,10 @@ pub(super) fn bound(sum: f64, squares: f64, area: f64, margin: f64) -> f64 {
 mod tests {
     use super::*;
 
-    fn est(error: f32, triangles: u64) -> Option<Estimate> {
-        Some(Estimate {
+    use crate::plan::{CostModel, Estimate, Work};
+
+    fn est(error: f32, triangles: u64) -> Option<Priced> {
+        let e = Estimate {
             error,
             rebuilt: error,
             draw: Work {
@@ -382,19 +386,19 @@ mod tests {
             },
             rebuild: Work::default(),
             memory: 0,
-        })
+        };
+        Some(Priced::new(&e, &CostModel::default()))
     }
 
-    fn weights(cost: &CostModel, spread: f32) -> Weights<'_> {
+    fn weights(spread: f32) -> Weights<'static> {
         Weights {
-            cost,
             stick: 0.0,
             payback: &[30.0, 30.0],
             spread,
         }
     }
 
-    fn object(est: &[Option<Estimate>], area: f32) -> Object<'_> {
+    fn object(est: &[Option<Priced>], area: f32) -> Object<'_> {
         Object {
             est,
             weight: area,
@@ -416,9 +420,8 @@ mod tests {
         // Objects of eight options each, many dominated (slower and no more accurate than
         // another), some tied: at every price the bound from the fronts alone is the bound
         // from every option, its best option per object found by brute force.
-        let cost = CostModel::default();
-        let w = weights(&cost, 0.5);
-        let ests: Vec<[Option<Estimate>; 8]> = (0..50u64)
+        let w = weights(0.5);
+        let ests: Vec<[Option<Priced>; 8]> = (0..50u64)
             .map(|k| {
                 std::array::from_fn(|r| {
                     let r = r as u64;
@@ -434,17 +437,19 @@ mod tests {
             .map(|(k, e)| object(e, 10.0 + k as f32 * 3.0))
             .collect();
         let options = apart(&objects, &w);
+        let part = &options.parts[0];
         assert!(
-            options.front.len() < options.picks.len() / 2,
+            part.front.len() < part.picks.len() / 2,
             "{}",
-            options.front.len()
+            part.front.len()
         );
         for lambda in [0.0, 1e-6, 1e-4, 1e-2, 1.0] {
             for kappa in [0.0, 1e-3] {
                 let price = Price { lambda, kappa };
                 let (mut sum, mut squares) = (0.0, 0.0);
-                for &(a, b) in &options.ranges {
-                    let best = options.picks[a..b]
+                for k in 0..objects.len() {
+                    let best = options
+                        .of(k)
                         .iter()
                         .map(|p| (price.score(p), p.weighted))
                         .min_by(|x, y| x.0.total_cmp(&y.0))
@@ -463,8 +468,7 @@ mod tests {
         // Two objects, each geometry (exact, costly) or an image (cheap, erring), saving
         // the same time: the big one's image costs 1000 level-pixels, the small one's 80.
         // The mean alone (no spread).
-        let cost = CostModel::default();
-        let w = weights(&cost, 0.0);
+        let w = weights(0.0);
         let big = [est(0.0, 10_000), est(1.0, 2)];
         let small = [est(0.0, 10_000), est(8.0, 2)];
         let objects = [object(&big, 1000.0), object(&small, 10.0)];
@@ -484,8 +488,7 @@ mod tests {
     #[test]
     fn the_bound_is_the_mean_over_many_objects_and_one_objects_bound_alone() {
         // An image of error 1 in place of each object's geometry, half the spread.
-        let cost = CostModel::default();
-        let w = weights(&cost, 0.5);
+        let w = weights(0.5);
         let options = [est(0.0, 10_000), est(1.0, 2)];
         let margin = Z99 * 0.5;
         // Alone, the image's error scatters as the frame's does: 1 + 1.16, over 1.5.
@@ -514,8 +517,7 @@ mod tests {
         // The budget (1.1) fits either the large image (bound 1.08) or the ten small ones
         // (0.68), not both (1.61). The mean alone takes the large one, by a hair; the bound
         // takes the small ones, at the same time saved and a lower bound.
-        let cost = CostModel::default();
-        let w = weights(&cost, 0.5);
+        let w = weights(0.5);
         let large = [est(0.0, 100_000), est(1.0, 2)];
         let small = [est(0.0, 10_000), est(1.0, 2)];
         let mut objects = vec![object(&large, 1000.0)];

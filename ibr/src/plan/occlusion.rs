@@ -37,6 +37,7 @@
 
 use crate::impostor::RectProjector;
 use engine::{Camera, Sphere, Target};
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// Pixels a side of a cell: small, as most of a crowd's objects are tens of pixels across.
@@ -59,6 +60,8 @@ pub const SAMPLES: u32 = 256;
 #[derive(Clone, Debug, Default)]
 pub struct Occlusion {
     camera: Option<Camera>,
+    /// `camera`'s eye (taken once: inverting the view per object is a cost in a world).
+    eye: Vec3,
     /// Screen rectangles under `camera`.
     project: Option<RectProjector>,
     size: (u32, u32),
@@ -112,6 +115,7 @@ impl Occlusion {
             self.points.extend(drawn);
         }
         self.camera = Some(*camera);
+        self.eye = camera.eye();
         self.project = Some(RectProjector::new(camera, w, h));
     }
 
@@ -123,6 +127,11 @@ impl Occlusion {
     /// What the last frame's cells say of an object with bounds `then` in it, seen from
     /// `now` on a `width` x `height` target (`None`: nothing known; see the module docs).
     pub fn cells(&self, then: Sphere, now: &Camera, width: u32, height: u32) -> Option<Cells> {
+        self.cells_from(then, now.eye(), width, height)
+    }
+
+    /// [`Occlusion::cells`] seen from the eye `now`.
+    fn cells_from(&self, then: Sphere, now: Vec3, width: u32, height: u32) -> Option<Cells> {
         let old = self.camera.as_ref()?;
         if (width, height) != self.size || !(then.center.is_finite() && then.radius.is_finite()) {
             return None;
@@ -131,8 +140,8 @@ impl Occlusion {
         if -c.z - then.radius <= old.near_far().0 {
             return None;
         }
-        let moved = now.eye().distance(old.eye());
-        let within = moved <= MAX_MOVE * now.eye().distance(then.center);
+        let moved = now.distance(self.eye);
+        let within = moved <= MAX_MOVE * now.distance(then.center);
         if !within {
             return None;
         }
@@ -178,10 +187,20 @@ impl Occlusion {
             ..Cells::default()
         };
         let class = &class[..nx * ny];
-        for (k, &c) in class.iter().enumerate() {
+        for &c in class {
             match c {
                 Class::Hidden => out.hidden += 1,
                 Class::Shows => out.shows += 1,
+                Class::Behind => {}
+            }
+        }
+        // Edges only where cells show and others lie behind.
+        if out.shows == 0 || out.shows + out.hidden == out.read {
+            return Some(out);
+        }
+        for (k, &c) in class.iter().enumerate() {
+            match c {
+                Class::Hidden | Class::Shows => {}
                 Class::Behind => {
                     let (i, j) = (k % nx, k / nx);
                     let shows = |i: usize, j: usize| class[j * nx + i] == Class::Shows;
@@ -199,7 +218,12 @@ impl Occlusion {
     /// The share of an object with bounds `then` in the last frame that shows, seen from
     /// `now` on a `width` x `height` target ([module docs](self)): from 0 (hidden) to 1.
     pub fn share(&self, then: Sphere, now: &Camera, width: u32, height: u32) -> f32 {
-        match self.cells(then, now, width, height) {
+        self.share_from(then, now.eye(), width, height)
+    }
+
+    /// [`Occlusion::share`] seen from the eye `now`.
+    fn share_from(&self, then: Sphere, now: Vec3, width: u32, height: u32) -> f32 {
+        match self.cells_from(then, now, width, height) {
             Some(c) if c.shows > 0 => {
                 (c.shows + c.edge) as f32 / (c.shows + c.edge + c.hidden) as f32
             }
@@ -222,10 +246,11 @@ impl Occlusion {
         (width, height): (u32, u32),
         out: &mut Vec<f32>,
     ) {
+        let eye = now.eye();
         (0..n)
             .into_par_iter()
             .map(|k| {
-                let share = then(k).map_or(1.0, |b| self.share(b, now, width, height));
+                let share = then(k).map_or(1.0, |b| self.share_from(b, eye, width, height));
                 areas(k).max(1.0) * share
             })
             .collect_into_vec(out);
@@ -237,7 +262,6 @@ mod tests {
     use super::*;
     use engine::{procedural, Draw, FrameOptions, Lighting, Material, Renderer, Rgba};
     use glam::Mat4;
-    use glam::Vec3;
 
     const W: u32 = 160;
     const H: u32 = 96;

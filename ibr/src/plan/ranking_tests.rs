@@ -194,3 +194,46 @@ fn under_a_rebuild_time_budget_short_rebuilds_go_before_a_long_bake_worth_less_p
     let bakes = p.choices().iter().filter(|c| c.rep == Some(1)).count();
     assert_eq!(bakes, 4, "{:?}", p.report);
 }
+
+#[test]
+fn an_option_off_the_front_is_asked_again_every_reask_frames_or_once_the_eye_moves() {
+    // A pass that draws for more than each torus's geometry (about 35 us) and errs: off
+    // every object's front. No bound on its least draw, so only the front skips it.
+    let pass = Scripted::new("pass", 16, image_pixels(100_000), captures(1));
+    let asked = pass.asked.clone();
+    let budgets = Budgets {
+        error: 2.0,
+        rebuilds: 16,
+        ..Budgets::default()
+    };
+    let mut p = planner(budgets, CostModel::default(), vec![pass]);
+    assert_eq!(p.config.reask, 8);
+    let mut r = Renderer::new();
+    let cam = view_at(0.0);
+    // The first frame asks for every visible object.
+    frame(&mut p, &cam, &mut r);
+    let visible = p.objects.len() - p.report.culled;
+    assert!(visible > 1);
+    assert_eq!(asked.swap(0, Ordering::Relaxed), visible);
+    let full = p.report.estimates;
+    assert_eq!(full, 2 * visible);
+    // With the eye still, each object once in the next eight frames, at its own frame.
+    let mut fewest = usize::MAX;
+    for _ in 0..8 {
+        frame(&mut p, &cam, &mut r);
+        fewest = fewest.min(p.report.estimates);
+        assert!(p.choices().iter().all(|c| c.rep != Some(1)));
+    }
+    assert_eq!(asked.swap(0, Ordering::Relaxed), visible);
+    assert!(fewest < full, "{fewest} {full}");
+    // The eye moves by more than REASK_MOVE of every object's distance: all asked again.
+    frame(&mut p, &view_at(1.5), &mut r);
+    let now = p.objects.len() - p.report.culled;
+    assert_eq!(asked.swap(0, Ordering::Relaxed), now);
+    // Every frame with a reask of 1.
+    p.config.reask = 1;
+    for _ in 0..3 {
+        frame(&mut p, &view_at(1.5), &mut r);
+    }
+    assert_eq!(asked.load(Ordering::Relaxed), 3 * now);
+}

@@ -4,6 +4,8 @@
 //! one is measured against.
 
 use super::cost::Work;
+use crate::impostor::RectProjector;
+use crate::metrics::Rect;
 use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Camera, Draw, FrameStats, Rgba, Sphere, Target};
@@ -25,6 +27,9 @@ pub struct Sight<'a> {
     /// Pixels its bounding sphere covers on screen (the disc, at most the whole target):
     /// what its fragments cost, whatever draws it.
     pub pixels: f32,
+    /// Screen rectangles under the camera (its matrices taken once per frame, not per
+    /// object): [`Sight::rect`].
+    pub project: RectProjector,
 }
 
 impl<'a> Sight<'a> {
@@ -41,6 +46,7 @@ impl<'a> Sight<'a> {
             bounds,
             distance: 0.0,
             pixels: 0.0,
+            project: RectProjector::new(camera, width, height),
         }
         .at(bounds)
     }
@@ -49,7 +55,7 @@ impl<'a> Sight<'a> {
     /// depends on the camera alone is not worked out again).
     pub fn at(&self, bounds: Sphere) -> Sight<'a> {
         let (eye, px_per_radian) = (self.eye, self.px_per_radian);
-        let (camera, width, height) = (self.camera, self.width, self.height);
+        let (camera, width, height, project) = (self.camera, self.width, self.height, self.project);
         let distance = eye.distance(bounds.center);
         let frame_px = width as f32 * height as f32;
         let pixels = if distance > bounds.radius {
@@ -67,7 +73,14 @@ impl<'a> Sight<'a> {
             bounds,
             distance,
             pixels,
+            project,
         }
+    }
+
+    /// The object's screen rectangle ([`crate::impostor::screen_rect`]; `None` when wholly
+    /// behind the eye).
+    pub fn rect(&self) -> Option<Rect> {
+        self.project.rect(self.bounds.center, self.bounds.radius)
     }
 
     /// Whether there is anything to predict: a target with pixels, a finite eye and a

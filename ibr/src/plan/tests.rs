@@ -630,7 +630,7 @@ fn a_time_budget_moves_objects_to_images_and_reports_their_error() {
     let ratio = |v: usize| {
         let est = estimates(&p.seen, &p.at, nr, v);
         let (g, im) = (est[0].unwrap(), est[1].unwrap());
-        let saved = p.config.cost.ms(g.draw) - p.config.cost.ms(im.draw);
+        let saved = g.ms - im.ms;
         im.error * p.pixels_of(v) / saved
     };
     let (mut moved, mut kept) = (Vec::new(), Vec::new());

@@ -239,11 +239,10 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
         let slot = self.slots.get(i)?;
         let cfg = &self.config;
         let b = sight.bounds;
-        let (w, h) = (sight.width, sight.height);
         if !sight.sane() || sight.within(cfg.transition) {
             return None;
         }
-        let rect = screen_rect(sight.camera, b.center, b.radius, w, h)?;
+        let rect = sight.rect()?;
         let ppr = sight.px_per_radian;
         let needed = needed_side(b.radius, sight.distance, ppr, cfg.min_side, cfg.max_side);
         let screen = screen_px(b, sight.distance, ppr).max(1.0);
@@ -355,10 +354,13 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
     /// Warps each drawn object's reference into its screen rectangle (a crop of the
     /// frame's camera), fills the holes inside what the reference saw, and tints it.
     fn prepare(&mut self, objects: &[usize], subjects: &[S], view: &FrameView<'_>) {
-        self.drawn.clear();
-        for slot in &mut self.slots {
-            slot.rect = None;
+        // Only the slots drawn last frame hold a rectangle (a world's slots are thousands).
+        for &i in &self.drawn {
+            if let Some(slot) = self.slots.get_mut(i) {
+                slot.rect = None;
+            }
         }
+        self.drawn.clear();
         let (w, h) = (view.width, view.height);
         if w == 0 || h == 0 || !view.camera.eye().is_finite() {
             return;
