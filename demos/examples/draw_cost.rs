@@ -1,0 +1,76 @@
+//! Predicted against measured draw time of geometry: the city of `bench budget` (16
+//! buildings of 1,000 triangles), each building drawn alone and all together, the
+//! default cost model's prediction (`Geometry`'s estimate: triangles and the pixels of the
+//! bounding sphere's disc) beside the measured time less an empty frame's, and the
+//! renderer's own counters (triangles in, fragments shaded).
+//!
+//! `cargo run --release -p demos --example draw_cost`
+
+use demos::bench_impostors::frame_camera;
+use demos::city::{City, Path as CityPath};
+use engine::{Draw, FrameOptions, Renderer, Target};
+use ibr::plan::{CostModel, Geometry, Representation, Sight};
+use ibr::subject::{MeshGroup, Subject};
+use std::time::Instant;
+
+fn median(reps: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<f64> = (0..reps)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[reps / 2]
+}
+
+fn main() {
+    let size = (640u32, 360u32);
+    let city = City::new(4, 10, 7);
+    let cam = frame_camera(&city, CityPath::Translate, 0.25, 0, 24, size);
+    let model = CostModel::default();
+    let (mut renderer, mut target) = (Renderer::new(), Target::new(size.0, size.1));
+    let opts = FrameOptions::default();
+    let mut frame = |draws: &[Draw<'_>]| {
+        renderer.render(
+            draws.iter().copied(),
+            &cam,
+            &city.lighting,
+            &mut target,
+            &opts,
+        )
+    };
+    let empty = median(31, || {
+        frame(&[]);
+    });
+    println!("empty frame {empty:.3} ms");
+    println!("building  triangles_in  fragments  disc_px  predicted_ms  measured_ms");
+    let (mut all_pred, mut all) = (0.0, Vec::new());
+    for (i, b) in city.buildings.iter().enumerate() {
+        let sight = Sight::new(&cam, size.0, size.1, b.bounds());
+        let e = Representation::<MeshGroup>::estimate(&Geometry, i, b, &sight).unwrap();
+        let pred = model.ms(e.draw);
+        all_pred += pred;
+        let mut draws = Vec::new();
+        b.draws(&mut draws);
+        all.extend(draws.iter().copied());
+        let stats = frame(&draws);
+        let ms = median(31, || {
+            frame(&draws);
+        }) - empty;
+        println!(
+            "{i:8}  {:12}  {:9}  {:7.0}  {pred:12.3}  {ms:11.3}",
+            stats.triangles_in, stats.fragments_shaded, sight.pixels
+        );
+    }
+    let stats = frame(&all);
+    let ms = median(31, || {
+        frame(&all);
+    }) - empty;
+    println!(
+        "all       {:12}  {:9}           {all_pred:12.3}  {ms:11.3}",
+        stats.triangles_in, stats.fragments_shaded
+    );
+}
