@@ -297,13 +297,17 @@ impl Asked {
     }
 }
 
+/// The representations a front is kept for ([`Asked::front`]'s bits): any past these is
+/// asked every frame.
+const FRONT_REPS: usize = 32;
+
 /// The representations (bit `r`) with an option on the front of `est`: none both cheaper
 /// and more accurate (as it is, or rebuilt with its rebuild spread over `payback[r]`
 /// frames).
 fn front(est: &[Option<Priced>], payback: &[f32]) -> u32 {
-    let mut options = [(0.0f32, 0.0f32, 0usize); 32];
+    let mut options = [(0.0f32, 0.0f32, 0usize); 2 * FRONT_REPS];
     let mut n = 0;
-    for (r, e) in est.iter().enumerate().take(16) {
+    for (r, e) in est.iter().enumerate().take(FRONT_REPS) {
         let Some(e) = e else { continue };
         if e.error.is_finite() {
             options[n] = (e.ms, e.error, r);
@@ -575,7 +579,10 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     let least = rep.least_draw();
                     let dominated =
                         least != Work::default() && before[i] != Some(r) && cost.ms(least) >= exact;
-                    let off_front = known && asked[k].front & (1 << r) == 0 && before[i] != Some(r);
+                    let off_front = known
+                        && r < FRONT_REPS
+                        && asked[k].front & (1 << r) == 0
+                        && before[i] != Some(r);
                     let e = if dominated || off_front {
                         None
                     } else {
