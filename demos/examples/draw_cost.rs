@@ -45,6 +45,14 @@ fn main() {
     let empty = median(31, || {
         frame(&[]);
     });
+    // The renderer's counters of `draws` and their median time less an empty frame's.
+    let mut measure = |draws: &[Draw<'_>]| {
+        let stats = frame(draws);
+        let ms = median(31, || {
+            frame(draws);
+        });
+        (stats, ms - empty)
+    };
     println!("empty frame {empty:.3} ms");
     println!("building  triangles_in  fragments  disc_px  predicted_ms  measured_ms");
     let (mut all_pred, mut all) = (0.0, Vec::new());
@@ -56,21 +64,12 @@ fn main() {
         let mut draws = Vec::new();
         b.draws(&mut draws);
         all.extend(draws.iter().copied());
-        let stats = frame(&draws);
-        let ms = median(31, || {
-            frame(&draws);
-        }) - empty;
-        println!(
-            "{i:8}  {:12}  {:9}  {:7.0}  {pred:12.3}  {ms:11.3}",
-            stats.triangles_in, stats.fragments_shaded, sight.pixels
-        );
+        let (stats, ms) = measure(&draws);
+        let (tris, frags) = (stats.triangles_in, stats.fragments_shaded);
+        let disc = sight.pixels;
+        println!("{i:8}  {tris:12}  {frags:9}  {disc:7.0}  {pred:12.3}  {ms:11.3}");
     }
-    let stats = frame(&all);
-    let ms = median(31, || {
-        frame(&all);
-    }) - empty;
-    println!(
-        "all       {:12}  {:9}           {all_pred:12.3}  {ms:11.3}",
-        stats.triangles_in, stats.fragments_shaded
-    );
+    let (stats, ms) = measure(&all);
+    let (tris, frags) = (stats.triangles_in, stats.fragments_shaded);
+    println!("all       {tris:12}  {frags:9}           {all_pred:12.3}  {ms:11.3}");
 }

@@ -106,6 +106,18 @@ fn planner(budgets: Budgets, cost: CostModel, reps: Vec<Scripted>) -> Planner<Me
     Planner::new(config, tori(), all)
 }
 
+/// A planner of geometry and `pass` (budget 2 levels, 16 rebuilds), and `pass`'s count of
+/// estimates asked.
+fn beside_geometry(pass: Scripted) -> (Planner<MeshGroup>, Arc<AtomicUsize>) {
+    let asked = pass.asked.clone();
+    let budgets = Budgets {
+        error: 2.0,
+        rebuilds: 16,
+        ..Budgets::default()
+    };
+    (planner(budgets, CostModel::default(), vec![pass]), asked)
+}
+
 #[test]
 fn a_pass_that_costs_more_than_the_exact_geometry_is_not_asked_unless_in_use() {
     // Each torus's geometry costs about 35 us at the default costs, less than one image
@@ -116,13 +128,7 @@ fn a_pass_that_costs_more_than_the_exact_geometry_is_not_asked_unless_in_use() {
     };
     let mut pass = Scripted::new("pass", 16, least, captures(1));
     pass.least = least;
-    let asked = pass.asked.clone();
-    let budgets = Budgets {
-        error: 2.0,
-        rebuilds: 16,
-        ..Budgets::default()
-    };
-    let mut p = planner(budgets, CostModel::default(), vec![pass]);
+    let (mut p, asked) = beside_geometry(pass);
     let mut r = Renderer::new();
     let cam = view_at(0.0);
     frame(&mut p, &cam, &mut r);
@@ -200,13 +206,7 @@ fn an_option_off_the_front_is_asked_again_every_reask_frames_or_once_the_eye_mov
     // A pass that draws for more than each torus's geometry (about 35 us) and errs: off
     // every object's front. No bound on its least draw, so only the front skips it.
     let pass = Scripted::new("pass", 16, image_pixels(100_000), captures(1));
-    let asked = pass.asked.clone();
-    let budgets = Budgets {
-        error: 2.0,
-        rebuilds: 16,
-        ..Budgets::default()
-    };
-    let mut p = planner(budgets, CostModel::default(), vec![pass]);
+    let (mut p, asked) = beside_geometry(pass);
     assert_eq!(p.config.reask, 8);
     let mut r = Renderer::new();
     let cam = view_at(0.0);
