@@ -41,6 +41,7 @@ use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
 use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba};
 use glam::{Mat4, Vec2};
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// Settings of a [`LayerSet`].
@@ -155,6 +156,9 @@ pub struct Layer {
     /// The characteristic points' projections this frame, and the nearest one's depth.
     screen: [Vec2; 8],
     nearest: f32,
+    /// The last fit of the image and what it was fitted from, for the planner's
+    /// prediction and then its draw (behind a lock: predictions are made through `&self`).
+    fitted: Mutex<Option<frame::Fitted>>,
 }
 
 impl Default for Layer {
@@ -169,6 +173,7 @@ impl Default for Layer {
             refreshes: 0,
             screen: [Vec2::ZERO; 8],
             nearest: 0.0,
+            fitted: Mutex::new(None),
         }
     }
 }

@@ -31,7 +31,7 @@ use engine::Target;
 use std::fmt;
 
 mod cover;
-pub use cover::RectCover;
+pub use cover::{RectCover, RectUnion};
 
 /// Default [`Options::threshold`]: an error of more than 8 levels (about 3%) is visible.
 pub const DEFAULT_THRESHOLD: u8 = 8;

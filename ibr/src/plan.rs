@@ -53,7 +53,7 @@ pub use frame_budget::Z99;
 pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
 use crate::impostor::{Frustum, RectProjector};
-use crate::metrics::{Rect, RectCover};
+use crate::metrics::{Rect, RectUnion};
 use crate::subject::Subject;
 use crate::technique::FrameView;
 use engine::{Camera, Draw, FrameStats, Material, Rgba, Sphere, Target};
@@ -376,8 +376,11 @@ pub struct Planner<S> {
     /// Each chunk of objects' predictions (reused frame to frame).
     seen: Vec<Seen>,
     weights: Vec<f32>,
+    /// The pixels the visible objects' rectangles cover (each once); `area` is it as a
+    /// float, at least 1.
+    covered: u64,
     area: f64,
-    cover: RectCover,
+    cover: RectUnion,
     /// What the last finished frame hid ([`occlusion`]): taken in `observe`, behind `&self`.
     occlusion: Mutex<Occlusion>,
     /// Each object's bounds in the last frame planned, where it was visible.
@@ -441,8 +444,9 @@ impl<S: Subject + Send + Sync> Planner<S> {
             warm: [0.0; 2],
             seen: Vec::new(),
             weights: Vec::new(),
+            covered: 0,
             area: 0.0,
-            cover: RectCover::default(),
+            cover: RectUnion::default(),
             occlusion: Mutex::default(),
             then: Vec::new(),
             at: Vec::new(),
@@ -843,8 +847,9 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 self.then[i] = Some(bounds);
             }
         }
-        self.cover.count(width, height, self.rects.iter().copied());
-        self.area = (self.cover.area() as f64).max(1.0);
+        let covered = self.cover.area(width, height, self.rects.iter().copied());
+        self.covered = covered;
+        self.area = (covered as f64).max(1.0);
     }
 
     /// Takes what the finished frame `target`, seen from `camera`, hides for the next
@@ -1034,7 +1039,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         r.mean_error = frame_budget::bound(sum, squares, self.area, 0.0) as f32;
         r.scatter = frame_budget::bound(0.0, squares, self.area, 1.0) as f32;
         r.bound = frame_budget::bound(sum, squares, self.area, margin) as f32;
-        r.covered = self.cover.area();
+        r.covered = self.covered;
         let frame_over = cfg.budgets.scope == Scope::Frame
             && !self.visible.is_empty()
             && (r.bound > budget || r.bound.is_nan());

@@ -179,6 +179,9 @@ pub struct BillboardSet {
     baked: Vec<Option<Baked>>,
     /// Sum of the bakes' profiles and their count: the prior of an object never baked.
     sum: Option<(Profile, u32)>,
+    /// [`BillboardSet::prior`], worked out when a bake is added (asked of every object
+    /// never baked, every frame).
+    prior: Profile,
     tint: Option<Rgba>,
 }
 
@@ -194,6 +197,7 @@ impl BillboardSet {
             payback_frames: PAYBACK,
             baked: vec![None; count],
             sum: None,
+            prior: Self::mean(None),
             tint: None,
         }
     }
@@ -224,7 +228,12 @@ impl BillboardSet {
 
     /// The profile expected of a bake never made: the mean of the set's bakes so far.
     pub fn prior(&self) -> Profile {
-        let Some((sum, n)) = self.sum else {
+        self.prior
+    }
+
+    /// The mean of `sum`'s count of profiles; the fixed [`PRIOR`] without any.
+    fn mean(sum: Option<(Profile, u32)>) -> Profile {
+        let Some((sum, n)) = sum else {
             let (g, share, level, tilt) = PRIOR;
             return Profile::uniform(g, share, level, tilt);
         };
@@ -249,6 +258,7 @@ impl BillboardSet {
         sum.depth_gradient += p.depth_gradient;
         sum.cells_mut().zip(p.cells()).for_each(|(s, c)| *s += c);
         *n += 1;
+        self.prior = Self::mean(self.sum);
     }
 }
 
@@ -318,7 +328,7 @@ impl<S: Subject + Send + Sync> Representation<S> for BillboardSet {
                 (error, rebuilt, baked.bytes())
             }
             None => {
-                let rebuilt = predict(fresh.0, fresh.1, &self.prior())?;
+                let rebuilt = predict(fresh.0, fresh.1, &self.prior)?;
                 let memory = image_bytes(fresh.1, fresh.1) * 3 + QUAD_BYTES;
                 (f32::INFINITY, rebuilt, memory)
             }

@@ -7,7 +7,7 @@ use super::{Affine, Config, Homography, Image, Job, Layer, Mode, Predicted, Work
 use crate::billboard::{push_quad, UvRect};
 use engine::Rgba;
 use glam::Vec2;
-use std::sync::Arc;
+use std::sync::{Arc, PoisonError};
 
 /// The error of `layer`'s image warped to this frame's projections (`layer.screen`), and
 /// this frame's warp; `on_screen` is the part of the layer's rectangle inside the view.
@@ -23,9 +23,58 @@ pub(super) fn predict(
             ..Predicted::default()
         };
     };
-    let (predicted, warp) = fit(&image, &layer.screen, version, on_screen, cfg);
+    let fitted = layer
+        .fitted
+        .get_mut()
+        .unwrap_or_else(PoisonError::into_inner);
+    let (predicted, warp) = fit_once(fitted, &image, &layer.screen, version, on_screen, cfg);
     layer.warp = warp;
     predicted
+}
+
+/// A fit and what it was fitted from: the planner asks for a layer's error (a fit) and
+/// then, for the layer it chose, fits the same warp again to draw it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Fitted {
+    image: Image,
+    screen: [Vec2; 8],
+    version: u64,
+    on_screen: (Vec2, Vec2),
+    cfg: Config,
+    out: (Predicted, Homography),
+}
+
+/// [`fit`], or the fit `last` holds when it was of the same image, points, version,
+/// rectangle and settings (the same result: the fit depends on nothing else); `last` then
+/// holds this one.
+pub(super) fn fit_once(
+    last: &mut Option<Fitted>,
+    image: &Image,
+    screen: &[Vec2; 8],
+    version: u64,
+    on_screen: (Vec2, Vec2),
+    cfg: &Config,
+) -> (Predicted, Homography) {
+    let same = |f: &&Fitted| {
+        f.image == *image
+            && f.screen == *screen
+            && f.version == version
+            && f.on_screen == on_screen
+            && f.cfg == *cfg
+    };
+    if let Some(f) = last.as_ref().filter(same) {
+        return f.out;
+    }
+    let out = fit(image, screen, version, on_screen, cfg);
+    *last = Some(Fitted {
+        image: *image,
+        screen: *screen,
+        version,
+        on_screen,
+        cfg: *cfg,
+        out,
+    });
+    out
 }
 
 /// The error of `image` warped to `screen` (its characteristic points' projections this
@@ -223,4 +272,69 @@ pub(super) fn clip(a: (Vec2, Vec2), to: (Vec2, Vec2)) -> (Vec2, Vec2) {
 pub(super) fn grow(r: (Vec2, Vec2), f: f32) -> (Vec2, Vec2) {
     let d = (r.1 - r.0) * f.max(0.0);
     (r.0 - d, r.1 + d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 40 x 20 image of a box whose corners lie at `texels`.
+    fn image(version: u64) -> Image {
+        let texels = [(2.0, 2.0), (38.0, 2.0), (38.0, 18.0), (2.0, 18.0)];
+        let texels: [Vec2; 8] = std::array::from_fn(|k| {
+            let (x, y) = texels[k % 4];
+            Vec2::new(x, y) + Vec2::splat(0.5 * (k / 4) as f32)
+        });
+        Image {
+            texels,
+            width: 40,
+            height: 20,
+            scale: 1.0,
+            version,
+            cut: [false; 4],
+            gradient: 10.0,
+        }
+    }
+
+    #[test]
+    fn a_fit_is_kept_for_the_same_inputs_and_made_again_for_others() {
+        let cfg = Config {
+            perspective: true,
+            ..Config::default()
+        };
+        let on_screen = (Vec2::ZERO, Vec2::new(100.0, 100.0));
+        let moved = |dx: f32| image(1).texels.map(|t| t * 1.1 + Vec2::new(dx, 3.0));
+        let mut last = None;
+        let bits = |(p, h): (Predicted, Homography)| format!("{p:?} {h:?}");
+        let first = fit_once(&mut last, &image(1), &moved(5.0), 1, on_screen, &cfg);
+        assert_eq!(
+            bits(first),
+            bits(fit(&image(1), &moved(5.0), 1, on_screen, &cfg))
+        );
+        // The same inputs again: the kept fit.
+        let again = fit_once(&mut last, &image(1), &moved(5.0), 1, on_screen, &cfg);
+        assert_eq!(bits(again), bits(first));
+        // Anything changed (the points, the image, the subject's version, the rectangle,
+        // the settings): fitted again, as `fit` would.
+        let cases = [
+            (image(1), moved(9.0), 1, on_screen, cfg),
+            (image(2), moved(9.0), 1, on_screen, cfg),
+            (image(2), moved(9.0), 2, on_screen, cfg),
+            (
+                image(2),
+                moved(9.0),
+                2,
+                (Vec2::ZERO, Vec2::splat(50.0)),
+                cfg,
+            ),
+            (image(2), moved(9.0), 2, on_screen, Config::default()),
+        ];
+        for (im, screen, version, rect, c) in cases {
+            let got = fit_once(&mut last, &im, &screen, version, rect, &c);
+            assert_eq!(bits(got), bits(fit(&im, &screen, version, rect, &c)));
+        }
+        // A changed version makes the kept image's fit invalid, as `fit` says.
+        let stale = fit_once(&mut last, &image(2), &moved(9.0), 3, on_screen, &cfg);
+        assert!(stale.0.ratio.is_infinite());
+    }
 }

@@ -3,7 +3,7 @@
 //! image's gradient (in the impostors' unit, levels), re-rendered when the planner asks,
 //! and its warp fitted to the view once the frame's choices are made.
 
-use super::frame::{bounds, build_quad, clip, fit, grow, job, predict};
+use super::frame::{bounds, build_quad, clip, fit_once, grow, job, predict};
 use super::{project_corners, LayerSet, Mode, Projector, Unprojector, Why};
 use crate::impostor::image_material;
 use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
@@ -12,6 +12,7 @@ use crate::technique::FrameView;
 use engine::{Draw, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::PoisonError;
 
 /// The neighbour difference assumed for a layer never rendered (8-bit levels per texel),
 /// until its first image measures its own: a busy image, so the first estimate errs high
@@ -70,7 +71,9 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         let (error, gradient) = match &layer.image {
             Some(image) => {
                 let version = subject.version();
-                let (p, _) = fit(image, &points, version, clip(bounds(&points), view), cfg);
+                let on_screen = clip(bounds(&points), view);
+                let mut last = layer.fitted.lock().unwrap_or_else(PoisonError::into_inner);
+                let (p, _) = fit_once(&mut last, image, &points, version, on_screen, cfg);
                 let valid = version == image.version
                     && p.covered
                     && p.octaves <= cfg.octaves
