@@ -1,16 +1,22 @@
-//! Predicted against measured draw time of geometry: the city of `bench budget` (16
-//! buildings of 1,000 triangles), each building drawn alone and all together, the
-//! default cost model's prediction (`Geometry`'s estimate: triangles and the pixels of the
-//! bounding sphere's disc) beside the measured time less an empty frame's, and the
-//! renderer's own counters (triangles in, fragments shaded).
+//! Predicted against measured draw time: the city of `bench budget` (16 buildings of 1,000
+//! triangles), each building drawn alone and all together as geometry, the default cost
+//! model's prediction (`Geometry`'s estimate: triangles and the pixels of the bounding
+//! sphere's disc) beside the measured time less an empty frame's, and the renderer's own
+//! counters (triangles in, fragments shaded); then each building as each image
+//! representation the planner draws by quads (runtime impostors, image layers, billboards),
+//! rebuilt from this view: predicted and measured.
 //!
 //! `cargo run --release -p demos --example draw_cost`
 
 use demos::bench_impostors::frame_camera;
 use demos::city::{City, Path as CityPath};
 use engine::{Draw, FrameOptions, Renderer, Target};
+use ibr::billboard::BillboardSet;
+use ibr::impostor::{self, ImpostorSet};
+use ibr::layers::{self, LayerSet};
 use ibr::plan::{CostModel, Geometry, Representation, Sight};
 use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::FrameView;
 use std::time::Instant;
 
 fn median(reps: usize, mut f: impl FnMut()) -> f64 {
@@ -72,4 +78,38 @@ fn main() {
     let (stats, ms) = measure(&all);
     let (tris, frags) = (stats.triangles_in, stats.fragments_shaded);
     println!("all       {tris:12}  {frags:9}           {all_pred:12.3}  {ms:11.3}");
+
+    // Each building as each image representation, rebuilt from this view.
+    let n = city.buildings.len();
+    let mut subjects = city.buildings.clone();
+    let view = FrameView::still(&cam, size.0, size.1, &city.lighting);
+    let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
+        Box::new(ImpostorSet::new(impostor::Config::default(), n)),
+        Box::new(LayerSet::new(layers::Config::default(), n)),
+        Box::new(BillboardSet::new(n, 64)),
+    ];
+    let all: Vec<usize> = (0..n).collect();
+    println!("building  representation  fragments  predicted_ms  measured_ms");
+    for rep in &mut reps {
+        rep.rebuild(&all, &mut subjects, &view);
+        rep.prepare(&all, &subjects, &view);
+        let (mut all_pred, mut every) = (0.0, Vec::new());
+        for (i, b) in subjects.iter().enumerate() {
+            let sight = Sight::new(&cam, size.0, size.1, b.bounds());
+            let Some(e) = rep.estimate(i, b, &sight) else {
+                continue;
+            };
+            let pred = model.ms(e.draw);
+            all_pred += pred;
+            let mut draws = Vec::new();
+            rep.draw(i, b, cam.eye(), &mut draws);
+            every.extend(draws.iter().copied());
+            let (stats, ms) = measure(&draws);
+            let (name, frags) = (rep.name(), stats.fragments_shaded);
+            println!("{i:8}  {name:>14}  {frags:9}  {pred:12.3}  {ms:11.3}");
+        }
+        let (stats, ms) = measure(&every);
+        let (name, frags) = (rep.name(), stats.fragments_shaded);
+        println!("all       {name:>14}  {frags:9}  {all_pred:12.3}  {ms:11.3}");
+    }
 }

@@ -175,6 +175,9 @@ pub struct Impostor {
     /// Times re-rendered.
     pub refreshes: u64,
     quad: Mesh,
+    /// The share of its capture's square that its quad, trimmed to the covered texels,
+    /// covers (0 to 1): what drawing it shades, against the square.
+    coverage: f32,
 }
 
 impl Impostor {

@@ -278,6 +278,13 @@ fn material(image: Texture, tint: Rgba) -> Material {
     m
 }
 
+/// The pixels the upright square of the object's sphere covers on screen: its disc's
+/// square (4 / pi of it), at most the frame.
+fn upright_pixels(sight: &Sight<'_>) -> f32 {
+    let frame = sight.width as f32 * sight.height as f32;
+    (sight.pixels * 4.0 / std::f32::consts::PI).min(frame)
+}
+
 /// Whether `b` is still where the bake was made, at its size.
 fn same_place(b: Sphere, baked: Sphere) -> bool {
     let tol = 1e-3 * baked.radius.max(1e-6);
@@ -339,7 +346,8 @@ impl<S: Subject + Send + Sync> Representation<S> for BillboardSet {
             rebuilt,
             draw: Work {
                 triangles: 2,
-                image_pixels: sight.pixels as u64,
+                // Its upright square about the disc, at most the frame.
+                image_pixels: upright_pixels(sight) as u64,
                 ..Work::default()
             },
             rebuild: Work {

@@ -74,6 +74,12 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         let (b, ppr) = (sight.bounds, sight.px_per_radian);
         let needed = needed_side(b.radius, sight.distance, ppr, cfg.min_side, cfg.max_side);
         let held = imp.capture.as_ref().filter(|_| imp.slot.is_some());
+        // What a draw shades: the disc's square times the share of it the trimmed quad
+        // covers; without an image, the disc.
+        let pixels = match held {
+            Some(_) => sight.pixels * (4.0 / std::f32::consts::PI) * imp.coverage,
+            None => sight.pixels,
+        };
         let (error, rebuilt) = match held {
             Some(c) => {
                 let p = predict(Some(c), subject, sight.eye, needed, ppr, cfg);
@@ -96,13 +102,7 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         };
         let texels = (needed, needed);
         let triangles = subject.triangle_count();
-        Some(Estimate::image(
-            error,
-            rebuilt,
-            sight.pixels,
-            triangles,
-            texels,
-        ))
+        Some(Estimate::image(error, rebuilt, pixels, triangles, texels))
     }
 
     /// Re-renders the objects' images from the eye, side by side (as

@@ -106,6 +106,7 @@ impl ImpostorSet {
         let imp = &mut self.impostors[i];
         let m = &mut imp.quad;
         m.clear();
+        imp.coverage = 0.0;
         // Trim the quad to the covered part of the image (one texel of margin for the
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
         // empty texel on screen would still be shaded and blended.
@@ -122,6 +123,7 @@ impl ImpostorSet {
                 max: glam::Vec2::new(u1, v1),
             };
             push_quad(m, quad, uv, Rgba::WHITE, 1.0);
+            imp.coverage = (u1 - u0) * (v1 - v0);
         }
         m.colors.clear();
         imp.capture = Some(capture);

@@ -68,6 +68,10 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         let (points, _) = project_corners(subject, &Projector::new(sight.camera, w, h))?;
         let view = (Vec2::ZERO, Vec2::new(w as f32, h as f32));
         let fresh = job(i, &points, grow(view, cfg.margin), cfg);
+        // What a draw shades: the warped image's quad, about the box's screen rectangle
+        // within the view.
+        let (lo, hi) = clip(bounds(&points), view);
+        let pixels = (hi - lo).max(Vec2::ZERO).element_product();
         let (error, gradient) = match &layer.image {
             Some(image) => {
                 let version = subject.version();
@@ -96,13 +100,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             None => (f32::INFINITY, (0, 0)),
         };
         let triangles = subject.triangle_count();
-        Some(Estimate::image(
-            error,
-            rebuilt,
-            sight.pixels,
-            triangles,
-            texels,
-        ))
+        Some(Estimate::image(error, rebuilt, pixels, triangles, texels))
     }
 
     /// Re-renders the objects' images for this view, side by side (as

@@ -714,11 +714,23 @@ fn tints_colour_each_representation_and_off_restore_the_frame_exactly() {
     let n = objects.len();
     let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
         Box::new(Geometry),
-        Box::new(ImpostorSet::new(impostor::Config::default(), n)),
+        // Impostors of 64 texels a side, room for four of them: the other objects are
+        // layers (smaller images) or geometry.
+        Box::new(ImpostorSet::new(
+            impostor::Config {
+                min_side: 64,
+                max_side: 64,
+                ..impostor::Config::default()
+            },
+            n,
+        )),
         Box::new(LayerSet::new(layers::Config::default(), n)),
     ];
     let config = Config {
-        budgets: budgets(8.0, 6),
+        budgets: Budgets {
+            memory: Some(4 * image_bytes(64, 64)),
+            ..budgets(8.0, 6)
+        },
         ..Config::default()
     };
     let mut p = Planner::new(config, objects, reps);
@@ -823,8 +835,10 @@ fn a_frame_budget_bounds_the_weighted_mean_and_costs_no_more_than_per_object() {
             assert!(whole.bound <= error + 1e-4, "{error}: {whole:?}");
             assert!(whole.mean_error <= whole.bound + 1e-4, "{error}: {whole:?}");
             assert_eq!(whole.over_budget, 0, "{error}: {whole:?}");
+            // (Within 1%: an image's draw is priced by its own quad, trimmed to what its
+            // capture covered, so the same choices taken at other frames differ a little.)
             assert!(
-                whole.draw_ms <= object.draw_ms + 1e-6,
+                whole.draw_ms <= object.draw_ms * 1.01 + 1e-6,
                 "{error}: {whole:?} {object:?}"
             );
             if error == 0.0 {
