@@ -86,6 +86,8 @@ pub struct Plan {
     pub showcase: bool,
     /// Only the scene of this name (`showcase`, `city`, `world`; `None`: all).
     pub only: Option<String>,
+    /// Only the methods of these names (the CSV's `method` column; empty: all).
+    pub methods: Vec<String>,
     /// The planners' [`plan::Config::spread`] (`None`: the default, [`plan::SPREAD`]).
     pub spread: Option<f32>,
 }
@@ -105,6 +107,7 @@ impl Plan {
             world: 150,
             showcase: true,
             only: None,
+            methods: Vec::new(),
             spread: None,
         }
     }
@@ -131,6 +134,7 @@ impl Plan {
             world: 8,
             showcase: false,
             only: None,
+            methods: Vec::new(),
             spread: None,
         }
     }
@@ -290,33 +294,57 @@ fn showcase_scene() -> Scene {
 /// Runs the sweep.
 pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let scenes = scenes(plan);
-    let alone = REPRESENTATIONS.len() - ALONE;
+    let wanted = |m: &str| plan.methods.is_empty() || plan.methods.iter().any(|w| w == m);
+    let alone = REPRESENTATIONS[ALONE..]
+        .iter()
+        .filter(|&&m| wanted(m))
+        .count();
+    let each = |m: &str| usize::from(wanted(m));
+    let per_budget = each("impostors") + each("planner") + each("planner-frame") + alone;
     let runs = scenes.len()
-        * (1 + (3 + alone) * plan.budgets.len() + plan.frame_budgets.len() + plan.layer_px.len());
+        * (each("geometry")
+            + per_budget * plan.budgets.len()
+            + each("planner-frame") * plan.frame_budgets.len()
+            + each("layers") * plan.layer_px.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for scene in &scenes {
-        tick(format!("{} geometry", scene.name));
-        let mut geometry = planner(scene, plan, 0.0, false);
-        rows.push(fly(scene, plan, 0.0, &mut geometry).row(scene, "geometry", 0.0, plan));
+        if wanted("geometry") {
+            tick(format!("{} geometry", scene.name));
+            let mut geometry = planner(scene, plan, 0.0, false);
+            rows.push(fly(scene, plan, 0.0, &mut geometry).row(scene, "geometry", 0.0, plan));
+        }
         for &b in &plan.budgets {
-            tick(format!("{} impostors {b}", scene.name));
-            let flown = fly(scene, plan, b, &mut impostored(scene, plan, b));
-            rows.push(flown.row(scene, "impostors", b, plan));
-            tick(format!("{} planner {b}", scene.name));
-            let flown = fly(scene, plan, b, &mut planner(scene, plan, b, true));
-            rows.push(flown.row(scene, "planner", b, plan));
-            rows.push(frame_scope(scene, plan, b, &mut tick));
+            if wanted("impostors") {
+                tick(format!("{} impostors {b}", scene.name));
+                let flown = fly(scene, plan, b, &mut impostored(scene, plan, b));
+                rows.push(flown.row(scene, "impostors", b, plan));
+            }
+            if wanted("planner") {
+                tick(format!("{} planner {b}", scene.name));
+                let flown = fly(scene, plan, b, &mut planner(scene, plan, b, true));
+                rows.push(flown.row(scene, "planner", b, plan));
+            }
+            if wanted("planner-frame") {
+                rows.push(frame_scope(scene, plan, b, &mut tick));
+            }
             for (k, &name) in REPRESENTATIONS.iter().enumerate().skip(ALONE) {
+                if !wanted(name) {
+                    continue;
+                }
                 tick(format!("{} {name} {b}", scene.name));
                 let flown = fly(scene, plan, b, &mut planner_of(scene, plan, b, &[k]));
                 rows.push(flown.row(scene, name, b, plan));
             }
         }
-        for &b in &plan.frame_budgets {
+        for &b in plan
+            .frame_budgets
+            .iter()
+            .filter(|_| wanted("planner-frame"))
+        {
             rows.push(frame_scope(scene, plan, b, &mut tick));
         }
-        for &px in &plan.layer_px {
+        for &px in plan.layer_px.iter().filter(|_| wanted("layers")) {
             tick(format!("{} layers {px} px", scene.name));
             let flown = fly(scene, plan, f32::INFINITY, &mut layered(scene, plan, px));
             rows.push(flown.row(scene, "layers", px, plan));

@@ -303,7 +303,8 @@ impl ImpostorSet {
                 continue;
             }
             let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
-            imp.predicted = predict(imp.capture.as_ref(), s, eye, needed, px_per_radian, &cfg);
+            let now = (b, s.version());
+            imp.predicted = predict(imp.capture.as_ref(), now, eye, needed, px_per_radian, &cfg);
             if visible {
                 imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
                     Mode::Image

@@ -381,6 +381,8 @@ pub struct Planner<S> {
     covered: u64,
     area: f64,
     cover: RectUnion,
+    /// Per representation, its least time to draw anything this frame (scratch).
+    least: Vec<f32>,
     /// What the last finished frame hid ([`occlusion`]): taken in `observe`, behind `&self`.
     occlusion: Mutex<Occlusion>,
     /// Each object's bounds in the last frame planned, where it was visible.
@@ -447,6 +449,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
             covered: 0,
             area: 0.0,
             cover: RectUnion::default(),
+            least: Vec::new(),
             occlusion: Mutex::default(),
             then: Vec::new(),
             at: Vec::new(),
@@ -556,6 +559,14 @@ impl<S: Subject + Send + Sync> Planner<S> {
             self.fronts_by.1.clone_from(&self.payback);
         }
         let (frame, reask, payback) = (self.frame, self.config.reask, &self.payback);
+        // Each representation's least time to draw anything (infinite: no bound known).
+        let mut least = std::mem::take(&mut self.least);
+        least.clear();
+        least.extend(reps.iter().map(|r| match r.least_draw() {
+            w if w == Work::default() => f32::INFINITY,
+            w => cost.ms(w),
+        }));
+        let least_ms = &least;
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
         let work = work.zip(self.asked.par_chunks_mut(CHUNK));
         work.enumerate().for_each(|(c, ((chunk, seen), asked))| {
@@ -580,9 +591,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 // draw for less is never chosen, so it is not asked (unless in use).
                 let mut exact = f32::INFINITY;
                 for (r, rep) in reps.iter().enumerate() {
-                    let least = rep.least_draw();
                     let dominated =
-                        least != Work::default() && before[i] != Some(r) && cost.ms(least) >= exact;
+                        least_ms[r].is_finite() && before[i] != Some(r) && least_ms[r] >= exact;
                     let off_front = known
                         && r < FRONT_REPS
                         && asked[k].front & (1 << r) == 0
@@ -609,6 +619,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 }
             }
         });
+        self.least = least;
         self.frame = self.frame.wrapping_add(1);
         self.report.estimates = self.seen[..chunks].iter().map(|s| s.asked).sum();
         let nr = self.reps.len();

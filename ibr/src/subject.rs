@@ -197,12 +197,24 @@ impl MeshGroup {
 
 impl Subject for MeshGroup {
     fn bounds(&self) -> Sphere {
-        enclose(
-            self.parts
-                .iter()
-                .map(Part::bounds)
-                .filter(|s| s.center.is_finite() && s.radius.is_finite()),
-        )
+        let finite = |s: &Sphere| s.center.is_finite() && s.radius.is_finite();
+        let spheres = self.parts.iter().map(Part::bounds).filter(finite);
+        // Each part's sphere worked out once (`enclose` takes them twice), on the stack
+        // for the few parts most groups have: bounds are asked of every object every frame.
+        let none = Sphere {
+            center: Vec3::ZERO,
+            radius: 0.0,
+        };
+        let mut few = [none; 8];
+        if self.parts.len() <= few.len() {
+            let mut n = 0;
+            for s in spheres {
+                few[n] = s;
+                n += 1;
+            }
+            return enclose(few[..n].iter().copied());
+        }
+        enclose(spheres)
     }
 
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {

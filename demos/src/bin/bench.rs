@@ -135,6 +135,11 @@ struct BudgetArgs {
     /// Only this scene.
     #[arg(long, value_parser = ["showcase", "city", "world"])]
     scene: Option<String>,
+    /// Only these methods (repeat the option; the names of the CSV's `method` column:
+    /// `geometry`, `impostors`, `planner`, `planner-frame`, `layers`, or one representation
+    /// run alone such as `billboards`).
+    #[arg(long)]
+    method: Vec<String>,
     /// The planners' relative error spread (default: the planner's own, `plan::SPREAD`;
     /// 0: the frame scope keeps the predicted mean alone). The `spread_fit` column says
     /// what spread each run's frames needed.
@@ -717,6 +722,7 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
     }
     let plan = bbu::Plan {
         only: c.scene.clone(),
+        methods: c.method.clone(),
         spread: c.spread,
         ..c.run
             .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full)

@@ -82,7 +82,8 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         };
         let (error, rebuilt) = match held {
             Some(c) => {
-                let p = predict(Some(c), subject, sight.eye, needed, ppr, cfg);
+                let now = (b, subject.version());
+                let p = predict(Some(c), now, sight.eye, needed, ppr, cfg);
                 let coarse = needed > c.side && p.octaves >= cfg.tolerance.octaves;
                 let error = if p.ratio.is_finite() && !coarse {
                     p.levels

@@ -4,14 +4,14 @@
 
 use super::{Capture, Config, Predicted};
 use crate::metrics::Rect;
-use crate::subject::Subject;
-use engine::{Camera, Projection, Rgba};
+use engine::{Camera, Projection, Rgba, Sphere};
 use glam::{Mat4, Vec3, Vec4};
 
-/// The error of a captured impostor seen from `eye`, needing a `needed`-side texture.
-pub(super) fn predict<S: Subject>(
+/// The error of a captured impostor of a subject now at `bounds` and `version`, seen from
+/// `eye`, needing a `needed`-side texture.
+pub(super) fn predict(
     capture: Option<&Capture>,
-    subject: &S,
+    (bounds, version): (Sphere, u64),
     eye: Vec3,
     needed: u32,
     px_per_radian: f32,
@@ -30,7 +30,7 @@ pub(super) fn predict<S: Subject>(
     let degrees = radians.to_degrees();
     let pixels = radians * px_per_radian;
     let octaves = (needed as f32 / c.side as f32).log2().abs();
-    let b = subject.bounds();
+    let b = bounds;
     let dist = eye.distance(b.center);
     let levels = image_error(c, dist, pixels, px_per_radian);
     let t = cfg.tolerance;
@@ -42,7 +42,7 @@ pub(super) fn predict<S: Subject>(
     };
     let moved = b.center.distance(c.center) > 1e-3 * c.radius.max(1e-6)
         || (b.radius - c.radius).abs() > 1e-3 * c.radius.max(1e-6);
-    let ratio = if subject.version() != c.version || moved {
+    let ratio = if version != c.version || moved {
         f32::INFINITY
     } else {
         parallax.max(octaves / t.octaves.max(1e-6))
