@@ -200,6 +200,30 @@ impl RectProjector {
     }
 }
 
+impl RectProjector {
+    /// The pixels of the screen rectangle around `points`, clipped to the image; `None`
+    /// when one of them is at or behind the eye's plane.
+    pub fn points_area(&self, points: &[Vec3]) -> Option<f32> {
+        let (w, h) = (self.w as f32, self.h as f32);
+        let (mut lo, mut hi) = (
+            glam::Vec2::splat(f32::INFINITY),
+            glam::Vec2::splat(f32::NEG_INFINITY),
+        );
+        for &p in points {
+            let c = self.clip * p.extend(1.0);
+            if !(c.w > 1e-6) {
+                return None;
+            }
+            let px = glam::Vec2::new((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h);
+            (lo, hi) = (lo.min(px), hi.max(px));
+        }
+        let (lo, hi) = (lo.max(glam::Vec2::ZERO), hi.min(glam::Vec2::new(w, h)));
+        let size = (hi - lo).max(glam::Vec2::ZERO);
+        let area = size.x * size.y;
+        area.is_finite().then_some(area)
+    }
+}
+
 /// The six planes of a view frustum (Gribb and Hartmann), for sphere tests: what the
 /// planner and the benchmarks' error measures count as visible.
 #[derive(Clone, Copy, Debug)]

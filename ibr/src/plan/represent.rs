@@ -25,7 +25,8 @@ pub struct Sight<'a> {
     pub bounds: Sphere,
     pub distance: f32,
     /// Pixels its bounding sphere covers on screen (the disc, at most the whole target):
-    /// what its fragments cost, whatever draws it.
+    /// what its geometry's fragments cost, and the pixels its error is weighed over. An
+    /// image prices its draw by its own quad instead (trimmed to what it holds).
     pub pixels: f32,
     /// Screen rectangles under the camera (its matrices taken once per frame, not per
     /// object): [`Sight::rect`].
@@ -117,7 +118,7 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// An image's estimate: one quad over the object's pixels to draw, and to rebuild, a
+    /// An image's estimate: one quad of `pixels` on screen to draw, and to rebuild, a
     /// capture of `triangles` into `texels` (width, height) held with its mipmaps.
     pub fn image(
         error: f32,
@@ -219,9 +220,13 @@ impl<S: Subject + Send + Sync> Representation<S> for Geometry {
         "geometry"
     }
     fn estimate(&self, _i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
+        // Its fragments: over its box's screen rectangle when that is smaller than the
+        // sphere's disc (a tall building's is).
+        let footprint = sight.project.points_area(&subject.corners());
+        let pixels = footprint.map_or(sight.pixels, |a| a.min(sight.pixels));
         let draw = Work {
             triangles: subject.triangle_count() as u64,
-            pixels: (sight.pixels * subject.overdraw()) as u64,
+            pixels: (pixels * subject.overdraw()) as u64,
             ..Work::default()
         };
         Some(Estimate {
