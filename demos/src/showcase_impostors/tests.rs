@@ -209,7 +209,8 @@ fn the_debug_view_colours_buildings_by_their_representation() {
     assert!(at_geometry > 0, "no building drawn as geometry shows white");
     let whites = first.chunks_exact(4).filter(|p| white(p)).count();
     assert!(whites > 100, "{whites} white pixels");
-    // Settled: every building an image, tinted.
+    // Settled: most buildings images, tinted (a few boxy ones near the eye draw faster
+    // as geometry).
     for _ in 0..8 {
         show.render(&mut renderer, &camera, &mut target, &opts());
     }
@@ -219,7 +220,8 @@ fn the_debug_view_colours_buildings_by_their_representation() {
     let plain = target.to_rgba8();
     let readout = show.ibr.impostors.readout();
     assert_eq!(readout.refreshes(), 0, "{readout:?}");
-    assert_eq!(readout.city.counts[GEOMETRY], 0, "{readout:?}");
+    let all: usize = readout.city.counts.iter().sum();
+    assert!(readout.city.counts[GEOMETRY] * 4 <= all, "{readout:?}");
     let turned = |f: &dyn Fn(&[u8]) -> bool| {
         plain
             .chunks_exact(4)

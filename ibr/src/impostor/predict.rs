@@ -211,7 +211,7 @@ impl RectProjector {
         );
         for &p in points {
             let c = self.clip * p.extend(1.0);
-            if !(c.w > 1e-6) {
+            if c.w.is_nan() || c.w <= 1e-6 {
                 return None;
             }
             let px = glam::Vec2::new((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h);

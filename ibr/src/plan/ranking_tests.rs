@@ -237,3 +237,38 @@ fn an_option_off_the_front_is_asked_again_every_reask_frames_or_once_the_eye_mov
     }
     assert_eq!(asked.load(Ordering::Relaxed), 3 * now);
 }
+
+#[test]
+fn geometry_is_priced_by_its_box_where_that_is_smaller_than_its_disc() {
+    use super::tests::{camera, H, W};
+    use engine::{procedural, FrameOptions, Lighting, Material, Rgba, Target};
+    use glam::Mat4;
+    // A tall thin post seen from the front: its box's screen rectangle is a sliver of its
+    // sphere's disc, and about what the renderer shades.
+    let post = Arc::new(procedural::cuboid(Vec3::new(0.2, 2.0, 0.2)));
+    let white = Arc::new(Material::unlit(Rgba::WHITE));
+    let g = MeshGroup::new().with(post, white, Mat4::IDENTITY);
+    let cam = camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO);
+    let sight = Sight::new(&cam, W, H, g.bounds());
+    let e = Representation::<MeshGroup>::estimate(&Geometry, 0, &g, &sight).expect("seen");
+    let mut draws = Vec::new();
+    g.draws(&mut draws);
+    let opts = FrameOptions::default();
+    let mut target = Target::new(W, H);
+    let stats = Renderer::new().render(draws, &cam, &Lighting::default(), &mut target, &opts);
+    let (priced, shaded) = (e.draw.pixels as f32, stats.fragments_shaded as f32);
+    let disc = sight.pixels;
+    assert!(
+        priced < 0.3 * disc,
+        "{priced} priced against a disc of {disc}"
+    );
+    assert!(
+        priced >= 0.9 * shaded && priced <= 1.5 * shaded,
+        "{priced} priced, {shaded} shaded"
+    );
+    // Seen from inside its box (no rectangle in front of the eye): the disc.
+    let inside = camera(Vec3::new(0.0, 0.5, 0.0), Vec3::new(0.0, 0.5, -1.0));
+    let sight = Sight::new(&inside, W, H, g.bounds());
+    let e = Representation::<MeshGroup>::estimate(&Geometry, 0, &g, &sight).expect("seen");
+    assert_eq!(e.draw.pixels, sight.pixels as u64);
+}
