@@ -158,7 +158,7 @@ pub struct Layer {
     nearest: f32,
     /// The last fit of the image and what it was fitted from, for the planner's
     /// prediction and then its draw (behind a lock: predictions are made through `&self`).
-    fitted: Mutex<Option<frame::Fitted>>,
+    fitted: Mutex<Option<(frame::FitOf, (Predicted, Homography))>>,
 }
 
 impl Default for Layer {

@@ -27,53 +27,41 @@ pub(super) fn predict(
         .fitted
         .get_mut()
         .unwrap_or_else(PoisonError::into_inner);
-    let (predicted, warp) = fit_once(fitted, &image, &layer.screen, version, on_screen, cfg);
+    let of = FitOf {
+        image,
+        screen: layer.screen,
+        version,
+        on_screen,
+        cfg: *cfg,
+    };
+    let (predicted, warp) = fit_once(fitted, of);
     layer.warp = warp;
     predicted
 }
 
-/// A fit and what it was fitted from: the planner asks for a layer's error (a fit) and
-/// then, for the layer it chose, fits the same warp again to draw it.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Fitted {
-    image: Image,
-    screen: [Vec2; 8],
-    version: u64,
-    on_screen: (Vec2, Vec2),
-    cfg: Config,
-    out: (Predicted, Homography),
+/// What a fit is made from: an image, its characteristic points' projections this frame,
+/// the subject's version, the part of the layer's rectangle inside the view, the settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct FitOf {
+    pub image: Image,
+    pub screen: [Vec2; 8],
+    pub version: u64,
+    pub on_screen: (Vec2, Vec2),
+    pub cfg: Config,
 }
 
-/// [`fit`], or the fit `last` holds when it was of the same image, points, version,
-/// rectangle and settings (the same result: the fit depends on nothing else); `last` then
-/// holds this one.
+/// [`fit`] of `of`, or the fit `last` holds when it was of the same (the same result: the
+/// fit depends on nothing else); `last` then holds this one. The planner asks for a
+/// layer's error (a fit) and then, for the layer it chose, fits the same warp to draw it.
 pub(super) fn fit_once(
-    last: &mut Option<Fitted>,
-    image: &Image,
-    screen: &[Vec2; 8],
-    version: u64,
-    on_screen: (Vec2, Vec2),
-    cfg: &Config,
+    last: &mut Option<(FitOf, (Predicted, Homography))>,
+    of: FitOf,
 ) -> (Predicted, Homography) {
-    let same = |f: &&Fitted| {
-        f.image == *image
-            && f.screen == *screen
-            && f.version == version
-            && f.on_screen == on_screen
-            && f.cfg == *cfg
-    };
-    if let Some(f) = last.as_ref().filter(same) {
-        return f.out;
+    if let Some((_, out)) = last.as_ref().filter(|(kept, _)| *kept == of) {
+        return *out;
     }
-    let out = fit(image, screen, version, on_screen, cfg);
-    *last = Some(Fitted {
-        image: *image,
-        screen: *screen,
-        version,
-        on_screen,
-        cfg: *cfg,
-        out,
-    });
+    let out = fit(&of.image, &of.screen, of.version, of.on_screen, &of.cfg);
+    *last = Some((of, out));
     out
 }
 
@@ -306,13 +294,20 @@ mod tests {
         let moved = |dx: f32| image(1).texels.map(|t| t * 1.1 + Vec2::new(dx, 3.0));
         let mut last = None;
         let bits = |(p, h): (Predicted, Homography)| format!("{p:?} {h:?}");
-        let first = fit_once(&mut last, &image(1), &moved(5.0), 1, on_screen, &cfg);
+        let of = |image, screen, version, on_screen, cfg| FitOf {
+            image,
+            screen,
+            version,
+            on_screen,
+            cfg,
+        };
+        let first = fit_once(&mut last, of(image(1), moved(5.0), 1, on_screen, cfg));
         assert_eq!(
             bits(first),
             bits(fit(&image(1), &moved(5.0), 1, on_screen, &cfg))
         );
         // The same inputs again: the kept fit.
-        let again = fit_once(&mut last, &image(1), &moved(5.0), 1, on_screen, &cfg);
+        let again = fit_once(&mut last, of(image(1), moved(5.0), 1, on_screen, cfg));
         assert_eq!(bits(again), bits(first));
         // Anything changed (the points, the image, the subject's version, the rectangle,
         // the settings): fitted again, as `fit` would.
@@ -330,11 +325,11 @@ mod tests {
             (image(2), moved(9.0), 2, on_screen, Config::default()),
         ];
         for (im, screen, version, rect, c) in cases {
-            let got = fit_once(&mut last, &im, &screen, version, rect, &c);
+            let got = fit_once(&mut last, of(im, screen, version, rect, c));
             assert_eq!(bits(got), bits(fit(&im, &screen, version, rect, &c)));
         }
         // A changed version makes the kept image's fit invalid, as `fit` says.
-        let stale = fit_once(&mut last, &image(2), &moved(9.0), 3, on_screen, &cfg);
+        let stale = fit_once(&mut last, of(image(2), moved(9.0), 3, on_screen, cfg));
         assert!(stale.0.ratio.is_infinite());
     }
 }

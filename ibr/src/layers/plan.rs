@@ -3,7 +3,7 @@
 //! image's gradient (in the impostors' unit, levels), re-rendered when the planner asks,
 //! and its warp fitted to the view once the frame's choices are made.
 
-use super::frame::{bounds, build_quad, clip, fit_once, grow, job, predict};
+use super::frame::{bounds, build_quad, clip, fit_once, grow, job, predict, FitOf};
 use super::{project_corners, LayerSet, Mode, Projector, Unprojector, Why};
 use crate::impostor::image_material;
 use crate::plan::{image_bytes, Estimate, Representation, Sight, Work};
@@ -77,7 +77,14 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
                 let version = subject.version();
                 let on_screen = clip(bounds(&points), view);
                 let mut last = layer.fitted.lock().unwrap_or_else(PoisonError::into_inner);
-                let (p, _) = fit_once(&mut last, image, &points, version, on_screen, cfg);
+                let of = FitOf {
+                    image: *image,
+                    screen: points,
+                    version,
+                    on_screen,
+                    cfg: *cfg,
+                };
+                let (p, _) = fit_once(&mut last, of);
                 let valid = version == image.version
                     && p.covered
                     && p.octaves <= cfg.octaves
