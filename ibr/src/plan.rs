@@ -21,7 +21,8 @@
 //!    the hysteresis band (so they stay in use), then objects a rebuilt image would make
 //!    cheaper (by the time saved, net of the rebuild spread over
 //!    [`Config::payback_frames`], or the representation's own
-//!    [`Representation::payback_frames`]); under a budget of rebuild milliseconds, by
+//!    [`Representation::payback_frames`], but never more frames than the object is
+//!    expected to stay in view: [`Config::horizon`]); under a budget of rebuild milliseconds, by
 //!    that worth per predicted millisecond of the rebuild, so that one long bake does not
 //!    crowd out many short rebuilds). They are taken within the rebuild budget (a count,
 //!    and optionally predicted milliseconds and the bytes every representation may hold), at
@@ -144,8 +145,15 @@ pub struct Config {
     /// predicted draw time.
     pub min_saving: f32,
     /// A rebuild that only saves time is worth it if the time saved over this many frames
-    /// pays for it.
+    /// pays for it (a representation may say its own: [`Representation::payback_frames`]),
+    /// and within the object's horizon ([`Config::horizon`]).
     pub payback_frames: f32,
+    /// Frames an object just come into view is expected to stay. A rebuild's time is
+    /// spread over at most its horizon, this plus the frames it has been in view without a
+    /// break, whatever its payback: an object long in view is expected to stay about as
+    /// long again, and one just come into view may leave before a bake meant to last a
+    /// minute pays back. Infinite: every object is expected to stay.
+    pub horizon: f32,
     /// Frames an object's data may stay unused before its representation releases it.
     pub release_after: u32,
     /// How far an object's measured error scatters about its prediction, as a fraction of
@@ -176,6 +184,7 @@ impl Default for Config {
             hysteresis: 0.75,
             min_saving: 0.15,
             payback_frames: 30.0,
+            horizon: 30.0,
             release_after: 120,
             spread: SPREAD,
             reask: 8,
@@ -265,10 +274,11 @@ impl Report {
 const CHUNK: usize = 256;
 
 /// What a chunk of objects' predictions found: the visible objects (index, pixels,
-/// rectangle, bounds) and their estimates (representation-major within an object).
+/// rectangle, bounds, horizon: [`Config::horizon`]) and their estimates
+/// (representation-major within an object).
 #[derive(Default)]
 struct Seen {
-    objects: Vec<(usize, f32, Rect, Sphere)>,
+    objects: Vec<(usize, f32, Rect, Sphere, f32)>,
     estimates: Vec<Option<Priced>>,
     /// Predictions asked.
     asked: usize,
@@ -303,8 +313,8 @@ const FRONT_REPS: usize = 32;
 
 /// The representations (bit `r`) with an option on the front of `est`: none both cheaper
 /// and more accurate (as it is, or rebuilt with its rebuild spread over `payback[r]`
-/// frames).
-fn front(est: &[Option<Priced>], payback: &[f32]) -> u32 {
+/// frames, at most the object's `horizon`).
+fn front(est: &[Option<Priced>], payback: &[f32], horizon: f32) -> u32 {
     let mut options = [(0.0f32, 0.0f32, 0usize); 2 * FRONT_REPS];
     let mut n = 0;
     for (r, e) in est.iter().enumerate().take(FRONT_REPS) {
@@ -314,8 +324,8 @@ fn front(est: &[Option<Priced>], payback: &[f32]) -> u32 {
             n += 1;
         }
         if e.rebuilds && e.rebuilt.is_finite() {
-            let spread = e.rebuild_ms / payback.get(r).copied().unwrap_or(1.0).max(1.0);
-            options[n] = (e.ms + spread, e.rebuilt, r);
+            let frames = payback.get(r).copied().unwrap_or(1.0).min(horizon);
+            options[n] = (e.ms + e.rebuild_ms / frames.max(1.0), e.rebuilt, r);
             n += 1;
         }
     }
@@ -363,6 +373,11 @@ pub struct Planner<S> {
     /// This frame's visible objects, in order, and scratch.
     visible: Vec<usize>,
     pixels: Vec<f32>,
+    /// Per visible object, the frames a rebuild of it may pay back over at most
+    /// ([`Config::horizon`]).
+    horizons: Vec<f32>,
+    /// Per object, the frames it has been in view without a break before this one.
+    in_view: Vec<u32>,
     /// Visible objects' screen rectangles, their weights in the frame's error (their
     /// areas, at least 1, times the share of them that shows) and the pixels the
     /// rectangles cover.
@@ -440,6 +455,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
             fronts_by: (CostModel::default(), Vec::new()),
             visible: Vec::new(),
             pixels: Vec::new(),
+            horizons: Vec::new(),
+            in_view: vec![0; n],
             rects: Vec::new(),
             payback: Vec::new(),
             state: Vec::new(),
@@ -526,6 +543,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.payback
             .extend(own.map(|p| p.unwrap_or(self.config.payback_frames)));
         self.pixels.clear();
+        self.horizons.clear();
         self.rects.clear();
         self.at.clear();
         for idle in &mut self.idle {
@@ -553,12 +571,14 @@ impl<S: Subject + Send + Sync> Planner<S> {
         let before = &previous;
         let project = RectProjector::new(camera, view.width, view.height);
         self.asked.resize(self.objects.len(), Asked::default());
+        self.in_view.resize(self.objects.len(), 0);
         if self.fronts_by.0 != self.config.cost || self.fronts_by.1 != self.payback {
             self.asked.fill(Asked::default());
             self.fronts_by.0 = self.config.cost;
             self.fronts_by.1.clone_from(&self.payback);
         }
         let (frame, reask, payback) = (self.frame, self.config.reask, &self.payback);
+        let floor = self.config.horizon;
         // Each representation's least time to draw anything (infinite: no bound known).
         let mut least = std::mem::take(&mut self.least);
         least.clear();
@@ -569,64 +589,70 @@ impl<S: Subject + Send + Sync> Planner<S> {
         let least_ms = &least;
         let work = self.objects.par_chunks(CHUNK).zip(self.seen.par_iter_mut());
         let work = work.zip(self.asked.par_chunks_mut(CHUNK));
-        work.enumerate().for_each(|(c, ((chunk, seen), asked))| {
-            seen.objects.clear();
-            seen.estimates.clear();
-            seen.asked = 0;
-            for (k, s) in chunk.iter().enumerate() {
-                let bounds = s.bounds();
-                if !frustum.sees(bounds.center, bounds.radius) {
-                    continue;
-                }
-                let i = c * CHUNK + k;
-                let (offset, version) = (eye - bounds.center, s.version());
-                let known = asked[k].stands(i, frame, reask, offset, version);
-                let first = seen.estimates.len();
-                let sight = base.at(bounds);
-                let pixels = sight.pixels;
-                let rect = project.rect(bounds.center, bounds.radius);
-                seen.objects
-                    .push((i, pixels, rect.unwrap_or_default(), bounds));
-                // The least time of an exact option so far: a representation that cannot
-                // draw for less is never chosen, so it is not asked (unless in use).
-                let mut exact = f32::INFINITY;
-                for (r, rep) in reps.iter().enumerate() {
-                    let dominated =
-                        least_ms[r].is_finite() && before[i] != Some(r) && least_ms[r] >= exact;
-                    let off_front = known
-                        && r < FRONT_REPS
-                        && asked[k].front & (1 << r) == 0
-                        && before[i] != Some(r);
-                    let e = if dominated || off_front {
-                        None
-                    } else {
-                        seen.asked += 1;
-                        let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
-                        e.map(|e| Priced::new(&e, cost))
-                    };
-                    if let Some(e) = e.filter(|e| e.error <= 0.0) {
-                        exact = exact.min(e.ms);
+        let work = work.zip(self.in_view.par_chunks_mut(CHUNK));
+        work.enumerate()
+            .for_each(|(c, (((chunk, seen), asked), in_view))| {
+                seen.objects.clear();
+                seen.estimates.clear();
+                seen.asked = 0;
+                for (k, s) in chunk.iter().enumerate() {
+                    let bounds = s.bounds();
+                    if !frustum.sees(bounds.center, bounds.radius) {
+                        in_view[k] = 0;
+                        continue;
                     }
-                    seen.estimates.push(e);
+                    let horizon = floor + in_view[k] as f32;
+                    in_view[k] = in_view[k].saturating_add(1);
+                    let i = c * CHUNK + k;
+                    let (offset, version) = (eye - bounds.center, s.version());
+                    let known = asked[k].stands(i, frame, reask, offset, version);
+                    let first = seen.estimates.len();
+                    let sight = base.at(bounds);
+                    let pixels = sight.pixels;
+                    let rect = project.rect(bounds.center, bounds.radius);
+                    let rect = rect.unwrap_or_default();
+                    seen.objects.push((i, pixels, rect, bounds, horizon));
+                    // The least time of an exact option so far: a representation that cannot
+                    // draw for less is never chosen, so it is not asked (unless in use).
+                    let mut exact = f32::INFINITY;
+                    for (r, rep) in reps.iter().enumerate() {
+                        let dominated =
+                            least_ms[r].is_finite() && before[i] != Some(r) && least_ms[r] >= exact;
+                        let off_front = known
+                            && r < FRONT_REPS
+                            && asked[k].front & (1 << r) == 0
+                            && before[i] != Some(r);
+                        let e = if dominated || off_front {
+                            None
+                        } else {
+                            seen.asked += 1;
+                            let e = rep.estimate(i, s, &sight).filter(|e| !e.error.is_nan());
+                            e.map(|e| Priced::new(&e, cost))
+                        };
+                        if let Some(e) = e.filter(|e| e.error <= 0.0) {
+                            exact = exact.min(e.ms);
+                        }
+                        seen.estimates.push(e);
+                    }
+                    if !known {
+                        let front = front(&seen.estimates[first..], payback, horizon);
+                        asked[k] = Asked {
+                            front,
+                            offset,
+                            version,
+                        };
+                    }
                 }
-                if !known {
-                    let front = front(&seen.estimates[first..], payback);
-                    asked[k] = Asked {
-                        front,
-                        offset,
-                        version,
-                    };
-                }
-            }
-        });
+            });
         self.least = least;
         self.frame = self.frame.wrapping_add(1);
         self.report.estimates = self.seen[..chunks].iter().map(|s| s.asked).sum();
         let nr = self.reps.len();
         for (c, seen) in self.seen[..chunks].iter().enumerate() {
-            for (k, &(i, pixels, rect, _)) in seen.objects.iter().enumerate() {
+            for (k, &(i, pixels, rect, _, horizon)) in seen.objects.iter().enumerate() {
                 self.visible.push(i);
                 self.pixels.push(pixels);
+                self.horizons.push(horizon);
                 self.rects.push(rect);
                 self.at.push((c as u32, (k * nr) as u32));
             }
@@ -726,11 +752,12 @@ impl<S: Subject + Send + Sync> Planner<S> {
         let cfg = self.config;
         let nr = self.reps.len();
         let (seen, at, visible) = (&self.seen, &self.at, &self.visible);
-        let weights = &self.weights;
+        let (weights, horizons) = (&self.weights, &self.horizons);
         let object = |v: usize| frame_budget::Object {
             est: estimates(seen, at, nr, v),
             weight: weights[v],
             current: previous[visible[v]],
+            horizon: horizons[v],
         };
         let w = frame_budget::Weights {
             stick: cfg.min_saving,
@@ -801,6 +828,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         let nr = self.reps.len();
         let est = estimates(&self.seen, &self.at, nr, v);
         let pixels = self.pixels_of(v);
+        let horizon = self.horizons[v];
         for (r, e) in est.iter().enumerate() {
             let Some(e) = e else { continue };
             let within = e.rebuilt <= budget * cfg.hysteresis;
@@ -808,12 +836,13 @@ impl<S: Subject + Send + Sync> Planner<S> {
                 continue;
             }
             let (ms, rb) = (e.ms, e.rebuild_ms);
+            let frames = self.payback[r].min(horizon);
             let cand = if err0 > budget {
                 Some((0, (err0 - e.rebuilt).min(1e6) * pixels - ms))
             } else if r == r0 && Some(r) == current && e.error > budget * cfg.hysteresis {
                 Some((1, e.error / budget.max(1e-6)))
-            } else if ms < ms0 * (1.0 - cfg.min_saving) && (ms0 - ms) * self.payback[r] >= rb {
-                Some((2, ms0 - ms - rb / self.payback[r].max(1.0)))
+            } else if ms < ms0 * (1.0 - cfg.min_saving) && (ms0 - ms) * frames >= rb {
+                Some((2, ms0 - ms - rb / frames.max(1.0)))
             } else {
                 None
             };
@@ -854,7 +883,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.then.clear();
         self.then.resize(self.objects.len(), None);
         for seen in &self.seen[..self.objects.len().div_ceil(CHUNK)] {
-            for &(i, _, _, bounds) in &seen.objects {
+            for &(i, _, _, bounds, _) in &seen.objects {
                 self.then[i] = Some(bounds);
             }
         }

@@ -107,24 +107,52 @@ pub fn billboard_error(
 /// The view of the object's centre from `sight`, against a billboard baked from the
 /// horizontal `side`: azimuth and elevation (radians), texels per pixel and perspective
 /// shift (texels) for a `px` image. `None` for a broken view or an eye at the centre.
+#[cfg(test)]
 pub fn view_terms(side: Vec3, px: u32, sight: &Sight<'_>) -> Option<(f32, f32, f32, f32)> {
-    // Toward a perspective eye, or against an orthographic camera's view direction.
-    let v = match sight.camera.projection {
-        Projection::Orthographic { .. } => -sight.camera.forward(),
-        Projection::Perspective { .. } | Projection::Frustum { .. } => {
-            sight.eye - sight.bounds.center
-        }
-    };
-    let v = v.try_normalize()?;
-    let right = Vec3::Y.cross(side);
-    let azimuth = v.dot(right).atan2(v.dot(side));
-    let elevation = v.y.clamp(-1.0, 1.0).asin();
-    let (r, dist) = (sight.bounds.radius, sight.distance.max(1e-6));
-    let spread = (r / dist).min(1.0).asin();
-    let screen = 2.0 * spread * sight.px_per_radian;
-    let texels_per_px = px as f32 / screen.max(1e-3);
-    let shift = PERSPECTIVE * spread.sin() * px as f32 * 0.5;
-    Some((azimuth, elevation, texels_per_px, shift))
+    Some(Look::new(sight)?.terms(side, px))
+}
+
+/// What [`view_terms`] takes from the sight alone, worked out once for the several bakes
+/// an estimate weighs.
+#[derive(Clone, Copy, Debug)]
+struct Look {
+    /// Toward the viewer (unit), its elevation, the sphere's width on screen (pixels) and
+    /// the sine of its angular radius.
+    toward: Vec3,
+    elevation: f32,
+    screen: f32,
+    sin_spread: f32,
+}
+
+impl Look {
+    fn new(sight: &Sight<'_>) -> Option<Look> {
+        // Toward a perspective eye, or against an orthographic camera's view direction.
+        let v = match sight.camera.projection {
+            Projection::Orthographic { .. } => -sight.camera.forward(),
+            Projection::Perspective { .. } | Projection::Frustum { .. } => {
+                sight.eye - sight.bounds.center
+            }
+        };
+        let toward = v.try_normalize()?;
+        let (r, dist) = (sight.bounds.radius, sight.distance.max(1e-6));
+        let sin_spread = (r / dist).min(1.0);
+        let spread = sin_spread.asin();
+        Some(Look {
+            toward,
+            elevation: toward.y.clamp(-1.0, 1.0).asin(),
+            screen: 2.0 * spread * sight.px_per_radian,
+            sin_spread,
+        })
+    }
+
+    /// [`view_terms`] for a `px` bake from `side`.
+    fn terms(&self, side: Vec3, px: u32) -> (f32, f32, f32, f32) {
+        let (v, right) = (self.toward, Vec3::Y.cross(side));
+        let azimuth = v.dot(right).atan2(v.dot(side));
+        let texels_per_px = px as f32 / self.screen.max(1e-3);
+        let shift = PERSPECTIVE * self.sin_spread * px as f32 * 0.5;
+        (azimuth, self.elevation, texels_per_px, shift)
+    }
 }
 
 /// An object's bake and its quad.
@@ -320,8 +348,9 @@ impl<S: Subject + Send + Sync> Representation<S> for BillboardSet {
         if !sight.sane() || sight.within(self.near) {
             return None;
         }
+        let look = Look::new(sight);
         let predict = |side: Vec3, px: u32, p: &Profile| {
-            let (a, e, tpp, shift) = view_terms(side, px, sight)?;
+            let (a, e, tpp, shift) = look?.terms(side, px);
             Some(billboard_error(p, a, e, tpp, shift))
         };
         let px = self.bake_px(b, sight.distance, sight.px_per_radian);

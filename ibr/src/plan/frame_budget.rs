@@ -42,6 +42,9 @@ pub(super) struct Object<'e> {
     pub weight: f32,
     /// The representation in use, whose time is discounted by the hysteresis.
     pub current: Option<usize>,
+    /// The most frames a rebuild of it may be spread over, whatever its representation's
+    /// payback ([`super::Config::horizon`]).
+    pub horizon: f32,
 }
 
 /// What an object may do this frame: draw one representation as it is, or rebuild it
@@ -189,7 +192,7 @@ impl Part {
                     });
                 }
                 if e.rebuilds && e.rebuilt.is_finite() {
-                    let frames = w.payback.get(r).copied().unwrap_or(1.0);
+                    let frames = w.payback.get(r).copied().unwrap_or(1.0).min(o.horizon);
                     let spread = e.rebuild_ms / frames.max(1.0);
                     out.picks.push(Pick {
                         rep: r,
@@ -403,6 +406,7 @@ mod tests {
             est,
             weight: area,
             current: None,
+            horizon: f32::INFINITY,
         }
     }
 

@@ -167,7 +167,9 @@ pub(crate) fn dear_geometry() -> CostModel {
 }
 
 /// A planner over `objects` choosing between geometry and `rep`, with an error budget per
-/// object, `rebuilds` a frame and the cost model `cost`.
+/// object, `rebuilds` a frame and the cost model `cost`. The objects are expected to stay
+/// in view ([`Config::horizon`] infinite): a bake is weighed over its whole payback from
+/// the first frame.
 pub(crate) fn beside_geometry(
     objects: Vec<MeshGroup>,
     rep: Box<dyn Representation<MeshGroup>>,
@@ -182,6 +184,7 @@ pub(crate) fn beside_geometry(
             ..Budgets::default()
         },
         cost,
+        horizon: f32::INFINITY,
         ..Config::default()
     };
     Planner::new(config, objects, vec![Box::new(Geometry), rep])
