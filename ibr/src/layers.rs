@@ -40,7 +40,7 @@ use crate::impostor::{image_material, Frustum};
 use crate::schedule::{refresh_side_by_side, Budget, Refresher, Scheduler};
 use crate::subject::Subject;
 use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba};
-use glam::{Mat4, Vec2};
+use glam::{Mat4, Vec2, Vec3};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -268,7 +268,7 @@ impl LayerSet {
         self.scheduler.clear();
         let projector = Projector::new(camera, width, height);
         for (i, (layer, s)) in self.layers.iter_mut().zip(subjects.iter()).enumerate() {
-            let projected = project_corners(s, &projector);
+            let projected = project_corners(s.corners(), &projector);
             layer.predicted = Predicted::default();
             let Some((points, nearest)) = projected else {
                 // Nothing to fit; the renderer clips the geometry, if it is in view at all.
@@ -410,10 +410,10 @@ impl LayerSet {
 /// Where `s`'s characteristic points land through `projector` (a camera's image), and
 /// the nearest one's distance along the view direction; `None` when one is at or behind
 /// the near plane (no warp will do).
-fn project_corners<S: Subject>(s: &S, projector: &Projector) -> Option<([Vec2; 8], f32)> {
+fn project_corners(corners: [Vec3; 8], projector: &Projector) -> Option<([Vec2; 8], f32)> {
     let mut points = [Vec2::ZERO; 8];
     let mut nearest = f32::INFINITY;
-    for (p, c) in points.iter_mut().zip(s.corners()) {
+    for (p, c) in points.iter_mut().zip(corners) {
         let (px, z) = projector.project(c)?;
         (*p, nearest) = (px, nearest.min(z));
     }

@@ -607,7 +607,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
                     let (offset, version) = (eye - bounds.center, s.version());
                     let known = asked[k].stands(i, frame, reask, offset, version);
                     let first = seen.estimates.len();
-                    let sight = base.at(bounds);
+                    // Corners once for every representation (geometry's box, a layer's warp).
+                    let sight = base.at(bounds).with_corners(s.corners());
                     let pixels = sight.pixels;
                     let rect = project.rect(bounds.center, bounds.radius);
                     let rect = rect.unwrap_or_default();

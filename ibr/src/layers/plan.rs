@@ -65,7 +65,10 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
         if w == 0 || h == 0 {
             return None;
         }
-        let (points, _) = project_corners(subject, &Projector::new(sight.camera, w, h))?;
+        let (points, _) = project_corners(
+            sight.corners_of(subject),
+            &Projector::new(sight.camera, w, h),
+        )?;
         let view = (Vec2::ZERO, Vec2::new(w as f32, h as f32));
         let fresh = job(i, &points, grow(view, cfg.margin), cfg);
         // What a draw shades: the warped image's quad, about the box's screen rectangle
@@ -122,7 +125,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             let (Some(s), Some(layer)) = (subjects.get(i), self.layers.get_mut(i)) else {
                 continue;
             };
-            let Some((points, nearest)) = project_corners(s, &projector) else {
+            let Some((points, nearest)) = project_corners(s.corners(), &projector) else {
                 continue;
             };
             (layer.screen, layer.nearest) = (points, nearest);
@@ -158,7 +161,7 @@ impl<S: Subject + Send + Sync> Representation<S> for LayerSet {
             else {
                 return;
             };
-            let Some((points, nearest)) = project_corners(s, &projector) else {
+            let Some((points, nearest)) = project_corners(s.corners(), &projector) else {
                 layer.mode = Mode::Geometry(Why::Behind);
                 return;
             };

@@ -59,7 +59,7 @@ fn scene() -> Vec<MeshGroup> {
 /// The layer's own screen rectangle this frame (its box's, within the view, grown by 2
 /// pixels as the impostors' rectangles are).
 fn layer_rect(s: &MeshGroup, camera: &Camera) -> Option<metrics::Rect> {
-    let (points, _) = project_corners(s, &Projector::new(camera, W, H))?;
+    let (points, _) = project_corners(s.corners(), &Projector::new(camera, W, H))?;
     let (lo, hi) = clip(bounds(&points), (Vec2::ZERO, Vec2::new(W as f32, H as f32)));
     let (x0, y0) = (lo.x.max(0.0) as u32, lo.y.max(0.0) as u32);
     let (x1, y1) = (

@@ -31,6 +31,10 @@ pub struct Sight<'a> {
     /// Screen rectangles under the camera (its matrices taken once per frame, not per
     /// object): [`Sight::rect`].
     pub project: RectProjector,
+    /// The subject's corners ([`Subject::corners`]) where the planner worked them out
+    /// once for every representation that needs them; `None`: ask the subject
+    /// ([`Sight::corners_of`]).
+    pub corners: Option<[Vec3; 8]>,
 }
 
 impl<'a> Sight<'a> {
@@ -48,6 +52,7 @@ impl<'a> Sight<'a> {
             distance: 0.0,
             pixels: 0.0,
             project: RectProjector::new(camera, width, height),
+            corners: None,
         }
         .at(bounds)
     }
@@ -75,7 +80,21 @@ impl<'a> Sight<'a> {
             distance,
             pixels,
             project,
+            corners: None,
         }
+    }
+
+    /// The same, with the subject's corners worked out ([`Sight::corners`]).
+    pub fn with_corners(self, corners: [Vec3; 8]) -> Sight<'a> {
+        Sight {
+            corners: Some(corners),
+            ..self
+        }
+    }
+
+    /// `subject`'s corners: those worked out already, else its own.
+    pub fn corners_of<S: Subject + ?Sized>(&self, subject: &S) -> [Vec3; 8] {
+        self.corners.unwrap_or_else(|| subject.corners())
     }
 
     /// The object's screen rectangle ([`crate::impostor::screen_rect`]; `None` when wholly
@@ -222,7 +241,7 @@ impl<S: Subject + Send + Sync> Representation<S> for Geometry {
     fn estimate(&self, _i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         // Its fragments: over its box's screen rectangle when that is smaller than the
         // sphere's disc (a tall building's is).
-        let footprint = sight.project.points_area(&subject.corners());
+        let footprint = sight.project.points_area(&sight.corners_of(subject));
         let pixels = footprint.map_or(sight.pixels, |a| a.min(sight.pixels));
         let draw = Work {
             triangles: subject.triangle_count() as u64,
