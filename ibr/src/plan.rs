@@ -22,9 +22,9 @@
 //!    cheaper (by the time saved, net of the rebuild spread over
 //!    [`Config::payback_frames`], or the representation's own
 //!    [`Representation::payback_frames`], but never more frames than the object is
-//!    expected to stay in view: [`Config::horizon`]); under a budget of rebuild milliseconds, by
-//!    that worth per predicted millisecond of the rebuild, so that one long bake does not
-//!    crowd out many short rebuilds). They are taken within the rebuild budget (a count,
+//!    expected to stay in view: [`Config::horizon`]); under a budget of rebuild
+//!    milliseconds, by that worth per predicted millisecond of the rebuild, so that one
+//!    long bake does not crowd out many short rebuilds). They are taken within the rebuild budget (a count,
 //!    and optionally predicted milliseconds and the bytes every representation may hold), at
 //!    most one per object (the best that fits: an object whose octahedral bake would pass
 //!    the memory budget may take an impostor instead), and each representation rebuilds
