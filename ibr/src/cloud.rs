@@ -27,7 +27,7 @@
 //! `3/4 (1 + cos² θ)` is [`Phase::Rayleigh`]; symmetric about 90°, it has no silver lining.
 //! All are normalised to a mean of 1 over the sphere, so tints above 1 are allowed.
 //!
-//! Seen from close by or from inside ([`fog`]), particles near the eye fade out and the
+//! Seen from close by or from inside (`fog`), particles near the eye fade out and the
 //! opacity they lose is drawn as a fog over the view, so the inside of a cloud is a fog
 //! in the cloud's colours rather than a wall of screen-filling billboards.
 //!
@@ -240,7 +240,7 @@ impl Subject for Cloud {
 
     /// Reruns a stale light pass, then writes one screen-facing quad per particle, tinted
     /// for this view and faded near the eye, sorted back to front, and the fog of the
-    /// faded particles (see [`fog`]).
+    /// faded particles (see `fog`).
     fn prepare(&mut self, camera: &Camera, height: u32) {
         if self.stale {
             self.light_pass();

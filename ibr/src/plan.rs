@@ -124,8 +124,8 @@ pub enum Scope {
     Object,
     /// The frame's error (the mean error over the pixels the visible objects' rectangles
     /// cover, each object's error weighted by its rectangle's area times the share of it that
-    /// shows: [`frame_budget`], [`occlusion`]), with a margin for its spread so that it
-    /// holds on 99% of frames ([`Report::bound`], [`frame_budget`]). Objects
+    /// shows: `frame_budget`, [`occlusion`]), with a margin for its spread so that it
+    /// holds on 99% of frames ([`Report::bound`], `frame_budget`). Objects
     /// may then err more where that buys most time; hysteresis discounts the
     /// representation in use by [`Config::min_saving`] of its time.
     Frame,
@@ -158,7 +158,7 @@ pub struct Config {
     pub release_after: u32,
     /// How far an object's measured error scatters about its prediction, as a fraction of
     /// it: the frame scope keeps a bound that holds on 99% of frames, the mean plus 2.3
-    /// times the spread of the objects' weighted errors ([`frame_budget`]). 0: the mean
+    /// times the spread of the objects' weighted errors (`frame_budget`). 0: the mean
     /// alone.
     pub spread: f32,
     /// Every representation is asked for an object's prediction at least once in this
@@ -240,7 +240,7 @@ pub struct Report {
     pub rebuild_ms: f32,
     /// Largest predicted error, and the frame's: the mean over the pixels the visible
     /// objects' rectangles cover, of each object's error over its rectangle times the part
-    /// of it that shows ([`frame_budget`]).
+    /// of it that shows (`frame_budget`).
     pub max_error: f32,
     pub mean_error: f32,
     /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the

@@ -106,7 +106,7 @@ pub fn glb(data: &[u8]) {
     check(super::gltf_from(Path::new("m.glb"), &files));
 }
 
-/// The most pixels an image input may declare to be decoded by [`image`]: larger images
+/// The most pixels an image input may declare to be decoded by the `image` crate: larger images
 /// decode correctly but take long enough (a 2048 x 2048 JPEG from a 10 KB file, 0.4 s) to
 /// trip libFuzzer's one-second hang limit on a busy machine, which would hide real hangs.
 /// The size limits themselves are unit-tested.

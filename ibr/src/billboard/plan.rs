@@ -193,14 +193,14 @@ fn texture_bytes(t: &Texture) -> usize {
 #[derive(Clone, Debug)]
 pub struct BillboardSet {
     /// Largest side of a new bake's image (each object's is twice its screen diameter when
-    /// baked, from [`MIN_PX`] up to this), and the side of its probes, pixels.
+    /// baked, from `MIN_PX` up to this), and the side of its probes, pixels.
     pub px: u32,
     pub probe_px: u32,
     /// The horizontal direction a new bake is taken from (toward the viewer).
     pub side: Vec3,
-    /// Within this many radii the set does not draw an object ([`NEAR`] after `new`).
+    /// Within this many radii the set does not draw an object (`NEAR` after `new`).
     pub near: f32,
-    /// Frames a bake is weighed as lasting ([`PAYBACK`] after `new`): it is made once
+    /// Frames a bake is weighed as lasting (`PAYBACK` after `new`): it is made once
     /// for every view, so it lasts until its object changes, unlike an image taken from
     /// one eye.
     pub payback_frames: f32,

@@ -203,7 +203,7 @@ pub struct OctahedralSet {
     pub blend: Blend,
     /// Within this many radii the set does not draw an object (2 after [`OctahedralSet::new`]).
     pub near: f32,
-    /// Frames a bake is weighed as lasting ([`Representation::payback_frames`]; [`PAYBACK`]
+    /// Frames a bake is weighed as lasting ([`Representation::payback_frames`]; `PAYBACK`
     /// after [`OctahedralSet::new`]): it holds every direction, so it lasts until its
     /// object changes, unlike an image taken from one eye.
     pub payback_frames: f32,
