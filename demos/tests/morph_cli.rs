@@ -119,9 +119,11 @@ fn the_middle_view_matches_a_render_from_the_in_between_camera() {
     args.extend(SIZE);
     ok(&run(env!("CARGO_BIN_EXE_render"), &args));
     let (morphed, truth) = (png(&out.join("morph_0001.png")), png(&truth));
-    let err = mean_error(&morphed, &truth, true);
+    // The capture holds the bytes `render --png` writes (unorm vertex colours), and the
+    // morph writes them back as it read them: both images in the same encoding.
+    let err = mean_error(&morphed, &truth, false);
     eprintln!("middle view off by {err:.1} levels");
-    // (Measured: 2.0 levels; the ends against the captured views 1.9 each.)
+    // (Measured: 1.6 levels; the ends against the captured views 1.5 each.)
     assert!(err < 6.0, "middle view off by {err:.1} levels");
     for (k, view) in [(0, "0000"), (2, "0001")] {
         let captured = png(&cap.join(format!("images/{view}.png")));

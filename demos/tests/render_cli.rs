@@ -1,5 +1,7 @@
 //! The `render` binary end to end: face ids and vertex colours in the PNG, depth file size
-//! and coverage, the timing line's format, and one-line errors (no panics) on bad input.
+//! and coverage, the timing line's format, one-line errors (no panics) on bad input, the
+//! capture's colour files byte for byte the PNG's in every shading, and the warning when
+//! the model is out of view.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -242,4 +244,150 @@ fn an_empty_scene_renders_an_empty_frame_with_a_notice() {
             "{flag}: depth written"
         );
     }
+}
+
+/// The quad with a normal, so the lit and textured shadings light it.
+const QUAD_LIT: &str = "\
+v -1 -1 0 1 0 0
+v 1 -1 0 0 1 0
+v 1 1 0 0 0 1
+v -1 1 0 1 1 0
+vn 0 0 1
+f 1//1 2//1 3//1
+f 1//1 3//1 4//1
+";
+
+/// Issue 40: the capture's colour files hold what `--out` writes for the same view, in
+/// the shading's encoding (before, the unorm shadings were sRGB-encoded: face id 1 was
+/// written as 13).
+#[test]
+fn a_capture_holds_the_bytes_of_the_png_for_every_shading() {
+    let t = Tmp::new("render-cli", "capture-bytes");
+    let obj = t.path("quad.obj");
+    std::fs::write(&obj, QUAD_LIT).unwrap();
+    let (w, h) = (W.to_string(), H.to_string());
+    for shading in ["flat", "vertex", "faceid", "lit", "textured"] {
+        // Straight on (the face ids' pixels are known) and from an oblique eye.
+        for eye in ["0,0,3", "0.7,-0.4,2.6"] {
+            let (png, cap) = (t.path("view.png"), t.path("cap"));
+            let _ = std::fs::remove_dir_all(&cap);
+            let out = render(&[
+                "--obj",
+                obj.to_str().unwrap(),
+                "-W",
+                &w,
+                "-H",
+                &h,
+                "--shading",
+                shading,
+                "--eye",
+                eye,
+                "--out",
+                png.to_str().unwrap(),
+                "--capture",
+                cap.to_str().unwrap(),
+                "--views",
+                "1",
+            ]);
+            assert_ok(&out);
+            let (view, captured) = (rgba(&png), rgba(&cap.join("images/0000.png")));
+            assert_eq!(view.dimensions(), captured.dimensions());
+            let drawn = view.pixels().filter(|p| p.0 != [0, 0, 0, 255]).count();
+            assert!(drawn > 300, "{shading} from {eye}: {drawn} pixels drawn");
+            let differ = view.pixels().zip(captured.pixels()).filter(|(a, b)| a != b);
+            assert_eq!(differ.count(), 0, "{shading} from {eye}: capture differs");
+            if shading == "faceid" && eye == "0,0,3" {
+                // The triangles of faceid_and_vertex_images_and_depth, ids 1 and 2.
+                assert_eq!(captured.get_pixel(40, 30).0, [1, 0, 0, 255]);
+                assert_eq!(captured.get_pixel(24, 18).0, [2, 0, 0, 255]);
+            }
+        }
+    }
+}
+
+/// Issue 40: a model outside the default camera's view gave an all-black PNG without a
+/// word. Now one warning line names the coverage and a camera that frames the model, and
+/// that camera does.
+#[test]
+fn a_model_out_of_view_is_warned_about_with_a_camera_that_frames_it() {
+    let t = Tmp::new("render-cli", "out-of-view");
+    let far = t.path("far.obj");
+    // The quad moved to (100, 100, -50): the default camera at (0, 0, 3) looks at the origin.
+    let moved: String = QUAD
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(rest) => {
+                let f: Vec<f32> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
+                format!(
+                    "v {} {} {} {} {} {}\n",
+                    f[0] + 100.0,
+                    f[1] + 100.0,
+                    f[2] - 50.0,
+                    f[3],
+                    f[4],
+                    f[5]
+                )
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&far, moved).unwrap();
+    let png = t.path("far.png");
+    let (w, h) = (W.to_string(), H.to_string());
+    let size = ["-W", &w, "-H", &h];
+    let mut args = vec![
+        "--obj",
+        far.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    args.extend(size);
+    let out = render(&args);
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    let warnings: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("render: warning: "))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    let line = warnings[0];
+    assert!(
+        line.contains(&format!("covers 0 of {} pixels", W * H)),
+        "{line}"
+    );
+    assert!(line.contains("(centre 100,100,-50)"), "{line}");
+    assert!(rgba(&png).pixels().all(|p| p.0 == [0, 0, 0, 255]));
+    // The suggested camera frames the model: no warning, and most of the quad in view.
+    let hint = line.split("try ").nth(1).expect("a suggestion");
+    let hint: Vec<&str> = hint.split_whitespace().collect();
+    let mut args = vec![
+        "--obj",
+        far.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    args.extend(size);
+    args.extend(&hint);
+    let out = render(&args);
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("warning"), "{hint:?}: {err}");
+    let drawn = rgba(&png)
+        .pixels()
+        .filter(|p| p.0 != [0, 0, 0, 255])
+        .count();
+    assert!(drawn > (W * H / 10) as usize, "{hint:?}: {drawn} pixels");
+    // A framed model: no warning.
+    let quad = t.path("quad.obj");
+    std::fs::write(&quad, QUAD).unwrap();
+    let mut args = vec![
+        "--obj",
+        quad.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    args.extend(size);
+    let out = render(&args);
+    assert_ok(&out);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
 }

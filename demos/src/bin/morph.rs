@@ -12,7 +12,8 @@
 //! Writes `morph_NNNN.png` (and with `--plain` the morph without prewarp, `plain_NNNN.png`,
 //! to compare) and prints each frame's parameter and what it is made of. Errors are one
 //! line on stderr, `morph: error: ...`, and exit code 1; the singular case, the second eye
-//! straight ahead of the first, is such an error.
+//! straight ahead of the first, is such an error. The flags follow the tools' shared
+//! vocabulary (`demos::cli`): `--out` is the folder; the size is the capture's.
 
 use clap::{Parser, ValueEnum};
 use engine::load;
@@ -29,9 +30,9 @@ enum CorrespondenceArg {
     Stereo,
 }
 
-/// Morph between two views of a capture.
+/// Make in-between views of two captured views by view morphing (prewarp, morph, postwarp).
 #[derive(Debug, Parser)]
-#[command(name = "morph", version, about)]
+#[command(name = "morph", version, allow_negative_numbers = true)]
 struct Args {
     /// A capture's transforms.json (or the folder holding it); depth maps are optional
     /// with `--correspondence stereo`.

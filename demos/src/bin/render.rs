@@ -1,20 +1,27 @@
 //! `render`: loads an OBJ or glTF, renders it with the peers' camera conventions, and
-//! optionally times frames and writes the colour (PNG) and depth (raw f32) images, or a
-//! `transforms.json` capture of one or more views (`--capture DIR --views N`).
+//! optionally times frames and writes the colour (PNG, `--out`) and depth (raw f32) images,
+//! or a `transforms.json` capture of one or more views (`--capture DIR --views N`) whose
+//! colour files hold the same bytes `--out` writes for the same view, in the shading's
+//! encoding (unorm for `vertex`, `flat` and `faceid`, sRGB for `lit` and `textured`).
 //!
 //! The counterpart of `../shared/peers/llvmpipe_render.py`: same flags, same camera
 //! (`look_at_rh` + `perspective_rh_gl`), same outputs (PNG with a top-left origin; depth as
 //! little-endian f32 OpenGL window depth, top row first, 1.0 where nothing was drawn) and
 //! the same last stdout line when timing
 //! (`render NAME WxH tris=T threads=N median_ms=.. min_ms=.. p90_ms=.. frames=N`, with the
-//! peer's median and `p90 = sorted[floor(0.9 (n - 1))]`).
+//! peer's median and `p90 = sorted[floor(0.9 (n - 1))]`). The peer's `--png` is kept as
+//! a hidden alias of `--out`; the other flags follow the tools' shared vocabulary
+//! (`demos::cli`), negative vectors included (`--eye -1,2,3`).
+//!
+//! When the model covers (almost) none of the frame, one line on stderr says so, with the
+//! model's bounds and an `--eye`/`--target` that would frame it.
 //!
 //! Every error (unreadable model, bad flag value, unwritable output) is one line on stderr,
 //! `render: error: ...`, and exit code 1 (2 for other usage errors).
 
 use clap::error::ErrorKind;
 use clap::{ArgGroup, Parser, ValueEnum};
-use demos::cli::parse_vec3;
+use demos::cli::{almost_empty, format_vec3, parse_vec3};
 use engine::{
     load, Camera, Cull, Encoding, FrameOptions, FrameStats, Material, Projection, Renderer, Rgba,
     Scene, Shading, Target,
@@ -44,9 +51,9 @@ enum CullArg {
     Back,
 }
 
-/// Render an OBJ or glTF model with a perspective camera (peer-compatible conventions).
+/// Render one OBJ or glTF model headless: a PNG, a depth file or a capture of views.
 #[derive(Debug, Parser)]
-#[command(name = "render", version, about)]
+#[command(name = "render", version, allow_negative_numbers = true)]
 #[command(group(ArgGroup::new("model").required(true).args(["obj", "gltf"])))]
 struct Args {
     /// Wavefront OBJ file (with its MTL materials, if any).
@@ -62,13 +69,13 @@ struct Args {
     #[arg(short = 'H', long = "height", default_value_t = 480)]
     height: u32,
     /// Camera position.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,3", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,3", allow_hyphen_values = true, value_parser = parse_vec3)]
     eye: Vec3,
     /// Point the camera looks at.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", allow_hyphen_values = true, value_parser = parse_vec3)]
     target: Vec3,
     /// Camera up direction.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", allow_hyphen_values = true, value_parser = parse_vec3)]
     up: Vec3,
     /// Vertical field of view in degrees.
     #[arg(long = "fov-y", value_name = "DEG", default_value_t = 60.0)]
@@ -94,9 +101,9 @@ struct Args {
     /// Untimed frames before the timed ones.
     #[arg(long, value_name = "N", default_value_t = 3)]
     warmup: usize,
-    /// Write the colour image as PNG.
-    #[arg(long, value_name = "FILE")]
-    png: Option<PathBuf>,
+    /// Write the colour image as PNG (`--png` is the peer's spelling, also taken).
+    #[arg(long = "out", alias = "png", value_name = "FILE")]
+    out: Option<PathBuf>,
     /// Write the depth image as raw little-endian f32 (OpenGL window depth, top row first).
     #[arg(long, value_name = "FILE")]
     depth: Option<PathBuf>,
@@ -145,7 +152,7 @@ fn check(a: &Args) -> Result<(), String> {
         return Err("--frames must be at least 1".into());
     }
     // Fail before a long render rather than after it.
-    for out in [&a.png, &a.depth].into_iter().flatten() {
+    for out in [&a.out, &a.depth].into_iter().flatten() {
         match out.parent() {
             Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => {
                 return Err(format!(
@@ -260,6 +267,70 @@ fn prepare(scene: &mut Scene, shading: ShadingArg, bounds: (Vec3, Vec3)) -> Enco
         }
         ShadingArg::Textured => Encoding::Srgb,
     }
+}
+
+/// Bounds of every drawn vertex in world space (instances' transforms applied); `None`
+/// when nothing is drawn.
+fn world_bounds(scene: &Scene) -> Option<(Vec3, Vec3)> {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for inst in &scene.instances {
+        let Some(mesh) = scene.meshes.get(inst.mesh) else {
+            continue;
+        };
+        for p in &mesh.positions {
+            let w = inst.transform.transform_point3(*p);
+            if w.is_finite() {
+                lo = lo.min(w);
+                hi = hi.max(w);
+            }
+        }
+    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// The warning for a frame the model (almost) misses: the pixels covered (drawn colour or
+/// depth), the model's world bounds and a camera that would frame them. `None` when the
+/// frame is covered enough.
+fn coverage_warning(a: &Args, target: &Target, scene: &Scene) -> Option<String> {
+    let bytes = target.to_rgba8();
+    let depth = target.depth_gl_image();
+    let covered = bytes
+        .chunks_exact(4)
+        .zip(&depth)
+        .filter(|(px, d)| **d < 1.0 || *px != [0, 0, 0, 255])
+        .count();
+    let total = depth.len();
+    if !almost_empty(covered, total) {
+        return None;
+    }
+    let mut line = format!(
+        "the model covers {covered} of {total} pixels from --eye {} --target {}",
+        format_vec3(a.eye),
+        format_vec3(a.target)
+    );
+    if let Some((lo, hi)) = world_bounds(scene) {
+        let centre = 0.5 * (lo + hi);
+        let radius = (0.5 * (hi - lo).length()).max(1e-3);
+        // Far enough for the bounding sphere to fit the vertical field of view, looking
+        // along the current view direction.
+        let dist = radius / (0.5 * a.fov_y.to_radians()).sin();
+        let dir = (a.target - a.eye).normalize_or(Vec3::NEG_Z);
+        line += &format!(
+            "; its bounds run from {} to {} (centre {}): try --eye {} --target {}",
+            format_vec3(lo),
+            format_vec3(hi),
+            format_vec3(centre),
+            format_vec3(centre - dir * dist),
+            format_vec3(centre)
+        );
+        if dist + radius > a.far {
+            line += &format!(" --far {}", (1.5 * (dist + radius)).ceil());
+        }
+    } else {
+        line += "; aim the camera with --eye and --target";
+    }
+    Some(line)
 }
 
 /// The peer's statistics: `statistics.median` and `sorted[floor(0.9 (n - 1))]`.
@@ -388,7 +459,12 @@ fn run(a: &Args) -> Result<(), String> {
     };
     eprintln!("{}", stats_line(&stats));
 
-    if let Some(png) = &a.png {
+    if !scene.instances.is_empty() {
+        if let Some(line) = coverage_warning(a, &target, &scene) {
+            eprintln!("render: warning: {line}");
+        }
+    }
+    if let Some(png) = &a.out {
         image::save_buffer_with_format(
             png,
             &target.to_rgba8(),
@@ -416,7 +492,8 @@ fn run(a: &Args) -> Result<(), String> {
                 ..camera
             })
             .collect();
-        let n = demos::capture::write(dir, &scene, &cameras, a.width, a.height, &opts)?;
+        let size = (a.width, a.height);
+        let n = demos::capture::write(dir, &scene, &cameras, size, encoding, &opts)?;
         eprintln!(
             "render: wrote a capture of {n} view(s) to {}",
             dir.display()

@@ -6,13 +6,16 @@
 //!
 //! ```sh
 //! render --gltf model.glb --capture cap --views 5 --eye 0,1,4 --target 0,1,0
-//! warp --capture cap/transforms.json --eye 0.5,1.2,3.5 --target 0,1,0 --png view.png
+//! warp --capture cap/transforms.json --eye -0.5,1.2,3.5 --target 0,1,0 --out view.png
 //! ```
 //!
-//! Errors are one line on stderr, `warp: error: ...`, and exit code 1.
+//! The flags follow the tools' shared vocabulary (`demos::cli`: `-W/-H`, `--eye/--target/
+//! --up`, `--out`; `--png` is kept as a hidden alias), negative vectors included. When the
+//! warped references cover (almost) none of the view, one line on stderr says so. Errors
+//! are one line on stderr, `warp: error: ...`, and exit code 1.
 
 use clap::{Parser, ValueEnum};
-use demos::cli::parse_vec3;
+use demos::cli::{almost_empty, format_vec3, parse_vec3};
 use engine::{load, Camera, Projection};
 use glam::{Mat4, Vec3};
 use ibr::images::transforms::{read_depth_image, read_transforms, srgb8};
@@ -47,9 +50,9 @@ enum FillArg {
     Background,
 }
 
-/// Warp depth images to a new camera.
+/// Make a new view from depth images alone: warp a capture's nearest views to a new camera.
 #[derive(Debug, Parser)]
-#[command(name = "warp", version, about)]
+#[command(name = "warp", version, allow_negative_numbers = true)]
 struct Args {
     /// A capture's transforms.json (or the folder holding it).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["colour", "depth"])]
@@ -61,22 +64,22 @@ struct Args {
     #[arg(long, value_name = "FILE", requires = "colour")]
     depth: Option<PathBuf>,
     /// The reference camera's position (with --colour).
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,3", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,3", allow_hyphen_values = true, value_parser = parse_vec3)]
     ref_eye: Vec3,
     /// The point the reference camera looks at.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", allow_hyphen_values = true, value_parser = parse_vec3)]
     ref_target: Vec3,
     /// The reference camera's vertical field of view, degrees.
     #[arg(long, value_name = "DEG", default_value_t = 60.0)]
     ref_fov_y: f32,
     /// Target camera position.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_vec3)]
     eye: Vec3,
     /// Point the target camera looks at.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", allow_hyphen_values = true, value_parser = parse_vec3)]
     target: Vec3,
     /// Up direction of both cameras.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", allow_hyphen_values = true, value_parser = parse_vec3)]
     up: Vec3,
     /// Target vertical field of view, degrees.
     #[arg(long = "fov-y", value_name = "DEG", default_value_t = 60.0)]
@@ -101,8 +104,8 @@ struct Args {
     #[arg(long, value_enum, default_value_t = FillArg::PullPush)]
     fill: FillArg,
     /// The warped view, PNG.
-    #[arg(long, value_name = "FILE")]
-    png: PathBuf,
+    #[arg(long = "out", alias = "png", value_name = "FILE")]
+    out: PathBuf,
     /// Its depth along the target's optical axis (.pfm or .exr); inf where nothing.
     #[arg(long, value_name = "FILE")]
     depth_out: Option<PathBuf>,
@@ -130,6 +133,15 @@ fn perspective(
             far,
         },
     }
+}
+
+/// The mean of the references' eyes, for the warning when the view misses them.
+fn refs_centre(refs: &[DepthImage]) -> Vec3 {
+    let sum: Vec3 = refs
+        .iter()
+        .map(|r| r.camera.view.inverse().w_axis.truncate())
+        .sum();
+    sum / refs.len().max(1) as f32
 }
 
 fn references(a: &Args) -> Result<Vec<DepthImage>, String> {
@@ -185,6 +197,7 @@ fn run(a: &Args) -> Result<(), String> {
     }
     let camera = perspective(a.eye, a.target, a.up, a.fov_y, w, h, a.near, a.far);
     let n = refs.len();
+    let ref_eyes = refs_centre(&refs);
     let mut view = WarpedView::new("warp", refs);
     view.nearest = a.nearest.max(1);
     view.fill = Fill::None;
@@ -218,7 +231,7 @@ fn run(a: &Args) -> Result<(), String> {
         load::write_png_rgba8(path, w, h, &mask).map_err(|e| e.to_string())?;
     }
     let image = image.to_depth_image();
-    load::write_png_rgba8(&a.png, w, h, &srgb8(&image)).map_err(|e| e.to_string())?;
+    load::write_png_rgba8(&a.out, w, h, &srgb8(&image)).map_err(|e| e.to_string())?;
     if let Some(path) = &a.depth_out {
         let depth = load::FloatImage::new(w, h, image.depth.clone()).ok_or("depth plane size")?;
         load::write_float_image(path, &depth).map_err(|e| e.to_string())?;
@@ -228,6 +241,16 @@ fn run(a: &Args) -> Result<(), String> {
         "warp: {} of {n} reference(s), {} samples, {} landed, {} behind the eye; holes: {} cracks, {} disocclusions; {filled} filled; {w}x{h} in {ms:.1} ms",
         frame.references, s.samples, s.warped, s.behind, frame.holes.cracks, frame.holes.disocclusions
     );
+    let landed = view.image().disparity.iter().filter(|d| **d >= 0.0).count();
+    if almost_empty(landed, view.image().disparity.len()) {
+        eprintln!(
+            "warp: warning: the references cover {landed} of {} pixels of the view from --eye {} --target {}; they were taken from around {}: aim --eye/--target at what they see",
+            w as usize * h as usize,
+            format_vec3(a.eye),
+            format_vec3(a.target),
+            format_vec3(ref_eyes)
+        );
+    }
     Ok(())
 }
 
