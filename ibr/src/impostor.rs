@@ -79,10 +79,13 @@ impl Default for Tolerance {
 /// Settings of an [`ImpostorSet`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
+    /// When an impostor is invalid and needs a refresh.
     pub tolerance: Tolerance,
+    /// Refreshes allowed per frame (a count, optionally a time).
     pub budget: Budget,
-    /// Smallest and largest texture side.
+    /// Smallest texture side, pixels.
     pub min_side: u32,
+    /// Largest texture side, pixels.
     pub max_side: u32,
     /// Textures the pool may hold.
     pub pool_slots: usize,
@@ -170,7 +173,9 @@ pub struct Impostor {
     capture: Option<Capture>,
     slot: Option<usize>,
     culled_frames: u32,
+    /// This frame's predicted error.
     pub predicted: Predicted,
+    /// How its subject is drawn this frame.
     pub mode: Mode,
     /// Times re-rendered.
     pub refreshes: u64,
@@ -181,9 +186,11 @@ pub struct Impostor {
 }
 
 impl Impostor {
+    /// Where and how its image was taken; `None` before the first refresh.
     pub fn capture(&self) -> Option<&Capture> {
         self.capture.as_ref()
     }
+    /// Whether it holds a texture of the [`Pool`].
     pub fn has_texture(&self) -> bool {
         self.slot.is_some()
     }
@@ -192,14 +199,19 @@ impl Impostor {
 /// What one [`ImpostorSet::update`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Report {
+    /// Impostors re-rendered this frame (pre-warmed ones included).
     pub refreshes: usize,
     /// Invalid impostors left stale (over budget or out of textures).
     pub stale: usize,
+    /// Subjects drawn as their image.
     pub images: usize,
+    /// Subjects drawn as geometry, for any [`Fallback`].
     pub geometry: usize,
+    /// Subjects outside the view, not drawn.
     pub culled: usize,
-    /// Largest and mean predicted error ratio over the drawn images.
+    /// Largest predicted error ratio ([`Predicted::ratio`]) over the drawn images.
     pub max_ratio: f32,
+    /// Mean predicted error ratio over the drawn images (0 when none is drawn).
     pub mean_ratio: f32,
     /// Images drawn with a predicted error over the tolerance (ratio above 1).
     pub over_tolerance: usize,
@@ -209,15 +221,18 @@ pub struct Report {
     pub prewarmed: usize,
     /// Triangles rendered by the refreshes.
     pub capture_triangles: u64,
-    /// Textures in use and in the pool.
+    /// Pool textures in use.
     pub pool_used: usize,
+    /// Textures the pool holds, in use or free.
     pub pool_size: usize,
 }
 
 /// Impostors for a list of subjects (one per subject, same order).
 #[derive(Debug)]
 pub struct ImpostorSet {
+    /// Settings; may be changed between frames.
     pub config: Config,
+    /// One impostor per subject, in the subjects' order.
     pub impostors: Vec<Impostor>,
     pool: Pool,
     renderer: Renderer,
@@ -237,6 +252,8 @@ pub struct ImpostorSet {
 }
 
 impl ImpostorSet {
+    /// A set of `count` impostors, none captured yet, with an empty texture pool of at most
+    /// `config.pool_slots` textures.
     pub fn new(config: Config, count: usize) -> Self {
         ImpostorSet {
             pool: Pool::new(config.pool_slots),
@@ -252,6 +269,7 @@ impl ImpostorSet {
         }
     }
 
+    /// The texture pool the impostors' images live in.
     pub fn pool(&self) -> &Pool {
         &self.pool
     }
