@@ -137,6 +137,7 @@ pub const SPREAD: f32 = 0.5;
 /// Settings of a [`Planner`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
+    /// The error, time, rebuild and memory budgets.
     pub budgets: Budgets,
     /// A representation not in use takes over only within this fraction of the error
     /// budget (in use, it keeps up to the whole budget).
@@ -170,6 +171,7 @@ pub struct Config {
     /// few frames, and predicting eight representations of every object of a world every
     /// frame is most of the planning.
     pub reask: u32,
+    /// Milliseconds per unit of work, to price draws and rebuilds.
     pub cost: CostModel,
 }
 
@@ -210,8 +212,9 @@ pub enum Over {
 pub struct Choice {
     /// Index into the planner's representations; `None` when culled.
     pub rep: Option<usize>,
-    /// Predicted error and draw time.
+    /// Predicted error, in the unit of [`Budgets::error`].
     pub error: f32,
+    /// Predicted draw time, milliseconds.
     pub ms: f32,
     /// Rebuilt this frame.
     pub rebuilt: bool,
@@ -224,24 +227,31 @@ pub struct Choice {
 pub struct Report {
     /// Objects drawn by each representation (in the planner's order).
     pub counts: Vec<usize>,
+    /// Objects off the view, not drawn.
     pub culled: usize,
     /// Visible objects whose representation changed since the frame before.
     pub switches: usize,
+    /// Rebuilds made this frame.
     pub rebuilds: usize,
     /// Rebuilds wanted but left for a later frame.
     pub deferred: usize,
-    /// Objects drawn over the error budget, and by reason.
+    /// Objects drawn over the error budget.
     pub over_budget: usize,
+    /// Of those, objects moved there by the time budget ([`Over::Time`]).
     pub over_time: usize,
+    /// Of those, objects the rebuild budget left there ([`Over::Rebuilds`]).
     pub over_rebuilds: usize,
+    /// Of those, objects no representation could draw within it ([`Over::Nothing`]).
     pub over_nothing: usize,
-    /// Predicted milliseconds: drawing, and rebuilding.
+    /// Predicted milliseconds of drawing.
     pub draw_ms: f32,
+    /// Predicted milliseconds of the frame's rebuilds.
     pub rebuild_ms: f32,
-    /// Largest predicted error, and the frame's: the mean over the pixels the visible
-    /// objects' rectangles cover, of each object's error over its rectangle times the part
-    /// of it that shows (`frame_budget`).
+    /// Largest predicted error of a drawn object, in the unit of [`Budgets::error`].
     pub max_error: f32,
+    /// The frame's error: the mean over the pixels the visible objects' rectangles cover,
+    /// of each object's error over its rectangle times the part of it that shows
+    /// (`frame_budget`), in the unit of [`Budgets::error`].
     pub mean_error: f32,
     /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the
     /// spread, [`Config::spread`]): what the frame scope keeps within the budget.
@@ -359,7 +369,9 @@ struct Rebuild {
 
 /// Objects and the representations the planner chooses among each frame.
 pub struct Planner<S> {
+    /// Settings; may be changed between frames.
     pub config: Config,
+    /// The objects planned for, indexed as the representations' and [`Planner::choices`].
     pub objects: Vec<S>,
     reps: Vec<Box<dyn Representation<S>>>,
     choices: Vec<Choice>,
@@ -411,6 +423,7 @@ pub struct Planner<S> {
     options: frame_budget::Options,
     picks: Vec<Option<frame_budget::Pick>>,
     batch: Vec<usize>,
+    /// What the last [`Planner::plan`] did.
     pub report: Report,
     eye: glam::Vec3,
     /// Each object's representation of the frame before (reused).
@@ -511,6 +524,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.reps.iter().map(|r| r.name()).collect()
     }
 
+    /// The `r`-th representation, in the planner's order; `None` past the last.
     pub fn representation(&self, r: usize) -> Option<&dyn Representation<S>> {
         self.reps.get(r).map(|b| b.as_ref())
     }
