@@ -29,13 +29,17 @@ use std::time::{Duration, Instant};
 /// What a technique prepares for: the camera, the target's size, the lighting and the time.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameView<'a> {
+    /// The frame's camera.
     pub camera: &'a Camera,
+    /// Width of the target, pixels.
     pub width: u32,
+    /// Height of the target, pixels.
     pub height: u32,
+    /// The frame's lighting.
     pub lighting: &'a Lighting,
-    /// Seconds since the start, and since the previous frame (0 on the first, or when time
-    /// went backwards).
+    /// Seconds since the start.
     pub time: f32,
+    /// Seconds since the previous frame (0 on the first, or when time went backwards).
     pub dt: f32,
 }
 
@@ -93,8 +97,11 @@ impl AddAssign for Counters {
 /// The finished frame, as a technique observing it sees it.
 #[derive(Debug)]
 pub struct Observed<'s, 'a> {
+    /// The finished frame (colour and depth after every pass).
     pub target: &'s Target,
+    /// The camera it was rendered with.
     pub camera: &'s Camera,
+    /// The lighting it was rendered with.
     pub lighting: &'s Lighting,
     /// Every draw the frame rendered.
     pub draws: &'s [Draw<'a>],
@@ -162,6 +169,7 @@ pub struct FrameLoop {
 }
 
 impl FrameLoop {
+    /// A loop with no frame rendered yet (its renderer and scratch are made here and reused).
     pub fn new() -> Self {
         Self::default()
     }
@@ -372,7 +380,9 @@ impl Technique for OctahedralImpostor {
 /// over it.
 #[derive(Clone, Debug)]
 pub struct Flare {
+    /// The flare: its elements, occlusion and fade settings.
     pub lens: LensFlare,
+    /// The light it follows.
     pub source: FlareSource,
 }
 
