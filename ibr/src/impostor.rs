@@ -22,6 +22,51 @@
 //! pool exhausted), the subject is drawn as geometry. Within a band just outside the
 //! sphere the image is refreshed every frame, so the switch to geometry does not pop.
 //! Textures come from a [`Pool`]; impostors culled for long release theirs.
+//!
+//! # Example
+//!
+//! An impostor of a small mesh: rendered at the first update, kept while the eye barely
+//! moves, rendered again once the eye has gone a quarter turn round it, and drawn.
+//!
+//! ```
+//! use engine::procedural::cuboid;
+//! use engine::{Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
+//! use glam::{Mat4, Vec3};
+//! use ibr::impostor::{Config, ImpostorSet, Mode};
+//! use ibr::subject::MeshGroup;
+//! use std::sync::Arc;
+//!
+//! let crate_mesh = Arc::new(cuboid(Vec3::ONE));
+//! let white = Arc::new(Material::lit(Rgba::WHITE));
+//! let mut subjects = vec![MeshGroup::new().with(crate_mesh, white, Mat4::IDENTITY)];
+//! let mut set = ImpostorSet::new(Config::default(), subjects.len());
+//! let lighting = Lighting::default();
+//! let (w, h) = (64, 64);
+//! let seen_from = |eye: Vec3| Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.5, 1.0);
+//!
+//! // No image yet: one is rendered, and drawn.
+//! let report = set.update(&mut subjects, &seen_from(Vec3::new(0.0, 0.0, 10.0)), h, &lighting);
+//! assert_eq!((report.refreshes, report.images), (1, 1));
+//! assert_eq!(set.impostors[0].mode, Mode::Image);
+//!
+//! // A millimetre to the side: far under the 0.125 degree parallax tolerance.
+//! let report = set.update(&mut subjects, &seen_from(Vec3::new(0.001, 0.0, 10.0)), h, &lighting);
+//! assert_eq!(report.refreshes, 0);
+//!
+//! // A quarter turn round the subject: the image is invalid and rendered again.
+//! let camera = seen_from(Vec3::new(10.0, 0.0, 0.0));
+//! let report = set.update(&mut subjects, &camera, h, &lighting);
+//! assert_eq!(report.refreshes, 1);
+//! assert_eq!(set.impostors[0].refreshes, 2);
+//!
+//! // Drawn: the image's quad covers the subject's place on screen.
+//! let mut draws = Vec::new();
+//! set.draws(&subjects, &mut draws);
+//! let mut target = Target::new(w, h);
+//! let opts = FrameOptions::default();
+//! Renderer::new().render(draws.iter().copied(), &camera, &lighting, &mut target, &opts);
+//! assert_ne!(target.pixel(w / 2, h / 2), target.pixel(0, 0));
+//! ```
 
 mod capture;
 mod plan;
