@@ -222,7 +222,7 @@ pub struct FlareState {
 /// A lens flare: its elements, occlusion and fade settings, atlas material and mesh.
 #[derive(Clone, Debug)]
 pub struct LensFlare {
-    /// The sprites, drawn in order along the line through the screen centre.
+    /// The sprites, each placed along the line from the light through the screen centre.
     pub elements: Vec<FlareElement>,
     /// Depth taps per frame (at least 1).
     pub samples: u32,

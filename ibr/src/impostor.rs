@@ -231,7 +231,8 @@ pub struct Impostor {
 }
 
 impl Impostor {
-    /// Where and how its image was taken; `None` before the first refresh.
+    /// Where and how its image was taken; `None` before the first refresh and after its
+    /// texture is released.
     pub fn capture(&self) -> Option<&Capture> {
         self.capture.as_ref()
     }

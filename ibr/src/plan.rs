@@ -216,7 +216,7 @@ pub struct Config {
     /// few frames, and predicting eight representations of every object of a world every
     /// frame is most of the planning.
     pub reask: u32,
-    /// Milliseconds per unit of work, to price draws and rebuilds.
+    /// The cost model that prices draws and rebuilds in predicted milliseconds.
     pub cost: CostModel,
 }
 
@@ -282,9 +282,9 @@ pub struct Report {
     pub deferred: usize,
     /// Objects drawn over the error budget.
     pub over_budget: usize,
-    /// Of those, objects moved there by the time budget ([`Over::Time`]).
+    /// Of those, objects the time budget moved to a cheaper representation ([`Over::Time`]).
     pub over_time: usize,
-    /// Of those, objects the rebuild budget left there ([`Over::Rebuilds`]).
+    /// Of those, objects whose rebuild the rebuild budget left out ([`Over::Rebuilds`]).
     pub over_rebuilds: usize,
     /// Of those, objects no representation could draw within it ([`Over::Nothing`]).
     pub over_nothing: usize,

@@ -198,7 +198,8 @@ pub struct FrameLoop {
 }
 
 impl FrameLoop {
-    /// A loop with no frame rendered yet (its renderer and scratch are made here and reused).
+    /// A loop with no frame rendered yet; its draw lists and capturer are reused frame to
+    /// frame.
     pub fn new() -> Self {
         Self::default()
     }
