@@ -22,10 +22,18 @@ pub enum Facing {
     Screen,
     /// Faces the eye position and keeps `up` (usually world +Y) as upright as possible
     /// (clouds, distant objects). Falls back to the camera's up when looking along `up`.
-    World { up: Vec3 },
+    World {
+        /// World-space direction kept as upright as possible (need not be unit length).
+        up: Vec3,
+    },
     /// Rotates only about `axis` (unit, usually +Y) to face the eye: trees, lamp posts.
     /// Seen along the axis it cannot face the viewer; see [`AxialFallback`].
-    Axial { axis: Vec3, fallback: AxialFallback },
+    Axial {
+        /// World-space axis of rotation (normalised when used; zero falls back to +Y).
+        axis: Vec3,
+        /// The fade toward the axis and the optional top sprite.
+        fallback: AxialFallback,
+    },
 }
 
 /// What an axial billboard does when the view comes near its axis (from above or below).
@@ -36,7 +44,10 @@ pub enum Facing {
 /// degenerate cross product and cannot flip or jitter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxialFallback {
+    /// Elevation in degrees at which the upright quad starts to fade (55 by default).
     pub fade_start: f32,
+    /// Elevation in degrees at which the upright quad has faded out and is no longer drawn
+    /// (75 by default); should be above `fade_start`.
     pub fade_end: f32,
     /// Also draw a quad lying across the axis (a top-down sprite, fixed in the world) with
     /// this texture region, fading in as the upright quad fades out. The two overlap
@@ -71,18 +82,24 @@ impl Facing {
 /// Billboard size: in world units, or in pixels (the same on screen at any distance).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Size {
+    /// Width and height in world units.
     World(Vec2),
+    /// Width and height in pixels of the target, the same at every distance (converted with
+    /// [`View::pixel_size_at`] at the billboard's position).
     Pixels(Vec2),
 }
 
 /// A texture region in UV space (u right, v down), for sprite sheets and atlases.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvRect {
+    /// Top-left corner (smallest u and v); (0, 0) is the texture's top-left.
     pub min: Vec2,
+    /// Bottom-right corner (largest u and v); (1, 1) is the texture's bottom-right.
     pub max: Vec2,
 }
 
 impl UvRect {
+    /// The whole texture, (0, 0) to (1, 1).
     pub const FULL: UvRect = UvRect {
         min: Vec2::ZERO,
         max: Vec2::ONE,
@@ -104,8 +121,11 @@ impl UvRect {
 /// One billboard.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Billboard {
+    /// World-space position of the quad's [`Billboard::pivot`].
     pub position: Vec3,
+    /// How the quad turns to face the viewer.
     pub facing: Facing,
+    /// Width and height of the quad, in world units or pixels.
     pub size: Size,
     /// The point of the quad placed at `position`, in quad units: (0.5, 0.5) the centre,
     /// (0.5, 0) the bottom centre (trees standing on the ground).
@@ -114,6 +134,7 @@ pub struct Billboard {
     pub rotation: f32,
     /// Straight linear colour multiplied with the texture; alpha is the opacity.
     pub tint: Rgba,
+    /// The texture region shown on the quad (u right, v down).
     pub region: UvRect,
 }
 
@@ -135,10 +156,13 @@ impl Billboard {
 /// What billboards need to know about the camera and the image, computed once a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
+    /// Eye position, world space.
     pub eye: Vec3,
     /// Unit camera axes in world space.
     pub right: Vec3,
+    /// Unit camera up axis, world space.
     pub up: Vec3,
+    /// Unit view direction (the camera's -Z), world space.
     pub forward: Vec3,
     /// World units per pixel at view distance 1 (perspective) or everywhere (orthographic).
     world_per_px: f32,
@@ -146,6 +170,8 @@ pub struct View {
 }
 
 impl View {
+    /// The view of `camera` rendering into an image `height` pixels tall (the pixel size
+    /// follows from the vertical field of view or extent).
     pub fn new(camera: &Camera, height: u32) -> Self {
         let world = camera.view.inverse();
         let h = height.max(1) as f32;
@@ -185,9 +211,13 @@ impl View {
 /// viewer, and the opacity factor `fade` in [0, 1] from the axial fallback (1 elsewhere).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Basis {
+    /// Unit horizontal axis of the quad, world space.
     pub right: Vec3,
+    /// Unit vertical axis of the quad, world space.
     pub up: Vec3,
+    /// Unit normal toward the viewer (`right x up`), world space.
     pub normal: Vec3,
+    /// Opacity factor in [0, 1] from the axial fade (1 for screen and world billboards).
     pub fade: f32,
 }
 
@@ -365,7 +395,9 @@ fn top_sprite(b: &Billboard, view: &View) -> Option<([Vec3; 4], f32, UvRect)> {
 /// orders whole draws by their bounding boxes.
 #[derive(Clone, Debug)]
 pub struct BillboardBatch {
+    /// Shared by every quad; made double-sided by [`BillboardBatch::new`].
     pub material: Material,
+    /// The billboards drawn at the next [`BillboardBatch::build`], in any order.
     pub items: Vec<Billboard>,
     mesh: Mesh,
     order: Vec<(f32, u32)>,
@@ -388,6 +420,7 @@ impl BillboardBatch {
         self.items.clear();
     }
 
+    /// Adds one billboard; it appears at the next [`BillboardBatch::build`].
     pub fn push(&mut self, b: Billboard) {
         self.items.push(b);
     }

@@ -54,6 +54,8 @@ impl Clone for Capturer {
 }
 
 impl Capturer {
+    /// A capturer with empty targets (sized at the first capture), a transparent clear colour
+    /// and per-material culling.
     pub fn new() -> Self {
         Self::default()
     }

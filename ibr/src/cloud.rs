@@ -123,6 +123,7 @@ impl Cloud {
         Self::new(cumulus(center, size, count, seed))
     }
 
+    /// The particles, world space.
     pub fn particles(&self) -> &[CloudParticle] {
         &self.particles
     }
@@ -144,6 +145,7 @@ impl Cloud {
         }
     }
 
+    /// The shading constants in use.
     pub fn shading(&self) -> CloudShading {
         self.shading
     }

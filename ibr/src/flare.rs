@@ -54,6 +54,7 @@ pub enum FlareShape {
 }
 
 impl FlareShape {
+    /// Every shape, in atlas order ([`FlareShape::index`]).
     pub const ALL: [FlareShape; 5] = [
         FlareShape::Glow,
         FlareShape::Halo,
@@ -101,7 +102,9 @@ impl FlareShape {
 /// Atlas layout: `ATLAS_COLS` x `ATLAS_ROWS` cells, each inset by `GUTTER` texels on every
 /// side (transparent), so bilinear taps at a region's border never reach a neighbour.
 pub const ATLAS_COLS: u32 = 3;
+/// Rows of atlas cells (see [`ATLAS_COLS`]).
 pub const ATLAS_ROWS: u32 = 2;
+/// Transparent border inside each atlas cell, texels (see [`ATLAS_COLS`]).
 pub const GUTTER: u32 = 2;
 
 /// The flare atlas: every [`FlareShape`] in its cell, `cell_px` texels square (gutter
@@ -149,10 +152,13 @@ pub struct FlareElement {
     pub size: f32,
     /// Straight linear colour; additive, so `rgb * a` is added at full visibility.
     pub tint: Rgba,
+    /// The sprite drawn (its cell of the [`atlas`]).
     pub shape: FlareShape,
 }
 
 impl FlareElement {
+    /// An element at `position` along the flare line, `size` (fraction of the image height)
+    /// across, with straight linear `tint`, showing `shape`.
     pub const fn new(position: f32, size: f32, tint: Rgba, shape: FlareShape) -> Self {
         FlareElement {
             position,
@@ -216,6 +222,7 @@ pub struct FlareState {
 /// A lens flare: its elements, occlusion and fade settings, atlas material and mesh.
 #[derive(Clone, Debug)]
 pub struct LensFlare {
+    /// The sprites, each placed along the line from the light through the screen centre.
     pub elements: Vec<FlareElement>,
     /// Depth taps per frame (at least 1).
     pub samples: u32,
@@ -223,6 +230,7 @@ pub struct LensFlare {
     pub radius_px: f32,
     /// Visibility change per second (4 = a full fade in 0.25 s); not positive = no fade.
     pub fade_per_second: f32,
+    /// The last measured and displayed visibility, and the light's projection.
     pub state: FlareState,
     material: Material,
     mesh: Mesh,

@@ -31,6 +31,7 @@ pub struct DepthImage {
     pub color: Vec<Premul>,
     /// Distance along the optical axis, scene units; [`EMPTY`] where nothing was drawn.
     pub depth: Vec<f32>,
+    /// The camera that took the image (its view and projection give each pixel's ray).
     pub camera: Camera,
 }
 
@@ -93,10 +94,12 @@ impl DepthImage {
         image
     }
 
+    /// Width, pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height, pixels.
     pub fn height(&self) -> u32 {
         self.height
     }
@@ -180,6 +183,7 @@ pub fn unproject(
 /// One sample of a layered depth image.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LdiSample {
+    /// Premultiplied linear colour of the surface.
     pub color: Premul,
     /// Distance along the optical axis.
     pub depth: f32,
@@ -194,6 +198,7 @@ pub struct LayeredDepthImage {
     height: u32,
     offsets: Vec<u32>,
     samples: Vec<LdiSample>,
+    /// The camera that took every layer.
     pub camera: Camera,
 }
 
@@ -247,10 +252,12 @@ impl LayeredDepthImage {
         }
     }
 
+    /// Width, pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height, pixels.
     pub fn height(&self) -> u32 {
         self.height
     }

@@ -22,6 +22,51 @@
 //! pool exhausted), the subject is drawn as geometry. Within a band just outside the
 //! sphere the image is refreshed every frame, so the switch to geometry does not pop.
 //! Textures come from a [`Pool`]; impostors culled for long release theirs.
+//!
+//! # Example
+//!
+//! An impostor of a small mesh: rendered at the first update, kept while the eye barely
+//! moves, rendered again once the eye has gone a quarter turn round it, and drawn.
+//!
+//! ```
+//! use engine::procedural::cuboid;
+//! use engine::{Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
+//! use glam::{Mat4, Vec3};
+//! use ibr::impostor::{Config, ImpostorSet, Mode};
+//! use ibr::subject::MeshGroup;
+//! use std::sync::Arc;
+//!
+//! let crate_mesh = Arc::new(cuboid(Vec3::ONE));
+//! let white = Arc::new(Material::lit(Rgba::WHITE));
+//! let mut subjects = vec![MeshGroup::new().with(crate_mesh, white, Mat4::IDENTITY)];
+//! let mut set = ImpostorSet::new(Config::default(), subjects.len());
+//! let lighting = Lighting::default();
+//! let (w, h) = (64, 64);
+//! let seen_from = |eye: Vec3| Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.5, 1.0);
+//!
+//! // No image yet: one is rendered, and drawn.
+//! let report = set.update(&mut subjects, &seen_from(Vec3::new(0.0, 0.0, 10.0)), h, &lighting);
+//! assert_eq!((report.refreshes, report.images), (1, 1));
+//! assert_eq!(set.impostors[0].mode, Mode::Image);
+//!
+//! // A millimetre to the side: far under the 0.125 degree parallax tolerance.
+//! let report = set.update(&mut subjects, &seen_from(Vec3::new(0.001, 0.0, 10.0)), h, &lighting);
+//! assert_eq!(report.refreshes, 0);
+//!
+//! // A quarter turn round the subject: the image is invalid and rendered again.
+//! let camera = seen_from(Vec3::new(10.0, 0.0, 0.0));
+//! let report = set.update(&mut subjects, &camera, h, &lighting);
+//! assert_eq!(report.refreshes, 1);
+//! assert_eq!(set.impostors[0].refreshes, 2);
+//!
+//! // Drawn: the image's quad covers the subject's place on screen.
+//! let mut draws = Vec::new();
+//! set.draws(&subjects, &mut draws);
+//! let mut target = Target::new(w, h);
+//! let opts = FrameOptions::default();
+//! Renderer::new().render(draws.iter().copied(), &camera, &lighting, &mut target, &opts);
+//! assert_ne!(target.pixel(w / 2, h / 2), target.pixel(0, 0));
+//! ```
 
 mod capture;
 mod plan;
@@ -79,10 +124,13 @@ impl Default for Tolerance {
 /// Settings of an [`ImpostorSet`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
+    /// When an impostor is invalid and needs a refresh.
     pub tolerance: Tolerance,
+    /// Refreshes allowed per frame (a count, optionally a time).
     pub budget: Budget,
-    /// Smallest and largest texture side.
+    /// Smallest texture side, pixels.
     pub min_side: u32,
+    /// Largest texture side, pixels.
     pub max_side: u32,
     /// Textures the pool may hold.
     pub pool_slots: usize,
@@ -170,7 +218,9 @@ pub struct Impostor {
     capture: Option<Capture>,
     slot: Option<usize>,
     culled_frames: u32,
+    /// This frame's predicted error.
     pub predicted: Predicted,
+    /// How its subject is drawn this frame.
     pub mode: Mode,
     /// Times re-rendered.
     pub refreshes: u64,
@@ -181,9 +231,12 @@ pub struct Impostor {
 }
 
 impl Impostor {
+    /// Where and how its image was taken; `None` before the first refresh and after its
+    /// texture is released.
     pub fn capture(&self) -> Option<&Capture> {
         self.capture.as_ref()
     }
+    /// Whether it holds a texture of the [`Pool`].
     pub fn has_texture(&self) -> bool {
         self.slot.is_some()
     }
@@ -192,14 +245,19 @@ impl Impostor {
 /// What one [`ImpostorSet::update`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Report {
+    /// Impostors re-rendered this frame (pre-warmed ones included).
     pub refreshes: usize,
     /// Invalid impostors left stale (over budget or out of textures).
     pub stale: usize,
+    /// Subjects drawn as their image.
     pub images: usize,
+    /// Subjects drawn as geometry, for any [`Fallback`].
     pub geometry: usize,
+    /// Subjects outside the view, not drawn.
     pub culled: usize,
-    /// Largest and mean predicted error ratio over the drawn images.
+    /// Largest predicted error ratio ([`Predicted::ratio`]) over the drawn images.
     pub max_ratio: f32,
+    /// Mean predicted error ratio over the drawn images (0 when none is drawn).
     pub mean_ratio: f32,
     /// Images drawn with a predicted error over the tolerance (ratio above 1).
     pub over_tolerance: usize,
@@ -209,15 +267,18 @@ pub struct Report {
     pub prewarmed: usize,
     /// Triangles rendered by the refreshes.
     pub capture_triangles: u64,
-    /// Textures in use and in the pool.
+    /// Pool textures in use.
     pub pool_used: usize,
+    /// Textures the pool holds, in use or free.
     pub pool_size: usize,
 }
 
 /// Impostors for a list of subjects (one per subject, same order).
 #[derive(Debug)]
 pub struct ImpostorSet {
+    /// Settings; may be changed between frames.
     pub config: Config,
+    /// One impostor per subject, in the subjects' order.
     pub impostors: Vec<Impostor>,
     pool: Pool,
     renderer: Renderer,
@@ -237,6 +298,8 @@ pub struct ImpostorSet {
 }
 
 impl ImpostorSet {
+    /// A set of `count` impostors, none captured yet, with an empty texture pool of at most
+    /// `config.pool_slots` textures.
     pub fn new(config: Config, count: usize) -> Self {
         ImpostorSet {
             pool: Pool::new(config.pool_slots),
@@ -252,6 +315,7 @@ impl ImpostorSet {
         }
     }
 
+    /// The texture pool the impostors' images live in.
     pub fn pool(&self) -> &Pool {
         &self.pool
     }

@@ -23,7 +23,9 @@ use std::sync::Arc;
 /// One beam.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Laser {
+    /// One end of the beam, world space.
     pub a: Vec3,
+    /// The other end of the beam, world space.
     pub b: Vec3,
     /// Full width of the glow across the beam, world units.
     pub width: f32,
@@ -114,6 +116,7 @@ pub fn beam_quads(
 /// A set of lasers: one additive draw for the beams, one for the end caps.
 #[derive(Clone, Debug)]
 pub struct LaserBatch {
+    /// The beams drawn at the next build, in any order.
     pub lasers: Vec<Laser>,
     beams: Mesh,
     beam_material: Material,

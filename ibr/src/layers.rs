@@ -54,6 +54,8 @@ pub struct Config {
     /// Warp by the perspective map fitted to the points when it fits them better than the
     /// affine one (Lengyel and Snyder's layers are affine).
     pub perspective: bool,
+    /// Refreshes allowed per frame (a count, optionally a time), shared out largest error
+    /// first.
     pub budget: Budget,
     /// Texels per screen pixel of a fresh image (1: the screen's resolution).
     pub resolution: f32,
@@ -149,7 +151,9 @@ pub struct Layer {
     quad: Mesh,
     /// This frame's warp of the image to the screen.
     pub warp: Homography,
+    /// This frame's predicted error.
     pub predicted: Predicted,
+    /// How its subject is drawn this frame.
     pub mode: Mode,
     /// Times rendered.
     pub refreshes: u64,
@@ -188,21 +192,27 @@ impl Layer {
 /// What one [`LayerSet::update`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Report {
+    /// Layers re-rendered this frame.
     pub refreshes: usize,
     /// Visible invalid layers left stale (over budget).
     pub stale: usize,
+    /// Layers drawn as their warped image.
     pub images: usize,
+    /// Layers drawn as geometry, for any [`Why`].
     pub geometry: usize,
+    /// Layers outside the view, not drawn.
     pub culled: usize,
-    /// Largest and mean geometric error over the drawn images, pixels.
+    /// Largest geometric error over the drawn images, pixels.
     pub max_px: f32,
+    /// Mean geometric error over the drawn images, pixels (0 when none is drawn).
     pub mean_px: f32,
     /// Images drawn with an error ratio over 1.
     pub over_tolerance: usize,
     /// Layers drawn as geometry because their image was too stale ([`Why::Stale`]).
     pub stale_fallbacks: usize,
-    /// Texels and triangles the refreshes rendered.
+    /// Texels the refreshes rendered.
     pub capture_texels: u64,
+    /// Triangles the refreshes rendered.
     pub capture_triangles: u64,
 }
 
@@ -230,7 +240,9 @@ struct Job {
 /// Image layers for a list of subjects (one per subject, same order), drawn back to front.
 #[derive(Debug)]
 pub struct LayerSet {
+    /// Settings; may be changed between frames.
     pub config: Config,
+    /// One layer per subject, in the subjects' order.
     pub layers: Vec<Layer>,
     scheduler: Scheduler,
     workers: Vec<Worker>,
@@ -240,6 +252,7 @@ pub struct LayerSet {
 }
 
 impl LayerSet {
+    /// A set of `count` layers, none rendered yet.
     pub fn new(config: Config, count: usize) -> Self {
         LayerSet {
             config,

@@ -39,13 +39,18 @@ pub const DEFAULT_THRESHOLD: u8 = 8;
 /// A pixel rectangle: columns `x .. x + width`, rows `y .. y + height`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Rect {
+    /// Left column.
     pub x: u32,
+    /// Top row.
     pub y: u32,
+    /// Columns covered.
     pub width: u32,
+    /// Rows covered.
     pub height: u32,
 }
 
 impl Rect {
+    /// The rectangle of `width` x `height` pixels with top-left pixel `(x, y)`.
     pub fn new(x: u32, y: u32, width: u32, height: u32) -> Self {
         Rect {
             x,
@@ -55,6 +60,7 @@ impl Rect {
         }
     }
 
+    /// Whether it holds no pixel.
     pub fn is_empty(&self) -> bool {
         self.width == 0 || self.height == 0
     }
@@ -120,7 +126,9 @@ pub enum Region<'a> {
 pub struct Options<'a> {
     /// A pixel is "over" when its largest channel difference exceeds this many levels.
     pub threshold: u8,
+    /// Which pixels count as covered (for [`ImageError::coverage_mismatch`]).
     pub coverage: Coverage,
+    /// Which pixels are compared.
     pub region: Region<'a>,
 }
 
@@ -204,11 +212,28 @@ fn psnr(mse: f64) -> f64 {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum MetricsError {
     /// The images differ in size.
-    SizeMismatch { a: (u32, u32), b: (u32, u32) },
+    SizeMismatch {
+        /// Width and height of the first image, pixels.
+        a: (u32, u32),
+        /// Width and height of the second image, pixels.
+        b: (u32, u32),
+    },
     /// A raw image's byte count is not `width * height * 4`.
-    BufferLength { width: u32, height: u32, len: usize },
+    BufferLength {
+        /// Width the image claims, pixels.
+        width: u32,
+        /// Height the image claims, pixels.
+        height: u32,
+        /// Bytes it holds.
+        len: usize,
+    },
     /// A mask's length is not the image's pixel count.
-    MaskLength { expected: usize, len: usize },
+    MaskLength {
+        /// The image's pixel count.
+        expected: usize,
+        /// The mask's entry count.
+        len: usize,
+    },
     /// No pixel to compare (an empty image, rectangle or mask).
     Empty,
 }
@@ -239,8 +264,12 @@ impl std::error::Error for MetricsError {}
 /// A borrowed row-major RGBA8 image, top row first (premultiplied, as targets store it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Image<'a> {
+    /// Width, pixels.
     pub width: u32,
+    /// Height, pixels.
     pub height: u32,
+    /// `width * height` RGBA8 pixels, 4 bytes each (premultiplied, as stored; sRGB or linear as
+    /// the target's encoding).
     pub rgba: &'a [u8],
 }
 

@@ -59,8 +59,9 @@ use std::sync::Arc;
 mod plan;
 pub use plan::OctahedralSet;
 
-/// Fewest and most views per side of the grid ([`OctahedralImpostor::bake`] clamps).
+/// Fewest views per side of the grid ([`OctahedralImpostor::bake`] clamps).
 pub const MIN_GRID: u32 = 2;
+/// Most views per side of the grid ([`OctahedralImpostor::bake`] clamps).
 pub const MAX_GRID: u32 = 64;
 /// Smallest frame side in pixels.
 pub const MIN_FRAME_PX: u32 = 4;
@@ -242,6 +243,7 @@ fn texture_bytes(t: &Texture) -> usize {
 /// What a bake was made from and of.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BakeInfo {
+    /// Which directions were baked.
     pub layout: Layout,
     /// Views per side (clamped to [`MIN_GRID`]..=[`MAX_GRID`]).
     pub grid: u32,
@@ -497,6 +499,7 @@ impl OctahedralImpostor {
         self.dirs.get(k as usize).copied()
     }
 
+    /// What the impostor was baked from and of.
     pub fn info(&self) -> &BakeInfo {
         &self.info
     }

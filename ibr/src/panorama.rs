@@ -239,11 +239,15 @@ impl Cylinder {
 /// predicted error passes the tolerance, then captured again at the eye.
 #[derive(Clone, Debug)]
 pub struct Sky {
+    /// The cube map drawn, captured at its [`CubeMap::centre`].
     pub map: CubeMap,
     /// Re-capture past this many pixels of predicted error.
     pub tolerance_px: f32,
+    /// Side of each cube face of a capture, pixels.
     pub size: u32,
+    /// Near distance of a capture, world units.
     pub near: f32,
+    /// Far distance of a capture, world units.
     pub far: f32,
     /// Captures made (the first included).
     pub captures: u32,

@@ -41,6 +41,51 @@
 //! A debug view ([`Planner::set_tints`]) colours each object by the representation that
 //! draws it, the `r`-th in the planner's order taking the `r`-th colour of [`TINTS`]
 //! (white, green, blue, magenta, yellow, cyan; then again from white).
+//!
+//! # Example
+//!
+//! One object (a sphere of a few thousand triangles), drawn either as its geometry or as
+//! a runtime impostor, under an error budget of 2 levels per object; one planning step
+//! chooses a representation whose predicted error is within the budget.
+//!
+//! ```
+//! use engine::procedural::uv_sphere;
+//! use engine::{Camera, Lighting, Material, Rgba};
+//! use glam::{Mat4, Vec3};
+//! use ibr::impostor::{self, ImpostorSet};
+//! use ibr::plan::{Budgets, Config, Geometry, Planner, Representation};
+//! use ibr::subject::MeshGroup;
+//! use ibr::technique::FrameView;
+//! use std::sync::Arc;
+//!
+//! let ball = MeshGroup::new().with(
+//!     Arc::new(uv_sphere(1.0, 32, 64)),
+//!     Arc::new(Material::lit(Rgba::WHITE)),
+//!     Mat4::IDENTITY,
+//! );
+//! let budgets = Budgets { error: 2.0, ..Budgets::default() };
+//! let config = Config { budgets, ..Config::default() };
+//! let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
+//!     Box::new(Geometry),
+//!     Box::new(ImpostorSet::new(impostor::Config::default(), 1)),
+//! ];
+//! let mut planner = Planner::new(config, vec![ball], reps);
+//!
+//! let camera = Camera::look_at(Vec3::new(0.0, 2.0, 40.0), Vec3::ZERO, Vec3::Y, 0.8, 16.0 / 9.0);
+//! let lighting = Lighting::default();
+//! let report = planner.plan(&FrameView::still(&camera, 320, 180, &lighting)).clone();
+//!
+//! let choice = planner.choices()[0];
+//! let rep = choice.rep.expect("in view, so drawn");
+//! assert!(["geometry", "impostors"].contains(&planner.names()[rep]));
+//! assert!(choice.error <= budgets.error);
+//! assert!(report.max_error <= budgets.error);
+//! assert_eq!(report.over_budget, 0);
+//!
+//! let mut draws = Vec::new();
+//! planner.draws(&mut draws);
+//! assert!(!draws.is_empty());
+//! ```
 
 mod cost;
 mod frame_budget;
@@ -137,6 +182,7 @@ pub const SPREAD: f32 = 0.5;
 /// Settings of a [`Planner`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
+    /// The error, time, rebuild and memory budgets.
     pub budgets: Budgets,
     /// A representation not in use takes over only within this fraction of the error
     /// budget (in use, it keeps up to the whole budget).
@@ -170,6 +216,7 @@ pub struct Config {
     /// few frames, and predicting eight representations of every object of a world every
     /// frame is most of the planning.
     pub reask: u32,
+    /// The cost model that prices draws and rebuilds in predicted milliseconds.
     pub cost: CostModel,
 }
 
@@ -210,8 +257,9 @@ pub enum Over {
 pub struct Choice {
     /// Index into the planner's representations; `None` when culled.
     pub rep: Option<usize>,
-    /// Predicted error and draw time.
+    /// Predicted error, in the unit of [`Budgets::error`].
     pub error: f32,
+    /// Predicted draw time, milliseconds.
     pub ms: f32,
     /// Rebuilt this frame.
     pub rebuilt: bool,
@@ -224,24 +272,31 @@ pub struct Choice {
 pub struct Report {
     /// Objects drawn by each representation (in the planner's order).
     pub counts: Vec<usize>,
+    /// Objects off the view, not drawn.
     pub culled: usize,
     /// Visible objects whose representation changed since the frame before.
     pub switches: usize,
+    /// Rebuilds made this frame.
     pub rebuilds: usize,
     /// Rebuilds wanted but left for a later frame.
     pub deferred: usize,
-    /// Objects drawn over the error budget, and by reason.
+    /// Objects drawn over the error budget.
     pub over_budget: usize,
+    /// Of those, objects the time budget moved to a cheaper representation ([`Over::Time`]).
     pub over_time: usize,
+    /// Of those, objects whose rebuild the rebuild budget left out ([`Over::Rebuilds`]).
     pub over_rebuilds: usize,
+    /// Of those, objects no representation could draw within it ([`Over::Nothing`]).
     pub over_nothing: usize,
-    /// Predicted milliseconds: drawing, and rebuilding.
+    /// Predicted milliseconds of drawing.
     pub draw_ms: f32,
+    /// Predicted milliseconds of the frame's rebuilds.
     pub rebuild_ms: f32,
-    /// Largest predicted error, and the frame's: the mean over the pixels the visible
-    /// objects' rectangles cover, of each object's error over its rectangle times the part
-    /// of it that shows (`frame_budget`).
+    /// Largest predicted error of a drawn object, in the unit of [`Budgets::error`].
     pub max_error: f32,
+    /// The frame's error: the mean over the pixels the visible objects' rectangles cover,
+    /// of each object's error over its rectangle times the part of it that shows
+    /// (`frame_budget`), in the unit of [`Budgets::error`].
     pub mean_error: f32,
     /// The bound on the frame's mean error that holds on 99% of frames (the mean plus the
     /// spread, [`Config::spread`]): what the frame scope keeps within the budget.
@@ -359,7 +414,9 @@ struct Rebuild {
 
 /// Objects and the representations the planner chooses among each frame.
 pub struct Planner<S> {
+    /// Settings; may be changed between frames.
     pub config: Config,
+    /// The objects planned for, indexed as the representations' and [`Planner::choices`].
     pub objects: Vec<S>,
     reps: Vec<Box<dyn Representation<S>>>,
     choices: Vec<Choice>,
@@ -411,6 +468,7 @@ pub struct Planner<S> {
     options: frame_budget::Options,
     picks: Vec<Option<frame_budget::Pick>>,
     batch: Vec<usize>,
+    /// What the last [`Planner::plan`] did.
     pub report: Report,
     eye: glam::Vec3,
     /// Each object's representation of the frame before (reused).
@@ -511,6 +569,7 @@ impl<S: Subject + Send + Sync> Planner<S> {
         self.reps.iter().map(|r| r.name()).collect()
     }
 
+    /// The `r`-th representation, in the planner's order; `None` past the last.
     pub fn representation(&self, r: usize) -> Option<&dyn Representation<S>> {
         self.reps.get(r).map(|b| b.as_ref())
     }

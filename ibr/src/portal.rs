@@ -63,6 +63,7 @@ pub enum PortalImage {
 /// How portals are built and drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PortalConfig {
+    /// Which image of the room a build makes.
     pub image: PortalImage,
     /// The LDI's largest side, pixels. A build makes it 1.5 times the opening's size on
     /// screen, up to this; an opening grown to twice what its LDI was built for is rebuilt.
@@ -84,7 +85,9 @@ pub struct PortalConfig {
     /// The most views captured in one frame, over all portals (an LDI takes five, a depth
     /// or flat image one).
     pub views_per_frame: usize,
+    /// How the holes left inside the openings after warping are filled.
     pub fill: Fill,
+    /// How the images are warped into the openings.
     pub options: WarpOptions,
 }
 
@@ -120,6 +123,7 @@ pub enum PortalMode {
 /// A door or window and what lies behind it.
 #[derive(Debug)]
 pub struct Portal {
+    /// The doorway or window, world space.
     pub opening: Opening,
     /// The geometry seen through the opening (drawn only when the portal shows geometry).
     pub behind: MeshGroup,
@@ -143,6 +147,8 @@ pub struct Portal {
 }
 
 impl Portal {
+    /// A portal through `opening` onto `behind`, culled and with no image until the first
+    /// frame that sees it.
     pub fn new(opening: Opening, behind: MeshGroup) -> Self {
         let room = room_box(&behind);
         Portal {
@@ -160,6 +166,7 @@ impl Portal {
         }
     }
 
+    /// How it was drawn in the last frame.
     pub fn mode(&self) -> PortalMode {
         self.mode
     }
@@ -372,15 +379,20 @@ fn ldi_size(camera: &Camera, side: u32) -> (u32, u32) {
 /// What the portals did in the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PortalFrame {
-    /// Portals warped, drawn as geometry, culled.
+    /// Portals warped.
     pub warped: u64,
+    /// Portals drawn as geometry.
     pub geometry: u64,
+    /// Portals off the view, not drawn.
     pub culled: u64,
-    /// LDIs finished this frame, views captured for builds, and portals shown with an
-    /// image (or geometry) older than they want while their build is under way.
+    /// LDIs finished this frame.
     pub rebuilds: u64,
+    /// Views captured for builds this frame.
     pub views: u64,
+    /// Portals shown with an image (or geometry) older than they want while their build is
+    /// under way.
     pub stale: u64,
+    /// The work of the frame's warps, summed over the warped portals.
     pub stats: WarpStats,
     /// The largest predicted parallax of the warped portals, target pixels.
     pub predicted_px: f32,
@@ -393,7 +405,9 @@ pub struct PortalFrame {
 /// A set of portals as one technique.
 #[derive(Debug)]
 pub struct Portals {
+    /// The portals, each warped or drawn as geometry on its own.
     pub portals: Vec<Portal>,
+    /// Settings; may be changed between frames.
     pub config: PortalConfig,
     /// Tints warped pixels green, to see where the image stands in for geometry.
     pub debug_tint: bool,
@@ -409,6 +423,7 @@ pub struct Portals {
 }
 
 impl Portals {
+    /// A technique drawing `portals` with `config`; nothing is built before the first frame.
     pub fn new(portals: Vec<Portal>, config: PortalConfig) -> Self {
         let camera = Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0);
         Portals {
@@ -425,6 +440,7 @@ impl Portals {
         }
     }
 
+    /// What the portals did in the last frame.
     pub fn last(&self) -> PortalFrame {
         self.last
     }

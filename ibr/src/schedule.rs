@@ -66,6 +66,8 @@ impl Scheduler {
         self.candidates.clear();
     }
 
+    /// Adds a candidate for this frame: image `index` of the owner, in view or not, with
+    /// `priority` (larger first; see [`Candidate`]).
     pub fn push(&mut self, visible: bool, priority: f32, index: usize) {
         self.candidates.push(Candidate {
             visible,

@@ -66,9 +66,11 @@ pub fn beam(width: u32) -> Texture {
 /// half of the texture, the view from above in the right half.
 #[derive(Clone, Debug)]
 pub struct BakedSprite {
+    /// The baked texture: side view in the left half, top view in the right.
     pub texture: Arc<Texture>,
-    /// Region of the side view (an upright billboard) and of the top view (its fallback).
+    /// Region of the side view (an upright billboard).
     pub side: UvRect,
+    /// Region of the top view (the fallback of an upright billboard seen from above).
     pub top: UvRect,
     /// World width and height of the side view's quad.
     pub size: Vec2,

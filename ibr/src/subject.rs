@@ -86,6 +86,7 @@ impl<T: Subject + ?Sized> Subject for Box<T> {
 /// A group of meshes placed in the world: a building, a tree, a statue.
 #[derive(Clone, Debug, Default)]
 pub struct MeshGroup {
+    /// The meshes, each with its material and transform.
     pub parts: Vec<Part>,
     /// Bumped by whoever changes `parts` (see [`Subject::version`]).
     pub version: u64,
@@ -94,8 +95,11 @@ pub struct MeshGroup {
 /// One mesh of a [`MeshGroup`], with its material and object -> world transform.
 #[derive(Clone, Debug)]
 pub struct Part {
+    /// The mesh, in object space.
     pub mesh: Arc<Mesh>,
+    /// Its material.
     pub material: Arc<Material>,
+    /// Object -> world transform.
     pub transform: Mat4,
     /// The mesh's object-space bounding sphere and box, and which mesh they were computed
     /// for (by address): bounds are asked for every frame, and a mesh may have a million
@@ -104,6 +108,8 @@ pub struct Part {
 }
 
 impl Part {
+    /// A part drawing `mesh` with `material`, placed by `transform` (object -> world); the
+    /// mesh's bounds are computed once here.
     pub fn new(mesh: Arc<Mesh>, material: Arc<Material>, transform: Mat4) -> Self {
         let local = (
             Arc::as_ptr(&mesh) as usize,
@@ -154,6 +160,7 @@ impl Part {
 }
 
 impl MeshGroup {
+    /// An empty group (no parts, version 0).
     pub fn new() -> Self {
         Self::default()
     }

@@ -31,9 +31,12 @@ pub const BAKE_DISTANCE: f32 = 16.0;
 /// premultiplied sRGB values, a silhouette against the empty texels counting).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Profile {
-    /// Neighbour difference of the baked image per texel, and the same weighted by how
-    /// far each surface lies from the quad's plane through the centre (radii, 0 to 1).
+    /// Neighbour difference of the baked image per texel, in levels.
     pub gradient: f32,
+    /// Neighbour difference of the baked image per texel weighted by how far each surface
+    /// lies from the quad's plane through the centre (radii, 0 to 1), in levels: times the
+    /// shift in texels of a surface one radius off the plane, it is the parallax part of the
+    /// predicted error.
     pub depth_gradient: f32,
     /// The billboard's orthographic error over its square from probe azimuth `k`
     /// (`k * 360 / AZIMUTHS` degrees, turning about +Y from the baked direction toward
@@ -84,6 +87,7 @@ impl Profile {
         self.view.iter().flatten()
     }
 
+    /// The view error at every probe, mutable, in the order of [`Profile::cells`].
     pub fn cells_mut(&mut self) -> impl Iterator<Item = &mut f32> {
         self.view.iter_mut().flatten()
     }

@@ -195,6 +195,7 @@ pub struct BillboardSet {
     /// Largest side of a new bake's image (each object's is twice its screen diameter when
     /// baked, from `MIN_PX` up to this), and the side of its probes, pixels.
     pub px: u32,
+    /// Side of each probe image, pixels (32 after `new`).
     pub probe_px: u32,
     /// The horizontal direction a new bake is taken from (toward the viewer).
     pub side: Vec3,

@@ -10,6 +10,7 @@ use std::sync::Arc;
 /// Clouds scattered over an area, sharing one puff texture: the showcase's sky.
 #[derive(Clone, Debug, Default)]
 pub struct CloudField {
+    /// The clouds, sharing one puff texture.
     pub clouds: Vec<Cloud>,
 }
 

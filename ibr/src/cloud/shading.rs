@@ -15,11 +15,19 @@ pub enum Phase {
     Rayleigh,
     /// `(1 - g²) / (1 + g² - 2 g cos θ)^{3/2}`; `g > 0` scatters forward (`g` clamped to
     /// ±0.95, non-finite as 0).
-    HenyeyGreenstein { g: f32 },
+    HenyeyGreenstein {
+        /// Asymmetry in (-1, 1): positive scatters forward, 0 is isotropic.
+        g: f32,
+    },
     /// `weight * HG(g) + (1 - weight)`: a forward lobe over an isotropic floor standing in
     /// for the light scattered many times, so front-lit clouds stay white (`weight` clamped
     /// to [0, 1], non-finite as 1).
-    Mixed { g: f32, weight: f32 },
+    Mixed {
+        /// Asymmetry of the Henyey-Greenstein lobe, as in [`Phase::HenyeyGreenstein`].
+        g: f32,
+        /// Share of the lobe, in [0, 1]; the rest is isotropic.
+        weight: f32,
+    },
 }
 
 impl Phase {
@@ -47,6 +55,7 @@ pub struct CloudShading {
     pub albedo: f32,
     /// Share of the light a particle removes in the light pass that it passes on forward.
     pub forward_scatter: f32,
+    /// The phase function of the eye pass ([`Phase::Mixed`] by default).
     pub phase: Phase,
     /// Sky light added to every particle (straight linear; alpha unused).
     pub ambient: Rgba,

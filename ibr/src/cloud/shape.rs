@@ -13,7 +13,9 @@ pub const MAX_PARTICLES: usize = 1 << 16;
 /// One cloud particle (world space).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CloudParticle {
+    /// Centre of the puff, world space.
     pub position: Vec3,
+    /// Radius of the puff in world units: its screen-facing quad is twice this on a side.
     pub radius: f32,
     /// Peak opacity at the centre, in [0, 1].
     pub density: f32,

@@ -28,9 +28,9 @@ pub struct EmitterConfig {
     pub lifetime: (f32, f32),
     /// Initial speed, world units per second.
     pub speed: (f32, f32),
-    /// Centre of the cone of initial directions, and the cone's half angle in radians
-    /// (0: a jet, PI: every direction).
+    /// Centre of the cone of initial directions, world space.
     pub direction: Vec3,
+    /// Half angle of that cone, radians (0: a jet, PI: every direction).
     pub spread: f32,
     /// Particles start uniformly inside a ball of this radius around the emitter.
     pub spawn_radius: f32,
@@ -84,11 +84,17 @@ impl Default for EmitterConfig {
 /// One live particle (world space).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Particle {
+    /// World-space position.
     pub position: Vec3,
+    /// World units per second.
     pub velocity: Vec3,
+    /// Seconds since it was spawned.
     pub age: f32,
+    /// Seconds it lives; it is removed once `age` reaches this.
     pub lifetime: f32,
+    /// Rotation of its sprite about the view axis, radians in [0, 2π).
     pub rotation: f32,
+    /// Change of `rotation` per second, radians.
     pub spin: f32,
 }
 
@@ -96,7 +102,9 @@ pub struct Particle {
 /// leaves the existing ones where they are.
 #[derive(Clone, Debug)]
 pub struct Emitter {
+    /// What it spawns and how the particles move and look.
     pub config: EmitterConfig,
+    /// World-space spawn point; moving it leaves live particles in place.
     pub position: Vec3,
     /// Live particles, oldest first.
     pub particles: Vec<Particle>,

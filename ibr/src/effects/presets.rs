@@ -23,6 +23,7 @@ pub enum Layer {
 /// A few emitters that make one effect.
 #[derive(Clone, Debug)]
 pub struct Effect {
+    /// The effect's emitters, each with the batch it draws in.
     pub emitters: Vec<(Layer, Emitter)>,
 }
 
@@ -118,6 +119,7 @@ impl Effect {
         }
     }
 
+    /// Advances every emitter by `dt` seconds.
     pub fn update(&mut self, dt: f32) {
         for (_, e) in &mut self.emitters {
             e.update(dt);
@@ -138,10 +140,12 @@ impl Effect {
         }
     }
 
+    /// Whether every emitter has stopped spawning and has no live particle left.
     pub fn is_finished(&self) -> bool {
         self.emitters.iter().all(|(_, e)| e.is_finished())
     }
 
+    /// Live particles over all emitters.
     pub fn particle_count(&self) -> usize {
         self.emitters.iter().map(|(_, e)| e.particles.len()).sum()
     }
@@ -256,14 +260,17 @@ impl Effects {
         self.effects.iter().map(|(i, e)| (*i, e))
     }
 
+    /// Number of running effects.
     pub fn len(&self) -> usize {
         self.effects.len()
     }
 
+    /// Whether no effect is running.
     pub fn is_empty(&self) -> bool {
         self.effects.is_empty()
     }
 
+    /// Live particles over all running effects.
     pub fn particle_count(&self) -> usize {
         self.effects.iter().map(|(_, e)| e.particle_count()).sum()
     }

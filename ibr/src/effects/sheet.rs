@@ -5,10 +5,13 @@ use crate::billboard::UvRect;
 /// A grid of animation frames in one texture, played at `fps` from a particle's age.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpriteSheet {
+    /// Columns of the grid (frames across).
     pub cols: u32,
+    /// Rows of the grid.
     pub rows: u32,
     /// Frames used, row-major from the top-left cell (at most `cols * rows`).
     pub frames: u32,
+    /// Frames per second of particle age.
     pub fps: f32,
     /// Wrap to the first frame after the last; otherwise hold the last frame.
     pub looping: bool,

@@ -103,7 +103,9 @@ pub(super) fn tap_radius(radius_px: f32) -> f32 {
 pub struct Seen<'s> {
     /// The frame after its opaque and blended passes.
     pub target: &'s Target,
+    /// The camera the frame was rendered with.
     pub camera: &'s Camera,
+    /// The frame's lighting, used to shade the blended occluders when they are captured.
     pub lighting: &'s Lighting,
 }
 

@@ -51,6 +51,7 @@ impl Atlas {
         (self.cell_w, self.cell_h)
     }
 
+    /// Number of cells (`cols * rows`).
     pub fn cell_count(&self) -> u32 {
         self.cols * self.rows
     }

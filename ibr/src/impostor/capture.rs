@@ -7,12 +7,17 @@ use glam::{Mat4, Vec3};
 /// Where and how an impostor image was taken.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Capture {
+    /// World-space eye position the image was taken from.
     pub eye: Vec3,
+    /// Centre of the subject's bounding sphere, world space.
     pub center: Vec3,
+    /// Radius of that sphere, world units.
     pub radius: f32,
-    /// The stored near and far points: the ends of the sphere's diameter along the
-    /// capture ray (their directions from the eye coincide only from the capture eye).
+    /// The stored near point, world space: the near end of the sphere's diameter along the
+    /// capture ray (its direction from the eye coincides with the far end's only from the
+    /// capture eye).
     pub near: Vec3,
+    /// The far end of that diameter (see [`Capture::near`]), world space.
     pub far: Vec3,
     /// Texture side, pixels.
     pub side: u32,

@@ -23,6 +23,7 @@ pub struct Pool {
 }
 
 impl Pool {
+    /// An empty pool that will hold at most `max_slots` textures.
     pub fn new(max_slots: usize) -> Self {
         Pool {
             slots: Vec::new(),
@@ -54,6 +55,7 @@ impl Pool {
         Some(pick)
     }
 
+    /// Returns `slot` to the pool (its texture is kept for reuse); unknown slots are ignored.
     pub fn release(&mut self, slot: usize) {
         if let Some(s) = self.slots.get_mut(slot) {
             s.in_use = false;
@@ -76,6 +78,7 @@ impl Pool {
         true
     }
 
+    /// The material drawing `slot`'s texture, `None` for an unknown slot.
     pub fn material(&self, slot: usize) -> Option<&Material> {
         self.slots.get(slot).map(|s| &s.material)
     }

@@ -10,7 +10,9 @@ use engine::Draw;
 /// `draws` gives images and fallback geometry; `reference` the subjects' geometry.
 #[derive(Debug)]
 pub struct Impostored<S> {
+    /// The impostors, one per subject.
     pub set: ImpostorSet,
+    /// The subjects, in the impostors' order.
     pub subjects: Vec<S>,
     /// What the last `prepare` did.
     pub report: Report,

@@ -10,7 +10,9 @@ use glam::{DMat3, DVec3, Mat2, Mat3, Vec2, Vec3, Vec3Swizzles, Vec4Swizzles};
 /// as [`Camera::crop`] and [`Camera::pixel_ray`] take them).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Affine {
+    /// Linear part: screen pixels per texel along each texel axis (its columns).
     pub m: Mat2,
+    /// Translation: where texel (0, 0)'s corner lands on screen, pixels.
     pub t: Vec2,
 }
 
@@ -23,6 +25,7 @@ impl Affine {
         }
     }
 
+    /// The screen position of `texel`, pixels.
     pub fn apply(&self, texel: Vec2) -> Vec2 {
         self.m * texel + self.t
     }
@@ -89,6 +92,8 @@ impl Affine {
 /// bottom row). Pixels as [`Affine`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Homography {
+    /// The 3x3 matrix taking homogeneous texel coordinates `(x, y, 1)` to homogeneous
+    /// screen pixels (divide by the third component).
     pub h: Mat3,
 }
 
@@ -254,6 +259,7 @@ pub struct Projector {
 }
 
 impl Projector {
+    /// A projector for `camera` rendering a `width` x `height` image.
     pub fn new(camera: &Camera, width: u32, height: u32) -> Projector {
         Projector {
             view: camera.view,
@@ -286,6 +292,7 @@ pub struct Unprojector {
 }
 
 impl Unprojector {
+    /// An unprojector for `camera` rendering a `width` x `height` image.
     pub fn new(camera: &Camera, width: u32, height: u32) -> Unprojector {
         let to_world = camera.view.inverse();
         Unprojector {

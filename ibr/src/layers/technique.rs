@@ -8,7 +8,9 @@ use engine::Draw;
 /// Subjects drawn as [`LayerSet`] image layers (one each), as one [`Technique`].
 #[derive(Debug)]
 pub struct Layered<S> {
+    /// The image layers, one per subject.
     pub set: LayerSet,
+    /// The subjects, in the layers' order.
     pub subjects: Vec<S>,
     /// What the last `prepare` did.
     pub report: Report,

@@ -194,10 +194,11 @@ pub const PAYBACK: f32 = 3600.0;
 /// changes ([`Subject::version`]) or moves.
 #[derive(Clone, Debug)]
 pub struct OctahedralSet {
-    /// Views per side of a new bake's grid, frame side in pixels and which directions
-    /// ([`OctahedralImpostor::bake`] clamps them).
+    /// Views per side of a new bake's grid ([`OctahedralImpostor::bake`] clamps it).
     pub grid: u32,
+    /// Frame side of a new bake, pixels (clamped likewise).
     pub frame_px: u32,
+    /// Which directions a new bake holds.
     pub layout: Layout,
     /// How the frames are combined, from the next frame on.
     pub blend: Blend,

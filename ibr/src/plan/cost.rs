@@ -69,10 +69,11 @@ pub struct CostModel {
     /// resolving and copying it out): a rebuild's `pixels` are its captures' texels
     /// ([`CostModel::rebuild_ms`]).
     pub ns_per_capture_texel: f32,
-    /// Microseconds per image pass, nanoseconds per pixel it covers and per reference
-    /// sample it reads.
+    /// Microseconds per image pass, besides its pixels and samples.
     pub us_per_pass: f32,
+    /// Nanoseconds per pixel an image pass covers.
     pub ns_per_pass_pixel: f32,
+    /// Nanoseconds per reference sample an image pass reads.
     pub ns_per_sample: f32,
 }
 

@@ -76,7 +76,9 @@ pub struct Occlusion {
 /// Where an object's cells say it shows, and where they say it is hidden.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Cells {
+    /// Cells where the object shows (within its bounding sphere's depth).
     pub shows: u32,
+    /// Cells where something in front of the object hides it.
     pub hidden: u32,
     /// Cells behind the object beside one where it shows: where an image that misses part
     /// of its object errs.

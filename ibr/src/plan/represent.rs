@@ -14,15 +14,19 @@ use glam::Vec3;
 /// How one object is seen this frame: what every representation's prediction starts from.
 #[derive(Clone, Copy, Debug)]
 pub struct Sight<'a> {
+    /// The frame's camera.
     pub camera: &'a Camera,
+    /// The camera's eye, world space.
     pub eye: Vec3,
-    /// The target's size, pixels.
+    /// The target's width, pixels.
     pub width: u32,
+    /// The target's height, pixels.
     pub height: u32,
     /// Pixels per radian at the image centre.
     pub px_per_radian: f32,
-    /// The object's bounding sphere, and the eye's distance from its centre.
+    /// The object's bounding sphere, world space.
     pub bounds: Sphere,
+    /// The eye's distance from the centre of `bounds`, world units.
     pub distance: f32,
     /// Pixels its bounding sphere covers on screen (the disc, at most the whole target):
     /// what its geometry's fragments cost, and the pixels its error is weighed over. An

@@ -20,18 +20,46 @@ use std::collections::BTreeMap;
 /// Why a scene's portal markers cannot be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MarkError {
+    /// The names given are not one per instance of the scene.
     #[error("{names} names for {instances} instances: give one name per instance")]
-    Names { names: usize, instances: usize },
+    Names {
+        /// Names given.
+        names: usize,
+        /// Instances in the scene.
+        instances: usize,
+    },
+    /// A `portal.` node's mesh is missing or is not one quad (4 vertices, 2 triangles).
     #[error("portal node '{node}': {why}")]
-    NotAQuad { node: String, why: String },
+    NotAQuad {
+        /// The node's name.
+        node: String,
+        /// What is wrong with its mesh.
+        why: String,
+    },
+    /// An opening with no `room.` node of the same name.
     #[error("portal '{room}' (node '{node}') has nothing behind it: no node named 'room.{room}'")]
-    NoRoom { room: String, node: String },
+    NoRoom {
+        /// The room's name (what follows `portal.`).
+        room: String,
+        /// The opening's node.
+        node: String,
+    },
+    /// A room with no `portal.` node of the same name.
     #[error("room '{room}' (node '{node}') has no opening: no node named 'portal.{room}'")]
-    NoPortal { room: String, node: String },
+    NoPortal {
+        /// The room's name (what follows `room.`).
+        room: String,
+        /// The room's node.
+        node: String,
+    },
+    /// Two `portal.` nodes for one room.
     #[error("two nodes mark the opening of '{room}': '{first}' and '{second}'")]
     TwoPortals {
+        /// The room's name.
         room: String,
+        /// The first node marking its opening.
         first: String,
+        /// The second.
         second: String,
     },
 }

@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3, Vec4};
 /// near side (the side the viewer stands on while the portal is warped).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Opening {
+    /// The four corners, world space, counter-clockwise as seen from the near side.
     pub corners: [Vec3; 4],
 }
 
@@ -29,6 +30,7 @@ impl Opening {
         }
     }
 
+    /// The mean of the four corners, world space.
     pub fn center(&self) -> Vec3 {
         self.corners.iter().copied().sum::<Vec3>() * 0.25
     }
@@ -124,10 +126,12 @@ fn to_pixel(c: Vec4, width: u32, height: u32) -> Vec2 {
 pub struct Outline {
     points: [Vec2; 8],
     len: usize,
+    /// The pixel rectangle `[x0, y0, x1, y1)` around the outline, clamped to the image.
     pub bounds: [u32; 4],
 }
 
 impl Outline {
+    /// The outline's corners in pixels (x right, y down), in order; at most 8 after clipping.
     pub fn points(&self) -> &[Vec2] {
         &self.points[..self.len]
     }
