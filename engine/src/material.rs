@@ -39,7 +39,8 @@ pub enum AlphaMode {
     /// Fragments with alpha below the cutoff are discarded; opaque pass.
     Mask {
         /// Alpha threshold in [0, 1] (glTF's `alphaCutoff`, default 0.5 there): fragments
-        /// with alpha (base colour x vertex colour x texture) at least this are kept.
+        /// whose shaded alpha (base colour times vertex colour and texture) is at least
+        /// this are kept.
         cutoff: f32,
     },
     /// Blended in the second pass, back to front, without depth writes (unless

@@ -28,7 +28,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// What is drawn, in order; an instance whose indices are out of range is skipped.
     pub instances: Vec<Instance>,
-    /// The lights every [`Shading::Lit`](crate::Shading::Lit) material in the scene sees.
+    /// The lights [`Renderer::render_scene`](crate::Renderer::render_scene) shades the
+    /// scene's [`Shading::Lit`](crate::Shading::Lit) materials with.
     pub lighting: Lighting,
 }
 
