@@ -12,29 +12,48 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 /// A projection. Angles in radians; `near` and `far` are positive distances along -Z.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
+    /// A symmetric perspective frustum, as `gluPerspective`.
     Perspective {
+        /// Full vertical field of view, radians, in (0, pi).
         fov_y: f32,
+        /// Image width over height (of the target in pixels, for square pixels).
         aspect: f32,
+        /// Distance of the near plane along -Z, view-space units; `0 < near < far`.
         near: f32,
+        /// Distance of the far plane along -Z, view-space units.
         far: f32,
     },
+    /// A parallel projection of the view-space box `[left, right] x [bottom, top] x
+    /// [-far, -near]`, as `glOrtho`.
     Orthographic {
+        /// View-space x of the image's left edge.
         left: f32,
+        /// View-space x of the image's right edge; `right > left`.
         right: f32,
+        /// View-space y of the image's bottom edge.
         bottom: f32,
+        /// View-space y of the image's top edge; `top > bottom`.
         top: f32,
+        /// Distance of the near plane along -Z, view-space units; `near < far`.
         near: f32,
+        /// Distance of the far plane along -Z, view-space units.
         far: f32,
     },
     /// An off-axis (sheared) perspective frustum, OpenGL's `glFrustum`: the view-space
     /// rectangle `[left, right] x [bottom, top]` on the plane at distance `near` is the image.
     /// A crop of a perspective camera ([`Camera::crop`]), a cube face or a light-slab camera.
     Frustum {
+        /// View-space x of the image's left edge on the near plane.
         left: f32,
+        /// View-space x of the image's right edge on the near plane; `right > left`.
         right: f32,
+        /// View-space y of the image's bottom edge on the near plane.
         bottom: f32,
+        /// View-space y of the image's top edge on the near plane; `top > bottom`.
         top: f32,
+        /// Distance of the near plane along -Z, view-space units; `0 < near < far`.
         near: f32,
+        /// Distance of the far plane along -Z, view-space units.
         far: f32,
     },
 }
@@ -160,9 +179,32 @@ pub fn gl_window_depth(reversed: f32) -> f32 {
 }
 
 /// A camera: where it is (`view`, world -> view space) and how it projects.
+///
+/// A point the camera looks at lands at the centre of the image (NDC x = y = 0), in front
+/// of it (reversed depth in (0, 1]):
+///
+/// ```rust
+/// use engine::Camera;
+/// use glam::Vec3;
+///
+/// let target = Vec3::new(1.0, 2.0, -3.0);
+/// let camera = Camera::look_at(Vec3::new(4.0, 5.0, 6.0), target, Vec3::Y, 1.0, 16.0 / 9.0);
+/// let ndc = camera.clip_from_world().project_point3(target);
+/// assert!(ndc.x.abs() < 1e-5 && ndc.y.abs() < 1e-5);
+/// assert!(ndc.z > 0.0 && ndc.z <= 1.0);
+/// // The distance along the view direction comes back from the stored depth.
+/// let distance = (target - camera.eye()).length();
+/// assert!((camera.view_depth_from_reversed(ndc.z) - distance).abs() < 1e-3 * distance);
+/// // A point to the camera's right lands right of the centre.
+/// let right = camera.forward().cross(Vec3::Y).normalize();
+/// assert!(camera.clip_from_world().project_point3(target + right).x > 0.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// World space -> view space (camera at the origin looking down -Z, +Y up); a rigid
+    /// transform for the cameras made here.
     pub view: Mat4,
+    /// View space -> clip space; see [`Projection`].
     pub projection: Projection,
 }
 
@@ -264,6 +306,7 @@ impl Camera {
         -self.view.inverse().z_axis.truncate().normalize_or_zero()
     }
 
+    /// The projection's near and far distances along the view direction, view-space units.
     pub fn near_far(&self) -> (f32, f32) {
         self.projection.near_far()
     }

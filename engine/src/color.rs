@@ -11,26 +11,40 @@ use std::sync::OnceLock;
 /// Straight (non-premultiplied) linear RGBA colour.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Rgba {
+    /// Red, linear; 0..1 for displayable colours (larger values are allowed and clamp on
+    /// output).
     pub r: f32,
+    /// Green, linear, as `r`.
     pub g: f32,
+    /// Blue, linear, as `r`.
     pub b: f32,
+    /// Coverage / opacity, 0 (transparent) to 1 (opaque); never gamma-encoded.
     pub a: f32,
 }
 
 /// Premultiplied linear RGBA colour: `r, g, b <= a` for well-formed values.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Premul {
+    /// Red, linear, already multiplied by `a`.
     pub r: f32,
+    /// Green, linear, already multiplied by `a`.
     pub g: f32,
+    /// Blue, linear, already multiplied by `a`.
     pub b: f32,
+    /// Coverage / opacity, 0 to 1.
     pub a: f32,
 }
 
 impl Rgba {
+    /// Opaque black.
     pub const BLACK: Rgba = Rgba::new(0.0, 0.0, 0.0, 1.0);
+    /// Opaque white (linear 1.0, which is also sRGB byte 255).
     pub const WHITE: Rgba = Rgba::new(1.0, 1.0, 1.0, 1.0);
+    /// Transparent black, alpha 0.
     pub const TRANSPARENT: Rgba = Rgba::new(0.0, 0.0, 0.0, 0.0);
 
+    /// A colour from straight linear components (not sRGB: use [`Rgba::from_srgb8`] for
+    /// colour-picker values).
     pub const fn new(r: f32, g: f32, b: f32, a: f32) -> Self {
         Rgba { r, g, b, a }
     }
@@ -41,6 +55,7 @@ impl Rgba {
         Rgba::new(lut[r as usize], lut[g as usize], lut[b as usize], 1.0)
     }
 
+    /// The premultiplied colour: `r, g, b` multiplied by `a`.
     pub fn premultiply(self) -> Premul {
         Premul {
             r: self.r * self.a,
@@ -50,16 +65,19 @@ impl Rgba {
         }
     }
 
+    /// `[r, g, b, a]`, straight linear.
     pub fn to_array(self) -> [f32; 4] {
         [self.r, self.g, self.b, self.a]
     }
 
+    /// From `[r, g, b, a]`, straight linear (the inverse of [`Rgba::to_array`]).
     pub fn from_array(c: [f32; 4]) -> Self {
         Rgba::new(c[0], c[1], c[2], c[3])
     }
 }
 
 impl Premul {
+    /// Transparent black: all components 0, the identity of "over" blending.
     pub const TRANSPARENT: Premul = Premul {
         r: 0.0,
         g: 0.0,
@@ -77,6 +95,7 @@ impl Premul {
         }
     }
 
+    /// `[r, g, b, a]`, premultiplied linear.
     pub fn to_array(self) -> [f32; 4] {
         [self.r, self.g, self.b, self.a]
     }
@@ -157,6 +176,7 @@ pub struct Encoder {
 }
 
 impl Encoder {
+    /// An encoder producing bytes in `encoding` (builds the shared sRGB table on first use).
     pub fn new(encoding: Encoding) -> Self {
         Encoder {
             encoding,

@@ -8,11 +8,21 @@ use glam::Vec3;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
     /// Light arriving along `direction` (pointing from the light into the scene).
-    Directional { direction: Vec3, color: Rgba },
+    Directional {
+        /// The direction the light travels, world space; any length (normalised when
+        /// shading; zero lights nothing).
+        direction: Vec3,
+        /// Linear RGB intensity, unattenuated; alpha is ignored.
+        color: Rgba,
+    },
     /// A point light whose intensity falls off smoothly to zero at `range`.
     Point {
+        /// Position, world space.
         position: Vec3,
+        /// Linear RGB intensity; at distance `d` it is scaled by
+        /// `(1 - min(d / range, 1)^2)^2 / (d^2 + 1)`. Alpha is ignored.
         color: Rgba,
+        /// Distance, world units, at and beyond which the light contributes nothing; > 0.
         range: f32,
     },
 }
@@ -20,7 +30,10 @@ pub enum Light {
 /// Lighting shared by every lit material in a frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
+    /// Linear RGB light reaching every point from all around, added to the diffuse factor
+    /// (so it multiplies the surface's base colour); alpha is ignored.
     pub ambient: Rgba,
+    /// The lights, summed: Lambert diffuse plus Blinn-Phong specular per light.
     pub lights: Vec<Light>,
 }
 

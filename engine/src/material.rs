@@ -14,7 +14,14 @@ pub enum Shading {
     #[default]
     Unlit,
     /// Lambert diffuse plus Blinn-Phong specular over the frame's lights.
-    Lit { specular: f32, shininess: f32 },
+    Lit {
+        /// Specular strength: the highlight is `specular` times the light's colour at its
+        /// peak (0 disables highlights; 0.25 in [`Material::lit`]).
+        specular: f32,
+        /// Blinn-Phong exponent on `n . h` (Schlick's approximation); larger is a smaller,
+        /// sharper highlight. Negative values count as 0.
+        shininess: f32,
+    },
     /// Debug: RGB = little-endian 24-bit (triangle index + 1) within the draw, written as
     /// exact bytes; no lighting, no blending. Pair with a unorm target.
     FaceId,
@@ -30,7 +37,12 @@ pub enum AlphaMode {
     #[default]
     Opaque,
     /// Fragments with alpha below the cutoff are discarded; opaque pass.
-    Mask { cutoff: f32 },
+    Mask {
+        /// Alpha threshold in [0, 1] (glTF's `alphaCutoff`, default 0.5 there): fragments
+        /// whose shaded alpha (base colour times vertex colour and texture) is at least
+        /// this are kept.
+        cutoff: f32,
+    },
     /// Blended in the second pass, back to front, without depth writes (unless
     /// [`Material::blend_depth`]).
     Blend,
@@ -53,14 +65,25 @@ pub enum BlendMode {
 /// A material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The name the file gave it (MTL `newmtl`, glTF `name`), or empty; for messages and
+    /// tools, never read when shading.
     pub name: String,
+    /// Straight linear colour and alpha, multiplied by the vertex colour and the texture
+    /// sample (glTF's `baseColorFactor`, MTL `Kd` and `d`).
     pub base_color: Rgba,
+    /// Texture multiplied into the base colour at the mesh's `uvs`, or `None`; a mesh
+    /// without uvs samples at (0, 0).
     pub base_texture: Option<Arc<Texture>>,
+    /// How `base_texture` is filtered and wrapped.
     pub sampler: Sampler,
     /// Multiply by the mesh's vertex colours when it has them.
     pub vertex_colors: bool,
+    /// The lighting model.
     pub shading: Shading,
+    /// Opaque, alpha-tested, blended or dithered.
     pub alpha_mode: AlphaMode,
+    /// How a blended fragment combines with the target; read only with
+    /// [`AlphaMode::Blend`].
     pub blend: BlendMode,
     /// Not culled when back-facing, and lit from the side it is seen from.
     pub double_sided: bool,
@@ -69,7 +92,8 @@ pub struct Material {
     /// Soft particles: a blended fragment closer than this distance (view units) in front
     /// of the opaque surface behind it fades out linearly. 0 disables.
     pub soft_distance: f32,
-    /// Emitted colour added after lighting.
+    /// Emitted colour added after lighting, straight linear RGB (alpha ignored); black
+    /// (the default) adds nothing.
     pub emissive: Rgba,
     /// Blended only: also write depth where a fragment's alpha (after the soft fade) is at
     /// least this (`None`: blended fragments write no depth). An image standing in for an
@@ -119,16 +143,20 @@ impl Material {
         }
     }
 
+    /// The same material with `texture` as its base texture.
     pub fn with_texture(mut self, texture: Arc<Texture>) -> Self {
         self.base_texture = Some(texture);
         self
     }
 
+    /// The same material, double-sided (`true`: never culled, lit from the side seen) or
+    /// not.
     pub fn double_sided(mut self, yes: bool) -> Self {
         self.double_sided = yes;
         self
     }
 
+    /// The same material blended ([`AlphaMode::Blend`]) with `mode`.
     pub fn blended(mut self, mode: BlendMode) -> Self {
         self.alpha_mode = AlphaMode::Blend;
         self.blend = mode;

@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 /// An indexed triangle list. Triangle `t` is `indices[3t..3t+3]`, counter-clockwise front.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions, object space.
     pub positions: Vec<Vec3>,
     /// Unit normals, or empty.
     pub normals: Vec<Vec3>,
@@ -17,13 +18,17 @@ pub struct Mesh {
     pub uvs: Vec<Vec2>,
     /// Straight linear vertex colours, or empty.
     pub colors: Vec<Rgba>,
+    /// Three indices into the vertex arrays per triangle; each below `positions.len()`.
     pub indices: Vec<u32>,
 }
 
 /// A bounding sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    /// Centre, in the space of the points it bounds (object space for a mesh's, world
+    /// space for a scene's).
     pub center: Vec3,
+    /// Radius in the same units; >= 0.
     pub radius: f32,
 }
 
@@ -38,6 +43,7 @@ impl Mesh {
         self.indices.clear();
     }
 
+    /// The number of triangles: `indices.len() / 3`.
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }

@@ -133,9 +133,13 @@ fn over(a: Premul, b: Premul) -> Premul {
 /// A pixel rectangle `[x0, x1) x [y0, y1)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PixelRect {
+    /// First column inside, pixels from the left.
     pub x0: u32,
+    /// First row inside, pixels from the top.
     pub y0: u32,
+    /// First column past the right edge; `x1 <= x0` is empty.
     pub x1: u32,
+    /// First row past the bottom edge; `y1 <= y0` is empty.
     pub y1: u32,
 }
 

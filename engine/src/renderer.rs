@@ -56,6 +56,7 @@ pub enum Cull {
 pub struct FrameOptions {
     /// Clear colour (straight linear), or `None` to draw over the target's contents.
     pub clear: Option<Rgba>,
+    /// Which faces are culled.
     pub cull: Cull,
 }
 
@@ -69,6 +70,47 @@ impl Default for FrameOptions {
 }
 
 /// Renders draws into targets. Keep one alive across frames: it owns the scratch memory.
+///
+/// Two quads drawn with [`Renderer::render`]: the smaller one is nearer, so the depth
+/// test keeps it in front although it is drawn first.
+///
+/// ```rust
+/// use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
+/// use glam::{Mat4, Vec3};
+///
+/// // A unit quad in the z = 0 plane, facing +Z (counter-clockwise seen from the camera).
+/// let quad = Mesh {
+///     positions: vec![
+///         Vec3::new(-1.0, -1.0, 0.0),
+///         Vec3::new(1.0, -1.0, 0.0),
+///         Vec3::new(1.0, 1.0, 0.0),
+///         Vec3::new(-1.0, 1.0, 0.0),
+///     ],
+///     indices: vec![0, 1, 2, 0, 2, 3],
+///     ..Default::default()
+/// };
+/// let red = Material::unlit(Rgba::new(1.0, 0.0, 0.0, 1.0));
+/// let blue = Material::unlit(Rgba::new(0.0, 0.0, 1.0, 1.0));
+/// let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+/// let near = Mat4::from_translation(Vec3::Z) * Mat4::from_scale(Vec3::splat(0.5));
+/// let draws = [
+///     Draw { mesh: &quad, material: &blue, transform: near },
+///     Draw { mesh: &quad, material: &red, transform: Mat4::IDENTITY },
+/// ];
+/// let mut renderer = Renderer::new();
+/// let mut target = Target::new(64, 64);
+/// let opts = FrameOptions::default();
+/// let stats = renderer.render(draws, &camera, &Lighting::default(), &mut target, &opts);
+/// assert_eq!(stats.triangles_set_up, 4);
+/// // Packed bytes r | g << 8 | b << 16 | a << 24: blue in the middle, red around it,
+/// // the opaque black clear colour in the corner.
+/// assert_eq!(target.pixel(32, 32), Some(0xffff_0000));
+/// assert_eq!(target.pixel(23, 32), Some(0xff00_00ff));
+/// assert_eq!(target.pixel(0, 0), Some(0xff00_0000));
+/// // The depth at the centre is that of the blue quad, 4 units in front of the camera.
+/// let depth = target.depth_reversed(32, 32).unwrap();
+/// assert!((camera.view_depth_from_reversed(depth) - 4.0).abs() < 1e-3);
+/// ```
 #[derive(Debug, Default)]
 pub struct Renderer {
     pos: Vec<VertexPos>,
@@ -113,6 +155,7 @@ fn classify(m: &Material, mesh: &Mesh) -> (Kind, Layout) {
 }
 
 impl Renderer {
+    /// A renderer with no scratch memory yet; the first frames allocate it.
     pub fn new() -> Self {
         Self::default()
     }

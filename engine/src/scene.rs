@@ -11,7 +11,9 @@ use glam::Mat4;
 /// A mesh placed in the world with one material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instance {
+    /// Index into [`Scene::meshes`].
     pub mesh: usize,
+    /// Index into [`Scene::materials`].
     pub material: usize,
     /// Object -> world.
     pub transform: Mat4,
@@ -20,17 +22,25 @@ pub struct Instance {
 /// A scene: what to draw and how it is lit.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
+    /// The meshes, each in its own object space; instances may share one.
     pub meshes: Vec<Mesh>,
+    /// The materials; instances may share one.
     pub materials: Vec<Material>,
+    /// What is drawn, in order; an instance whose indices are out of range is skipped.
     pub instances: Vec<Instance>,
+    /// The lights [`Renderer::render_scene`](crate::Renderer::render_scene) shades the
+    /// scene's [`Shading::Lit`](crate::Shading::Lit) materials with.
     pub lighting: Lighting,
 }
 
 /// One draw handed to the renderer: a mesh, a material, an object -> world transform.
 #[derive(Clone, Copy, Debug)]
 pub struct Draw<'a> {
+    /// The triangles, in object space.
     pub mesh: &'a Mesh,
+    /// How they are shaded, tested and blended.
     pub material: &'a Material,
+    /// Object space -> world space.
     pub transform: Mat4,
 }
 
@@ -58,6 +68,8 @@ impl Scene {
         })
     }
 
+    /// The triangles of every drawable instance (an instanced mesh counts once per
+    /// instance).
     pub fn triangle_count(&self) -> usize {
         self.draws().map(|d| d.mesh.triangle_count()).sum()
     }

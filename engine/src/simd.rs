@@ -12,6 +12,7 @@
 //! raster kernel spent most of its time rebuilding lane masks from `[bool; 8]` and ran about
 //! 2x slower than this one.
 
+/// Lanes per vector: 8 (one 256-bit AVX2 register of `f32` or `i32`).
 pub const LANES: usize = 8;
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
@@ -44,22 +45,29 @@ mod imp {
         }
     }
 
+    /// Eight `f32` lanes in one AVX register.
     #[derive(Clone, Copy, Debug)]
     pub struct F8(__m256);
+    /// Eight `i32` lanes in one AVX2 register.
     #[derive(Clone, Copy, Debug)]
     pub struct I8(__m256i);
+    /// A mask of eight lanes (each all ones or all zeros), made by comparisons and read by
+    /// `select`.
     #[derive(Clone, Copy, Debug)]
     pub struct M8(__m256);
 
     impl F8 {
+        /// Every lane `x`.
         #[inline(always)]
         pub fn splat(x: f32) -> Self {
             avx!(F8(_mm256_set1_ps(x)))
         }
+        /// Lane `l` is `a[l]`.
         #[inline(always)]
         pub fn from_array(a: [f32; LANES]) -> Self {
             F8(bytemuck::cast(a))
         }
+        /// The lanes, lane 0 first.
         #[inline(always)]
         pub fn to_array(self) -> [f32; LANES] {
             bytemuck::cast(self.0)
@@ -69,18 +77,22 @@ mod imp {
         pub fn ramp() -> Self {
             avx!(F8(_mm256_setr_ps(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0)))
         }
+        /// Lane-wise minimum; where a lane of either is NaN, the lane of `o` (as `vminps`).
         #[inline(always)]
         pub fn min(self, o: Self) -> Self {
             avx!(F8(_mm256_min_ps(self.0, o.0)))
         }
+        /// Lane-wise maximum; where a lane of either is NaN, the lane of `o` (as `vmaxps`).
         #[inline(always)]
         pub fn max(self, o: Self) -> Self {
             avx!(F8(_mm256_max_ps(self.0, o.0)))
         }
+        /// Lanes where `self > o` (unset where either is NaN).
         #[inline(always)]
         pub fn gt(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)))
         }
+        /// Lane-wise square root, correctly rounded (NaN for negative lanes).
         #[inline(always)]
         pub fn sqrt(self) -> Self {
             avx!(F8(_mm256_sqrt_ps(self.0)))
@@ -90,10 +102,12 @@ mod imp {
         pub fn to_i32(self) -> I8 {
             avx!(I8(_mm256_cvttps_epi32(self.0)))
         }
+        /// Lanes where `self >= o` (unset where either is NaN).
         #[inline(always)]
         pub fn ge(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_GE_OQ>(self.0, o.0)))
         }
+        /// Lane-wise rounding toward negative infinity.
         #[inline(always)]
         pub fn floor(self) -> Self {
             avx!(F8(_mm256_floor_ps(self.0)))
@@ -139,22 +153,26 @@ mod imp {
         pub fn fnma(self, b: Self, c: Self) -> Self {
             avx!(F8(_mm256_fnmadd_ps(self.0, b.0, c.0)))
         }
+        /// `self * b + c`, rounded once (FMA).
         #[cfg(not(target_feature = "fma"))]
         #[inline(always)]
         pub fn fma(self, b: Self, c: Self) -> Self {
             let (a, b, c) = (self.to_array(), b.to_array(), c.to_array());
             F8::from_array(std::array::from_fn(|l| a[l].mul_add(b[l], c[l])))
         }
+        /// `c - self * b`, rounded once.
         #[cfg(not(target_feature = "fma"))]
         #[inline(always)]
         pub fn fnma(self, b: Self, c: Self) -> Self {
             let (a, b, c) = (self.to_array(), b.to_array(), c.to_array());
             F8::from_array(std::array::from_fn(|l| (-a[l]).mul_add(b[l], c[l])))
         }
+        /// Lanes where `self < o` (unset where either is NaN).
         #[inline(always)]
         pub fn lt(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)))
         }
+        /// Lanes where `self <= o` (unset where either is NaN).
         #[inline(always)]
         pub fn le(self, o: Self) -> M8 {
             avx!(M8(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)))
@@ -162,10 +180,12 @@ mod imp {
     }
 
     impl I8 {
+        /// Every lane `x`.
         #[inline(always)]
         pub fn splat(x: i32) -> Self {
             avx!(I8(_mm256_set1_epi32(x)))
         }
+        /// Lane `l` is `l * k`.
         #[inline(always)]
         pub fn ramp_times(k: i32) -> Self {
             avx!(I8(_mm256_mullo_epi32(
@@ -173,18 +193,22 @@ mod imp {
                 _mm256_set1_epi32(k)
             )))
         }
+        /// Bitwise or.
         #[inline(always)]
         pub fn or(self, o: Self) -> Self {
             avx!(I8(_mm256_or_si256(self.0, o.0)))
         }
+        /// Lane-wise shift left by `N` bits.
         #[inline(always)]
         pub fn shl<const N: i32>(self) -> Self {
             avx!(I8(_mm256_slli_epi32::<N>(self.0)))
         }
+        /// The lanes, lane 0 first.
         #[inline(always)]
         pub fn to_array(self) -> [i32; LANES] {
             bytemuck::cast(self.0)
         }
+        /// Lane `l` is `a[l]`.
         #[inline(always)]
         pub fn from_array(a: [i32; LANES]) -> Self {
             I8(bytemuck::cast(a))
@@ -210,10 +234,12 @@ mod imp {
             let b = avx!(_mm256_cmpgt_epi32(_mm256_set1_epi32(hi + 1), l));
             avx!(M8(_mm256_castsi256_ps(_mm256_and_si256(a, b))))
         }
+        /// Lane-wise signed minimum.
         #[inline(always)]
         pub fn min(self, o: Self) -> Self {
             avx!(I8(_mm256_min_epi32(self.0, o.0)))
         }
+        /// Lane-wise signed maximum.
         #[inline(always)]
         pub fn max(self, o: Self) -> Self {
             avx!(I8(_mm256_max_epi32(self.0, o.0)))
@@ -223,6 +249,7 @@ mod imp {
         pub fn mul_lo(self, o: Self) -> Self {
             avx!(I8(_mm256_mullo_epi32(self.0, o.0)))
         }
+        /// Bitwise and.
         #[inline(always)]
         pub fn and(self, o: Self) -> Self {
             avx!(I8(_mm256_and_si256(self.0, o.0)))
@@ -232,6 +259,7 @@ mod imp {
         pub fn shr<const N: i32>(self) -> Self {
             avx!(I8(_mm256_srli_epi32::<N>(self.0)))
         }
+        /// Lane-wise conversion to `f32`, rounded to nearest.
         #[inline(always)]
         pub fn to_f32(self) -> F8 {
             avx!(F8(_mm256_cvtepi32_ps(self.0)))
@@ -294,14 +322,17 @@ mod imp {
             let b = avx!(_mm256_and_si256(_mm256_set1_epi32(bits as i32), k));
             avx!(M8(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, k))))
         }
+        /// Lanes set in both.
         #[inline(always)]
         pub fn and(self, o: Self) -> Self {
             avx!(M8(_mm256_and_ps(self.0, o.0)))
         }
+        /// Lanes set in `self` and not in `o`.
         #[inline(always)]
         pub fn and_not(self, o: Self) -> Self {
             avx!(M8(_mm256_andnot_ps(o.0, self.0)))
         }
+        /// Lanes set in either.
         #[inline(always)]
         pub fn or(self, o: Self) -> Self {
             avx!(M8(_mm256_or_ps(self.0, o.0)))
@@ -333,10 +364,13 @@ mod imp {
     /// Without AVX2 the build targets no particular CPU: no cache hint.
     pub fn prefetch<T>(_: &T) {}
 
+    /// Eight `f32` lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct F8(A);
+    /// Eight `i32` lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct I8([i32; LANES]);
+    /// A mask of eight lanes, made by comparisons and read by `select`.
     #[derive(Clone, Copy, Debug)]
     pub struct M8([bool; LANES]);
 
@@ -345,57 +379,74 @@ mod imp {
     }
 
     impl F8 {
+        /// Every lane `x`.
         pub fn splat(x: f32) -> Self {
             F8([x; LANES])
         }
+        /// Lane `l` is `a[l]`.
         pub fn from_array(a: A) -> Self {
             F8(a)
         }
+        /// The lanes, lane 0 first.
         pub fn to_array(self) -> A {
             self.0
         }
+        /// `[0, 1, ..., 7]`.
         pub fn ramp() -> Self {
             F8(std::array::from_fn(|l| l as f32))
         }
         // Same NaN behaviour as minps/maxps: the second operand wins.
+        /// Lane-wise minimum; where a lane of either is NaN, the lane of `o` (as `vminps`).
         pub fn min(self, o: Self) -> Self {
             F8(map(self.0, o.0, |a, b| if a < b { a } else { b }))
         }
+        /// Lane-wise maximum; where a lane of either is NaN, the lane of `o` (as `vmaxps`).
         pub fn max(self, o: Self) -> Self {
             F8(map(self.0, o.0, |a, b| if a > b { a } else { b }))
         }
+        /// Lanes where `self > o` (unset where either is NaN).
         pub fn gt(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] > o.0[l]))
         }
+        /// Truncating conversion (in range for the callers: values in [0, 2^31)).
         pub fn to_i32(self) -> I8 {
             I8(std::array::from_fn(|l| self.0[l] as i32))
         }
+        /// Lane-wise square root, correctly rounded (NaN for negative lanes).
         pub fn sqrt(self) -> Self {
             F8(self.0.map(f32::sqrt))
         }
+        /// Lanes where `self >= o` (unset where either is NaN).
         pub fn ge(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= o.0[l]))
         }
+        /// Lane-wise rounding toward negative infinity.
         pub fn floor(self) -> Self {
             F8(self.0.map(f32::floor))
         }
+        /// Lanes that are not NaN and whose magnitude is below `limit`.
         pub fn within(self, limit: f32) -> M8 {
             M8(std::array::from_fn(|l| self.0[l].abs() < limit))
         }
+        /// The sign bit cleared.
         pub fn abs(self) -> Self {
             F8(self.0.map(f32::abs))
         }
+        /// `self * b + c`, rounded once (FMA).
         pub fn fma(self, b: Self, c: Self) -> Self {
             F8(std::array::from_fn(|l| self.0[l].mul_add(b.0[l], c.0[l])))
         }
+        /// `c - self * b`, rounded once.
         pub fn fnma(self, b: Self, c: Self) -> Self {
             F8(std::array::from_fn(|l| {
                 (-self.0[l]).mul_add(b.0[l], c.0[l])
             }))
         }
+        /// Lane `l` is lane `idx[l]` (of `0..8`) of `self`.
         pub fn permute(self, idx: [u32; LANES]) -> Self {
             F8(idx.map(|i| self.0[i as usize % LANES]))
         }
+        /// Lanes 0, 2, .. 14 and lanes 1, 3, .. 15 of the sixteen lanes of `self` then `o`.
         pub fn deinterleave(self, o: Self) -> (Self, Self) {
             let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };
             (
@@ -403,60 +454,78 @@ mod imp {
                 F8(std::array::from_fn(|l| at(2 * l + 1))),
             )
         }
+        /// Lanes where `self < o` (unset where either is NaN).
         pub fn lt(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] < o.0[l]))
         }
+        /// Lanes where `self <= o` (unset where either is NaN).
         pub fn le(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] <= o.0[l]))
         }
     }
 
     impl I8 {
+        /// Every lane `x`.
         pub fn splat(x: i32) -> Self {
             I8([x; LANES])
         }
+        /// Lane `l` is `l * k`.
         pub fn ramp_times(k: i32) -> Self {
             I8(std::array::from_fn(|l| l as i32 * k))
         }
+        /// Bitwise or.
         pub fn or(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l] | o.0[l]))
         }
+        /// Lane-wise shift left by `N` bits.
         pub fn shl<const N: i32>(self) -> Self {
             I8(std::array::from_fn(|l| self.0[l] << N))
         }
+        /// The lanes, lane 0 first.
         pub fn to_array(self) -> [i32; LANES] {
             self.0
         }
+        /// Lane `l` is `a[l]`.
         pub fn from_array(a: [i32; LANES]) -> Self {
             I8(a)
         }
+        /// Lanes where `self == o`.
         pub fn eq(self, o: Self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] == o.0[l]))
         }
+        /// Lanes where `self >= 0`.
         pub fn non_negative(self) -> M8 {
             M8(std::array::from_fn(|l| self.0[l] >= 0))
         }
+        /// Lanes `l` with `lo <= l <= hi`.
         pub fn lane_range(lo: i32, hi: i32) -> M8 {
             M8(std::array::from_fn(|l| l as i32 >= lo && l as i32 <= hi))
         }
+        /// Lane-wise signed minimum.
         pub fn min(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l].min(o.0[l])))
         }
+        /// Lane-wise signed maximum.
         pub fn max(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l].max(o.0[l])))
         }
+        /// Low 32 bits of the lane products.
         pub fn mul_lo(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l].wrapping_mul(o.0[l])))
         }
+        /// Bitwise and.
         pub fn and(self, o: Self) -> Self {
             I8(std::array::from_fn(|l| self.0[l] & o.0[l]))
         }
+        /// Logical shift right.
         pub fn shr<const N: i32>(self) -> Self {
             I8(std::array::from_fn(|l| ((self.0[l] as u32) >> N) as i32))
         }
+        /// Lane-wise conversion to `f32`, rounded to nearest.
         pub fn to_f32(self) -> F8 {
             F8(std::array::from_fn(|l| self.0[l] as f32))
         }
+        /// As [`F8::deinterleave`].
         pub fn deinterleave(self, o: Self) -> (Self, Self) {
             let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };
             (
@@ -502,26 +571,33 @@ mod imp {
     }
 
     impl M8 {
+        /// Lane `l` set where bit `l` of `bits` is.
         pub fn from_bits(bits: u32) -> Self {
             M8(std::array::from_fn(|l| bits >> l & 1 != 0))
         }
+        /// Lanes set in both.
         pub fn and(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] && o.0[l]))
         }
+        /// Lanes set in `self` and not in `o`.
         pub fn and_not(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] && !o.0[l]))
         }
+        /// Lanes set in either.
         pub fn or(self, o: Self) -> Self {
             M8(std::array::from_fn(|l| self.0[l] || o.0[l]))
         }
+        /// One bit per lane: bit `l` is lane `l`.
         pub fn bits(self) -> u32 {
             (0..LANES).fold(0, |b, l| b | (self.0[l] as u32) << l)
         }
+        /// `if lane { a } else { b }`.
         pub fn select(self, a: F8, b: F8) -> F8 {
             F8(std::array::from_fn(
                 |l| if self.0[l] { a.0[l] } else { b.0[l] },
             ))
         }
+        /// `if lane { a } else { b }`, of integers.
         pub fn select_i32(self, a: I8, b: I8) -> I8 {
             I8(std::array::from_fn(
                 |l| if self.0[l] { a.0[l] } else { b.0[l] },

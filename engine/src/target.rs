@@ -50,6 +50,8 @@ impl Target {
         Self::with_encoding(width, height, Encoding::Srgb)
     }
 
+    /// A cleared target whose colour bytes are in `encoding` ([`Encoding::Unorm`] for data
+    /// or byte-exact comparisons). Sides are clamped to [`MAX_TARGET_SIZE`].
     pub fn with_encoding(width: u32, height: u32, encoding: Encoding) -> Self {
         let mut t = Target {
             width: 0,
@@ -78,30 +80,38 @@ impl Target {
         self.depth.resize(n, 0.0);
     }
 
+    /// Width in pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height in pixels.
     pub fn height(&self) -> u32 {
         self.height
     }
 
+    /// How the stored colour bytes encode linear colour.
     pub fn encoding(&self) -> Encoding {
         self.encoding
     }
 
+    /// Changes how later frames encode colour. The stored bytes are not converted: what is
+    /// already there is read back in the new encoding.
     pub fn set_encoding(&mut self, encoding: Encoding) {
         self.encoding = encoding;
     }
 
+    /// Tiles per row: `ceil(width / TILE)`.
     pub fn tiles_x(&self) -> u32 {
         self.tiles_x
     }
 
+    /// Rows of tiles: `ceil(height / TILE)`.
     pub fn tiles_y(&self) -> u32 {
         self.tiles_y
     }
 
+    /// Number of tiles, `tiles_x * tiles_y` (0 for an empty target).
     pub fn tile_count(&self) -> usize {
         self.tiles_x as usize * self.tiles_y as usize
     }

@@ -14,15 +14,20 @@ use std::sync::OnceLock;
 /// How texture coordinates outside [0, 1] are folded back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Wrap {
+    /// Tiles the image: coordinate `u + 1` samples what `u` does (OpenGL `GL_REPEAT`).
     #[default]
     Repeat,
+    /// Repeats the edge texels outward (`GL_CLAMP_TO_EDGE`).
     Clamp,
+    /// Tiles the image flipped every other time, so edges meet seamlessly
+    /// (`GL_MIRRORED_REPEAT`).
     Mirror,
 }
 
 /// Texture filtering.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Filter {
+    /// The texel containing the sample point, on the finest level only (no mipmaps).
     Nearest,
     /// Bilinear on the finest level only.
     Bilinear,
@@ -34,16 +39,23 @@ pub enum Filter {
 /// How a material samples its texture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct Sampler {
+    /// Wrap along u (the texture's x, to the right).
     pub wrap_u: Wrap,
+    /// Wrap along v (the texture's y, downward: v = 0 is the top row).
     pub wrap_v: Wrap,
+    /// Filter for magnification and minification alike.
     pub filter: Filter,
 }
 
 /// One mip level: `width * height` packed texels, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MipLevel {
+    /// Width in texels, >= 1.
     pub width: u32,
+    /// Height in texels, >= 1.
     pub height: u32,
+    /// Packed bytes `r | g << 8 | b << 16 | a << 24` in the texture's [`Encoding`],
+    /// premultiplied when [`Texture`] says so; `width * height` of them.
     pub texels: Vec<u32>,
 }
 
@@ -254,18 +266,23 @@ impl Texture {
         }
     }
 
+    /// Width of level 0 in texels.
     pub fn width(&self) -> u32 {
         self.levels[0].width
     }
 
+    /// Height of level 0 in texels.
     pub fn height(&self) -> u32 {
         self.levels[0].height
     }
 
+    /// The mip chain, level 0 (full size) first, each level half the previous per side
+    /// (rounded down, at least 1), box-filtered, down to 1 x 1.
     pub fn levels(&self) -> &[MipLevel] {
         &self.levels
     }
 
+    /// How the stored bytes encode linear colour.
     pub fn encoding(&self) -> Encoding {
         self.encoding
     }

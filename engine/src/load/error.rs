@@ -26,38 +26,54 @@ pub enum LoadError {
     /// The file (or a file it references) could not be opened or read.
     #[error("{file}: cannot read: {source}")]
     Io {
+        /// The file that could not be read (or, for the writers, written), as given.
         file: FileName,
+        /// What the operating system said.
         #[source]
         source: std::io::Error,
     },
     /// `tobj` rejected an OBJ or MTL file.
     #[error("{file}: bad OBJ: {source}")]
     Obj {
+        /// The OBJ file being loaded.
         file: FileName,
+        /// What `tobj` said.
         #[source]
         source: tobj::LoadError,
     },
     /// The `gltf` crate rejected the file (JSON syntax, GLB framing or validation).
     #[error("{file}: bad glTF: {source}")]
     Gltf {
+        /// The `.gltf` or `.glb` file being loaded.
         file: FileName,
+        /// What the `gltf` crate said.
         #[source]
         source: ::gltf::Error,
     },
     /// The `image` crate could not decode an image (or it exceeds the limits).
     #[error("{file}: bad image: {source}")]
     Image {
+        /// The image file, read or written.
         file: FileName,
+        /// What the `image` crate said.
         #[source]
         source: ::image::ImageError,
     },
     /// The file parsed but its content is invalid or unsafe (out-of-range index, a path
     /// outside the file's folder, a size over a cap, ...).
     #[error("{file}: {reason}")]
-    Invalid { file: FileName, reason: String },
+    Invalid {
+        /// The file whose content is wrong.
+        file: FileName,
+        /// What is wrong, one line, naming the offending element (mesh, accessor, URI...).
+        reason: String,
+    },
     /// The extension is not one the loaders know.
     #[error("{file}: unsupported file type (expected .obj, .gltf or .glb)")]
-    Unsupported { file: FileName },
+    Unsupported {
+        /// The file whose extension is unknown.
+        file: FileName,
+    },
 }
 
 impl LoadError {

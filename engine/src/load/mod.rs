@@ -56,6 +56,8 @@ pub const MAX_FILE_BYTES: u64 = 1 << 30;
 /// What a model loader returns: the scene and what it had to work around.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Loaded {
+    /// The model: meshes, materials, instances (object -> world transforms from the file's
+    /// node hierarchy; identity for OBJ) and the default [`Lighting`](crate::Lighting).
     pub scene: Scene,
     /// Human-readable notes on what was skipped or replaced (e.g. a missing texture).
     pub warnings: Vec<String>,
@@ -121,6 +123,32 @@ pub fn model(path: &Path) -> Result<Loaded, LoadError> {
 }
 
 /// [`model`], reading from `files`.
+///
+/// A model held in memory, with its material library beside it (a tiny OBJ: one red
+/// quad, fan-triangulated into two triangles):
+///
+/// ```rust
+/// use engine::load::{self, Memory};
+/// use std::path::Path;
+///
+/// let obj = "mtllib quad.mtl\n\
+///            v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+///            vn 0 0 1\n\
+///            o quad\nusemtl red\nf 1//1 2//1 3//1 4//1\n";
+/// let mtl = "newmtl red\nKd 1 0 0\n";
+/// let files = Memory::default().with("quad.obj", obj).with("quad.mtl", mtl);
+/// let loaded = load::model_from(Path::new("quad.obj"), &files)?;
+/// assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+/// assert_eq!(loaded.scene.triangle_count(), 2);
+/// assert_eq!(loaded.names, ["quad"]);
+/// let material = &loaded.scene.materials[loaded.scene.instances[0].material];
+/// assert_eq!((material.name.as_str(), material.base_color.r), ("red", 1.0));
+///
+/// // A missing file is an error that names it, not a panic.
+/// let err = load::model_from(Path::new("missing.obj"), &files).unwrap_err();
+/// assert!(err.to_string().starts_with("missing.obj"));
+/// # Ok::<(), engine::LoadError>(())
+/// ```
 pub fn model_from(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> {
     let ext = path
         .extension()

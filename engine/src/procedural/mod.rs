@@ -35,6 +35,7 @@ impl XorShift {
         XorShift((z ^ (z >> 31)) | 1)
     }
 
+    /// The next 64 pseudo-random bits (xorshift64*: period 2^64 - 1, not for cryptography).
     pub fn next_u64(&mut self) -> u64 {
         let mut x = self.0;
         x ^= x >> 12;

@@ -40,6 +40,7 @@ pub struct Terrain {
     pub feature: f32,
     /// Within this distance of the origin the ground eases to height 0.
     pub flat_radius: f32,
+    /// Seed of the noise: the same seed gives the same terrain.
     pub seed: u64,
 }
 
