@@ -1,8 +1,9 @@
-//! Embedding Parallax in a game: a loaded glTF model, a few tower blocks whose representation the
-//! planner chooses each frame under an error budget (geometry or a runtime impostor), a
-//! billboard forest, a lens flare on the sun, all drawn by one frame loop into a `minifb`
-//! window. Without a display it renders frames headless and writes the last one as a PNG.
-//! `cargo run --release -p demos --example embed [-- --headless OUT.png [--frames N]]`
+//! Embedding Parallax in a game: a loaded glTF model, a few tower blocks whose
+//! representation the planner chooses each frame under an error budget (geometry or a
+//! runtime impostor), a billboard forest and a lens flare on the sun, all drawn by one frame
+//! loop into a `minifb` window; without a display (or with `--headless`) it renders frames
+//! and writes the last one as a PNG. `cargo run --release -p demos --example embed --
+//! [--headless OUT.png] [--frames N] [--model FILE.gltf]`
 
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{load, AlphaMode, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
@@ -20,12 +21,19 @@ use std::{path::Path, sync::Arc, time::Instant};
 const SKY: Rgba = Rgba::new(0.45, 0.65, 0.9, 1.0);
 const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/models/sample.gltf");
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("embed: error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let arg = |name: &str| args.iter().position(|a| a == name).map(|i| args.get(i + 1));
-    let frames = arg("--frames")
-        .flatten()
-        .map_or(Ok(60), |n| n.parse::<usize>())?;
+    let frames = arg("--frames").flatten().map_or(Ok(60), |n| {
+        n.parse::<usize>().map_err(|e| format!("--frames {n}: {e}"))
+    })?;
     let (w, h) = (960, 540);
 
     // The scene: a glTF model (the project's sample unless --model), on grass, in sunlight.
@@ -47,23 +55,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut rng = XorShift::new(7);
     let mut towers = Vec::new();
     for i in 0..6 {
-        let size = Vec3::new(
-            rng.range(2.0, 3.0),
-            rng.range(2.5, 5.0),
-            rng.range(2.0, 3.0),
-        );
-        let wall = Rgba::new(
-            rng.range(0.5, 0.8),
-            rng.range(0.4, 0.6),
-            rng.range(0.3, 0.5),
-            1.0,
-        );
+        let size = Vec3::new(2.5, rng.range(2.5, 5.0), 2.5);
+        let wall = Rgba::new(rng.range(0.4, 0.8), 0.5, 0.4, 1.0);
         let mesh = Arc::new(demos::city::building(size, 16, wall));
-        let at = Mat4::from_translation(Vec3::new(
-            4.0 * i as f32 - 10.0,
-            0.0,
-            -9.0 - rng.range(0.0, 4.0),
-        ));
+        let at = Vec3::new(4.0 * i as f32 - 10.0, 0.0, -9.0 - rng.range(0.0, 4.0));
+        let at = Mat4::from_translation(at);
         towers.push(MeshGroup::new().with(mesh, Arc::new(Material::lit(Rgba::WHITE)), at));
     }
     let impostors = ImpostorSet::new(impostor::Config::default(), towers.len());
@@ -75,24 +71,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 
     // A billboard forest: a pine baked once into a sprite, 300 upright quads facing the eye.
     let pine = procedural::tree(TreeKind::Pine, 1.0, 1);
-    let sprite = sprites::bake_upright(
-        &pine,
-        &Material::lit(Rgba::WHITE),
-        &scene.lighting,
-        Vec3::X,
-        96,
-    );
+    let lit = Material::lit(Rgba::WHITE);
+    let sprite = sprites::bake_upright(&pine, &lit, &scene.lighting, Vec3::X, 96);
     let mut leaves = Material::unlit(Rgba::WHITE).with_texture(sprite.texture.clone());
     leaves.alpha_mode = AlphaMode::Dither;
     let mut forest = BillboardBatch::new(leaves);
     while forest.items.len() < 300 {
         let (a, r) = (rng.range(0.0, TAU), rng.range(12.0, 35.0));
         let size = Vec2::new(sprite.size.x / sprite.size.y, 1.0) * rng.range(2.5, 5.0);
-        let mut tree = Billboard::new(
-            Vec3::new(r * a.cos(), 0.0, r * a.sin()),
-            Facing::UPRIGHT,
-            size,
-        );
+        let at = Vec3::new(r * a.cos(), 0.0, r * a.sin());
+        let mut tree = Billboard::new(at, Facing::UPRIGHT, size);
         (tree.pivot, tree.region) = (sprite.pivot, sprite.side);
         forest.push(tree);
     }
@@ -111,8 +99,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let (mut renderer, mut frame, mut target) =
         (Renderer::new(), FrameLoop::new(), Target::new(w, h));
-    let mut opts = FrameOptions::default();
-    opts.clear = Some(SKY);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..FrameOptions::default()
+    };
     let (start, mut last, mut times, mut pixels) = (Instant::now(), 0.0, Vec::new(), Vec::new());
     for n in 1.. {
         let t = window
