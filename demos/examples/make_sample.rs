@@ -206,9 +206,7 @@ fn stone_texture() -> Vec<u8> {
 
 /// Appends `data` to `bin` (4-byte aligned) as a buffer view; returns its index.
 fn view(bin: &mut Vec<u8>, views: &mut Vec<String>, data: &[u8], target: u32) -> usize {
-    while bin.len() % 4 != 0 {
-        bin.push(0);
-    }
+    bin.resize(bin.len().next_multiple_of(4), 0);
     let (off, len) = (bin.len(), data.len());
     bin.extend_from_slice(data);
     views.push(format!(
