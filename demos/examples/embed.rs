@@ -15,10 +15,8 @@ use ibr::subject::MeshGroup;
 use ibr::technique::{Flare, FrameLoop, FrameView, Technique};
 use ibr::{sprites, Billboard, BillboardBatch, Facing};
 use minifb::{Key, Window};
-use std::f32::consts::TAU;
-use std::{path::Path, sync::Arc, time::Instant};
+use std::{f32::consts::TAU, path::Path, sync::Arc, time::Instant};
 
-const SKY: Rgba = Rgba::new(0.45, 0.65, 0.9, 1.0);
 const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/models/sample.gltf");
 
 fn main() {
@@ -100,7 +98,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let (mut renderer, mut frame, mut target) =
         (Renderer::new(), FrameLoop::new(), Target::new(w, h));
     let opts = FrameOptions {
-        clear: Some(SKY),
+        clear: Some(Rgba::new(0.45, 0.65, 0.9, 1.0)), // the sky
         ..FrameOptions::default()
     };
     let (start, mut last, mut times, mut pixels) = (Instant::now(), 0.0, Vec::new(), Vec::new());
@@ -140,10 +138,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         load::write_png_rgba8(Path::new(out), w, h, &target.to_rgba8())?;
         times.sort_by(f64::total_cmp);
         let (median, counts) = (times[times.len() / 2], &planner.report.counts);
-        println!(
-            "{out}: {n} frames {w}x{h}, median {median:.1} ms, towers as geometry/impostors {counts:?}",
-            n = times.len()
-        );
+        println!("{out}: median {median:.1} ms a frame; towers by geometry, impostor: {counts:?}");
     }
     Ok(())
 }
