@@ -28,7 +28,11 @@ fn main() {
 
 fn run() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let arg = |name: &str| args.iter().position(|a| a == name).map(|i| args.get(i + 1));
+    // `--flag value`: Some(Some(value)), `--flag` alone: Some(None).
+    let arg = |name: &str| {
+        let value = |i: usize| args.get(i + 1).filter(|v| !v.starts_with("--"));
+        args.iter().position(|a| a == name).map(value)
+    };
     let frames = arg("--frames").flatten().map_or(Ok(60), |n| {
         n.parse::<usize>().map_err(|e| format!("--frames {n}: {e}"))
     })?;
