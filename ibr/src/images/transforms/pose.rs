@@ -76,7 +76,7 @@ mod tests {
 
     /// The pose of the issue: an eye and target whose `f32` inverse left 0.99999988.
     fn odd() -> Mat4 {
-        let eye = Vec3::new(-61.70723, 62.5967785, -205.712078);
+        let eye = glam::DVec3::new(-61.70723, 62.5967785, -205.712078).as_vec3();
         let target = Vec3::new(0.0086, 21.45, 0.0072);
         Camera::look_at(eye, target, Vec3::Y, 0.8, 1.5).view
     }
