@@ -131,11 +131,14 @@ pub fn image(data: &[u8]) {
     }
 }
 
-/// A depth map file: PFM, and the same bytes as OpenEXR. A decoded image holds exactly
-/// its width times height values.
+/// A depth map file: PFM, and the same bytes as OpenEXR and as a 16-bit PNG. A decoded
+/// image holds exactly its width times height values.
 pub fn float_image(data: &[u8]) {
-    let files = Memory::default().with("d.pfm", data).with("d.exr", data);
-    for name in ["d.pfm", "d.exr"] {
+    let files = Memory::default()
+        .with("d.pfm", data)
+        .with("d.exr", data)
+        .with("d.png", data);
+    for name in ["d.pfm", "d.exr", "d.png"] {
         if let Ok(img) = super::float_image_from(Path::new(name), &files) {
             assert_eq!(
                 img.data.len() as u64,

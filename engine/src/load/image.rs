@@ -71,7 +71,7 @@ pub(crate) fn guarded<T>(decode: impl FnOnce() -> T) -> Result<T, String> {
 }
 
 /// The decoder limits every loader uses.
-fn limits() -> Limits {
+pub(crate) fn limits() -> Limits {
     let mut l = Limits::default();
     l.max_image_width = Some(MAX_TEXTURE_SIZE);
     l.max_image_height = Some(MAX_TEXTURE_SIZE);

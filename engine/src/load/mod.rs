@@ -37,7 +37,7 @@ mod uri;
 pub use self::error::{FileName, LoadError};
 pub use self::files::{inside_path, Disk, Files, Memory};
 pub use self::float::{
-    float_image, float_image_from, parse_pfm, pfm_bytes, write_float_image, FloatImage,
+    float_image, float_image_from, parse_pfm, parse_png16, pfm_bytes, write_float_image, FloatImage,
 };
 pub use self::gltf::GLTF_EXTENSIONS;
 pub use self::image::{rgba8_from_bytes, write_png_rgba8, MAX_IMAGE_ALLOC};

@@ -1,31 +1,65 @@
 //! Captures on disk in the `transforms.json` convention of NeRF-style tools (the NeRF
 //! synthetic scenes, instant-ngp, nerfstudio): one JSON file beside the images, read into
-//! [`DepthImage`]s and written from them.
+//! [`DepthImage`]s and written from them. The README's "Exchange formats" tables list the
+//! same keys with the documents they come from.
 //!
 //! What is read, top level or per frame (a frame's own value wins):
-//! - intrinsics: `fl_x`, `fl_y`, `cx`, `cy` in pixels (`cy` from the top row), or
-//!   `camera_angle_x` (horizontal field of view, radians; square pixels, centred);
-//!   `w`, `h` in pixels (else the colour image's size, which must agree when given);
+//! - intrinsics: `fl_x`, `fl_y`, `cx`, `cy` in pixels (`cy` from the top row; nerfstudio,
+//!   instant-ngp), else `camera_angle_x` / `camera_angle_y` (fields of view in radians;
+//!   the NeRF synthetic scenes, instant-ngp), a missing focal length taken from the other
+//!   axis (square pixels) and a missing principal point at the centre; `w`, `h` in pixels
+//!   (else the colour image's size, which must agree when given);
+//! - the lens: `camera_model` (nerfstudio) may be `OPENCV`, `PINHOLE`, `SIMPLE_PINHOLE`,
+//!   `SIMPLE_RADIAL` or `RADIAL` (pinhole models); others (`OPENCV_FISHEYE`,
+//!   `EQUIRECTANGULAR`, ...) are refused, as are instant-ngp's `is_fisheye: true`,
+//!   `latlong` and `ftheta_p0`. Distortion `k1`..`k4`, `p1`, `p2` must be 0 or absent:
+//!   the images are taken as undistorted pinhole images, and a file that says otherwise is
+//!   refused with the coefficient named (undistort the images first);
 //! - `frames[].file_path`: the colour image (PNG or JPEG, sRGB, straight alpha), relative to
-//!   the JSON's folder; a path without an extension gets `.png` as in the NeRF scenes;
+//!   the JSON's folder; a path without an extension gets `.png` as in the NeRF scenes
+//!   (`./train/r_0`);
 //! - `frames[].transform_matrix`: 4 x 4, rows, **camera to world** with OpenGL axes (the
-//!   camera looks down its -Z, +Y up), exactly the engine's convention;
-//! - `frames[].depth_file_path`: the depth map, PFM or OpenEXR: **distance along the
-//!   optical axis in scene units** (not along the ray), `+inf` where nothing was seen;
+//!   camera looks down its -Z, +Y up), exactly the engine's convention. Read in `f64`; the
+//!   last row must be within 1e-5 of `0 0 0 1` (writers that invert in `f32` leave
+//!   `0.99999988` there) and is then set exactly; the inverse is taken in `f64` (`transforms/pose.rs`);
+//! - the depth map, `frames[].depth_file_path` (nerfstudio) or `frames[].depth_path`
+//!   (instant-ngp): **distance along the optical axis** (not along the ray), as both tools
+//!   read it; PFM or OpenEXR (values in scene units times `depth_unit_scale_factor` when
+//!   given) or a 16-bit grey PNG of integers: times `integer_depth_scale` for `depth_path`
+//!   (instant-ngp, which loads no depth without it, so neither do we), times
+//!   `depth_unit_scale_factor` for `depth_file_path` (nerfstudio's default 1e-3: millimetres
+//!   to metres). A stored 0 means **nothing measured** and reads as [`EMPTY`] (+inf), as
+//!   instant-ngp and RGB-D datasets write it; `+inf` likewise; NaN and negative values are
+//!   errors;
 //! - `near`, `far` (optional, ours): the depth range of the frame's camera; without them it
 //!   is taken from the depth map.
 //!
+//! Ignored: instant-ngp's `aabb_scale`, `aabb`, `scale` and `offset` say how instant-ngp
+//! fits the scene into its own unit cube (positions times `scale` plus `offset`, depths times
+//! `scale`), not where the cameras are: the poses and depths of the file stay in the file's
+//! units, which is what a reader outside instant-ngp wants. Also ignored: nerfstudio's
+//! `applied_transform` (already applied to the poses it accompanies), `sharpness`,
+//! `rotation`, and any other key.
+//!
 //! Every path must stay inside the JSON's folder. A file that cannot be used (sizes that
-//! disagree, NaN, zero or negative depth, no frames, a singular pose) is an error naming it.
+//! disagree, NaN or negative depth, no frames, a singular pose) is an error naming it.
 //! [`write_transforms`] writes `images/NNNN.png`, `depth/NNNN.pfm` and the JSON with
-//! per-frame intrinsics, so [`read_transforms`] gives the same images back (colour to 8
-//! bits).
+//! per-frame intrinsics, `camera_model: OPENCV` (no distortion),
+//! `depth_unit_scale_factor: 1` (so nerfstudio reads the depths in scene units) and
+//! camera-to-world poses inverted in `f64` with an exact last row, so [`read_transforms`]
+//! gives the same images back (colour to 8 bits).
 
+mod depth;
+mod pose;
+
+pub use self::depth::read_depth_image;
+use self::depth::{planes, DepthFile, DepthUnits};
+use self::pose::pose;
+pub use self::pose::LAST_ROW_TOLERANCE;
 use super::{DepthImage, EMPTY};
 use engine::color::{encode_srgb8, srgb_to_linear_lut};
 use engine::load::{self, Disk, Files, LoadError};
 use engine::{Camera, Premul, Projection, Rgba};
-use glam::Mat4;
 use serde_json::{json, Map, Value};
 use std::path::{Path, PathBuf};
 
@@ -186,12 +220,36 @@ fn read_frame(
     if colour_rel.extension().is_none() {
         colour_rel.set_extension("png");
     }
-    let depth_rel = file_of("depth_file_path")?;
+    // nerfstudio's key first, then instant-ngp's.
+    let (depth_key, depth_rel) = match file_of("depth_file_path")? {
+        Some(rel) => ("depth_file_path", Some(rel)),
+        None => ("depth_path", file_of("depth_path")?),
+    };
     if depth_required && depth_rel.is_none() {
         return Err(bad(
-            "no \"depth_file_path\": a depth image needs a depth map".into(),
+            "no \"depth_file_path\" (or \"depth_path\"): a depth image needs a depth map".into(),
         ));
     }
+    let positive = |k: &str| -> Result<Option<f32>, LoadError> {
+        match number(k)? {
+            Some(x) if x <= 0.0 => Err(bad(format!("\"{k}\" is {x}; it must be positive"))),
+            x => Ok(x),
+        }
+    };
+    let unit_factor = positive("depth_unit_scale_factor")?;
+    let units = if depth_key == "depth_path" {
+        DepthUnits {
+            integer: positive("integer_depth_scale")?.ok_or_else(|| {
+                "\"depth_path\" names a 16-bit PNG but there is no \"integer_depth_scale\" (instant-ngp loads no depth without it)".to_string()
+            }),
+            float: unit_factor.unwrap_or(1.0),
+        }
+    } else {
+        DepthUnits {
+            integer: Ok(unit_factor.unwrap_or(depth::NERFSTUDIO_UNIT_SCALE)),
+            float: unit_factor.unwrap_or(1.0),
+        }
+    };
     let colour_path = dir.join(&colour_rel);
     let read = |rel: &Path, full: &Path| {
         files
@@ -201,9 +259,9 @@ fn read_frame(
     let colour_bytes = read(&colour_rel, &colour_path)?;
     let depth = match &depth_rel {
         Some(rel) => {
-            let full = dir.join(rel);
-            let bytes = read(rel, &full)?;
-            Some((full, bytes))
+            let path = dir.join(rel);
+            let bytes = read(rel, &path)?;
+            Some(DepthFile { path, bytes, units })
         }
         None => None,
     };
@@ -225,27 +283,40 @@ fn read_frame(
     let depth = &planes.depth;
 
     // Camera.
-    let intrinsics = match (number("fl_x")?, number("fl_y")?, number("camera_angle_x")?) {
-        (Some(fl_x), fl_y, _) => Intrinsics {
-            fl_x,
-            fl_y: fl_y.unwrap_or(fl_x),
-            cx: number("cx")?.unwrap_or(w as f32 / 2.0),
-            cy: number("cy")?.unwrap_or(h as f32 / 2.0),
-        },
-        (None, _, Some(angle)) if angle > 0.0 && angle < std::f32::consts::PI => {
-            let fl = w as f32 / 2.0 / (angle / 2.0).tan();
-            Intrinsics {
-                fl_x: fl,
-                fl_y: fl,
-                cx: number("cx")?.unwrap_or(w as f32 / 2.0),
-                cy: number("cy")?.unwrap_or(h as f32 / 2.0),
+    lens(&key, &number).map_err(bad)?;
+    let angle = |k: &str, side: u32| -> Result<Option<f32>, LoadError> {
+        match number(k)? {
+            Some(a) if a > 0.0 && a < std::f32::consts::PI => {
+                Ok(Some(side as f32 / 2.0 / (a / 2.0).tan()))
             }
+            Some(a) => Err(bad(format!(
+                "\"{k}\" is {a}; a field of view is between 0 and pi"
+            ))),
+            None => Ok(None),
         }
-        _ => {
+    };
+    let fl_x = match number("fl_x")? {
+        Some(f) => Some(f),
+        None => angle("camera_angle_x", w)?,
+    };
+    let fl_y = match number("fl_y")? {
+        Some(f) => Some(f),
+        None => angle("camera_angle_y", h)?,
+    };
+    let (fl_x, fl_y) = match (fl_x, fl_y) {
+        (Some(x), Some(y)) => (x, y),
+        (Some(f), None) | (None, Some(f)) => (f, f),
+        (None, None) => {
             return Err(bad(
                 "no intrinsics: give \"fl_x\" (and \"fl_y\", \"cx\", \"cy\") or a \"camera_angle_x\" between 0 and pi".into(),
             ))
         }
+    };
+    let intrinsics = Intrinsics {
+        fl_x,
+        fl_y,
+        cx: number("cx")?.unwrap_or(w as f32 / 2.0),
+        cy: number("cy")?.unwrap_or(h as f32 / 2.0),
     };
     if !(intrinsics.fl_x > 0.0 && intrinsics.fl_y > 0.0) {
         return Err(bad("focal lengths must be positive".into()));
@@ -272,143 +343,49 @@ fn read_frame(
     Ok(planes.with_camera(camera))
 }
 
-/// A colour image and its depth map, checked against each other.
-struct Planes {
-    width: u32,
-    height: u32,
-    color: Vec<Premul>,
-    depth: Vec<f32>,
-}
+/// Camera models whose images are pinhole images (nerfstudio's `camera_model`, COLMAP's
+/// names), when their distortion coefficients are 0.
+const PINHOLE_MODELS: [&str; 5] = [
+    "OPENCV",
+    "PINHOLE",
+    "SIMPLE_PINHOLE",
+    "SIMPLE_RADIAL",
+    "RADIAL",
+];
 
-impl Planes {
-    fn with_camera(self, camera: Camera) -> DepthImage {
-        let (w, h) = (self.width, self.height);
-        DepthImage::from_planes(w, h, self.color, self.depth, camera)
-            .unwrap_or_else(|| DepthImage::new(w, h, camera))
-    }
-}
-
-/// Decodes a colour image (sRGB, straight alpha) and a depth map (PFM or OpenEXR, by the
-/// extension of `depth_path`), refusing sizes that disagree and depths that are NaN, zero
-/// or negative.
-fn planes(
-    colour_path: &Path,
-    colour_bytes: &[u8],
-    depth: Option<(PathBuf, Vec<u8>)>,
-) -> Result<Planes, LoadError> {
-    let (w, h, rgba) = load::rgba8_from_bytes(colour_bytes, colour_path)?;
-    let Some((depth_path, depth_bytes)) = depth else {
-        return Ok(colour_planes(
-            w,
-            h,
-            &rgba,
-            vec![EMPTY; w as usize * h as usize],
-        ));
-    };
-    let depth_path = depth_path.as_path();
-    let depth = load::float_image_from(
-        depth_path,
-        &load::Memory::default().with(depth_path, depth_bytes),
-    )?;
-    if (depth.width, depth.height) != (w, h) {
-        return Err(LoadError::invalid(
-            depth_path,
-            format!(
-                "depth map is {} x {} but its colour image {} is {w} x {h}",
-                depth.width,
-                depth.height,
-                colour_path.display()
-            ),
-        ));
-    }
-    if let Some((i, d)) = depth
-        .data
-        .iter()
-        .enumerate()
-        .find(|(_, d)| d.is_nan() || **d <= 0.0)
-    {
-        return Err(LoadError::invalid(
-            depth_path,
-            format!(
-                "depth at pixel ({}, {}) is {d}; depths are positive distances (+inf where nothing was seen)",
-                i as u32 % w,
-                i as u32 / w
-            ),
-        ));
-    }
-    Ok(colour_planes(w, h, &rgba, depth.data))
-}
-
-/// Planes of sRGB bytes `rgba` (`w` x `h`) as linear premultiplied colour, with `depth`.
-fn colour_planes(w: u32, h: u32, rgba: &[u8], depth: Vec<f32>) -> Planes {
-    let lut = srgb_to_linear_lut();
-    let color = rgba
-        .chunks_exact(4)
-        .map(|p| {
-            let a = p[3] as f32 / 255.0;
-            Rgba::new(
-                lut[p[0] as usize],
-                lut[p[1] as usize],
-                lut[p[2] as usize],
-                a,
-            )
-            .premultiply()
-        })
-        .collect();
-    Planes {
-        width: w,
-        height: h,
-        color,
-        depth,
-    }
-}
-
-/// A depth image from a colour file and a depth file given one by one (not through a
-/// `transforms.json`), taken by `camera` (the depth range is kept from it).
-pub fn read_depth_image(
-    colour: &Path,
-    depth: &Path,
-    camera: Camera,
-) -> Result<DepthImage, LoadError> {
-    let colour_bytes = Disk.read(colour, load::MAX_FILE_BYTES)?;
-    let depth_bytes = Disk.read(depth, load::MAX_FILE_BYTES)?;
-    let depth = Some((depth.to_path_buf(), depth_bytes));
-    Ok(planes(colour, &colour_bytes, depth)?.with_camera(camera))
-}
-
-/// The world -> view matrix of a frame's camera-to-world `transform_matrix` (4 rows of 4).
-fn pose(value: Option<&Value>) -> Result<Mat4, String> {
-    let rows = value
-        .and_then(Value::as_array)
-        .filter(|r| r.len() == 4)
-        .ok_or("\"transform_matrix\" is not 4 rows")?;
-    let mut m = [[0.0f32; 4]; 4];
-    for (r, row) in rows.iter().enumerate() {
-        let row = row
-            .as_array()
-            .filter(|c| c.len() == 4)
-            .ok_or("a \"transform_matrix\" row is not 4 numbers")?;
-        for (c, v) in row.iter().enumerate() {
-            m[r][c] = v
-                .as_f64()
-                .map(|x| x as f32)
-                .filter(|x| x.is_finite())
-                .ok_or("\"transform_matrix\" holds something other than finite numbers")?;
+/// Refuses a lens that is not an undistorted pinhole (module docs).
+fn lens<'a>(
+    key: &dyn Fn(&str) -> Option<&'a Value>,
+    number: &dyn Fn(&str) -> Result<Option<f32>, LoadError>,
+) -> Result<(), String> {
+    if let Some(model) = key("camera_model") {
+        let name = model.as_str().ok_or("\"camera_model\" is not a string")?;
+        if !PINHOLE_MODELS.contains(&name) {
+            return Err(format!(
+                "\"camera_model\" is {name}; only pinhole cameras are read ({})",
+                PINHOLE_MODELS.join(", ")
+            ));
         }
     }
-    if m[3] != [0.0, 0.0, 0.0, 1.0] {
-        return Err("\"transform_matrix\" is not affine (last row must be 0 0 0 1)".into());
+    if key("is_fisheye").and_then(Value::as_bool) == Some(true) {
+        return Err("\"is_fisheye\" is true; only pinhole cameras are read".into());
     }
-    let c2w = Mat4::from_cols_array_2d(&m).transpose();
-    let det = c2w.determinant();
-    if det.abs() <= 1e-12 || !det.is_finite() {
-        return Err("\"transform_matrix\" is singular".into());
+    for k in ["latlong", "ftheta_p0"] {
+        if key(k).is_some() {
+            return Err(format!(
+                "\"{k}\" names a lens other than a pinhole; only pinhole cameras are read"
+            ));
+        }
     }
-    let view = c2w.inverse();
-    if !view.is_finite() {
-        return Err("\"transform_matrix\" cannot be inverted".into());
+    for k in ["k1", "k2", "k3", "k4", "p1", "p2"] {
+        let v = number(k).map_err(|e| e.to_string())?;
+        if let Some(v) = v.filter(|v| *v != 0.0) {
+            return Err(format!(
+                "lens distortion \"{k}\": {v} is not modelled; undistort the images first (only pinhole cameras are read)"
+            ));
+        }
     }
-    Ok(view)
+    Ok(())
 }
 
 /// Writes `images` as a capture in `dir` (created if missing): `images/NNNN.png`,
@@ -436,10 +413,11 @@ pub fn write_transforms(dir: &Path, images: &[DepthImage]) -> Result<(), LoadErr
         let depth = load::FloatImage::new(w, h, image.depth.clone())
             .ok_or_else(|| LoadError::invalid(&json_path, "depth plane size"))?;
         load::write_float_image(&dir.join(&depth_rel), &depth)?;
-        let c2w = image.camera.view.inverse().transpose().to_cols_array_2d();
+        let c2w = pose::camera_to_world_rows(&image.camera.view);
         let intrinsics = json!({
             "w": w, "h": h, "fl_x": k.fl_x, "fl_y": k.fl_y, "cx": k.cx, "cy": k.cy,
             "camera_angle_x": 2.0 * (w as f32 / 2.0 / k.fl_x).atan(),
+            "camera_model": "OPENCV", "depth_unit_scale_factor": 1.0,
             "near": near, "far": far,
         });
         if i == 0 {
@@ -539,3 +517,9 @@ pub fn fuzz(data: &[u8]) {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod foreign;
+
+#[cfg(test)]
+mod properties;
