@@ -27,10 +27,11 @@ pub fn from_depth(depths: &[&[f32]], focal_px: f32, baseline: f32) -> Option<u32
         .copied()
         .filter(|z| z.is_finite() && *z > 0.0)
         .fold(f32::INFINITY, f32::min);
-    if !nearest.is_finite() || !(focal_px * baseline > 0.0) {
+    let fb = focal_px * baseline;
+    if !nearest.is_finite() || fb.is_nan() || fb <= 0.0 {
         return None;
     }
-    Some(clamped(1.05 * focal_px * baseline / nearest + 2.0))
+    Some(clamped(1.05 * fb / nearest + 2.0))
 }
 
 /// What a coarse search of a pair found: its matched disparities, scaled to the full
