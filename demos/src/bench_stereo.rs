@@ -7,9 +7,11 @@
 //! one with a repeated pattern, and the cards seen by a verged right camera, rectified from
 //! the known cameras first. Every matcher reads the same 8-bit PNGs: each pair is written
 //! to `OUT/stereo/PAIR/` (`left.png`, `right.png`, `truth.pfm`), where the script also
-//! writes its disparities (`opencv_sgbm.pfm`, `opencv_sgbm_hh.pfm`).
+//! writes its disparities (`opencv_sgbm.pfm`, `opencv_sgbm_hh.pfm`). [`key`] draws the
+//! colour key under a colour-mapped disparity map (the `stereo` CLI's `disparity.png`).
 
 mod charts;
+pub mod key;
 mod scenes;
 
 pub use charts::charts;

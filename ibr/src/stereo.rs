@@ -3,7 +3,8 @@
 //! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
 //! ([`sgm`], coarse to fine), both with left-right checks; unknown pixels filled from the
 //! background side and the left view made a depth image for the 3D warp ([`depth`]);
-//! pairs from any two cameras rectified first ([`rectify`]). `bench stereo` measures them
+//! pairs from any two cameras rectified first ([`rectify`]); the disparity range to search
+//! from depth or a coarse search, and the share of matches at its limit ([`range`]). `bench stereo` measures them
 //! against OpenCV's `StereoSGBM` on the same pairs.
 //!
 //! A disparity map belongs to the left image of a rectified pair: pixel `(x, y)` of the
@@ -17,6 +18,7 @@ pub mod block;
 pub mod depth;
 pub mod measure;
 pub mod pair;
+pub mod range;
 pub mod rectify;
 pub mod sgm;
 
@@ -26,7 +28,7 @@ pub(crate) mod scenes;
 pub use block::{luminance, luminance_rgba8, BlockMatch};
 pub use measure::{measure, DisparityError, Measured};
 pub use pair::StereoPair;
-pub use rectify::{rectify, rectify_with, Framing, Rectified, RectifyError};
+pub use rectify::{inside_original, rectify, rectify_with, Framing, Rectified, RectifyError};
 pub use sgm::{Sgm, SgmBuffers};
 
 use engine::load::FloatImage;

@@ -4,15 +4,28 @@
 //! ```sh
 //! stereo --left left.png --right right.png --max-disparity 64 --out out/stereo
 //! stereo --left l.png --right r.png --method block --fill --focal-px 700 --baseline 0.2 --out out/s
-//! stereo --cameras pair/transforms.json --max-disparity 32 --out out/s
+//! stereo --cameras pair/transforms.json --out out/s
 //! warp --capture out/s/transforms.json --eye 0,0,4 --target 0,0,0 --png view.png
 //! ```
 //!
 //! Matches the left image against the right one along rows by semi-global matching
 //! (default) or a block matcher, keeps matches that pass the uniqueness and left-right
 //! checks, and writes `disparity.pfm` (the Middlebury convention: pixels, infinity where
-//! unknown) and `disparity.png` (colour-mapped, unknown black). `--fill` fills unknown
-//! pixels from the background side first. The pair comes in one of two forms:
+//! unknown) and `disparity.png` (colour-mapped, unknown black, with a colour key below the
+//! map: a bar over the searched range with tick values in pixels of disparity).
+//!
+//! The disparities searched are `0..N`: `--max-disparity N` when given, else from the
+//! capture's depth maps when `--cameras` has them (the nearest point's disparity after
+//! rectification, with a margin), else from a coarse search of the pair shrunk to about
+//! 128 pixels across (`ibr::stereo::range`). When more than 5% of the matches sit at the
+//! range's limit (the map's matches at its last disparity, or the coarse search's at it or
+//! beyond, which a range given or chosen by the coarse search is checked against: the
+//! scene comes nearer than the range reaches), one warning line goes to stderr.
+//!
+//! A pixel with alpha 0 shows nothing (nothing was seen there): its disparity is unknown,
+//! as is that of a pixel matched to one, and `--fill` (unknown pixels filled from the
+//! background side, along rows) paints neither them nor across them. The pair comes in
+//! one of two forms:
 //!
 //! - `--left` and `--right`: two images of one size, already rectified (the right camera
 //!   the left one moved along its x axis). Given the focal length in pixels and the
@@ -21,7 +34,7 @@
 //!   `transforms.json` capture (`images/0000.png`, `depth/0000.pfm`; the left camera at the
 //!   origin looking down -z, square pixels, the principal point in the middle).
 //! - `--cameras FILE`: a `transforms.json` capture (NeRF / instant-ngp convention:
-//!   camera-to-world matrices, OpenGL axes; depth maps optional and unused) of exactly two
+//!   camera-to-world matrices, OpenGL axes; depth maps optional, used for the range) of exactly two
 //!   frames, the left view then the right, of one size, with any poses but one whose
 //!   baseline runs along the view. The pair is rectified from its cameras
 //!   (`ibr::stereo::rectify`: both views turned about their eyes to the left view's
@@ -32,16 +45,21 @@
 //!   where it stands in the scene, so `warp --capture DIR/transforms.json` makes new views
 //!   in the scene's own coordinates. Rectified left pixels with no source pixel (outside
 //!   the original left image; transparent in `images/0000.png`), and those matched to a
-//!   right pixel with none, are unknown, and stay so with `--fill`.
+//!   right pixel with none, are unknown, and stay so with `--fill`. The share of each
+//!   rectified view inside its original is printed (whatever the original shows there).
 //!
 //! Errors are one line on stderr, `stereo: error: ...`, and exit code 1 (a capture without
 //! two frames, views of different sizes, cameras that cannot be rectified among them).
 
 use clap::{ArgGroup, Parser, ValueEnum};
+use demos::bench_stereo::key;
 use engine::load::{self, write_float_image, FloatImage};
 use engine::{Camera, Premul};
 use ibr::images::transforms::{read_photos, write_transforms, Intrinsics};
-use ibr::stereo::{luminance, luminance_rgba8, rectify, BlockMatch, Disparity, Sgm};
+use ibr::stereo::range::{self, MAX_RANGE};
+use ibr::stereo::{
+    inside_original, luminance, luminance_rgba8, rectify, BlockMatch, Disparity, Sgm,
+};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -55,7 +73,7 @@ enum Method {
 #[derive(Debug, Parser)]
 #[command(
     version,
-    about = "Depth from a stereo pair: rectified images, or two views and their cameras"
+    about = "stereo: depth from a stereo pair, rectified images or two views with their cameras"
 )]
 #[command(group(ArgGroup::new("pair").required(true).args(["left", "cameras"])))]
 struct Args {
@@ -73,12 +91,13 @@ struct Args {
         conflicts_with_all = ["left", "right", "focal_px", "baseline"]
     )]
     cameras: Option<PathBuf>,
-    /// Disparities 0 to N - 1 are searched.
-    #[arg(long, value_name = "N", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    max_disparity: u32,
+    /// Disparities 0 to N - 1 are searched [default: from the capture's depth, else a
+    /// coarse search].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    max_disparity: Option<u32>,
     #[arg(long, value_enum, default_value_t = Method::Sgm)]
     method: Method,
-    /// Fill unknown pixels from the background side.
+    /// Fill unknown pixels from the background side (never where the view saw nothing).
     #[arg(long)]
     fill: bool,
     /// Focal length in pixels (along x), for depth.pfm (with --left and --right).
@@ -109,14 +128,16 @@ struct Pair {
     /// Luminance of the left and right images.
     left: Vec<f32>,
     right: Vec<f32>,
-    /// Pixels of each image that show nothing (outside the original after rectification);
-    /// empty when every pixel shows something.
+    /// Pixels of each image that show nothing (alpha 0: outside the original after
+    /// rectification, or nothing seen there); empty when every pixel shows something.
     left_empty: Vec<bool>,
     right_empty: Vec<bool>,
     /// The left image's colour, premultiplied linear.
     colour: Vec<Premul>,
     /// The left camera, the focal length in pixels along x and the baseline, when known.
     camera: Option<(Camera, f32, f32)>,
+    /// The disparities to search that the capture's depth maps give, when it has them.
+    from_depth: Option<u32>,
 }
 
 /// Reads an image as RGBA8.
@@ -153,7 +174,10 @@ fn images(a: &Args, left: &Path, right: &Path) -> Result<Pair, String> {
                 fov_y,
                 w as f32 / h.max(1) as f32,
             )
-            .with_depth_range(0.01 * f * b / a.max_disparity as f32, 1e4 * f * b);
+            .with_depth_range(
+                0.01 * f * b / a.max_disparity.unwrap_or(MAX_RANGE) as f32,
+                1e4 * f * b,
+            );
             Some((camera, f, b))
         }
         _ => None,
@@ -174,11 +198,21 @@ fn images(a: &Args, left: &Path, right: &Path) -> Result<Pair, String> {
         height: h,
         left: luminance_rgba8(&l),
         right: luminance_rgba8(&r),
-        left_empty: Vec::new(),
-        right_empty: Vec::new(),
+        left_empty: transparent(&l, &r),
+        right_empty: transparent(&r, &l),
         colour,
         camera,
+        from_depth: None,
     })
+}
+
+/// The pixels of RGBA8 `image` with alpha 0, or none when neither it nor `other` has any.
+fn transparent(image: &[u8], other: &[u8]) -> Vec<bool> {
+    let clear = |rgba: &[u8]| rgba.chunks_exact(4).any(|p| p[3] == 0);
+    if !clear(image) && !clear(other) {
+        return Vec::new();
+    }
+    image.chunks_exact(4).map(|p| p[3] == 0).collect()
 }
 
 /// The pair of the two views of the capture `path` (a `transforms.json` or its folder),
@@ -211,13 +245,20 @@ fn captured(path: &Path) -> Result<Pair, String> {
     let focal = rect.left.camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let empty = |colour: &[Premul]| colour.iter().map(|c| c.a <= 0.0).collect::<Vec<bool>>();
     let (left_empty, right_empty) = (empty(&rect.left.color), empty(&rect.right.color));
+    // Coverage of the originals by where each ray falls, not by what it shows there.
+    let (left_in, right_in) = (
+        inside_original(l, &rect.left.camera, w, h),
+        inside_original(r, &rect.right.camera, w, h),
+    );
     println!(
         "stereo: rectified {}: baseline {:.4}, focal length {focal:.1} px, {:.1}% of the left view and {:.1}% of the right inside the originals",
         json.display(),
         rect.baseline,
-        100.0 * share(&left_empty, false),
-        100.0 * share(&right_empty, false),
+        100.0 * share(&left_in, true),
+        100.0 * share(&right_in, true),
     );
+    let from_depth =
+        range::from_depth(&[&rect.left.depth, &rect.right.depth], focal, rect.baseline);
     Ok(Pair {
         width: w,
         height: h,
@@ -227,6 +268,7 @@ fn captured(path: &Path) -> Result<Pair, String> {
         right_empty,
         colour: rect.left.color,
         camera: Some((rect.left.camera, focal, rect.baseline)),
+        from_depth,
     })
 }
 
@@ -287,14 +329,24 @@ fn run(a: &Args) -> Result<(), String> {
     let (w, h) = (pair.width, pair.height);
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let start = Instant::now();
+    // The range, and the coarse search that checks a range given (or chose it).
+    let search = || range::coarse(&pair.left, &pair.right, w, h);
+    let (n, how, coarse) = match (a.max_disparity, pair.from_depth) {
+        (Some(n), _) => (n, "--max-disparity", search()),
+        (None, Some(n)) => (n, "from the capture's depth", None),
+        (None, None) => match search() {
+            Some(c) => (c.range(), "from a coarse search", Some(c)),
+            None => (64, "nothing matched in a coarse search: the default", None),
+        },
+    };
     let mut d = match a.method {
         Method::Sgm => Sgm {
-            max_disparity: a.max_disparity,
+            max_disparity: n,
             ..Sgm::default()
         }
         .run(&pair.left, &pair.right, w, h),
         Method::Block => BlockMatch {
-            max_disparity: a.max_disparity,
+            max_disparity: n,
             ..BlockMatch::default()
         }
         .run(&pair.left, &pair.right, w, h),
@@ -313,19 +365,24 @@ fn run(a: &Args) -> Result<(), String> {
         )
     };
     println!(
-        "stereo: {w}x{h}, disparities 0 to {}, {:?}: {:.1}% of the pixels matched{seen} in {ms:.0} ms",
-        a.max_disparity - 1,
+        "stereo: {w}x{h}, disparities 0 to {} ({how}), {:?}: {:.1}% of the pixels matched{seen} in {ms:.0} ms",
+        n - 1,
         a.method,
         100.0 * known as f64 / d.data.len().max(1) as f64
     );
+    let at_limit = range::at_limit(&d, n).max(coarse.map_or(0.0, |c| c.beyond(n)));
+    if at_limit > 0.05 {
+        eprintln!(
+            "stereo: warning: {:.1}% of the matches sit at the limit of the disparity range (0 to {}): the scene comes nearer than the range reaches; raise --max-disparity{}",
+            100.0 * at_limit,
+            n - 1,
+            if a.max_disparity.is_some() { " or leave it out to have it chosen" } else { "" }
+        );
+    }
     if a.fill {
-        d.fill_from_background();
-        // Filling does not reach what the view does not see.
-        for (v, &empty) in d.data.iter_mut().zip(&pair.left_empty) {
-            if empty {
-                *v = f32::INFINITY;
-            }
-        }
+        // Filling does not reach, nor cross, what the view does not see.
+        let seen: Vec<bool> = pair.left_empty.iter().map(|&e| !e).collect();
+        d.fill_within(&seen);
     }
     let write = |name: &str, image: &FloatImage| {
         let p = a.out.join(name);
@@ -335,8 +392,8 @@ fn run(a: &Args) -> Result<(), String> {
     };
     write("disparity.pfm", &d.to_float_image())?;
     let png = a.out.join("disparity.png");
-    load::write_png_rgba8(&png, w, h, &d.to_colour(a.max_disparity as f32))
-        .map_err(|e| e.to_string())?;
+    let (pixels, keyed) = key::with_key(d.to_colour(n as f32), w, h, n as f32);
+    load::write_png_rgba8(&png, w, keyed, &pixels).map_err(|e| e.to_string())?;
     println!("stereo: wrote {}", png.display());
     if let Some((camera, f, b)) = pair.camera {
         // The left view as a depth image: depth f b / d along the optical axis.

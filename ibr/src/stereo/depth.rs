@@ -12,23 +12,41 @@ impl Disparity {
     /// disparities at its two ends, the background's side of an occlusion; a run reaching
     /// the row's edge takes its one end's. Rows with no known pixel stay unknown.
     pub fn fill_from_background(&mut self) {
+        self.fill_within(&[]);
+    }
+
+    /// [`Disparity::fill_from_background`] confined to the pixels the view saw: `seen`
+    /// (row-major, one flag a pixel; empty for all of them) `false` where the image shows
+    /// nothing (alpha 0, or outside the original once rectified). Those pixels are made
+    /// unknown and bound runs as a row's edge does: nothing is painted across them.
+    pub fn fill_within(&mut self, seen: &[bool]) {
         let w = self.width as usize;
         if w == 0 {
             return;
         }
-        for row in self.data.chunks_mut(w) {
+        let all = seen.len() != self.data.len();
+        let seen = |i: usize| all || seen[i];
+        for (r, row) in self.data.chunks_mut(w).enumerate() {
+            let at = |x: usize| r * w + x;
+            for (x, v) in row.iter_mut().enumerate() {
+                if !seen(at(x)) {
+                    *v = f32::INFINITY;
+                }
+            }
             let mut x = 0;
             while x < w {
-                if row[x].is_finite() {
+                if row[x].is_finite() || !seen(at(x)) {
                     x += 1;
                     continue;
                 }
                 let start = x;
-                while x < w && !row[x].is_finite() {
+                while x < w && !row[x].is_finite() && seen(at(x)) {
                     x += 1;
                 }
-                let before = start.checked_sub(1).map(|k| row[k]);
-                let after = row.get(x).copied();
+                // An unseen neighbour is infinite: no end there.
+                let end = |k: usize| Some(row[k]).filter(|v| v.is_finite());
+                let before = start.checked_sub(1).and_then(end);
+                let after = (x < w).then_some(x).and_then(end);
                 let fill = match (before, after) {
                     (Some(a), Some(b)) => a.min(b),
                     (Some(a), None) => a,
@@ -75,18 +93,23 @@ impl Disparity {
                 out.extend_from_slice(&[0, 0, 0, 255]);
                 continue;
             }
-            let t = (d / max.max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-            // Blue, cyan, green, yellow, red.
-            let ramp = |c: f32| (255.0 * c.clamp(0.0, 1.0)) as u8;
-            let (r, g, b) = (
-                ramp(2.0 * t - 0.5 - 0.5 * (1.0 - t)),
-                ramp(1.5 - (4.0 * t - 2.0).abs()),
-                ramp(1.5 - 2.0 * t),
-            );
+            let [r, g, b] = ramp(d / max.max(f32::MIN_POSITIVE));
             out.extend_from_slice(&[r, g, b, 255]);
         }
         out
     }
+}
+
+/// The colour of [`Disparity::to_colour`] at `t` (0 far, 1 near; clamped): blue, cyan,
+/// green, yellow, red. Red rises and blue falls with `t` (a colour key reads it back).
+pub fn ramp(t: f32) -> [u8; 3] {
+    let t = t.clamp(0.0, 1.0);
+    let c = |v: f32| (255.0 * v.clamp(0.0, 1.0)) as u8;
+    [
+        c(2.0 * t - 0.5 - 0.5 * (1.0 - t)),
+        c(1.5 - (4.0 * t - 2.0).abs()),
+        c(1.5 - 2.0 * t),
+    ]
 }
 
 #[cfg(test)]
@@ -113,6 +136,26 @@ mod tests {
             d.data[7..].iter().all(|v| v.is_infinite()),
             "no known pixel"
         );
+    }
+
+    /// A run between two known pixels that crosses pixels the view never saw is not
+    /// painted across them: each seen stretch is filled from its own ends only.
+    #[test]
+    fn filling_stops_where_the_view_saw_nothing() {
+        let inf = f32::INFINITY;
+        let mut d = Disparity::new(8, 1, vec![9.0, inf, inf, inf, inf, inf, inf, 4.0]).unwrap();
+        let seen = [true, true, false, false, true, false, true, true];
+        d.fill_within(&seen);
+        assert_eq!(d.data[..2], [9.0, 9.0]);
+        assert!(d.data[2..4].iter().all(|v| v.is_infinite()), "{:?}", d.data);
+        // The seen pixel between unseen ones has no known end.
+        assert!(d.data[4].is_infinite() && d.data[5].is_infinite());
+        assert_eq!(d.data[6..], [4.0, 4.0]);
+        // A known value where nothing was seen (a stray match) is dropped too.
+        let mut e = Disparity::new(3, 1, vec![1.0, 2.0, inf]).unwrap();
+        e.fill_within(&[true, false, true]);
+        assert_eq!(e.data[0], 1.0);
+        assert!(e.data[1].is_infinite() && e.data[2].is_infinite());
     }
 
     #[test]

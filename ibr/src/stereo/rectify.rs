@@ -156,15 +156,9 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
     for y in 0..h {
         for x in 0..w {
             let dir = pixel_ray(&to_world, eye, (x, y), (w, h));
-            // The same ray in the original view, as a direction (a point at infinity).
-            let c = to_old * dir.extend(0.0);
-            if c.w <= 0.0 {
+            let Some((u, v)) = source(&to_old, dir, (iw, ih)) else {
                 continue;
-            }
-            let (u, v) = (
-                (c.x / c.w + 1.0) * 0.5 * iw as f32 - 0.5,
-                (1.0 - c.y / c.w) * 0.5 * ih as f32 - 0.5,
-            );
+            };
             if let Some(p) = bilinear(image, u, v) {
                 let i = (y * w + x) as usize;
                 out.color[i] = p;
@@ -183,6 +177,44 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
         }
     }
     out
+}
+
+/// Which pixels of a `w` x `h` view by `camera` (at `original`'s eye, as [`resample`]
+/// makes) have their ray inside `original`'s image, whatever it shows there: `true`
+/// inside, row-major. What the rectified view covers of the original, transparent
+/// background included.
+pub fn inside_original(original: &DepthImage, camera: &Camera, w: u32, h: u32) -> Vec<bool> {
+    let (iw, ih) = (original.width(), original.height());
+    let to_world = camera.gl_view_proj().inverse();
+    let to_old = original.camera.gl_view_proj();
+    let eye = camera.eye();
+    let (fw, fh) = (iw as f32, ih as f32);
+    let mut out = Vec::with_capacity(w as usize * h as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let dir = pixel_ray(&to_world, eye, (x, y), (w, h));
+            // The bounds `bilinear` takes.
+            out.push(
+                source(&to_old, dir, (iw, ih))
+                    .is_some_and(|(u, v)| u >= -0.5 && v >= -0.5 && u <= fw - 0.5 && v <= fh - 0.5),
+            );
+        }
+    }
+    out
+}
+
+/// Where the ray `dir` falls in the original view whose world-to-clip matrix is `to_old`
+/// (pixel centres at integers, in an `iw` x `ih` image), the ray taken as a point at
+/// infinity; `None` behind that view.
+#[inline]
+fn source(to_old: &Mat4, dir: Vec3, (iw, ih): (u32, u32)) -> Option<(f32, f32)> {
+    let c = *to_old * dir.extend(0.0);
+    (c.w > 0.0).then(|| {
+        (
+            (c.x / c.w + 1.0) * 0.5 * iw as f32 - 0.5,
+            (1.0 - c.y / c.w) * 0.5 * ih as f32 - 0.5,
+        )
+    })
 }
 
 /// The direction (not normalised) from `eye` through the centre of pixel `(x, y)` of a

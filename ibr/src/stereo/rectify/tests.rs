@@ -93,3 +93,40 @@ fn pairs_that_cannot_be_rectified_say_why() {
         Err(RectifyError::Sizes(..))
     ));
 }
+
+/// What a turned view covers of the original does not depend on what the original shows:
+/// an image transparent everywhere is covered whole by its own view, and a view turned 10
+/// degrees about the vertical covers what the pinhole model says (each pixel's ray turned
+/// by hand and projected into the original's field of view).
+#[test]
+fn coverage_of_the_original_counts_transparent_pixels_as_inside() {
+    let (w, h, fov) = (40u32, 30u32, 0.8f32);
+    let aspect = w as f32 / h as f32;
+    let original = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, fov, aspect);
+    let image = DepthImage::new(w, h, original);
+    assert!(image.color.iter().all(|c| c.a == 0.0), "nothing shown");
+    assert!(inside_original(&image, &original, w, h).iter().all(|&i| i));
+    let turn = 10f32.to_radians();
+    let (s, c) = turn.sin_cos();
+    let turned = Camera::look_at(Vec3::ZERO, Vec3::new(-s, 0.0, -c), Vec3::Y, fov, aspect);
+    let got = inside_original(&image, &turned, w, h);
+    let t = (0.5 * fov).tan();
+    let (mut outside, mut disagree) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let nx = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
+            let ny = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
+            let d = Vec3::new(nx * t * aspect, ny * t, -1.0);
+            // Turned about +y by `turn`: -z goes to (-sin, 0, -cos).
+            let world = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+            let (u, v) = (world.x / -world.z / (t * aspect), world.y / -world.z / t);
+            let want = -world.z > 0.0 && u.abs() <= 1.0 && v.abs() <= 1.0;
+            let edge = (u.abs() - 1.0).abs() < 1e-3 || (v.abs() - 1.0).abs() < 1e-3;
+            outside += !want as u32;
+            disagree += (want != got[(y * w + x) as usize] && !edge) as u32;
+        }
+    }
+    // 10 degrees of a 0.8 x 1.33 radian view: a strip of about 8 columns.
+    assert!((6 * h..=10 * h).contains(&outside), "{outside} outside");
+    assert_eq!(disagree, 0);
+}
