@@ -900,9 +900,9 @@ fn against_truth(out: &Path) -> (f64, f64, f64) {
     )
 }
 
-/// Asserts that `out`'s map is right (measured with the range from depth: 63% of the
-/// pixels matched, the rest out of the right view or hidden by the card; 94% of the
-/// card within a pixel).
+/// Asserts that `out`'s map is right (measured with the range from depth: 62% of all
+/// pixels within a pixel of the truth, most of the rest out of the right view or hidden
+/// by the card; 94% of the card within a pixel).
 fn assert_right(out: &Path, what: &str) {
     let (matched, right, card) = against_truth(out);
     assert!(
