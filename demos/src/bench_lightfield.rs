@@ -14,9 +14,10 @@
 //!   quadrilinear and depth-corrected from its codes: error, frame time, training time,
 //!   compression in memory and in the file (zstd after VQ);
 //! - `tile`: tile shapes at one codebook size, the same measures;
-//! - `sparse`: scattered photographs (a hand-held-like wander near the camera plane)
-//!   rebinned by splatting and pull-push, against the dense capture of the same slab: error
-//!   and the fraction of samples pull-push invented;
+//! - `sparse`: scattered photographs with depth maps (a hand-held-like wander near the
+//!   camera plane) rebinned depth-corrected ([`ibr::lightfield::rebin`]), against the
+//!   dense capture of the same slab: error, coverage IoU against the geometry and the
+//!   fraction of samples pull-push invented;
 //! - `resolution`: frame time against frame size, light field and geometry;
 //! - `triangles`: frame time against the object's triangles, light field and geometry;
 //! - `geometry`: the geometry's frame time at each eye (the error reference).
@@ -103,7 +104,7 @@ impl Plan {
             resolutions: vec![(320, 180), (640, 360), (1280, 720), (1920, 1080)],
             triangles: vec![1_000, 10_000, 100_000, 1_000_000],
             object_triangles: 20_000,
-            photographs: vec![16, 64, 256],
+            photographs: vec![16, 64, 128, 256],
             photo_size: 256,
             sparse_slab: (16, 128),
             frames: Frames {
@@ -174,6 +175,9 @@ pub struct Row {
     pub time: Summary,
     /// Against the geometry (geometry rows: none).
     pub error: Option<metrics::ImageError>,
+    /// Coverage against the geometry's: pixels both cover over pixels either covers
+    /// (alpha above 0; geometry rows: none).
+    pub iou: Option<f64>,
     /// The light field's rays, samples read and pixels written in the last frame.
     pub rays: u64,
     pub taps: u64,
@@ -194,13 +198,13 @@ pub struct Row {
 }
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "series,method,eye_class,eye,uv,st,codewords,tile,triangles,width,height,frames,median_ms,min_ms,p90_ms,psnr_db,mse,compared,mean_abs,frac_over,rays,taps,pixels,bytes,raw_bytes,file_bytes,raw_file_bytes,capture_s,quantise_s,photographs,invented";
+    const HEADER: &'static str = "series,method,eye_class,eye,uv,st,codewords,tile,triangles,width,height,frames,median_ms,min_ms,p90_ms,psnr_db,mse,compared,mean_abs,frac_over,rays,taps,pixels,bytes,raw_bytes,file_bytes,raw_file_bytes,capture_s,quantise_s,photographs,invented,iou";
 
     fn csv(&self) -> String {
         let e = self.error;
         let f = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
         format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{:.4}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{:.4},{}",
             self.series,
             self.method,
             self.eye_class,
@@ -232,6 +236,7 @@ impl CsvRow for Row {
             self.quantise_s,
             self.photographs,
             self.invented,
+            f(self.iou),
         )
     }
 }
@@ -422,12 +427,17 @@ impl Bench<'_> {
             );
             t.elapsed()
         });
-        let (error, last, bytes) = match &field {
+        let (error, iou, last, bytes) = match &field {
             Some(f) => {
                 let e = metrics::compare_covered(&target, &truth).expect("same size");
-                (Some(e), f.last(), f.bytes() as u64)
+                (
+                    Some(e),
+                    Some(coverage_iou(&target, &truth)),
+                    f.last(),
+                    f.bytes() as u64,
+                )
             }
-            None => (None, Default::default(), 0),
+            None => (None, None, Default::default(), 0),
         };
         Row {
             series,
@@ -443,6 +453,7 @@ impl Bench<'_> {
             height: size.1,
             time: Summary::of(&times),
             error,
+            iou,
             rays: last.rays,
             taps: last.taps,
             pixels: last.pixels,
@@ -496,6 +507,23 @@ impl Bench<'_> {
             }
         }
         rows
+    }
+}
+
+/// Pixels both frames cover (alpha above 0) over pixels either covers (1 when neither
+/// covers any).
+pub fn coverage_iou(a: &Target, b: &Target) -> f64 {
+    let (a, b) = (a.to_rgba8_premultiplied(), b.to_rgba8_premultiplied());
+    let (mut both, mut either) = (0u64, 0u64);
+    for (p, q) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        let (x, y) = (p[3] > 0, q[3] > 0);
+        both += u64::from(x && y);
+        either += u64::from(x || y);
+    }
+    if either == 0 {
+        1.0
+    } else {
+        both as f64 / either as f64
     }
 }
 

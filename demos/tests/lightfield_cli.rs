@@ -1,5 +1,7 @@
 //! `lightfield` end to end: a model captured, compressed, inspected and rendered; a
-//! `render --capture` folder rebinned (sparse capture); bad input is a one-line error.
+//! `render --capture` folder rebinned (sparse capture); bad input is a one-line error; a
+//! compressed file is not compressed again; a view that shows nothing is warned about;
+//! the flags are the other tools' (`-W/-H`, negative numbers in vectors).
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -99,8 +101,10 @@ fn a_model_is_captured_compressed_and_rendered() {
         s(&frames),
         "--frames",
         "3",
-        "--size",
-        "80x60",
+        "-W",
+        "80",
+        "-H",
+        "60",
     ]));
     assert_eq!(log.lines().count(), 3, "{log}");
     let first = image::open(frames.join("0000.png")).unwrap().to_rgba8();
@@ -192,8 +196,10 @@ fn a_capture_folder_is_rebinned() {
         s(&plf),
         "--png",
         s(&png),
-        "--size",
-        "64x64",
+        "-W",
+        "64",
+        "-H",
+        "64",
     ]));
 }
 
@@ -236,4 +242,194 @@ fn bad_input_is_one_line_naming_the_problem() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(want), "{args:?}: {err}");
     }
+}
+
+/// A small model captured into `dir` (raw) and compressed (the pair's paths).
+fn captured(tmp: &Tmp) -> (std::path::PathBuf, std::path::PathBuf) {
+    let obj = tmp.path("scene.obj");
+    std::fs::write(&obj, SCENE).unwrap();
+    let (raw, vq) = (tmp.path("scene.plf"), tmp.path("scene_vq.plf"));
+    ok(&lightfield(&[
+        "capture",
+        "--obj",
+        s(&obj),
+        "--out",
+        s(&raw),
+        "--uv",
+        "4",
+        "--st",
+        "32",
+    ]));
+    ok(&lightfield(&[
+        "compress",
+        s(&raw),
+        "--out",
+        s(&vq),
+        "--codewords",
+        "32",
+        "--tile",
+        "1x1x2x2",
+    ]));
+    (raw, vq)
+}
+
+#[test]
+fn a_compressed_file_is_not_compressed_again() {
+    let tmp = Tmp::new("lightfield-cli", "twice");
+    let (_, vq) = captured(&tmp);
+    let again = tmp.path("again.plf");
+    let o = lightfield(&["compress", s(&vq), "--out", s(&again)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success(),
+        "compressed twice: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(
+        err.starts_with("lightfield: error: ") && err.contains("already compressed"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!again.exists(), "nothing written");
+}
+
+#[test]
+fn a_view_that_shows_nothing_is_warned_about_in_one_line() {
+    let tmp = Tmp::new("lightfield-cli", "nothing");
+    let (raw, _) = captured(&tmp);
+    let png = tmp.path("away.png");
+    // Looking away from the object, from in front of it.
+    let o = lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&png),
+        "-W",
+        "40",
+        "-H",
+        "30",
+        "--eye",
+        "0,0,30",
+        "--target",
+        "0,0,60",
+    ]);
+    ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(png.exists());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("lightfield: warning: ") && err.contains("no pixel"),
+        "{err}"
+    );
+    // A view that shows it says nothing.
+    let o = lightfield(&["render", s(&raw), "--png", s(&png), "-W", "40", "-H", "30"]);
+    ok(&o);
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn render_takes_the_shared_flags_and_negative_numbers_in_vectors() {
+    let tmp = Tmp::new("lightfield-cli", "flags");
+    let (raw, _) = captured(&tmp);
+    let (a, b, c) = (tmp.path("a.png"), tmp.path("b.png"), tmp.path("c.png"));
+    // -W/-H as every other tool; --size the older spelling, the same frame.
+    ok(&lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&a),
+        "-W",
+        "48",
+        "-H",
+        "32",
+        "--eye=-0.3,0.2,6",
+        "--target=-0.01,-0.02,-0.25",
+        "--up=-0.1,1,0",
+    ]));
+    // The same vectors as separate arguments, negative numbers first.
+    ok(&lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&b),
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--eye",
+        "-0.3,0.2,6",
+        "--target",
+        "-0.01,-0.02,-0.25",
+        "--up",
+        "-0.1,1,0",
+    ]));
+    ok(&lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&c),
+        "--size",
+        "48x32",
+        "--eye",
+        "-0.3,0.2,6",
+        "--target",
+        "-0.01,-0.02,-0.25",
+        "--up",
+        "-0.1,1,0",
+    ]));
+    let (a, b, c) = (
+        image::open(&a).unwrap().to_rgba8(),
+        image::open(&b).unwrap().to_rgba8(),
+        image::open(&c).unwrap().to_rgba8(),
+    );
+    assert_eq!(a.dimensions(), (48, 32));
+    assert!(a == b && a == c, "the spellings differ");
+    // The view shows the red square (what --target looks at).
+    let p = a.get_pixel(24, 16);
+    assert!(p[0] > 150 && p[1] < 80 && p[2] < 80, "{p:?}");
+    let both = lightfield(&[
+        "render",
+        s(&raw),
+        "--png",
+        s(&tmp.path("both.png")),
+        "--size",
+        "48x32",
+        "-W",
+        "48",
+    ]);
+    assert!(!both.status.success());
+    // Capture's vectors too.
+    let obj = tmp.path("scene.obj");
+    ok(&lightfield(&[
+        "capture",
+        "--obj",
+        s(&obj),
+        "--out",
+        s(&tmp.path("side.plf")),
+        "--uv",
+        "2",
+        "--st",
+        "8",
+        "--look",
+        "-1,0,-1",
+        "--up",
+        "-0,1,0",
+    ]));
+}
+
+#[test]
+fn help_opens_with_this_tools_job() {
+    let o = lightfield(&["--help"]);
+    let help = ok(&o);
+    let first = help.lines().next().unwrap_or_default();
+    assert!(
+        first.contains("light slabs")
+            && first.contains("render views")
+            && !first.contains("showcase"),
+        "{first}"
+    );
 }

@@ -161,10 +161,10 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         let psnr = Line {
             labels: rebinned
                 .iter()
-                .map(|&n| format!("{:.0}% invented", at(n)[0].invented * 100.0))
+                .map(|&n| format!("{:.1}% invented", at(n)[0].invented * 100.0))
                 .collect(),
             ..Line::new(
-                "photographs rebinned, pull-push fill",
+                "photographs rebinned with their depth",
                 rebinned
                     .iter()
                     .map(|&n| (n as f64, pooled(&at(n))))

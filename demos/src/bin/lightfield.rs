@@ -5,18 +5,22 @@
 //! lightfield capture --transforms cap/transforms.json --out cap.plf --uv 16 --st 128
 //! lightfield capture --obj model.obj --out ortho.plf --infinite uv
 //! lightfield compress model.plf --out model_vq.plf --codewords 16384 --tile 2x2x2x2
-//! lightfield render model_vq.plf --png view.png --eye 0.1,0.2,3 --size 1280x720
+//! lightfield render model_vq.plf --png view.png --eye -0.1,0.2,3 -W 1280 -H 720
 //! lightfield info model_vq.plf
 //! ```
 //!
 //! `capture` renders a model (OBJ or glTF) through a slab fitted around it, its cameras
 //! looking along `--look` (dense capture, with a progress bar), or rebins the
-//! photographs of a `transforms.json` capture into one (sparse capture: pull-push fills
-//! the rays no photograph saw, and how many were invented is printed). `compress` vector-
+//! photographs of a `transforms.json` capture into one (sparse capture, depth-corrected by
+//! the depth maps: each ray read where the photographs saw its surface, rays that meet
+//! nothing left empty, pull-push filling only what no photograph saw, and how much was
+//! invented printed). `compress` vector-
 //! quantises a light field (then zstd, in the file). `render` draws views of a light-field
 //! file to PNG: one from `--eye`, or `--frames N` along a sweep across the camera plane.
 //! Files are `.plf` (see `ibr::lightfield::file`). Errors are one line on stderr,
-//! `lightfield: error: ...`, and exit code 1.
+//! `lightfield: error: ...`, and exit code 1; a view in which the light field covers no
+//! pixel is written but warned about (`lightfield: warning: ...`). Vector flags take
+//! negative numbers as they are (`--eye -1,2,3`).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use demos::cli::parse_vec3;
@@ -36,7 +40,8 @@ use std::time::Instant;
 #[command(
     name = "lightfield",
     version,
-    about = "Capture, compress and render light slabs"
+    about = "Light fields: capture light slabs from a model or a capture folder, compress them, and render views of them to PNG",
+    long_about = None
 )]
 struct Cli {
     #[command(subcommand)]
@@ -80,10 +85,10 @@ struct CaptureArgs {
     st: u32,
     /// The direction the capture cameras look (models; a sparse capture uses its
     /// photographs' mean direction).
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,-1", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,-1", value_parser = parse_vec3, allow_hyphen_values = true)]
     look: Vec3,
     /// Up in the capture images.
-    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,1,0", value_parser = parse_vec3, allow_hyphen_values = true)]
     up: Vec3,
     /// Aperture prefiltering (models): each camera's image the mean of N x N views over
     /// its cell of the camera plane (1: none).
@@ -146,20 +151,26 @@ struct RenderArgs {
     #[arg(long, value_name = "PATH")]
     png: PathBuf,
     /// Eye position (default: the middle of the camera plane).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     eye: Option<Vec3>,
     /// Point looked at (default: the middle of the focal plane).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     target: Option<Vec3>,
     /// Up direction.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3)]
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     up: Option<Vec3>,
     /// Vertical field of view, degrees.
     #[arg(long, default_value_t = 40.0)]
     fov_y: f32,
-    /// Frame size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    size: (u32, u32),
+    /// Image width in pixels.
+    #[arg(short = 'W', long = "width", default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(short = 'H', long = "height", default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    height: u32,
+    /// The frame size as WIDTHxHEIGHT (the older spelling of -W and -H).
+    #[arg(long, hide = true, value_parser = parse_size, conflicts_with_all = ["width", "height"])]
+    size: Option<(u32, u32)>,
     #[arg(long, value_enum, default_value_t = InterpArg::Quadrilinear)]
     interpolation: InterpArg,
     /// Look samples up where the ray's plane crossings are, without depth correction.
@@ -270,8 +281,13 @@ fn capture(a: &CaptureArgs) -> Result<(), String> {
         )
         .map_err(|e| format!("cannot fit a slab to the photographs: {e}"))?;
         let r = rebin(place(slab, a.infinite)?, &images);
+        let how = if r.depth_corrected {
+            "surface points of"
+        } else {
+            "rays of (no depth: splatted)"
+        };
         println!(
-            "lightfield: rebinned {} rays of {} photographs: {:.1}% of the samples measured, {:.1}% invented by pull-push",
+            "lightfield: rebinned {} {how} {} photographs: {:.1}% of the samples measured, {:.1}% invented by pull-push",
             r.rays,
             images.len(),
             r.confident() * 100.0,
@@ -341,6 +357,14 @@ fn file_len(p: &Path) -> u64 {
 
 fn compress(a: &CompressArgs) -> Result<(), String> {
     let lf = LightField::load(&a.file).map_err(|e| e.to_string())?;
+    if let Rays::Quantised(q) = &lf.rays {
+        return Err(format!(
+            "{}: already compressed ({} codewords of {} tiles); compress the raw light field it was made from",
+            a.file.display(),
+            q.codewords(),
+            q.tile
+        ));
+    }
     let settings = VqSettings {
         tile: a.tile,
         codewords: a.codewords,
@@ -373,7 +397,7 @@ fn render(a: &RenderArgs) -> Result<(), String> {
     let slab = lf.slab;
     let middle = slab.viewpoint(0.5, 0.5);
     let up = a.up.unwrap_or(-slab.st.edge_b.normalize());
-    let (w, h) = a.size;
+    let (w, h) = a.size.unwrap_or((a.width, a.height));
     let mut object = LightFieldObject::new("light field", lf);
     object.lookup = Lookup {
         interpolation: match a.interpolation {
@@ -429,6 +453,12 @@ fn render(a: &RenderArgs) -> Result<(), String> {
             last.taps,
             last.pixels
         );
+        if last.pixels == 0 {
+            eprintln!(
+                "lightfield: warning: {}: the light field covers no pixel from {eye} looking at {target} (the view crosses none of its rays, or they are all empty); the PNG holds only the background",
+                path.display()
+            );
+        }
     }
     Ok(())
 }

@@ -1,19 +1,30 @@
 //! Sparse capture (the lumigraph's, Gortler et al. 96): photographs taken from anywhere
 //! (a hand-held path, a `transforms.json` folder) rebinned into a light slab's grid.
 //!
-//! Each pixel of each image is a ray: where it crosses the two planes gives continuous
-//! `(u, v, s, t)`, and its colour (and the depth of the surface it saw) is splatted into
-//! the sixteen samples around that point with quadrilinear weights. The weights are kept
-//! ([`Rebinned::weights`]). Samples no ray reached are then filled by pull-push in four
-//! dimensions: the grid is halved along every axis down to one sample (each coarser
-//! sample the weighted mean of its up to sixteen children, weights clamped at 1), then
-//! every sample with weight below 1 is blended toward its parent's value on the way back
-//! up. Pixels that saw nothing are rays too (transparent, no depth): empty space is data,
-//! and only rays no photograph saw are invented.
+//! With depth maps and a slab with both planes finite, rebinning is depth-corrected
+//! ([`reproject`]): each sample's ray is found on the surface the photographs' depth maps
+//! describe and read from the photographs that see that point unoccluded, blended by
+//! angular proximity; rays that meet nothing in any depth map are empty space (no halo
+//! around silhouettes), and pull-push fills only the rays inside the surface's footprint
+//! that no photograph sees.
 //!
-//! Photographs must look through the slab from the `uv` side (toward
+//! Without depth (or with a plane at infinity) each pixel of each image is a ray: where
+//! it crosses the two planes gives continuous `(u, v, s, t)`, and its colour (and the
+//! depth of the surface it saw) is splatted into the sixteen samples around that point
+//! with quadrilinear weights. The weights are kept ([`Rebinned::weights`]). Samples no ray
+//! reached are then filled by pull-push in four dimensions: the grid is halved along every
+//! axis down to one sample (each coarser sample the weighted mean of its up to sixteen
+//! children, weights clamped at 1), then every sample with weight below 1 is blended
+//! toward its parent's value on the way back up. Pixels that saw nothing are rays too
+//! (transparent, no depth): empty space is data, and only rays no photograph saw are
+//! invented. Splatting blurs every ray over its neighbours' directions, so silhouettes
+//! carry a halo; it is the fallback.
+//!
+//! Splatted photographs must look through the slab from the `uv` side (toward
 //! [`Slab::forward`]) from outside the object, on the `uv` side of the `st` plane; other
 //! pixels are left out.
+
+pub mod reproject;
 
 use super::{LightField, RawRays, Rays, Slab};
 use crate::images::DepthImage;
@@ -26,11 +37,16 @@ use rayon::prelude::*;
 #[derive(Clone, Debug)]
 pub struct Rebinned {
     pub field: LightField,
-    /// Per sample (in [`RawRays::samples`] order), the summed splat weight of the rays
-    /// that reached it: 0 where pull-push invented it.
+    /// Per sample (in [`RawRays::samples`] order), how much of it was measured: 1 where
+    /// the photographs saw its ray's surface or saw through it (depth-corrected), the
+    /// summed splat weight of the rays that reached it (splatted); 0 where pull-push
+    /// invented it.
     pub weights: Vec<f32>,
-    /// Rays splatted.
+    /// Photograph samples used: pixels with a surface point (depth-corrected) or rays
+    /// splatted.
     pub rays: u64,
+    /// Whether the photographs' depth corrected the rebinning ([`reproject`]).
+    pub depth_corrected: bool,
 }
 
 impl Rebinned {
@@ -125,9 +141,21 @@ fn rays_of(slab: &Slab, image: &DepthImage) -> Vec<Ray> {
     out
 }
 
-/// Rebins `images` into `slab` (see the module docs). On the thread pool; the same
+/// Rebins `images` into `slab` (see the module docs): depth-corrected where the images
+/// have depth and both planes are finite, else splatted. On the thread pool; the same
 /// samples at any thread count.
 pub fn rebin(slab: Slab, images: &[DepthImage]) -> Rebinned {
+    if !slab.is_projective() && reproject::any_depth(images) {
+        let (grid, points) = reproject::reproject(&slab, images);
+        finish(slab, grid, points, true)
+    } else {
+        splat(slab, images)
+    }
+}
+
+/// Rebins `images` into `slab` by splatting their rays (see the module docs), whatever
+/// depth they have.
+pub fn splat(slab: Slab, images: &[DepthImage]) -> Rebinned {
     let [nu, nv, ns, nt] = slab.counts();
     // Rays bucketed by the lower v sample they reach, in image and pixel order.
     let mut buckets: Vec<Vec<Ray>> = vec![Vec::new(); nv as usize];
@@ -179,9 +207,14 @@ pub fn rebin(slab: Slab, images: &[DepthImage]) -> Rebinned {
             }
         }
     });
+    finish(slab, grid, count, false)
+}
+
+/// Sums to a light field: means, pull-push, packed samples and depths.
+fn finish(slab: Slab, mut grid: Vec<Acc>, count: u64, depth_corrected: bool) -> Rebinned {
     let weights = grid.iter().map(|a| a.weight).collect();
     normalise(&mut grid);
-    pull_push(&mut grid, [nu, nv, ns, nt].map(|n| n as usize));
+    pull_push(&mut grid, slab.counts().map(|n| n as usize));
     let byte = |x: f32| (x + 0.5).clamp(0.0, 255.0) as u8;
     let samples = grid
         .iter()
@@ -206,6 +239,7 @@ pub fn rebin(slab: Slab, images: &[DepthImage]) -> Rebinned {
         },
         weights,
         rays: count,
+        depth_corrected,
     }
 }
 
