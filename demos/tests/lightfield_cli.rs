@@ -97,7 +97,7 @@ fn a_model_is_captured_compressed_and_rendered() {
     let log = ok(&lightfield(&[
         "render",
         s(&raw),
-        "--png",
+        "--out",
         s(&frames),
         "--frames",
         "3",

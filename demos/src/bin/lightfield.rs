@@ -5,7 +5,7 @@
 //! lightfield capture --transforms cap/transforms.json --out cap.plf --uv 16 --st 128
 //! lightfield capture --obj model.obj --out ortho.plf --infinite uv
 //! lightfield compress model.plf --out model_vq.plf --codewords 16384 --tile 2x2x2x2
-//! lightfield render model_vq.plf --png view.png --eye -0.1,0.2,3 -W 1280 -H 720
+//! lightfield render model_vq.plf --out view.png --eye -0.1,0.2,3 -W 1280 -H 720
 //! lightfield info model_vq.plf
 //! ```
 //!
@@ -147,9 +147,9 @@ enum InterpArg {
 struct RenderArgs {
     /// The light-field file.
     file: PathBuf,
-    /// The PNG to write (with --frames, a folder for NNNN.png).
-    #[arg(long, value_name = "PATH")]
-    png: PathBuf,
+    /// The PNG to write (with --frames, a folder for NNNN.png); `--png` is the old spelling.
+    #[arg(long = "out", alias = "png", value_name = "PATH")]
+    out: PathBuf,
     /// Eye position (default: the middle of the camera plane).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     eye: Option<Vec3>,
@@ -176,7 +176,7 @@ struct RenderArgs {
     /// Look samples up where the ray's plane crossings are, without depth correction.
     #[arg(long)]
     no_depth_correction: bool,
-    /// Frames along a sweep across the camera plane (left to right), into the --png
+    /// Frames along a sweep across the camera plane (left to right), into the --out
     /// folder.
     #[arg(long)]
     frames: Option<u32>,
@@ -408,13 +408,13 @@ fn render(a: &RenderArgs) -> Result<(), String> {
         depth_correction: !a.no_depth_correction,
     };
     let eyes: Vec<(PathBuf, Vec3)> = match a.frames {
-        None => vec![(a.png.clone(), a.eye.unwrap_or(middle))],
+        None => vec![(a.out.clone(), a.eye.unwrap_or(middle))],
         Some(n) => {
-            std::fs::create_dir_all(&a.png).map_err(|e| format!("{}: {e}", a.png.display()))?;
+            std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
             (0..n.max(1))
                 .map(|k| {
                     let f = (k as f32 + 0.5) / n.max(1) as f32;
-                    (a.png.join(format!("{k:04}.png")), slab.viewpoint(f, 0.5))
+                    (a.out.join(format!("{k:04}.png")), slab.viewpoint(f, 0.5))
                 })
                 .collect()
         }
