@@ -10,13 +10,15 @@ mod font;
 mod lines;
 mod plot;
 mod raster;
+mod style;
 
 pub use font::font_bytes;
 pub use lines::{Line, Lines};
+pub use plot::Layout;
 pub use raster::{resolution_chart, triangles_chart, LineAndDots};
 
 use font::font_ready;
-use lines::{Dots, Joined};
+use lines::Series;
 use plot::plot;
 use plotters::prelude::*;
 use std::path::Path;
@@ -56,8 +58,8 @@ const SERIES: [RGBColor; 14] = [
 pub enum Chart {
     /// Each line's points joined.
     Lines(Lines),
-    /// Each line's points as dots, not joined (a scatter: one colour per line, repeating
-    /// after fourteen).
+    /// Each line's points as dots, not joined (a scatter: one colour and marker per line),
+    /// reference lines joined.
     Scatter(Lines),
     /// One labelled line and loose labelled dots.
     LineAndDots(LineAndDots),
@@ -67,12 +69,17 @@ pub enum Chart {
 /// with a non-finite coordinate (or, on a log axis, one at or below zero) of a
 /// [`Chart::Lines`] or [`Chart::Scatter`] are left out.
 pub fn draw(path: &Path, chart: &Chart) -> Result<Drawn, Error> {
+    draw_layout(path, chart).map(|(drawn, _)| drawn)
+}
+
+/// [`draw`], also telling where the plot area, point labels, markers and legend went.
+pub fn draw_layout(path: &Path, chart: &Chart) -> Result<(Drawn, Layout), Error> {
     match chart {
         Chart::Lines(spec) => {
-            with_fallback(|text| plot(path, &spec.axes(), &Joined::of(spec), text))
+            with_fallback(|text| plot(path, &spec.axes(), &Series::of(spec, true), text))
         }
         Chart::Scatter(spec) => {
-            with_fallback(|text| plot(path, &spec.axes(), &Dots::of(spec), text))
+            with_fallback(|text| plot(path, &spec.axes(), &Series::of(spec, false), text))
         }
         Chart::LineAndDots(spec) => with_fallback(|text| plot(path, &spec.axes(), spec, text)),
     }
@@ -80,17 +87,15 @@ pub fn draw(path: &Path, chart: &Chart) -> Result<Drawn, Error> {
 
 /// Draws with text when a font is usable; without when none is, or when drawing with text
 /// fails.
-fn with_fallback(mut draw: impl FnMut(bool) -> Result<(), Error>) -> Result<Drawn, Error> {
+fn with_fallback(
+    mut draw: impl FnMut(bool) -> Result<Layout, Error>,
+) -> Result<(Drawn, Layout), Error> {
     if !font_ready() {
-        draw(false)?;
-        return Ok(Drawn::WithoutText);
+        return Ok((Drawn::WithoutText, draw(false)?));
     }
     match draw(true) {
-        Ok(()) => Ok(Drawn::WithText),
-        Err(_) => {
-            draw(false)?;
-            Ok(Drawn::WithoutText)
-        }
+        Ok(layout) => Ok((Drawn::WithText, layout)),
+        Err(_) => Ok((Drawn::WithoutText, draw(false)?)),
     }
 }
 
