@@ -66,9 +66,9 @@ pub struct Lines {
     pub lines: Vec<Line>,
     pub log_x: bool,
     pub log_y: bool,
-    /// Y values at or above this are "exact" (a PSNR of identical images): drawn as an
-    /// arrow labelled "exact" at the top of the y axis, whose range comes from the other
-    /// values.
+    /// Y values at or above this are "exact" (a PSNR of identical images): drawn on a dotted
+    /// line near the top of the y axis (in the legend as "exact: identical images"), the
+    /// axis range coming from the other values.
     pub exact_at: Option<f64>,
     /// The right y axis' description (linear, from zero), for lines [`Line::on_right`]: a
     /// second quantity gets its own axis.
@@ -211,12 +211,7 @@ impl Body for Series<'_> {
             })
             .collect();
         if self.has_exact() {
-            let exact = Style {
-                marker: Marker::Up,
-                joined: false,
-                ..Style::reference(0)
-            };
-            entries.push(("exact (identical images)".into(), exact));
+            entries.push(("exact: identical images".into(), exact_style()));
         }
         entries
     }
@@ -240,24 +235,40 @@ impl Body for Series<'_> {
             if line.reference {
                 continue;
             }
-            for (&at, &((_, y), label)) in px.iter().zip(pts) {
-                let exact = self.spec.exact(y);
+            for (&at, &(_, label)) in px.iter().zip(pts) {
                 marks.push(Mark {
                     at,
                     marker: style.marker,
                     colour: style.colour,
                     label: label.to_string(),
                 });
-                if exact {
-                    marks.push(Mark {
-                        at: (at.0, at.1 - 16),
-                        marker: Marker::Up,
-                        colour: style.colour,
-                        label: "exact".into(),
-                    });
-                }
             }
         }
+        if self.has_exact() {
+            // One dashed line across the data at the "exact" height, in the legend.
+            let xs = self
+                .lines
+                .iter()
+                .flat_map(|(_, _, p)| p.iter().map(|(p, _)| p.0));
+            let lo = xs.clone().fold(f64::INFINITY, f64::min);
+            let hi = xs.fold(f64::NEG_INFINITY, f64::max);
+            let ends = vec![(map.left)((lo, exact_y)), (map.left)((hi, exact_y))];
+            marks.push(Mark {
+                at: ends[1],
+                marker: Marker::None,
+                colour: exact_style().colour,
+                label: "exact".into(),
+            });
+            lines.push((ends, exact_style()));
+        }
         (lines, marks)
+    }
+}
+
+/// The "exact" line's look.
+fn exact_style() -> Style {
+    Style {
+        marker: Marker::None,
+        ..Style::reference(1)
     }
 }

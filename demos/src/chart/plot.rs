@@ -183,10 +183,10 @@ pub(super) fn plot(
         builder.margin_right(16 + w + 12);
     }
     if text {
-        builder
-            .caption(axes.title, ("sans-serif", 24))
-            .x_label_area_size(48)
-            .y_label_area_size(64);
+        // The title is drawn below, centred on the image (not on the plot, which a legend
+        // beside it moves left), at a size that fits.
+        builder.margin_top(16 + TITLE_BAND);
+        builder.x_label_area_size(48).y_label_area_size(64);
         if y2.is_some() {
             builder.right_y_label_area_size(64);
         }
@@ -226,6 +226,9 @@ pub(super) fn plot(
             y2,
         )?,
     };
+    if text {
+        title(&root, axes.title)?;
+    }
     let mut layout = Layout {
         image: SIZE,
         plot: plot_area,
@@ -236,7 +239,9 @@ pub(super) fn plot(
     }
     for m in &marks {
         draw_marker(&root, m.marker, m.at, m.colour)?;
-        layout.markers.push(marker_box(m.marker, m.at));
+        if m.marker != Marker::None {
+            layout.markers.push(marker_box(m.marker, m.at));
+        }
     }
     if text {
         let wanted: Vec<(&Mark, (i32, i32))> = marks
@@ -270,11 +275,32 @@ pub(super) fn plot(
     Ok(layout)
 }
 
+/// Height of the band the title takes above the plot.
+const TITLE_BAND: i32 = 30;
+
+/// Draws `text` centred at the top of the image, at 24 pixels or smaller to fit its width.
+fn title(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    text: &str,
+) -> Result<(), Error> {
+    let room = SIZE.0 as i32 - 24;
+    let mut size = 24;
+    while size > 12 && text_size(text, size, true).0 > room {
+        size -= 1;
+    }
+    let w = text_size(text, size, true).0.min(room);
+    root.draw(&Text::new(
+        text.to_string(),
+        ((SIZE.0 as i32 - w) / 2, 10),
+        ("sans-serif", size).into_font(),
+    ))?;
+    Ok(())
+}
+
 /// The pixel box a marker covers.
 fn marker_box(marker: Marker, (x, y): (i32, i32)) -> [i32; 4] {
     match marker {
         Marker::None => [x, y, x, y],
-        Marker::Up => [x - 6, y - 10, x + 6, y + 12],
         _ => [x - 7, y - 7, x + 7, y + 7],
     }
 }
@@ -403,23 +429,45 @@ mod tests {
     fn labels_never_overlap_and_stay_inside() {
         let area = [50, 20, 900, 560];
         // Crowded: twenty points along a line a few pixels apart, and some on the edges.
-        let mut anchors: Vec<((i32, i32), usize)> =
-            (0..20).map(|k| ((60 + 4 * k, 540 - 3 * k), 8)).collect();
-        anchors.extend([((895, 25), 10), ((52, 555), 7), ((400, 300), 0)]);
-        let boxes = place_labels(&anchors, area);
+        let mut anchors: Vec<((i32, i32), (i32, i32))> = (0..20)
+            .map(|k| ((60 + 4 * k, 540 - 3 * k), (64, 17)))
+            .collect();
+        anchors.extend([((895, 25), (80, 17)), ((52, 555), (56, 17))]);
+        let markers: Vec<[i32; 4]> = anchors
+            .iter()
+            .map(|&((x, y), _)| [x - 7, y - 7, x + 7, y + 7])
+            .collect();
+        let boxes = place_labels(&anchors, &markers, area);
         let placed: Vec<[i32; 4]> = boxes.iter().flatten().copied().collect();
         assert!(placed.len() >= 4, "some labels fit: {placed:?}");
         assert!(placed.len() < anchors.len(), "crowded ones are left out");
         for (i, a) in placed.iter().enumerate() {
             assert!(a[0] >= area[0] && a[2] <= area[2] && a[1] >= area[1] && a[3] <= area[3]);
+            assert!(
+                markers.iter().all(|m| !overlap(a, m)),
+                "{a:?} covers a marker"
+            );
             for b in &placed[i + 1..] {
                 assert!(!overlap(a, b), "{a:?} {b:?}");
             }
         }
-        // Apart, every label is placed, right above its point.
-        let apart = [((100, 300), 5), ((400, 300), 5), ((700, 300), 5)];
-        let boxes = place_labels(&apart, area);
+        // Apart, every label is placed, right of its point and centred on it.
+        let apart = [
+            ((100, 300), (40, 16)),
+            ((400, 300), (40, 16)),
+            ((700, 300), (40, 16)),
+        ];
+        let boxes = place_labels(&apart, &[], area);
         assert!(boxes.iter().all(Option::is_some));
-        assert_eq!(boxes[0], Some([106, 282, 146, 298]));
+        assert_eq!(boxes[0], Some([109, 292, 149, 308]));
+    }
+
+    /// Axis labels carry no noise digits.
+    #[test]
+    fn short_numbers() {
+        assert_eq!(short(100_002.0), "100k");
+        assert_eq!(short(2_500_000.0), "2.5M");
+        assert_eq!(short(1.5), "1.5");
+        assert_eq!(short(20.0), "20");
     }
 }

@@ -15,8 +15,6 @@ pub(super) enum Marker {
     Diamond,
     Cross,
     Ring,
-    /// An "exact" value drawn at the top of the axis: an arrow pointing up.
-    Up,
     None,
 }
 
@@ -104,13 +102,6 @@ pub(super) fn draw_marker(
             area.draw(&PathElement::new(
                 vec![(x - 5, y + 5), (x + 5, y - 5)],
                 line,
-            ))?;
-        }
-        Marker::Up => {
-            area.draw(&PathElement::new(vec![(x, y + 12), (x, y - 4)], line))?;
-            area.draw(&Polygon::new(
-                vec![(x, y - 9), (x + 5, y - 2), (x - 5, y - 2)],
-                colour.filled(),
             ))?;
         }
         Marker::None => {}
