@@ -138,13 +138,16 @@ impl Lines {
     }
 }
 
+/// A point and its label.
+type Labelled<'a> = ((f64, f64), &'a str);
+
 /// A [`Lines`] chart's lines with the points (and their labels) it can draw, joined or as
 /// loose dots.
 pub(super) struct Series<'a> {
     spec: &'a Lines,
     joined: bool,
     /// Each line, its style, and its drawable points with their labels.
-    lines: Vec<(&'a Line, Style, Vec<((f64, f64), &'a str)>)>,
+    lines: Vec<(&'a Line, Style, Vec<Labelled<'a>>)>,
 }
 
 impl<'a> Series<'a> {

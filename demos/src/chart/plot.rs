@@ -249,8 +249,7 @@ pub(super) fn plot(
             .filter(|m| !m.label.is_empty())
             .map(|m| (m, text_size(&m.label, LABEL_FONT, text)))
             .collect();
-        let anchors: Vec<((i32, i32), (i32, i32))> =
-            wanted.iter().map(|(m, size)| (m.at, *size)).collect();
+        let anchors: Vec<Anchor> = wanted.iter().map(|(m, size)| (m.at, *size)).collect();
         let boxes = place_labels(&anchors, &layout.markers, plot_area);
         for ((m, _), b) in wanted.iter().zip(&boxes) {
             match b {
@@ -363,13 +362,16 @@ fn inside<'a, 'b: 'a, X: Axis, Y: Axis>(
     Ok((area, lines, marks))
 }
 
+/// A label's anchor pixel and its size in pixels.
+pub(super) type Anchor = ((i32, i32), (i32, i32));
+
 /// Where each label goes, as a pixel box `[x0, y0, x1, y1]`: beside its anchor point
 /// (`(anchor, (width, height))`), inside `area`, covering no marker of `markers` and
 /// overlapping no label placed before it. Sixteen places around the point are tried, the
 /// nearest first; a label with no free place is left out (`None`) rather than drawn over
 /// another or clipped.
 pub(super) fn place_labels(
-    anchors: &[((i32, i32), (i32, i32))],
+    anchors: &[Anchor],
     markers: &[[i32; 4]],
     area: [i32; 4],
 ) -> Vec<Option<[i32; 4]>> {
@@ -429,7 +431,7 @@ mod tests {
     fn labels_never_overlap_and_stay_inside() {
         let area = [50, 20, 900, 560];
         // Crowded: twenty points along a line a few pixels apart, and some on the edges.
-        let mut anchors: Vec<((i32, i32), (i32, i32))> = (0..20)
+        let mut anchors: Vec<Anchor> = (0..20)
             .map(|k| ((60 + 4 * k, 540 - 3 * k), (64, 17)))
             .collect();
         anchors.extend([((895, 25), (80, 17)), ((52, 555), (56, 17))]);

@@ -64,11 +64,7 @@ impl Style {
         Style {
             colour: RGBColor(90 + 40 * (k % 3) as u8, 90, 90),
             marker: Marker::None,
-            dash: if k % 2 == 0 {
-                Dash::Dashed
-            } else {
-                Dash::Dotted
-            },
+            dash: [Dash::Dashed, Dash::Dotted][k % 2],
             joined: true,
         }
     }
