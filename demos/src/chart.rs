@@ -130,8 +130,14 @@ mod tests {
         std::fs::remove_dir_all(&dir).ok();
     }
 
+    /// A file in a directory of its own (tests run in parallel, and the text test removes
+    /// its directory when done).
     fn temp(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("parallax-chart-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!(
+            "parallax-chart-{}-{}",
+            std::process::id(),
+            name.trim_end_matches(".png")
+        ));
         std::fs::create_dir_all(&dir).expect("temp dir");
         dir.join(name)
     }
