@@ -822,18 +822,20 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
         if !rows.iter().any(|r| r.scene == scene) {
             continue;
         }
+        // Each point labelled with its error budget.
         let series = |method: &str| {
-            let pts = rows
+            let of: Vec<&Row> = rows
                 .iter()
                 .filter(|r| r.scene == scene && r.method == method)
-                .map(|r| (r.time.median_ms, r.measured_mean))
                 .collect();
-            Line::new(format!("{method} ({scene})"), pts)
+            let pts = of.iter().map(|r| (r.time.median_ms, r.measured_mean));
+            let labels = of.iter().map(|r| format!("b{}", r.budget)).collect();
+            Line::new(format!("{method} ({scene})"), pts.collect()).labelled(labels)
         };
         out.push((
             file,
             Chart::Lines(Lines::new(
-                "Measured error against frame time, over the error budget",
+                "Measured error against frame time (labels: error budget bN)",
                 "median frame time (ms)",
                 "mean abs error over objects (8-bit levels)",
                 ["geometry", "impostors", "layers"]
@@ -870,7 +872,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
         .filter(|r| r.method == "planner" && r.scene == "city")
         .map(|r| (f64::from(r.budget), f64::from(r.budget)))
         .collect();
-    lines.push(Line::new("the budget", budgets));
+    lines.push(Line::reference("the budget", budgets));
     out.push((
         "budget_predicted_measured.png",
         Chart::Lines(Lines::new(

@@ -362,13 +362,23 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
     use crate::chart::{Chart, Line, Lines};
     let mut out = Vec::new();
     for path in ["translate", "rotate"] {
-        let series = |method: &str, f: &dyn Fn(&Row) -> (f64, f64)| {
-            let pts = rows
+        // Points labelled with their threshold (none for the geometry, which has none).
+        let series = |method: &str, f: &dyn Fn(&Row) -> (f64, f64), labelled: bool| {
+            let of: Vec<&Row> = rows
                 .iter()
                 .filter(|r| r.path == path && r.method == method)
-                .map(f)
                 .collect();
-            Line::new(format!("{method} ({path})"), pts)
+            let labels = (of.iter())
+                .map(|r| match labelled && method != "geometry" {
+                    true => format!("{}px", r.tolerance_px),
+                    false => String::new(),
+                })
+                .collect();
+            Line::new(
+                format!("{method} ({path})"),
+                of.into_iter().map(f).collect(),
+            )
+            .labelled(labels)
         };
         let refreshes = |r: &Row| (f64::from(r.tolerance_px), r.refreshes_per_frame);
         let speed = |r: &Row| (r.time.median_ms, r.error.mean_abs);
@@ -389,23 +399,23 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
                 "threshold (pixels)",
                 "images re-rendered per frame",
                 vec![
-                    series("layers", &refreshes),
-                    series("layers-persp", &refreshes),
-                    series("impostors", &refreshes),
+                    series("layers", &refreshes, false),
+                    series("layers-persp", &refreshes, false),
+                    series("impostors", &refreshes, false),
                 ],
             )),
         ));
         out.push((
             file_t,
             Chart::Lines(Lines::new(
-                "Speed against error, beside the geometry",
+                "Speed against error, beside the geometry (labels: threshold)",
                 "frame time (ms, median)",
                 "mean absolute error against the geometry (8-bit levels)",
                 vec![
-                    series("layers", &speed),
-                    series("layers-persp", &speed),
-                    series("impostors", &speed),
-                    series("geometry", &speed),
+                    series("layers", &speed, true),
+                    series("layers-persp", &speed, true),
+                    series("impostors", &speed, true),
+                    series("geometry", &speed, true),
                 ],
             )),
         ));

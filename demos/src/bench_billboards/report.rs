@@ -4,7 +4,6 @@ use super::{Row, Times};
 use crate::bench::count_name;
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
-use plotters::prelude::SeriesLabelPosition;
 
 /// Highest PSNR drawn in charts (identical images have an infinite PSNR).
 pub const PSNR_CAP_DB: f64 = 99.0;
@@ -75,8 +74,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         ),
         (
             "billboards_accuracy_psnr.png",
-            accuracy("PSNR", "PSNR (dB)", |e| e.psnr_capped(PSNR_CAP_DB))
-                .legend(SeriesLabelPosition::LowerLeft),
+            accuracy("PSNR", "PSNR (dB)", |e| e.psnr_capped(PSNR_CAP_DB)),
         ),
         (
             "billboards_accuracy_mae.png",
@@ -125,6 +123,8 @@ fn trees_error_time(rows: &[Row]) -> Lines {
             name: name.into(),
             points,
             labels,
+            reference: false,
+            right: false,
         }
     };
     Lines::new(
@@ -137,5 +137,4 @@ fn trees_error_time(rows: &[Row]) -> Lines {
         ],
     )
     .log(true, false)
-    .legend(SeriesLabelPosition::UpperLeft)
 }

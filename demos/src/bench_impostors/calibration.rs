@@ -186,12 +186,7 @@ pub fn calibration_levels_chart(rows: &[Row]) -> Lines {
         "measured mean abs. error (8-bit levels)",
         vec![
             Line::new("one image in one frame", pts),
-            Line::new(
-                "measured = predicted",
-                (0..=60)
-                    .map(|k| (hi * k as f64 / 60.0, hi * k as f64 / 60.0))
-                    .collect(),
-            ),
+            Line::reference("measured = predicted", vec![(0.0, 0.0), (hi, hi)]),
         ],
     )
 }

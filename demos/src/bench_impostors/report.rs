@@ -4,7 +4,6 @@ use super::calibration::{calibration_chart, calibration_levels_chart};
 use super::methods::method_label;
 use super::row::Row;
 use crate::chart::{Chart, Line, Lines};
-use plotters::prelude::SeriesLabelPosition;
 
 /// Highest PSNR drawn in charts (identical images have an infinite PSNR).
 pub const PSNR_CAP_DB: f64 = 99.0;
@@ -53,8 +52,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 by_tol("rotate", &rerefresh),
             ),
         ],
-    )
-    .legend(SeriesLabelPosition::UpperRight);
+    );
     let med = |r: &Row| r.time.map(|t| t.median_ms);
     let tols: Vec<f64> = sweep("translate").filter_map(|r| r.tolerance_deg).collect();
     let flat = |path: &str| -> Vec<(f64, f64)> {
@@ -74,8 +72,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             Line::new("translate: geometry", flat("translate")),
             Line::new("rotate: geometry", flat("rotate")),
         ],
-    )
-    .legend(SeriesLabelPosition::UpperRight);
+    );
     let policy = |series: &'static str, pick: &dyn Fn(&Row) -> Option<f64>| -> Vec<(f64, f64)> {
         let mut v: Vec<(f64, f64)> = rows
             .iter()
@@ -96,8 +93,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             Line::new("fixed interval: worst frame", policy("fixed", &mae_max)),
         ],
     )
-    .log(true, false)
-    .legend(SeriesLabelPosition::UpperRight);
+    .log(true, false);
     let methods = rows.iter().filter(|r| r.series == "method").map(|r| Line {
         name: String::new(),
         points: r
@@ -106,14 +102,15 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             .map(|(t, e)| vec![(t.median_ms, e.mae_mean)])
             .unwrap_or_default(),
         labels: vec![method_label(r)],
+        reference: false,
+        right: false,
     });
     let methods = Lines::new(
         "Orbit: measured error vs frame time by method",
         "median frame time (ms)",
         error,
         methods.collect(),
-    )
-    .legend(SeriesLabelPosition::UpperRight);
+    );
     vec![
         ("impostors_error.png", Chart::Lines(error_chart)),
         ("impostors_refreshes.png", Chart::Lines(refreshes)),

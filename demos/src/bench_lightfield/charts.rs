@@ -5,7 +5,6 @@
 use super::{Row, LOOKUPS};
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
-use plotters::prelude::SeriesLabelPosition;
 
 /// The error pooled over the rows' eyes (PSNR, capped at 99 dB).
 fn pooled(rows: &[&Row]) -> f64 {
@@ -91,9 +90,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let mut scatter: Vec<Line> = LOOKUPS
         .iter()
         .map(|(name, _, _)| {
-            let points = rows
+            let of: Vec<&Row> = rows
                 .iter()
                 .filter(|r| (r.series == "density" || r.series == "st") && r.method == *name)
+                .collect();
+            let points = (of.iter())
                 .map(|r| {
                     (
                         r.time.median_ms,
@@ -101,7 +102,9 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     )
                 })
                 .collect();
-            Line::new(format!("{name} (uv and st varied)"), points)
+            // Labelled with the setting: uv x st samples.
+            let labels = of.iter().map(|r| format!("{}x{}", r.uv, r.st)).collect();
+            Line::new(format!("{name} (uv and st varied)"), points).labelled(labels)
         })
         .collect();
     scatter.push(Line::new(
@@ -184,8 +187,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     y_psnr,
                     knob("density", |r| r.uv),
                 )
-                .log(true, false)
-                .legend(SeriesLabelPosition::LowerRight),
+                .log(true, false),
             ),
         ),
         (
@@ -197,8 +199,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     y_psnr,
                     knob("st", |r| r.st),
                 )
-                .log(true, false)
-                .legend(SeriesLabelPosition::LowerRight),
+                .log(true, false),
             ),
         ),
         (
@@ -210,8 +211,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     y_psnr,
                     vec![compression("codebook"), compression("tile"), raw_point],
                 )
-                .log(true, false)
-                .legend(SeriesLabelPosition::LowerLeft),
+                .log(true, false),
             ),
         ),
         (
@@ -226,8 +226,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     y_psnr,
                     sparse,
                 )
-                .log(true, false)
-                .legend(SeriesLabelPosition::LowerRight),
+                .log(true, false),
             ),
         ),
         (
@@ -238,12 +237,12 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                         "Error against frame time, each eye and setting{}",
                         slab_of("geometry")
                     ),
-                    "median frame time (ms)",
-                    "PSNR against geometry (dB; geometry is the reference, 99)",
+                    "median frame time (ms); labels: uv x st samples",
+                    "PSNR against geometry (dB)",
                     scatter,
                 )
                 .log(true, false)
-                .legend(SeriesLabelPosition::LowerRight),
+                .exact_at(99.0),
             ),
         ),
         (
@@ -255,8 +254,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "median frame time (ms)",
                     against("resolution", |r| f64::from(r.width * r.height)),
                 )
-                .log(true, true)
-                .legend(SeriesLabelPosition::UpperLeft),
+                .log(true, true),
             ),
         ),
         (
@@ -271,8 +269,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "median frame time (ms)",
                     against("triangles", |r| f64::from(r.triangles)),
                 )
-                .log(true, true)
-                .legend(SeriesLabelPosition::UpperLeft),
+                .log(true, true),
             ),
         ),
     ]

@@ -4,30 +4,38 @@
 
 use super::{Row, METHODS};
 use crate::chart::{Chart, Line, Lines};
-use plotters::prelude::SeriesLabelPosition;
+
+/// PSNR of identical images (at and above it a value is drawn as "exact").
+const EXACT: f64 = 99.0;
 
 /// `(file, chart)` for every chart of the sweep.
 pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
-    let lines = |series: &str, x: fn(&Row) -> f64, y: fn(&Row) -> f64, geometry: bool| {
+    let lines = |series: &str, x: fn(&Row) -> f64, y: fn(&Row) -> f64, labelled: bool| {
         METHODS
             .iter()
-            .filter(|(m, _)| geometry || *m != "geometry")
             .map(|(m, _)| {
-                let points = rows
+                let of: Vec<&Row> = rows
                     .iter()
                     .filter(|r| r.series == series && r.method == *m)
-                    .map(|r| (x(r), y(r)))
                     .collect();
-                Line::new(*m, points)
+                // Labelled with the walkthrough position (the geometry's are all exact).
+                let labels = (of.iter())
+                    .map(|r| match labelled && r.method != "geometry" {
+                        true => format!("t{:.2}", r.t),
+                        false => String::new(),
+                    })
+                    .collect();
+                Line::new(*m, of.iter().map(|&r| (x(r), y(r))).collect()).labelled(labels)
             })
             .collect::<Vec<_>>()
     };
     let ms = |r: &Row| r.time.median_ms;
+    // Identical images (the geometry against itself) are "exact", drawn at the axis top.
     fn psnr(r: &Row) -> f64 {
         if r.method == "geometry" {
-            return 99.0;
+            return EXACT;
         }
-        r.error.map_or(f64::NAN, |e| e.psnr_capped(99.0))
+        r.error.map_or(f64::NAN, |e| e.psnr_capped(EXACT))
     }
     let size = |series: &str| {
         rows.iter()
@@ -49,10 +57,9 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     ),
                     "triangles behind the doorways",
                     "median frame time (ms)",
-                    lines("triangles", |r| r.room_triangles as f64, ms, true),
+                    lines("triangles", |r| r.room_triangles as f64, ms, false),
                 )
-                .log(true, true)
-                .legend(SeriesLabelPosition::UpperLeft),
+                .log(true, true),
             ),
         ),
         (
@@ -64,10 +71,9 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     ),
                     "pixels",
                     "median frame time (ms)",
-                    lines("resolution", |r| (r.width * r.height) as f64, ms, true),
+                    lines("resolution", |r| (r.width * r.height) as f64, ms, false),
                 )
-                .log(true, true)
-                .legend(SeriesLabelPosition::UpperLeft),
+                .log(true, true),
             ),
         ),
         (
@@ -76,26 +82,23 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 Lines::new(
                     format!("Error along the walkthrough{}", size("walk")),
                     "walkthrough (0: hall, 0.6: turning to the middle door, 1: inside its room)",
-                    "PSNR against geometry (dB; geometry is the reference, 99)",
-                    lines("walk", |r| r.t as f64, psnr, true),
+                    "PSNR against geometry (dB)",
+                    lines("walk", |r| r.t as f64, psnr, false),
                 )
-                .legend(SeriesLabelPosition::LowerLeft),
+                .exact_at(EXACT),
             ),
         ),
         (
             "portals_walk_time.png",
-            Chart::Lines(
-                Lines::new(
-                    format!(
-                        "Frame time along the walkthrough, rebuilds included{}",
-                        size("walk")
-                    ),
-                    "walkthrough (0: hall, 0.6: turning to the middle door, 1: inside its room)",
-                    "frame time (ms)",
-                    lines("walk", |r| r.t as f64, ms, true),
-                )
-                .legend(SeriesLabelPosition::UpperLeft),
-            ),
+            Chart::Lines(Lines::new(
+                format!(
+                    "Frame time along the walkthrough, rebuilds included{}",
+                    size("walk")
+                ),
+                "walkthrough (0: hall, 0.6: turning to the middle door, 1: inside its room)",
+                "frame time (ms)",
+                lines("walk", |r| r.t as f64, ms, false),
+            )),
         ),
         (
             "portals_time_error.png",
@@ -105,12 +108,12 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                         "Error against frame time, each frame of the walkthrough{}",
                         size("walk")
                     ),
-                    "frame time, builds included (ms)",
-                    "PSNR against geometry (dB; geometry is the reference, 99)",
+                    "frame time, builds included (ms); labels: walkthrough position t",
+                    "PSNR against geometry (dB)",
                     lines("walk", ms, psnr, true),
                 )
                 .log(true, false)
-                .legend(SeriesLabelPosition::LowerRight),
+                .exact_at(EXACT),
             ),
         ),
     ]

@@ -39,6 +39,28 @@ pub fn approx(n: u64) -> String {
     )
 }
 
+/// A count for a point label, to three significant digits: 642, 9k, 100k, 1.02M (the
+/// city's few extra triangles, as in 100.002k, are noise on a chart).
+pub fn label_count(n: u64) -> String {
+    let v = n as f64;
+    let (scaled, unit) = match v {
+        v if v >= 1e6 => (v / 1e6, "M"),
+        v if v >= 1e3 => (v / 1e3, "k"),
+        _ => return n.to_string(),
+    };
+    let decimals = match scaled {
+        s if s >= 100.0 => 0,
+        s if s >= 10.0 => 1,
+        _ => 2,
+    };
+    let digits = format!("{scaled:.decimals$}");
+    let digits = match digits.contains('.') {
+        true => digits.trim_end_matches('0').trim_end_matches('.'),
+        false => &digits,
+    };
+    format!("{digits}{unit}")
+}
+
 /// The sweep's charts: file name and chart.
 pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let of = |series: &'static str, mode: &'static str| {
@@ -163,13 +185,15 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         for r in of("triangles", mode) {
             if let Some(t) = r.timing.filter(|t| t.steady.frames > 0) {
                 points.push((t.steady.median_ms, t.mae.unwrap_or(f64::NAN)));
-                labels.push(approx(r.triangles));
+                labels.push(label_count(r.triangles));
             }
         }
         Line {
             name: name.into(),
             points,
             labels,
+            reference: false,
+            right: false,
         }
     };
     let by_error = Lines::new(
@@ -215,4 +239,21 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         ("scaling_error_time.png", Chart::Lines(by_error)),
         ("scaling_subjects.png", Chart::Lines(by_subjects)),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Point labels keep three significant digits, without the trailing noise of the
+    /// city's counts (100.002k on the old charts).
+    #[test]
+    fn label_counts_are_short() {
+        assert_eq!(label_count(100_002), "100k");
+        assert_eq!(label_count(1_024_002), "1.02M");
+        assert_eq!(label_count(9_002), "9k");
+        assert_eq!(label_count(12_345), "12.3k");
+        assert_eq!(label_count(642), "642");
+        assert_eq!(label_count(2_000_000), "2M");
+    }
 }

@@ -3,7 +3,6 @@
 
 use super::Row;
 use crate::chart::{Chart, Line, Lines};
-use plotters::prelude::SeriesLabelPosition;
 
 /// The matchers in the rows, in order of first appearance.
 fn methods(rows: &[Row]) -> Vec<&str> {
@@ -68,21 +67,17 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "bad 2 over non-occluded pixels (%, unknown counts as bad)",
                     scatter,
                 )
-                .log(true, false)
-                .legend(SeriesLabelPosition::UpperRight),
+                .log(true, false),
             ),
         ),
         (
             "stereo_pairs.png",
-            Chart::Lines(
-                Lines::new(
-                    format!("Bad 2 by pair: {}", pairs.join(", ")),
-                    "pair (in the order of the title)",
-                    "bad 2 over non-occluded pixels (%)",
-                    by_pair,
-                )
-                .legend(SeriesLabelPosition::UpperLeft),
-            ),
+            Chart::Lines(Lines::new(
+                format!("Bad 2 by pair: {}", pairs.join(", ")),
+                "pair (in the order of the title)",
+                "bad 2 over non-occluded pixels (%)",
+                by_pair,
+            )),
         ),
     ]
 }

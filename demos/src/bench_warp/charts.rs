@@ -22,6 +22,14 @@ fn name(method: &str, refs: usize) -> String {
     format!("{method}, {refs} ref{}", if refs == 1 { "" } else { "s" })
 }
 
+/// A point's setting: the eye's sideways move (`d0.2`) or orbit (`a30`).
+fn setting(r: &Row) -> String {
+    match r.series {
+        "angle" => format!("a{}", r.value),
+        _ => format!("d{}", r.value),
+    }
+}
+
 /// `(file, chart)` for every chart of the sweep.
 pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let size = rows.first().map_or(String::new(), |r| {
@@ -51,7 +59,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "PSNR (dB)",
                     series_lines("distance", psnr),
                 )
-                .legend(plotters::prelude::SeriesLabelPosition::UpperRight),
+                .exact_at(99.0),
             ),
         ),
         (
@@ -63,7 +71,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "PSNR (dB)",
                     series_lines("angle", psnr),
                 )
-                .legend(plotters::prelude::SeriesLabelPosition::UpperRight),
+                .exact_at(99.0),
             ),
         ),
         (
@@ -99,16 +107,17 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             predicted,
         )),
     ));
-    // Error against time: every measured frame of each method, and the geometry's.
+    // Error against time: every measured frame of each method, and the geometry's, each
+    // labelled with its eye's move (d: sideways fraction, a: orbit degrees).
     let mut lines: Vec<Line> = methods(rows)
         .into_iter()
         .map(|(m, n)| {
-            let points = rows
+            let (points, labels) = rows
                 .iter()
                 .filter(|r| r.method == m && r.references == n && r.series != "speed")
-                .filter_map(|r| Some((r.time.median_ms, r.error?.mean_abs)))
-                .collect();
-            Line::new(name(m, n), points)
+                .filter_map(|r| Some(((r.time.median_ms, r.error?.mean_abs), setting(r))))
+                .unzip();
+            Line::new(name(m, n), points).labelled(labels)
         })
         .collect();
     lines.push(Line::new(
@@ -122,7 +131,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         "warp_time.png",
         Chart::Scatter(Lines::new(
             format!("Error against frame time, every eye of the sweep{size}"),
-            "frame time (ms, median)",
+            "frame time (ms, median); labels: eye move (d: sideways, a: orbit degrees)",
             "mean absolute error (8-bit levels)",
             lines,
         )),

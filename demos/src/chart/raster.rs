@@ -1,10 +1,10 @@
 //! The `bench raster` charts: one labelled line and loose labelled dots
 //! ([`LineAndDots`]), for frame time against resolution and against triangle count.
 
-use super::plot::{labels, legend, Axes, Axis, Body, Context};
-use super::{Chart, Error, SERIES};
+use super::plot::{Axes, Body, Map, Mark, Polyline};
+use super::style::Style;
+use super::Chart;
 use crate::bench::Row;
-use plotters::prelude::*;
 
 /// A labelled point.
 #[derive(Clone, Debug)]
@@ -36,6 +36,7 @@ impl LineAndDots {
             y_desc: self.y_desc,
             log_x: self.log_x,
             log_y: self.log_y,
+            y2_desc: None,
         }
     }
 }
@@ -49,44 +50,29 @@ impl Body for LineAndDots {
             .collect()
     }
 
-    fn draw<'a, 'b: 'a, X: Axis, Y: Axis>(
-        &self,
-        chart: &mut Context<'a, 'b, X, Y>,
-        text: bool,
-    ) -> Result<(), Error> {
-        let c = SERIES[0];
-        let line: Vec<(f64, f64)> = self.line.iter().map(|p| (p.x, p.y)).collect();
-        let s = chart.draw_series(LineSeries::new(line.clone(), c.stroke_width(2)))?;
-        if text {
-            s.label(self.line_name.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-            });
+    fn legend(&self) -> Vec<(String, Style)> {
+        let mut entries = vec![(self.line_name.clone(), Style::series(0, true))];
+        if !self.dots.is_empty() {
+            entries.push((self.dots_name.to_string(), Style::series(1, false)));
         }
-        chart.draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
-        if text {
-            labels(
-                chart,
-                self.line.iter().map(|p| ((p.x, p.y), p.label.as_str())),
-            )?;
-        }
-        let d = SERIES[1];
-        let s = chart.draw_series(
-            self.dots
-                .iter()
-                .map(|p| Circle::new((p.x, p.y), 5, d.filled())),
-        )?;
-        if text && !self.dots.is_empty() {
-            s.label(self.dots_name)
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, d.filled()));
-            labels(
-                chart,
-                self.dots.iter().map(|p| ((p.x, p.y), p.label.as_str())),
-            )?;
-        }
-        if text {
-            legend(chart, SeriesLabelPosition::UpperLeft)?;
-        }
-        Ok(())
+        entries
+    }
+
+    fn layout(&self, map: &Map) -> (Vec<Polyline>, Vec<Mark>) {
+        let to_px = map.left;
+        let (line, dots) = (Style::series(0, true), Style::series(1, false));
+        let px = |p: &Point| to_px((p.x, p.y));
+        let lines = vec![(self.line.iter().map(px).collect(), line)];
+        let mark = |p: &Point, s: Style| Mark {
+            at: px(p),
+            marker: s.marker,
+            colour: s.colour,
+            label: p.label.clone(),
+        };
+        let marks = (self.line.iter().map(|p| mark(p, line)))
+            .chain(self.dots.iter().map(|p| mark(p, dots)))
+            .collect();
+        (lines, marks)
     }
 }
 

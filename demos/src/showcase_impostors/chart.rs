@@ -23,21 +23,23 @@ pub fn tour_chart(
         "predicted error / tolerance",
         vec![
             Line::new("largest shown", at(&|i| run.per_frame[i].0 as f64)),
-            Line::new("tolerance", level(1.0)),
-            Line::new("twice the tolerance (never shown)", level(2.0)),
+            Line::reference("tolerance", level(1.0)),
+            Line::reference("twice the tolerance (never shown)", level(2.0)),
         ],
     );
     chart::draw(path, &Chart::Lines(error))?;
     let ms = |i: usize| times.get(i).map_or(f64::NAN, |t| t.as_secs_f64() * 1e3);
+    // Two quantities, two axes: refreshes on the left, milliseconds on the right.
     let work = Lines::new(
         "Impostors over the tour: refreshes and frame time",
         "frame",
-        "refreshes per frame; frame time (ms)",
+        "impostor refreshes per frame",
         vec![
             Line::new("refreshes", at(&|i| run.per_frame[i].1 as f64)),
-            Line::new("frame time, ms", at(&ms)),
+            Line::new("frame time", at(&ms)).on_right(),
         ],
-    );
+    )
+    .right_axis("frame time (ms)");
     let stem = path
         .file_stem()
         .and_then(|s| s.to_str())
