@@ -257,6 +257,21 @@ fn stereo_at_30_degrees_morphs_without_doubling() {
     args.extend(["--views", "2", "--spread", "30"]);
     args.extend(size);
     ok(&run(env!("CARGO_BIN_EXE_render"), &args));
+    // As the render CLI writes it, the background is black sky (opaque, at infinity):
+    // textureless, so the matcher knows nothing in the rows above and below the squares.
+    // Before, those rows stayed empty, a band of nothing across the morph; now every row
+    // shows.
+    let json = cap.join("transforms.json");
+    let out = tmp.path("sky");
+    let mut args = vec!["--capture", s(&json), "--t", "0.5", "--out", s(&out)];
+    args.extend(["--correspondence", "stereo", "--max-disparity", "40"]);
+    ok(&run(env!("CARGO_BIN_EXE_morph"), &args));
+    let sky = png(&out.join("morph_0000.png"));
+    let empty_rows = sky
+        .chunks_exact(160 * 4)
+        .filter(|row| row.chunks_exact(4).all(|p| p[3] < 128))
+        .count();
+    assert_eq!(empty_rows, 0, "{empty_rows} empty rows over the sky");
     // The background transparent, as other renderers write it (not black sky).
     let transparent = |cap: &Path, k: usize| -> Vec<bool> {
         let png = cap.join(format!("images/{k:04}.png"));

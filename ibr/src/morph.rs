@@ -233,6 +233,7 @@ fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity)
     // background side, where a disocclusion's pixels lie.
     for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
         map.fill_from_background();
+        fill_columns(map);
         // Unknown where the prewarped view saw nothing.
         for (d, c) in map.data.iter_mut().zip(&image.color) {
             if c.a <= 0.0 {
@@ -241,6 +242,35 @@ fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity)
         }
     }
     Ok((left, right))
+}
+
+/// Fills what a row fill left unknown (rows with no match at all: a textureless sky or
+/// backdrop above or below the model) from the nearest known pixels of its column above
+/// and below, the farther of the two (the background side). Without it those rows stayed
+/// empty: a band of nothing across the morph where the views saw sky.
+fn fill_columns(map: &mut Disparity) {
+    let (w, h) = (map.width as usize, map.height as usize);
+    for x in 0..w {
+        let mut above: Option<f32> = None;
+        let mut pending = Vec::new();
+        for y in 0..h {
+            let d = map.data[y * w + x];
+            if d.is_finite() {
+                for &p in &pending {
+                    map.data[p] = above.map_or(d, |a| a.min(d));
+                }
+                pending.clear();
+                above = Some(d);
+            } else {
+                pending.push(y * w + x);
+            }
+        }
+        if let Some(a) = above {
+            for &p in &pending {
+                map.data[p] = a;
+            }
+        }
+    }
 }
 
 /// The rows of `image` (`w` wide) moved right by `by` pixels, black coming in at the left:
