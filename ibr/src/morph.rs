@@ -65,15 +65,6 @@ pub enum MorphError {
     DisparityRange { needed: u32, max: u32 },
     #[error("cannot prewarp from the point pairs: {0}")]
     Pairs(&'static str),
-    #[error(
-        "the views lie {lo} to {hi} pixels apart in the prewarped pair (a coarse search), wider than the {max} the matcher searches: raise the disparity range to {needed} or morph views closer together"
-    )]
-    StereoRange {
-        lo: u32,
-        hi: u32,
-        max: u32,
-        needed: u32,
-    },
 }
 
 /// What a morphed frame holds, in pixels of the frame (the output, not the larger
@@ -201,6 +192,8 @@ impl ViewMorph {
 /// `0..max_disparity` unless the pair's disparities reach past it (views far apart, as
 /// 30 degrees at 640 pixels), when the right image is shifted by the least disparity
 /// found, so a match is never sought short of where it is (which doubled the model).
+/// (Disparities spanning more than the window cannot all be found; the window then starts
+/// at 0, as without the search.)
 /// Shared by the morph from points ([`uncalibrated`]).
 fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity), MorphError> {
     let (w, h) = (pair.left.width(), pair.left.height());
@@ -293,8 +286,8 @@ const COARSE: u32 = 4;
 /// `h`; `seen`: the left view's pixels that show something): 0 when a coarse search (the
 /// pair reduced [`COARSE`] times, matched over its whole width) finds its disparities
 /// (1st to 99th percentile over the blocks the left view sees whole, give or take two
-/// coarse pixels) inside `0..max`; their least otherwise; an error when they span more
-/// than `max`.
+/// coarse pixels) inside `0..max` or spanning more than `max` (then the window cannot
+/// hold them wherever it lies); their least otherwise.
 fn disparity_window(
     l: &[f32],
     r: &[f32],
@@ -341,12 +334,9 @@ fn disparity_window(
         return Ok(0);
     }
     if hi - lo > max {
-        return Err(MorphError::StereoRange {
-            lo,
-            hi,
-            max,
-            needed: hi - lo,
-        });
+        // Wider than the window: searched from 0 as before (what lies past it is matched
+        // short of where it is); a wider window is the cure.
+        return Ok(0);
     }
     Ok(lo)
 }
