@@ -166,18 +166,16 @@ impl WarpedView {
         }
         self.unseen.clear();
         if self.carve && (self.count_holes || self.fill != Fill::None) {
-            let nearest = self.order.iter().take(self.nearest).map(|&(_, i)| i);
-            let used: Vec<(&Prepared, Option<Bounds>)> = (self.prepared_layered.iter())
-                .zip(self.bounds_layered.iter().copied())
-                .chain(nearest.map(|i| (&self.prepared[i], self.bounds[i])))
-                .collect();
-            let bounds = used
-                .iter()
-                .filter_map(|u| u.1)
+            let nearest = &self.order[..self.nearest.min(self.order.len())];
+            let prepared = &self.prepared;
+            let refs = (self.prepared_layered.iter())
+                .chain(nearest.iter().map(move |&(_, i)| &prepared[i]));
+            let bounds = (self.bounds_layered.iter().copied())
+                .chain(nearest.iter().map(|&(_, i)| self.bounds[i]))
+                .flatten()
                 .reduce(|[a, b], [c, d]| [a.min(c), b.max(d)]);
-            let refs: Vec<&Prepared> = used.iter().map(|u| u.0).collect();
             let out = self.warper.output();
-            mark_unseen(out, &refs, bounds, edge, &mut self.unseen);
+            mark_unseen(out, refs, bounds, edge, &mut self.unseen);
         }
         if self.count_holes {
             frame.holes = classify_seen(self.warper.output(), edge, &self.unseen);

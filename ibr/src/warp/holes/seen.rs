@@ -72,6 +72,22 @@ pub fn sample_bounds(p: &Prepared) -> Option<Bounds> {
         .reduce_with(|[a, b], [c, d]| [a.min(c), b.max(d)])
 }
 
+/// References carved with kept on the stack.
+const STACK: usize = 16;
+
+/// The references carving: on the stack, then any more.
+#[derive(Clone, Copy)]
+struct Carvers<'s, 'a> {
+    stack: &'s [Option<Carver<'a>>; STACK],
+    heap: &'s [Carver<'a>],
+}
+
+impl<'s, 'a> Carvers<'s, 'a> {
+    fn iter(self) -> impl Iterator<Item = &'s Carver<'a>> {
+        self.stack.iter().flatten().chain(self.heap)
+    }
+}
+
 /// What one reference says of a world point.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Says {
@@ -146,9 +162,9 @@ impl Carver<'_> {
 /// Marks the holes of `image` no reference saw: `unseen[i]` for pixel `i`, true where it
 /// is a hole whose ray stays in space the `references` saw empty, or saw not at all;
 /// `bounds` is the box of their samples ([`sample_bounds`], joined). Returns how many.
-pub fn mark_unseen(
+pub fn mark_unseen<'a>(
     image: &Warped,
-    references: &[&Prepared],
+    references: impl Iterator<Item = &'a Prepared> + Clone,
     bounds: Option<Bounds>,
     edge: f32,
     unseen: &mut Vec<bool>,
@@ -159,17 +175,31 @@ pub fn mark_unseen(
     if w == 0 || h == 0 || !image.camera.projection.is_perspective() {
         return 0;
     }
-    let carvers: Vec<Carver> = references
-        .iter()
-        .filter(|p| p.camera().projection.is_perspective() && p.size().0 > 0 && p.size().1 > 0)
-        .map(|&p| Carver {
+    // The first [`STACK`] references on the stack, any more on the heap: frame after frame
+    // nothing is allocated.
+    let mut stack: [Option<Carver>; STACK] = std::array::from_fn(|_| None);
+    let mut heap: Vec<Carver> = Vec::new();
+    let usable = references
+        .clone()
+        .filter(|p| p.camera().projection.is_perspective() && p.size().0 > 0 && p.size().1 > 0);
+    for (k, p) in usable.enumerate() {
+        let c = Carver {
             p,
             clip: p.camera().clip_from_world(),
             w: p.size().0,
             h: p.size().1,
-        })
-        .collect();
-    let any_sky = references.iter().any(|p| p.disparity.contains(&0.0));
+        };
+        match stack.get_mut(k) {
+            Some(slot) => *slot = Some(c),
+            None => heap.push(c),
+        }
+    }
+    let carvers = Carvers {
+        stack: &stack,
+        heap: &heap,
+    };
+    let references = references.clone();
+    let any_sky = references.clone().any(|p| p.disparity.contains(&0.0));
     let keep = 1.0 - edge;
     // The box, grown a little so a flat surface's box has depth.
     let bounds = bounds.map(|[lo, hi]| {
@@ -193,7 +223,7 @@ pub fn mark_unseen(
                 let far = inv * Vec4::new(ndc_x, ndc_y, 1.0, 1.0);
                 let dir = (far.truncate() / far.w - eye).normalize_or_zero();
                 let seen = (any_sky && carvers.iter().any(|c| c.sky(dir)))
-                    || bounds.is_some_and(|b| seen_along(&carvers, eye, dir, b, keep));
+                    || bounds.is_some_and(|b| seen_along(carvers, eye, dir, b, keep));
                 if !seen {
                     *mark = true;
                     count += 1;
@@ -206,7 +236,7 @@ pub fn mark_unseen(
 
 /// Whether the ray from `eye` along `dir` meets, inside box `b`, a point some reference
 /// has occupied and none has empty.
-fn seen_along(carvers: &[Carver], eye: Vec3, dir: Vec3, b: Bounds, keep: f32) -> bool {
+fn seen_along(carvers: Carvers, eye: Vec3, dir: Vec3, b: Bounds, keep: f32) -> bool {
     // Slab test: the parameters where the ray enters and leaves the box.
     let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
     for k in 0..3 {
@@ -224,7 +254,7 @@ fn seen_along(carvers: &[Carver], eye: Vec3, dir: Vec3, b: Bounds, keep: f32) ->
     // Steps: about one reference pixel each, along the longest projection (no finer
     // than the frame's larger side, which a segment partly behind the eye takes).
     let mut span = 1.0f32;
-    for c in carvers {
+    for c in carvers.iter() {
         let side = c.w.max(c.h) as f32;
         span = span.max(
             match (c.project(p0.extend(1.0)), c.project(p1.extend(1.0))) {
@@ -237,7 +267,7 @@ fn seen_along(carvers: &[Carver], eye: Vec3, dir: Vec3, b: Bounds, keep: f32) ->
     (0..=steps).any(|k| {
         let point = p0 + (p1 - p0) * (k as f32 / steps as f32);
         let mut occupied = false;
-        for c in carvers {
+        for c in carvers.iter() {
             match c.says(point, keep) {
                 Says::Empty => return false,
                 Says::Occupied => occupied = true,
