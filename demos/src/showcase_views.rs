@@ -132,7 +132,7 @@ struct Totals {
     plain_psnr: f64,
     /// The largest predicted parallax before a frame (sky), or geometric error (layers).
     peak_px: f32,
-    /// The sum of the holes' shares of the prewarped view (morph), or of the layers
+    /// The sum of the holes' (filled) shares of the frame (morph), or of the layers
     /// re-rendered (layers).
     holes: f64,
 }
@@ -310,8 +310,8 @@ impl ViewsTour {
                 "no frame between them".to_string()
             };
             lines.push(format!(
-                "view morph: {} frames from one view to the other; {between}; holes {:.0}% of \
-                 the prewarped view on average (open sky included)",
+                "view morph: {} frames from one view to the other; {between}; holes filled on \
+                 {:.0}% of the frame on average",
                 m.frames,
                 100.0 * m.holes / m.frames as f64
             ));

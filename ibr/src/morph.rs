@@ -67,15 +67,16 @@ pub enum MorphError {
     Pairs(&'static str),
 }
 
-/// What a morphed frame holds.
+/// What a morphed frame holds, in pixels of the frame (the output, not the larger
+/// prewarped pair): each covered pixel counted once, by what most of it came from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MorphStats {
-    /// Pixels of the parallel in-between view mapped from the left image, and from the
-    /// right image only (holes the left left, filled from the other image).
+    /// Pixels mapped from the left image, and from the right image only (holes the left
+    /// left, filled from the other image).
     pub from_left: u64,
     pub from_right: u64,
-    /// Pixels neither image mapped to; those between two mapped pixels of their row are
-    /// filled from the farther side.
+    /// Pixels neither image mapped to, between two mapped pixels of their row in the
+    /// parallel view: filled from the farther side. (What nothing reached is not counted.)
     pub holes: u64,
 }
 
@@ -172,20 +173,28 @@ impl ViewMorph {
             view: moved_view(&p.left.camera, eye),
             projection: p.left.camera.projection,
         };
-        let (image, stats) = forward::morph(p, &self.left, &self.right, s, parallel);
+        let (image, made) = forward::morph(p, &self.left, &self.right, s, parallel);
         let (w, h) = (self.width, self.height);
         let camera = self.camera_at(s);
-        match &self.postwarp {
-            Some(postwarp) => (postwarp.apply(&image, s, camera, w, h), stats),
-            None => (resample(&image, &camera, w, h), stats),
-        }
+        // What each output pixel is made of, carried by the same postwarp as the view.
+        let postwarp = |image: &DepthImage| match &self.postwarp {
+            Some(postwarp) => postwarp.apply(image, s, camera, w, h),
+            None => resample(image, &camera, w, h),
+        };
+        (postwarp(&image), forward::Made::count(&postwarp(&made)))
     }
 }
 
-/// The dense correspondences of a prewarped pair by semi-global matching, up to
-/// `max_disparity` pixels: the left view's disparities and the right's (the mirrored pair
-/// matched the same way), unknowns filled from the background side, infinite where the
-/// prewarped view saw nothing. Shared by the morph from points ([`uncalibrated`]).
+/// The dense correspondences of a prewarped pair by semi-global matching, over a window
+/// of `max_disparity` pixels: the left view's disparities and the right's (the mirrored
+/// pair matched the same way), unknowns filled from the background side, infinite where
+/// the prewarped view saw nothing. Where the window lies comes from [`disparity_window`]:
+/// `0..max_disparity` unless the pair's disparities reach past it (views far apart, as
+/// 30 degrees at 640 pixels), when the right image is shifted by the least disparity
+/// found, so a match is never sought short of where it is (which doubled the model).
+/// (Disparities spanning more than the window cannot all be found; the window then starts
+/// at 0, as without the search.)
+/// Shared by the morph from points ([`uncalibrated`]).
 fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity), MorphError> {
     let (w, h) = (pair.left.width(), pair.left.height());
     let sgm = Sgm {
@@ -193,9 +202,16 @@ fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity)
         ..Sgm::default()
     };
     let (l, r) = (luminance(&pair.left), luminance(&pair.right));
+    let seen: Vec<bool> = pair.left.color.iter().map(|c| c.a > 0.0).collect();
+    let lo = disparity_window(&l, &r, &seen, (w, h), max_disparity)?;
     let run = |l: &[f32], r: &[f32]| {
-        sgm.run(l, r, w, h)
-            .map_err(|e| MorphError::Stereo(e.to_string()))
+        let mut d = sgm
+            .run(l, r, w, h)
+            .map_err(|e| MorphError::Stereo(e.to_string()))?;
+        for v in &mut d.data {
+            *v += lo as f32;
+        }
+        Ok::<_, MorphError>(d)
     };
     // The right view's disparities: the mirrored pair matched the same way.
     let flip = |v: &[f32]| -> Vec<f32> {
@@ -203,13 +219,14 @@ fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity)
             .flat_map(|row| row.iter().rev().copied())
             .collect()
     };
-    let mut left = run(&l, &r)?;
-    let mirrored = run(&flip(&r), &flip(&l))?;
+    let mut left = run(&l, &shift(&r, w, lo))?;
+    let mirrored = run(&flip(&r), &shift(&flip(&l), w, lo))?;
     let mut right = Disparity::new(w, h, flip(&mirrored.data)).expect("a matcher's disparities");
     // What the checks left unknown (occlusions, mismatches) taken from the
     // background side, where a disocclusion's pixels lie.
     for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
         map.fill_from_background();
+        fill_columns(map);
         // Unknown where the prewarped view saw nothing.
         for (d, c) in map.data.iter_mut().zip(&image.color) {
             if c.a <= 0.0 {
@@ -218,6 +235,110 @@ fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity)
         }
     }
     Ok((left, right))
+}
+
+/// Fills what a row fill left unknown (rows with no match at all: a textureless sky or
+/// backdrop above or below the model) from the nearest known pixels of its column above
+/// and below, the farther of the two (the background side). Without it those rows stayed
+/// empty: a band of nothing across the morph where the views saw sky.
+fn fill_columns(map: &mut Disparity) {
+    let (w, h) = (map.width as usize, map.height as usize);
+    for x in 0..w {
+        let mut above: Option<f32> = None;
+        let mut pending = Vec::new();
+        for y in 0..h {
+            let d = map.data[y * w + x];
+            if d.is_finite() {
+                for &p in &pending {
+                    map.data[p] = above.map_or(d, |a| a.min(d));
+                }
+                pending.clear();
+                above = Some(d);
+            } else {
+                pending.push(y * w + x);
+            }
+        }
+        if let Some(a) = above {
+            for &p in &pending {
+                map.data[p] = a;
+            }
+        }
+    }
+}
+
+/// The rows of `image` (`w` wide) moved right by `by` pixels, black coming in at the left:
+/// a left pixel `x` that matches `x - d` in `image` matches `x - (d - by)` in this.
+fn shift(image: &[f32], w: u32, by: u32) -> Vec<f32> {
+    let (w, by) = (w as usize, (by as usize).min(w as usize));
+    if by == 0 {
+        return image.to_vec();
+    }
+    image
+        .chunks(w)
+        .flat_map(|row| std::iter::repeat_n(0.0, by).chain(row[..w - by].iter().copied()))
+        .collect()
+}
+
+/// The pair's reduction for the coarse search: each side divided by this.
+const COARSE: u32 = 4;
+
+/// Where a window of `max` disparities must start for the pair `l`, `r` (luminance, `w` x
+/// `h`; `seen`: the left view's pixels that show something): 0 when a coarse search (the
+/// pair reduced [`COARSE`] times, matched over its whole width) finds its disparities
+/// (1st to 99th percentile over the blocks the left view sees whole, give or take two
+/// coarse pixels) inside `0..max` or spanning more than `max` (then the window cannot
+/// hold them wherever it lies); their least otherwise.
+fn disparity_window(
+    l: &[f32],
+    r: &[f32],
+    seen: &[bool],
+    (w, h): (u32, u32),
+    max: u32,
+) -> Result<u32, MorphError> {
+    let (cw, ch) = (w / COARSE, h / COARSE);
+    if cw < 8 || ch < 8 {
+        return Ok(0);
+    }
+    let k = COARSE as usize;
+    // The pixels of coarse block `i`.
+    let block = move |i: usize| {
+        let (x, y) = (i % cw as usize * k, i / cw as usize * k);
+        (0..k).flat_map(move |dy| (0..k).map(move |dx| (y + dy) * w as usize + x + dx))
+    };
+    let reduce = |v: &[f32]| -> Vec<f32> {
+        (0..(cw * ch) as usize)
+            .map(|i| block(i).map(|p| v[p]).sum::<f32>() / (k * k) as f32)
+            .collect()
+    };
+    let coarse = Sgm {
+        max_disparity: cw,
+        prior: 0,
+        ..Sgm::default()
+    };
+    let Ok(found) = coarse.run(&reduce(l), &reduce(r), cw, ch) else {
+        return Ok(0);
+    };
+    let mut d: Vec<f32> = (found.data.into_iter().enumerate())
+        .filter(|&(i, d)| d.is_finite() && block(i).all(|p| seen[p]))
+        .map(|(_, d)| d)
+        .collect();
+    if d.len() < 16 {
+        return Ok(0);
+    }
+    d.sort_by(f32::total_cmp);
+    let at = |q: f32| d[((d.len() - 1) as f32 * q) as usize] * COARSE as f32;
+    let margin = 2.0 * COARSE as f32;
+    let lo = (at(0.01) - margin).max(0.0).floor() as u32;
+    let hi = (at(0.99) + margin).ceil() as u32;
+    if hi <= max {
+        return Ok(0);
+    }
+    if hi - lo > max {
+        // Wider than the window: searched from 0 as before (what lies past it is matched
+        // short of where it is); a wider window is the cure.
+        return Ok(0);
+    }
+    Ok(lo)
 }
 
 /// `camera`'s view with its eye moved to `eye` (same orientation).
@@ -247,10 +368,17 @@ pub fn between(a: &Camera, b: &Camera, s: f32) -> Camera {
     }
 }
 
+/// The largest side (pixels) of a plain morph's splat: a wider stretch is left open.
+const MAX_SPLAT: f32 = 8.0;
+
 /// The morph without the prewarp, for comparison: each pixel of `a` with depth moved on
 /// the straight line from where `a` sees its point to where `b` does, a fraction `s` of
 /// the way, nearer points painted last; colours from `a` alone. Not shape preserving
-/// unless the views are parallel. Unfilled pixels are transparent.
+/// unless the views are parallel. Each pixel covers its footprint, so no crack opens
+/// where the morph stretches the image: the box around the pixel's centre moved, spanning
+/// half the way to where its neighbours on the same surface (depths within 5%) move (at
+/// most [`MAX_SPLAT`] pixels a side); across a depth edge, one pixel's step. Unfilled
+/// pixels are transparent.
 pub fn plain_morph(a: &DepthImage, b: &DepthImage, s: f32) -> DepthImage {
     let (w, h) = (a.width(), a.height());
     let camera = between(&a.camera, &b.camera, s);
@@ -262,30 +390,73 @@ pub fn plain_morph(a: &DepthImage, b: &DepthImage, s: f32) -> DepthImage {
             (1.0 - c.y / c.w) * 0.5 * h as f32,
         )
     };
+    // Where pixel (x, y) of `a` moves, and its depth there; `None` without depth or behind
+    // `b`'s eye.
+    let moved = |x: u32, y: u32| -> Option<(f32, f32, f32, f32)> {
+        let point = a.world_point(x, y)?;
+        let (_, z) = a.get(x, y)?;
+        let c = to_b * point.extend(1.0);
+        if c.w <= 0.0 {
+            return None;
+        }
+        let (bx, by) = pixel(c);
+        Some((
+            (x as f32 + 0.5) * (1.0 - s) + bx * s,
+            (y as f32 + 0.5) * (1.0 - s) + by * s,
+            z * (1.0 - s) + c.w * s,
+            z,
+        ))
+    };
+    // The step to a neighbour on the same surface, from either side; one pixel otherwise.
+    let step = |here: (f32, f32, f32, f32), x: u32, y: u32, dx: i32, dy: i32| -> (f32, f32) {
+        let same = |n: Option<(f32, f32, f32, f32)>| {
+            n.filter(|n| (n.3 - here.3).abs() <= 0.05 * here.3.min(n.3))
+        };
+        let at = |k: i32| {
+            let (nx, ny) = (x as i32 + k * dx, y as i32 + k * dy);
+            (nx >= 0 && ny >= 0 && nx < w as i32 && ny < h as i32)
+                .then(|| moved(nx as u32, ny as u32))
+                .flatten()
+        };
+        if let Some(n) = same(at(1)) {
+            (n.0 - here.0, n.1 - here.1)
+        } else if let Some(n) = same(at(-1)) {
+            (here.0 - n.0, here.1 - n.1)
+        } else {
+            (dx as f32, dy as f32)
+        }
+    };
     for y in 0..h {
         for x in 0..w {
-            let (Some(point), Some((color, z))) = (a.world_point(x, y), a.get(x, y)) else {
+            let Some(here) = moved(x, y) else {
                 continue;
             };
-            let c = to_b * point.extend(1.0);
-            if c.w <= 0.0 {
+            let color = a.color[(y * w + x) as usize];
+            let (ex, ey) = (step(here, x, y, 1, 0), step(here, x, y, 0, 1));
+            // Half the steps either way, at least a pixel's box, at most the largest splat.
+            let rx = ((ex.0.abs() + ey.0.abs()) * 0.5).clamp(0.5, MAX_SPLAT * 0.5);
+            let ry = ((ex.1.abs() + ey.1.abs()) * 0.5).clamp(0.5, MAX_SPLAT * 0.5);
+            let (px, py, depth) = (here.0, here.1, here.2);
+            if !(px.is_finite() && py.is_finite()) {
                 continue;
             }
-            let (bx, by) = pixel(c);
-            let (px, py) = (
-                (x as f32 + 0.5) * (1.0 - s) + bx * s,
-                (y as f32 + 0.5) * (1.0 - s) + by * s,
-            );
-            if !(px >= 0.0 && py >= 0.0 && px < w as f32 && py < h as f32) {
-                continue;
+            // The pixels whose centres lie in the box (the centre's own at least).
+            let span = |p: f32, r: f32, n: u32| {
+                let lo = (p - r - 0.5).ceil().max(0.0);
+                let hi = (p + r - 0.5).floor().min(n as f32 - 1.0);
+                let own = p.floor();
+                (lo.min(own).max(0.0) as i64, hi.max(own) as i64)
+            };
+            let ((x0, x1), (y0, y1)) = (span(px, rx, w), span(py, ry, h));
+            for ty in y0.max(0)..=y1.min(h as i64 - 1) {
+                for tx in x0.max(0)..=x1.min(w as i64 - 1) {
+                    let (tx, ty) = (tx as u32, ty as u32);
+                    if out.get(tx, ty).is_some_and(|(_, d)| d <= depth) {
+                        continue;
+                    }
+                    out.set(tx, ty, color, depth);
+                }
             }
-            let zb = c.w;
-            let depth = z * (1.0 - s) + zb * s;
-            let (tx, ty) = (px as u32, py as u32);
-            if out.get(tx, ty).is_some_and(|(_, d)| d <= depth) {
-                continue;
-            }
-            out.set(tx, ty, color, depth);
         }
     }
     out

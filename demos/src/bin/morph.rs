@@ -117,7 +117,7 @@ fn run(a: Args) -> Result<(), String> {
         let png = a.out.join(format!("morph_{k:04}.png"));
         load::write_png_rgba8(&png, w, h, &srgb8(&view)).map_err(|e| e.to_string())?;
         let mut line = format!(
-            "morph: t {t:.3}: {} ({} pixels from the first view, {} from the second only, {} filled)",
+            "morph: t {t:.3}: {} ({} pixels of the {w}x{h} frame from the first view, {} from the second only, {} filled)",
             png.display(),
             stats.from_left,
             stats.from_right,

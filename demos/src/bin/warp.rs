@@ -2,7 +2,11 @@
 //! from a `transforms.json` capture (or one colour image, one depth map and its camera
 //! given by flags), warps the nearest to a target camera, fills the holes, and writes the
 //! view as PNG, with optionally its depth (PFM or OpenEXR) and a mask of the holes before
-//! filling (PNG, white where nothing landed).
+//! filling (PNG, white where a hole was, grey where nothing landed and no reference saw
+//! anything). A hole is a pixel the new view should see but no reference sample covers;
+//! pixels no reference saw anything at (the background beyond their coverage) are not
+//! holes: they stay empty (alpha 0, depth inf), are counted apart ("unseen"), and no fill
+//! paints them (`ibr::warp::holes::seen`).
 //!
 //! ```sh
 //! render --gltf model.glb --capture cap --views 5 --eye 0,1,4 --target 0,1,0
@@ -218,15 +222,17 @@ fn run(a: &Args) -> Result<(), String> {
         FillArg::Background => Fill::Background,
     };
     let filled = Filler::default()
-        .fill(&mut image, fill, view.options.edge)
+        .fill_seen(&mut image, fill, view.options.edge, view.unseen())
         .filled;
     let ms = t.elapsed().as_secs_f64() * 1e3;
     if let Some(path) = &a.holes {
-        let mask: Vec<u8> = view
-            .image()
-            .disparity
-            .iter()
-            .flat_map(|d| if *d >= 0.0 { [0, 0, 0, 255] } else { [255; 4] })
+        let unseen = view.unseen();
+        let mask: Vec<u8> = (view.image().disparity.iter().enumerate())
+            .flat_map(|(i, d)| match (*d >= 0.0, unseen.get(i) == Some(&true)) {
+                (true, _) => [0, 0, 0, 255],
+                (false, true) => [128, 128, 128, 255],
+                (false, false) => [255; 4],
+            })
             .collect();
         load::write_png_rgba8(path, w, h, &mask).map_err(|e| e.to_string())?;
     }
@@ -238,8 +244,8 @@ fn run(a: &Args) -> Result<(), String> {
     }
     let s = frame.stats;
     eprintln!(
-        "warp: {} of {n} reference(s), {} samples, {} landed, {} behind the eye; holes: {} cracks, {} disocclusions; {filled} filled; {w}x{h} in {ms:.1} ms",
-        frame.references, s.samples, s.warped, s.behind, frame.holes.cracks, frame.holes.disocclusions
+        "warp: {} of {n} reference(s), {} samples, {} landed, {} behind the eye; holes: {} cracks, {} disocclusions; {filled} filled; {} unseen (no reference saw anything: left empty); {w}x{h} in {ms:.1} ms",
+        frame.references, s.samples, s.warped, s.behind, frame.holes.cracks, frame.holes.disocclusions, frame.holes.unseen
     );
     let landed = view.image().disparity.iter().filter(|d| **d >= 0.0).count();
     if almost_empty(landed, view.image().disparity.len()) {

@@ -27,9 +27,8 @@ pub struct MorphFrame {
     pub error: Option<(ImageError, f64)>,
     pub plain: Option<(ImageError, f64)>,
     pub stats: MorphStats,
-    /// Pixels of the parallel in-between view (larger than the frame), which the holes of
-    /// `stats` are counted in: open sky and what neither view saw included.
-    pub prewarped_px: u64,
+    /// Pixels of the frame, which the holes of `stats` are counted in.
+    pub frame_px: u64,
 }
 
 impl MorphFrame {
@@ -48,9 +47,9 @@ impl MorphFrame {
         )
     }
 
-    /// The holes' share of the prewarped view.
+    /// The holes' share of the frame.
     pub fn holes_share(&self) -> f64 {
-        self.stats.holes as f64 / self.prewarped_px.max(1) as f64
+        self.stats.holes as f64 / self.frame_px.max(1) as f64
     }
 }
 
@@ -106,10 +105,9 @@ impl MorphPart {
         let plain = plain_morph(&self.views[0], &self.views[1], s);
         over_sky(&view, &mut out.rgba);
         (out.width, out.height) = (w, h);
-        let p = &self.morph.prewarped().left;
         MorphFrame {
             s,
-            prewarped_px: p.width() as u64 * p.height() as u64,
+            frame_px: w as u64 * h as u64,
             error: compare_seen(&view, &self.truth).ok(),
             plain: compare_seen(&plain, &self.truth).ok(),
             stats,

@@ -95,30 +95,78 @@ impl Source<'_> {
     }
 }
 
+/// What a pixel of the parallel in-between view is made of, as one-hot colours so the
+/// postwarp carries it to the output as it carries the view ([`Made::count`]): red from
+/// the left image, green from the right only, blue filled, each as opaque as the pixel;
+/// transparent where nothing.
+pub(super) struct Made;
+
+impl Made {
+    const LEFT: Premul = Premul {
+        r: 1.0,
+        g: 0.0,
+        b: 0.0,
+        a: 1.0,
+    };
+    const RIGHT: Premul = Premul {
+        r: 0.0,
+        g: 1.0,
+        b: 0.0,
+        a: 1.0,
+    };
+    const FILLED: Premul = Premul {
+        r: 0.0,
+        g: 0.0,
+        b: 1.0,
+        a: 1.0,
+    };
+
+    /// The counts of a resampled image of these labels: each pixel at least half covered
+    /// counted by its largest share. Pixels nothing reached count nowhere.
+    pub(super) fn count(labels: &DepthImage) -> MorphStats {
+        let mut stats = MorphStats::default();
+        for c in &labels.color {
+            if c.a < 0.5 {
+                continue;
+            }
+            if c.r >= c.g && c.r >= c.b {
+                stats.from_left += 1;
+            } else if c.g >= c.b {
+                stats.from_right += 1;
+            } else {
+                stats.holes += 1;
+            }
+        }
+        stats
+    }
+}
+
 /// The parallel in-between view a fraction `s` from the left view of `pair` to its right,
-/// seen by `camera` (its depth from the disparities), and what it is made of.
+/// seen by `camera` (its depth from the disparities), and what each pixel is made of
+/// ([`Made`]).
 pub(super) fn morph(
     pair: &Rectified,
     left: &Disparity,
     right: &Disparity,
     s: f32,
     camera: Camera,
-) -> (DepthImage, MorphStats) {
+) -> (DepthImage, DepthImage) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
     let mut out = DepthImage::new(w as u32, h as u32, camera);
+    let mut made = DepthImage::new(w as u32, h as u32, camera);
     if w == 0 || h == 0 {
-        return (out, MorphStats::default());
+        return (out, made);
     }
     // Disparity to depth: d = f b / z for the pair's baseline.
     let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let depth_of = |d: f32| focal * pair.baseline / d;
     let (lc, rc) = (&pair.left.color, &pair.right.color);
-    let stats = out
-        .color
+    out.color
         .par_chunks_mut(w)
         .zip(out.depth.par_chunks_mut(w))
+        .zip(made.color.par_chunks_mut(w))
         .enumerate()
-        .map(|(y, (color, depth))| {
+        .for_each(|(y, ((color, depth), made))| {
             let span = y * w..(y + 1) * w;
             let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
             let (lrow, rrow) = (&lc[span.clone()], &rc[span]);
@@ -148,28 +196,30 @@ pub(super) fn morph(
                 weight: s,
             }
             .map(&mut row, false);
-            let mut stats = MorphStats::default();
             for (t, &d) in row.disparity.iter().enumerate() {
-                match (d >= 0.0, row.from_right[t]) {
-                    (true, false) => stats.from_left += 1,
-                    (true, true) => stats.from_right += 1,
-                    _ => stats.holes += 1,
+                if d >= 0.0 {
+                    made[t] = if row.from_right[t] {
+                        Made::RIGHT
+                    } else {
+                        Made::LEFT
+                    };
                 }
             }
             fill_from_farther(&mut row);
+            for (t, &d) in row.disparity.iter().enumerate() {
+                if d >= 0.0 && made[t].a <= 0.0 {
+                    made[t] = Made::FILLED;
+                }
+                // As opaque as the pixel, so the postwarp covers the same pixels with both.
+                made[t] = scaled(made[t], row.color[t].a);
+            }
             for (z, &d) in depth.iter_mut().zip(&row.disparity) {
                 if d > 0.0 {
                     *z = depth_of(d);
                 }
             }
-            stats
-        })
-        .reduce(MorphStats::default, |a, b| MorphStats {
-            from_left: a.from_left + b.from_left,
-            from_right: a.from_right + b.from_right,
-            holes: a.holes + b.holes,
         });
-    (out, stats)
+    (out, made)
 }
 
 /// Fills each run of empty pixels of `row` between two mapped ones from the farther

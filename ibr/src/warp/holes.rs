@@ -1,6 +1,10 @@
 //! Holes in a warped image: counted by kind, and filled without dragging foreground colour
-//! across a depth edge.
+//! across a depth edge, nor past the warped surfaces' footprint.
 //!
+//! - An **unseen** pixel is no hole: nothing landed there and its ray stays in space the
+//!   references saw empty, or saw not at all (the background beyond their coverage;
+//!   [`seen`]). It stays empty (alpha 0, infinite depth), is counted apart, and no fill
+//!   writes it.
 //! - A **crack** is a hole between samples of one surface (foreshortening, rounding): within
 //!   [`CRACK_REACH`] pixels on two opposite sides there are samples of similar depth.
 //! - A **disocclusion** is any other hole: a surface no reference saw, beside a depth edge
@@ -21,22 +25,26 @@
 
 mod background;
 mod pull_push;
+pub mod seen;
 
 use super::on_pool;
-use super::warped::Warped;
+use super::warped::{Warped, HOLE};
 use rayon::prelude::*;
 
 /// How far (pixels) a crack's two sides may be apart.
 pub const CRACK_REACH: u32 = 2;
 
-/// Holes by kind.
+/// Holes by kind, and the empty pixels apart.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HoleStats {
     pub cracks: u64,
     pub disocclusions: u64,
+    /// Pixels nothing landed on that no reference saw anything at (not holes: left empty).
+    pub unseen: u64,
 }
 
 impl HoleStats {
+    /// The holes (cracks and disocclusions; unseen pixels are not holes).
     pub fn total(&self) -> u64 {
         self.cracks + self.disocclusions
     }
@@ -61,8 +69,14 @@ fn similar(a: f32, b: f32, edge: f32) -> bool {
 }
 
 /// Counts the holes of a warped image by kind; `edge` is the relative depth difference
-/// that separates surfaces.
+/// that separates surfaces. Every pixel nothing landed on is a hole.
 pub fn classify(image: &Warped, edge: f32) -> HoleStats {
+    classify_seen(image, edge, &[])
+}
+
+/// [`classify`], with the pixels `unseen` marks ([`seen::mark_unseen`]; empty: none)
+/// counted apart as [`HoleStats::unseen`].
+pub fn classify_seen(image: &Warped, edge: f32, unseen: &[bool]) -> HoleStats {
     let (w, h) = (image.width(), image.height());
     let sample = |x: i64, y: i64| -> Option<f32> {
         if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
@@ -80,7 +94,12 @@ pub fn classify(image: &Warped, edge: f32) -> HoleStats {
         .map(|y| {
             let mut stats = HoleStats::default();
             for x in 0..w {
-                if image.disparity[(y * w + x) as usize] >= 0.0 {
+                let i = (y * w + x) as usize;
+                if image.disparity[i] >= 0.0 {
+                    continue;
+                }
+                if unseen.get(i) == Some(&true) {
+                    stats.unseen += 1;
                     continue;
                 }
                 let pair = |d: (i64, i64)| match (seek(x, y, d.0, d.1), seek(x, y, -d.0, -d.1)) {
@@ -98,11 +117,13 @@ pub fn classify(image: &Warped, edge: f32) -> HoleStats {
         .reduce(HoleStats::default, |a, b| HoleStats {
             cracks: a.cracks + b.cracks,
             disocclusions: a.disocclusions + b.disocclusions,
+            unseen: a.unseen + b.unseen,
         })
 }
 
 /// What a fill did: the holes it filled and those it left (none to fill them from, or
-/// [`Fill::None`]), so that the filled image's samples are known without a count.
+/// [`Fill::None`]; unseen pixels too), so that the filled image's samples are known
+/// without a count.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Filled {
     pub filled: u64,
@@ -131,5 +152,42 @@ impl Filler {
             filled,
             left: holes - filled,
         }
+    }
+
+    /// [`Filler::fill`], leaving the pixels `unseen` marks ([`seen::mark_unseen`]; empty:
+    /// none) empty: the fill reads the image's samples as before and writes only holes.
+    pub fn fill_seen(
+        &mut self,
+        image: &mut Warped,
+        fill: Fill,
+        edge: f32,
+        unseen: &[bool],
+    ) -> Filled {
+        let mut done = self.fill(image, fill, edge);
+        if fill == Fill::None || unseen.is_empty() {
+            return done;
+        }
+        let w = image.width().max(1) as usize;
+        let cleared: u64 = on_pool(|| {
+            image
+                .color
+                .par_chunks_mut(w)
+                .zip(image.disparity.par_chunks_mut(w))
+                .zip(unseen.par_chunks(w))
+                .map(|((color, disparity), unseen)| {
+                    let mut n = 0u64;
+                    for ((c, d), &u) in color.iter_mut().zip(disparity).zip(unseen) {
+                        if u && *d >= 0.0 {
+                            (*c, *d) = (0, HOLE);
+                            n += 1;
+                        }
+                    }
+                    n
+                })
+                .sum()
+        });
+        done.filled -= cleared;
+        done.left += cleared;
+        done
     }
 }

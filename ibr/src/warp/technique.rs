@@ -1,10 +1,12 @@
 //! The warp as a technique: each frame the references nearest the eye are warped to the
 //! frame's camera, holes are filled, and an image pass writes the result into the target,
 //! depth-tested against the geometry drawn there (warped samples write depth, so geometry
-//! in front hides them and they hide geometry behind). References are prepared for the
-//! warp once, when they change.
+//! in front hides them and they hide geometry behind). Pixels no warped reference saw
+//! anything at stay empty ([`super::holes::seen`]): only holes are counted and filled.
+//! References are prepared for the warp once, when they change.
 
-use super::holes::{classify, Fill, Filler, HoleStats};
+use super::holes::seen::{mark_unseen, sample_bounds, Bounds};
+use super::holes::{classify_seen, Fill, Filler, HoleStats};
 use super::predict::{depth_range, parallax_px};
 use super::{Prepared, WarpOptions, WarpStats, Warped, Warper, ENCODING};
 use crate::images::{DepthImage, LayeredDepthImage};
@@ -30,7 +32,15 @@ pub struct WarpedView {
     /// Whether holes are classified each frame (for counters and charts; a full pass over
     /// the image).
     pub count_holes: bool,
+    /// Whether pixels no warped reference saw anything at are told from holes and left
+    /// empty ([`super::holes::seen`]); when not, every pixel nothing landed on is a hole.
+    pub carve: bool,
     warper: Warper,
+    /// Per output pixel: nothing landed and no reference saw anything there.
+    unseen: Vec<bool>,
+    /// The box around each reference's samples, and each layered image's.
+    bounds: Vec<Option<Bounds>>,
+    bounds_layered: Vec<Option<Bounds>>,
     filler: Filler,
     order: Vec<(f32, usize)>,
     /// Each reference's median depth and depth range, and the references and layered
@@ -67,7 +77,11 @@ impl WarpedView {
             fill: Fill::PullPush,
             nearest: 2,
             count_holes: true,
+            carve: true,
             warper: Warper::new(),
+            unseen: Vec::new(),
+            bounds: Vec::new(),
+            bounds_layered: Vec::new(),
             filler: Filler::default(),
             order: Vec::new(),
             reach: Vec::new(),
@@ -90,6 +104,12 @@ impl WarpedView {
         self.warper.output()
     }
 
+    /// The last frame's unseen pixels (row-major; empty when not carved): nothing landed
+    /// there and no warped reference saw anything there, so no fill writes them.
+    pub fn unseen(&self) -> &[bool] {
+        &self.unseen
+    }
+
     pub fn last(&self) -> WarpFrame {
         self.last
     }
@@ -109,10 +129,12 @@ impl WarpedView {
             self.ranges = self.references.iter().map(depth_range).collect();
             let prepare = |r: &DepthImage| Prepared::from_image(r, edge);
             self.prepared = self.references.iter().map(prepare).collect();
+            self.bounds = self.prepared.iter().map(sample_bounds).collect();
         }
         if stale(&self.prepared_layered, self.layered.len()) {
             let prepare = |l: &LayeredDepthImage| Prepared::from_ldi(l, edge);
             self.prepared_layered = self.layered.iter().map(prepare).collect();
+            self.bounds_layered = self.prepared_layered.iter().map(sample_bounds).collect();
         }
         self.order.clear();
         let reach = &self.reach;
@@ -142,12 +164,25 @@ impl WarpedView {
             frame.stats += self.warper.add_prepared(&self.prepared[i], &self.options);
             frame.references += 1;
         }
+        self.unseen.clear();
+        if self.carve && (self.count_holes || self.fill != Fill::None) {
+            let nearest = &self.order[..self.nearest.min(self.order.len())];
+            let prepared = &self.prepared;
+            let refs = (self.prepared_layered.iter())
+                .chain(nearest.iter().map(move |&(_, i)| &prepared[i]));
+            let bounds = (self.bounds_layered.iter().copied())
+                .chain(nearest.iter().map(|&(_, i)| self.bounds[i]))
+                .flatten()
+                .reduce(|[a, b], [c, d]| [a.min(c), b.max(d)]);
+            let out = self.warper.output();
+            mark_unseen(out, refs, bounds, edge, &mut self.unseen);
+        }
         if self.count_holes {
-            frame.holes = classify(self.warper.output(), self.options.edge);
+            frame.holes = classify_seen(self.warper.output(), edge, &self.unseen);
         }
         let fill = self
             .filler
-            .fill(self.warper.output_mut(), self.fill, self.options.edge);
+            .fill_seen(self.warper.output_mut(), self.fill, edge, &self.unseen);
         frame.filled = fill.filled;
         frame.pixels = self.warper.output().disparity.len() as u64 - fill.left;
         self.last = frame;

@@ -91,17 +91,28 @@ fn the_pixels_a_frame_offers_are_the_filled_pixels_whatever_the_fill() {
     let mut moved = camera();
     moved.view *= Mat4::from_translation(Vec3::new(0.8, 0.1, 0.0));
     let away = Camera::look_at(Vec3::ZERO, Vec3::Z, Vec3::Y, 1.0, W as f32 / H as f32);
+    // Carved, the holes beside the wall are unseen (past the reference's frame): no fill
+    // paints them; uncarved, every fill does.
     for (eye, sees) in [(moved, true), (away, false)] {
-        for fill in [Fill::None, Fill::PullPush, Fill::Background] {
+        for (fill, carve) in [Fill::None, Fill::PullPush, Fill::Background]
+            .into_iter()
+            .flat_map(|f| [(f, false), (f, true)])
+        {
             let mut view = WarpedView::new("wall", vec![wall()]);
             view.fill = fill;
+            view.carve = carve;
             let frame = view.warp_to(&eye, W, H);
             assert_eq!(frame.pixels, view.image().filled(), "{fill:?}");
             let warped = frame.stats.pixels_written;
-            match (sees, fill) {
-                (false, _) => assert_eq!(frame.pixels, 0, "{fill:?}"),
-                (true, Fill::None) => assert!(frame.pixels < u64::from(W * H), "{frame:?}"),
-                (true, _) => assert!(frame.pixels > warped, "{fill:?}: {frame:?}"),
+            match (sees, fill, carve) {
+                (false, _, _) => assert_eq!(frame.pixels, 0, "{fill:?}"),
+                (true, Fill::None, _) => assert!(frame.pixels < u64::from(W * H), "{frame:?}"),
+                (true, _, false) => assert!(frame.pixels > warped, "{fill:?}: {frame:?}"),
+                (true, _, true) => {
+                    assert_eq!(frame.pixels, warped, "{fill:?}: {frame:?}");
+                    let unseen = u64::from(W * H) - warped;
+                    assert_eq!(frame.holes.unseen, unseen, "{fill:?}: {frame:?}");
+                }
             }
         }
     }
