@@ -46,8 +46,13 @@ pub use vq::{Quantised, TileShape, VqError, VqReport, VqSettings};
 /// A rectangle in space: a corner and its two edges (at right angles).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect3 {
+    /// The corner at fractions `(0, 0)`, in world space (a direction when the rectangle
+    /// lies on a plane at infinity).
     pub origin: Vec3,
+    /// The first edge, from `origin` to fractions `(1, 0)`, world units.
     pub edge_a: Vec3,
+    /// The second edge, from `origin` to fractions `(0, 1)`, world units; at right angles
+    /// to `edge_a`.
     pub edge_b: Vec3,
 }
 
@@ -117,15 +122,24 @@ impl Rect3 {
 /// planes finite.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Slab {
+    /// The camera plane: sample `(i, j)` sits at fractions `((i + 0.5) / nu, (j + 0.5) / nv)`
+    /// of it.
     pub uv: Rect3,
+    /// The focal plane each `uv` camera's image frames exactly (image x along its
+    /// `edge_a`, y along its `edge_b`).
     pub st: Rect3,
+    /// Samples along `uv.edge_a` (cameras per row), at least 1.
     pub nu: u32,
+    /// Samples along `uv.edge_b` (rows of cameras), at least 1.
     pub nv: u32,
+    /// Samples along `st.edge_a`: each camera image's width in pixels, at least 1.
     pub ns: u32,
+    /// Samples along `st.edge_b`: each camera image's height in pixels, at least 1.
     pub nt: u32,
     /// The capture cameras' depth range, distances along `forward` from the `uv` plane
     /// (from the `st` plane's, when `uv` is at infinity).
     pub near: f32,
+    /// The far end of the capture cameras' depth range (world units, `near < far`).
     pub far: f32,
     /// Whether the `uv` and the `st` plane are at infinity (not both).
     pub infinite: [bool; 2],
@@ -134,23 +148,32 @@ pub struct Slab {
 /// Why a slab cannot be made.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SlabError {
+    /// A sample count is zero: the counts given as `nu`, `nv`, `ns`, `nt`.
     #[error("a light slab needs at least one sample on each axis (got {0} x {1} x {2} x {3})")]
     NoSamples(u32, u32, u32, u32),
     #[error("the slab's rectangles must have edges of non-zero length at right angles")]
+    /// An edge has zero length, or a rectangle's edges are not at right angles.
     Degenerate,
+    /// The `uv` and `st` rectangles do not lie in parallel planes.
     #[error("the uv and st planes must be parallel")]
     NotParallel,
     #[error(
         "the st plane must lie in front of the uv plane along st's edge_a x edge_b (it is {0} behind)"
     )]
+    /// The `st` plane is not ahead of the `uv` plane along `st.edge_a x st.edge_b`: by
+    /// how far behind it lies (world units).
     Behind(f32),
+    /// The depth range given, `near` and `far`, does not satisfy `0 < near < far`.
     #[error("the depth range must satisfy 0 < near < far (got {0} and {1})")]
     DepthRange(f32, f32),
+    /// Both planes were asked to be at infinity.
     #[error("the uv and st planes cannot both be at infinity")]
     BothAtInfinity,
     #[error(
         "a plane at infinity holds directions from the uv side toward the st side: its rectangle must lie ahead along st's edge_a x edge_b (it is {0} behind)"
     )]
+    /// A plane at infinity's rectangle of directions does not lie ahead along
+    /// `st.edge_a x st.edge_b`: by how far behind it lies.
     DirectionsBehind(f32),
 }
 
@@ -476,14 +499,18 @@ impl Slab {
 /// A captured light slab: its geometry and its rays.
 #[derive(Clone, Debug)]
 pub struct LightField {
+    /// Where the rays are: the two planes and the sample counts.
     pub slab: Slab,
+    /// The samples, `slab.len()` of them.
     pub rays: Rays,
 }
 
 /// A light field's samples: as captured, or vector-quantised.
 #[derive(Clone, Debug)]
 pub enum Rays {
+    /// One packed colour (and optionally one depth) per ray, as captured.
     Raw(RawRays),
+    /// Vector-quantised: a codebook of 4D tiles and one codeword index per tile.
     Quantised(Quantised),
 }
 

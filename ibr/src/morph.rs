@@ -43,26 +43,50 @@ pub enum Correspondence {
     /// The images' depth (rendered, or from a depth camera).
     Depth,
     /// Semi-global matching on the prewarped pair, up to this many pixels of disparity.
-    Stereo { max_disparity: u32 },
+    Stereo {
+        /// The largest disparity searched, in pixels of the prewarped pair.
+        max_disparity: u32,
+    },
 }
 
 /// Why two views cannot be morphed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MorphError {
+    /// The views cannot be rectified to parallel ones (no baseline, or moving along the
+    /// view).
     #[error("cannot prewarp the views to parallel ones: {0}")]
     Prewarp(#[from] RectifyError),
     #[error("the images have no depth to take correspondences from (use the stereo matcher)")]
+    /// Depth correspondence was asked for, but an image carries no depth.
     NoDepth,
+    /// The stereo matcher refused the pair: its message.
     #[error("the stereo matcher failed: {0}")]
     Stereo(String),
+    /// The point pairs give no fundamental matrix (uncalibrated morphs).
     #[error("cannot estimate the fundamental matrix from the point pairs: {0}")]
     Fundamental(#[from] fundamental::FundamentalError),
     #[error(
         "the epipole of the {image} image is at ({x:.0}, {y:.0}) pixels, in or near the image: the eyes move toward the scene and rows cannot be made to match (move the cameras sideways)"
     )]
-    EpipoleInImage { image: &'static str, x: f64, y: f64 },
+    /// An epipole lies in or near an image, so no homography can make its rows match
+    /// (the eyes move toward the scene).
+    EpipoleInImage {
+        /// Which image, `"first"` or `"second"`.
+        image: &'static str,
+        /// The epipole's x, in that image's pixels.
+        x: f64,
+        /// The epipole's y, in that image's pixels.
+        y: f64,
+    },
+    /// The point pairs' disparities exceed what the stereo matcher searches.
     #[error("the point pairs lie up to {needed} pixels apart in the prewarped pair, past the matcher's {max}")]
-    DisparityRange { needed: u32, max: u32 },
+    DisparityRange {
+        /// The largest disparity of the pairs, prewarped pixels.
+        needed: u32,
+        /// The matcher's `max_disparity`.
+        max: u32,
+    },
+    /// The point pairs cannot make a prewarp: why.
     #[error("cannot prewarp from the point pairs: {0}")]
     Pairs(&'static str),
 }
@@ -74,6 +98,7 @@ pub struct MorphStats {
     /// Pixels mapped from the left image, and from the right image only (holes the left
     /// left, filled from the other image).
     pub from_left: u64,
+    /// Pixels mapped from the right image only (where the left image left holes).
     pub from_right: u64,
     /// Pixels neither image mapped to, between two mapped pixels of their row in the
     /// parallel view: filled from the farther side. (What nothing reached is not counted.)

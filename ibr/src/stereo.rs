@@ -36,28 +36,44 @@ use engine::load::FloatImage;
 /// A left image's disparities, row-major, top row first; infinite where unknown.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Disparity {
+    /// Columns, the left image's width in pixels.
     pub width: u32,
+    /// Rows, the left image's height in pixels.
     pub height: u32,
+    /// `width * height` disparities in pixels, row-major from the top: left pixel
+    /// `(x, y)` matches right pixel `(x - d, y)`; `f32::INFINITY` where unknown.
     pub data: Vec<f32>,
 }
 
 /// Why a disparity map or a comparison is refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum StereoError {
+    /// A map or image holds a number of values other than `width * height`.
     #[error("{what}: {found} values for a {width} x {height} map")]
     Size {
+        /// Which map or image, in words.
         what: &'static str,
+        /// Values found.
         found: usize,
+        /// The map's width, pixels.
         width: u32,
+        /// The map's height, pixels.
         height: u32,
     },
     #[error("{what}: a disparity at ({x}, {y}) is {value}: disparities are finite and not negative, or infinite where unknown")]
+    /// A disparity is negative or NaN (only `+inf` may stand for unknown).
     Value {
+        /// Which map, in words.
         what: &'static str,
+        /// The pixel's column.
         x: u32,
+        /// The pixel's row, from the top.
         y: u32,
+        /// The value found.
         value: f32,
     },
+    /// Estimate and ground truth differ in size: the estimate's width and height, then
+    /// the truth's.
     #[error("the estimate is {0} x {1} and the ground truth {2} x {3}")]
     Mismatch(u32, u32, u32, u32),
 }

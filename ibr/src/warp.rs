@@ -93,8 +93,11 @@ pub enum Composite {
 /// How to warp.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WarpOptions {
+    /// How samples landing on one pixel are resolved: drawing order or a depth buffer.
     pub visibility: Visibility,
+    /// How much of the target each sample covers: one pixel, or a splat.
     pub reconstruction: Reconstruction,
+    /// How later references of a frame join the earlier ones' result.
     pub composite: Composite,
     /// The largest splat side, pixels: stretches beyond it are left as holes.
     pub max_splat: f32,
@@ -198,6 +201,7 @@ impl Default for Warper {
 }
 
 impl Warper {
+    /// A warper with no references and empty output buffers (they grow on first use).
     pub fn new() -> Self {
         let camera = Camera::look_at(glam::Vec3::Z, glam::Vec3::ZERO, glam::Vec3::Y, 1.0, 1.0);
         Warper {

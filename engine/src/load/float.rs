@@ -33,7 +33,9 @@ use std::path::Path;
 /// A one-channel `f32` image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FloatImage {
+    /// Columns, pixels.
     pub width: u32,
+    /// Rows, pixels.
     pub height: u32,
     /// `width * height` values.
     pub data: Vec<f32>,

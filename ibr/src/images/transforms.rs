@@ -70,9 +70,13 @@ const MAX_JSON_BYTES: u64 = 64 << 20;
 /// the top row, y down), for a `w` x `h` image.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Intrinsics {
+    /// Focal length along x, pixels.
     pub fl_x: f32,
+    /// Focal length along y, pixels.
     pub fl_y: f32,
+    /// Principal point's x, pixels from the left edge.
     pub cx: f32,
+    /// Principal point's y, pixels from the top edge (y down).
     pub cy: f32,
 }
 

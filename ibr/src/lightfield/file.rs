@@ -50,41 +50,89 @@ const HEADER: usize = 8 + 4 + 4 + 16 + 72 + 8 + 4 + 8;
 /// Why a light-field file could not be read or written.
 #[derive(Debug, thiserror::Error)]
 pub enum FileError {
+    /// The file could not be opened, read or written.
     #[error("{path}: {source}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating system's error.
         source: std::io::Error,
     },
+    /// The file does not start with the `PLXLF` magic.
     #[error("{path}: not a light-field file (no PLXLF header)")]
-    NotALightField { path: PathBuf },
-    #[error("{path}: version {found} is not supported (this build reads version {VERSION})")]
-    Version { path: PathBuf, found: u32 },
-    #[error("{path}: unknown {what} {found}")]
-    Unknown {
+    NotALightField {
+        /// The file.
         path: PathBuf,
-        what: &'static str,
+    },
+    /// The file's version is not one this build reads (1 or 2).
+    #[error("{path}: version {found} is not supported (this build reads version {VERSION})")]
+    Version {
+        /// The file.
+        path: PathBuf,
+        /// The version the header gives.
         found: u32,
     },
+    /// A header field holds a value with no meaning (an encoding, a payload kind, a flag).
+    #[error("{path}: unknown {what} {found}")]
+    Unknown {
+        /// The file.
+        path: PathBuf,
+        /// Which field, in words.
+        what: &'static str,
+        /// The value found.
+        found: u32,
+    },
+    /// The header's planes, counts or depth range make no valid [`Slab`].
     #[error("{path}: bad slab: {source}")]
-    Slab { path: PathBuf, source: SlabError },
+    Slab {
+        /// The file.
+        path: PathBuf,
+        /// Why the slab is invalid.
+        source: SlabError,
+    },
+    /// The header's sample count is not `nu nv ns nt`.
     #[error("{path}: the header counts {declared} samples, but {nu} x {nv} x {ns} x {nt} makes {expected}")]
     Count {
+        /// The file.
         path: PathBuf,
+        /// The sample count the header gives.
         declared: u64,
+        /// `nu nv ns nt`, the count it should give.
         expected: u64,
+        /// The header's `uv` samples along `edge_a`.
         nu: u32,
+        /// The header's `uv` samples along `edge_b`.
         nv: u32,
+        /// The header's `st` samples along `edge_a` (image width, pixels).
         ns: u32,
+        /// The header's `st` samples along `edge_b` (image height, pixels).
         nt: u32,
     },
+    /// The quantised payload's tile shape, codebook or indices are inconsistent.
     #[error("{path}: bad quantised light field: {source}")]
-    Quantised { path: PathBuf, source: VqError },
+    Quantised {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        source: VqError,
+    },
+    /// The quantised payload's zstd frame does not decompress.
     #[error("{path}: the compressed samples are corrupt: {message}")]
-    Corrupt { path: PathBuf, message: String },
+    Corrupt {
+        /// The file.
+        path: PathBuf,
+        /// The decompressor's message.
+        message: String,
+    },
+    /// The file (or the decompressed payload) holds more or fewer bytes than its header
+    /// implies.
     #[error("{path}: {found} bytes of samples where the header promises {expected} (truncated or trailing data)")]
     Length {
+        /// The file.
         path: PathBuf,
+        /// Bytes the header implies.
         expected: u64,
+        /// Bytes found.
         found: u64,
     },
 }

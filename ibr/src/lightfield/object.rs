@@ -37,12 +37,14 @@ pub enum Showing {
 /// reference for error measurement).
 #[derive(Debug)]
 pub struct LightFieldObject {
+    /// The object's name, for reports and charts.
     pub name: String,
     /// The slabs, each a light field of the object from one side.
     pub slabs: Vec<LightField>,
     /// The object's bounding sphere: a slab is used only when every ray from the eye to
     /// it crosses both of the slab's rectangles.
     pub bounds: Sphere,
+    /// How its renders look the slabs' rays up (interpolation, depth correction).
     pub lookup: Lookup,
     /// The geometry captured into the light field, if kept: drawn when no slab sees the
     /// object.

@@ -105,7 +105,10 @@ pub fn view_terms(slab: &Slab, sight: &Sight<'_>) -> (f32, f32) {
 /// plane (in radii, 0 to 1; the larger of the pair's, empty samples counting 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gradients {
+    /// Mean absolute neighbour difference, 8-bit levels per texel (0 to 255).
     pub gradient: f32,
+    /// The same, each difference weighted by its surface's distance from the focal
+    /// plane in radii (0 to 1); at most `gradient`.
     pub depth_gradient: f32,
 }
 
@@ -179,8 +182,9 @@ impl Baked {
 /// ([`Subject::version`]) or moves.
 #[derive(Debug)]
 pub struct LightFieldSet {
-    /// Cameras per side of each slab's `uv` grid, and samples per side of its `st` images.
+    /// Cameras per side of each slab's `uv` grid (`nu = nv`).
     pub grid: u32,
+    /// Samples per side of each slab's `st` images (`ns = nt`, pixels).
     pub st: u32,
     /// How rays are looked up, from the next frame on.
     pub lookup: Lookup,

@@ -36,6 +36,8 @@ use rayon::prelude::*;
 /// A rebinned light field and how much of it the photographs saw.
 #[derive(Clone, Debug)]
 pub struct Rebinned {
+    /// The light field, every sample filled (measured, or pulled and pushed from
+    /// measured neighbours).
     pub field: LightField,
     /// Per sample (in [`RawRays::samples`] order), how much of it was measured: 1 where
     /// the photographs saw its ray's surface or saw through it (depth-corrected), the

@@ -45,6 +45,8 @@ const SAME_SURFACE: f32 = 0.05;
 /// How a render looks the light field up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lookup {
+    /// How many samples around the ray are blended: one, four (bilinear in `uv`) or
+    /// sixteen (quadrilinear).
     pub interpolation: Interpolation,
     /// Depth correction (Gortler et al. 96): the ray's point on the surface (found by
     /// marching along the ray through the nearest camera's stored depths, and the other

@@ -74,6 +74,7 @@ impl std::fmt::Display for TileShape {
 /// How a light field is quantised.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VqSettings {
+    /// The 4D tile (in `u`, `v`, `s`, `t` samples) each codeword stands for.
     pub tile: TileShape,
     /// Codewords wanted (at most 65,536: indices are 16-bit); fewer when the training
     /// tiles hold fewer distinct vectors.
@@ -102,9 +103,13 @@ pub enum VqError {
     #[error(
         "tile dimensions must be powers of two up to 16, at most 256 samples in all (got {0:?})"
     )]
+    /// Tile dimensions (`u`, `v`, `s`, `t`) that are not powers of two up to 16, or make
+    /// more than 256 samples.
     Tile([u32; 4]),
+    /// A codeword count outside 1 to 65,536.
     #[error("a codebook needs 1 to 65,536 codewords (got {0})")]
     Codewords(u32),
+    /// Codebook, indices and tile counts that do not fit each other: what is wrong.
     #[error("quantised data is inconsistent: {0}")]
     Inconsistent(String),
 }
@@ -114,8 +119,9 @@ pub enum VqError {
 pub struct VqReport {
     /// Codewords in the trained codebook.
     pub codewords: u32,
-    /// Tiles trained on, and encoded.
+    /// Tiles trained on.
     pub training_tiles: usize,
+    /// Tiles encoded (every tile of the light field).
     pub tiles: usize,
     /// Mean squared error per vector component over all encoded tiles (colour bytes and
     /// depth feature).
@@ -127,6 +133,7 @@ pub struct VqReport {
 /// A light field's samples as codebook and indices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Quantised {
+    /// The tile shape each codeword covers.
     pub tile: TileShape,
     /// Tiles along `u, v, s, t`.
     pub tiles: [u32; 4],

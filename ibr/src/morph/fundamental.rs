@@ -17,15 +17,20 @@ use glam::{DMat3, DVec2, DVec3, Vec2};
 /// Why the pairs give no fundamental matrix.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FundamentalError {
+    /// Fewer than 8 point pairs: how many were given.
     #[error("{0} point pairs: the eight-point algorithm needs at least 8")]
     TooFew(usize),
+    /// The pair at this index has a NaN or infinite coordinate.
     #[error("point pair {0} is not finite")]
     NotFinite(usize),
+    /// All points of one image (named) are the same point.
     #[error("the points of the {0} image all coincide: nothing to normalise")]
     Coincident(&'static str),
     #[error(
         "the pairs do not fix one fundamental matrix (second-smallest singular value {0:.1e} of the normalised system): the points lie on a line or a plane, or too few are independent"
     )]
+    /// The pairs fix no single matrix: the normalised system's second-smallest singular
+    /// value.
     Degenerate(f64),
 }
 

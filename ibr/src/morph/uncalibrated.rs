@@ -37,9 +37,11 @@ pub struct Prewarp {
     /// From the pixels of `a` (homogeneous, `(x, y, 1)`) to the prewarped frame's, and
     /// from those of `b`.
     pub a: DMat3,
+    /// From the pixels of `b` (homogeneous) to the prewarped frame's.
     pub b: DMat3,
-    /// The prewarped frame's size.
+    /// The prewarped frame's width, pixels.
     pub width: u32,
+    /// The prewarped frame's height, pixels.
     pub height: u32,
     /// The smallest and largest disparity (`x` in `a` less `x` in `b`, prewarped pixels)
     /// of the pairs it was made from.

@@ -15,8 +15,9 @@ use super::{Disparity, StereoError};
 pub struct DisparityError {
     /// Pixels evaluated (ground truth known, in the set).
     pub pixels: u64,
-    /// Shares of them off by more than 1 and by more than 2 pixels, or unknown.
+    /// Share of them (0 to 1) off by more than 1 pixel, or unknown.
     pub bad1: f64,
+    /// Share of them (0 to 1) off by more than 2 pixels, or unknown.
     pub bad2: f64,
     /// Root mean square error over the evaluated pixels the estimate knows (pixels).
     pub rms: f64,
@@ -27,7 +28,9 @@ pub struct DisparityError {
 /// The error over the non-occluded pixels and over all pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measured {
+    /// Over the left pixels the right image also sees.
     pub nonocc: DisparityError,
+    /// Over every left pixel with a known true disparity.
     pub all: DisparityError,
 }
 

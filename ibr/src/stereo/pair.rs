@@ -16,7 +16,9 @@ const SAME_POINT: f32 = 0.01;
 /// Two rectified views and the left one's true disparities.
 #[derive(Clone, Debug)]
 pub struct StereoPair {
+    /// The left view, colour and depth, its camera's.
     pub left: DepthImage,
+    /// The right view, same size, its camera moved `baseline` along the left's image x.
     pub right: DepthImage,
     /// The left image's disparities: infinite where it shows nothing.
     pub truth: Disparity,
@@ -24,6 +26,8 @@ pub struct StereoPair {
     pub visible: Vec<bool>,
     /// Focal length in pixels along x, and the baseline (scene units).
     pub focal_px: f32,
+    /// Distance between the two cameras' centres, scene units: disparity is
+    /// `focal_px * baseline / z`, `z` the depth along the optical axis.
     pub baseline: f32,
 }
 

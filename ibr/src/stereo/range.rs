@@ -38,7 +38,10 @@ pub fn from_depth(depths: &[&[f32]], focal_px: f32, baseline: f32) -> Option<u32
 /// size, sorted; and the factor it shrank the pair by.
 #[derive(Clone, Debug)]
 pub struct Coarse {
+    /// The disparities matched at the coarse size, times `scale` (full-size pixels),
+    /// ascending.
     pub disparities: Vec<f32>,
+    /// The factor the pair was shrunk by on each axis (1 = full size).
     pub scale: u32,
 }
 

@@ -14,12 +14,16 @@ use glam::{Mat4, Vec3, Vec4};
 /// Why a pair cannot be rectified.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RectifyError {
+    /// The cameras' centres (nearly) coincide: their distance, scene units.
     #[error("the cameras are {0} apart: a pair needs a baseline")]
     NoBaseline(f32),
     #[error(
         "the baseline runs within {0:.1} degrees of the left camera's view direction: the epipole is in the image and rows cannot be made to match (move the cameras sideways)"
     )]
+    /// The baseline runs (nearly) along the left camera's view: the angle between them,
+    /// degrees.
     AlongTheView(f32),
+    /// The images differ in size: left width and height, then right.
     #[error("the images are {0}x{1} and {2}x{3}: rectification needs one size")]
     Sizes(u32, u32, u32, u32),
 }
@@ -27,8 +31,12 @@ pub enum RectifyError {
 /// A rectified pair: the two images resampled, their cameras and the baseline.
 #[derive(Clone, Debug)]
 pub struct Rectified {
+    /// The left image resampled into the rectified left camera (rows are epipolar lines).
     pub left: DepthImage,
+    /// The right image resampled into the rectified right camera, same size and
+    /// orientation as `left`.
     pub right: DepthImage,
+    /// Distance between the two camera centres, scene units.
     pub baseline: f32,
 }
 

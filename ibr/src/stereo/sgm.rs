@@ -31,6 +31,7 @@ pub struct Sgm {
     /// The penalties of a disparity change of one, and of more, between neighbours on a
     /// path (in census bits; above 4,000 they act as 4,000).
     pub p1: u16,
+    /// The penalty of a disparity change of more than one (census bits).
     pub p2: u16,
     /// The best sum must be below `1 - uniqueness` times the best away from it.
     pub uniqueness: f32,

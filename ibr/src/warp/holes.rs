@@ -37,7 +37,11 @@ pub const CRACK_REACH: u32 = 2;
 /// Holes by kind, and the empty pixels apart.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HoleStats {
+    /// Holes with samples of similar depth within [`CRACK_REACH`] pixels on two opposite
+    /// sides (one surface torn by foreshortening or rounding), in pixels.
     pub cracks: u64,
+    /// Every other hole (a surface no reference saw, beside a depth edge or where the
+    /// references end), in pixels.
     pub disocclusions: u64,
     /// Pixels nothing landed on that no reference saw anything at (not holes: left empty).
     pub unseen: u64,
@@ -126,7 +130,10 @@ pub fn classify_seen(image: &Warped, edge: f32, unseen: &[bool]) -> HoleStats {
 /// without a count.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Filled {
+    /// Hole pixels given a colour and depth.
     pub filled: u64,
+    /// Pixels left empty: holes with nothing to fill them from, every hole under
+    /// [`Fill::None`], and unseen pixels.
     pub left: u64,
 }
 

@@ -15,8 +15,11 @@ use glam::Vec2;
 /// A run of one row: pixels `x = start, start + step, ...`, `len` of them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Run {
+    /// The row, from the top, pixels.
     pub y: u32,
+    /// The first pixel's column.
     pub start: u32,
+    /// Pixels in the run.
     pub len: u32,
     /// `1` or `-1`.
     pub step: i32,

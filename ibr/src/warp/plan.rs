@@ -61,12 +61,14 @@ pub struct Config {
     /// The reference's side, pixels (its screen diameter rounded up to a power of two,
     /// clamped).
     pub min_side: u32,
+    /// The largest reference side, pixels (the clamp's upper end).
     pub max_side: u32,
     /// Within this many radii of the centre the object is not drawn from a reference.
     pub transition: f32,
     /// A reference coarser than the view needs by more than this many octaves is not
     /// drawn (its splats would tear).
     pub octaves: f32,
+    /// How the references are warped into the view.
     pub options: WarpOptions,
 }
 
@@ -134,6 +136,7 @@ struct Worker {
 /// Depth images (or LDIs) of the planner's objects.
 #[derive(Debug)]
 pub struct DepthImageSet {
+    /// The settings every reference of the set is made and drawn with.
     pub config: Config,
     slots: Vec<Slot>,
     jobs: Vec<Job>,

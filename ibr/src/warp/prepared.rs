@@ -86,10 +86,12 @@ impl Prepared {
         p
     }
 
+    /// The camera the reference was captured with.
     pub fn camera(&self) -> &Camera {
         &self.camera
     }
 
+    /// The reference's width and height, pixels.
     pub fn size(&self) -> (u32, u32) {
         (self.width, self.height)
     }

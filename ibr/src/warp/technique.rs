@@ -24,7 +24,9 @@ pub struct WarpedView {
     pub references: Vec<DepthImage>,
     /// Layered depth images, warped (all of them) before the nearest references.
     pub layered: Vec<LayeredDepthImage>,
+    /// How each reference is warped into the view.
     pub options: WarpOptions,
+    /// How the warped image's holes are filled.
     pub fill: Fill,
     /// How many references, the nearest to the eye first, are warped each frame (after the
     /// layered images).
@@ -55,12 +57,15 @@ pub struct WarpedView {
 /// What the last frame's warp did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WarpFrame {
+    /// The warp's work, summed over the references warped.
     pub stats: WarpStats,
     /// Holes before filling (zero when not counted).
     pub holes: HoleStats,
+    /// Hole pixels the fill gave a colour.
     pub filled: u64,
     /// Pixels the image pass offers the target (filled output pixels).
     pub pixels: u64,
+    /// References warped: every layered image and the nearest `nearest` depth images.
     pub references: u64,
     /// The predicted parallax spread of the nearest reference, pixels
     /// ([`super::predict::parallax_px`]): the widest a disocclusion can open.
@@ -68,6 +73,8 @@ pub struct WarpFrame {
 }
 
 impl WarpedView {
+    /// A warped view named `name` of `references`: default [`WarpOptions`], pull-push
+    /// fill, the 2 nearest references a frame, holes counted and unseen pixels carved.
     pub fn new(name: impl Into<String>, references: Vec<DepthImage>) -> Self {
         WarpedView {
             name: name.into(),
@@ -110,6 +117,7 @@ impl WarpedView {
         &self.unseen
     }
 
+    /// What the last frame's warp did (all zero before the first frame).
     pub fn last(&self) -> WarpFrame {
         self.last
     }
@@ -222,6 +230,8 @@ pub struct ImagePass<'a> {
 }
 
 impl<'a> ImagePass<'a> {
+    /// A pass writing `image` (taken by the target's camera), its depth mapping computed
+    /// from the image's camera.
     pub fn new(image: &'a Warped) -> Self {
         let (n, f) = image.camera.near_far();
         // reversed = n (f - z) / (z (f - n)) = (n f / (f - n)) / z - n / (f - n).

@@ -23,6 +23,7 @@ pub struct Warped {
     pub color: Vec<u32>,
     /// `1 / depth` along the camera's axis, 0 at infinity (sky), [`HOLE`] where nothing is.
     pub disparity: Vec<f32>,
+    /// The camera the image is seen from: the view warped to.
     pub camera: Camera,
 }
 
@@ -55,10 +56,12 @@ impl Warped {
             .for_each(|d| d.fill(HOLE));
     }
 
+    /// Columns, pixels.
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Rows, pixels.
     pub fn height(&self) -> u32 {
         self.height
     }
