@@ -9,12 +9,12 @@
 //!   that sample whose off-axis frustum maps the `st` rectangle exactly onto its image, so
 //!   pixel `(s, t)` of image `(u, v)` is the ray from `uv` sample `(u, v)` through `st`
 //!   sample `(s, t)`. The images are rendered on both cores ([`capture_batch`]).
-//! - Rendering ([`render`]): each pixel's ray is intersected with both planes, giving
+//! - Rendering ([`fn@render`]): each pixel's ray is intersected with both planes, giving
 //!   continuous `(u, v, s, t)` in sample units, and the light field is looked up by nearest
 //!   sample, bilinearly in `uv` (nearest `st`), or quadrilinearly (16 samples); with depth
 //!   correction (the captured depths as the proxy) each camera is read where it saw the
 //!   ray's surface point.
-//! - Saved and loaded as one versioned file ([`file`]: `LightField::save`, `load`).
+//! - Saved and loaded as one versioned file ([`mod@file`]: `LightField::save`, `load`).
 //! - In a scene ([`LightFieldObject`], a technique): rendered into the screen rectangle
 //!   its focal plane covers and composited by a depth-tested image pass.
 //! - Among the planner's representations ([`LightFieldSet`], [`plan`]): baked per object

@@ -1,8 +1,8 @@
 //! View morphing (Seitz and Dyer, SIGGRAPH 96): in-between views from two images and
 //! their cameras, shape preserving, in three steps.
 //! 1. **prewarp**: both images turned to parallel views, x along the baseline
-//!    ([`crate::stereo::rectify`]; the same homographies);
-//! 2. **morph** ([`forward`]): between parallel views a point moves along its row, in
+//!    ([`fn@crate::stereo::rectify`]; the same homographies);
+//! 2. **morph** (the private `forward` module): between parallel views a point moves along its row, in
 //!    proportion to its disparity, so the view from the eye a fraction `s` along the
 //!    baseline puts left pixel `x` at `x - s d`; both images are mapped there (the left by
 //!    its disparities, the right by its own), folds resolved by disparity (nearer wins),
@@ -402,7 +402,7 @@ const MAX_SPLAT: f32 = 8.0;
 /// unless the views are parallel. Each pixel covers its footprint, so no crack opens
 /// where the morph stretches the image: the box around the pixel's centre moved, spanning
 /// half the way to where its neighbours on the same surface (depths within 5%) move (at
-/// most [`MAX_SPLAT`] pixels a side); across a depth edge, one pixel's step. Unfilled
+/// most `MAX_SPLAT` (8) pixels a side); across a depth edge, one pixel's step. Unfilled
 /// pixels are transparent.
 pub fn plain_morph(a: &DepthImage, b: &DepthImage, s: f32) -> DepthImage {
     let (w, h) = (a.width(), a.height());

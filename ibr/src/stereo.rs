@@ -1,9 +1,9 @@
 //! Depth from stereo (issue 16): disparity maps in the Middlebury convention, their
-//! error in the Middlebury measures ([`measure`]), rectified pairs rendered with exact
+//! error in the Middlebury measures ([`fn@measure`]), rectified pairs rendered with exact
 //! ground truth ([`pair`]), a block matcher ([`block`]) and semi-global matching
 //! ([`sgm`], coarse to fine), both with left-right checks; unknown pixels filled from the
 //! background side and the left view made a depth image for the 3D warp ([`depth`]);
-//! pairs from any two cameras rectified first ([`rectify`]); the disparity range to search
+//! pairs from any two cameras rectified first ([`fn@rectify`]); the disparity range to search
 //! from depth or a coarse search, and the share of matches at its limit ([`range`]). `bench stereo` measures them
 //! against OpenCV's `StereoSGBM` on the same pairs.
 //!

@@ -1,6 +1,6 @@
 //! The view morph without cameras (Seitz and Dyer 96, from point correspondences): the
 //! prewarp from the pairs' fundamental matrix by Hartley's projective rectification, the
-//! row-wise morph of [`super::forward`] on the stereo matcher's correspondences, and a
+//! row-wise morph of the private `morph::forward` module on the stereo matcher's correspondences, and a
 //! postwarp interpolating the inverses of the two prewarps.
 //!
 //! The prewarp of `a`: its centre moved to the origin, turned (less than a quarter turn,

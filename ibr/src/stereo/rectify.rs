@@ -187,7 +187,7 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
     out
 }
 
-/// Which pixels of a `w` x `h` view by `camera` (at `original`'s eye, as [`resample`]
+/// Which pixels of a `w` x `h` view by `camera` (at `original`'s eye, as `resample`
 /// makes) have their ray inside `original`'s image, whatever it shows there: `true`
 /// inside, row-major. What the rectified view covers of the original, transparent
 /// background included.

@@ -1,7 +1,7 @@
 //! Semi-global matching (Hirschmüller 2008): a census transform of each image (a 5x5
 //! window's comparisons with its centre, 24 bits), the Hamming distance between census
 //! codes as the matching cost of every pixel and disparity, drawn toward twice the pair's
-//! match at half width and a quarter height ([`prior`]: coarse to fine, so that a
+//! match at half width and a quarter height (`prior`: coarse to fine, so that a
 //! repeated pattern's aliases do not win), costs aggregated along eight
 //! paths (`L(p, d) = C(p, d) + min(L(p - r, d), L(p - r, d ± 1) + P1, min_k L(p - r, k) +
 //! P2) - min_k L(p - r, k)`), their sum's best disparity per pixel refined by a parabola,
@@ -40,7 +40,7 @@ pub struct Sgm {
     /// Least luminance range (of 1) over a pixel's 5x5 window for it to be matched
     /// ([`super::block::MIN_TEXTURE`] by default; 0 takes what the paths give flat regions).
     pub min_texture: f32,
-    /// Coarse to fine ([`prior`]): the pair is matched at half width (a quarter height)
+    /// Coarse to fine (`prior`): the pair is matched at half width (a quarter height)
     /// first, and each matching cost raised by one per pixel of disparity beyond 3 from
     /// twice the small match, by at most this (0: off; above 8 it acts as 8).
     pub prior: u8,

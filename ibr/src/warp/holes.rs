@@ -19,7 +19,7 @@
 //!
 //! Depth is read as the warp stores it, as disparity: "farther than `d` by more than a
 //! relative `edge`" is `δ (1 - edge) > δ'`-style comparisons, exact equivalents of the depth
-//! ones. Pull-push ([`pull_push`]) averages the stored bytes (sRGB-encoded, premultiplied)
+//! ones. Pull-push (`pull_push`) averages the stored bytes (sRGB-encoded, premultiplied)
 //! and runs row by row on the thread pool; the pixels it gives do not depend on the thread
 //! count.
 
