@@ -23,6 +23,37 @@
 //! Samples are stored as the frame stores colour (packed premultiplied sRGB bytes,
 //! [`ENCODING`]) and blended in that encoding, image `(u, v)` after image, each an
 //! `ns` x `nt` row-major image.
+//!
+//! # Example
+//!
+//! A slab of 2 x 2 cameras with 8 x 8 images, built by hand: every camera sees red on
+//! the left half of the focal plane and blue on the right. Rendered from the camera of
+//! `uv` sample `(0, 0)` at the images' size, each pixel's ray is a stored ray.
+//!
+//! ```
+//! use engine::color::Encoder;
+//! use glam::Vec3;
+//! use ibr::lightfield::{render, Interpolation, LightField, Lookup, RawRays, Rays, Slab};
+//! use ibr::warp::{Warped, ENCODING};
+//!
+//! // Cameras on a plane 4 units behind the origin, looking along -Z at a sphere of
+//! // radius 1 there: 2 x 2 cameras, 8 x 8 samples on the focal plane.
+//! let slab = Slab::facing(Vec3::ZERO, 1.0, -Vec3::Z, Vec3::Y, [2, 2, 8, 8]).unwrap();
+//! let encoder = Encoder::new(ENCODING);
+//! let (red, blue) = (encoder.pack(1.0, 0.0, 0.0, 1.0), encoder.pack(0.0, 0.0, 1.0, 1.0));
+//! // Image after image, each 8 x 8 row-major (s fastest): no depth kept.
+//! let samples = (0..slab.len()).map(|i| if i % 8 < 4 { red } else { blue }).collect();
+//! let field = LightField { slab, rays: Rays::Raw(RawRays::new(samples, Vec::new())) };
+//! assert_eq!(field.sample(1, 1, 2, 7), red); // looked up by (u, v, s, t)
+//!
+//! let camera = slab.camera(0, 0);
+//! let lookup = Lookup { interpolation: Interpolation::Nearest, depth_correction: false };
+//! let mut out = Warped::new(0, 0, camera);
+//! let frame = render(&field, &camera, 8, 8, lookup, &mut out);
+//! assert_eq!(frame.rays, 64); // every pixel's ray crosses both rectangles
+//! assert_eq!(out.color[3 * 8 + 1], red); // pixel (1, 3)
+//! assert_eq!(out.color[3 * 8 + 6], blue); // pixel (6, 3)
+//! ```
 
 pub mod file;
 pub mod object;

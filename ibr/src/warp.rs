@@ -182,6 +182,42 @@ struct Chunk {
 }
 
 /// Warps depth images to a camera: the output image and the scratch memory, reused.
+///
+/// # Example
+///
+/// A 16 x 16 capture of a wall 2 units in front of its camera (red on the left half, blue
+/// on the right), warped to its own camera: every sample lands on its own pixel, so the
+/// capture comes back, its colour packed in [`ENCODING`] and its depth as disparity.
+///
+/// ```
+/// use engine::color::Encoder;
+/// use engine::{Camera, Rgba};
+/// use glam::Vec3;
+/// use ibr::images::DepthImage;
+/// use ibr::warp::{WarpOptions, Warper, ENCODING, HOLE};
+///
+/// let camera = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 0.8, 1.0);
+/// let (red, blue) = (Rgba::new(1.0, 0.0, 0.0, 1.0), Rgba::new(0.0, 0.0, 1.0, 1.0));
+/// let mut capture = DepthImage::new(16, 16, camera);
+/// for y in 0..16 {
+///     for x in 0..16 {
+///         let color = if x < 8 { red } else { blue };
+///         capture.set(x, y, color.premultiply(), 2.0); // depth along the axis
+///     }
+/// }
+///
+/// let mut warper = Warper::new();
+/// warper.begin(&camera, 16, 16);
+/// warper.add(&capture, &WarpOptions::default());
+/// let out = warper.output();
+///
+/// let encoder = Encoder::new(ENCODING);
+/// let (left, right) = (5 * 16 + 3, 5 * 16 + 12); // pixels (3, 5) and (12, 5)
+/// assert_eq!(out.color[left], encoder.pack(1.0, 0.0, 0.0, 1.0));
+/// assert_eq!(out.color[right], encoder.pack(0.0, 0.0, 1.0, 1.0));
+/// assert!((out.disparity[left] - 0.5).abs() < 1e-4); // 1 / depth
+/// assert!(out.disparity.iter().all(|&d| d != HOLE)); // no holes
+/// ```
 #[derive(Debug)]
 pub struct Warper {
     output: Warped,
