@@ -29,6 +29,8 @@
 //! assert_eq!(target.pixel(0, 0), Some(0xff00_0000));
 //! ```
 
+#![warn(missing_docs)]
+
 // The pipeline's stages, in order, each building only on the ones before it and on the
 // shared modules (`space`, `state`, `simd`); internal to the engine but for `simd`, which
 // the `ibr` crate's warp shares.

@@ -36,6 +36,8 @@
 //! - [`sprites`]: textures generated at start-up (glows, puffs, beam profiles, baked
 //!   sprites of meshes).
 
+#![warn(missing_docs)]
+
 pub mod billboard;
 pub mod capture;
 pub mod cloud;
