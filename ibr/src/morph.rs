@@ -57,7 +57,8 @@ pub enum MorphError {
     #[error("cannot prewarp the views to parallel ones: {0}")]
     Prewarp(#[from] RectifyError),
     #[error("the images have no depth to take correspondences from (use the stereo matcher)")]
-    /// Depth correspondence was asked for, but an image carries no depth.
+    /// Depth correspondence was asked for, but neither image holds a surface (finite
+    /// depth).
     NoDepth,
     /// The stereo matcher refused the pair: its message.
     #[error("the stereo matcher failed: {0}")]

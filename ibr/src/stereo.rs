@@ -61,7 +61,7 @@ pub enum StereoError {
         height: u32,
     },
     #[error("{what}: a disparity at ({x}, {y}) is {value}: disparities are finite and not negative, or infinite where unknown")]
-    /// A disparity is negative or NaN (only `+inf` may stand for unknown).
+    /// A disparity is negative, NaN or `-inf` (only `+inf` may stand for unknown).
     Value {
         /// Which map, in words.
         what: &'static str,
