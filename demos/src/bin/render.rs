@@ -118,6 +118,11 @@ struct Args {
     /// The arc's angle, degrees, centred on --eye.
     #[arg(long, value_name = "DEG", default_value_t = 20.0)]
     spread: f32,
+    /// Light as the textured llvmpipe peer (`../shared/peers/llvmpipe_textured.py`) does:
+    /// grey ambient 0.2 and one white directional light of 0.8 from (0.4, 0.8, 0.45), no
+    /// highlights (for `lit` and `textured`).
+    #[arg(long)]
+    peer_light: bool,
 }
 
 /// Checks what clap cannot: sizes, camera sanity, counts.
@@ -213,6 +218,22 @@ fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
         hi = hi.max(*p);
     }
     (lo, hi)
+}
+
+/// The textured peer's lighting: `colour = texel * (0.2 + 0.8 max(0, n . l))`.
+fn peer_light(scene: &mut Scene) {
+    scene.lighting = engine::Lighting {
+        ambient: Rgba::new(0.2, 0.2, 0.2, 1.0),
+        lights: vec![engine::Light::Directional {
+            direction: -Vec3::new(0.4, 0.8, 0.45),
+            color: Rgba::new(0.8, 0.8, 0.8, 1.0),
+        }],
+    };
+    for m in &mut scene.materials {
+        if let Shading::Lit { specular, .. } = &mut m.shading {
+            *specular = 0.0;
+        }
+    }
 }
 
 /// Rewrites the loaded scene for a shading mode; returns the target encoding.
@@ -397,6 +418,9 @@ fn run(a: &Args) -> Result<(), String> {
         scene_bounds(&scene)
     };
     let encoding = prepare(&mut scene, a.shading, bounds);
+    if a.peer_light {
+        peer_light(&mut scene);
+    }
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
