@@ -131,10 +131,31 @@ pub struct GeneralTri {
     attr: [[f32; 3]; 12],
     face_normal: Vec3,
     front: bool,
+    /// The shading normal when the three vertex normals are the same (flat faces): the
+    /// per-lane normalisation's result, worked out once with the same operations.
+    flat_normal: Option<Vec3>,
     /// Bit `i` set: light `i` may reach the triangle (bit 63 stands for every light from
     /// 63 on). A point light whose range ends before the triangle's nearest point adds
     /// exactly nothing there, so the shader skips it.
     reach: u64,
+}
+
+/// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
+/// normal, in the same operations and order as its lanes (`x x + (y y + z z)`, then
+/// `sign / sqrt`), so flat faces shade to the same bits either way.
+fn flat_normal(attr: &[[f32; 3]; 12], face: Vec3, front: bool) -> Option<Vec3> {
+    let [x, y, z] = [0, 1, 2].map(|c| attr[NRM + c]);
+    if [x, y, z].iter().any(|a| a[1] != 0.0 || a[2] != 0.0) {
+        return None;
+    }
+    let n = Vec3::new(x[0], y[0], z[0]);
+    let len2 = n.x * n.x + (n.y * n.y + n.z * n.z);
+    if !(len2 > 1e-12) {
+        return Some(face);
+    }
+    let sign = if front { 1.0 } else { -1.0 };
+    let inv = sign / len2.sqrt();
+    Some(Vec3::new(n.x * inv, n.y * inv, n.z * inv))
 }
 
 /// The bit of light `i` in [`GeneralTri::reach`].
@@ -179,10 +200,12 @@ impl FragShader for GeneralShader<'_> {
         // order of the cross product points towards the viewer.
         let n = (p(2) - p(0)).cross(p(1) - p(0)).normalize_or_zero();
         let lit = matches!(self.material.shading, Shading::Lit { .. });
+        let front = tri.flags() & FRONT != 0;
         GeneralTri {
             attr,
             face_normal: n,
-            front: tri.flags() & FRONT != 0,
+            front,
+            flat_normal: flat_normal(&attr, n, front),
             reach: if lit {
                 reach(self.lighting, [p(0), p(1), p(2)])
             } else {
@@ -274,20 +297,10 @@ impl FragShader for GeneralShader<'_> {
             } else {
                 V3::splat(Vec3::ZERO)
             };
-            let n = V3::new(at(NRM), at(NRM + 1), at(NRM + 2));
-            let len2 = n.dot(&n);
-            // Interpolated normals face the front side: flip them on back faces (two-sided
-            // lighting). The face normal already faces the viewer; it stands in for missing
-            // normals.
-            let sign = if p.front { 1.0 } else { -1.0 };
-            let has = len2.gt(F8::splat(1e-12));
-            let inv_len = has.select(F8::splat(sign) / len2.sqrt(), F8::splat(0.0));
-            let f = p.face_normal;
-            let n = V3::new(
-                has.select(n.x * inv_len, F8::splat(f.x)),
-                has.select(n.y * inv_len, F8::splat(f.y)),
-                has.select(n.z * inv_len, F8::splat(f.z)),
-            );
+            let n = match p.flat_normal {
+                Some(n) => V3::splat(n),
+                None => self.normal(p, &at),
+            };
             let lit = light8(
                 self.lighting,
                 p.reach,
@@ -308,6 +321,27 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         *out = rgba;
+    }
+}
+
+impl GeneralShader<'_> {
+    /// The interpolated normal of 8 lanes, unit length, facing the viewer.
+    #[inline(always)]
+    fn normal(&self, p: &GeneralTri, at: &impl Fn(usize) -> F8) -> V3 {
+        let n = V3::new(at(NRM), at(NRM + 1), at(NRM + 2));
+        let len2 = n.dot(&n);
+        // Interpolated normals face the front side: flip them on back faces (two-sided
+        // lighting). The face normal already faces the viewer; it stands in for missing
+        // normals.
+        let sign = if p.front { 1.0 } else { -1.0 };
+        let has = len2.gt(F8::splat(1e-12));
+        let inv_len = has.select(F8::splat(sign) / len2.sqrt(), F8::splat(0.0));
+        let f = p.face_normal;
+        V3::new(
+            has.select(n.x * inv_len, F8::splat(f.x)),
+            has.select(n.y * inv_len, F8::splat(f.y)),
+            has.select(n.z * inv_len, F8::splat(f.z)),
+        )
     }
 }
 
@@ -562,5 +596,21 @@ mod tests {
             dropped > 100 && kept > 100,
             "{dropped} dropped, {kept} kept"
         );
+    }
+
+    /// Flat faces: one normal per triangle, normalised and flipped for back faces; zero
+    /// normals give the face normal; normals that vary across the triangle give none.
+    #[test]
+    fn flat_normals_are_worked_out_once_per_triangle() {
+        use crate::vertex::NRM;
+        let mut attr = [[0.0f32; 3]; 12];
+        attr[NRM + 2] = [2.0, 0.0, 0.0];
+        let face = Vec3::new(0.0, 1.0, 0.0);
+        assert_eq!(super::flat_normal(&attr, face, true), Some(Vec3::Z));
+        assert_eq!(super::flat_normal(&attr, face, false), Some(-Vec3::Z));
+        attr[NRM + 2] = [0.0; 3];
+        assert_eq!(super::flat_normal(&attr, face, true), Some(face));
+        attr[NRM] = [0.5, 0.0, 0.25];
+        assert_eq!(super::flat_normal(&attr, face, true), None);
     }
 }
