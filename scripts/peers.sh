@@ -14,8 +14,12 @@ ROUNDS=${1:-3}
 FRAMES=${2:-20}
 WHICH=${3:-all}
 mkdir -p out/scenes
-cargo build --release -q --bin render
-BIN=${CARGO_TARGET_DIR:-target}/release
+# RENDER=path/to/render times that binary instead of building one (the target folder may be
+# shared with other worktrees, whose builds would replace the binary mid-run).
+if [ -z "${RENDER:-}" ]; then
+  cargo build --release -q --bin render
+  RENDER=${CARGO_TARGET_DIR:-target}/release/render
+fi
 median() { sort -n | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
 ms() { tail -1 | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p'; }
 scenes="torus:10k torus:100k torus:1m torus:2m grid:1m confetti:100k huge:64"
@@ -32,7 +36,7 @@ for s in $scenes; do
     lp=(); me=()
     for r in $(seq "$ROUNDS"); do
       lp+=("$($PY $P/llvmpipe_render.py --obj "$f" -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --shading vertex --quiet 2>/dev/null | tail -1 | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p')")
-      me+=("$("$BIN"/render --obj "$f" -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --shading vertex 2>/dev/null | tail -1 | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p')")
+      me+=("$("$RENDER" --obj "$f" -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --shading vertex 2>/dev/null | tail -1 | sed -n 's/.*median_ms=\([0-9.]*\).*/\1/p')")
     done
     a=$(printf '%s\n' "${lp[@]}" | median); b=$(printf '%s\n' "${me[@]}" | median)
     printf '| %s %s | %sx%s | %.2f | %.2f | %.2f |\n' "$kind" "$n" "$1" "$2" "$a" "$b" "$(echo "$b / $a" | bc -l)"
@@ -59,7 +63,7 @@ for n in 10k 100k; do
     lp=(); me=()
     for r in $(seq "$ROUNDS"); do
       lp+=("$($PY $P/llvmpipe_textured.py --triangles "$n" -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --png "$d/llvmpipe_$1.png" 2>/dev/null | ms)")
-      me+=("$("$BIN"/render --obj "$d/scene.obj" --shading textured --peer-light -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --out "$d/parallax_$1.png" 2>/dev/null | ms)")
+      me+=("$("$RENDER" --obj "$d/scene.obj" --shading textured --peer-light -W "$1" -H "$2" --threads 2 --frames "$FRAMES" --out "$d/parallax_$1.png" 2>/dev/null | ms)")
     done
     a=$(printf '%s\n' "${lp[@]}" | median); b=$(printf '%s\n' "${me[@]}" | median)
     printf '| torus %s | %sx%s | %.2f | %.2f | %.2f | %s |\n' "$n" "$1" "$2" "$a" "$b" "$(echo "$b / $a" | bc -l)" "$(psnr "$d/llvmpipe_$1.png" "$d/parallax_$1.png")"
