@@ -57,7 +57,15 @@ PYEOF
 printf '\n| textured scene | size | llvmpipe ms | parallax ms | ratio | PSNR dB |\n|---|---|---:|---:|---:|---:|\n'
 for n in 10k 100k; do
   d=out/scenes/tex_$n
-  [ -f "$d/scene.obj" ] || $PY $P/llvmpipe_textured.py --triangles "$n" --write "$d" >/dev/null
+  if [ ! -f "$d/scene.obj" ]; then
+    # The peer's faces are wound clockwise as seen from the side their normals face; GL draws
+    # them unculled and lights them by the normals as given, while `render` culls back faces
+    # and flips the normals of the back faces it draws (two-sided lighting). Written
+    # counter-clockwise, the same triangles are front faces for `render` too.
+    $PY $P/llvmpipe_textured.py --triangles "$n" --write "$d" >/dev/null
+    awk '$1 == "f" { print "f", $2, $4, $3; next } { print }' "$d/scene.obj" > "$d/ccw.obj"
+    mv "$d/ccw.obj" "$d/scene.obj"
+  fi
   for size in "1280 720" "1920 1080"; do
     set -- $size
     lp=(); me=()
