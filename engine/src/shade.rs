@@ -265,7 +265,8 @@ impl FragShader for GeneralShader<'_> {
             } else {
                 0.0
             };
-            let t = tex.sample8(&m.sampler, at(UV), at(UV + 1), lod);
+            let keep = crate::simd::M8::from_bits(mask);
+            let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {

@@ -163,6 +163,37 @@ impl F8 {
 }
 
 impl I8 {
+    /// [`I8::gather_pairs`] for the lanes of `keep` only; the other lanes read nothing and
+    /// are zero.
+    #[inline(always)]
+    pub fn gather_pairs_lanes(table: &[u64], idx: I8, keep: M8) -> (I8, I8) {
+        if keep.bits() == 0xff {
+            return Self::gather_pairs(table, idx);
+        }
+        let Some(last) = table.len().checked_sub(1) else {
+            return (I8::splat(0), I8::splat(0));
+        };
+        let last = last.min(i32::MAX as usize) as i32;
+        let i = idx.max(I8::splat(0)).min(I8::splat(last)).0;
+        let base = table.as_ptr().cast::<i64>();
+        let m = avx!(_mm256_castps_si256(keep.0));
+        let (lo4, hi4) = avx!((_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i)));
+        // Each 32-bit lane mask widened (sign-extended) to the 64-bit lane it guards.
+        let (mlo, mhi) = avx!((
+            _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m)),
+            _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(m)),
+        ));
+        let zero = avx!(_mm256_setzero_si256());
+        // SAFETY: as in `gather_pairs`: every index was clamped into `0..=last`, so each
+        // 8-byte read a kept lane makes lies inside `table`; masked-off lanes read nothing.
+        let (a, b) = unsafe {
+            (
+                _mm256_mask_i32gather_epi64::<8>(zero, base, lo4, mlo),
+                _mm256_mask_i32gather_epi64::<8>(zero, base, hi4, mhi),
+            )
+        };
+        I8(a).deinterleave(I8(b))
+    }
     /// `table[idx]` for every lane, each index first clamped into the table, split into
     /// its low and high 32 bits (zeros for an empty table). Two AVX2 gathers of four
     /// 64-bit texels.

@@ -108,6 +108,15 @@ impl F8 {
 }
 
 impl I8 {
+    /// [`I8::gather_pairs`] for the lanes of `keep` only; the other lanes are zero (this
+    /// backend reads them and drops them).
+    pub fn gather_pairs_lanes(table: &[u64], idx: I8, keep: M8) -> (I8, I8) {
+        let (lo, hi) = Self::gather_pairs(table, idx);
+        (
+            keep.select_i32(lo, I8::splat(0)),
+            keep.select_i32(hi, I8::splat(0)),
+        )
+    }
     /// `table[idx]` for every lane, each index first clamped into the table, split into
     /// its low and high 32 bits (zeros for an empty table).
     pub fn gather_pairs(table: &[u64], idx: I8) -> (I8, I8) {

@@ -63,6 +63,17 @@ fn lanes_behave() {
     assert_eq!(lo.to_array(), [10, 10, 11, 12, 12, 12, 10, 11]);
     assert_eq!(hi.to_array(), [20, 20, 21, 22, 22, 22, 20, 21]);
     assert_eq!(I8::gather_pairs(&[], idx).0.to_array(), [0; 8]);
+    let (lo, hi) = I8::gather_pairs_lanes(&table, idx, M8::from_bits(0b1010_0110));
+    assert_eq!(lo.to_array(), [0, 10, 11, 0, 0, 12, 0, 11]);
+    assert_eq!(hi.to_array(), [0, 20, 21, 0, 0, 22, 0, 21]);
+    let all = I8::gather_pairs_lanes(&table, idx, M8::from_bits(0xff));
+    assert_eq!(all.0.to_array(), I8::gather_pairs(&table, idx).0.to_array());
+    assert_eq!(
+        I8::gather_pairs_lanes(&[], idx, M8::from_bits(1))
+            .1
+            .to_array(),
+        [0; 8]
+    );
     // Fused: rounded once, so (1 + e)(1 - e) - 1 keeps the -e^2 an unfused product loses.
     let e = F8::splat(f32::EPSILON);
     let (p, q) = (F8::splat(1.0) + e, F8::splat(1.0) - e);

@@ -3,7 +3,7 @@
 //! the scalar [`Texture::sample`].
 
 use super::{Filter, Sampler, Texture, Wrap};
-use crate::simd::{F8, I8};
+use crate::simd::{F8, I8, M8};
 
 impl Texture {
     /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
@@ -11,23 +11,32 @@ impl Texture {
     /// as [`Texture::sample`], from the 16-bit linear copy of the texels.
     #[inline]
     pub fn sample8(&self, s: &Sampler, u: F8, v: F8, lod: f32) -> [F8; 4] {
+        self.sample8_lanes(s, u, v, lod, M8::from_bits(0xff))
+    }
+
+    /// [`Texture::sample8`] for the lanes set in `keep` only: the others read no texels
+    /// and come back as zeros (a shader's idle lanes, whose coordinates lie outside the
+    /// triangle, would otherwise load cache lines nobody uses). Kept lanes are the same
+    /// as `sample8`'s.
+    #[inline]
+    pub fn sample8_lanes(&self, s: &Sampler, u: F8, v: F8, lod: f32, keep: M8) -> [F8; 4] {
         match s.filter {
-            Filter::Nearest => self.nearest8(s, u, v),
-            Filter::Bilinear => self.bilinear8(s, 0, u, v),
+            Filter::Nearest => self.nearest8(s, u, v, keep),
+            Filter::Bilinear => self.bilinear8(s, 0, u, v, keep),
             Filter::Trilinear => {
                 let (l0, t) = self.mip_levels(lod);
-                let a = self.bilinear8(s, l0, u, v);
+                let a = self.bilinear8(s, l0, u, v, keep);
                 if t <= 0.0 {
                     return a;
                 }
-                let b = self.bilinear8(s, l0 + 1, u, v);
+                let b = self.bilinear8(s, l0 + 1, u, v, keep);
                 let t = F8::splat(t);
                 std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
             }
         }
     }
 
-    fn nearest8(&self, s: &Sampler, u: F8, v: F8) -> [F8; 4] {
+    fn nearest8(&self, s: &Sampler, u: F8, v: F8, keep: M8) -> [F8; 4] {
         let l = &self.levels[0];
         let x = wrap8(
             finite_or_zero(u * F8::splat(l.width as f32)).floor(),
@@ -45,11 +54,12 @@ impl Texture {
             0,
             [idx; 4],
             [one, F8::splat(0.0), F8::splat(0.0), F8::splat(0.0)],
+            keep,
         )
     }
 
     #[inline]
-    fn bilinear8(&self, s: &Sampler, level: usize, u: F8, v: F8) -> [F8; 4] {
+    fn bilinear8(&self, s: &Sampler, level: usize, u: F8, v: F8, keep: M8) -> [F8; 4] {
         let level = level.min(self.levels.len() - 1);
         let l = &self.levels[level];
         let half = F8::splat(0.5);
@@ -68,18 +78,20 @@ impl Texture {
             level,
             [ya + xa, ya + xb, yb + xa, yb + xb],
             [sx * sy, tx * sy, sx * ty, tx * ty],
+            keep,
         )
     }
 
-    /// The weighted sum of four taps of `level` at row-major indices `idx`.
+    /// The weighted sum of four taps of `level` at row-major indices `idx`, for the lanes
+    /// of `keep` (zeros elsewhere).
     #[inline(always)]
-    fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4]) -> [F8; 4] {
+    fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
         let lin = &self.linear[level];
         let low = I8::splat(0xffff);
         let scale = F8::splat(1.0 / 65535.0);
         let mut acc = [F8::splat(0.0); 4];
         for k in 0..4 {
-            let (rg, ba) = I8::gather_pairs(&lin.rgba, idx[k]);
+            let (rg, ba) = I8::gather_pairs_lanes(&lin.rgba, idx[k], keep);
             let wk = w[k] * scale;
             acc[0] = rg.and(low).to_f32().mul_add(wk, acc[0]);
             acc[1] = rg.shr::<16>().to_f32().mul_add(wk, acc[1]);

@@ -123,6 +123,25 @@ fn eight_lanes_match_the_scalar_sampler() {
                         )
                     };
                     let got = t.sample8(&s, F8::from_array(u), F8::from_array(v), lod);
+                    // Some lanes only: the kept ones unchanged, the others zero.
+                    let keep = (round as u32 * 37 + 11) & 0xff;
+                    let part = t.sample8_lanes(
+                        &s,
+                        F8::from_array(u),
+                        F8::from_array(v),
+                        lod,
+                        crate::simd::M8::from_bits(keep),
+                    );
+                    for l in 0..8 {
+                        for c in 0..4 {
+                            let want = if keep >> l & 1 != 0 {
+                                got[c].to_array()[l]
+                            } else {
+                                0.0
+                            };
+                            assert_eq!(part[c].to_array()[l].to_bits(), want.to_bits());
+                        }
+                    }
                     for l in 0..8 {
                         if !(u[l].abs() < 1e6 && v[l].abs() < 1e6) {
                             // Either coordinate odd: any finite colour in range will do.
