@@ -3,7 +3,9 @@
 # user space) and sums the samples by engine stage and by ibr technique, from the symbols
 # (the stage modules' functions are not inlined across the stage boundaries this groups by).
 # Usage: scripts/profile_showcase.sh [SHOWCASE_BINARY] [FRAMES] [W] [H] [EXTRA SHOWCASE ARGS...]
-# Prints a Markdown table of percentages of all samples. Needs `perf` (perf_event_paranoid <= 2).
+# Prints a Markdown table: CPU seconds per group over the whole run (samples / 999 Hz, both
+# threads, start-up included: the light field's capture and quantisation) and the share of
+# all samples. Needs `perf` (perf_event_paranoid <= 2).
 set -euo pipefail
 BIN=${1:-${CARGO_TARGET_DIR:-target}/release/showcase}
 FRAMES=${2:-60}; W=${3:-1280}; H=${4:-720}
@@ -12,7 +14,7 @@ OUT=$(mktemp -d)
 perf record -q -F 999 -o "$OUT/perf.data" "$BIN" --headless "$OUT/frames" --frames "$FRAMES" \
   -W "$W" -H "$H" --no-save "$@" > "$OUT/run.txt" 2>&1
 grep -E "frame time" "$OUT/run.txt" || true
-perf report -i "$OUT/perf.data" --no-children --sort symbol --stdio 2>/dev/null \
+perf report -i "$OUT/perf.data" --no-children --sort symbol --stdio -n 2>/dev/null \
   | grep -E '^ +[0-9.]+%' | python3 -c '
 import re, sys
 groups = [
@@ -33,13 +35,15 @@ groups = [
 ]
 tot = {}
 for line in sys.stdin:
-    m = re.match(r"\s+([0-9.]+)%\s+(.*)", line)
+    m = re.match(r"\s+([0-9.]+)%\s+([0-9]+)\s+(.*)", line)
     if not m: continue
-    pct, sym = float(m.group(1)), m.group(2)
+    pct, sym = float(m.group(2)), m.group(3)
     name = next((g for g, rx in groups if re.search(rx, sym)), "other (rayon, alloc, closures, libc)")
     tot[name] = tot.get(name, 0.0) + pct
-print("| where | % of samples |\n|---|---:|")
+all_ = sum(tot.values())
+print("| where | CPU s | % of samples |\n|---|---:|---:|")
 for g, _ in groups + [("other (rayon, alloc, closures, libc)", "")]:
-    if g in tot: print(f"| {g} | {tot[g]:.1f} |")
+    if g in tot: print(f"| {g} | {tot[g] / 999:.2f} | {100 * tot[g] / all_:.1f} |")
+print(f"| all | {all_ / 999:.2f} | 100 |")
 '
 rm -rf "$OUT"
