@@ -150,7 +150,9 @@ fn flat_normal(attr: &[[f32; 3]; 12], face: Vec3, front: bool) -> Option<Vec3> {
     }
     let n = Vec3::new(x[0], y[0], z[0]);
     let len2 = n.x * n.x + (n.y * n.y + n.z * n.z);
-    if !(len2 > 1e-12) {
+    // As in the lanes: a NaN length also takes the face normal.
+    let has = len2 > 1e-12;
+    if !has {
         return Some(face);
     }
     let sign = if front { 1.0 } else { -1.0 };
@@ -180,7 +182,8 @@ fn reach(lighting: &Lighting, p: [Vec3; 3]) -> u64 {
             } => {
                 let gap = position.distance(c) - r;
                 // NaN anywhere keeps the light (the comparison fails).
-                !(gap > range.max(1e-6) * 1.01 + r * 1e-3)
+                let beyond = gap > range.max(1e-6) * 1.01 + r * 1e-3;
+                !beyond
             }
         };
         if near || i >= 63 {
