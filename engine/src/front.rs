@@ -11,7 +11,7 @@ use crate::space::{ScreenVert, Viewport};
 use crate::state::DrawInfo;
 use crate::stats::FrameStats;
 use crate::vertex::{VertexPos, MAX_VARYINGS, NOT_FINITE};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// One chunk of triangles' front-end output, on cache lines of its own (its vectors'
 /// lengths change with every triangle while another core works on the next chunk).
@@ -52,7 +52,6 @@ pub(crate) fn front_end(
     chunk.tris.clear();
     chunk.extra.clear();
     chunk.stats = FrameStats::default();
-    let guard = vp.guard();
     if range.is_empty() || vp.width == 0 || vp.height == 0 {
         chunk.stats.triangles_rejected += range.len() as u64;
         return;
@@ -90,12 +89,9 @@ pub(crate) fn front_end(
                 _ => 0,
             };
             let per_face = matches!(info.material.shading, Shading::FaceId | Shading::Flat);
-            let stamp = |mut tri: Tri, flags: u32| {
-                tri.stamp(d as u32, flags);
-                if per_face {
-                    tri.set_color(color);
-                }
-                tri
+            let stamp = Stamp {
+                draw: d as u32,
+                color: per_face.then_some(color),
             };
             if oc[0] | oc[1] | oc[2] == 0 {
                 let offs = idx.map(|i| (info.vary_base + i * stride) as u32);
@@ -105,11 +101,7 @@ pub(crate) fn front_end(
                     info.cull_back,
                     vp,
                 ) {
-                    Ok(tri) => {
-                        let tri = stamp(tri, 0);
-                        chunk.bins.count(&tri);
-                        chunk.tris.push(tri);
-                    }
+                    Ok(tri) => stamp.push(chunk, tri, 0),
                     Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
                     Err(Dropped::Rejected) => chunk.stats.triangles_rejected += 1,
                 }
@@ -119,57 +111,92 @@ pub(crate) fn front_end(
                 chunk.stats.triangles_rejected += 1;
                 continue;
             }
-            chunk.stats.triangles_clipped += 1;
-            let cv = |k: usize| {
-                let mut c = ClipVert {
-                    pos: v[k].clip,
-                    vary: [0.0; MAX_VARYINGS],
-                };
-                let o = info.vary_base + idx[k] * stride;
-                c.vary[..stride].copy_from_slice(&vary[o..o + stride]);
-                c
-            };
-            let mut poly = [cv(0); MAX_POLY];
-            let n = clip_triangle(
-                [cv(0), cv(1), cv(2)],
-                oc[0] | oc[1] | oc[2],
-                guard,
-                stride,
-                &mut poly,
-            );
-            let mut sv = [ScreenVert::default(); MAX_POLY];
-            let mut offs = [0u32; MAX_POLY];
-            let mut ok = n >= 3;
-            for k in 0..n {
-                match vp.to_screen(poly[k].pos) {
-                    Some(s) => sv[k] = s,
-                    None => ok = false,
-                }
-                offs[k] = chunk.extra.len() as u32;
-                chunk.extra.extend_from_slice(&poly[k].vary[..stride]);
-            }
-            if !ok {
-                chunk.stats.triangles_rejected += 1;
-                continue;
-            }
-            for k in 1..n - 1 {
-                match setup(
-                    [sv[0], sv[k], sv[k + 1]],
-                    [offs[0], offs[k], offs[k + 1]],
-                    info.cull_back,
-                    vp,
-                ) {
-                    Ok(tri) => {
-                        let tri = stamp(tri, CLIPPED);
-                        chunk.bins.count(&tri);
-                        chunk.tris.push(tri);
-                    }
-                    Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
-                    Err(Dropped::Rejected) => {}
-                }
-            }
+            let clip = v.map(|v| v.clip);
+            let offs = idx.map(|i| info.vary_base + i * stride);
+            clip_and_set_up(chunk, info, clip, offs, oc, vary, vp, &stamp);
         }
         d += 1;
     }
     chunk.stats.triangles_set_up = chunk.tris.len() as u64;
+}
+
+/// What every triangle made from one input triangle carries: its draw and, for per-face
+/// shadings, its colour.
+struct Stamp {
+    draw: u32,
+    color: Option<u32>,
+}
+
+impl Stamp {
+    /// Stamps `tri`, counts it into the chunk's bins and keeps it.
+    #[inline]
+    fn push(&self, chunk: &mut Chunk, mut tri: Tri, flags: u32) {
+        tri.stamp(self.draw, flags);
+        if let Some(c) = self.color {
+            tri.set_color(c);
+        }
+        chunk.bins.count(&tri);
+        chunk.tris.push(tri);
+    }
+}
+
+/// A triangle crossing the near, far or guard-band planes (`oc`: its vertices' outcodes,
+/// not all outside one plane): clipped to a polygon whose new vertices' varyings go to the
+/// chunk's `extra`, then set up as a fan.
+#[allow(clippy::too_many_arguments)] // reason: one triangle's inputs, passed through as they are
+fn clip_and_set_up(
+    chunk: &mut Chunk,
+    info: &DrawInfo<'_>,
+    clip: [Vec4; 3],
+    offs: [usize; 3],
+    oc: [u8; 3],
+    vary: &[f32],
+    vp: &Viewport,
+    stamp: &Stamp,
+) {
+    chunk.stats.triangles_clipped += 1;
+    let stride = info.layout.stride();
+    let cv = |k: usize| {
+        let mut c = ClipVert {
+            pos: clip[k],
+            vary: [0.0; MAX_VARYINGS],
+        };
+        c.vary[..stride].copy_from_slice(&vary[offs[k]..offs[k] + stride]);
+        c
+    };
+    let mut poly = [cv(0); MAX_POLY];
+    let n = clip_triangle(
+        [cv(0), cv(1), cv(2)],
+        oc[0] | oc[1] | oc[2],
+        vp.guard(),
+        stride,
+        &mut poly,
+    );
+    let mut sv = [ScreenVert::default(); MAX_POLY];
+    let mut extra = [0u32; MAX_POLY];
+    let mut ok = n >= 3;
+    for k in 0..n {
+        match vp.to_screen(poly[k].pos) {
+            Some(s) => sv[k] = s,
+            None => ok = false,
+        }
+        extra[k] = chunk.extra.len() as u32;
+        chunk.extra.extend_from_slice(&poly[k].vary[..stride]);
+    }
+    if !ok {
+        chunk.stats.triangles_rejected += 1;
+        return;
+    }
+    for k in 1..n - 1 {
+        match setup(
+            [sv[0], sv[k], sv[k + 1]],
+            [extra[0], extra[k], extra[k + 1]],
+            info.cull_back,
+            vp,
+        ) {
+            Ok(tri) => stamp.push(chunk, tri, CLIPPED),
+            Err(Dropped::Culled) => chunk.stats.triangles_culled += 1,
+            Err(Dropped::Rejected) => {}
+        }
+    }
 }

@@ -70,7 +70,7 @@ pub use mesh::{Mesh, Sphere};
 pub use pass::{
     run_packed_pass, run_pass, Fragment, PackedFragment, PackedPass, PassMode, PixelPass, PixelRect,
 };
-pub use renderer::{Cull, FrameOptions, Renderer};
+pub use renderer::{Cull, FrameOptions, Renderer, StageTimes};
 pub use scene::{Draw, Instance, Scene};
 pub use stats::FrameStats;
 pub use target::Target;

@@ -343,6 +343,7 @@ impl<S: FragShader> Rows<'_, S> {
             return false;
         }
         self.stats.fragments_shaded += passed as u64;
+        self.stats.rows_shaded += 1;
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];

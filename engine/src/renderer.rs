@@ -27,6 +27,7 @@ use crate::vertex::{self, Layout, VertexPos};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 /// How many triangles ahead the tile loop prefetches vertex varyings.
 const PREFETCH_AHEAD: usize = 4;
@@ -37,7 +38,35 @@ const PREFETCH_AHEAD: usize = 4;
 /// which worker counted a tile does not change the frame's totals.)
 #[derive(Debug, Default)]
 #[repr(align(128))]
-struct Worker(Mutex<(TileBuf, FrameStats)>);
+struct Worker(Mutex<(TileBuf, FrameStats, StageTimes)>);
+
+/// Where the last frame's time went, stage by stage: wall-clock time of the vertex and
+/// front-end (clip, set up, bin) stages and of the whole tile stage, and, within the tile
+/// stage, the time summed over all workers spent rastering and shading (tile clears and
+/// loads included) and resolving tiles to bytes. Read with [`Renderer::stage_times`]; for
+/// profiling only: pixels never depend on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Vertex stage (wall clock).
+    pub vertex: Duration,
+    /// Clip, set up and bin (wall clock, parallel over chunks).
+    pub front: Duration,
+    /// The tile stage (wall clock, parallel over tiles).
+    pub tiles: Duration,
+    /// Raster and shade, summed over the workers.
+    pub raster: Duration,
+    /// Resolve, summed over the workers.
+    pub resolve: Duration,
+}
+
+/// What the tile stage reads of the frame besides the renderer's own buffers.
+struct FrameInputs<'f, 'a> {
+    infos: &'f [DrawInfo<'a>],
+    lighting: &'f Lighting,
+    camera: &'f Camera,
+    opts: &'f FrameOptions,
+    peel: Option<&'f [f32]>,
+}
 
 /// Which faces are culled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -120,6 +149,7 @@ pub struct Renderer {
     infos: Vec<DrawInfo<'static>>,
     sort_keys: Vec<(f32, u32)>,
     last: FrameStats,
+    times: StageTimes,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -163,6 +193,11 @@ impl Renderer {
     /// Counters of the last frame.
     pub fn stats(&self) -> FrameStats {
         self.last
+    }
+
+    /// Where the last frame's time went, stage by stage (for profiling).
+    pub fn stage_times(&self) -> StageTimes {
+        self.times
     }
 
     /// Renders every instance of `scene` with its own lighting.
@@ -275,10 +310,60 @@ impl Renderer {
         opts: &FrameOptions,
         peel: Option<&[f32]>,
     ) -> FrameStats {
-        let view_proj = camera.clip_from_world();
+        let start = Instant::now();
         self.order_draws(&mut infos, camera);
+        let vp = Viewport {
+            width: target.width(),
+            height: target.height(),
+        };
+        let nt = self.vertex_stage(&mut infos, camera, &vp);
+        let vertex_done = Instant::now();
+        let (tiles_x, tiles_y) = (target.tiles_x() as usize, target.tiles_y() as usize);
+        let n_chunks = self.front_stage(&infos, nt, &vp, tiles_x, tiles_y);
+        let front_done = Instant::now();
+        let frame = FrameInputs {
+            infos: &infos,
+            lighting,
+            camera,
+            opts,
+            peel,
+        };
+        self.tile_stage(&frame, n_chunks, target);
+        let mut total = FrameStats {
+            draws: infos.len() as u64,
+            triangles_in: nt as u64,
+            ..Default::default()
+        };
+        for c in &self.chunks[..n_chunks] {
+            total += c.stats;
+        }
+        let mut times = StageTimes {
+            vertex: vertex_done - start,
+            front: front_done - vertex_done,
+            tiles: front_done.elapsed(),
+            ..Default::default()
+        };
+        for w in &mut self.workers {
+            let (_, stats, t) = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
+            total += *stats;
+            times.raster += t.raster;
+            times.resolve += t.resolve;
+        }
+        self.infos = recycle(infos);
+        self.last = total;
+        self.times = times;
+        total
+    }
 
-        // Vertex stage.
+    /// Vertex stage: lays the draws' vertices and varyings out one after the other and
+    /// transforms them; returns the frame's triangle count.
+    fn vertex_stage(
+        &mut self,
+        infos: &mut [DrawInfo<'_>],
+        camera: &Camera,
+        vp: &Viewport,
+    ) -> usize {
+        let view_proj = camera.clip_from_world();
         let (mut nv, mut nf, mut nt) = (0, 0, 0);
         for info in infos.iter_mut() {
             info.vert_base = nv;
@@ -290,10 +375,6 @@ impl Renderer {
         }
         self.pos.resize(nv, VertexPos::default());
         self.vary.resize(nf, 0.0);
-        let vp = Viewport {
-            width: target.width(),
-            height: target.height(),
-        };
         for info in infos.iter() {
             let n = info.mesh.positions.len();
             let s = info.layout.stride();
@@ -302,108 +383,106 @@ impl Renderer {
                 info.transform,
                 view_proj,
                 info.layout,
-                &vp,
+                vp,
                 &mut self.pos[info.vert_base..info.vert_base + n],
                 &mut self.vary[info.vary_base..info.vary_base + n * s],
             );
         }
+        nt
+    }
 
-        // Clip, set up and bin, in chunks of triangles.
-        let (tiles_x, tiles_y) = (target.tiles_x() as usize, target.tiles_y() as usize);
+    /// Clip, set up and bin, in chunks of triangles (one chunk per task); returns how many
+    /// chunks the `nt` triangles took.
+    fn front_stage(
+        &mut self,
+        infos: &[DrawInfo<'_>],
+        nt: usize,
+        vp: &Viewport,
+        tiles_x: usize,
+        tiles_y: usize,
+    ) -> usize {
         let chunk_size = nt.div_ceil(16).max(4096);
         let n_chunks = nt.div_ceil(chunk_size);
         if self.chunks.len() < n_chunks {
             self.chunks.resize_with(n_chunks, Chunk::default);
         }
-        {
-            let (pos, vary, infos) = (&self.pos[..], &self.vary[..], &infos[..]);
-            self.chunks[..n_chunks]
-                .par_iter_mut()
-                .enumerate()
-                .with_max_len(1) // one chunk per task, for the same reason as the tiles
-                .for_each(|(k, chunk)| {
-                    let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
-                    chunk.bins.begin(tiles_x, tiles_y);
-                    front_end(chunk, range, infos, pos, vary, &vp);
-                    chunk.stats.triangles_binned = chunk.bins.build(&chunk.tris);
-                });
-        }
+        let (pos, vary) = (&self.pos[..], &self.vary[..]);
+        self.chunks[..n_chunks]
+            .par_iter_mut()
+            .enumerate()
+            .with_max_len(1) // one chunk per task, for the same reason as the tiles
+            .for_each(|(k, chunk)| {
+                let range = k * chunk_size..((k + 1) * chunk_size).min(nt);
+                chunk.bins.begin(tiles_x, tiles_y);
+                front_end(chunk, range, infos, pos, vary, vp);
+                chunk.stats.triangles_binned = chunk.bins.build(&chunk.tris);
+            });
+        n_chunks
+    }
 
-        // Raster and resolve, one tile per task.
+    /// Raster, shade and resolve, one tile per task, each worker in its own tile memory.
+    fn tile_stage(&mut self, frame: &FrameInputs<'_, '_>, n_chunks: usize, target: &mut Target) {
         let threads = rayon::current_num_threads().max(1);
         while self.workers.len() < threads {
             self.workers.push(Worker::default());
         }
         for w in &mut self.workers {
-            w.0.get_mut().unwrap_or_else(|e| e.into_inner()).1 = FrameStats::default();
+            let state = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
+            (state.1, state.2) = Default::default();
         }
+        let tiles_x = target.tiles_x() as usize;
         let encoder = Encoder::new(target.encoding());
-        let clear = opts.clear.map(|c| c.premultiply());
+        let clear = frame.opts.clear.map(|c| c.premultiply());
         let encoding = target.encoding();
-        let soft = DepthToView::new(*camera);
-        let eye = camera.eye();
-        {
-            let chunks = &self.chunks[..n_chunks];
-            let (vary, infos, workers) = (&self.vary[..], &infos[..], &self.workers[..]);
-            let (colors, depths) = target.storage_mut();
-            colors
-                .par_chunks_mut(TILE_PIXELS)
-                .zip(depths.par_chunks_mut(TILE_PIXELS))
-                .enumerate()
-                // One tile per task: left to split by halves, rayon gave each thread long
-                // runs of tiles it could no longer share, and one core idled while the other
-                // finished the busier half of the screen (torus 100k at 1920x1080: 4.5 of
-                // 9.4 ms).
-                .with_max_len(1)
-                .for_each(|(tile, (color, depth))| {
-                    let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
-                    let mut state = workers[w].0.lock().unwrap_or_else(|e| e.into_inner());
-                    let (buf, stats) = &mut *state;
-                    match clear {
-                        Some(c) => buf.clear(c),
-                        None => buf.load(color, depth, encoding),
-                    }
-                    if let Some(peel) = peel {
-                        let range = tile * TILE_PIXELS..(tile + 1) * TILE_PIXELS;
-                        // No peel depth (the sizes differ): -inf, which no fragment lies
-                        // behind, so nothing passes.
-                        match peel.get(range) {
-                            Some(d) => buf.load_peel(d),
-                            None => {
-                                buf.peel.clear();
-                                buf.peel.resize(TILE_PIXELS, f32::NEG_INFINITY);
-                            }
+        let soft = DepthToView::new(*frame.camera);
+        let tiles = TileFrame {
+            chunks: &self.chunks[..n_chunks],
+            infos: frame.infos,
+            vary: &self.vary[..],
+            lighting: frame.lighting,
+            eye: frame.camera.eye(),
+            soft: &soft,
+        };
+        let (workers, peel) = (&self.workers[..], frame.peel);
+        let (colors, depths) = target.storage_mut();
+        colors
+            .par_chunks_mut(TILE_PIXELS)
+            .zip(depths.par_chunks_mut(TILE_PIXELS))
+            .enumerate()
+            // One tile per task: left to split by halves, rayon gave each thread long
+            // runs of tiles it could no longer share, and one core idled while the other
+            // finished the busier half of the screen (torus 100k at 1920x1080: 4.5 of
+            // 9.4 ms).
+            .with_max_len(1)
+            .for_each(|(tile, (color, depth))| {
+                let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
+                let mut state = workers[w].0.lock().unwrap_or_else(|e| e.into_inner());
+                let (buf, stats, times) = &mut *state;
+                let start = Instant::now();
+                match clear {
+                    Some(c) => buf.clear(c),
+                    None => buf.load(color, depth, encoding),
+                }
+                if let Some(peel) = peel {
+                    let range = tile * TILE_PIXELS..(tile + 1) * TILE_PIXELS;
+                    // No peel depth (the sizes differ): -inf, which no fragment lies
+                    // behind, so nothing passes.
+                    match peel.get(range) {
+                        Some(d) => buf.load_peel(d),
+                        None => {
+                            buf.peel.clear();
+                            buf.peel.resize(TILE_PIXELS, f32::NEG_INFINITY);
                         }
                     }
-                    let ox = ((tile % tiles_x) * TILE) as i32;
-                    let oy = ((tile / tiles_x) * TILE) as i32;
-                    let frame = TileFrame {
-                        chunks,
-                        infos,
-                        vary,
-                        lighting,
-                        eye,
-                        soft: &soft,
-                    };
-                    frame.raster(buf, tile, ox, oy, stats);
-                    buf.resolve(color, depth, &encoder);
-                });
-        }
-
-        let mut total = FrameStats {
-            draws: infos.len() as u64,
-            triangles_in: nt as u64,
-            ..Default::default()
-        };
-        for c in &self.chunks[..n_chunks] {
-            total += c.stats;
-        }
-        for w in &mut self.workers {
-            total += w.0.get_mut().unwrap_or_else(|e| e.into_inner()).1;
-        }
-        self.infos = recycle(infos);
-        self.last = total;
-        total
+                }
+                let ox = ((tile % tiles_x) * TILE) as i32;
+                let oy = ((tile / tiles_x) * TILE) as i32;
+                tiles.raster(buf, tile, ox, oy, stats);
+                let rastered = Instant::now();
+                buf.resolve(color, depth, &encoder);
+                times.raster += rastered - start;
+                times.resolve += rastered.elapsed();
+            });
     }
 
     /// Opaque and alpha-tested draws first, in submission order; then blended draws, far to

@@ -131,6 +131,66 @@ pub struct GeneralTri {
     attr: [[f32; 3]; 12],
     face_normal: Vec3,
     front: bool,
+    /// The shading normal when the three vertex normals are the same (flat faces): the
+    /// per-lane normalisation's result, worked out once with the same operations.
+    flat_normal: Option<Vec3>,
+    /// Bit `i` set: light `i` may reach the triangle (bit 63 stands for every light from
+    /// 63 on). A point light whose range ends before the triangle's nearest point adds
+    /// exactly nothing there, so the shader skips it.
+    reach: u64,
+}
+
+/// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
+/// normal, in the same operations and order as its lanes (`x x + (y y + z z)`, then
+/// `sign / sqrt`), so flat faces shade to the same bits either way.
+fn flat_normal(attr: &[[f32; 3]; 12], face: Vec3, front: bool) -> Option<Vec3> {
+    let [x, y, z] = [0, 1, 2].map(|c| attr[NRM + c]);
+    if [x, y, z].iter().any(|a| a[1] != 0.0 || a[2] != 0.0) {
+        return None;
+    }
+    let n = Vec3::new(x[0], y[0], z[0]);
+    let len2 = n.x * n.x + (n.y * n.y + n.z * n.z);
+    // As in the lanes: a NaN length also takes the face normal.
+    let has = len2 > 1e-12;
+    if !has {
+        return Some(face);
+    }
+    let sign = if front { 1.0 } else { -1.0 };
+    let inv = sign / len2.sqrt();
+    Some(Vec3::new(n.x * inv, n.y * inv, n.z * inv))
+}
+
+/// The bit of light `i` in [`GeneralTri::reach`].
+#[inline(always)]
+fn light_bit(i: usize) -> u64 {
+    1 << i.min(63)
+}
+
+/// Which of `lighting`'s lights may reach the triangle `p`: directional lights always; a
+/// point light unless the triangle lies wholly beyond its range, judged from the bounding
+/// sphere about the centroid with a margin (1% of the range, plus a thousandth of the
+/// triangle's radius) that covers the rounding of interpolated positions.
+fn reach(lighting: &Lighting, p: [Vec3; 3]) -> u64 {
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let r = p.iter().map(|q| q.distance(c)).fold(0.0f32, f32::max);
+    let mut bits = 0;
+    for (i, light) in lighting.lights.iter().enumerate() {
+        let near = match *light {
+            Light::Directional { .. } => true,
+            Light::Point {
+                position, range, ..
+            } => {
+                let gap = position.distance(c) - r;
+                // NaN anywhere keeps the light (the comparison fails).
+                let beyond = gap > range.max(1e-6) * 1.01 + r * 1e-3;
+                !beyond
+            }
+        };
+        if near || i >= 63 {
+            bits |= light_bit(i);
+        }
+    }
+    bits
 }
 
 impl FragShader for GeneralShader<'_> {
@@ -142,10 +202,18 @@ impl FragShader for GeneralShader<'_> {
         // Setup made the winding positive on a y-down screen (clockwise as seen), so this
         // order of the cross product points towards the viewer.
         let n = (p(2) - p(0)).cross(p(1) - p(0)).normalize_or_zero();
+        let lit = matches!(self.material.shading, Shading::Lit { .. });
+        let front = tri.flags() & FRONT != 0;
         GeneralTri {
             attr,
             face_normal: n,
-            front: tri.flags() & FRONT != 0,
+            front,
+            flat_normal: flat_normal(&attr, n, front),
+            reach: if lit {
+                reach(self.lighting, [p(0), p(1), p(2)])
+            } else {
+                0
+            },
         }
     }
 
@@ -200,38 +268,52 @@ impl FragShader for GeneralShader<'_> {
             } else {
                 0.0
             };
-            let t = tex.sample8(&m.sampler, at(UV), at(UV + 1), lod);
-            // Samples are premultiplied; the shader works in straight colour.
-            let a = t[3];
-            let inv = a
-                .gt(F8::splat(0.0))
-                .select(F8::splat(1.0) / a, F8::splat(0.0));
-            for c in 0..3 {
-                rgba[c] = rgba[c] * t[c] * inv;
+            let keep = crate::simd::M8::from_bits(mask);
+            let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
+            if tex.is_opaque() {
+                // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
+                for c in 0..3 {
+                    rgba[c] = rgba[c] * t[c];
+                }
+            } else {
+                // Samples are premultiplied; the shader works in straight colour.
+                let a = t[3];
+                let inv = a
+                    .gt(F8::splat(0.0))
+                    .select(F8::splat(1.0) / a, F8::splat(0.0));
+                for c in 0..3 {
+                    rgba[c] = rgba[c] * t[c] * inv;
+                }
+                rgba[3] = rgba[3] * a;
             }
-            rgba[3] = rgba[3] * a;
         }
         if let Shading::Lit {
             specular,
             shininess,
         } = m.shading
         {
-            let pos = V3::new(at(POS), at(POS + 1), at(POS + 2));
-            let n = V3::new(at(NRM), at(NRM + 1), at(NRM + 2));
-            let len2 = n.dot(&n);
-            // Interpolated normals face the front side: flip them on back faces (two-sided
-            // lighting). The face normal already faces the viewer; it stands in for missing
-            // normals.
-            let sign = if p.front { 1.0 } else { -1.0 };
-            let has = len2.gt(F8::splat(1e-12));
-            let inv_len = has.select(F8::splat(sign) / len2.sqrt(), F8::splat(0.0));
-            let f = p.face_normal;
-            let n = V3::new(
-                has.select(n.x * inv_len, F8::splat(f.x)),
-                has.select(n.y * inv_len, F8::splat(f.y)),
-                has.select(n.z * inv_len, F8::splat(f.z)),
+            // Only highlights and point lights read the position.
+            let point = |(i, l): (usize, &Light)| {
+                matches!(l, Light::Point { .. }) && p.reach & light_bit(i) != 0
+            };
+            let pos = if specular != 0.0 || self.lighting.lights.iter().enumerate().any(point) {
+                V3::new(at(POS), at(POS + 1), at(POS + 2))
+            } else {
+                V3::splat(Vec3::ZERO)
+            };
+            let n = match p.flat_normal {
+                Some(n) => V3::splat(n),
+                None => self.normal(p, &at),
+            };
+            let lit = light8(
+                self.lighting,
+                p.reach,
+                self.eye,
+                &pos,
+                &n,
+                specular,
+                shininess,
             );
-            let lit = light8(self.lighting, self.eye, &pos, &n, specular, shininess);
             for c in 0..3 {
                 rgba[c] = rgba[c].mul_add(lit[0][c], lit[1][c]);
             }
@@ -243,6 +325,27 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         *out = rgba;
+    }
+}
+
+impl GeneralShader<'_> {
+    /// The interpolated normal of 8 lanes, unit length, facing the viewer.
+    #[inline(always)]
+    fn normal(&self, p: &GeneralTri, at: &impl Fn(usize) -> F8) -> V3 {
+        let n = V3::new(at(NRM), at(NRM + 1), at(NRM + 2));
+        let len2 = n.dot(&n);
+        // Interpolated normals face the front side: flip them on back faces (two-sided
+        // lighting). The face normal already faces the viewer; it stands in for missing
+        // normals.
+        let sign = if p.front { 1.0 } else { -1.0 };
+        let has = len2.gt(F8::splat(1e-12));
+        let inv_len = has.select(F8::splat(sign) / len2.sqrt(), F8::splat(0.0));
+        let f = p.face_normal;
+        V3::new(
+            has.select(n.x * inv_len, F8::splat(f.x)),
+            has.select(n.y * inv_len, F8::splat(f.y)),
+            has.select(n.z * inv_len, F8::splat(f.z)),
+        )
     }
 }
 
@@ -296,15 +399,34 @@ impl V3 {
 
 /// Diffuse factor and specular term per RGB channel for 8 surface points: Lambert plus
 /// Blinn-Phong, with Schlick's rational stand-in for `pow(n.h, shininess)`
-/// (`t / (s - s t + t)`), which needs no transcendental per lane.
-fn light8(lighting: &Lighting, eye: Vec3, pos: &V3, n: &V3, spec: f32, shin: f32) -> [[F8; 3]; 2] {
+/// (`t / (s - s t + t)`), which needs no transcendental per lane. Lights whose bit is clear
+/// in `reach` are skipped (they add exactly zero there).
+fn light8(
+    lighting: &Lighting,
+    reach: u64,
+    eye: Vec3,
+    pos: &V3,
+    n: &V3,
+    spec: f32,
+    shin: f32,
+) -> [[F8; 3]; 2] {
     let a = lighting.ambient;
     let zero = F8::splat(0.0);
     let mut diff = [F8::splat(a.r), F8::splat(a.g), F8::splat(a.b)];
     let mut sp = [zero; 3];
-    let (view, _) = V3::splat(eye).sub(pos).normalize();
+    // No highlights: the view and half vectors are not needed (the terms they feed are
+    // multiplied by `spec = 0`, so skipping them changes no pixel).
+    let highlights = spec != 0.0;
+    let view = if highlights {
+        V3::splat(eye).sub(pos).normalize().0
+    } else {
+        V3::splat(Vec3::ZERO)
+    };
     let shin = F8::splat(shin.max(0.0));
-    for light in &lighting.lights {
+    for (i, light) in lighting.lights.iter().enumerate() {
+        if reach & light_bit(i) == 0 {
+            continue;
+        }
         let (l, color, att) = match *light {
             Light::Directional { direction, color } => (
                 V3::splat(-direction.normalize_or_zero()),
@@ -323,16 +445,176 @@ fn light8(lighting: &Lighting, eye: Vec3, pos: &V3, n: &V3, spec: f32, shin: f32
             }
         };
         let ndl = n.dot(&l).max(zero);
+        let d = ndl * att;
+        for (c, v) in [color.r, color.g, color.b].into_iter().enumerate() {
+            diff[c] = F8::splat(v).mul_add(d, diff[c]);
+        }
+        if !highlights {
+            continue;
+        }
         let (h, _) = l.add(&view).normalize();
         let t = n.dot(&h).max(zero);
         let lit = ndl.gt(zero);
         let s = t / (shin - shin * t + t).max(F8::splat(1e-12));
         let s = lit.select(s * F8::splat(spec) * att, zero);
-        let d = ndl * att;
         for (c, v) in [color.r, color.g, color.b].into_iter().enumerate() {
-            diff[c] = F8::splat(v).mul_add(d, diff[c]);
             sp[c] = F8::splat(v).mul_add(s, sp[c]);
         }
     }
     [diff, sp]
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::color::{srgb_to_linear, Encoding};
+    use crate::{
+        Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading,
+        Target, Texture,
+    };
+    use glam::{Mat4, Vec3};
+    use std::sync::Arc;
+
+    /// A quad in the z = 0 plane facing +Z, seen head-on from z = 4, filling the middle of a
+    /// 32 x 32 target; returns the centre pixel as linear RGB.
+    fn centre(material: &Material, lighting: &Lighting) -> [f32; 3] {
+        let quad = Mesh {
+            positions: vec![
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(-1.0, 1.0, 0.0),
+            ],
+            normals: vec![Vec3::Z; 4],
+            uvs: vec![glam::Vec2::ZERO; 4],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            ..Default::default()
+        };
+        let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 0.6, 1.0);
+        let mut target = Target::with_encoding(32, 32, Encoding::Srgb);
+        let draw = Draw {
+            mesh: &quad,
+            material,
+            transform: Mat4::IDENTITY,
+        };
+        let opts = FrameOptions::default();
+        Renderer::new().render([draw], &camera, lighting, &mut target, &opts);
+        let [r, g, b, _] = target.pixel(16, 16).expect("inside").to_le_bytes();
+        [r, g, b].map(|c| srgb_to_linear(c as f32 / 255.0))
+    }
+
+    /// The textured, Lambert-lit path without highlights (opaque texture: no division by
+    /// alpha; specular 0: no view or half vectors) gives `base * texel * (ambient + light *
+    /// n.l)`, worked out here by hand, to the byte encoding's precision.
+    #[test]
+    fn textured_lambert_without_highlights_is_the_formula() {
+        let texel = [200u8, 120, 40, 255];
+        let tex = Texture::from_rgba8(1, 1, &texel, Encoding::Srgb).expect("1x1");
+        assert!(tex.is_opaque());
+        let base = Rgba::new(0.9, 0.8, 0.7, 1.0);
+        let mut material = Material::lit(base).with_texture(Arc::new(tex));
+        material.shading = Shading::Lit {
+            specular: 0.0,
+            shininess: 32.0,
+        };
+        let from = Vec3::new(0.3, 0.4, 0.866).normalize();
+        let lighting = Lighting {
+            ambient: Rgba::new(0.1, 0.15, 0.2, 1.0),
+            lights: vec![Light::Directional {
+                direction: -from,
+                color: Rgba::new(0.7, 0.6, 0.5, 1.0),
+            }],
+        };
+        let got = centre(&material, &lighting);
+        let ndl = from.z; // the normal is +Z
+        let (amb, light) = ([0.1, 0.15, 0.2], [0.7, 0.6, 0.5]);
+        for c in 0..3 {
+            let t = srgb_to_linear(texel[c] as f32 / 255.0);
+            let want = base.to_array()[c] * t * (amb[c] + light[c] * ndl);
+            // One sRGB byte step near `want`, plus the 16-bit texel copy's rounding.
+            assert!(
+                (got[c] - want).abs() < 0.01 * want.max(0.05),
+                "channel {c}: {} vs {want}",
+                got[c]
+            );
+        }
+        // A texel that is not opaque keeps the division path and the same straight colour.
+        let clear = Texture::from_rgba8(2, 1, &[200, 120, 40, 255, 0, 0, 0, 0], Encoding::Srgb)
+            .expect("2x1");
+        assert!(!clear.is_opaque());
+    }
+
+    /// A point light is dropped for a triangle only where it adds nothing: at random points
+    /// of random triangles, every light whose attenuation is above zero (the shader's
+    /// `1 - (d / range)^2`, worked out here in f64) has its bit set, and lights far out of
+    /// range have theirs clear.
+    #[test]
+    fn lights_out_of_range_are_dropped_only_where_they_add_nothing() {
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut v3 = |s: f32| Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * s;
+        let (mut dropped, mut kept) = (0, 0);
+        for _ in 0..2000 {
+            let tri = [v3(20.0), v3(20.0), v3(20.0)];
+            let position = v3(40.0);
+            let range = 0.5 + 15.0 * (v3(1.0).x + 0.5);
+            let lighting = Lighting {
+                ambient: Rgba::BLACK,
+                lights: vec![
+                    Light::Directional {
+                        direction: Vec3::NEG_Y,
+                        color: Rgba::WHITE,
+                    },
+                    Light::Point {
+                        position,
+                        color: Rgba::WHITE,
+                        range,
+                    },
+                ],
+            };
+            let bits = super::reach(&lighting, tri);
+            assert!(bits & 1 != 0, "directional lights always reach");
+            let reaches = bits & 2 != 0;
+            if reaches {
+                kept += 1;
+            } else {
+                dropped += 1;
+            }
+            for _ in 0..50 {
+                let (a, b) = (v3(1.0).x + 0.5, v3(1.0).x + 0.5);
+                let (a, b) = if a + b > 1.0 {
+                    (1.0 - a, 1.0 - b)
+                } else {
+                    (a, b)
+                };
+                let q = tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b;
+                let d = q.as_dvec3().distance(position.as_dvec3()) / range as f64;
+                assert!(reaches || d >= 1.0, "light at {d} of its range dropped");
+            }
+        }
+        assert!(
+            dropped > 100 && kept > 100,
+            "{dropped} dropped, {kept} kept"
+        );
+    }
+
+    /// Flat faces: one normal per triangle, normalised and flipped for back faces; zero
+    /// normals give the face normal; normals that vary across the triangle give none.
+    #[test]
+    fn flat_normals_are_worked_out_once_per_triangle() {
+        use crate::vertex::NRM;
+        let mut attr = [[0.0f32; 3]; 12];
+        attr[NRM + 2] = [2.0, 0.0, 0.0];
+        let face = Vec3::new(0.0, 1.0, 0.0);
+        assert_eq!(super::flat_normal(&attr, face, true), Some(Vec3::Z));
+        assert_eq!(super::flat_normal(&attr, face, false), Some(-Vec3::Z));
+        attr[NRM + 2] = [0.0; 3];
+        assert_eq!(super::flat_normal(&attr, face, true), Some(face));
+        attr[NRM] = [0.5, 0.0, 0.25];
+        assert_eq!(super::flat_normal(&attr, face, true), None);
+    }
 }

@@ -28,6 +28,9 @@ pub struct FrameStats {
     pub fragments_tested: u64,
     /// Fragments that passed the depth test and were shaded.
     pub fragments_shaded: u64,
+    /// Rows of 8 lanes the shader ran on (`fragments_shaded / rows_shaded` is how full the
+    /// lanes were: 8 at best; thin and small triangles leave most lanes idle).
+    pub rows_shaded: u64,
     /// Fragments written to the target (after alpha test).
     pub fragments_written: u64,
     /// 8 x 8 blocks found wholly inside a triangle (no per-pixel edge tests).
@@ -49,6 +52,7 @@ impl AddAssign for FrameStats {
         self.triangles_binned += o.triangles_binned;
         self.fragments_tested += o.fragments_tested;
         self.fragments_shaded += o.fragments_shaded;
+        self.rows_shaded += o.rows_shaded;
         self.fragments_written += o.fragments_written;
         self.blocks_full += o.blocks_full;
         self.blocks_partial += o.blocks_partial;

@@ -118,6 +118,12 @@ struct Args {
     /// The arc's angle, degrees, centred on --eye.
     #[arg(long, value_name = "DEG", default_value_t = 20.0)]
     spread: f32,
+    /// Light as the textured llvmpipe peer (`../shared/peers/llvmpipe_textured.py`) does:
+    /// grey ambient 0.2 and one white directional light of 0.8 from (0.4, 0.8, 0.45), no
+    /// highlights, on the texture's bytes as stored (unorm texture and target, as the
+    /// peer's GL context has no sRGB decoding), for `lit` and `textured`.
+    #[arg(long)]
+    peer_light: bool,
 }
 
 /// Checks what clap cannot: sizes, camera sanity, counts.
@@ -213,6 +219,38 @@ fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
         hi = hi.max(*p);
     }
     (lo, hi)
+}
+
+/// The textured peer's lighting and arithmetic: `colour = texel * (0.2 + 0.8 max(0, n .
+/// l))` on the stored bytes as they are (the peer's texture and framebuffer are not sRGB),
+/// so textures are re-read as unorm and the target is unorm; returns that encoding.
+fn peer_light(scene: &mut Scene) -> Encoding {
+    for m in &mut scene.materials {
+        if let Some(t) = &m.base_texture {
+            let l = &t.levels()[0];
+            let unorm = engine::Texture::from_packed(
+                l.width,
+                l.height,
+                l.texels.clone(),
+                Encoding::Unorm,
+                false,
+            );
+            m.base_texture = unorm.map(std::sync::Arc::new);
+        }
+    }
+    scene.lighting = engine::Lighting {
+        ambient: Rgba::new(0.2, 0.2, 0.2, 1.0),
+        lights: vec![engine::Light::Directional {
+            direction: -Vec3::new(0.4, 0.8, 0.45),
+            color: Rgba::new(0.8, 0.8, 0.8, 1.0),
+        }],
+    };
+    for m in &mut scene.materials {
+        if let Shading::Lit { specular, .. } = &mut m.shading {
+            *specular = 0.0;
+        }
+    }
+    Encoding::Unorm
 }
 
 /// Rewrites the loaded scene for a shading mode; returns the target encoding.
@@ -396,7 +434,10 @@ fn run(a: &Args) -> Result<(), String> {
     } else {
         scene_bounds(&scene)
     };
-    let encoding = prepare(&mut scene, a.shading, bounds);
+    let mut encoding = prepare(&mut scene, a.shading, bounds);
+    if a.peer_light {
+        encoding = peer_light(&mut scene);
+    }
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),

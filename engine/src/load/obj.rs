@@ -378,6 +378,55 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
     };
 
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let (models, materials, mat_dirs) = parse(path, text, &dir, files, &mut warnings)?;
+
+    let mut scene = crate::scene::Scene::default();
+    let mut names = Vec::new();
+    let mut textures = Textures {
+        files,
+        cache: HashMap::new(),
+    };
+    for (i, model) in models.iter().enumerate() {
+        let label = format!("model {i} '{}'", model.name);
+        if model.mesh.indices.is_empty() {
+            continue; // an `o` / `g` with no faces
+        }
+        let mesh = mesh(&model.mesh, &label, &mut warnings);
+        check_mesh(path, &label, &mesh)?;
+        let mat = match model.mesh.material_id.and_then(|id| materials.get(id)) {
+            Some(mt) => {
+                let id = model.mesh.material_id.unwrap_or(0);
+                let mtl_dir = mat_dirs.get(id).unwrap_or(&dir);
+                material(mt, mtl_dir, &mut textures, &mut warnings)
+            }
+            None => Material {
+                name: "default".into(),
+                ..Material::lit(Rgba::WHITE)
+            },
+        };
+        scene.add(mesh, mat, Mat4::IDENTITY);
+        names.push(model.name.clone());
+    }
+    Ok(Loaded {
+        scene,
+        warnings,
+        names,
+    })
+}
+
+/// What [`parse`] reads: models, materials, and each material's library folder.
+type Parsed = (Vec<tobj::Model>, Vec<tobj::Material>, Vec<PathBuf>);
+
+/// Parses the (filtered) OBJ text with tobj, loading the MTL libraries it names through
+/// `files`: the models, the materials, and the folder each material's library lies in (for
+/// its texture paths). Unreadable or bad libraries become warnings.
+fn parse(
+    path: &Path,
+    text: &str,
+    dir: &Path,
+    files: &dyn Files,
+    warnings: &mut Vec<String>,
+) -> Result<Parsed, LoadError> {
     // (folder of the MTL file, number of materials it brought), in load order.
     let libs: RefCell<Vec<(PathBuf, usize)>> = RefCell::default();
     let lib_warnings: RefCell<Vec<String>> = RefCell::default();
@@ -422,39 +471,7 @@ pub(crate) fn load(path: &Path, files: &dyn Files) -> Result<Loaded, LoadError> 
     for (lib_dir, n) in libs.into_inner() {
         mat_dirs.extend(std::iter::repeat_n(lib_dir, n));
     }
-
-    let mut scene = crate::scene::Scene::default();
-    let mut names = Vec::new();
-    let mut textures = Textures {
-        files,
-        cache: HashMap::new(),
-    };
-    for (i, model) in models.iter().enumerate() {
-        let label = format!("model {i} '{}'", model.name);
-        if model.mesh.indices.is_empty() {
-            continue; // an `o` / `g` with no faces
-        }
-        let mesh = mesh(&model.mesh, &label, &mut warnings);
-        check_mesh(path, &label, &mesh)?;
-        let mat = match model.mesh.material_id.and_then(|id| materials.get(id)) {
-            Some(mt) => {
-                let id = model.mesh.material_id.unwrap_or(0);
-                let mtl_dir = mat_dirs.get(id).unwrap_or(&dir);
-                material(mt, mtl_dir, &mut textures, &mut warnings)
-            }
-            None => Material {
-                name: "default".into(),
-                ..Material::lit(Rgba::WHITE)
-            },
-        };
-        scene.add(mesh, mat, Mat4::IDENTITY);
-        names.push(model.name.clone());
-    }
-    Ok(Loaded {
-        scene,
-        warnings,
-        names,
-    })
+    Ok((models, materials, mat_dirs))
 }
 
 #[cfg(test)]

@@ -8,8 +8,9 @@
 //! Sampling is pure and cannot fail: odd coordinates (NaN, huge) sample texel 0.
 
 use crate::color::{srgb_to_linear_lut, unpack, Encoding, Premul, Rgba};
-use crate::simd::{F8, I8};
 use std::sync::OnceLock;
+
+mod lanes;
 
 /// How texture coordinates outside [0, 1] are folded back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -67,6 +68,8 @@ pub struct Texture {
     premultiplied: bool,
     /// Every level decoded for the 8-lane sampler ([`Texture::sample8`]).
     linear: Vec<LinearLevel>,
+    /// Every texel of level 0 has alpha 255 (so every level's does).
+    opaque: bool,
 }
 
 /// One level as premultiplied linear colour in 16-bit channels, one `u64` a texel
@@ -165,6 +168,7 @@ impl Texture {
             encoding,
             premultiplied,
             linear: Vec::new(),
+            opaque: false,
         };
         t.rebuild();
         t
@@ -201,6 +205,7 @@ impl Texture {
     /// the 16-bit linear copy from level 0, reusing the existing levels' memory.
     fn rebuild(&mut self) {
         let (encoding, premultiplied) = (self.encoding, self.premultiplied);
+        self.opaque = self.levels[0].texels.iter().all(|&px| px >> 24 == 0xff);
         let enc = crate::color::Encoder::new(encoding);
         let mut k = 1;
         loop {
@@ -282,6 +287,12 @@ impl Texture {
         &self.levels
     }
 
+    /// Whether every texel has alpha 1: samples then have alpha 1 (to rounding) and
+    /// premultiplied colour equal to straight colour, so a shader need not divide by alpha.
+    pub fn is_opaque(&self) -> bool {
+        self.opaque
+    }
+
     /// How the stored bytes encode linear colour.
     pub fn encoding(&self) -> Encoding {
         self.encoding
@@ -335,89 +346,6 @@ impl Texture {
         };
         let l0 = lod.floor();
         (l0 as usize, lod - l0)
-    }
-
-    /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
-    /// one per 2x2 quad). Returns premultiplied linear `[r, g, b, a]`; the same filtering
-    /// as [`Texture::sample`], from the 16-bit linear copy of the texels.
-    #[inline]
-    pub fn sample8(&self, s: &Sampler, u: F8, v: F8, lod: f32) -> [F8; 4] {
-        match s.filter {
-            Filter::Nearest => self.nearest8(s, u, v),
-            Filter::Bilinear => self.bilinear8(s, 0, u, v),
-            Filter::Trilinear => {
-                let (l0, t) = self.mip_levels(lod);
-                let a = self.bilinear8(s, l0, u, v);
-                if t <= 0.0 {
-                    return a;
-                }
-                let b = self.bilinear8(s, l0 + 1, u, v);
-                let t = F8::splat(t);
-                std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
-            }
-        }
-    }
-
-    fn nearest8(&self, s: &Sampler, u: F8, v: F8) -> [F8; 4] {
-        let l = &self.levels[0];
-        let x = wrap8(
-            finite_or_zero(u * F8::splat(l.width as f32)).floor(),
-            l.width,
-            s.wrap_u,
-        );
-        let y = wrap8(
-            finite_or_zero(v * F8::splat(l.height as f32)).floor(),
-            l.height,
-            s.wrap_v,
-        );
-        let idx = y.mul_lo(I8::splat(l.width as i32)) + x;
-        let one = F8::splat(1.0);
-        self.taps(
-            0,
-            [idx; 4],
-            [one, F8::splat(0.0), F8::splat(0.0), F8::splat(0.0)],
-        )
-    }
-
-    #[inline]
-    fn bilinear8(&self, s: &Sampler, level: usize, u: F8, v: F8) -> [F8; 4] {
-        let level = level.min(self.levels.len() - 1);
-        let l = &self.levels[level];
-        let half = F8::splat(0.5);
-        let fx = finite_or_zero(u * F8::splat(l.width as f32) - half);
-        let fy = finite_or_zero(v * F8::splat(l.height as f32) - half);
-        let (x0, y0) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - x0, fy - y0);
-        let one = F8::splat(1.0);
-        let xa = wrap8(x0, l.width, s.wrap_u);
-        let xb = wrap8(x0 + one, l.width, s.wrap_u);
-        let w = I8::splat(l.width as i32);
-        let ya = wrap8(y0, l.height, s.wrap_v).mul_lo(w);
-        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul_lo(w);
-        let (sx, sy) = (one - tx, one - ty);
-        self.taps(
-            level,
-            [ya + xa, ya + xb, yb + xa, yb + xb],
-            [sx * sy, tx * sy, sx * ty, tx * ty],
-        )
-    }
-
-    /// The weighted sum of four taps of `level` at row-major indices `idx`.
-    #[inline(always)]
-    fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4]) -> [F8; 4] {
-        let lin = &self.linear[level];
-        let low = I8::splat(0xffff);
-        let scale = F8::splat(1.0 / 65535.0);
-        let mut acc = [F8::splat(0.0); 4];
-        for k in 0..4 {
-            let (rg, ba) = I8::gather_pairs(&lin.rgba, idx[k]);
-            let wk = w[k] * scale;
-            acc[0] = rg.and(low).to_f32().mul_add(wk, acc[0]);
-            acc[1] = rg.shr::<16>().to_f32().mul_add(wk, acc[1]);
-            acc[2] = ba.and(low).to_f32().mul_add(wk, acc[2]);
-            acc[3] = ba.shr::<16>().to_f32().mul_add(wk, acc[3]);
-        }
-        acc
     }
 
     fn nearest(&self, s: &Sampler, level: usize, u: f32, v: f32) -> Premul {
@@ -514,35 +442,6 @@ fn texel_floor(x: f32) -> i64 {
     }
 }
 
-/// NaN and huge coordinates (beyond any texture) become 0, as in [`texel_floor`].
-#[inline(always)]
-fn finite_or_zero(x: F8) -> F8 {
-    x.within(1e9).select(x, F8::splat(0.0))
-}
-
-/// [`wrap`] for 8 integer-valued lanes; the result is clamped into `0..size` whatever
-/// rounding did to huge inputs.
-#[inline(always)]
-fn wrap8(i: F8, size: u32, mode: Wrap) -> I8 {
-    let n = size as f32;
-    // x - m floor(x / m), then one correction step for the rounding of x / m.
-    let modulo = |x: F8, m: f32| {
-        let (zero, m) = (F8::splat(0.0), F8::splat(m));
-        let r = x - (x / m).floor() * m;
-        let r = r.ge(m).select(r - m, r);
-        zero.gt(r).select(r + m, r)
-    };
-    let r = match mode {
-        Wrap::Repeat => modulo(i, n),
-        Wrap::Clamp => i,
-        Wrap::Mirror => {
-            let m = modulo(i, 2.0 * n);
-            m.ge(F8::splat(n)).select(F8::splat(2.0 * n - 1.0) - m, m)
-        }
-    };
-    r.to_i32().max(I8::splat(0)).min(I8::splat(size as i32 - 1))
-}
-
 #[inline]
 fn wrap(i: i64, size: u32, mode: Wrap) -> u32 {
     let n = size as i64;
@@ -566,191 +465,4 @@ fn wrap(i: i64, size: u32, mode: Wrap) -> u32 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn two_by_two() -> Texture {
-        // red, green / blue, white (sRGB bytes)
-        let px = [
-            255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255,
-        ];
-        Texture::from_rgba8(2, 2, &px, Encoding::Srgb).unwrap()
-    }
-
-    #[test]
-    fn wrap_modes() {
-        assert_eq!(wrap(-1, 4, Wrap::Repeat), 3);
-        assert_eq!(wrap(5, 4, Wrap::Repeat), 1);
-        assert_eq!(wrap(-1, 4, Wrap::Clamp), 0);
-        assert_eq!(wrap(9, 4, Wrap::Clamp), 3);
-        assert_eq!(wrap(4, 4, Wrap::Mirror), 3);
-        assert_eq!(wrap(-1, 4, Wrap::Mirror), 0);
-        assert_eq!(wrap(7, 4, Wrap::Mirror), 0);
-    }
-
-    #[test]
-    fn bilinear_at_texel_centres_returns_texels() {
-        let t = two_by_two();
-        let s = Sampler {
-            filter: Filter::Bilinear,
-            ..Default::default()
-        };
-        let c = t.sample(&s, 0.25, 0.25, 0.0);
-        assert!((c.r - 1.0).abs() < 1e-6 && c.g.abs() < 1e-6);
-        let c = t.sample(&s, 0.75, 0.75, 0.0);
-        assert!((c.g - 1.0).abs() < 1e-6 && (c.b - 1.0).abs() < 1e-6);
-        // halfway between red and green: the linear average
-        let c = t.sample(&s, 0.5, 0.25, 0.0);
-        assert!((c.r - 0.5).abs() < 1e-6 && (c.g - 0.5).abs() < 1e-6);
-    }
-
-    #[test]
-    fn mip_chain_averages_in_linear() {
-        let t = two_by_two();
-        assert_eq!(t.levels().len(), 2);
-        let c = t.texel(1, 0, 0);
-        // (1 + 0 + 0 + 1) / 4 = 0.5 linear red, re-encoded to a byte and decoded back
-        assert!((c.r - 0.5).abs() < 0.01, "{c:?}");
-        let s = Sampler::default();
-        let far = t.sample(&s, 0.3, 0.3, 5.0);
-        assert!((far.r - c.r).abs() < 1e-6);
-    }
-
-    #[test]
-    fn transparent_texels_do_not_bleed() {
-        let px = [255, 0, 0, 255, 0, 255, 0, 0];
-        let t = Texture::from_rgba8(2, 1, &px, Encoding::Srgb).unwrap();
-        let s = Sampler {
-            filter: Filter::Bilinear,
-            wrap_u: Wrap::Clamp,
-            ..Default::default()
-        };
-        let c = t.sample(&s, 0.5, 0.5, 0.0);
-        assert!(c.g.abs() < 1e-6 && (c.a - 0.5).abs() < 1e-6 && (c.r - 0.5).abs() < 1e-6);
-    }
-
-    /// The 8-lane sampler filters like the scalar one (to the 16-bit linear copy's
-    /// precision) for every filter, wrap mode, encoding and alpha storage, odd coordinates
-    /// included.
-    #[test]
-    fn eight_lanes_match_the_scalar_sampler() {
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 40) as f32 / (1u64 << 24) as f32
-        };
-        let bytes: Vec<u8> = (0..13 * 7 * 4)
-            .map(|i| ((i * 97 + i / 5 * 31) % 256) as u8)
-            .collect();
-        let textures = [
-            Texture::from_rgba8(13, 7, &bytes, Encoding::Srgb).unwrap(),
-            Texture::from_rgba8(13, 7, &bytes, Encoding::Unorm).unwrap(),
-            Texture::checker(16, 4, Rgba::WHITE, Rgba::new(0.2, 0.5, 0.9, 0.4)),
-            Texture::from_packed(
-                4,
-                2,
-                bytes[..8]
-                    .iter()
-                    .map(|&b| u32::from(b) * 0x0101_0101)
-                    .collect(),
-                Encoding::Srgb,
-                true,
-            )
-            .unwrap(),
-        ];
-        let odd = [
-            f32::NAN,
-            1e30,
-            -1e12,
-            f32::INFINITY,
-            -0.0,
-            1.0,
-            3.999_99,
-            -7.25,
-        ];
-        for t in &textures {
-            for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
-                for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
-                    let s = Sampler {
-                        filter,
-                        wrap_u: wrap,
-                        wrap_v: wrap,
-                    };
-                    for round in 0..40 {
-                        let lod = next() * 4.0 - 0.5;
-                        let (u, v): ([f32; 8], [f32; 8]) = if round == 0 {
-                            (odd, std::array::from_fn(|l| odd[7 - l]))
-                        } else {
-                            (
-                                std::array::from_fn(|_| next() * 6.0 - 3.0),
-                                std::array::from_fn(|_| next() * 6.0 - 3.0),
-                            )
-                        };
-                        let got = t.sample8(&s, F8::from_array(u), F8::from_array(v), lod);
-                        for l in 0..8 {
-                            if !(u[l].abs() < 1e6 && v[l].abs() < 1e6) {
-                                // Either coordinate odd: any finite colour in range will do.
-                                assert!(got.iter().all(|c| (0.0..=1.0).contains(&c.to_array()[l])));
-                                continue;
-                            }
-                            let want = t.sample(&s, u[l], v[l], lod).to_array();
-                            for c in 0..4 {
-                                let g = got[c].to_array()[l];
-                                assert!(
-                                    (g - want[c]).abs() < 2e-4,
-                                    "{filter:?} {wrap:?} ({}, {}) lod {lod}: {g} vs {}",
-                                    u[l],
-                                    v[l],
-                                    want[c]
-                                );
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn refilling_matches_a_new_texture_and_reuses_memory() {
-        let bytes: Vec<u32> = (0..12 * 5)
-            .map(|i| 0x80c0_4020u32.wrapping_mul(i + 1))
-            .collect();
-        let fresh = Texture::from_packed(12, 5, bytes.clone(), Encoding::Srgb, true).unwrap();
-        let mut t = Texture::checker(12, 3, Rgba::WHITE, Rgba::BLACK);
-        assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out
-            .copy_from_slice(&bytes)));
-        assert_eq!(t, fresh);
-        let ptrs: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
-        assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out.fill(7)));
-        let again: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
-        assert_eq!(ptrs, again, "same size: same memory");
-        assert!(!t.refill(0, 5, Encoding::Srgb, true, |_| {}));
-        assert_eq!(t.width(), 12, "a refused refill changes nothing");
-        // Shrinking drops levels; growing adds them.
-        assert!(t.refill(2, 2, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
-        assert_eq!(t.levels().len(), 2);
-        assert!(t.refill(16, 16, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
-        assert_eq!(t.levels().len(), 5);
-    }
-
-    #[test]
-    fn odd_coordinates_do_not_panic() {
-        let t = Texture::checker(8, 2, Rgba::WHITE, Rgba::BLACK);
-        for s in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
-            let smp = Sampler {
-                filter: s,
-                wrap_u: Wrap::Mirror,
-                wrap_v: Wrap::Clamp,
-            };
-            for (u, v) in [(f32::NAN, 0.0), (1e30, -1e30), (f32::INFINITY, 0.5)] {
-                let c = t.sample(&smp, u, v, f32::NAN);
-                assert!(c.r.is_finite());
-            }
-        }
-        assert!(Texture::from_rgba8(0, 4, &[], Encoding::Srgb).is_none());
-        assert!(Texture::from_rgba8(2, 2, &[0; 15], Encoding::Srgb).is_none());
-    }
-}
+mod tests;

@@ -1,0 +1,138 @@
+//! The 8-lane sampler: [`Texture::sample8`] filters 8 points at once from the 16-bit
+//! linear copy of the levels, with the same filtering (and the same odd-coordinate rules) as
+//! the scalar [`Texture::sample`].
+
+use super::{Filter, Sampler, Texture, Wrap};
+use crate::simd::{F8, I8, M8};
+
+impl Texture {
+    /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
+    /// one per 2x2 quad). Returns premultiplied linear `[r, g, b, a]`; the same filtering
+    /// as [`Texture::sample`], from the 16-bit linear copy of the texels.
+    #[inline]
+    pub fn sample8(&self, s: &Sampler, u: F8, v: F8, lod: f32) -> [F8; 4] {
+        self.sample8_lanes(s, u, v, lod, M8::from_bits(0xff))
+    }
+
+    /// [`Texture::sample8`] for the lanes set in `keep` only: the others read no texels
+    /// and come back as zeros (a shader's idle lanes, whose coordinates lie outside the
+    /// triangle, would otherwise load cache lines nobody uses). Kept lanes are the same
+    /// as `sample8`'s.
+    #[inline]
+    pub fn sample8_lanes(&self, s: &Sampler, u: F8, v: F8, lod: f32, keep: M8) -> [F8; 4] {
+        match s.filter {
+            Filter::Nearest => self.nearest8(s, u, v, keep),
+            Filter::Bilinear => self.bilinear8(s, 0, u, v, keep),
+            Filter::Trilinear => {
+                let (l0, t) = self.mip_levels(lod);
+                let a = self.bilinear8(s, l0, u, v, keep);
+                if t <= 0.0 {
+                    return a;
+                }
+                let b = self.bilinear8(s, l0 + 1, u, v, keep);
+                let t = F8::splat(t);
+                std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
+            }
+        }
+    }
+
+    fn nearest8(&self, s: &Sampler, u: F8, v: F8, keep: M8) -> [F8; 4] {
+        let l = &self.levels[0];
+        let x = wrap8(
+            finite_or_zero(u * F8::splat(l.width as f32)).floor(),
+            l.width,
+            s.wrap_u,
+        );
+        let y = wrap8(
+            finite_or_zero(v * F8::splat(l.height as f32)).floor(),
+            l.height,
+            s.wrap_v,
+        );
+        let idx = y.mul_lo(I8::splat(l.width as i32)) + x;
+        let one = F8::splat(1.0);
+        self.taps(
+            0,
+            [idx; 4],
+            [one, F8::splat(0.0), F8::splat(0.0), F8::splat(0.0)],
+            keep,
+        )
+    }
+
+    #[inline]
+    fn bilinear8(&self, s: &Sampler, level: usize, u: F8, v: F8, keep: M8) -> [F8; 4] {
+        let level = level.min(self.levels.len() - 1);
+        let l = &self.levels[level];
+        let half = F8::splat(0.5);
+        let fx = finite_or_zero(u * F8::splat(l.width as f32) - half);
+        let fy = finite_or_zero(v * F8::splat(l.height as f32) - half);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let one = F8::splat(1.0);
+        let xa = wrap8(x0, l.width, s.wrap_u);
+        let xb = wrap8(x0 + one, l.width, s.wrap_u);
+        let w = I8::splat(l.width as i32);
+        let ya = wrap8(y0, l.height, s.wrap_v).mul_lo(w);
+        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul_lo(w);
+        let (sx, sy) = (one - tx, one - ty);
+        self.taps(
+            level,
+            [ya + xa, ya + xb, yb + xa, yb + xb],
+            [sx * sy, tx * sy, sx * ty, tx * ty],
+            keep,
+        )
+    }
+
+    /// The weighted sum of four taps of `level` at row-major indices `idx`, for the lanes
+    /// of `keep` (zeros elsewhere).
+    #[inline(always)]
+    fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
+        let lin = &self.linear[level];
+        let low = I8::splat(0xffff);
+        let scale = F8::splat(1.0 / 65535.0);
+        let mut acc = [F8::splat(0.0); 4];
+        for k in 0..4 {
+            let (rg, ba) = I8::gather_pairs_lanes(&lin.rgba, idx[k], keep);
+            let wk = w[k] * scale;
+            acc[0] = rg.and(low).to_f32().mul_add(wk, acc[0]);
+            acc[1] = rg.shr::<16>().to_f32().mul_add(wk, acc[1]);
+            acc[2] = ba.and(low).to_f32().mul_add(wk, acc[2]);
+            acc[3] = ba.shr::<16>().to_f32().mul_add(wk, acc[3]);
+        }
+        acc
+    }
+}
+
+/// NaN and huge coordinates (beyond any texture) become 0, as in the scalar `texel_floor`.
+#[inline(always)]
+fn finite_or_zero(x: F8) -> F8 {
+    x.within(1e9).select(x, F8::splat(0.0))
+}
+
+/// The scalar `wrap` for 8 integer-valued lanes; the result is clamped into `0..size` whatever
+/// rounding did to huge inputs.
+#[inline(always)]
+fn wrap8(i: F8, size: u32, mode: Wrap) -> I8 {
+    if mode == Wrap::Repeat && size.is_power_of_two() {
+        // The lanes are whole numbers within 1e9 (`finite_or_zero`, then `floor`), so they
+        // convert to `i32` exactly, and a two's-complement mask is the floor modulo: the
+        // same texel as the float path below, without its division.
+        return i.to_i32().and(I8::splat(size as i32 - 1));
+    }
+    let n = size as f32;
+    // x - m floor(x / m), then one correction step for the rounding of x / m.
+    let modulo = |x: F8, m: f32| {
+        let (zero, m) = (F8::splat(0.0), F8::splat(m));
+        let r = x - (x / m).floor() * m;
+        let r = r.ge(m).select(r - m, r);
+        zero.gt(r).select(r + m, r)
+    };
+    let r = match mode {
+        Wrap::Repeat => modulo(i, n),
+        Wrap::Clamp => i,
+        Wrap::Mirror => {
+            let m = modulo(i, 2.0 * n);
+            m.ge(F8::splat(n)).select(F8::splat(2.0 * n - 1.0) - m, m)
+        }
+    };
+    r.to_i32().max(I8::splat(0)).min(I8::splat(size as i32 - 1))
+}

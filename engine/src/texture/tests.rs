@@ -1,0 +1,214 @@
+//! Sampling against hand-worked values and the 8-lane sampler against the scalar one.
+
+use super::*;
+use crate::simd::F8;
+
+fn two_by_two() -> Texture {
+    // red, green / blue, white (sRGB bytes)
+    let px = [
+        255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255,
+    ];
+    Texture::from_rgba8(2, 2, &px, Encoding::Srgb).unwrap()
+}
+
+#[test]
+fn wrap_modes() {
+    assert_eq!(wrap(-1, 4, Wrap::Repeat), 3);
+    assert_eq!(wrap(5, 4, Wrap::Repeat), 1);
+    assert_eq!(wrap(-1, 4, Wrap::Clamp), 0);
+    assert_eq!(wrap(9, 4, Wrap::Clamp), 3);
+    assert_eq!(wrap(4, 4, Wrap::Mirror), 3);
+    assert_eq!(wrap(-1, 4, Wrap::Mirror), 0);
+    assert_eq!(wrap(7, 4, Wrap::Mirror), 0);
+}
+
+#[test]
+fn bilinear_at_texel_centres_returns_texels() {
+    let t = two_by_two();
+    let s = Sampler {
+        filter: Filter::Bilinear,
+        ..Default::default()
+    };
+    let c = t.sample(&s, 0.25, 0.25, 0.0);
+    assert!((c.r - 1.0).abs() < 1e-6 && c.g.abs() < 1e-6);
+    let c = t.sample(&s, 0.75, 0.75, 0.0);
+    assert!((c.g - 1.0).abs() < 1e-6 && (c.b - 1.0).abs() < 1e-6);
+    // halfway between red and green: the linear average
+    let c = t.sample(&s, 0.5, 0.25, 0.0);
+    assert!((c.r - 0.5).abs() < 1e-6 && (c.g - 0.5).abs() < 1e-6);
+}
+
+#[test]
+fn mip_chain_averages_in_linear() {
+    let t = two_by_two();
+    assert_eq!(t.levels().len(), 2);
+    let c = t.texel(1, 0, 0);
+    // (1 + 0 + 0 + 1) / 4 = 0.5 linear red, re-encoded to a byte and decoded back
+    assert!((c.r - 0.5).abs() < 0.01, "{c:?}");
+    let s = Sampler::default();
+    let far = t.sample(&s, 0.3, 0.3, 5.0);
+    assert!((far.r - c.r).abs() < 1e-6);
+}
+
+#[test]
+fn transparent_texels_do_not_bleed() {
+    let px = [255, 0, 0, 255, 0, 255, 0, 0];
+    let t = Texture::from_rgba8(2, 1, &px, Encoding::Srgb).unwrap();
+    let s = Sampler {
+        filter: Filter::Bilinear,
+        wrap_u: Wrap::Clamp,
+        ..Default::default()
+    };
+    let c = t.sample(&s, 0.5, 0.5, 0.0);
+    assert!(c.g.abs() < 1e-6 && (c.a - 0.5).abs() < 1e-6 && (c.r - 0.5).abs() < 1e-6);
+}
+
+/// The 8-lane sampler filters like the scalar one (to the 16-bit linear copy's
+/// precision) for every filter, wrap mode, encoding and alpha storage, odd coordinates
+/// included.
+#[test]
+fn eight_lanes_match_the_scalar_sampler() {
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let bytes: Vec<u8> = (0..13 * 7 * 4)
+        .map(|i| ((i * 97 + i / 5 * 31) % 256) as u8)
+        .collect();
+    let textures = [
+        Texture::from_rgba8(13, 7, &bytes, Encoding::Srgb).unwrap(),
+        Texture::from_rgba8(13, 7, &bytes, Encoding::Unorm).unwrap(),
+        Texture::checker(16, 4, Rgba::WHITE, Rgba::new(0.2, 0.5, 0.9, 0.4)),
+        Texture::from_packed(
+            4,
+            2,
+            bytes[..8]
+                .iter()
+                .map(|&b| u32::from(b) * 0x0101_0101)
+                .collect(),
+            Encoding::Srgb,
+            true,
+        )
+        .unwrap(),
+    ];
+    let odd = [
+        f32::NAN,
+        1e30,
+        -1e12,
+        f32::INFINITY,
+        -0.0,
+        1.0,
+        3.999_99,
+        -7.25,
+    ];
+    for t in &textures {
+        for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
+            for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror] {
+                let s = Sampler {
+                    filter,
+                    wrap_u: wrap,
+                    wrap_v: wrap,
+                };
+                for round in 0..40 {
+                    let lod = next() * 4.0 - 0.5;
+                    let (u, v): ([f32; 8], [f32; 8]) = if round == 0 {
+                        (odd, std::array::from_fn(|l| odd[7 - l]))
+                    } else {
+                        (
+                            std::array::from_fn(|_| next() * 6.0 - 3.0),
+                            std::array::from_fn(|_| next() * 6.0 - 3.0),
+                        )
+                    };
+                    let got = t.sample8(&s, F8::from_array(u), F8::from_array(v), lod);
+                    // Some lanes only: the kept ones unchanged, the others zero.
+                    let keep = (round as u32 * 37 + 11) & 0xff;
+                    let part = t.sample8_lanes(
+                        &s,
+                        F8::from_array(u),
+                        F8::from_array(v),
+                        lod,
+                        crate::simd::M8::from_bits(keep),
+                    );
+                    for l in 0..8 {
+                        for c in 0..4 {
+                            let want = if keep >> l & 1 != 0 {
+                                got[c].to_array()[l]
+                            } else {
+                                0.0
+                            };
+                            assert_eq!(part[c].to_array()[l].to_bits(), want.to_bits());
+                        }
+                    }
+                    for l in 0..8 {
+                        if !(u[l].abs() < 1e6 && v[l].abs() < 1e6) {
+                            // Either coordinate odd: any finite colour in range will do.
+                            assert!(got.iter().all(|c| (0.0..=1.0).contains(&c.to_array()[l])));
+                            continue;
+                        }
+                        let want = t.sample(&s, u[l], v[l], lod).to_array();
+                        for c in 0..4 {
+                            let g = got[c].to_array()[l];
+                            assert!(
+                                (g - want[c]).abs() < 2e-4,
+                                "{filter:?} {wrap:?} ({}, {}) lod {lod}: {g} vs {}",
+                                u[l],
+                                v[l],
+                                want[c]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn refilling_matches_a_new_texture_and_reuses_memory() {
+    let bytes: Vec<u32> = (0..12 * 5)
+        .map(|i| 0x80c0_4020u32.wrapping_mul(i + 1))
+        .collect();
+    let fresh = Texture::from_packed(12, 5, bytes.clone(), Encoding::Srgb, true).unwrap();
+    let mut t = Texture::checker(12, 3, Rgba::WHITE, Rgba::BLACK);
+    assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out
+        .copy_from_slice(&bytes)));
+    assert_eq!(t, fresh);
+    let ptrs: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
+    assert!(t.refill(12, 5, Encoding::Srgb, true, |out| out.fill(7)));
+    let again: Vec<*const u32> = t.levels.iter().map(|l| l.texels.as_ptr()).collect();
+    assert_eq!(ptrs, again, "same size: same memory");
+    assert!(!t.refill(0, 5, Encoding::Srgb, true, |_| {}));
+    assert_eq!(t.width(), 12, "a refused refill changes nothing");
+    // Shrinking drops levels; growing adds them.
+    assert!(t.refill(2, 2, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
+    assert_eq!(t.levels().len(), 2);
+    assert!(t.refill(16, 16, Encoding::Unorm, false, |out| out.fill(u32::MAX)));
+    assert_eq!(t.levels().len(), 5);
+    assert!(t.is_opaque(), "alpha 255 everywhere");
+    assert!(t.refill(16, 16, Encoding::Unorm, false, |out| {
+        out.fill(u32::MAX);
+        out[37] = 0x00ff_ffff;
+    }));
+    assert!(!t.is_opaque(), "one clear texel");
+}
+
+#[test]
+fn odd_coordinates_do_not_panic() {
+    let t = Texture::checker(8, 2, Rgba::WHITE, Rgba::BLACK);
+    for s in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
+        let smp = Sampler {
+            filter: s,
+            wrap_u: Wrap::Mirror,
+            wrap_v: Wrap::Clamp,
+        };
+        for (u, v) in [(f32::NAN, 0.0), (1e30, -1e30), (f32::INFINITY, 0.5)] {
+            let c = t.sample(&smp, u, v, f32::NAN);
+            assert!(c.r.is_finite());
+        }
+    }
+    assert!(Texture::from_rgba8(0, 4, &[], Encoding::Srgb).is_none());
+    assert!(Texture::from_rgba8(2, 2, &[0; 15], Encoding::Srgb).is_none());
+}
