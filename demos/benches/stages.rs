@@ -16,7 +16,7 @@
 //! - `full_frame`: the showcase's built-in scene at 1280x720.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use demos::bench::peer_camera;
+use demos::bench::raster::peer_camera;
 use demos::showcase::{self, Showcase};
 use engine::procedural::{self, XorShift};
 use engine::{

@@ -8,62 +8,62 @@
 //! - `billboards`: particle frame time against billboard count and resolution (build and
 //!   render timed apart), billboard-tree error against view elevation (PSNR, mean error),
 //!   and frame time of billboard trees against mesh trees as the forest grows
-//!   (`demos::bench_billboards`).
+//!   (`demos::bench::billboards`).
 //! - `impostors`: runtime impostors on the city: frame time, refreshes per frame and
 //!   measured error against the parallax tolerance on translation-only and rotation-only
 //!   paths; error-driven against fixed-interval refresh at equal refresh counts; predicted
 //!   against measured error; runtime against baked octahedral impostors against geometry
-//!   (`demos::bench_impostors`).
+//!   (`demos::bench::impostors`).
 //! - `scaling`: the city at 1k to 2M triangles and at 320x180 to 3840x2160, drawn as
 //!   geometry and through runtime impostors: frame time against triangles and against
-//!   pixels, with fitted lines (`demos::bench_scaling`).
+//!   pixels, with fitted lines (`demos::bench::scaling`).
 //! - `warp`: depth images of the city warped to moved eyes (sideways, orbiting) with one,
 //!   two and four references, points and splats: error and holes against the move, error
 //!   against time beside the geometry frame, and the warp's speed at 1920x1080
-//!   (`demos::bench_warp`).
+//!   (`demos::bench::warp`).
 //! - `portals`: the building's rooms through their doorways as geometry, a flat image, one
 //!   depth image or an LDI: frame time against the triangles behind the doorways and
-//!   against resolution, error and time along a walkthrough (`demos::bench_portals`).
+//!   against resolution, error and time along a walkthrough (`demos::bench::portals`).
 //! - `lightfield`: a torus as light slabs against its geometry: error against `uv`
 //!   density, `st` resolution and lookup (nearest to quadrilinear, depth correction), eyes
 //!   between and away from the capture cameras; codebook size and tile shape against
 //!   compression and error; frame time against resolution and the object's triangles
-//!   (`demos::bench_lightfield`).
+//!   (`demos::bench::lightfield`).
 //! - `stereo`: the block matcher and semi-global matching against OpenCV's `StereoSGBM`
 //!   (five and eight paths; `demos/benches/opencv_sgbm.py`, when Python has `cv2`) on
 //!   rendered pairs with exact ground truth (the plaza, cards, a slanted wall, thin bars,
 //!   little texture, a repeated pattern, an unrectified pair): the Middlebury measures
-//!   and time side by side (`demos::bench_stereo`).
+//!   and time side by side (`demos::bench::stereo`).
 //! - `morph`: view morphing between two views of the plaza (near and wide apart), with the
 //!   prewarp (correspondences from depth and from the stereo matcher) and the plain morph
 //!   without it: error against the geometry from each in-between camera, and time
-//!   (`demos::bench_morph`).
+//!   (`demos::bench::morph`).
 //! - `layers`: image layers against runtime impostors on the city, one threshold in pixels
 //!   for both: re-renders per frame, error against the geometry and frame time on the
-//!   translation and rotation paths (`demos::bench_layers`).
+//!   translation and rotation paths (`demos::bench::layers`).
 //! - `panorama`: the showcase's far scene as a cube-map sky, seen from eyes moved away
 //!   from its capture point: error against the geometry, the predicted parallax, time
-//!   (`demos::bench_panorama`).
+//!   (`demos::bench::panorama`).
 //! - `budget`: the planner (each object's representation chosen per frame under an error
 //!   budget) against geometry and runtime impostors used everywhere, on the city and a large
-//!   world: frame time and measured error over the budgets (`demos::bench_budget`);
+//!   world: frame time and measured error over the budgets (`demos::bench::budget`);
 //!   `--calibrate` times the planner's cost model's experiments and prints its fit.
 
 use clap::{Args, Parser, Subcommand};
-use demos::bench::{self, Plan};
-use demos::bench_billboards as bb;
-use demos::bench_budget as bbu;
-use demos::bench_impostors as bi;
-use demos::bench_layers as bly;
-use demos::bench_lightfield as bl;
-use demos::bench_morph as bm;
-use demos::bench_panorama as bpn;
-use demos::bench_portals as bp;
-use demos::bench_scaling as scaling;
-use demos::bench_stereo as bs;
-use demos::bench_warp as bw;
+use demos::bench::billboards as bb;
+use demos::bench::budget as bbu;
+use demos::bench::impostors as bi;
+use demos::bench::layers as bly;
+use demos::bench::lightfield as bl;
+use demos::bench::morph as bm;
+use demos::bench::panorama as bpn;
+use demos::bench::portals as bp;
+use demos::bench::raster::{self as bench, Plan};
+use demos::bench::scaling;
+use demos::bench::stereo as bs;
+use demos::bench::sweep::{self, CsvRow};
+use demos::bench::warp as bw;
 use demos::chart::{self, Chart, Drawn};
-use demos::sweep::{self, CsvRow};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

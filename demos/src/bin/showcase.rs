@@ -14,7 +14,7 @@
 //! `DIR/frame_0000.png ...` and prints frame-time, impostor and planner statistics and the
 //! last frame's counters.
 //!
-//! The tour then enters a building (`demos::showcase_building`): a hall whose three
+//! The tour then enters a building (`demos::showcase::building`): a hall whose three
 //! furnished rooms are seen through LDI portals as the camera walks along it and through
 //! the middle door, with the portals' readout (warped and geometry portals, samples, holes,
 //! pixels, rebuilds). Headless, its frames follow the outdoor ones (`building_0000.png`
@@ -22,7 +22,7 @@
 //! building. `--building` shows only the building; `--debug-portals` (or I in the
 //! building) tints warped pixels green.
 //!
-//! Last comes the views moment (`demos::showcase_views`): a layered background of image
+//! Last comes the views moment (`demos::showcase::views`): a layered background of image
 //! layers warped instead of re-rendered, a panorama sky re-captured as the
 //! eye walks away from it, and two views of the plaza morphed into each other, each with
 //! its error against the geometry; headless after the building (`views_0000.png` ...,
@@ -30,9 +30,9 @@
 
 use clap::Parser;
 use demos::font;
+use demos::showcase::building::BuildingTour;
+use demos::showcase::views::ViewsTour;
 use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
-use demos::showcase_building::BuildingTour;
-use demos::showcase_views::ViewsTour;
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
 use ibr::subject::Subject;
@@ -248,7 +248,7 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
     );
     if !args.no_save {
         let path = dir.join("impostor_error.png");
-        match demos::showcase_impostors::tour_chart(imp, &times, &path) {
+        match showcase::impostors::tour_chart(imp, &times, &path) {
             Ok(()) => println!(
                 "  chart of error, refreshes and frame time over the tour: {}",
                 path.display()
@@ -277,7 +277,7 @@ fn print_statue(show: &Showcase, n: usize) {
          vector-quantised ({} codewords) in {:.2} s",
         slabs.len(),
         s.capture.as_secs_f64(),
-        demos::showcase_lightfield::CODEWORDS,
+        showcase::lightfield::CODEWORDS,
         s.quantise.as_secs_f64()
     );
     println!(

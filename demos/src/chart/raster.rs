@@ -4,7 +4,7 @@
 use super::plot::{Axes, Body, Map, Mark, Polyline};
 use super::style::Style;
 use super::Chart;
-use crate::bench::Row;
+use crate::bench::raster::Row;
 
 /// A labelled point.
 #[derive(Clone, Debug)]

@@ -3,8 +3,8 @@
 
 use super::textures::{crate_texture, lattice_texture};
 use super::{lamp_position, Showcase};
-use crate::showcase_ibr::IbrLayer;
-use crate::showcase_impostors;
+use crate::showcase::ibr_layer::IbrLayer;
+use crate::showcase::impostors;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{AlphaMode, Instance, Light, Lighting, Material, Mesh, Rgba, Scene, Shading, Texture};
 use glam::{Mat4, Quat, Vec3};
@@ -239,7 +239,7 @@ pub(super) fn build() -> Showcase {
         let r = rng.range(21.0, 44.0);
         let (x, z) = (r * a.cos(), r * a.sin());
         let h = rng.range(3.5, 7.0);
-        if showcase_impostors::in_city(x, z, 2.0) {
+        if impostors::in_city(x, z, 2.0) {
             continue;
         }
         let y = terrain.height_at(x, z) - 0.1;
@@ -281,7 +281,7 @@ pub(super) fn build() -> Showcase {
         };
         let (x, z) = (r * a.cos(), r * a.sin());
         let size = rng.range(0.3, 1.2);
-        if showcase_impostors::in_city(x, z, 1.0) {
+        if impostors::in_city(x, z, 1.0) {
             continue;
         }
         let xf = Mat4::from_scale_rotation_translation(

@@ -16,8 +16,8 @@ mod charts;
 
 pub use charts::charts;
 
+use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::building::Building;
-use crate::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::metrics::{self, Options};

@@ -17,7 +17,7 @@ mod scenes;
 pub use charts::charts;
 pub use scenes::{repeated_pair, scenes, Scene};
 
-use crate::sweep::{self, CsvRow, Timing};
+use crate::bench::sweep::{self, CsvRow, Timing};
 use crate::timing::Summary;
 use engine::load;
 use ibr::images::transforms::srgb8;

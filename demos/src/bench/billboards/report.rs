@@ -1,7 +1,7 @@
 //! The sweep's charts.
 
 use super::{Row, Times};
-use crate::bench::count_name;
+use crate::bench::raster::count_name;
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
 

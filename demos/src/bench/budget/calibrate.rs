@@ -7,9 +7,9 @@
 //! median of several repeats; the per-unit times are a least-squares fit, the capture and
 //! sample costs what the fit leaves unexplained per capture and per sample.
 
-use crate::bench_impostors::frame_camera;
+use crate::bench::impostors::frame_camera;
+use crate::bench::sweep::CsvRow;
 use crate::city::{City, Path as CityPath};
-use crate::sweep::CsvRow;
 use engine::procedural;
 use engine::{Camera, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};

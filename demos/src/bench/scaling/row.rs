@@ -1,7 +1,7 @@
 //! The sweep's CSV rows: a measured point's [`Timing`] or a fitted line.
 
 use super::Fit;
-use crate::sweep::CsvRow;
+use crate::bench::sweep::CsvRow;
 use crate::timing::Summary;
 use engine::FrameStats;
 

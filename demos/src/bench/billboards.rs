@@ -42,7 +42,7 @@
 //! [`AxialFallback::top`]: ibr::AxialFallback::top
 //! [`ImageError::pooled`]: ibr::metrics::ImageError::pooled
 //! [`View`]: ibr::View
-//! [`Row::HEADER`]: crate::sweep::CsvRow::HEADER
+//! [`Row::HEADER`]: crate::bench::sweep::CsvRow::HEADER
 
 mod accuracy;
 mod particles;
@@ -56,8 +56,8 @@ pub use report::{charts, PSNR_CAP_DB};
 pub use row::{Row, Times};
 pub use trees::forest_camera;
 
-use crate::bench::count_name;
-use crate::sweep::{ticker, Timing};
+use crate::bench::raster::count_name;
+use crate::bench::sweep::{ticker, Timing};
 use accuracy::accuracy;
 use engine::{Lighting, Renderer, Target};
 use ibr::BillboardBatch;
@@ -65,7 +65,7 @@ use particles::measure;
 use std::time::Duration;
 use trees::trees;
 
-pub use crate::sweep::MIN_FRAMES;
+pub use crate::bench::sweep::MIN_FRAMES;
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]
@@ -216,7 +216,7 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sweep::CsvRow;
+    use crate::bench::sweep::CsvRow;
     use engine::FrameStats;
     use glam::Vec3;
     use ibr::metrics::ImageError;

@@ -4,7 +4,7 @@
 use super::row::{Errors, PredictedStats, Row};
 use super::scene::{fly, Policy};
 use super::Plan;
-use crate::bench_scaling::fit_line;
+use crate::bench::scaling::fit_line;
 use crate::chart::{Line, Lines};
 use crate::city::{City, Path as CityPath};
 

@@ -2,8 +2,8 @@
 //! moved away from where it was captured, against the geometry from there: measured error
 //! and the predicted parallax, where the method fails; and time against rendering it.
 
+use crate::bench::sweep::{self, CsvRow, Timing};
 use crate::showcase::{self, Showcase};
-use crate::sweep::{self, CsvRow, Timing};
 use crate::timing::Summary;
 use engine::Draw;
 use glam::Vec3;

@@ -89,8 +89,8 @@ pub use report::{charts, print_row, PSNR_CAP_DB};
 pub use row::{Errors, PredictedStats, Row};
 pub use scene::{frame_camera, measure_draws, path_name};
 
+use crate::bench::sweep::ticker;
 use crate::city::{City, Path as CityPath};
-use crate::sweep::ticker;
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]

@@ -5,7 +5,7 @@
 //! measured error and the planner's bound on it.
 
 use super::{fly_with, planner, scenes, Plan, REPRESENTATIONS};
-use crate::sweep::CsvRow;
+use crate::bench::sweep::CsvRow;
 use ibr::plan::Scope;
 
 /// One visible object in one frame.

@@ -3,8 +3,8 @@
 
 use super::scene::{path_name, RunOut};
 use super::Plan;
+use crate::bench::sweep::CsvRow;
 use crate::city::Path as CityPath;
-use crate::sweep::CsvRow;
 use crate::timing::Summary;
 use ibr::impostor::Predicted;
 use ibr::metrics::ImageError;

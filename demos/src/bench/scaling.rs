@@ -50,7 +50,7 @@
 //! [`ImpostorSet::update`]: ibr::impostor::ImpostorSet::update
 //! [`ImpostorSet::draws`]: ibr::impostor::ImpostorSet::draws
 //! [`ImpostorSet`]: ibr::impostor::ImpostorSet
-//! [`Row::HEADER`]: crate::sweep::CsvRow::HEADER
+//! [`Row::HEADER`]: crate::bench::sweep::CsvRow::HEADER
 
 mod fit;
 mod frames;
@@ -63,8 +63,8 @@ pub use frames::{camera, geometry_frame, impostor_frame, pose, warm_up};
 pub use report::{approx, charts, impostor_change};
 pub use row::{Row, Timing};
 
+use crate::bench::sweep::ticker;
 use crate::city::{City, Path};
-use crate::sweep::ticker;
 use engine::Renderer;
 use ibr::impostor::Config;
 use measure::{measure, rows_of, Point, Samples};
@@ -243,7 +243,7 @@ fn series(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sweep::CsvRow;
+    use crate::bench::sweep::CsvRow;
     use engine::FrameStats;
 
     #[test]

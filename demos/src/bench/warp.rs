@@ -18,9 +18,9 @@ mod charts;
 
 pub use charts::charts;
 
+use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::city::City;
 use crate::showcase::{self, Showcase};
-use crate::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
 use glam::{Mat4, Quat, Vec3};

@@ -26,7 +26,7 @@ mod charts;
 
 pub use charts::charts;
 
-use crate::sweep::{ticker, CsvRow, Timing as Frames};
+use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::timing::Summary;
 use engine::{
     procedural, Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Target,

@@ -10,7 +10,7 @@
 //! this is the error a frame of images shows around each object, not the object's own.
 
 use super::{fly_with, planner_of, scenes, Plan, REPRESENTATIONS};
-use crate::sweep::{self, CsvRow};
+use crate::bench::sweep::{self, CsvRow};
 use ibr::metrics::{Rect, RectCover};
 
 /// Rectangle sides (pixels, the square root of its area) the bins start at.

@@ -1,6 +1,6 @@
 //! The sweep's CSV rows: a timing row's [`Times`] or an accuracy row's error.
 
-use crate::sweep::CsvRow;
+use crate::bench::sweep::CsvRow;
 use crate::timing::Summary;
 use engine::FrameStats;
 use ibr::metrics::ImageError;

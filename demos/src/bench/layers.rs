@@ -23,9 +23,9 @@
 //!
 //! `geometry` rows are the buildings drawn as geometry (error 0 by definition).
 
-use crate::bench_impostors::frame_camera;
+use crate::bench::impostors::frame_camera;
+use crate::bench::sweep::{self, CsvRow};
 use crate::city::{City, Path as CityPath};
-use crate::sweep::{self, CsvRow};
 use crate::timing::Summary;
 use engine::{Draw, FrameOptions, Renderer, Rgba, Target};
 use ibr::impostor::{self, Impostored, Tolerance};
@@ -133,7 +133,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for &(path, span) in &plan.paths {
-        let name = crate::bench_impostors::path_name(path);
+        let name = crate::bench::impostors::path_name(path);
         let fly = |method: Method, tolerance_px: f32| {
             let flight = Flight::new(&city, plan, path, span);
             let out = match method {

@@ -1,15 +1,15 @@
 //! The showcase's image-based layer: a forest of axial-billboard trees baked from the tree
 //! meshes, a laser exchange between two turrets with explosions where the bolts hit, a sun
 //! with a lens flare occluded by whatever is drawn in front of it, the impostored sky of
-//! clouds and the planned city district ([`crate::showcase_impostors`]), and a statue drawn
-//! from its light field ([`crate::showcase_lightfield`]).
+//! clouds and the planned city district ([`crate::showcase::impostors`]), and a statue drawn
+//! from its light field ([`crate::showcase::lightfield`]).
 //!
 //! Everything here is driven by absolute time, so a headless run is deterministic: bolts
 //! are fired on a fixed schedule and the effects are stepped by the time since the last
 //! pose.
 
-use crate::showcase_impostors::{self, Impostors};
-use crate::showcase_lightfield::Statue;
+use crate::showcase::impostors::{self, Impostors};
+use crate::showcase::lightfield::Statue;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     AlphaMode, Camera, Draw, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene,
@@ -285,7 +285,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
             let r = rng.range(27.0, 58.0);
             let (x, z) = (r * a.cos(), r * a.sin());
             let h = rng.range(3.5, 7.5);
-            if showcase_impostors::in_city(x, z, 2.0) {
+            if impostors::in_city(x, z, 2.0) {
                 continue;
             }
             let shade = rng.range(0.85, 1.1);

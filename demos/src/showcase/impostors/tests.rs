@@ -32,7 +32,7 @@ fn the_district_is_clear_of_trees_and_rocks_and_its_buildings_stand_on_the_groun
         );
     }
     let trees: Vec<Vec3> = show.ibr.tree_positions().collect();
-    assert_eq!(trees.len(), crate::showcase_ibr::FOREST_TREES);
+    assert_eq!(trees.len(), showcase::ibr_layer::FOREST_TREES);
     assert!(trees.iter().all(|p| !in_city(p.x, p.z, 1.0)));
     for b in &imp.city.objects {
         let part = &b.parts[0];

@@ -4,8 +4,8 @@
 //! without it, which is not shape preserving. Two views of the showcase's plaza, turned
 //! toward its centre from either side (not parallel), and a wider pair.
 
+use crate::bench::sweep::{self, CsvRow, Timing};
 use crate::showcase::{self, Showcase};
-use crate::sweep::{self, CsvRow, Timing};
 use crate::timing::Summary;
 use engine::{Draw, Lighting};
 use glam::Vec3;

@@ -3,7 +3,7 @@
 
 use super::particles::measure;
 use super::{Plan, Row};
-use crate::bench::count_name;
+use crate::bench::raster::count_name;
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{AlphaMode, Camera, Draw, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};

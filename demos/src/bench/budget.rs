@@ -41,10 +41,10 @@ pub use objects::{objects, ObjectRow};
 pub use trace::{trace, TraceRow};
 pub use world::World;
 
-use crate::bench_impostors::frame_camera;
+use crate::bench::impostors::frame_camera;
+use crate::bench::sweep::{self, CsvRow};
 use crate::city::{City, Path as CityPath};
 use crate::showcase::{self, Showcase};
-use crate::sweep::{self, CsvRow};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use ibr::billboard::BillboardSet;
