@@ -1,9 +1,9 @@
 //! Shared code of the Parallax binaries: the showcase scene, its image-based layer, its
 //! moments and fly camera ([`showcase`]), frame-time statistics ([`timing`]), a tiny
-//! bitmap font for on-screen readouts ([`font`]), captures written for the `warp` command
-//! ([`capture`]), the scalable city of the impostor benchmarks ([`city`]), the building of
-//! the portal walkthrough ([`building`]), the benchmark sweeps behind the `bench` CLI
-//! ([`bench`]) and the charts they draw ([`chart`]). Binaries stay thin; what they do is
+//! bitmap font for on-screen readouts ([`font`]), datasets of views written for the
+//! `warp` command ([`dataset`]), the scalable city of the impostor benchmarks ([`city`]),
+//! the building of the portal walkthrough ([`building`]), the benchmark sweeps behind the
+//! `bench` CLI ([`bench`]) and the charts they draw ([`chart`]). Binaries stay thin; what they do is
 //! here, where tests reach it.
 //!
 //! The top-level modules form layers without a circle: [`bench`] and [`showcase`] use the
@@ -12,10 +12,10 @@
 
 pub mod bench;
 pub mod building;
-pub mod capture;
 pub mod chart;
 pub mod city;
 pub mod cli;
+pub mod dataset;
 pub mod font;
 pub mod showcase;
 pub mod timing;

@@ -4,16 +4,16 @@
 //! Six series in four groups, one CSV row per point ([`Row::HEADER`]):
 //! - `count`: screen-facing, alpha-blended glow particles ([`sprites::glow`] 64 px, 0.15
 //!   world units wide) scattered in a box 10 to 30 units in front of the camera, at
-//!   [`Plan::count_size`], for each of [`Plan::counts`].
-//! - `resolution`: the same particles, [`Plan::resolution_count`] of them, at each of
-//!   [`Plan::resolutions`].
+//!   [`Settings::count_size`], for each of [`Settings::counts`].
+//! - `resolution`: the same particles, [`Settings::resolution_count`] of them, at each of
+//!   [`Settings::resolutions`].
 //! - `accuracy_fade` and `accuracy_top`: a pine and a broadleaf tree drawn as meshes (the
 //!   ground truth: lit, vertex-coloured) and as axial billboards showing sprites baked once
 //!   from the meshes ([`sprites::bake_upright`], seen from +Z, same lighting,
-//!   [`Plan::bake_px`] tall), each alone over a transparent background in a square image
-//!   of [`Plan::accuracy_size`], seen from 11 units away from the tree's mid-height point
+//!   [`Settings::bake_px`] tall), each alone over a transparent background in a square image
+//!   of [`Settings::accuracy_size`], seen from 11 units away from the tree's mid-height point
 //!   (the trees are 5 tall; 40 degree field of view) at each view elevation of
-//!   [`Plan::elevations`] (measured at that point) and each azimuth of [`Plan::azimuths`]
+//!   [`Settings::elevations`] (measured at that point) and each azimuth of [`Settings::azimuths`]
 //!   (0 = the baked side; the billboard turns to face every azimuth but keeps showing the
 //!   baked side, as in a game). The billboard fades by the elevation seen from its base
 //!   (its pivot), a few degrees more than the nominal one. Billboards are alpha-tested
@@ -22,9 +22,9 @@
 //!   `accuracy_top` adds the baked top-down sprite ([`AxialFallback::top`]). The error is
 //!   [`ibr::metrics`] over the union of both images' covered rectangles (grown by 2
 //!   pixels), pooled over trees and azimuths ([`ImageError::pooled`]).
-//! - `trees_mesh` and `trees_billboard`: a forest of [`Plan::tree_counts`] trees (pines and
+//! - `trees_mesh` and `trees_billboard`: a forest of [`Settings::tree_counts`] trees (pines and
 //!   broadleaves, 3 to 7 units tall, at random on a 200 x 200 square of a flat ground
-//!   plane) seen from one camera 12 units up at [`Plan::tree_size`]: as meshes (statically
+//!   plane) seen from one camera 12 units up at [`Settings::tree_size`]: as meshes (statically
 //!   batched: one merged mesh per kind, so the renderer sees three draws with the ground)
 //!   or as alpha-tested [`Facing::UPRIGHT`] billboards of sprites baked 128 px tall (one
 //!   batch per kind).
@@ -69,7 +69,7 @@ pub use crate::bench::sweep::MIN_FRAMES;
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     /// Particle counts of the `count` series, at `count_size`.
     pub counts: Vec<usize>,
     pub count_size: (u32, u32),
@@ -90,10 +90,10 @@ pub struct Plan {
     pub timing: Timing,
 }
 
-impl Plan {
+impl Settings {
     /// The full sweep.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             counts: vec![1_000, 10_000, 100_000, 1_000_000],
             count_size: (1280, 720),
             resolutions: vec![
@@ -116,20 +116,20 @@ impl Plan {
     }
 
     /// Every point of the full sweep with few frames: about a minute at most.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             timing: Timing {
                 warmup: 1,
                 frames: 5,
-                budget: Duration::from_millis(600),
+                time_limit: Duration::from_millis(600),
             },
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests): small counts and sizes, four elevations.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             counts: vec![100, 1_000],
             count_size: (320, 240),
             resolutions: vec![(160, 120), (320, 240)],
@@ -143,7 +143,7 @@ impl Plan {
             timing: Timing {
                 warmup: 0,
                 frames: 2,
-                budget: Duration::from_millis(100),
+                time_limit: Duration::from_millis(100),
             },
         }
     }
@@ -159,22 +159,30 @@ impl Plan {
 
 /// Runs the whole sweep; `progress` is called before each measurement with its 0-based
 /// index, the total, and what it is.
-pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
-    let mut rows = Vec::with_capacity(plan.steps());
-    let mut tick = ticker(plan.steps(), &mut progress);
+pub fn run(settings: &Settings, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
+    let mut rows = Vec::with_capacity(settings.steps());
+    let mut tick = ticker(settings.steps(), &mut progress);
     let mut renderer = Renderer::new();
     let threads = rayon::current_num_threads();
     let lighting = Lighting::default();
     // Times a batch of particles into `target`: the batch's triangles and the measurement.
     let mut particles_in = |target: &mut Target, batch: &mut [BillboardBatch; 1]| {
         let camera = particle_camera(target.width(), target.height());
-        let measured = measure(&mut renderer, target, &camera, &lighting, &[], batch, plan);
+        let measured = measure(
+            &mut renderer,
+            target,
+            &camera,
+            &lighting,
+            &[],
+            batch,
+            settings,
+        );
         (batch[0].mesh().triangle_count() as u64, measured)
     };
 
-    let size = plan.count_size;
+    let size = settings.count_size;
     let mut target = Target::new(size.0, size.1);
-    for &n in &plan.counts {
+    for &n in &settings.counts {
         tick(format!("count {}", count_name(n as u64)));
         let (triangles, measured) = particles_in(&mut target, &mut [particles(n, 1)]);
         let value = n as f64;
@@ -190,11 +198,11 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
     }
     drop(target);
 
-    let mut batch = [particles(plan.resolution_count, 1)];
-    for &(w, h) in &plan.resolutions {
+    let mut batch = [particles(settings.resolution_count, 1)];
+    for &(w, h) in &settings.resolutions {
         tick(format!("resolution {w}x{h}"));
         let (triangles, measured) = particles_in(&mut Target::new(w, h), &mut batch);
-        let n = plan.resolution_count as u64;
+        let n = settings.resolution_count as u64;
         let value = w as f64 * h as f64;
         rows.push(Row::timed(
             "resolution",
@@ -208,8 +216,8 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
     }
     drop(batch);
 
-    accuracy(plan, &mut renderer, threads, &mut tick, &mut rows);
-    trees(plan, &mut renderer, &mut tick, &mut rows);
+    accuracy(settings, &mut renderer, threads, &mut tick, &mut rows);
+    trees(settings, &mut renderer, &mut tick, &mut rows);
     rows
 }
 

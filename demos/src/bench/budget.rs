@@ -1,4 +1,4 @@
-//! The `bench budget` sweep: the planner ([`ibr::plan`]) against each single representation
+//! The `bench budget` sweep: the planner ([`ibr::settings`]) against each single representation
 //! used everywhere, on the same frames of three scenes: the showcase's city district
 //! along the showcase's own path (its buildings planned, the rest of its scene as
 //! geometry), the procedural [`City`] of the impostor benchmarks (16 buildings, sliding
@@ -16,8 +16,8 @@
 //! `planner-frame` (the same, with the budget on the frame's error with a margin for its
 //! spread, [`Scope::Frame`]). All but layers are swept over the same error budgets in
 //! levels, layers over as many thresholds, all with the same rebuild budget per frame (a
-//! sixteenth of the objects, at least [`Plan::rebuilds`]). Each run first holds still for
-//! [`Plan::warmup`] frames at its first view (images are taken as a game loading a level
+//! sixteenth of the objects, at least [`Settings::rebuilds`]). Each run first holds still for
+//! [`Settings::warmup`] frames at its first view (images are taken as a game loading a level
 //! would); then every frame is timed (the frame loop's `prepare`, rebuilds included, and the
 //! render) and measured against a render of all the geometry from the same eye:
 //! - per visible object, the mean absolute 8-bit error over its screen rectangle (the unit
@@ -63,7 +63,7 @@ use std::time::Duration;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct Settings {
     pub size: (u32, u32),
     /// Error budgets, levels.
     pub budgets: Vec<f32>,
@@ -92,10 +92,10 @@ pub struct Plan {
     pub spread: Option<f32>,
 }
 
-impl Plan {
+impl Settings {
     /// 640 x 360; the city (16 buildings of 12,000 triangles) and a 150 x 150 world.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             size: (640, 360),
             budgets: vec![1.0, 2.0, 4.0, 8.0, 16.0],
             frame_budgets: vec![32.0, 64.0, 128.0, 256.0],
@@ -113,16 +113,16 @@ impl Plan {
     }
 
     /// Every point, fewer frames.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             frames: 8,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests).
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             size: (160, 96),
             budgets: vec![4.0],
             frame_budgets: vec![16.0],
@@ -216,7 +216,7 @@ impl CsvRow for Row {
 /// Frame `f` of `n`'s camera for a target of the given size.
 type Frames = Box<dyn Fn(usize, usize, (u32, u32)) -> Camera>;
 
-/// A scene to plan over: its objects, the rest as plain geometry, the light and the frames.
+/// A scene to settings over: its objects, the rest as plain geometry, the light and the frames.
 struct Scene {
     name: &'static str,
     objects: Vec<MeshGroup>,
@@ -225,10 +225,10 @@ struct Scene {
     camera: Frames,
 }
 
-fn scenes(plan: &Plan) -> Vec<Scene> {
-    let city = City::new(plan.city.0, plan.city.1, 7);
+fn scenes(settings: &Settings) -> Vec<Scene> {
+    let city = City::new(settings.city.0, settings.city.1, 7);
     let mut out = Vec::new();
-    if plan.showcase {
+    if settings.showcase {
         out.push(showcase_scene());
     }
     out.push(Scene {
@@ -240,8 +240,8 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
             frame_camera(&city, CityPath::Translate, 0.25, f, n, size)
         }),
     });
-    if plan.world > 0 {
-        let world = World::new(plan.world, 11);
+    if settings.world > 0 {
+        let world = World::new(settings.world, 11);
         let (objects, ground, lighting) = (
             world.objects.clone(),
             world.ground.clone(),
@@ -257,7 +257,7 @@ fn scenes(plan: &Plan) -> Vec<Scene> {
             }),
         });
     }
-    out.retain(|s| plan.only.as_deref().is_none_or(|o| o == s.name));
+    out.retain(|s| settings.only.as_deref().is_none_or(|o| o == s.name));
     out
 }
 
@@ -292,9 +292,9 @@ fn showcase_scene() -> Scene {
 }
 
 /// Runs the sweep.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let scenes = scenes(plan);
-    let wanted = |m: &str| plan.methods.is_empty() || plan.methods.iter().any(|w| w == m);
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let scenes = scenes(settings);
+    let wanted = |m: &str| settings.methods.is_empty() || settings.methods.iter().any(|w| w == m);
     let alone = REPRESENTATIONS[ALONE..]
         .iter()
         .filter(|&&m| wanted(m))
@@ -303,62 +303,79 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     let per_budget = each("impostors") + each("planner") + each("planner-frame") + alone;
     let runs = scenes.len()
         * (each("geometry")
-            + per_budget * plan.budgets.len()
-            + each("planner-frame") * plan.frame_budgets.len()
-            + each("layers") * plan.layer_px.len());
+            + per_budget * settings.budgets.len()
+            + each("planner-frame") * settings.frame_budgets.len()
+            + each("layers") * settings.layer_px.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
     for scene in &scenes {
         if wanted("geometry") {
             tick(format!("{} geometry", scene.name));
-            let mut geometry = planner(scene, plan, 0.0, false);
-            rows.push(fly(scene, plan, 0.0, &mut geometry).row(scene, "geometry", 0.0, plan));
+            let mut geometry = planner(scene, settings, 0.0, false);
+            rows.push(
+                fly(scene, settings, 0.0, &mut geometry).row(scene, "geometry", 0.0, settings),
+            );
         }
-        for &b in &plan.budgets {
+        for &b in &settings.budgets {
             if wanted("impostors") {
                 tick(format!("{} impostors {b}", scene.name));
-                let flown = fly(scene, plan, b, &mut impostored(scene, plan, b));
-                rows.push(flown.row(scene, "impostors", b, plan));
+                let flown = fly(scene, settings, b, &mut impostored(scene, settings, b));
+                rows.push(flown.row(scene, "impostors", b, settings));
             }
             if wanted("planner") {
                 tick(format!("{} planner {b}", scene.name));
-                let flown = fly(scene, plan, b, &mut planner(scene, plan, b, true));
-                rows.push(flown.row(scene, "planner", b, plan));
+                let flown = fly(scene, settings, b, &mut planner(scene, settings, b, true));
+                rows.push(flown.row(scene, "planner", b, settings));
             }
             if wanted("planner-frame") {
-                rows.push(frame_scope(scene, plan, b, &mut tick));
+                rows.push(frame_scope(scene, settings, b, &mut tick));
             }
             for (k, &name) in REPRESENTATIONS.iter().enumerate().skip(ALONE) {
                 if !wanted(name) {
                     continue;
                 }
                 tick(format!("{} {name} {b}", scene.name));
-                let flown = fly(scene, plan, b, &mut planner_of(scene, plan, b, &[k]));
-                rows.push(flown.row(scene, name, b, plan));
+                let flown = fly(
+                    scene,
+                    settings,
+                    b,
+                    &mut planner_of(scene, settings, b, &[k]),
+                );
+                rows.push(flown.row(scene, name, b, settings));
             }
         }
-        for &b in plan
+        for &b in settings
             .frame_budgets
             .iter()
             .filter(|_| wanted("planner-frame"))
         {
-            rows.push(frame_scope(scene, plan, b, &mut tick));
+            rows.push(frame_scope(scene, settings, b, &mut tick));
         }
-        for &px in plan.layer_px.iter().filter(|_| wanted("layers")) {
+        for &px in settings.layer_px.iter().filter(|_| wanted("layers")) {
             tick(format!("{} layers {px} px", scene.name));
-            let flown = fly(scene, plan, f32::INFINITY, &mut layered(scene, plan, px));
-            rows.push(flown.row(scene, "layers", px, plan));
+            let flown = fly(
+                scene,
+                settings,
+                f32::INFINITY,
+                &mut layered(scene, settings, px),
+            );
+            rows.push(flown.row(scene, "layers", px, settings));
         }
     }
     rows
 }
 
 /// The frame-scope planner's run at `budget`.
-fn frame_scope(scene: &Scene, plan: &Plan, budget: f32, tick: &mut dyn FnMut(String)) -> Row {
+fn frame_scope(
+    scene: &Scene,
+    settings: &Settings,
+    budget: f32,
+    tick: &mut dyn FnMut(String),
+) -> Row {
     tick(format!("{} planner-frame {budget}", scene.name));
-    let mut whole = planner(scene, plan, budget, true);
+    let mut whole = planner(scene, settings, budget, true);
     whole.config.budgets.scope = Scope::Frame;
-    fly(scene, plan, budget, &mut whole).row(scene, "planner-frame", budget, plan)
+    fly(scene, settings, budget, &mut whole).row(scene, "planner-frame", budget, settings)
 }
 
 /// The planners' representations, in their order: geometry, runtime impostors, image
@@ -397,20 +414,25 @@ pub const REBUILD_MS: f32 = 40.0;
 pub const MEMORY: usize = 256 << 20;
 
 /// Rebuilds per frame for `scene`.
-fn rebuilds(scene: &Scene, plan: &Plan) -> usize {
-    plan.rebuilds.max(scene.objects.len() / 16)
+fn rebuilds(scene: &Scene, settings: &Settings) -> usize {
+    settings.rebuilds.max(scene.objects.len() / 16)
 }
 
 /// The planner over the scene's objects: geometry, and every other representation of
 /// [`REPRESENTATIONS`] when `images`.
-fn planner(scene: &Scene, plan: &Plan, budget: f32, images: bool) -> Planner<MeshGroup> {
+fn planner(scene: &Scene, settings: &Settings, budget: f32, images: bool) -> Planner<MeshGroup> {
     let all: Vec<usize> = (1..REPRESENTATIONS.len()).collect();
-    planner_of(scene, plan, budget, if images { &all } else { &[] })
+    planner_of(scene, settings, budget, if images { &all } else { &[] })
 }
 
 /// The planner over the scene's objects choosing among geometry and the representations
 /// `which` (indices into [`REPRESENTATIONS`], in order).
-fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Planner<MeshGroup> {
+fn planner_of(
+    scene: &Scene,
+    settings: &Settings,
+    budget: f32,
+    which: &[usize],
+) -> Planner<MeshGroup> {
     let n = scene.objects.len();
     let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
     for &k in which {
@@ -419,8 +441,8 @@ fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Plann
             ..warp::plan::Config::default()
         };
         reps.push(match k {
-            1 => Box::new(ImpostorSet::new(image_config(scene, plan, budget), n)),
-            2 => Box::new(LayerSet::new(layer_config(scene, plan, 1.0), n)),
+            1 => Box::new(ImpostorSet::new(image_config(scene, settings, budget), n)),
+            2 => Box::new(LayerSet::new(layer_config(scene, settings, 1.0), n)),
             3 => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
             4 => Box::new(DepthImageSet::new(depth(1), n)),
             5 => Box::new(DepthImageSet::new(depth(LDI_LAYERS), n)),
@@ -431,25 +453,25 @@ fn planner_of(scene: &Scene, plan: &Plan, budget: f32, which: &[usize]) -> Plann
     let config = plan::Config {
         budgets: Budgets {
             error: budget,
-            rebuilds: rebuilds(scene, plan),
+            rebuilds: rebuilds(scene, settings),
             rebuild_ms: Some(REBUILD_MS),
             memory: Some(MEMORY),
             ..Budgets::default()
         },
-        spread: plan.spread.unwrap_or(plan::SPREAD),
+        spread: settings.spread.unwrap_or(plan::SPREAD),
         ..plan::Config::default()
     };
     Planner::new(config, scene.objects.clone(), reps)
 }
 
 /// Impostor settings shared by both impostor methods: enough textures for every object.
-fn image_config(scene: &Scene, plan: &Plan, levels: f32) -> impostor::Config {
+fn image_config(scene: &Scene, settings: &Settings, levels: f32) -> impostor::Config {
     impostor::Config {
         tolerance: Tolerance {
             levels: Some(levels),
             ..Tolerance::default()
         },
-        budget: Budget::count(rebuilds(scene, plan)),
+        budget: Budget::count(rebuilds(scene, settings)),
         pool_slots: 1 << 16,
         prewarm: 0.0,
         ..impostor::Config::default()
@@ -457,27 +479,27 @@ fn image_config(scene: &Scene, plan: &Plan, levels: f32) -> impostor::Config {
 }
 
 /// Layer settings: re-rendered past `px` of geometric error.
-fn layer_config(scene: &Scene, plan: &Plan, px: f32) -> layers::Config {
+fn layer_config(scene: &Scene, settings: &Settings, px: f32) -> layers::Config {
     layers::Config {
         tolerance_px: px,
-        budget: Budget::count(rebuilds(scene, plan)),
+        budget: Budget::count(rebuilds(scene, settings)),
         ..layers::Config::default()
     }
 }
 
 /// Runtime impostors everywhere, refreshed past `levels` of predicted staleness.
-fn impostored(scene: &Scene, plan: &Plan, levels: f32) -> Impostored<MeshGroup> {
-    let cfg = image_config(scene, plan, levels);
+fn impostored(scene: &Scene, settings: &Settings, levels: f32) -> Impostored<MeshGroup> {
+    let cfg = image_config(scene, settings, levels);
     let mut imp = Impostored::new("impostors", cfg, scene.objects.clone());
     imp.near = true;
     imp
 }
 
 /// Image layers everywhere, re-rendered past `px` of geometric error.
-fn layered(scene: &Scene, plan: &Plan, px: f32) -> Layered<MeshGroup> {
+fn layered(scene: &Scene, settings: &Settings, px: f32) -> Layered<MeshGroup> {
     Layered::new(
         "layers",
-        layer_config(scene, plan, px),
+        layer_config(scene, settings, px),
         scene.objects.clone(),
     )
 }
@@ -597,20 +619,20 @@ struct Flight {
     seen: Vec<ObjectError>,
 }
 
-fn fly<T: Probe>(scene: &Scene, plan: &Plan, budget: f32, t: &mut T) -> Flight {
-    fly_with(scene, plan, budget, t, &mut |_, _| {})
+fn fly<T: Probe>(scene: &Scene, settings: &Settings, budget: f32, t: &mut T) -> Flight {
+    fly_with(scene, settings, budget, t, &mut |_, _| {})
 }
 
 /// [`fly`], calling `each` after every measured frame with the technique and the visible
 /// objects' measured errors ([`Flight::seen`]).
 fn fly_with<T: Probe>(
     scene: &Scene,
-    plan: &Plan,
+    settings: &Settings,
     budget: f32,
     t: &mut T,
     each: &mut dyn FnMut(&T, &[ObjectError]),
 ) -> Flight {
-    let (w, h) = plan.size;
+    let (w, h) = settings.size;
     let opts = FrameOptions {
         clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
         ..FrameOptions::default()
@@ -620,10 +642,10 @@ fn fly_with<T: Probe>(
     let (mut renderer, mut frame_loop) = (Renderer::new(), FrameLoop::new());
     let (mut target, mut truth) = (Target::new(w, h), Target::new(w, h));
     let mut out = Flight::default();
-    let frames = plan.frames.max(1);
-    for f in 0..plan.warmup + frames {
-        let k = f.saturating_sub(plan.warmup);
-        let camera = (scene.camera)(k, frames, plan.size);
+    let frames = settings.frames.max(1);
+    for f in 0..settings.warmup + frames {
+        let k = f.saturating_sub(settings.warmup);
+        let camera = (scene.camera)(k, frames, settings.size);
         let view = FrameView::still(&camera, w, h, &scene.lighting);
         let techniques: &mut [&mut dyn Technique] = &mut [t];
         frame_loop.render(
@@ -634,7 +656,7 @@ fn fly_with<T: Probe>(
             &mut target,
             &opts,
         );
-        if f < plan.warmup {
+        if f < settings.warmup {
             continue;
         }
         out.times.push(frame_loop.times.total);
@@ -734,7 +756,7 @@ struct Scratch {
 }
 
 impl Flight {
-    fn row(self, scene: &Scene, method: &'static str, budget: f32, plan: &Plan) -> Row {
+    fn row(self, scene: &Scene, method: &'static str, budget: f32, settings: &Settings) -> Row {
         let n = self.frame_errors.len().max(1) as f64;
         let mut sorted = self.frame_errors.clone();
         sorted.sort_by(f64::total_cmp);
@@ -756,8 +778,8 @@ impl Flight {
             budget,
             objects: scene.objects.len(),
             triangles: scene.objects.iter().map(|o| o.triangle_count()).sum(),
-            width: plan.size.0,
-            height: plan.size.1,
+            width: settings.size.0,
+            height: settings.size.1,
             time: Summary::of(&self.times),
             measured_mean: self.frame_errors.iter().sum::<f64>() / n,
             measured_p99: p99,

@@ -3,10 +3,10 @@
 //!
 //! **Scene.** [`City::new`]`(grid, detail, seed)`: one impostor per building (the ground
 //! plate is always drawn as geometry), lit by the city's sun, seen through a 60 degree
-//! (vertical) perspective camera at [`Plan::size`]. A *run* flies [`Plan::frames`] frames
+//! (vertical) perspective camera at [`Settings::size`]. A *run* flies [`Settings::frames`] frames
 //! along the first part of a camera path ([`City::path`] with `t` from 0 to the path's span,
-//! [`Plan::span`]): frame 0 is the warm-up (every visible impostor takes its first image)
-//! and is left out of every figure. In the full plan (4 x 4 buildings, 6 units apart,
+//! [`Settings::span`]): frame 0 is the warm-up (every visible impostor takes its first image)
+//! and is left out of every figure. In the full settings (4 x 4 buildings, 6 units apart,
 //! 41 frames) the `translate` eye slides 3 units (0.075 per frame), the `rotate` eye turns
 //! 51.6 degrees in place (1.29 per frame) and the `orbit` eye circles 15 degrees of its
 //! 22.8-unit circle (0.15 units per frame).
@@ -38,7 +38,7 @@
 //!
 //! **Series** (one CSV row each, [`Row::HEADER`]):
 //! - `sweep`: error-driven refresh (the library's policy) at each tolerance of
-//!   [`Plan::tolerances`] (degrees of parallax; the resolution tolerance stays 1 octave) on
+//!   [`Settings::tolerances`] (degrees of parallax; the resolution tolerance stays 1 octave) on
 //!   the `translate` and `rotate` paths, with an unlimited refresh budget so every invalid
 //!   impostor is refreshed in the frame it becomes invalid: the error reflects the
 //!   tolerance alone. `new_captures` counts images taken for impostors that had none
@@ -94,7 +94,7 @@ use crate::city::{City, Path as CityPath};
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     /// Buildings per side of the city and face subdivision ([`City::new`]).
     pub grid: u32,
     pub detail: u32,
@@ -117,10 +117,10 @@ pub struct Plan {
     pub octahedral: Vec<(u32, u32)>,
 }
 
-impl Plan {
+impl Settings {
     /// The full sweep.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             grid: 4,
             detail: 10,
             seed: 7,
@@ -136,16 +136,16 @@ impl Plan {
     }
 
     /// Every point of the full sweep over fewer frames.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             frames: 21,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests): a 3 x 3 city at 256 x 144, three tolerances.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             grid: 3,
             detail: 2,
             seed: 7,
@@ -154,7 +154,7 @@ impl Plan {
             frames: 17,
             method_tolerances: vec![0.125],
             octahedral: vec![(8, 32)],
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
@@ -181,13 +181,13 @@ impl Plan {
 
 /// Runs the whole sweep; `progress` is called before each run with its 0-based index,
 /// the total, and what it is.
-pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
-    let mut tick = ticker(plan.steps(), &mut progress);
-    let mut city = City::new(plan.grid, plan.detail, plan.seed);
+pub fn run(settings: &Settings, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
+    let mut tick = ticker(settings.steps(), &mut progress);
+    let mut city = City::new(settings.grid, settings.detail, settings.seed);
     let mut rows = Vec::new();
-    tolerance::sweep(plan, &mut city, &mut tick, &mut rows);
-    tolerance::fixed(plan, &mut city, &mut tick, &mut rows);
-    calibration::run(plan, &mut city, &mut tick, &mut rows);
-    methods::methods(plan, &mut city, &mut tick, &mut rows);
+    tolerance::sweep(settings, &mut city, &mut tick, &mut rows);
+    tolerance::fixed(settings, &mut city, &mut tick, &mut rows);
+    calibration::run(settings, &mut city, &mut tick, &mut rows);
+    methods::methods(settings, &mut city, &mut tick, &mut rows);
     rows
 }

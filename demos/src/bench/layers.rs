@@ -38,7 +38,7 @@ use std::time::Duration;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct Settings {
     pub grid: u32,
     pub detail: u32,
     pub size: (u32, u32),
@@ -50,11 +50,11 @@ pub struct Plan {
     pub paths: Vec<(CityPath, f32)>,
 }
 
-impl Plan {
+impl Settings {
     /// The impostor benchmark's city and paths: 4 x 4 buildings, the eye sliding 3 units
     /// or turning 51.6 degrees over 41 frames at 640 x 360.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             grid: 4,
             detail: 10,
             size: (640, 360),
@@ -65,22 +65,22 @@ impl Plan {
     }
 
     /// Every point of the full sweep over fewer frames.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             frames: 21,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests).
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             grid: 2,
             detail: 2,
             size: (160, 96),
             tolerances: vec![0.5, 8.0],
             frames: 9,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 }
@@ -127,26 +127,26 @@ impl CsvRow for Row {
 }
 
 /// Runs the sweep.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let city = City::new(plan.grid, plan.detail, 7);
-    let runs = plan.paths.len() * (1 + 3 * plan.tolerances.len());
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let city = City::new(settings.grid, settings.detail, 7);
+    let runs = settings.paths.len() * (1 + 3 * settings.tolerances.len());
     let mut tick = sweep::ticker(runs, progress);
     let mut rows = Vec::new();
-    for &(path, span) in &plan.paths {
+    for &(path, span) in &settings.paths {
         let name = crate::bench::impostors::path_name(path);
         let fly = |method: Method, tolerance_px: f32| {
-            let flight = Flight::new(&city, plan, path, span);
+            let flight = Flight::new(&city, settings, path, span);
             let out = match method {
                 Method::Geometry => flight.fly(&mut NoImages(city.buildings.clone())),
                 Method::Layers => flight.fly(&mut layered(&city, tolerance_px, false)),
                 Method::Perspective => flight.fly(&mut layered(&city, tolerance_px, true)),
                 Method::Impostors => flight.fly(&mut impostored(&city, tolerance_px)),
             };
-            out.row(name, method, tolerance_px, plan)
+            out.row(name, method, tolerance_px, settings)
         };
         tick(format!("{name} geometry"));
         rows.extend(fly(Method::Geometry, 0.0));
-        for &t in &plan.tolerances {
+        for &t in &settings.tolerances {
             for method in [Method::Layers, Method::Perspective, Method::Impostors] {
                 tick(format!("{name} {} {t} px", method.name()));
                 rows.extend(fly(method, t));
@@ -234,13 +234,13 @@ struct Flight<'c> {
 }
 
 impl<'c> Flight<'c> {
-    fn new(city: &'c City, plan: &Plan, path: CityPath, span: f32) -> Self {
+    fn new(city: &'c City, settings: &Settings, path: CityPath, span: f32) -> Self {
         Flight {
             city,
             path,
             span,
-            frames: plan.frames.max(2),
-            size: plan.size,
+            frames: settings.frames.max(2),
+            size: settings.size,
             times: Vec::new(),
             errors: Vec::new(),
             refreshes: 0,
@@ -295,15 +295,15 @@ impl<'c> Flight<'c> {
         path: &'static str,
         method: Method,
         tolerance_px: f32,
-        plan: &Plan,
+        settings: &Settings,
     ) -> Option<Row> {
         let frames = self.times.len().max(1) as f64;
         Some(Row {
             path,
             method: method.name(),
             tolerance_px,
-            width: plan.size.0,
-            height: plan.size.1,
+            width: settings.size.0,
+            height: settings.size.1,
             refreshes_per_frame: self.refreshes as f64 / frames,
             capture_kpx_per_frame: self.capture_px as f64 / frames / 1e3,
             time: Summary::of(&self.times),

@@ -59,7 +59,7 @@ pub const EYES: [(&str, [f32; 3]); 6] = [
 
 /// What a run measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     pub size: (u32, u32),
     /// `uv` samples per side for the `density` series, and the `st` samples it uses.
     pub uv: Vec<u32>,
@@ -84,9 +84,9 @@ pub struct Plan {
     pub frames: Frames,
 }
 
-impl Plan {
-    pub fn full() -> Plan {
-        Plan {
+impl Settings {
+    pub fn full() -> Settings {
+        Settings {
             size: (1280, 720),
             uv: vec![4, 8, 16, 32],
             st: vec![64, 128, 256, 512],
@@ -110,27 +110,27 @@ impl Plan {
             frames: Frames {
                 warmup: 1,
                 frames: 8,
-                budget: Duration::from_millis(800),
+                time_limit: Duration::from_millis(800),
             },
         }
     }
 
     /// Every point, fewer frames and training tiles.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             training_tiles: 1 << 16,
             frames: Frames {
                 warmup: 1,
                 frames: 3,
-                budget: Duration::from_millis(200),
+                time_limit: Duration::from_millis(200),
             },
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// Seconds: small slabs and frames.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             size: (128, 72),
             uv: vec![2, 4],
             st: vec![16, 32],
@@ -148,7 +148,7 @@ impl Plan {
             frames: Frames {
                 warmup: 0,
                 frames: 2,
-                budget: Duration::ZERO,
+                time_limit: Duration::ZERO,
             },
         }
     }
@@ -362,7 +362,7 @@ fn frame(
 
 /// Measures frames; shared by every series.
 struct Bench<'p> {
-    plan: &'p Plan,
+    settings: &'p Settings,
     renderer: Renderer,
     frames: FrameLoop,
 }
@@ -414,7 +414,7 @@ impl Bench<'_> {
             None => ("geometry", None),
         };
         let mut target = Target::new(size.0, size.1);
-        let times = self.plan.frames.run(|| {
+        let times = self.settings.frames.run(|| {
             let t = Instant::now();
             frame(
                 draw,
@@ -481,7 +481,7 @@ impl Bench<'_> {
         (0..EYES.len())
             .map(|k| {
                 let m = Some(("quadrilinear-dc", &mut o));
-                self.point(series, object, m, k, self.plan.size, setting)
+                self.point(series, object, m, k, self.settings.size, setting)
             })
             .collect()
     }
@@ -502,7 +502,7 @@ impl Bench<'_> {
                 depth_correction,
             };
             for k in 0..EYES.len() {
-                let size = self.plan.size;
+                let size = self.settings.size;
                 rows.push(self.point(series, object, Some((name, &mut o)), k, size, setting));
             }
         }
@@ -559,34 +559,34 @@ fn file_size(lf: &LightField, name: &str) -> u64 {
     size
 }
 
-/// Runs the plan; `progress(step, total, what)` before each point.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let total = plan.uv.len()
-        + plan.st.len()
-        + plan.codewords.len()
-        + plan.tiles.len()
-        + plan.resolutions.len()
-        + plan.triangles.len()
-        + plan.photographs.len()
+/// Runs the settings; `progress(step, total, what)` before each point.
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let total = settings.uv.len()
+        + settings.st.len()
+        + settings.codewords.len()
+        + settings.tiles.len()
+        + settings.resolutions.len()
+        + settings.triangles.len()
+        + settings.photographs.len()
         + 3;
     let mut tick = ticker(total, progress);
     let mut bench = Bench {
-        plan,
+        settings,
         renderer: Renderer::new(),
         frames: FrameLoop::new(),
     };
     let mut rows = Vec::new();
-    let object = Object::torus(plan.object_triangles);
-    let (base_uv, base_st) = plan.base;
+    let object = Object::torus(settings.object_triangles);
+    let (base_uv, base_st) = settings.base;
     tick("geometry".into());
     for k in 0..EYES.len() {
         let setting = Setting {
-            triangles: plan.object_triangles,
+            triangles: settings.object_triangles,
             ..Setting::default()
         };
-        rows.push(bench.point("geometry", &object, None, k, plan.size, &setting));
+        rows.push(bench.point("geometry", &object, None, k, settings.size, &setting));
     }
-    for (series, values) in [("density", &plan.uv), ("st", &plan.st)] {
+    for (series, values) in [("density", &settings.uv), ("st", &settings.st)] {
         for &n in values {
             let (uv, st) = if series == "density" {
                 (n, base_st)
@@ -598,7 +598,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             let setting = Setting {
                 uv,
                 st,
-                triangles: plan.object_triangles,
+                triangles: settings.object_triangles,
                 raw_bytes: lf.bytes() as u64,
                 capture_s,
                 ..Setting::default()
@@ -611,29 +611,34 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     let raw = Setting {
         uv: base_uv,
         st: base_st,
-        triangles: plan.object_triangles,
+        triangles: settings.object_triangles,
         raw_bytes: lf.bytes() as u64,
         raw_file_bytes: file_size(&lf, "raw.plf"),
         capture_s,
         ..Setting::default()
     };
-    let quantised = plan
+    let quantised = settings
         .codewords
         .iter()
         .map(|&k| ("codebook", k, [2, 2, 2, 2]))
-        .chain(plan.tiles.iter().map(|&t| ("tile", plan.tile_codewords, t)));
+        .chain(
+            settings
+                .tiles
+                .iter()
+                .map(|&t| ("tile", settings.tile_codewords, t)),
+        );
     let dc = Lookup::default();
     for (series, codewords, dims) in quantised {
         let tile = TileShape::new(dims).expect("a valid tile");
         tick(format!("{series} {codewords} codewords, {tile} tiles"));
-        let settings = VqSettings {
+        let vq = VqSettings {
             tile,
             codewords,
-            training_tiles: plan.training_tiles,
+            training_tiles: settings.training_tiles,
             ..VqSettings::default()
         };
         let start = Instant::now();
-        let (q, report) = lf.quantise(&settings).expect("valid settings");
+        let (q, report) = lf.quantise(&vq).expect("valid settings");
         let setting = Setting {
             codewords: report.codewords,
             tile: tile.to_string(),
@@ -644,19 +649,19 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         rows.extend(bench.every_eye(series, &object, q, &setting));
     }
     // Sparse against dense capture of one slab.
-    let (uv, st) = plan.sparse_slab;
+    let (uv, st) = settings.sparse_slab;
     tick(format!("sparse: dense {uv}x{uv}x{st}x{st}"));
     let (dense, capture_s) = capture(&object, slab(uv, st));
     let mut setting = Setting {
         uv,
         st,
-        triangles: plan.object_triangles,
+        triangles: settings.object_triangles,
         raw_bytes: dense.bytes() as u64,
         capture_s,
         ..Setting::default()
     };
     rows.extend(bench.every_eye("sparse", &object, dense, &setting));
-    for &n in &plan.photographs {
+    for &n in &settings.photographs {
         tick(format!("sparse: {n} photographs"));
         let start = Instant::now();
         let cameras: Vec<Camera> = (0..n).map(|k| wander(k, n)).collect();
@@ -664,8 +669,8 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             &[object.draw()],
             &cameras,
             &object.lighting,
-            plan.photo_size,
-            plan.photo_size,
+            settings.photo_size,
+            settings.photo_size,
         );
         let r = ibr::lightfield::rebin(slab(uv, st), &images);
         setting.capture_s = start.elapsed().as_secs_f64();
@@ -675,7 +680,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     }
     let mut o = LightFieldObject::new("torus", lf);
     o.lookup = dc;
-    for &size in &plan.resolutions {
+    for &size in &settings.resolutions {
         tick(format!("resolution {}x{}", size.0, size.1));
         rows.push(bench.point(
             "resolution",
@@ -688,7 +693,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         rows.push(bench.point("resolution", &object, None, 0, size, &raw));
     }
     drop(o);
-    for &n in &plan.triangles {
+    for &n in &settings.triangles {
         tick(format!("triangles {n}"));
         let object = Object::torus(n);
         let (lf, capture_s) = capture(&object, slab(base_uv.min(16), base_st));
@@ -707,10 +712,10 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             &object,
             Some(("quadrilinear-dc", &mut o)),
             0,
-            plan.size,
+            settings.size,
             &setting,
         ));
-        rows.push(bench.point("triangles", &object, None, 0, plan.size, &setting));
+        rows.push(bench.point("triangles", &object, None, 0, settings.size, &setting));
     }
     rows
 }

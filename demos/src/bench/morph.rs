@@ -16,7 +16,7 @@ use std::time::Instant;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct Settings {
     pub width: u32,
     pub height: u32,
     /// Points along each path, ends included.
@@ -24,9 +24,9 @@ pub struct Plan {
     pub timing: Timing,
 }
 
-impl Plan {
-    pub fn tiny() -> Plan {
-        Plan {
+impl Settings {
+    pub fn tiny() -> Settings {
+        Settings {
             width: 128,
             height: 96,
             steps: 3,
@@ -34,8 +34,8 @@ impl Plan {
         }
     }
 
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             width: 320,
             height: 240,
             steps: 5,
@@ -43,8 +43,8 @@ impl Plan {
         }
     }
 
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             width: 640,
             height: 480,
             steps: 11,
@@ -108,13 +108,16 @@ const PATHS: [(&str, Vec3, Vec3); 2] = [
 const METHODS: [&str; 3] = ["morph-depth", "morph-stereo", "plain"];
 
 /// Runs the sweep.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<Vec<Row>, String> {
+pub fn run(
+    settings: &Settings,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Result<Vec<Row>, String> {
     let show = Showcase::new();
     let draws: Vec<Draw<'_>> = show.scene.draws().collect();
     let lighting: &Lighting = &show.scene.lighting;
-    let (w, h) = (plan.width, plan.height);
+    let (w, h) = (settings.width, settings.height);
     let target = Vec3::new(0.0, 1.0, 0.0);
-    let steps = plan.steps.max(2);
+    let steps = settings.steps.max(2);
     let mut tick = sweep::ticker(PATHS.len() * steps, progress);
     let mut rows = Vec::new();
     for (name, a, b) in PATHS {
@@ -133,7 +136,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<
             let truth = capture_batch(&draws, &[camera], lighting, w, h).remove(0);
             for method in METHODS {
                 let mut last = None;
-                let times = plan.timing.run(|| {
+                let times = settings.timing.run(|| {
                     let t = Instant::now();
                     last = Some(match method {
                         "morph-depth" => by_depth.frame(s).0,

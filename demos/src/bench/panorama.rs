@@ -14,7 +14,7 @@ use std::time::Instant;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct Settings {
     pub width: u32,
     pub height: u32,
     /// Cube faces' side.
@@ -24,9 +24,9 @@ pub struct Plan {
     pub timing: Timing,
 }
 
-impl Plan {
-    pub fn tiny() -> Plan {
-        Plan {
+impl Settings {
+    pub fn tiny() -> Settings {
+        Settings {
             width: 96,
             height: 64,
             face: 64,
@@ -35,8 +35,8 @@ impl Plan {
         }
     }
 
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             width: 320,
             height: 180,
             face: 256,
@@ -45,8 +45,8 @@ impl Plan {
         }
     }
 
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             width: 640,
             height: 360,
             face: 512,
@@ -92,29 +92,29 @@ impl CsvRow for Row {
 /// Runs the sweep: the plaza's scene captured from above its centre, everything beyond 10
 /// units kept (the far scene a sky would hold), viewed looking out over the plaza from eyes
 /// moved sideways.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let show = Showcase::new();
     let draws: Vec<Draw<'_>> = show.scene.draws().collect();
     let lighting = &show.scene.lighting;
     let centre = Vec3::new(0.0, 3.0, 0.0);
-    let (w, h) = (plan.width, plan.height);
-    let map = CubeMap::capture(&draws, lighting, centre, plan.face, 10.0, 400.0);
-    let mut tick = sweep::ticker(plan.moves.len(), progress);
+    let (w, h) = (settings.width, settings.height);
+    let map = CubeMap::capture(&draws, lighting, centre, settings.face, 10.0, 400.0);
+    let mut tick = sweep::ticker(settings.moves.len(), progress);
     let mut rows = Vec::new();
-    for &moved in &plan.moves {
+    for &moved in &settings.moves {
         tick(format!("moved {moved}"));
         let eye = centre + Vec3::new(moved, 0.0, 0.0);
         let camera = showcase::camera(eye, eye + Vec3::new(0.3, -0.1, -1.0), w, h)
             .with_depth_range(10.0, 400.0);
         let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
         let mut view = None;
-        let panorama = plan.timing.run(|| {
+        let panorama = settings.timing.run(|| {
             let t = Instant::now();
             view = Some(map.view(&camera, w, h));
             t.elapsed()
         });
         let mut truth = None;
-        let geometry = plan.timing.run(|| {
+        let geometry = settings.timing.run(|| {
             let t = Instant::now();
             truth = Some(capture_batch(&draws, &[camera], lighting, w, h).remove(0));
             t.elapsed()

@@ -36,7 +36,7 @@ const METHODS: [(&str, Option<PortalImage>); 4] = [
 
 /// What a run measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     pub size: (u32, u32),
     /// Triangles of furniture per room, for the `triangles` series.
     pub triangles: Vec<u32>,
@@ -48,9 +48,9 @@ pub struct Plan {
     pub frames: Frames,
 }
 
-impl Plan {
-    pub fn full() -> Plan {
-        Plan {
+impl Settings {
+    pub fn full() -> Settings {
+        Settings {
             size: (1280, 720),
             triangles: vec![1_000, 10_000, 100_000, 400_000],
             walk_triangles: 100_000,
@@ -59,27 +59,27 @@ impl Plan {
             frames: Frames {
                 warmup: 1,
                 frames: 10,
-                budget: Duration::from_millis(1500),
+                time_limit: Duration::from_millis(1500),
             },
         }
     }
 
     /// Every point, fewer frames.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             walk_frames: 30,
             frames: Frames {
                 warmup: 1,
                 frames: 4,
-                budget: Duration::from_millis(300),
+                time_limit: Duration::from_millis(300),
             },
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// Seconds: small frames, two furniture sizes.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             size: (128, 72),
             triangles: vec![1_000, 5_000],
             walk_triangles: 2_000,
@@ -88,7 +88,7 @@ impl Plan {
             frames: Frames {
                 warmup: 0,
                 frames: 2,
-                budget: Duration::ZERO,
+                time_limit: Duration::ZERO,
             },
         }
     }
@@ -245,9 +245,10 @@ fn portals(building: &Building, image: PortalImage) -> Portals {
     )
 }
 
-/// Runs the plan; `progress(step, total, what)` before each point.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let total = (plan.triangles.len() + plan.resolutions.len()) * METHODS.len() + METHODS.len();
+/// Runs the settings; `progress(step, total, what)` before each point.
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let total =
+        (settings.triangles.len() + settings.resolutions.len()) * METHODS.len() + METHODS.len();
     let mut tick = ticker(total, progress);
     let mut renderer = Renderer::new();
     let mut frames = FrameLoop::new();
@@ -286,7 +287,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 }
                 stats = draw(&mut p, &mut target);
             }
-            let times = plan.frames.run(|| {
+            let times = settings.frames.run(|| {
                 let t = Instant::now();
                 stats = draw(&mut p, &mut target);
                 t.elapsed()
@@ -302,24 +303,24 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         }
         out
     };
-    for &n in &plan.triangles {
+    for &n in &settings.triangles {
         let building = Building::new(n, 11);
-        rows.extend(still("triangles", &building, plan.size));
+        rows.extend(still("triangles", &building, settings.size));
     }
-    let building = Building::new(plan.walk_triangles, 11);
-    for &size in &plan.resolutions {
+    let building = Building::new(settings.walk_triangles, 11);
+    for &size in &settings.resolutions {
         rows.extend(still("resolution", &building, size));
     }
     // The walk: frames in order, rebuilds included.
-    let (w, h) = plan.size;
+    let (w, h) = settings.size;
     let mut truth = Target::new(w, h);
     let mut target = Target::new(w, h);
     for (method, image) in METHODS {
         tick(format!("walk {method}"));
         let mut p = image.map(|i| portals(&building, i));
-        for k in 0..plan.walk_frames {
-            let t = k as f32 / (plan.walk_frames.max(2) - 1) as f32;
-            let cam = camera(t, plan.size);
+        for k in 0..settings.walk_frames {
+            let t = k as f32 / (settings.walk_frames.max(2) - 1) as f32;
+            let cam = camera(t, settings.size);
             let start = Instant::now();
             let stats = frame(
                 &building,

@@ -3,14 +3,14 @@
 //! A measurement renders one scene from one camera into one target size: `warmup` frames
 //! first (caches, scratch buffers), then up to `frames` timed frames of
 //! `Renderer::render_scene` alone (`std::time::Instant`), stopping early once the time
-//! budget is spent but never before [`MIN_FRAMES`]. Procedural scenes reproduce the peers'
+//! time limit is spent but never before [`MIN_FRAMES`]. Procedural scenes reproduce the peers'
 //! set-up (`shared/peers/make_scenes.py`: torus of major radius 0.95 and minor 0.38 tilted by
 //! (-55, 20) degrees, eye (0, 0, 3), 60 degree field of view) with a lit, vertex-coloured
 //! material; shared models are framed by their bounding sphere and keep their own
 //! materials.
 
 use crate::bench::sweep::{CsvRow, Timing};
-use crate::chart::{self, Chart};
+use crate::chart::{Chart, LineAndDots, Point};
 use crate::timing::Summary;
 use engine::procedural;
 use engine::{Camera, FrameOptions, FrameStats, Material, Renderer, Rgba, Scene, Target};
@@ -22,7 +22,7 @@ pub use crate::bench::sweep::MIN_FRAMES;
 
 /// How much a sweep measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     /// Target sizes of the resolution series (torus of `fixed_triangles`).
     pub resolutions: Vec<(u32, u32)>,
     pub fixed_triangles: u32,
@@ -35,10 +35,10 @@ pub struct Plan {
     pub timing: Timing,
 }
 
-impl Plan {
+impl Settings {
     /// The full sweep.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             resolutions: vec![
                 (320, 240),
                 (640, 480),
@@ -56,20 +56,20 @@ impl Plan {
     }
 
     /// Every point of the full sweep with few frames: about a minute at most.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             timing: Timing {
                 warmup: 1,
                 frames: 9,
-                budget: Duration::from_millis(1200),
+                time_limit: Duration::from_millis(1200),
             },
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests): two small sizes, two small meshes, no models.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             resolutions: vec![(160, 120), (320, 240)],
             fixed_triangles: 10_000,
             triangle_counts: vec![1_000, 10_000],
@@ -78,7 +78,7 @@ impl Plan {
             timing: Timing {
                 warmup: 0,
                 frames: 2,
-                budget: Duration::from_millis(200),
+                time_limit: Duration::from_millis(200),
             },
         }
     }
@@ -124,9 +124,67 @@ impl CsvRow for Row {
 /// The sweep's charts: file name and chart.
 pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     vec![
-        ("raster_resolution.png", chart::resolution_chart(rows)),
-        ("raster_triangles.png", chart::triangles_chart(rows)),
+        ("raster_resolution.png", resolution_chart(rows)),
+        ("raster_triangles.png", triangles_chart(rows)),
     ]
+}
+
+/// Median frame time against megapixels for the `resolution` rows.
+pub fn resolution_chart(rows: &[Row]) -> Chart {
+    let line: Vec<Point> = rows
+        .iter()
+        .filter(|r| r.series == "resolution")
+        .map(|r| Point {
+            x: r.width as f64 * r.height as f64 / 1e6,
+            y: r.time.median_ms,
+            label: format!("{}x{}", r.width, r.height),
+        })
+        .collect();
+    let mesh = rows
+        .iter()
+        .find(|r| r.series == "resolution")
+        .map_or(String::new(), |r| r.mesh.clone());
+    Chart::LineAndDots(LineAndDots {
+        title: format!("Frame time vs resolution ({mesh})"),
+        x_desc: "megapixels",
+        y_desc: "median frame time (ms)",
+        line_name: mesh,
+        line,
+        dots_name: "",
+        dots: Vec::new(),
+        log_x: false,
+        log_y: false,
+    })
+}
+
+/// Median frame time against triangle count: the torus series as a line, the shared
+/// models as labelled dots.
+pub fn triangles_chart(rows: &[Row]) -> Chart {
+    let points = |series: &str| -> Vec<Point> {
+        rows.iter()
+            .filter(|r| r.series == series)
+            .map(|r| Point {
+                x: r.triangles.max(1) as f64,
+                y: r.time.median_ms,
+                label: r.mesh.clone(),
+            })
+            .collect()
+    };
+    let size = rows
+        .iter()
+        .find(|r| r.series == "triangles")
+        .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height));
+    Chart::LineAndDots(LineAndDots {
+        title: format!("Frame time vs triangles{size}"),
+        x_desc: "triangles",
+        y_desc: "median frame time (ms)",
+        line_name: "procedural torus".into(),
+        line: points("triangles"),
+        dots_name: "shared models",
+        dots: points("model"),
+        log_x: true,
+        log_y: true,
+    })
 }
 
 /// Short names for triangle counts: 1k, 100k, 2M.
@@ -185,14 +243,14 @@ pub fn measure(
     scene: &Scene,
     camera: &Camera,
     (width, height): (u32, u32),
-    plan: &Plan,
+    settings: &Settings,
 ) -> (Summary, FrameStats) {
     let mut target = Target::new(width, height);
     let opts = FrameOptions {
         clear: Some(Rgba::new(0.1, 0.1, 0.12, 1.0)),
         ..Default::default()
     };
-    let frames = plan.timing.run(|| {
+    let frames = settings.timing.run(|| {
         let t0 = Instant::now();
         let stats = renderer.render_scene(scene, camera, &mut target, &opts);
         (t0.elapsed(), stats)
@@ -271,19 +329,19 @@ pub struct Step {
 /// The resolution and triangle-count series, then the given models; `progress` is called
 /// before each measurement with its 0-based index and the total.
 pub fn raster(
-    plan: &Plan,
+    settings: &Settings,
     models: &[(String, Scene)],
     mut progress: impl FnMut(usize, usize, &Step),
 ) -> Vec<Row> {
-    let total = plan.resolutions.len()
-        + plan.triangle_counts.len()
-        + if plan.models { models.len() } else { 0 };
+    let total = settings.resolutions.len()
+        + settings.triangle_counts.len()
+        + if settings.models { models.len() } else { 0 };
     let mut rows = Vec::with_capacity(total);
     let mut renderer = Renderer::new();
     let threads = rayon::current_num_threads();
     let mut run = |rows: &mut Vec<Row>, step: Step, scene: &Scene, camera: &Camera| {
         progress(rows.len(), total, &step);
-        let (time, stats) = measure(&mut renderer, scene, camera, step.size, plan);
+        let (time, stats) = measure(&mut renderer, scene, camera, step.size, settings);
         rows.push(Row {
             series: step.series.to_string(),
             mesh: step.mesh,
@@ -295,9 +353,9 @@ pub fn raster(
             stats,
         });
     };
-    let fixed = torus_scene(plan.fixed_triangles);
+    let fixed = torus_scene(settings.fixed_triangles);
     let fixed_name = format!("torus_{}", count_name(fixed.triangle_count() as u64));
-    for &(w, h) in &plan.resolutions {
+    for &(w, h) in &settings.resolutions {
         let step = Step {
             series: "resolution",
             mesh: fixed_name.clone(),
@@ -306,8 +364,8 @@ pub fn raster(
         run(&mut rows, step, &fixed, &peer_camera(w, h));
     }
     drop(fixed);
-    let (w, h) = plan.fixed_resolution;
-    for &n in &plan.triangle_counts {
+    let (w, h) = settings.fixed_resolution;
+    for &n in &settings.triangle_counts {
         let scene = torus_scene(n);
         let step = Step {
             series: "triangles",
@@ -316,7 +374,7 @@ pub fn raster(
         };
         run(&mut rows, step, &scene, &peer_camera(w, h));
     }
-    if plan.models {
+    if settings.models {
         for (name, scene) in models {
             let step = Step {
                 series: "model",
@@ -353,9 +411,9 @@ mod tests {
 
     #[test]
     fn tiny_sweep_measures_every_point_and_draws_the_torus() {
-        let plan = Plan::tiny();
+        let settings = Settings::tiny();
         let mut seen = 0;
-        let rows = raster(&plan, &[], |i, total, _| {
+        let rows = raster(&settings, &[], |i, total, _| {
             assert_eq!(i, seen);
             assert_eq!(total, 4);
             seen += 1;

@@ -1,20 +1,20 @@
 //! The `bench scaling` sweep: frame time follows pixels, not triangles, once impostors
 //! stand in for the geometry.
 //!
-//! The scene is the [`City`] of [`Plan::grid`] x [`Plan::grid`] buildings (one subject
+//! The scene is the [`City`] of [`Settings::grid`] x [`Settings::grid`] buildings (one subject
 //! each, on a ground plate), its faces split finer and finer so its triangle count grows
 //! over three orders of magnitude with the same silhouettes and screen coverage. The camera
 //! flies a short segment of the [`Path::Orbit`] path, 50 degree vertical field of view:
-//! [`Plan::frames`] poses from [`Plan::path_start`], [`Plan::path_step`] of the orbit apart
-//! (the full plan: 1e-4 of the orbit, 0.036 units, a hundredth of a building's width, per
+//! [`Settings::frames`] poses from [`Settings::path_start`], [`Settings::path_step`] of the orbit apart
+//! (the full sweep: 1e-4 of the orbit, 0.036 units, a hundredth of a building's width, per
 //! frame).
 //!
 //! Two series, one CSV row per point and mode ([`Row::HEADER`]):
-//! - `triangles`: a city of each of [`Plan::triangle_counts`] at [`Plan::fixed_resolution`].
-//! - `resolution`: the city of [`Plan::resolution_triangles`] at each of
-//!   [`Plan::resolutions`].
-//! - `subjects`: cities of more and more buildings ([`Plan::subject_grids`]) of about
-//!   [`Plan::subject_triangles`] triangles each, at [`Plan::fixed_resolution`].
+//! - `triangles`: a city of each of [`Settings::triangle_counts`] at [`Settings::fixed_resolution`].
+//! - `resolution`: the city of [`Settings::resolution_triangles`] at each of
+//!   [`Settings::resolutions`].
+//! - `subjects`: cities of more and more buildings ([`Settings::subject_grids`]) of about
+//!   [`Settings::subject_triangles`] triangles each, at [`Settings::fixed_resolution`].
 //!
 //! and, per series and mode, a least-squares line (`time = a + b x`, x the triangles or the
 //! pixels) in a `triangles_fit` or `resolution_fit` row: `slope` (ns per triangle or per
@@ -24,7 +24,7 @@
 //! - `geometry`: one `Renderer::render` of the ground and every building's meshes. Timed:
 //!   building the draw list and the render (clear included).
 //! - `impostors`: [`ImpostorSet::update`] (the per-frame error prediction, and any
-//!   refreshes it schedules within the budget of [`Plan::impostors`]: up to 8 per frame),
+//!   refreshes it schedules within the budget of [`Settings::impostors`]: up to 8 per frame),
 //!   then one `Renderer::render` of the ground and [`ImpostorSet::draws`]. Timed: update,
 //!   draw list and render. Frames whose update refreshed nothing are the *steady* frames
 //!   (`median_ms`, `min_ms`, `p90_ms`, the counters); frames with refreshes are summarised
@@ -34,15 +34,15 @@
 //!   frames; geometry's `render_ms` is its whole frame.
 //!
 //! Interleaving: the machine is noisy (other work comes and goes), so every point of a
-//! series sees the same conditions: the timed poses are split into [`Plan::rounds`] rounds
+//! series sees the same conditions: the timed poses are split into [`Settings::rounds`] rounds
 //! of `frames / rounds` consecutive poses, and within a round each pose is rendered for
 //! every point in turn (geometry frame, then impostor frame) before the camera moves on.
-//! Untimed, at the start of a round, for each point: [`Plan::warmup`] geometry frames at
+//! Untimed, at the start of a round, for each point: [`Settings::warmup`] geometry frames at
 //! the round's first pose, then a fresh [`ImpostorSet`] updated once there with an
 //! unlimited refresh budget (everything in view captured for this camera and image
 //! height: [`warm_up`]), then `warmup` impostor frames there. So every round starts from
 //! the same impostor state, and the impostors refresh as the eye moves on (at the default
-//! 0.125 degree tolerance, from the fifth frame of a round in the full plan).
+//! 0.125 degree tolerance, from the fifth frame of a round in the full sweep).
 //!
 //! Counters (`triangles_set_up`, `fragments_shaded`, `fragments_written`, `images`) are those
 //! of the last steady frame.
@@ -74,7 +74,7 @@ pub const SEED: u64 = 7;
 
 /// How much the sweep measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     /// Buildings per side of the city.
     pub grid: u32,
     /// Nominal triangle counts of the `triangles` series (the city gets about that many),
@@ -89,7 +89,7 @@ pub struct Plan {
     pub subject_grids: Vec<u32>,
     pub subject_triangles: usize,
     /// The parallax tolerance of the `subjects` series' impostors, degrees (the other
-    /// settings as [`Plan::impostors`]).
+    /// settings as [`Settings::impostors`]).
     pub subject_tolerance_deg: f32,
     /// The camera path, where the timed segment starts on it, and how far the camera moves
     /// along it per frame (both in the path's [0, 1] parameter).
@@ -105,10 +105,10 @@ pub struct Plan {
     pub rounds: usize,
 }
 
-impl Plan {
+impl Settings {
     /// The full sweep.
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             grid: 10,
             triangle_counts: vec![1_000, 10_000, 100_000, 1_000_000, 2_000_000],
             fixed_resolution: (1280, 720),
@@ -136,17 +136,17 @@ impl Plan {
 
     /// Every point of the full sweep with fewer frames (two rounds of five): about a
     /// minute.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             frames: 10,
             rounds: 2,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// A seconds-long smoke run (tests): a small city, two small counts and sizes.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             grid: 4,
             triangle_counts: vec![1_000, 20_000],
             fixed_resolution: (160, 90),
@@ -158,7 +158,7 @@ impl Plan {
             warmup: 0,
             frames: 4,
             rounds: 2,
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
@@ -170,13 +170,13 @@ impl Plan {
 
 /// Runs the sweep; `progress` is called before each measurement with its 0-based index,
 /// the total, and what it is.
-pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
+pub fn run(settings: &Settings, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row> {
     let mut renderer = Renderer::new();
     let mut rows = Vec::new();
-    let mut tick = ticker(plan.steps(), &mut progress);
-    let mut measured = |plan: &Plan, name, cities, sizes: &[(u32, u32)], x| {
+    let mut tick = ticker(settings.steps(), &mut progress);
+    let mut measured = |settings: &Settings, name, cities, sizes: &[(u32, u32)], x| {
         series(
-            plan,
+            settings,
             name,
             cities,
             sizes,
@@ -186,17 +186,19 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
             &mut rows,
         );
     };
-    let fixed = [plan.fixed_resolution];
-    let by_triangles = plan.triangle_counts.iter();
+    let fixed = [settings.fixed_resolution];
+    let by_triangles = settings.triangle_counts.iter();
     let cities = by_triangles
-        .map(|&n| City::with_triangles(plan.grid, n, SEED))
+        .map(|&n| City::with_triangles(settings.grid, n, SEED))
         .collect();
-    measured(plan, "triangles", cities, &fixed, |r| r.triangles as f64);
+    measured(settings, "triangles", cities, &fixed, |r| {
+        r.triangles as f64
+    });
     // Few large subjects against many: the same triangles a subject, more of them.
-    let mut subject_plan = plan.clone();
-    subject_plan.impostors.tolerance.degrees = plan.subject_tolerance_deg;
-    let per = plan.subject_triangles;
-    let by_count = plan.subject_grids.iter();
+    let mut subject_plan = settings.clone();
+    subject_plan.impostors.tolerance.degrees = settings.subject_tolerance_deg;
+    let per = settings.subject_triangles;
+    let by_count = settings.subject_grids.iter();
     let cities = by_count
         .map(|&g| City::with_triangles(g, per * (g * g) as usize, SEED))
         .collect();
@@ -204,11 +206,11 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
         r.subjects as f64
     });
     let cities = vec![City::with_triangles(
-        plan.grid,
-        plan.resolution_triangles,
+        settings.grid,
+        settings.resolution_triangles,
         SEED,
     )];
-    measured(plan, "resolution", cities, &plan.resolutions, |r| {
+    measured(settings, "resolution", cities, &settings.resolutions, |r| {
         r.pixels() as f64
     });
     rows
@@ -217,7 +219,7 @@ pub fn run(plan: &Plan, mut progress: impl FnMut(usize, usize, &str)) -> Vec<Row
 /// Measures one series: every city at every size (or each city at the one size), then its
 /// rows and fits (`x` picks the fit's x).
 fn series(
-    plan: &Plan,
+    settings: &Settings,
     name: &'static str,
     cities: Vec<City>,
     sizes: &[(u32, u32)],
@@ -235,7 +237,7 @@ fn series(
             impostors: Samples::default(),
         })
         .collect();
-    measure(plan, name, &cities, &mut points, renderer, tick);
+    measure(settings, name, &cities, &mut points, renderer, tick);
     let threads = rayon::current_num_threads();
     rows_of(name, &points, &cities, threads, x, rows);
 }

@@ -29,7 +29,7 @@ use std::time::{Duration, Instant};
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub struct Settings {
     pub width: u32,
     pub height: u32,
     /// Disparities searched: `0..max_disparity` (OpenCV: rounded up to a multiple of 16).
@@ -37,10 +37,10 @@ pub struct Plan {
     pub timing: Timing,
 }
 
-impl Plan {
+impl Settings {
     /// A seconds-long smoke run.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             width: 128,
             height: 96,
             max_disparity: 16,
@@ -48,8 +48,8 @@ impl Plan {
         }
     }
 
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             width: 320,
             height: 240,
             max_disparity: 32,
@@ -57,8 +57,8 @@ impl Plan {
         }
     }
 
-    pub fn full() -> Plan {
-        Plan {
+    pub fn full() -> Settings {
+        Settings {
             width: 640,
             height: 480,
             max_disparity: 64,
@@ -134,12 +134,12 @@ impl Peer {
 /// Runs the sweep: every pair written to `out/stereo/`, matched by ours and (with `peer`)
 /// by OpenCV's; a row per pair and matcher.
 pub fn run(
-    plan: &Plan,
+    settings: &Settings,
     out: &Path,
     peer: Option<&Peer>,
     progress: &mut dyn FnMut(usize, usize, &str),
 ) -> Result<Vec<Row>, String> {
-    let pairs = scenes(plan.width, plan.height);
+    let pairs = scenes(settings.width, settings.height);
     let mut tick = sweep::ticker(pairs.len() * 3 + 1, progress);
     let mut rows = Vec::new();
     let mut dirs = Vec::new();
@@ -147,7 +147,7 @@ pub fn run(
         let dir = out.join("stereo").join(&scene.name);
         std::fs::create_dir_all(&dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        let (w, h) = (plan.width, plan.height);
+        let (w, h) = (settings.width, settings.height);
         let (left, right) = (srgb8(&scene.pair.left), srgb8(&scene.pair.right));
         let write = |name: &str, rgba: &[u8]| {
             load::write_png_rgba8(&dir.join(name), w, h, rgba).map_err(|e| e.to_string())
@@ -163,16 +163,16 @@ pub fn run(
             let mut last = None;
             // Kept between runs, as OpenCV keeps its matcher's buffer.
             let mut buffers = SgmBuffers::default();
-            let times = plan.timing.run(|| {
+            let times = settings.timing.run(|| {
                 let t = Instant::now();
                 let d = match method {
                     "block" => BlockMatch {
-                        max_disparity: plan.max_disparity,
+                        max_disparity: settings.max_disparity,
                         ..BlockMatch::default()
                     }
                     .run(&l, &r, w, h),
                     _ => Sgm {
-                        max_disparity: plan.max_disparity,
+                        max_disparity: settings.max_disparity,
                         min_texture: if method == "sgm" { MIN_TEXTURE } else { 0.0 },
                         ..Sgm::default()
                     }
@@ -184,20 +184,26 @@ pub fn run(
             let estimate = last
                 .expect("at least one run")
                 .map_err(|e| format!("{}: {e}", scene.name))?;
-            rows.push(row(plan, scene, method, Summary::of(&times), &estimate)?);
+            rows.push(row(
+                settings,
+                scene,
+                method,
+                Summary::of(&times),
+                &estimate,
+            )?);
         }
         dirs.push(dir);
     }
     tick("OpenCV StereoSGBM".into());
     if let Some(peer) = peer {
-        rows.extend(opencv(plan, &pairs, &dirs, peer)?);
+        rows.extend(opencv(settings, &pairs, &dirs, peer)?);
     }
     Ok(rows)
 }
 
 /// A row: `estimate`'s error on `scene`'s pair.
 fn row(
-    plan: &Plan,
+    settings: &Settings,
     scene: &Scene,
     method: &str,
     time: Summary,
@@ -208,9 +214,9 @@ fn row(
     Ok(Row {
         pair: scene.name.clone(),
         method: method.into(),
-        width: plan.width,
-        height: plan.height,
-        max_disparity: plan.max_disparity,
+        width: settings.width,
+        height: settings.height,
+        max_disparity: settings.max_disparity,
         time,
         error,
     })
@@ -218,12 +224,17 @@ fn row(
 
 /// OpenCV's rows: the script run over every pair folder, its timings read from its
 /// output and its disparities from the PFM files it wrote.
-fn opencv(plan: &Plan, pairs: &[Scene], dirs: &[PathBuf], peer: &Peer) -> Result<Vec<Row>, String> {
+fn opencv(
+    settings: &Settings,
+    pairs: &[Scene],
+    dirs: &[PathBuf],
+    peer: &Peer,
+) -> Result<Vec<Row>, String> {
     let threads = rayon::current_num_threads().to_string();
     let out = Command::new(&peer.python)
         .arg(&peer.script)
-        .args(["--max-disparity", &plan.max_disparity.to_string()])
-        .args(["--repeats", &plan.timing.frames.max(1).to_string()])
+        .args(["--max-disparity", &settings.max_disparity.to_string()])
+        .args(["--repeats", &settings.timing.frames.max(1).to_string()])
         .args(["--threads", &threads])
         .args(dirs)
         .output()
@@ -256,7 +267,13 @@ fn opencv(plan: &Plan, pairs: &[Scene], dirs: &[PathBuf], peer: &Peer) -> Result
         let estimate =
             Disparity::from_float_image(image).map_err(|e| format!("{}: {e}", file.display()))?;
         let method = format!("opencv-{}", mode.replace('_', "-"));
-        rows.push(row(plan, scene, &method, Summary::of(&times), &estimate)?);
+        rows.push(row(
+            settings,
+            scene,
+            &method,
+            Summary::of(&times),
+            &estimate,
+        )?);
     }
     Ok(rows)
 }

@@ -1,11 +1,11 @@
 //! What every benchmark sweep shares: CSV rows and their file, progress steps, and the
-//! warm-up-then-timed-frames loop under a time budget.
+//! warm-up-then-timed-frames loop under a time limit.
 
 use std::io::Write;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// Fewest timed frames of a measurement, whatever the budget.
+/// Fewest timed frames of a measurement, whatever the time limit.
 pub const MIN_FRAMES: usize = 2;
 
 /// A row of a sweep's CSV file.
@@ -41,23 +41,23 @@ pub fn ticker<'a>(
 
 /// How a measurement times its frames: `warmup` untimed frames, then timed frames until
 /// there are `frames` of them (at least [`MIN_FRAMES`]) or, once there are `MIN_FRAMES`,
-/// `budget` has passed since the first.
+/// `time_limit` has passed since the first.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Timing {
     pub warmup: usize,
     /// Most timed frames per measurement.
     pub frames: usize,
-    /// Time budget per measurement.
-    pub budget: Duration,
+    /// Time limit per measurement.
+    pub time_limit: Duration,
 }
 
 impl Timing {
-    /// `warmup` untimed frames, then up to `frames` timed ones within `budget_s` seconds.
-    pub const fn new(warmup: usize, frames: usize, budget_s: u64) -> Timing {
+    /// `warmup` untimed frames, then up to `frames` timed ones within `limit_s` seconds.
+    pub const fn new(warmup: usize, frames: usize, limit_s: u64) -> Timing {
         Timing {
             warmup,
             frames,
-            budget: Duration::from_secs(budget_s),
+            time_limit: Duration::from_secs(limit_s),
         }
     }
 
@@ -75,7 +75,7 @@ impl Timing {
         let start = Instant::now();
         while out.len() < self.frames.max(MIN_FRAMES) {
             out.push(frame());
-            if out.len() >= MIN_FRAMES && start.elapsed() >= self.budget {
+            if out.len() >= MIN_FRAMES && start.elapsed() >= self.time_limit {
                 break;
             }
         }
@@ -88,12 +88,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn timed_frames_stop_at_the_count_or_after_the_budget() {
+    fn timed_frames_stop_at_the_count_or_after_the_time_limit() {
         let mut calls = 0;
-        let timing = |warmup, frames, budget| Timing {
+        let timing = |warmup, frames, time_limit| Timing {
             warmup,
             frames,
-            budget,
+            time_limit,
         };
         let out = timing(2, 5, Duration::from_secs(60)).run(|| {
             calls += 1;

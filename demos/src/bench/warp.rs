@@ -66,7 +66,7 @@ const METHODS: [(&str, Reconstruction, Composite, Fill); 4] = [
 
 /// What a run measures.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
+pub struct Settings {
     pub size: (u32, u32),
     /// Triangles of the city (its buildings are split to reach them).
     pub triangles: usize,
@@ -81,9 +81,9 @@ pub struct Plan {
     pub frames: Frames,
 }
 
-impl Plan {
-    pub fn full() -> Plan {
-        Plan {
+impl Settings {
+    pub fn full() -> Settings {
+        Settings {
             size: (640, 360),
             triangles: 500_000,
             distances: vec![0.0, 0.05, 0.1, 0.2, 0.4, 0.8],
@@ -93,26 +93,26 @@ impl Plan {
             frames: Frames {
                 warmup: 2,
                 frames: 15,
-                budget: Duration::from_millis(1500),
+                time_limit: Duration::from_millis(1500),
             },
         }
     }
 
     /// Every point, fewer frames.
-    pub fn quick() -> Plan {
-        Plan {
+    pub fn quick() -> Settings {
+        Settings {
             frames: Frames {
                 warmup: 1,
                 frames: 5,
-                budget: Duration::from_millis(400),
+                time_limit: Duration::from_millis(400),
             },
-            ..Plan::full()
+            ..Settings::full()
         }
     }
 
     /// Seconds: a small frame, two moves each way.
-    pub fn tiny() -> Plan {
-        Plan {
+    pub fn tiny() -> Settings {
+        Settings {
             size: (96, 54),
             triangles: 5_000,
             distances: vec![0.0, 0.2],
@@ -122,7 +122,7 @@ impl Plan {
             frames: Frames {
                 warmup: 0,
                 frames: 2,
-                budget: Duration::ZERO,
+                time_limit: Duration::ZERO,
             },
         }
     }
@@ -302,34 +302,34 @@ fn target_eye(city: &City, series: &str, value: f32) -> Vec3 {
     }
 }
 
-/// Runs the plan; `progress(step, total, what)` before each point.
-pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let city = City::with_triangles(4, plan.triangles, 7);
+/// Runs the settings; `progress(step, total, what)` before each point.
+pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
+    let city = City::with_triangles(4, settings.triangles, 7);
     let (_, at) = home(&city);
     let mut renderer = Renderer::new();
     let mut frame = FrameLoop::new();
-    let mut target = Target::new(plan.size.0, plan.size.1);
+    let mut target = Target::new(settings.size.0, settings.size.1);
     let capture =
         |renderer: &mut Renderer, frame: &mut FrameLoop, target: &mut Target, n: usize| {
             reference_eyes(&city, n)
                 .into_iter()
                 .map(|eye| {
-                    let cam = camera(eye, at, plan.size, &city);
+                    let cam = camera(eye, at, settings.size, &city);
                     geometry(renderer, frame, &city, &cam, target);
                     DepthImage::from_target(target, &cam)
                 })
                 .collect::<Vec<_>>()
         };
-    let moves: Vec<(&'static str, f32)> = plan
+    let moves: Vec<(&'static str, f32)> = settings
         .distances
         .iter()
         .map(|&d| ("distance", d))
-        .chain(plan.angles.iter().map(|&a| ("angle", a)))
+        .chain(settings.angles.iter().map(|&a| ("angle", a)))
         .collect();
-    let per_move = 3 + plan.references.len() * METHODS.len();
+    let per_move = 3 + settings.references.len() * METHODS.len();
     let mut tick = ticker(moves.len() * per_move + 1, progress);
     let mut rows = Vec::new();
-    let mut views: Vec<(usize, WarpedView)> = plan
+    let mut views: Vec<(usize, WarpedView)> = settings
         .references
         .iter()
         .map(|&n| {
@@ -343,10 +343,11 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
     // first, so it is the front layer).
     let mut ldi_view = {
         let (eye, _) = home(&city);
-        let home_cam = camera(eye, at, plan.size, &city);
+        let home_cam = camera(eye, at, settings.size, &city);
         let mut images = capture(&mut renderer, &mut frame, &mut target, 1);
         images.extend(capture(&mut renderer, &mut frame, &mut target, 4));
-        let ldi = LdiBuilder::default().build(&home_cam, plan.size.0, plan.size.1, &images, 0.02);
+        let ldi =
+            LdiBuilder::default().build(&home_cam, settings.size.0, settings.size.1, &images, 0.02);
         let mut v = WarpedView::new("ldi", Vec::new());
         v.layered.push(ldi);
         v.nearest = 0;
@@ -359,12 +360,12 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         depth_mesh(image, 0.05, &mut mesh, &mut index);
         (mesh, depth_mesh_material())
     };
-    let (w, h) = plan.size;
+    let (w, h) = settings.size;
     let mut truth = Target::new(w, h);
     for &(series, value) in &moves {
-        let cam = camera(target_eye(&city, series, value), at, plan.size, &city);
+        let cam = camera(target_eye(&city, series, value), at, settings.size, &city);
         tick(format!("{series} {value} geometry"));
-        let times = plan.frames.run(|| {
+        let times = settings.frames.run(|| {
             let t = Instant::now();
             geometry(&mut renderer, &mut frame, &city, &cam, &mut truth);
             t.elapsed()
@@ -373,7 +374,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             series,
             value,
             psnr_seen: f64::INFINITY,
-            ..Row::timed("geometry", plan.size, &city, &times)
+            ..Row::timed("geometry", settings.size, &city, &times)
         });
         for (n, view) in views.iter_mut() {
             for (method, rec, composite, fill) in METHODS {
@@ -393,7 +394,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                     &mut frame,
                     &mut renderer,
                     &mut target,
-                    plan,
+                    settings,
                 );
                 rows.push(Row {
                     series,
@@ -417,7 +418,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
                 &mut frame,
                 &mut renderer,
                 &mut target,
-                plan,
+                settings,
             )
         });
         tick(format!("{series} {value} ldi"));
@@ -431,7 +432,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
             &mut frame,
             &mut renderer,
             &mut target,
-            plan,
+            settings,
         );
         rows.push(Row {
             series,
@@ -442,7 +443,7 @@ pub fn run(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row
         });
     }
     tick("speed".into());
-    rows.extend(speed(plan, &city, &mut renderer, &mut frame));
+    rows.extend(speed(settings, &city, &mut renderer, &mut frame));
     rows
 }
 
@@ -457,9 +458,9 @@ fn measure(
     frame: &mut FrameLoop,
     renderer: &mut Renderer,
     target: &mut Target,
-    plan: &Plan,
+    settings: &Settings,
 ) -> Row {
-    let (w, h) = plan.size;
+    let (w, h) = settings.size;
     let frame_view = still_view(cam, city, (w, h));
     // Counted: the holes before filling, and the pixels the references saw.
     view.fill = Fill::None;
@@ -469,7 +470,7 @@ fn measure(
     view.fill = fill;
     view.count_holes = false;
     let mut list: [&mut dyn Technique; 1] = [view];
-    let times = plan.frames.run(|| {
+    let times = settings.frames.run(|| {
         let t = Instant::now();
         frame.render(renderer, [], &mut list, &frame_view, target, &clear());
         t.elapsed()
@@ -493,7 +494,7 @@ fn measure(
         disocclusions: counted.holes.disocclusions,
         samples: counted.stats.samples,
         predicted_px: counted.predicted_px,
-        ..Row::timed("", plan.size, city, &times)
+        ..Row::timed("", settings.size, city, &times)
     }
 }
 
@@ -508,16 +509,16 @@ fn mesh_point(
     frame: &mut FrameLoop,
     renderer: &mut Renderer,
     target: &mut Target,
-    plan: &Plan,
+    settings: &Settings,
 ) -> Row {
-    let (w, h) = plan.size;
+    let (w, h) = settings.size;
     let view = still_view(cam, city, (w, h));
     let draw = Draw {
         mesh,
         material,
         transform: Mat4::IDENTITY,
     };
-    let times = plan.frames.run(|| {
+    let times = settings.frames.run(|| {
         let t = Instant::now();
         frame.render(renderer, [draw], &mut [], &view, target, &clear());
         t.elapsed()
@@ -533,8 +534,13 @@ fn mesh_point(
 /// One reference warped with splats at the speed size, holes filled by pull-push
 /// (`splats`) and from the background side (`splats-background`), each timed as the warp
 /// alone (no geometry in the frame, no hole count).
-fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoop) -> Vec<Row> {
-    let (w, h) = plan.speed_size;
+fn speed(
+    settings: &Settings,
+    city: &City,
+    renderer: &mut Renderer,
+    frame: &mut FrameLoop,
+) -> Vec<Row> {
+    let (w, h) = settings.speed_size;
     let (reference, moved) = city_reference(city, renderer, frame, (w, h));
     let mut view = WarpedView::new("speed", vec![reference]);
     view.nearest = 1;
@@ -546,7 +552,7 @@ fn speed(plan: &Plan, city: &City, renderer: &mut Renderer, frame: &mut FrameLoo
     .into_iter()
     .map(|(method, fill)| {
         view.fill = fill;
-        let times = plan.frames.run(|| {
+        let times = settings.frames.run(|| {
             let t = Instant::now();
             view.warp_to(&moved, w, h);
             t.elapsed()

@@ -58,7 +58,7 @@ use demos::bench::lightfield as bl;
 use demos::bench::morph as bm;
 use demos::bench::panorama as bpn;
 use demos::bench::portals as bp;
-use demos::bench::raster::{self as bench, Plan};
+use demos::bench::raster::{self as bench, Settings};
 use demos::bench::scaling;
 use demos::bench::stereo as bs;
 use demos::bench::sweep::{self, CsvRow};
@@ -184,8 +184,8 @@ struct Common {
 }
 
 impl Small {
-    /// The plan the flags ask for: tiny, quick or full.
-    fn plan<P>(&self, tiny: fn() -> P, quick: fn() -> P, full: fn() -> P) -> P {
+    /// The settings the flags ask for: tiny, quick or full.
+    fn settings<P>(&self, tiny: fn() -> P, quick: fn() -> P, full: fn() -> P) -> P {
         if self.tiny {
             tiny()
         } else if self.quick {
@@ -322,14 +322,16 @@ fn sweep<R: CsvRow>(
 }
 
 fn raster(c: &Common) -> Result<(), String> {
-    let plan = c.run.plan(Plan::tiny, Plan::quick, Plan::full);
-    let models = if plan.models && !c.no_models {
+    let settings = c
+        .run
+        .settings(Settings::tiny, Settings::quick, Settings::full);
+    let models = if settings.models && !c.no_models {
         load_models(c)
     } else {
         Vec::new()
     };
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| {
-        Ok(bench::raster(&plan, &models, |i, total, step| {
+        Ok(bench::raster(&settings, &models, |i, total, step| {
             let (w, h) = step.size;
             progress(i, total, &format!("{} {} {w}x{h}", step.series, step.mesh));
         }))
@@ -355,7 +357,7 @@ fn raster(c: &Common) -> Result<(), String> {
 }
 
 fn billboards(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bb::Plan::tiny, bb::Plan::quick, bb::Plan::full);
+    let settings = c.settings(bb::Settings::tiny, bb::Settings::quick, bb::Settings::full);
     let report = |rows: &[bb::Row]| {
         for r in rows {
             let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
@@ -378,16 +380,16 @@ fn billboards(c: &Small) -> Result<(), String> {
             }
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bb::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bb::run(&settings, progress));
     let (name, rows, charts) = ("billboards", "measurements", bb::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn scaling_sweep(c: &Small) -> Result<(), String> {
-    let plan = c.plan(
-        scaling::Plan::tiny,
-        scaling::Plan::quick,
-        scaling::Plan::full,
+    let settings = c.settings(
+        scaling::Settings::tiny,
+        scaling::Settings::quick,
+        scaling::Settings::full,
     );
     let report = |rows: &[scaling::Row]| {
         for r in rows {
@@ -433,13 +435,13 @@ fn scaling_sweep(c: &Small) -> Result<(), String> {
             }
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(scaling::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(scaling::run(&settings, progress));
     let (name, rows, charts) = ("scaling", "rows", scaling::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn impostors(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bi::Plan::tiny, bi::Plan::quick, bi::Plan::full);
+    let settings = c.settings(bi::Settings::tiny, bi::Settings::quick, bi::Settings::full);
     let report = |rows: &[bi::Row]| {
         for r in rows.iter().filter(|r| r.series != "calibration") {
             bi::print_row(r);
@@ -448,13 +450,13 @@ fn impostors(c: &Small) -> Result<(), String> {
             println!("{s}");
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bi::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bi::run(&settings, progress));
     let (name, rows, charts) = ("impostors", "rows", bi::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn warp(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bw::Plan::tiny, bw::Plan::quick, bw::Plan::full);
+    let settings = c.settings(bw::Settings::tiny, bw::Settings::quick, bw::Settings::full);
     let report = |rows: &[bw::Row]| {
         for r in rows {
             let err = r.error.map_or(String::new(), |e| {
@@ -487,13 +489,13 @@ fn warp(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bw::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bw::run(&settings, progress));
     let (name, rows, charts) = ("warp", "points", bw::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn portals(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bp::Plan::tiny, bp::Plan::quick, bp::Plan::full);
+    let settings = c.settings(bp::Settings::tiny, bp::Settings::quick, bp::Settings::full);
     let report = |rows: &[bp::Row]| {
         for r in rows.iter().filter(|r| r.series != "walk") {
             let err = r.error.map_or(String::new(), |e| {
@@ -540,13 +542,13 @@ fn portals(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bp::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bp::run(&settings, progress));
     let (name, rows, charts) = ("portals", "points", bp::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn lightfield(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bl::Plan::tiny, bl::Plan::quick, bl::Plan::full);
+    let settings = c.settings(bl::Settings::tiny, bl::Settings::quick, bl::Settings::full);
     let report = |rows: &[bl::Row]| {
         for r in rows {
             let err = r.error.map_or(String::new(), |e| {
@@ -583,13 +585,15 @@ fn lightfield(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bl::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bl::run(&settings, progress));
     let (name, rows, charts) = ("lightfield", "points", bl::charts);
     sweep(c, name, rows, run, report, charts)
 }
 
 fn stereo(c: &StereoArgs) -> Result<(), String> {
-    let plan = c.run.plan(bs::Plan::tiny, bs::Plan::quick, bs::Plan::full);
+    let settings = c
+        .run
+        .settings(bs::Settings::tiny, bs::Settings::quick, bs::Settings::full);
     let peer = bs::Peer::bundled();
     let peer = if c.no_opencv {
         None
@@ -622,13 +626,13 @@ fn stereo(c: &StereoArgs) -> Result<(), String> {
     };
     let out = c.run.out.clone();
     let run = |progress: &mut dyn FnMut(usize, usize, &str)| {
-        bs::run(&plan, &out, peer.as_ref(), progress)
+        bs::run(&settings, &out, peer.as_ref(), progress)
     };
     sweep(&c.run, "stereo", "rows", run, report, bs::charts)
 }
 
 fn morph(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bm::Plan::tiny, bm::Plan::quick, bm::Plan::full);
+    let settings = c.settings(bm::Settings::tiny, bm::Settings::quick, bm::Settings::full);
     let report = |rows: &[bm::Row]| {
         for r in rows {
             println!(
@@ -645,12 +649,16 @@ fn morph(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bm::run(&plan, progress);
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| bm::run(&settings, progress);
     sweep(c, "morph", "rows", run, report, bm::charts)
 }
 
 fn panorama(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bpn::Plan::tiny, bpn::Plan::quick, bpn::Plan::full);
+    let settings = c.settings(
+        bpn::Settings::tiny,
+        bpn::Settings::quick,
+        bpn::Settings::full,
+    );
     let report = |rows: &[bpn::Row]| {
         for r in rows {
             println!(
@@ -666,12 +674,16 @@ fn panorama(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bpn::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bpn::run(&settings, progress));
     sweep(c, "panorama", "rows", run, report, bpn::charts)
 }
 
 fn layers(c: &Small) -> Result<(), String> {
-    let plan = c.plan(bly::Plan::tiny, bly::Plan::quick, bly::Plan::full);
+    let settings = c.settings(
+        bly::Settings::tiny,
+        bly::Settings::quick,
+        bly::Settings::full,
+    );
     let report = |rows: &[bly::Row]| {
         for r in rows {
             println!(
@@ -691,7 +703,7 @@ fn layers(c: &Small) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bly::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bly::run(&settings, progress));
     sweep(c, "layers", "rows", run, report, bly::charts)
 }
 
@@ -720,15 +732,18 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         };
         return sweep(&c.run, "calibrate", "rows", run, report, |_| Vec::new());
     }
-    let plan = bbu::Plan {
+    let settings = bbu::Settings {
         only: c.scene.clone(),
         methods: c.method.clone(),
         spread: c.spread,
-        ..c.run
-            .plan(bbu::Plan::tiny, bbu::Plan::quick, bbu::Plan::full)
+        ..c.run.settings(
+            bbu::Settings::tiny,
+            bbu::Settings::quick,
+            bbu::Settings::full,
+        )
     };
     if let Some(b) = c.trace {
-        let run = |_: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::trace(&plan, b));
+        let run = |_: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::trace(&settings, b));
         let report = |rows: &[bbu::TraceRow]| {
             let mut last = None;
             for r in rows {
@@ -744,7 +759,8 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
         return sweep(&c.run, "budget_trace", "rows", run, report, |_| Vec::new());
     }
     if c.objects {
-        let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::objects(&plan, progress));
+        let run =
+            |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::objects(&settings, progress));
         let report = |rows: &[bbu::ObjectRow]| {
             for r in rows {
                 println!(
@@ -787,6 +803,6 @@ fn budget(c: &BudgetArgs) -> Result<(), String> {
             );
         }
     };
-    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::run(&plan, progress));
+    let run = |progress: &mut dyn FnMut(usize, usize, &str)| Ok(bbu::run(&settings, progress));
     sweep(&c.run, "budget", "rows", run, report, bbu::charts)
 }

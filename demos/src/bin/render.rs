@@ -485,7 +485,7 @@ fn run(a: &Args) -> Result<(), String> {
             .map_err(|e| format!("{}: cannot write depth: {e}", depth.display()))?;
     }
     if let Some(dir) = &a.capture {
-        let cameras: Vec<Camera> = demos::capture::arc(a.eye, a.target, a.up, a.views, a.spread)
+        let cameras: Vec<Camera> = demos::dataset::arc(a.eye, a.target, a.up, a.views, a.spread)
             .into_iter()
             .map(|eye| Camera {
                 view: Mat4::look_at_rh(eye, a.target, a.up),
@@ -493,7 +493,7 @@ fn run(a: &Args) -> Result<(), String> {
             })
             .collect();
         let size = (a.width, a.height);
-        let n = demos::capture::write(dir, &scene, &cameras, size, encoding, &opts)?;
+        let n = demos::dataset::write(dir, &scene, &cameras, size, encoding, &opts)?;
         eprintln!(
             "render: wrote a capture of {n} view(s) to {}",
             dir.display()

@@ -2,7 +2,7 @@
 //! replace, by view elevation.
 
 use super::trees::{sprite_material, tree_billboard, tree_material, tree_meshes};
-use super::{Plan, Row};
+use super::{Row, Settings};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};
 use ibr::metrics::{self, Coverage, ImageError, Options, Region};
@@ -23,7 +23,7 @@ pub fn orbit_camera(center: Vec3, dist: f32, azimuth: f32, elevation: f32, fov: 
 /// The billboard-tree error at each elevation: one `accuracy_fade` and one `accuracy_top`
 /// row per elevation.
 pub(super) fn accuracy(
-    plan: &Plan,
+    settings: &Settings,
     renderer: &mut Renderer,
     threads: usize,
     progress: &mut dyn FnMut(String),
@@ -34,11 +34,12 @@ pub(super) fn accuracy(
     let trees: Vec<(Mesh, BakedSprite)> = tree_meshes()
         .into_iter()
         .map(|mesh| {
-            let sprite = sprites::bake_upright(&mesh, &material, &lighting, Vec3::Z, plan.bake_px);
+            let sprite =
+                sprites::bake_upright(&mesh, &material, &lighting, Vec3::Z, settings.bake_px);
             (mesh, sprite)
         })
         .collect();
-    let size = plan.accuracy_size;
+    let size = settings.accuracy_size;
     let clear = FrameOptions {
         clear: Some(Rgba::new(0.0, 0.0, 0.0, 0.0)),
         ..Default::default()
@@ -46,7 +47,7 @@ pub(super) fn accuracy(
     let mut truth = Target::new(size, size);
     let mut image = Target::new(size, size);
     for (series, with_top) in [("accuracy_fade", false), ("accuracy_top", true)] {
-        for &elevation in &plan.elevations {
+        for &elevation in &settings.elevations {
             progress(format!("{series} {elevation} deg"));
             let mut errors = Vec::new();
             let mut first: Option<(u64, FrameStats)> = None;
@@ -61,7 +62,7 @@ pub(super) fn accuracy(
                 let mut batch = BillboardBatch::new(sprite_material(sprite));
                 batch.push(tree_billboard(sprite, Vec3::ZERO, 1.0, facing));
                 let center = Vec3::new(0.0, 2.5, 0.0);
-                for &azimuth in &plan.azimuths {
+                for &azimuth in &settings.azimuths {
                     let cam = orbit_camera(center, 11.0, azimuth, elevation, 40f32.to_radians());
                     let draw = Draw {
                         mesh,

@@ -1,7 +1,7 @@
 //! The timed frame of every timing series ([`measure`]), and the blended glow particles of
 //! the `count` and `resolution` series.
 
-use super::{Plan, Times};
+use super::{Settings, Times};
 use crate::timing::Summary;
 use engine::procedural::XorShift;
 use engine::{
@@ -23,7 +23,7 @@ pub(super) fn measure(
     lighting: &Lighting,
     fixed: &[Draw],
     batches: &mut [BillboardBatch],
-    plan: &Plan,
+    settings: &Settings,
 ) -> (Times, FrameStats) {
     let opts = FrameOptions {
         clear: Some(Rgba::new(0.05, 0.06, 0.09, 1.0)),
@@ -34,7 +34,7 @@ pub(super) fn measure(
         .iter_mut()
         .map(|b| b as &mut dyn Technique)
         .collect();
-    let frames = plan.timing.run(|| {
+    let frames = settings.timing.run(|| {
         let view = FrameView {
             camera,
             width: target.width(),

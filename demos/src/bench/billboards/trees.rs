@@ -2,7 +2,7 @@
 //! `trees_billboard` forest series.
 
 use super::particles::measure;
-use super::{Plan, Row};
+use super::{Row, Settings};
 use crate::bench::raster::count_name;
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{AlphaMode, Camera, Draw, Lighting, Material, Mesh, Renderer, Rgba, Target};
@@ -88,7 +88,7 @@ fn append_transformed(out: &mut Mesh, mesh: &Mesh, m: Mat4) {
 
 /// The `trees_mesh` and `trees_billboard` rows for each tree count.
 pub(super) fn trees(
-    plan: &Plan,
+    settings: &Settings,
     renderer: &mut Renderer,
     progress: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
@@ -103,16 +103,18 @@ pub(super) fn trees(
     let ground = procedural::plane(240.0, 240.0, 1, 1);
     let ground_material = Material::lit(Rgba::from_srgb8(90, 120, 60));
     let ground_at = Mat4::from_translation(Vec3::new(0.0, 0.0, -90.0));
-    let (w, h) = plan.tree_size;
+    let (w, h) = settings.tree_size;
     let camera = forest_camera(w, h);
     let mut target = Target::new(w, h);
     let time = |renderer: &mut Renderer,
                 target: &mut Target,
                 fixed: &[Draw],
                 batches: &mut [BillboardBatch]| {
-        measure(renderer, target, &camera, &lighting, fixed, batches, plan)
+        measure(
+            renderer, target, &camera, &lighting, fixed, batches, settings,
+        )
     };
-    for &n in &plan.tree_counts {
+    for &n in &settings.tree_counts {
         let trees = forest(n, 5);
         // Meshes: one merged mesh per kind (static batching).
         progress(format!("trees_mesh {}", count_name(n as u64)));

@@ -9,7 +9,7 @@
 //! other rectangles over each of its pixels. In dense scenes no rectangle is alone, so
 //! this is the error a frame of images shows around each object, not the object's own.
 
-use super::{fly_with, planner_of, scenes, Plan, REPRESENTATIONS};
+use super::{fly_with, planner_of, scenes, Settings, REPRESENTATIONS};
 use crate::bench::sweep::{self, CsvRow};
 use ibr::metrics::{Rect, RectCover};
 
@@ -58,8 +58,11 @@ impl CsvRow for ObjectRow {
 const UNREACHED: f32 = 1e6;
 
 /// Runs the sweep: every scene, every image representation.
-pub fn objects(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<ObjectRow> {
-    let scenes = scenes(plan);
+pub fn objects(
+    settings: &Settings,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Vec<ObjectRow> {
+    let scenes = scenes(settings);
     let reps = REPRESENTATIONS.len() - 1;
     let mut tick = sweep::ticker(scenes.len() * reps, progress);
     let mut rows = Vec::new();
@@ -69,9 +72,9 @@ pub fn objects(plan: &Plan, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec
             // Per bin: (predicted, measured, overlap) of every object-frame.
             let mut bins: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); BINS.len()];
             let mut cover = Coverage::default();
-            let mut p = planner_of(scene, plan, UNREACHED, &[k]);
-            fly_with(scene, plan, UNREACHED, &mut p, &mut |p, seen| {
-                cover.count(plan.size, seen.iter().map(|s| s.2));
+            let mut p = planner_of(scene, settings, UNREACHED, &[k]);
+            fly_with(scene, settings, UNREACHED, &mut p, &mut |p, seen| {
+                cover.count(settings.size, seen.iter().map(|s| s.2));
                 for &(i, measured, r) in seen {
                     let c = p.choices()[i];
                     if c.rep != Some(1) || !c.error.is_finite() {

@@ -4,7 +4,7 @@
 //! measured error over its screen rectangle and the rectangle's area, beside the frame's
 //! measured error and the planner's bound on it.
 
-use super::{fly_with, planner, scenes, Plan, REPRESENTATIONS};
+use super::{fly_with, planner, scenes, Settings, REPRESENTATIONS};
 use crate::bench::sweep::CsvRow;
 use ibr::plan::Scope;
 
@@ -47,14 +47,14 @@ impl CsvRow for TraceRow {
     }
 }
 
-/// Flies every scene of `plan` with the frame-scope planner at `budget`.
-pub fn trace(plan: &Plan, budget: f32) -> Vec<TraceRow> {
+/// Flies every scene of `settings` with the frame-scope planner at `budget`.
+pub fn trace(settings: &Settings, budget: f32) -> Vec<TraceRow> {
     let mut rows = Vec::new();
-    for scene in &scenes(plan) {
-        let mut p = planner(scene, plan, budget, true);
+    for scene in &scenes(settings) {
+        let mut p = planner(scene, settings, budget, true);
         p.config.budgets.scope = Scope::Frame;
         let mut frame = 0;
-        fly_with(scene, plan, budget, &mut p, &mut |p, seen| {
+        fly_with(scene, settings, budget, &mut p, &mut |p, seen| {
             let (sum, area) = seen.iter().fold((0.0, 0.0), |(s, a), &(_, m, r)| {
                 let px = f64::from(r.width * r.height);
                 (s + m * px, a + px)

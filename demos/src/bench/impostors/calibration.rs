@@ -3,18 +3,23 @@
 
 use super::row::{Errors, PredictedStats, Row};
 use super::scene::{fly, Policy};
-use super::Plan;
+use super::Settings;
 use crate::bench::scaling::fit_line;
 use crate::chart::{Line, Lines};
 use crate::city::{City, Path as CityPath};
 
 /// One `calibration` row per image per frame after warm-up of a run along `translate`
 /// with refreshes disabled after the warm-up.
-pub(super) fn run(plan: &Plan, city: &mut City, tick: &mut dyn FnMut(String), rows: &mut Vec<Row>) {
+pub(super) fn run(
+    settings: &Settings,
+    city: &mut City,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
     tick("calibration".into());
     let n = city.buildings.len();
     let path = CityPath::Translate;
-    let out = fly(plan, city, path, Policy::Frozen);
+    let out = fly(settings, city, path, Policy::Frozen);
     for (k, frame) in out.measured.iter().enumerate() {
         for &(i, p, e) in frame {
             rows.push(Row {
@@ -28,7 +33,7 @@ pub(super) fn run(plan: &Plan, city: &mut City, tick: &mut dyn FnMut(String), ro
                     px_mean: p.pixels as f64,
                     levels_mean: p.levels as f64,
                 }),
-                ..Row::empty("calibration", path, "frozen".into(), plan, n)
+                ..Row::empty("calibration", path, "frozen".into(), settings, n)
             });
         }
     }

@@ -5,7 +5,7 @@ use super::row::{geometry_row, impostor_row, mean_ms, Errors, Row};
 use super::scene::{
     fly, frame_camera, frame_options, frame_view, measure_draws, run_geometry, Policy,
 };
-use super::Plan;
+use super::Settings;
 use crate::city::{City, Path as CityPath};
 use crate::timing::Summary;
 use engine::{Renderer, Target};
@@ -15,9 +15,9 @@ use ibr::technique::FrameLoop;
 use std::time::Instant;
 
 /// The `method` rows: geometry, runtime impostors at each of
-/// [`Plan::method_tolerances`], and each octahedral configuration of [`Plan::octahedral`].
+/// [`Settings::method_tolerances`], and each octahedral configuration of [`Settings::octahedral`].
 pub(super) fn methods(
-    plan: &Plan,
+    settings: &Settings,
     city: &mut City,
     tick: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
@@ -25,13 +25,26 @@ pub(super) fn methods(
     let path = CityPath::Orbit;
     let n = city.buildings.len();
     tick("method geometry".into());
-    let (times, tris) = run_geometry(city, path, plan.orbit_span, plan.frames, plan.size);
-    let mut row = geometry_row("method", path, plan, n, &times, tris);
+    let (times, tris) = run_geometry(
+        city,
+        path,
+        settings.orbit_span,
+        settings.frames,
+        settings.size,
+    );
+    let mut row = geometry_row("method", path, settings, n, &times, tris);
     // The reference against itself, measured like every other method.
     let mut renderer = Renderer::new();
     let mut frames = Vec::new();
-    for f in 1..plan.frames {
-        let camera = frame_camera(city, path, plan.orbit_span, f, plan.frames, plan.size);
+    for f in 1..settings.frames {
+        let camera = frame_camera(
+            city,
+            path,
+            settings.orbit_span,
+            f,
+            settings.frames,
+            settings.size,
+        );
         let mut frame = Vec::new();
         for b in &city.buildings {
             let (mut truth, mut image) = (Vec::new(), Vec::new());
@@ -42,7 +55,7 @@ pub(super) fn methods(
                 truth,
                 image,
                 &camera,
-                plan.size,
+                settings.size,
                 &city.lighting,
                 b.bounds(),
             ) {
@@ -53,41 +66,41 @@ pub(super) fn methods(
     }
     row.errors = Some(Errors::of_frames(&frames));
     rows.push(row);
-    for &tol in &plan.method_tolerances {
+    for &tol in &settings.method_tolerances {
         tick(format!("method runtime {tol} deg"));
-        let out = fly(plan, city, path, Policy::Error(tol));
+        let out = fly(settings, city, path, Policy::Error(tol));
         rows.push(impostor_row(
             "method",
             path,
             "runtime".into(),
             Some(tol),
-            plan,
+            settings,
             n,
             &out,
         ));
     }
-    octahedral_methods(plan, city, tick, rows);
+    octahedral_methods(settings, city, tick, rows);
 }
 
 /// The octahedral `method` rows: every building baked ([`Layout::Hemi`]) for each
-/// configuration of [`Plan::octahedral`], then flown like the runtime impostors, the
+/// configuration of [`Settings::octahedral`], then flown like the runtime impostors, the
 /// impostors as one technique of the [`FrameLoop`]. An impostor whose bounding sphere is
 /// off the image is neither updated nor drawn ([`OctahedralImpostor::update_in_view`]).
 /// `refreshes` counts recomposed images.
 fn octahedral_methods(
-    plan: &Plan,
+    settings: &Settings,
     city: &mut City,
     tick: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
 ) {
     let path = CityPath::Orbit;
-    let span = plan.span(path);
+    let span = settings.span(path);
     let n = city.buildings.len();
     let lighting = city.lighting.clone();
     let opts = frame_options();
     let mut ground = Vec::new();
     city.ground.draws(&mut ground);
-    for &(grid, px) in &plan.octahedral {
+    for &(grid, px) in &settings.octahedral {
         tick(format!("method octahedral {grid}x{grid} views of {px} px"));
         let t0 = Instant::now();
         let mut imps: Vec<OctahedralImpostor> = city
@@ -99,12 +112,12 @@ fn octahedral_methods(
         let memory: usize = imps.iter().map(|i| i.bytes()).sum();
         let (mut renderer, mut measurer) = (Renderer::new(), Renderer::new());
         let mut frame_loop = FrameLoop::new();
-        let mut target = Target::new(plan.size.0, plan.size.1);
+        let mut target = Target::new(settings.size.0, settings.size.1);
         let (mut times, mut update, mut frames) = (Vec::new(), Vec::new(), Vec::new());
         let (mut recomposed, mut triangles) = (0u64, 0u64);
-        for f in 0..plan.frames {
-            let camera = frame_camera(city, path, span, f, plan.frames, plan.size);
-            let view = frame_view(&camera, &lighting, plan.size);
+        for f in 0..settings.frames {
+            let camera = frame_camera(city, path, span, f, settings.frames, settings.size);
+            let view = frame_view(&camera, &lighting, settings.size);
             let stats = frame_loop.render(
                 &mut renderer,
                 ground.iter().copied(),
@@ -129,7 +142,7 @@ fn octahedral_methods(
                     truth,
                     [imp.draw()],
                     &camera,
-                    plan.size,
+                    settings.size,
                     &lighting,
                     b.bounds(),
                 ) {
@@ -148,7 +161,13 @@ fn octahedral_methods(
             setup_ms: Some(bake.as_secs_f64() * 1e3),
             triangles,
             octahedral: Some((grid, px)),
-            ..Row::empty("method", path, format!("octahedral_{grid}x{px}"), plan, n)
+            ..Row::empty(
+                "method",
+                path,
+                format!("octahedral_{grid}x{px}"),
+                settings,
+                n,
+            )
         });
     }
 }
@@ -168,8 +187,8 @@ mod tests {
 
     #[test]
     fn labels_come_from_the_rows_parameters() {
-        let plan = Plan::tiny();
-        let base = Row::empty("method", CityPath::Orbit, "geometry".into(), &plan, 9);
+        let settings = Settings::tiny();
+        let base = Row::empty("method", CityPath::Orbit, "geometry".into(), &settings, 9);
         assert_eq!(method_label(&base), "geometry");
         let runtime = Row {
             policy: "runtime".into(),

@@ -2,7 +2,7 @@
 //! builders shared by every series.
 
 use super::scene::{path_name, RunOut};
-use super::Plan;
+use super::Settings;
 use crate::bench::sweep::CsvRow;
 use crate::city::Path as CityPath;
 use crate::timing::Summary;
@@ -98,13 +98,13 @@ pub struct Row {
 }
 
 impl Row {
-    /// A row of `series` on `path` by `policy` over `impostors` buildings at the plan's
+    /// A row of `series` on `path` by `policy` over `impostors` buildings at the settings's
     /// size, with nothing measured.
     pub(super) fn empty(
         series: &'static str,
         path: CityPath,
         policy: String,
-        plan: &Plan,
+        settings: &Settings,
         impostors: usize,
     ) -> Row {
         Row {
@@ -115,8 +115,8 @@ impl Row {
             octahedral: None,
             frame: None,
             impostor: None,
-            width: plan.size.0,
-            height: plan.size.1,
+            width: settings.size.0,
+            height: settings.size.1,
             impostors,
             frames: 0,
             refreshes: 0,
@@ -213,7 +213,7 @@ impl CsvRow for Row {
     }
 }
 
-/// A tolerance as written in the plan (`0.03`, not `0.029999999329447746`).
+/// A tolerance as written in the settings (`0.03`, not `0.029999999329447746`).
 pub(super) fn deg(t: f32) -> f64 {
     t.to_string().parse().unwrap_or(t as f64)
 }
@@ -239,7 +239,7 @@ pub(super) fn impostor_row(
     path: CityPath,
     policy: String,
     tolerance: Option<f32>,
-    plan: &Plan,
+    settings: &Settings,
     n: usize,
     run: &RunOut,
 ) -> Row {
@@ -260,7 +260,7 @@ pub(super) fn impostor_row(
         predicted: Some(predicted_stats(&run.predicted)),
         memory_bytes: Some(run.memory),
         triangles: run.triangles,
-        ..Row::empty(series, path, policy, plan, n)
+        ..Row::empty(series, path, policy, settings, n)
     }
 }
 
@@ -268,7 +268,7 @@ pub(super) fn impostor_row(
 pub(super) fn geometry_row(
     series: &'static str,
     path: CityPath,
-    plan: &Plan,
+    settings: &Settings,
     n: usize,
     times: &[Duration],
     triangles: u64,
@@ -277,7 +277,7 @@ pub(super) fn geometry_row(
         frames: times.len(),
         time: Some(Summary::of(times)),
         triangles,
-        ..Row::empty(series, path, "geometry".into(), plan, n)
+        ..Row::empty(series, path, "geometry".into(), settings, n)
     }
 }
 
@@ -288,7 +288,7 @@ mod tests {
     #[test]
     fn csv_rows_match_the_header() {
         let n = Row::HEADER.split(',').count();
-        let row = geometry_row("geometry", CityPath::Rotate, &Plan::tiny(), 9, &[], 0);
+        let row = geometry_row("geometry", CityPath::Rotate, &Settings::tiny(), 9, &[], 0);
         assert_eq!(row.csv().split(',').count(), n);
         let full = Row {
             errors: Some(Errors::of_frames(&[vec![]])),

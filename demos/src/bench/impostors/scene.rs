@@ -1,7 +1,7 @@
 //! What every series shares: the frame camera and clear, measuring an image against its
 //! geometry, and flying a path with runtime impostors or with geometry alone.
 
-use super::Plan;
+use super::Settings;
 use crate::city::{City, Path as CityPath};
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Sphere, Target};
 use ibr::impostor::{self, Budget, Config, Impostored, Mode, Predicted, Tolerance};
@@ -119,9 +119,16 @@ pub(super) struct RunOut {
     pub(super) triangles: u64,
 }
 
-/// Flies the plan's run of runtime impostors along `path` (see [`run_impostors`]).
-pub(super) fn fly(plan: &Plan, city: &City, path: CityPath, policy: Policy) -> RunOut {
-    run_impostors(city, path, plan.span(path), plan.frames, plan.size, policy)
+/// Flies the settings's run of runtime impostors along `path` (see [`run_impostors`]).
+pub(super) fn fly(settings: &Settings, city: &City, path: CityPath, policy: Policy) -> RunOut {
+    run_impostors(
+        city,
+        path,
+        settings.span(path),
+        settings.frames,
+        settings.size,
+        policy,
+    )
 }
 
 /// The frame's view of `camera` for a `size` image (a static scene: no time).

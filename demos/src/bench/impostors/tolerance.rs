@@ -3,12 +3,12 @@
 
 use super::row::{geometry_row, impostor_row, Row};
 use super::scene::{fly, path_name, run_geometry, Policy};
-use super::Plan;
+use super::Settings;
 use crate::city::{City, Path as CityPath};
 
 /// The `geometry` reference and the `sweep` rows on `translate` and `rotate`.
 pub(super) fn sweep(
-    plan: &Plan,
+    settings: &Settings,
     city: &mut City,
     tick: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
@@ -16,13 +16,19 @@ pub(super) fn sweep(
     let n = city.buildings.len();
     for path in [CityPath::Translate, CityPath::Rotate] {
         tick(format!("geometry {}", path_name(path)));
-        let (times, tris) = run_geometry(city, path, plan.span(path), plan.frames, plan.size);
-        rows.push(geometry_row("geometry", path, plan, n, &times, tris));
-        for &tol in &plan.tolerances {
+        let (times, tris) = run_geometry(
+            city,
+            path,
+            settings.span(path),
+            settings.frames,
+            settings.size,
+        );
+        rows.push(geometry_row("geometry", path, settings, n, &times, tris));
+        for &tol in &settings.tolerances {
             tick(format!("sweep {} {tol} deg", path_name(path)));
             let policy = Policy::Error(tol);
-            let out = fly(plan, city, path, policy);
-            let row = impostor_row("sweep", path, "error".into(), Some(tol), plan, n, &out);
+            let out = fly(settings, city, path, policy);
+            let row = impostor_row("sweep", path, "error".into(), Some(tol), settings, n, &out);
             rows.push(row);
         }
     }
@@ -31,7 +37,7 @@ pub(super) fn sweep(
 /// The `fixed` rows: a fixed-interval policy at each `translate` sweep run's refresh
 /// count.
 pub(super) fn fixed(
-    plan: &Plan,
+    settings: &Settings,
     city: &mut City,
     tick: &mut dyn FnMut(String),
     rows: &mut Vec<Row>,
@@ -47,8 +53,8 @@ pub(super) fn fixed(
         tick(format!("fixed interval matching {tol} deg"));
         let rate = refreshes as f64 / frames.max(1) as f64;
         let policy = Policy::Fixed { rate };
-        let out = fly(plan, city, path, policy);
-        let mut row = impostor_row("fixed", path, "fixed".into(), Some(tol), plan, n, &out);
+        let out = fly(settings, city, path, policy);
+        let mut row = impostor_row("fixed", path, "fixed".into(), Some(tol), settings, n, &out);
         row.interval_frames = (rate > 0.0).then(|| n as f64 / rate);
         rows.push(row);
     }

@@ -1,7 +1,7 @@
 //! The sweep's frames, each through the [`FrameLoop`]: the camera at a pose, one geometry
 //! frame, one impostor frame, and the untimed impostor warm-up.
 
-use super::Plan;
+use super::Settings;
 use crate::city::{City, Path};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Renderer, Rgba, Target};
 use ibr::impostor::{Budget, Config, Impostored, Report};
@@ -90,6 +90,6 @@ pub fn warm_up(
 }
 
 /// The path parameter of pose `i`.
-pub fn pose(plan: &Plan, i: usize) -> f32 {
-    plan.path_start + plan.path_step * i as f32
+pub fn pose(settings: &Settings, i: usize) -> f32 {
+    settings.path_start + settings.path_step * i as f32
 }

@@ -2,7 +2,7 @@
 //! rows they come to.
 
 use super::frames::{camera, geometry_frame, impostor_frame, pose, warm_up};
-use super::{fit_line, Plan, Row, Timing};
+use super::{fit_line, Row, Settings, Timing};
 use crate::city::City;
 use crate::timing::Summary;
 use engine::{FrameStats, Renderer, Target};
@@ -52,15 +52,15 @@ impl Samples {
 
 /// Measures `points` (cities and sizes) in rounds, frame by frame in turn.
 pub(super) fn measure(
-    plan: &Plan,
+    settings: &Settings,
     series: &str,
     cities: &[City],
     points: &mut [Point],
     renderer: &mut Renderer,
     tick: &mut dyn FnMut(String),
 ) {
-    let rounds = plan.rounds.max(1);
-    let frames = plan.frames.max(rounds);
+    let rounds = settings.rounds.max(1);
+    let frames = settings.frames.max(rounds);
     let mut frame_loop = FrameLoop::new();
     for round in 0..rounds {
         let poses = (round * frames / rounds)..((round + 1) * frames / rounds);
@@ -71,12 +71,12 @@ pub(super) fn measure(
             .map(|p| {
                 let city = &cities[p.city_index];
                 let mut target = Target::new(p.size.0, p.size.1);
-                let first = camera(city, plan.path, pose(plan, poses.start), p.size);
-                for _ in 0..plan.warmup {
+                let first = camera(city, settings.path, pose(settings, poses.start), p.size);
+                for _ in 0..settings.warmup {
                     geometry_frame(renderer, &mut frame_loop, city, &first, &mut target);
                 }
-                let mut imp = warm_up(city, plan.impostors, &first, &target);
-                for _ in 0..plan.warmup {
+                let mut imp = warm_up(city, settings.impostors, &first, &target);
+                for _ in 0..settings.warmup {
                     impostor_frame(
                         renderer,
                         &mut frame_loop,
@@ -93,7 +93,7 @@ pub(super) fn measure(
             tick(format!("{series}: frame {}/{frames}", i + 1));
             for (p, (target, imp)) in points.iter_mut().zip(&mut live) {
                 let city = &cities[p.city_index];
-                let cam = camera(city, plan.path, pose(plan, i), p.size);
+                let cam = camera(city, settings.path, pose(settings, i), p.size);
                 let stats = geometry_frame(renderer, &mut frame_loop, city, &cam, target);
                 let took = frame_loop.times.total;
                 p.geometry.steady.push(took);

@@ -1,12 +1,13 @@
-//! Captures from the command line: a scene rendered from a row of cameras and written as a
-//! `transforms.json` capture (PNG colour, PFM depth along the optical axis), which the
-//! `warp` command and other tools read.
+//! Datasets of views from the command line (`render --capture DIR`): a scene rendered from
+//! a row of cameras and written as a `transforms.json` dataset (PNG colour, PFM depth along
+//! the optical axis), which the `warp` command and other tools read. (In `ibr` and the rest
+//! of demos, capturing means rendering an image representation: `ibr::capture`.)
 //!
 //! The colour files hold the bytes the render target holds, in the target's encoding:
 //! sRGB for lit and textured shadings, unorm for the data-like shadings (flat and vertex
 //! colours, face ids), exactly as `render --png` writes the same view. Readers take a PNG
 //! as sRGB, so the images kept in memory ([`frames`]) are those bytes decoded as sRGB: what
-//! reading the capture back gives, and what [`transforms::srgb8`] turns back into the same
+//! reading the dataset back gives, and what [`transforms::srgb8`] turns back into the same
 //! bytes.
 
 use engine::color::srgb_to_linear_lut;
@@ -32,7 +33,7 @@ pub fn arc(eye: Vec3, target: Vec3, up: Vec3, views: usize, spread_deg: f32) -> 
         .collect()
 }
 
-/// The frames of a capture: `scene` rendered from each camera at `width` x `height` into
+/// The frames of a dataset: `scene` rendered from each camera at `width` x `height` into
 /// a target of `encoding`, each image's colour the target's bytes read as sRGB (the
 /// module doc), its depth the distance along the optical axis.
 pub fn frames(
@@ -75,7 +76,7 @@ fn as_srgb(bytes: &[u8]) -> Vec<engine::Premul> {
 }
 
 /// Renders `scene` from each camera at `width` x `height` into a target of `encoding`
-/// (the shading's) and writes the capture into `dir`. Returns the frames written.
+/// (the shading's) and writes the dataset into `dir`. Returns the frames written.
 pub fn write(
     dir: &Path,
     scene: &Scene,
