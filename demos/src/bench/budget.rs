@@ -1,4 +1,4 @@
-//! The `bench budget` sweep: the planner ([`ibr::settings`]) against each single representation
+//! The `bench budget` sweep: the planner ([`ibr::plan`]) against each single representation
 //! used everywhere, on the same frames of three scenes: the showcase's city district
 //! along the showcase's own path (its buildings planned, the rest of its scene as
 //! geometry), the procedural [`City`] of the impostor benchmarks (16 buildings, sliding
@@ -216,7 +216,7 @@ impl CsvRow for Row {
 /// Frame `f` of `n`'s camera for a target of the given size.
 type Frames = Box<dyn Fn(usize, usize, (u32, u32)) -> Camera>;
 
-/// A scene to settings over: its objects, the rest as plain geometry, the light and the frames.
+/// A scene to plan over: its objects, the rest as plain geometry, the light and the frames.
 struct Scene {
     name: &'static str,
     objects: Vec<MeshGroup>,

@@ -6,7 +6,7 @@
 //! (vertical) perspective camera at [`Settings::size`]. A *run* flies [`Settings::frames`] frames
 //! along the first part of a camera path ([`City::path`] with `t` from 0 to the path's span,
 //! [`Settings::span`]): frame 0 is the warm-up (every visible impostor takes its first image)
-//! and is left out of every figure. In the full settings (4 x 4 buildings, 6 units apart,
+//! and is left out of every figure. In the full sweep (4 x 4 buildings, 6 units apart,
 //! 41 frames) the `translate` eye slides 3 units (0.075 per frame), the `rotate` eye turns
 //! 51.6 degrees in place (1.29 per frame) and the `orbit` eye circles 15 degrees of its
 //! 22.8-unit circle (0.15 units per frame).

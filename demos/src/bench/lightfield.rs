@@ -559,7 +559,7 @@ fn file_size(lf: &LightField, name: &str) -> u64 {
     size
 }
 
-/// Runs the settings; `progress(step, total, what)` before each point.
+/// Runs the sweep at these settings; `progress(step, total, what)` before each point.
 pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let total = settings.uv.len()
         + settings.st.len()

@@ -245,7 +245,7 @@ fn portals(building: &Building, image: PortalImage) -> Portals {
     )
 }
 
-/// Runs the settings; `progress(step, total, what)` before each point.
+/// Runs the sweep at these settings; `progress(step, total, what)` before each point.
 pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let total =
         (settings.triangles.len() + settings.resolutions.len()) * METHODS.len() + METHODS.len();

@@ -302,7 +302,7 @@ fn target_eye(city: &City, series: &str, value: f32) -> Vec3 {
     }
 }
 
-/// Runs the settings; `progress(step, total, what)` before each point.
+/// Runs the sweep at these settings; `progress(step, total, what)` before each point.
 pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let city = City::with_triangles(4, settings.triangles, 7);
     let (_, at) = home(&city);

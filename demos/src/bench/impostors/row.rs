@@ -98,7 +98,7 @@ pub struct Row {
 }
 
 impl Row {
-    /// A row of `series` on `path` by `policy` over `impostors` buildings at the settings's
+    /// A row of `series` on `path` by `policy` over `impostors` buildings at the settings'
     /// size, with nothing measured.
     pub(super) fn empty(
         series: &'static str,

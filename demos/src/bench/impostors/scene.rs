@@ -119,7 +119,7 @@ pub(super) struct RunOut {
     pub(super) triangles: u64,
 }
 
-/// Flies the settings's run of runtime impostors along `path` (see [`run_impostors`]).
+/// Flies the settings' run of runtime impostors along `path` (see [`run_impostors`]).
 pub(super) fn fly(settings: &Settings, city: &City, path: CityPath, policy: Policy) -> RunOut {
     run_impostors(
         city,
