@@ -52,7 +52,7 @@ mod trees;
 
 pub use accuracy::orbit_camera;
 pub use particles::{particle_camera, particles};
-pub use report::{charts, PSNR_CAP_DB};
+pub use report::{charts, BillboardsSweep, PSNR_CAP_DB};
 pub use row::{Row, Times};
 pub use trees::forest_camera;
 

@@ -33,11 +33,15 @@
 
 mod calibrate;
 mod objects;
+mod report;
 mod trace;
 mod world;
 
 pub use calibrate::{calibrate, Calibration};
 pub use objects::{objects, ObjectRow};
+pub use report::{
+    charts, BudgetCommand, BudgetFlags, BudgetSweep, CalibrateSweep, ObjectsSweep, TraceSweep,
+};
 pub use trace::{trace, TraceRow};
 pub use world::World;
 
@@ -829,80 +833,4 @@ fn spread_fit(probes: &[Sample], measured: &[f64]) -> f64 {
     z.sort_by(f64::total_cmp);
     let p99 = z[((z.len() as f64 * 0.99).ceil() as usize).saturating_sub(1)];
     (p99 / plan::Z99).max(0.0)
-}
-
-/// `(file, chart)` for every chart of the sweep: per scene, frame time against measured
-/// error, one line per method over the budgets.
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
-    use crate::chart::{Chart, Line, Lines};
-    let mut out = Vec::new();
-    for (scene, file) in [
-        ("showcase", "budget_time_error_showcase.png"),
-        ("city", "budget_time_error_city.png"),
-        ("world", "budget_time_error_world.png"),
-    ] {
-        if !rows.iter().any(|r| r.scene == scene) {
-            continue;
-        }
-        // Each point labelled with its error budget.
-        let series = |method: &str| {
-            let of: Vec<&Row> = rows
-                .iter()
-                .filter(|r| r.scene == scene && r.method == method)
-                .collect();
-            let pts = of.iter().map(|r| (r.time.median_ms, r.measured_mean));
-            let labels = of.iter().map(|r| format!("b{}", r.budget)).collect();
-            Line::new(format!("{method} ({scene})"), pts.collect()).labelled(labels)
-        };
-        out.push((
-            file,
-            Chart::Lines(Lines::new(
-                "Measured error against frame time (labels: error budget bN)",
-                "median frame time (ms)",
-                "mean abs error over objects (8-bit levels)",
-                ["geometry", "impostors", "layers"]
-                    .into_iter()
-                    .chain(REPRESENTATIONS[ALONE..].iter().copied())
-                    .chain(["planner", "planner-frame"])
-                    .map(series)
-                    .collect(),
-            )),
-        ));
-    }
-    // The planner's predicted against measured error, and the budget itself.
-    let planner = |scene: &str, f: &dyn Fn(&Row) -> f64| {
-        let pts = rows
-            .iter()
-            .filter(|r| r.scene == scene && r.method == "planner")
-            .map(|r| (f64::from(r.budget), f(r)))
-            .collect();
-        pts
-    };
-    let mut lines = Vec::new();
-    for scene in ["showcase", "city", "world"] {
-        if rows.iter().any(|r| r.scene == scene) {
-            let predicted = planner(scene, &|r| r.predicted_mean);
-            let measured = planner(scene, &|r| r.measured_mean);
-            let p99 = planner(scene, &|r| r.measured_p99);
-            lines.push(Line::new(format!("predicted ({scene})"), predicted));
-            lines.push(Line::new(format!("measured ({scene})"), measured));
-            lines.push(Line::new(format!("measured, p99 frame ({scene})"), p99));
-        }
-    }
-    let budgets: Vec<(f64, f64)> = rows
-        .iter()
-        .filter(|r| r.method == "planner" && r.scene == "city")
-        .map(|r| (f64::from(r.budget), f64::from(r.budget)))
-        .collect();
-    lines.push(Line::reference("the budget", budgets));
-    out.push((
-        "budget_predicted_measured.png",
-        Chart::Lines(Lines::new(
-            "The planner's error against its budget",
-            "error budget (8-bit levels)",
-            "error over objects (8-bit levels)",
-            lines,
-        )),
-    ));
-    out
 }

@@ -25,6 +25,7 @@
 
 use crate::bench::impostors::frame_camera;
 use crate::bench::sweep::{self, CsvRow};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::city::{City, Path as CityPath};
 use crate::timing::Summary;
 use engine::{Draw, FrameOptions, Renderer, Rgba, Target};
@@ -421,4 +422,53 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
         ));
     }
     out
+}
+
+/// The `layers` sweep (the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct LayersSweep;
+
+impl Sweep for LayersSweep {
+    const NAME: &'static str = "layers";
+    const ABOUT: &'static str = "Image layers against runtime impostors on the city: re-renders, error and frame time against the threshold.";
+    type Flags = RunFlags;
+    type Settings = Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<Settings, String> {
+        Ok(flags.pick(Settings::tiny, Settings::quick, Settings::full))
+    }
+
+    fn rows(
+        &self,
+        settings: &Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            println!(
+                "{:<9} {:<9} {:>5} px {}x{}  refreshes {:>6.2}/frame ({:>7.1} kpx)  median {:>7.2} ms  mean abs {:>6.3}  PSNR {:>6.2} dB  off {:>5.2}%  predicted max {:>6.2} px",
+                r.path,
+                r.method,
+                r.tolerance_px,
+                r.width,
+                r.height,
+                r.refreshes_per_frame,
+                r.capture_kpx_per_frame,
+                r.time.median_ms,
+                r.error.mean_abs,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                r.predicted_px_max,
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
+        charts(rows)
+    }
 }

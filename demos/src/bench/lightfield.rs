@@ -22,9 +22,9 @@
 //! - `triangles`: frame time against the object's triangles, light field and geometry;
 //! - `geometry`: the geometry's frame time at each eye (the error reference).
 
-mod charts;
+mod report;
 
-pub use charts::charts;
+pub use report::{charts, LightfieldSweep};
 
 use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::timing::Summary;

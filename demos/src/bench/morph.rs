@@ -5,6 +5,7 @@
 //! toward its centre from either side (not parallel), and a wider pair.
 
 use crate::bench::sweep::{self, CsvRow, Timing};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::showcase::{self, Showcase};
 use crate::timing::Summary;
 use engine::{Draw, Lighting};
@@ -188,4 +189,50 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
             lines,
         )),
     )]
+}
+
+/// The `morph` sweep (the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct MorphSweep;
+
+impl Sweep for MorphSweep {
+    const NAME: &'static str = "morph";
+    const ABOUT: &'static str = "View morphing along the path between two views, with and without the prewarp, against the geometry.";
+    type Flags = RunFlags;
+    type Settings = Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<Settings, String> {
+        Ok(flags.pick(Settings::tiny, Settings::quick, Settings::full))
+    }
+
+    fn rows(
+        &self,
+        settings: &Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        run(settings, progress)
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            println!(
+                "{:<5} {:<13} s {:.2} {}x{} median {:>8.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  covered {:>5.1}%",
+                r.path,
+                r.method,
+                r.s,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                100.0 * r.covered,
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
+        charts(rows)
+    }
 }

@@ -3,6 +3,7 @@
 //! and the predicted parallax, where the method fails; and time against rendering it.
 
 use crate::bench::sweep::{self, CsvRow, Timing};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::showcase::{self, Showcase};
 use crate::timing::Summary;
 use engine::Draw;
@@ -167,4 +168,49 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
             )),
         ),
     ]
+}
+
+/// The `panorama` sweep (the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct PanoramaSweep;
+
+impl Sweep for PanoramaSweep {
+    const NAME: &'static str = "panorama";
+    const ABOUT: &'static str = "A cube-map sky seen from eyes moved away from where it was captured, against the geometry: measured and predicted error.";
+    type Flags = RunFlags;
+    type Settings = Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<Settings, String> {
+        Ok(flags.pick(Settings::tiny, Settings::quick, Settings::full))
+    }
+
+    fn rows(
+        &self,
+        settings: &Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            println!(
+                "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px",
+                r.moved,
+                r.width,
+                r.height,
+                r.panorama.median_ms,
+                r.geometry.median_ms,
+                r.error.psnr_capped(99.0),
+                100.0 * r.error.frac_over,
+                r.predicted_px,
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
+        charts(rows)
+    }
 }

@@ -12,9 +12,9 @@
 //! Every portal row records the renderer's triangles, the warped samples and the pixels
 //! the portals wrote, so "cost follows pixels" can be read from counters as well as times.
 
-mod charts;
+mod report;
 
-pub use charts::charts;
+pub use report::{charts, PortalsSweep};
 
 use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::building::Building;

@@ -10,6 +10,7 @@
 //! materials.
 
 use crate::bench::sweep::{CsvRow, Timing};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, LineAndDots, Point};
 use crate::timing::Summary;
 use engine::procedural;
@@ -385,6 +386,125 @@ pub fn raster(
         }
     }
     rows
+}
+
+/// The `raster` sweep's flags.
+#[derive(clap::Args, Clone, Debug)]
+pub struct RasterFlags {
+    #[command(flatten)]
+    pub run: RunFlags,
+    /// Folder of shared models (default: $PARALLAX_ASSETS, ../shared/assets beside the
+    /// workspace, or /work/shared/assets).
+    #[arg(long, value_name = "DIR")]
+    pub assets: Option<PathBuf>,
+    /// Skip the shared models.
+    #[arg(long)]
+    pub no_models: bool,
+}
+
+impl AsRef<RunFlags> for RasterFlags {
+    fn as_ref(&self) -> &RunFlags {
+        &self.run
+    }
+}
+
+/// The `raster` sweep: frame time against resolution and against triangle count.
+#[derive(Clone, Copy, Debug)]
+pub struct RasterSweep;
+
+impl Sweep for RasterSweep {
+    const NAME: &'static str = "raster";
+    const ABOUT: &'static str = "Frame time against resolution and against triangle count.";
+    const ROWS: &'static str = "measurements";
+    type Flags = RasterFlags;
+    /// The settings and the shared models loaded.
+    type Settings = (Settings, Vec<(String, Scene)>);
+    type Row = Row;
+
+    fn settings(&self, flags: &RasterFlags) -> Result<Self::Settings, String> {
+        let settings = flags
+            .run
+            .pick(Settings::tiny, Settings::quick, Settings::full);
+        let models = if settings.models && !flags.no_models {
+            load_models(flags.assets.clone())
+        } else {
+            Vec::new()
+        };
+        Ok((settings, models))
+    }
+
+    fn rows(
+        &self,
+        (settings, models): &Self::Settings,
+        _: &RasterFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(raster(settings, models, |i, total, step| {
+            let (w, h) = step.size;
+            progress(i, total, &format!("{} {} {w}x{h}", step.series, step.mesh));
+        }))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            println!(
+                "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
+                r.series,
+                r.mesh,
+                r.triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.time.min_ms,
+                r.time.p90_ms,
+                r.time.frames
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
+}
+
+/// Loads the shared models from `assets` or the default folder (skipping, with a notice,
+/// any that fail), fewest triangles first.
+fn load_models(assets: Option<PathBuf>) -> Vec<(String, Scene)> {
+    let dir = match assets.or_else(default_assets_dir) {
+        Some(d) if d.is_dir() => d,
+        Some(d) => {
+            println!(
+                "bench: no shared models: {} is not a folder; skipping them",
+                d.display()
+            );
+            return Vec::new();
+        }
+        None => {
+            println!("bench: no shared models folder found (set --assets or PARALLAX_ASSETS); skipping them");
+            return Vec::new();
+        }
+    };
+    let mut out = Vec::new();
+    for path in find_models(&dir) {
+        match engine::load::model(&path) {
+            Ok(loaded) => {
+                let name = model_name(&path);
+                println!(
+                    "bench: loaded {name} ({} triangles{})",
+                    loaded.scene.triangle_count(),
+                    if loaded.warnings.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", {} warnings", loaded.warnings.len())
+                    }
+                );
+                out.push((name, loaded.scene));
+            }
+            Err(e) => println!("bench: skipping {}: {e}", path.display()),
+        }
+    }
+    out.sort_by_key(|(_, s)| s.triangle_count());
+    out
 }
 
 #[cfg(test)]

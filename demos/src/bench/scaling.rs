@@ -60,7 +60,7 @@ mod row;
 
 pub use fit::{fit_line, Fit};
 pub use frames::{camera, geometry_frame, impostor_frame, pose, warm_up};
-pub use report::{approx, charts, impostor_change};
+pub use report::{approx, charts, impostor_change, ScalingSweep};
 pub use row::{Row, Timing};
 
 use crate::bench::sweep::ticker;

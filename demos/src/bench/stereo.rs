@@ -10,11 +10,11 @@
 //! writes its disparities (`opencv_sgbm.pfm`, `opencv_sgbm_hh.pfm`). [`key`] draws the
 //! colour key under a colour-mapped disparity map (the `stereo` CLI's `disparity.png`).
 
-mod charts;
 pub mod key;
+mod report;
 mod scenes;
 
-pub use charts::charts;
+pub use report::{charts, StereoFlags, StereoSweep};
 pub use scenes::{repeated_pair, scenes, Scene};
 
 use crate::bench::sweep::{self, CsvRow, Timing};

@@ -14,9 +14,9 @@
 //! the warp frame and the geometry frame. A `speed` series times one reference warped with
 //! splats and filled each way at 1920x1080 (smaller in quick and tiny runs).
 
-mod charts;
+mod report;
 
-pub use charts::charts;
+pub use report::{charts, WarpSweep};
 
 use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
 use crate::city::City;

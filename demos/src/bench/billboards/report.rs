@@ -2,6 +2,7 @@
 
 use super::{Row, Times};
 use crate::bench::raster::count_name;
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
 
@@ -137,4 +138,61 @@ fn trees_error_time(rows: &[Row]) -> Lines {
         ],
     )
     .log(true, false)
+}
+
+/// The `billboards` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BillboardsSweep;
+
+impl Sweep for BillboardsSweep {
+    const NAME: &'static str = "billboards";
+    const ABOUT: &'static str = "Billboard frame time against count and resolution, billboard-tree error against view elevation, and billboard against mesh trees.";
+    const ROWS: &'static str = "measurements";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
+            match (&r.times, &r.error) {
+                (Some(t), _) => println!(
+                    "{what} {:>4}x{:<4} {:>9} tris  build {:>8.3} ms  render {:>8.3} ms  total {:>8.3} ms ({} frames)",
+                    r.width, r.height, r.triangles, t.build.median_ms, t.render.median_ms, t.total.median_ms, t.total.frames
+                ),
+                (None, Some(e)) => println!(
+                    "{what} {:>4}x{:<4} PSNR {:>6.2} dB  MAE {:>6.2}  max {:>3}  over {:>5.1}%  coverage {:>5.1}%",
+                    r.width,
+                    r.height,
+                    e.psnr_db,
+                    e.mean_abs,
+                    e.max_abs,
+                    e.frac_over * 100.0,
+                    e.coverage_mismatch * 100.0
+                ),
+                (None, None) => println!("{what} (nothing measured)"),
+            }
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
 }

@@ -3,6 +3,7 @@
 use super::calibration::{calibration_chart, calibration_levels_chart};
 use super::methods::method_label;
 use super::row::Row;
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 
 /// Highest PSNR drawn in charts (identical images have an infinite PSNR).
@@ -177,4 +178,46 @@ pub fn print_row(r: &Row) {
         _ => String::new(),
     };
     println!("{what} {time}{update}{refresh}{error}{predicted}{extra}");
+}
+
+/// The `impostors` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ImpostorsSweep;
+
+impl Sweep for ImpostorsSweep {
+    const NAME: &'static str = "impostors";
+    const ABOUT: &'static str = "Runtime impostors: frame time, refreshes and measured error against the parallax tolerance; fixed-interval refresh; predicted against measured error; octahedral.";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows.iter().filter(|r| r.series != "calibration") {
+            print_row(r);
+        }
+        if let Some(s) = super::calibration_summary(rows) {
+            println!("{s}");
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
 }

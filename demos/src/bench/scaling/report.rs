@@ -1,6 +1,7 @@
 //! The sweep's charts and the figures its summary prints.
 
 use super::{Row, Timing};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 
 /// The change of a steady impostor median (`pick`: of the whole frame, the update or the
@@ -255,5 +256,83 @@ mod tests {
         assert_eq!(label_count(12_345), "12.3k");
         assert_eq!(label_count(642), "642");
         assert_eq!(label_count(2_000_000), "2M");
+    }
+}
+
+/// The `scaling` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ScalingSweep;
+
+impl Sweep for ScalingSweep {
+    const NAME: &'static str = "scaling";
+    const ABOUT: &'static str = "The city as geometry and through impostors: frame time against triangles and against pixels, with fitted lines.";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            let what = format!(
+                "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
+                r.series, r.mode, r.triangles, r.width, r.height
+            );
+            match (&r.timing, &r.fit) {
+                (Some(t), _) => println!(
+                    "{what} median {:>9.3} ms  p90 {:>9.3}  update {:>6.3}  render {:>9.3}  ({} frames; {} with refreshes, median {:.3} ms)  set up {:>8}  shaded {:>9}",
+                    t.steady.median_ms,
+                    t.steady.p90_ms,
+                    t.update.median_ms,
+                    t.render.median_ms,
+                    t.steady.frames,
+                    t.refresh.frames,
+                    t.refresh.median_ms,
+                    r.stats.triangles_set_up,
+                    r.stats.fragments_shaded
+                ),
+                (None, Some(f)) => println!(
+                    "{what} fit: {:.4} ms + {:.6} ns per {}, R^2 {:.4}",
+                    f.intercept,
+                    f.slope * 1e6,
+                    if r.series == "triangles_fit" { "triangle" } else { "pixel" },
+                    f.r2
+                ),
+                (None, None) => println!("{what} (nothing measured)"),
+            }
+        }
+        type Pick = fn(&Timing) -> f64;
+        let parts: [(&str, Pick); 3] = [
+            ("frame", |t| t.steady.median_ms),
+            ("update", |t| t.update.median_ms),
+            ("draw list + render", |t| t.render.median_ms),
+        ];
+        for (part, pick) in parts {
+            if let Some((lo, hi, change)) = impostor_change(rows, 1_500_000, pick) {
+                println!(
+                    "bench: impostor {part} median (frames without refreshes) from {lo} to {hi} triangles: {:+.1}%",
+                    change * 100.0
+                );
+            }
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
     }
 }

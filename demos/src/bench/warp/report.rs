@@ -1,7 +1,9 @@
-//! The warp sweep's charts: error and holes against the eye's move, and error against time
-//! beside the geometry frame.
+//! The warp sweep as the CLI runs it ([`WarpSweep`]: its rows printed) and its charts:
+//! error and holes against the eye's move, and error against time beside the geometry
+//! frame.
 
 use super::Row;
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 
 /// The methods in chart order: (method, references).
@@ -137,4 +139,72 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
         )),
     ));
     out
+}
+
+/// The `warp` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct WarpSweep;
+
+impl Sweep for WarpSweep {
+    const NAME: &'static str = "warp";
+    const ABOUT: &'static str =
+        "Depth images warped to moved eyes: error, holes and time against geometry.";
+    const ROWS: &'static str = "points";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB (seen {:>6.2})  MAE {:>5.2}  over {:>5.1}%",
+                    e.psnr_capped(99.0),
+                    r.psnr_seen.min(99.0),
+                    e.mean_abs,
+                    e.frac_over * 100.0
+                )
+            });
+            let rate = if r.samples > 0 {
+                format!(
+                    "  {:.0} M samples/s",
+                    r.samples as f64 / r.time.median_ms / 1e3
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{:<8} {:>5} {:<8} {} ref  {:>4}x{:<4} median {:>8.3} ms  holes {:>5.2}%  {err}{rate}",
+                r.series,
+                r.value,
+                r.method,
+                r.references,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.holes * 100.0
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
 }

@@ -1,8 +1,10 @@
-//! The portal sweep's charts: frame time against the triangles behind the doorways and
-//! against resolution, error and time along the walkthrough, and error against time for
-//! every walkthrough frame (where the methods differ: from their build eyes they agree).
+//! The portal sweep as the CLI runs it ([`PortalsSweep`]: its rows printed) and its charts:
+//! frame time against the triangles behind the doorways and against resolution, error and
+//! time along the walkthrough, and error against time for every walkthrough frame (where
+//! the methods differ: from their build eyes they agree).
 
 use super::{Row, METHODS};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 
 /// PSNR of identical images (at and above it a value is drawn as "exact").
@@ -117,4 +119,85 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             ),
         ),
     ]
+}
+
+/// The `portals` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PortalsSweep;
+
+impl Sweep for PortalsSweep {
+    const NAME: &'static str = "portals";
+    const ABOUT: &'static str = "Rooms through LDI portals, depth-image and flat portals, or as geometry: time against triangles and resolution, error along a walkthrough.";
+    const ROWS: &'static str = "points";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows.iter().filter(|r| r.series != "walk") {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB  MAE {:>5.2}",
+                    e.psnr_capped(99.0),
+                    e.mean_abs
+                )
+            });
+            println!(
+                "{:<10} {:<11} {:>9} tris {:>4}x{:<4} median {:>8.3} ms  {:>8} tris in  {:>8} samples  {:>8} px  {err}",
+                r.series,
+                r.method,
+                r.room_triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+                r.triangles_in,
+                r.samples,
+                r.pixels,
+            );
+        }
+        for m in ["geometry", "flat", "depth-image", "ldi"] {
+            let walk: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.series == "walk" && r.method == m)
+                .collect();
+            if walk.is_empty() {
+                continue;
+            }
+            let n = walk.len() as f64;
+            let mean_ms = walk.iter().map(|r| r.time.median_ms).sum::<f64>() / n;
+            let max_ms = walk.iter().map(|r| r.time.median_ms).fold(0.0, f64::max);
+            let psnr: Vec<f64> = walk
+                .iter()
+                .filter_map(|r| r.error.map(|e| e.psnr_capped(99.0)))
+                .collect();
+            let min_psnr = psnr.iter().copied().fold(f64::INFINITY, f64::min);
+            let rebuilds: u64 = walk.iter().map(|r| r.rebuilds).sum();
+            println!(
+                "walk       {m:<11} {} frames  mean {mean_ms:>7.3} ms  max {max_ms:>7.3} ms  rebuilds {rebuilds}  lowest PSNR {}",
+                walk.len(),
+                if psnr.is_empty() { "-".to_string() } else { format!("{min_psnr:.2} dB") },
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
 }

@@ -1,8 +1,10 @@
-//! The light-field sweep's charts: error against `uv` density and `st` resolution per
-//! lookup, error against compression, error against frame time beside the geometry, and
-//! frame time against resolution and against the object's triangles.
+//! The light-field sweep as the CLI runs it ([`LightfieldSweep`]: its rows printed) and its
+//! charts: error against `uv` density and `st` resolution per lookup, error against
+//! compression, error against frame time beside the geometry, and frame time against
+//! resolution and against the object's triangles.
 
 use super::{Row, LOOKUPS};
+use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
 
@@ -273,4 +275,75 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             ),
         ),
     ]
+}
+
+/// The `lightfield` sweep (the module docs of [`super`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LightfieldSweep;
+
+impl Sweep for LightfieldSweep {
+    const NAME: &'static str = "lightfield";
+    const ABOUT: &'static str = "Light slabs against the geometry: error against sampling, lookup and compression; time against resolution and triangles.";
+    const ROWS: &'static str = "points";
+    type Flags = RunFlags;
+    type Settings = super::Settings;
+    type Row = Row;
+
+    fn settings(&self, flags: &RunFlags) -> Result<super::Settings, String> {
+        Ok(flags.pick(
+            super::Settings::tiny,
+            super::Settings::quick,
+            super::Settings::full,
+        ))
+    }
+
+    fn rows(
+        &self,
+        settings: &super::Settings,
+        _: &RunFlags,
+        progress: Progress,
+    ) -> Result<Vec<Row>, String> {
+        Ok(super::run(settings, progress))
+    }
+
+    fn report(&self, rows: &[Row]) {
+        for r in rows {
+            let err = r.error.map_or(String::new(), |e| {
+                format!(
+                    "PSNR {:>6.2} dB  off {:>5.2}%",
+                    e.psnr_capped(99.0),
+                    e.frac_over * 100.0
+                )
+            });
+            let size = if r.file_bytes > 0 {
+                format!(
+                    "  {:>6.1}:1 in memory  {:>7.1}:1 file  trained {:.1} s",
+                    r.raw_bytes as f64 / r.bytes.max(1) as f64,
+                    r.raw_file_bytes as f64 / r.file_bytes as f64,
+                    r.quantise_s
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{:<10} {:<15} {:<7} {} uv {:>2} st {:>3} K {:>5} {:<7} {:>7} tris {:>4}x{:<4} median {:>8.3} ms  {err}{size}",
+                r.series,
+                r.method,
+                r.eye_class,
+                r.eye,
+                r.uv,
+                r.st,
+                r.codewords,
+                r.tile,
+                r.triangles,
+                r.width,
+                r.height,
+                r.time.median_ms,
+            );
+        }
+    }
+
+    fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {
+        charts(rows)
+    }
 }
