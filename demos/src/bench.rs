@@ -114,7 +114,7 @@ impl<S: Sweep> Listed for S {
     }
 
     fn command(&self) -> clap::Command {
-        S::Flags::augment_args(clap::Command::new(S::NAME).about(S::ABOUT))
+        S::Flags::augment_args(clap::Command::new(S::NAME)).about(S::ABOUT)
     }
 
     fn run(&self, matches: &ArgMatches) -> Result<(), String> {

@@ -430,7 +430,7 @@ pub struct LayersSweep;
 
 impl Sweep for LayersSweep {
     const NAME: &'static str = "layers";
-    const ABOUT: &'static str = "Image layers against runtime impostors on the city: re-renders, error and frame time against the threshold.";
+    const ABOUT: &'static str = "Image layers against runtime impostors on the city: re-renders, error and frame time against the threshold";
     type Flags = RunFlags;
     type Settings = Settings;
     type Row = Row;

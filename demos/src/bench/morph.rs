@@ -197,7 +197,7 @@ pub struct MorphSweep;
 
 impl Sweep for MorphSweep {
     const NAME: &'static str = "morph";
-    const ABOUT: &'static str = "View morphing along the path between two views, with and without the prewarp, against the geometry.";
+    const ABOUT: &'static str = "View morphing along the path between two views, with and without the prewarp, against the geometry";
     type Flags = RunFlags;
     type Settings = Settings;
     type Row = Row;

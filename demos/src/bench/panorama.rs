@@ -176,7 +176,7 @@ pub struct PanoramaSweep;
 
 impl Sweep for PanoramaSweep {
     const NAME: &'static str = "panorama";
-    const ABOUT: &'static str = "A cube-map sky seen from eyes moved away from where it was captured, against the geometry: measured and predicted error.";
+    const ABOUT: &'static str = "A cube-map sky seen from eyes moved away from where it was captured, against the geometry: measured and predicted error";
     type Flags = RunFlags;
     type Settings = Settings;
     type Row = Row;

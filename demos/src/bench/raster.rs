@@ -414,7 +414,7 @@ pub struct RasterSweep;
 
 impl Sweep for RasterSweep {
     const NAME: &'static str = "raster";
-    const ABOUT: &'static str = "Frame time against resolution and against triangle count.";
+    const ABOUT: &'static str = "Frame time against resolution and against triangle count";
     const ROWS: &'static str = "measurements";
     type Flags = RasterFlags;
     /// The settings and the shared models loaded.

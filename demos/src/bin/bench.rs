@@ -62,6 +62,7 @@ fn cli() -> Command {
         .arg(
             Arg::new("threads")
                 .long("threads")
+                .value_name("THREADS")
                 .global(true)
                 .value_parser(value_parser!(usize))
                 .help("Render threads (default: one per core)"),

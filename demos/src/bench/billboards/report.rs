@@ -146,7 +146,7 @@ pub struct BillboardsSweep;
 
 impl Sweep for BillboardsSweep {
     const NAME: &'static str = "billboards";
-    const ABOUT: &'static str = "Billboard frame time against count and resolution, billboard-tree error against view elevation, and billboard against mesh trees.";
+    const ABOUT: &'static str = "Billboard frame time against count and resolution, billboard-tree error against view elevation, and billboard against mesh trees";
     const ROWS: &'static str = "measurements";
     type Flags = RunFlags;
     type Settings = super::Settings;

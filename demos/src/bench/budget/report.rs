@@ -70,7 +70,7 @@ impl Listed for BudgetCommand {
     }
 
     fn command(&self) -> clap::Command {
-        BudgetFlags::augment_args(clap::Command::new(BudgetSweep::NAME).about(BudgetSweep::ABOUT))
+        BudgetFlags::augment_args(clap::Command::new(BudgetSweep::NAME)).about(BudgetSweep::ABOUT)
     }
 
     fn run(&self, matches: &ArgMatches) -> Result<(), String> {
@@ -94,7 +94,7 @@ pub struct BudgetSweep;
 
 impl Sweep for BudgetSweep {
     const NAME: &'static str = "budget";
-    const ABOUT: &'static str = "The planner against single representations used everywhere: frame time and measured error over the error budget, on the city and a large world.";
+    const ABOUT: &'static str = "The planner against single representations used everywhere: frame time and measured error over the error budget, on the city and a large world";
     type Flags = BudgetFlags;
     type Settings = Settings;
     type Row = Row;
@@ -155,7 +155,7 @@ pub struct CalibrateSweep;
 impl Sweep for CalibrateSweep {
     const NAME: &'static str = "calibrate";
     const ABOUT: &'static str =
-        "The planner's cost model: its experiments timed and its per-unit costs fitted.";
+        "The planner's cost model: its experiments timed and its per-unit costs fitted";
     type Flags = BudgetFlags;
     /// Image size, scale of the experiments, repetitions.
     type Settings = ((u32, u32), f32, usize);
@@ -200,7 +200,7 @@ pub struct ObjectsSweep;
 
 impl Sweep for ObjectsSweep {
     const NAME: &'static str = "budget_objects";
-    const ABOUT: &'static str = "Each image representation's predicted against measured error on the objects it draws, binned by their size on screen.";
+    const ABOUT: &'static str = "Each image representation's predicted against measured error on the objects it draws, binned by their size on screen";
     const ROWS: &'static str = "bins";
     type Flags = BudgetFlags;
     type Settings = Settings;
@@ -236,7 +236,7 @@ pub struct TraceSweep;
 impl Sweep for TraceSweep {
     const NAME: &'static str = "budget_trace";
     const ABOUT: &'static str =
-        "The frame-scope planner at one error budget, object by object and frame by frame.";
+        "The frame-scope planner at one error budget, object by object and frame by frame";
     type Flags = BudgetFlags;
     type Settings = Settings;
     type Row = TraceRow;

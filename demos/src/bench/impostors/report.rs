@@ -186,7 +186,7 @@ pub struct ImpostorsSweep;
 
 impl Sweep for ImpostorsSweep {
     const NAME: &'static str = "impostors";
-    const ABOUT: &'static str = "Runtime impostors: frame time, refreshes and measured error against the parallax tolerance; fixed-interval refresh; predicted against measured error; octahedral.";
+    const ABOUT: &'static str = "Runtime impostors: frame time, refreshes and measured error against the parallax tolerance; fixed-interval refresh; predicted against measured error; octahedral";
     type Flags = RunFlags;
     type Settings = super::Settings;
     type Row = Row;

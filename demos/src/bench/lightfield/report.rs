@@ -283,7 +283,7 @@ pub struct LightfieldSweep;
 
 impl Sweep for LightfieldSweep {
     const NAME: &'static str = "lightfield";
-    const ABOUT: &'static str = "Light slabs against the geometry: error against sampling, lookup and compression; time against resolution and triangles.";
+    const ABOUT: &'static str = "Light slabs against the geometry: error against sampling, lookup and compression; time against resolution and triangles";
     const ROWS: &'static str = "points";
     type Flags = RunFlags;
     type Settings = super::Settings;

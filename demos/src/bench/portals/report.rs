@@ -127,7 +127,7 @@ pub struct PortalsSweep;
 
 impl Sweep for PortalsSweep {
     const NAME: &'static str = "portals";
-    const ABOUT: &'static str = "Rooms through LDI portals, depth-image and flat portals, or as geometry: time against triangles and resolution, error along a walkthrough.";
+    const ABOUT: &'static str = "Rooms through LDI portals, depth-image and flat portals, or as geometry: time against triangles and resolution, error along a walkthrough";
     const ROWS: &'static str = "points";
     type Flags = RunFlags;
     type Settings = super::Settings;

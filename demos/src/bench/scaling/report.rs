@@ -265,7 +265,7 @@ pub struct ScalingSweep;
 
 impl Sweep for ScalingSweep {
     const NAME: &'static str = "scaling";
-    const ABOUT: &'static str = "The city as geometry and through impostors: frame time against triangles and against pixels, with fitted lines.";
+    const ABOUT: &'static str = "The city as geometry and through impostors: frame time against triangles and against pixels, with fitted lines";
     type Flags = RunFlags;
     type Settings = super::Settings;
     type Row = Row;

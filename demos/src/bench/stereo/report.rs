@@ -109,7 +109,7 @@ pub struct StereoSweep;
 impl Sweep for StereoSweep {
     const NAME: &'static str = "stereo";
     const ABOUT: &'static str =
-        "Stereo matchers against OpenCV's StereoSGBM on rendered pairs: Middlebury error and time.";
+        "Stereo matchers against OpenCV's StereoSGBM on rendered pairs: Middlebury error and time";
     type Flags = StereoFlags;
     /// The settings and OpenCV's script when it runs.
     type Settings = (super::Settings, Option<Peer>);

@@ -148,7 +148,7 @@ pub struct WarpSweep;
 impl Sweep for WarpSweep {
     const NAME: &'static str = "warp";
     const ABOUT: &'static str =
-        "Depth images warped to moved eyes: error, holes and time against geometry.";
+        "Depth images warped to moved eyes: error, holes and time against geometry";
     const ROWS: &'static str = "points";
     type Flags = RunFlags;
     type Settings = super::Settings;
