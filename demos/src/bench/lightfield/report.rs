@@ -19,66 +19,70 @@ fn of<'a>(rows: &'a [Row], series: &'a str) -> impl Iterator<Item = &'a Row> + '
     rows.iter().filter(move |r| r.series == series)
 }
 
-/// `(file, chart)` for every chart of the sweep.
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
-    // Per lookup and eye class: PSNR pooled over the eyes at each value of `x`.
-    let knob = |series: &str, x: fn(&Row) -> u32| {
-        let mut lines = Vec::new();
-        for (name, _, _) in LOOKUPS {
-            for class in ["between", "away"] {
-                let mut xs: Vec<u32> = of(rows, series).map(x).collect();
-                xs.dedup();
-                let points = xs
-                    .iter()
-                    .map(|&v| {
-                        let at: Vec<&Row> = of(rows, series)
-                            .filter(|r| x(r) == v && r.method == name && r.eye_class == class)
-                            .collect();
-                        (f64::from(v), pooled(&at))
-                    })
-                    .collect();
-                lines.push(Line::new(format!("{name}, eyes {class}"), points));
-            }
+/// Per lookup and eye class: PSNR pooled over the eyes at each value of `x` of a series.
+fn knob(rows: &[Row], series: &str, x: fn(&Row) -> u32) -> Vec<Line> {
+    let mut lines = Vec::new();
+    for (name, _, _) in LOOKUPS {
+        for class in ["between", "away"] {
+            let mut xs: Vec<u32> = of(rows, series).map(x).collect();
+            xs.dedup();
+            let points = xs
+                .iter()
+                .map(|&v| {
+                    let at: Vec<&Row> = of(rows, series)
+                        .filter(|r| x(r) == v && r.method == name && r.eye_class == class)
+                        .collect();
+                    (f64::from(v), pooled(&at))
+                })
+                .collect();
+            lines.push(Line::new(format!("{name}, eyes {class}"), points));
         }
-        lines
-    };
-    let slab_of = |series: &str| {
-        of(rows, series)
-            .next()
-            .map_or(String::new(), |r| format!(" ({}x{})", r.width, r.height))
-    };
-    // Compression: one point per quantised setting, plus the raw light field.
-    let compression = |series: &str| {
-        let mut keys: Vec<(u32, String)> = of(rows, series)
-            .map(|r| (r.codewords, r.tile.clone()))
-            .collect();
-        keys.dedup();
-        let points = keys
-            .iter()
-            .map(|(k, t)| {
-                let at: Vec<&Row> = of(rows, series)
-                    .filter(|r| r.codewords == *k && &r.tile == t)
-                    .collect();
-                let r = at[0];
-                (
-                    r.raw_file_bytes as f64 / r.file_bytes.max(1) as f64,
-                    pooled(&at),
-                )
-            })
-            .collect();
-        let labels = keys.iter().map(|(k, t)| format!("{k} x {t}")).collect();
-        Line {
-            labels,
-            ..Line::new(
-                if series == "codebook" {
-                    "2x2x2x2 tiles, codewords varied"
-                } else {
-                    "tile shapes"
-                },
-                points,
+    }
+    lines
+}
+
+/// The slab's size of a series, as a title's suffix.
+fn slab_of(rows: &[Row], series: &str) -> String {
+    of(rows, series)
+        .next()
+        .map_or(String::new(), |r| format!(" ({}x{})", r.width, r.height))
+}
+
+/// Compression: one point per quantised setting of a series.
+fn compression(rows: &[Row], series: &str) -> Line {
+    let mut keys: Vec<(u32, String)> = of(rows, series)
+        .map(|r| (r.codewords, r.tile.clone()))
+        .collect();
+    keys.dedup();
+    let points = keys
+        .iter()
+        .map(|(k, t)| {
+            let at: Vec<&Row> = of(rows, series)
+                .filter(|r| r.codewords == *k && &r.tile == t)
+                .collect();
+            let r = at[0];
+            (
+                r.raw_file_bytes as f64 / r.file_bytes.max(1) as f64,
+                pooled(&at),
             )
-        }
-    };
+        })
+        .collect();
+    let labels = keys.iter().map(|(k, t)| format!("{k} x {t}")).collect();
+    Line {
+        labels,
+        ..Line::new(
+            if series == "codebook" {
+                "2x2x2x2 tiles, codewords varied"
+            } else {
+                "tile shapes"
+            },
+            points,
+        )
+    }
+}
+
+/// The raw light field's point on the compression chart (1:1).
+fn raw_point(rows: &[Row]) -> Line {
     let raw_dc: Vec<&Row> = of(rows, "density")
         .filter(|r| r.method == "quadrilinear-dc")
         .filter(|r| {
@@ -87,8 +91,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 .is_some_and(|c| c.uv == r.uv && c.st == r.st)
         })
         .collect();
-    let raw_point = Line::new("raw (1:1)", vec![(1.0, pooled(&raw_dc))]);
-    // Error against time: every light-field point, and the geometry.
+    Line::new("raw (1:1)", vec![(1.0, pooled(&raw_dc))])
+}
+
+/// Error against time: every light-field point, and the geometry.
+fn scatter(rows: &[Row]) -> Vec<Line> {
     let mut scatter: Vec<Line> = LOOKUPS
         .iter()
         .map(|(name, _, _)| {
@@ -127,67 +134,78 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             .map(|r| (r.time.median_ms, 99.0))
             .collect(),
     ));
-    let against = |series: &str, x: fn(&Row) -> f64| {
-        ["quadrilinear-dc", "geometry"]
-            .iter()
-            .map(|m| {
-                let name = if *m == "geometry" {
-                    "geometry"
-                } else {
-                    "light field, quadrilinear-dc"
-                };
-                Line::new(
-                    name,
-                    of(rows, series)
-                        .filter(|r| r.method == *m)
-                        .map(|r| (x(r), r.time.median_ms))
-                        .collect(),
-                )
-            })
-            .collect::<Vec<_>>()
-    };
-    // Sparse: one point per photograph count (0: dense), pooled over the eyes.
-    let sparse = {
-        let mut ns: Vec<usize> = of(rows, "sparse").map(|r| r.photographs).collect();
-        ns.dedup();
-        let at = |n: usize| {
-            of(rows, "sparse")
-                .filter(|r| r.photographs == n)
-                .collect::<Vec<&Row>>()
-        };
-        let dense = Line::new(
-            "dense capture (every camera of the slab)",
-            ns.iter()
-                .filter(|&&n| n == 0)
-                .map(|_| (1.0, pooled(&at(0))))
-                .collect(),
-        );
-        let rebinned: Vec<usize> = ns.iter().copied().filter(|&n| n > 0).collect();
-        let psnr = Line {
-            labels: rebinned
-                .iter()
-                .map(|&n| format!("{:.1}% invented", at(n)[0].invented * 100.0))
-                .collect(),
-            ..Line::new(
-                "photographs rebinned with their depth",
-                rebinned
-                    .iter()
-                    .map(|&n| (n as f64, pooled(&at(n))))
+    scatter
+}
+
+/// Frame time against `x` of a series: the light field and the geometry.
+fn against(rows: &[Row], series: &str, x: fn(&Row) -> f64) -> Vec<Line> {
+    ["quadrilinear-dc", "geometry"]
+        .iter()
+        .map(|m| {
+            let name = if *m == "geometry" {
+                "geometry"
+            } else {
+                "light field, quadrilinear-dc"
+            };
+            Line::new(
+                name,
+                of(rows, series)
+                    .filter(|r| r.method == *m)
+                    .map(|r| (x(r), r.time.median_ms))
                     .collect(),
             )
-        };
-        vec![psnr, dense]
+        })
+        .collect()
+}
+
+/// Sparse: one point per photograph count (0: dense), pooled over the eyes.
+fn sparse(rows: &[Row]) -> Vec<Line> {
+    let mut ns: Vec<usize> = of(rows, "sparse").map(|r| r.photographs).collect();
+    ns.dedup();
+    let at = |n: usize| {
+        of(rows, "sparse")
+            .filter(|r| r.photographs == n)
+            .collect::<Vec<&Row>>()
     };
+    let dense = Line::new(
+        "dense capture (every camera of the slab)",
+        ns.iter()
+            .filter(|&&n| n == 0)
+            .map(|_| (1.0, pooled(&at(0))))
+            .collect(),
+    );
+    let rebinned: Vec<usize> = ns.iter().copied().filter(|&n| n > 0).collect();
+    let psnr = Line {
+        labels: rebinned
+            .iter()
+            .map(|&n| format!("{:.1}% invented", at(n)[0].invented * 100.0))
+            .collect(),
+        ..Line::new(
+            "photographs rebinned with their depth",
+            rebinned
+                .iter()
+                .map(|&n| (n as f64, pooled(&at(n))))
+                .collect(),
+        )
+    };
+    vec![psnr, dense]
+}
+
+/// `(file, chart)` for every chart of the sweep.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     let y_psnr = "PSNR against geometry (dB, pooled over the eyes)";
     vec![
         (
             "lightfield_density.png",
             Chart::Lines(
                 Lines::new(
-                    format!("Error against camera-plane density{}", slab_of("density")),
+                    format!(
+                        "Error against camera-plane density{}",
+                        slab_of(rows, "density")
+                    ),
                     "uv samples per side",
                     y_psnr,
-                    knob("density", |r| r.uv),
+                    knob(rows, "density", |r| r.uv),
                 )
                 .log(true, false),
             ),
@@ -196,10 +214,13 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             "lightfield_st.png",
             Chart::Lines(
                 Lines::new(
-                    format!("Error against focal-plane resolution{}", slab_of("st")),
+                    format!(
+                        "Error against focal-plane resolution{}",
+                        slab_of(rows, "st")
+                    ),
                     "st samples per side",
                     y_psnr,
-                    knob("st", |r| r.st),
+                    knob(rows, "st", |r| r.st),
                 )
                 .log(true, false),
             ),
@@ -211,7 +232,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "Error against compression (VQ then zstd; quadrilinear, depth-corrected)",
                     "compression ratio (raw file bytes / compressed file bytes)",
                     y_psnr,
-                    vec![compression("codebook"), compression("tile"), raw_point],
+                    vec![
+                        compression(rows, "codebook"),
+                        compression(rows, "tile"),
+                        raw_point(rows),
+                    ],
                 )
                 .log(true, false),
             ),
@@ -222,11 +247,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 Lines::new(
                     format!(
                         "Sparse capture rebinned against dense capture{}",
-                        slab_of("sparse")
+                        slab_of(rows, "sparse")
                     ),
                     "photographs (the dense capture at 1)",
                     y_psnr,
-                    sparse,
+                    sparse(rows),
                 )
                 .log(true, false),
             ),
@@ -237,11 +262,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 Lines::new(
                     format!(
                         "Error against frame time, each eye and setting{}",
-                        slab_of("geometry")
+                        slab_of(rows, "geometry")
                     ),
                     "median frame time (ms); labels: uv x st samples",
                     "PSNR against geometry (dB)",
-                    scatter,
+                    scatter(rows),
                 )
                 .log(true, false)
                 .exact_at(99.0),
@@ -254,7 +279,7 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                     "Frame time against resolution",
                     "pixels",
                     "median frame time (ms)",
-                    against("resolution", |r| f64::from(r.width * r.height)),
+                    against(rows, "resolution", |r| f64::from(r.width * r.height)),
                 )
                 .log(true, true),
             ),
@@ -265,11 +290,11 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                 Lines::new(
                     format!(
                         "Frame time against the object's triangles{}",
-                        slab_of("triangles")
+                        slab_of(rows, "triangles")
                     ),
                     "object triangles",
                     "median frame time (ms)",
-                    against("triangles", |r| f64::from(r.triangles)),
+                    against(rows, "triangles", |r| f64::from(r.triangles)),
                 )
                 .log(true, true),
             ),

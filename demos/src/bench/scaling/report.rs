@@ -1,6 +1,6 @@
 //! The sweep's charts and the figures its summary prints.
 
-use super::{Row, Timing};
+use super::{Fit, Row, Timing};
 use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 
@@ -62,59 +62,100 @@ pub fn label_count(n: u64) -> String {
     format!("{digits}{unit}")
 }
 
-/// The sweep's charts: file name and chart.
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
-    let of = |series: &'static str, mode: &'static str| {
-        rows.iter()
-            .filter(move |r| r.series == series && r.mode == mode)
-    };
-    let measured = |series: &'static str, mode: &'static str, x: fn(&Row) -> f64, name: String| {
-        let points = of(series, mode).filter_map(|r| {
-            let t = r.timing?;
-            (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
-        });
-        Line::new(name, points.collect())
-    };
-    let fit_of = |series: &'static str, mode: &'static str| {
-        rows.iter()
-            .find(|r| r.series == series && r.mode == mode)
-            .and_then(|r| r.fit)
-    };
-    let size = of("triangles", "geometry")
+/// The rows of a series drawn one way.
+fn of<'a>(
+    rows: &'a [Row],
+    series: &'static str,
+    mode: &'static str,
+) -> impl Iterator<Item = &'a Row> + 'a {
+    rows.iter()
+        .filter(move |r| r.series == series && r.mode == mode)
+}
+
+/// The steady frames' median time against `x`, where there are steady frames.
+fn measured(
+    rows: &[Row],
+    series: &'static str,
+    mode: &'static str,
+    x: fn(&Row) -> f64,
+    name: String,
+) -> Line {
+    let points = of(rows, series, mode).filter_map(|r| {
+        let t = r.timing?;
+        (t.steady.frames > 0).then(|| (x(r), t.steady.median_ms))
+    });
+    Line::new(name, points.collect())
+}
+
+/// The fitted line of a fit series drawn one way.
+fn fit_of(rows: &[Row], series: &'static str, mode: &'static str) -> Option<Fit> {
+    rows.iter()
+        .find(|r| r.series == series && r.mode == mode)
+        .and_then(|r| r.fit)
+}
+
+/// The fit as a line name's suffix (empty without a fit).
+fn fit_name(rows: &[Row], series: &'static str, mode: &'static str, unit: &str) -> String {
+    fit_of(rows, series, mode).map_or(String::new(), |f| {
+        format!(
+            ": {:.3} ms + {:.4} ns/{unit}, R2 {:.3}",
+            f.intercept,
+            f.slope * 1e6,
+            f.r2
+        )
+    })
+}
+
+/// The target size of the triangle series, as a title's suffix.
+fn size(rows: &[Row]) -> String {
+    of(rows, "triangles", "geometry")
         .next()
-        .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height));
-    let fit_name = |series: &'static str, mode: &'static str, unit: &str| {
-        fit_of(series, mode).map_or(String::new(), |f| {
-            format!(
-                ": {:.3} ms + {:.4} ns/{unit}, R2 {:.3}",
-                f.intercept,
-                f.slope * 1e6,
-                f.r2
-            )
-        })
-    };
-    let tri = |r: &Row| r.triangles as f64;
+        .map_or(String::new(), |r| format!(" at {}x{}", r.width, r.height))
+}
+
+/// Mean time over all of a run's frames, steady and refreshing by their counts.
+fn mean_all(r: &Row) -> Option<f64> {
+    let t = r.timing?;
+    let n = (t.steady.frames + t.refresh.frames) as f64;
+    let sum =
+        t.steady.mean_ms * t.steady.frames as f64 + t.refresh.mean_ms * t.refresh.frames as f64;
+    (n > 0.0).then(|| sum / n)
+}
+
+fn tri(r: &Row) -> f64 {
+    r.triangles as f64
+}
+
+fn mpx(r: &Row) -> f64 {
+    r.pixels() as f64 / 1e6
+}
+
+/// Frame time against triangles: geometry, impostors without and with refreshes, and
+/// the impostors' mean over all frames.
+fn by_triangles(rows: &[Row]) -> Lines {
     let mut lines = vec![
         measured(
+            rows,
             "triangles",
             "geometry",
             tri,
             format!(
                 "geometry{}",
-                fit_name("triangles_fit", "geometry", "triangle")
+                fit_name(rows, "triangles_fit", "geometry", "triangle")
             ),
         ),
         measured(
+            rows,
             "triangles",
             "impostors",
             tri,
             format!(
                 "impostors, frames without refreshes{}",
-                fit_name("triangles_fit", "impostors", "triangle")
+                fit_name(rows, "triangles_fit", "impostors", "triangle")
             ),
         ),
     ];
-    let refresh = of("triangles", "impostors").filter_map(|r| {
+    let refresh = of(rows, "triangles", "impostors").filter_map(|r| {
         let t = r.timing?;
         (t.refresh.frames > 0).then(|| (tri(r), t.refresh.median_ms))
     });
@@ -122,68 +163,76 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     if !refresh.points.is_empty() {
         lines.push(refresh);
         // What a run costs on average: steady and refreshing frames by their counts.
-        let all = of("triangles", "impostors").filter_map(|r| {
-            let t = r.timing?;
-            let n = (t.steady.frames + t.refresh.frames) as f64;
-            let sum = t.steady.mean_ms * t.steady.frames as f64
-                + t.refresh.mean_ms * t.refresh.frames as f64;
-            (n > 0.0).then(|| (tri(r), sum / n))
-        });
+        let all = of(rows, "triangles", "impostors").filter_map(|r| Some((tri(r), mean_all(r)?)));
         lines.push(Line::new("impostors, mean over all frames", all.collect()));
     }
-    let by_triangles = Lines::new(
-        format!("City: frame time vs triangles{size}"),
+    Lines::new(
+        format!("City: frame time vs triangles{}", size(rows)),
         "triangles",
         "median frame time (ms)",
         lines,
     )
-    .log(true, true);
+    .log(true, true)
+}
 
-    let mpx = |r: &Row| r.pixels() as f64 / 1e6;
-    let fitted = |mode: &'static str| {
-        let xs: Vec<f64> = of("resolution", mode).map(mpx).collect();
-        let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let points = fit_of("resolution_fit", mode)
-            .filter(|_| lo < hi)
-            .map_or(Vec::new(), |f| {
-                [lo, hi]
-                    .iter()
-                    .map(|&x| (x, f.intercept + f.slope * x * 1e6))
-                    .collect()
-            });
-        let name = fit_name("resolution_fit", mode, "pixel");
-        Line::new(format!("{mode}, fit{name}"), points)
-    };
+/// The fitted line of the resolution series drawn one way, over the measured pixels.
+fn fitted(rows: &[Row], mode: &'static str) -> Line {
+    let xs: Vec<f64> = of(rows, "resolution", mode).map(mpx).collect();
+    let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let points = fit_of(rows, "resolution_fit", mode)
+        .filter(|_| lo < hi)
+        .map_or(Vec::new(), |f| {
+            [lo, hi]
+                .iter()
+                .map(|&x| (x, f.intercept + f.slope * x * 1e6))
+                .collect()
+        });
+    let name = fit_name(rows, "resolution_fit", mode, "pixel");
+    Line::new(format!("{mode}, fit{name}"), points)
+}
+
+/// Frame time against pixels, measured and fitted, impostors and geometry.
+fn by_pixels(rows: &[Row]) -> Lines {
     let mut imp = measured(
+        rows,
         "resolution",
         "impostors",
         mpx,
         "impostors (measured)".into(),
     );
-    imp.labels = of("resolution", "impostors")
+    imp.labels = of(rows, "resolution", "impostors")
         .filter(|r| r.timing.is_some_and(|t| t.steady.frames > 0))
         .map(|r| format!("{}x{}", r.width, r.height))
         .collect();
-    let tris = of("resolution", "impostors")
+    let tris = of(rows, "resolution", "impostors")
         .next()
         .map_or(String::new(), |r| approx(r.triangles));
-    let by_pixels = Lines::new(
+    Lines::new(
         format!("City of {tris} triangles: frame time vs pixels"),
         "megapixels",
         "median frame time (ms)",
         vec![
             imp,
-            fitted("impostors"),
-            measured("resolution", "geometry", mpx, "geometry (measured)".into()),
-            fitted("geometry"),
+            fitted(rows, "impostors"),
+            measured(
+                rows,
+                "resolution",
+                "geometry",
+                mpx,
+                "geometry (measured)".into(),
+            ),
+            fitted(rows, "geometry"),
         ],
-    );
-    // Speed against accuracy on the same poses: each city's steady frame time and its
-    // error against the geometry frames (geometry: 0), labelled with its triangles.
+    )
+}
+
+/// Speed against accuracy on the same poses: each city's steady frame time and its
+/// error against the geometry frames (geometry: 0), labelled with its triangles.
+fn by_error(rows: &[Row]) -> Lines {
     let error_time = |mode: &'static str, name: &str| {
         let (mut points, mut labels) = (Vec::new(), Vec::new());
-        for r in of("triangles", mode) {
+        for r in of(rows, "triangles", mode) {
             if let Some(t) = r.timing.filter(|t| t.steady.frames > 0) {
                 points.push((t.steady.median_ms, t.mae.unwrap_or(f64::NAN)));
                 labels.push(label_count(r.triangles));
@@ -197,8 +246,8 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             right: false,
         }
     };
-    let by_error = Lines::new(
-        format!("City: error against frame time{size}"),
+    Lines::new(
+        format!("City: error against frame time{}", size(rows)),
         "median frame time (ms)",
         "mean absolute error vs geometry (8-bit levels)",
         vec![
@@ -206,39 +255,50 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
             error_time("impostors", "impostors, frames without refreshes"),
         ],
     )
-    .log(true, false);
-    // Many subjects of the same size: where impostors cross geometry as subjects are added.
+    .log(true, false)
+}
+
+/// Many subjects of the same size: where impostors cross geometry as subjects are added.
+fn by_subjects(rows: &[Row]) -> Lines {
     let count = |r: &Row| r.subjects as f64;
-    let mean_all = of("subjects", "impostors").filter_map(|r| {
-        let t = r.timing?;
-        let n = (t.steady.frames + t.refresh.frames) as f64;
-        let sum =
-            t.steady.mean_ms * t.steady.frames as f64 + t.refresh.mean_ms * t.refresh.frames as f64;
-        (n > 0.0).then(|| (count(r), sum / n))
-    });
-    let per = of("subjects", "geometry")
+    let all = of(rows, "subjects", "impostors").filter_map(|r| Some((count(r), mean_all(r)?)));
+    let per = of(rows, "subjects", "geometry")
         .find(|r| r.subjects > 0)
         .map_or(String::new(), |r| approx(r.triangles / r.subjects as u64));
-    let by_subjects = Lines::new(
-        format!("City of {per}-triangle buildings: frame time vs buildings{size}"),
+    Lines::new(
+        format!(
+            "City of {per}-triangle buildings: frame time vs buildings{}",
+            size(rows)
+        ),
         "buildings (subjects)",
         "frame time (ms)",
         vec![
-            measured("subjects", "geometry", count, "geometry, median".into()),
             measured(
+                rows,
+                "subjects",
+                "geometry",
+                count,
+                "geometry, median".into(),
+            ),
+            measured(
+                rows,
                 "subjects",
                 "impostors",
                 count,
                 "impostors, median of frames without refreshes".into(),
             ),
-            Line::new("impostors, mean over all frames", mean_all.collect()),
+            Line::new("impostors, mean over all frames", all.collect()),
         ],
-    );
+    )
+}
+
+/// The sweep's charts: file name and chart.
+pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     vec![
-        ("scaling_triangles.png", Chart::Lines(by_triangles)),
-        ("scaling_resolution.png", Chart::Lines(by_pixels)),
-        ("scaling_error_time.png", Chart::Lines(by_error)),
-        ("scaling_subjects.png", Chart::Lines(by_subjects)),
+        ("scaling_triangles.png", Chart::Lines(by_triangles(rows))),
+        ("scaling_resolution.png", Chart::Lines(by_pixels(rows))),
+        ("scaling_error_time.png", Chart::Lines(by_error(rows))),
+        ("scaling_subjects.png", Chart::Lines(by_subjects(rows))),
     ]
 }
 
