@@ -72,11 +72,34 @@ fn median(reps: usize, mut f: impl FnMut()) -> f64 {
     t[t.len() / 2].as_secs_f64() * 1e3
 }
 
+/// What every experiment shares: the renderer and its target, the camera and light of
+/// the synthetic experiments, the size, how many repeats, and the scale of the counts.
+struct Lab {
+    renderer: Renderer,
+    target: Target,
+    opts: FrameOptions,
+    camera: Camera,
+    light: engine::Lighting,
+    size: (u32, u32),
+    reps: usize,
+    scale: f32,
+    /// The lit material of every experiment's geometry.
+    lit: Arc<Material>,
+    /// Tori of 2000 triangles (the far objects and the held ones).
+    torus: Arc<Mesh>,
+}
+
+impl Lab {
+    /// `n` at this lab's scale (at least 1).
+    fn count(&self, n: f32) -> usize {
+        ((n * self.scale).round() as usize).max(1)
+    }
+}
+
 /// Times the experiments at `size` (`scale` 1 for the full set, less for a smoke run) and
 /// fits the model.
 pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<Calibration>) {
     let (w, h) = size;
-    let light = engine::Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4));
     let camera = Camera::look_at(
         Vec3::new(0.0, 0.0, 10.0),
         Vec3::ZERO,
@@ -85,22 +108,57 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
         w as f32 / h as f32,
     )
     .with_depth_range(0.1, 2000.0);
-    let mut renderer = Renderer::new();
-    let mut target = Target::new(w, h);
-    let opts = FrameOptions::default();
+    let mut lab = Lab {
+        light: engine::Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4)),
+        camera,
+        renderer: Renderer::new(),
+        target: Target::new(w, h),
+        opts: FrameOptions::default(),
+        size,
+        reps,
+        scale,
+        lit: Arc::new(Material::lit(Rgba::new(0.7, 0.5, 0.3, 1.0))),
+        torus: Arc::new(procedural::torus_with_triangles(2000)),
+    };
     let mut rows = Vec::new();
-    let count = |n: f32| ((n * scale).round() as usize).max(1);
-    // Triangles: the city at four detail levels, the same silhouettes and pixels.
-    let lit = Arc::new(Material::lit(Rgba::new(0.7, 0.5, 0.3, 1.0)));
-    for k in [4, 8, 16, 24].map(|k| count(k as f32).max(2) as u32) {
+    triangles(&mut lab, &mut rows);
+    far(&mut lab, &mut rows);
+    pixels(&mut lab, &mut rows);
+    let fit = fit(&rows);
+    let (a, b) = captures(&mut lab, &fit, &mut rows);
+    let mut model = CostModel {
+        us_per_capture: (a * 1e3).max(0.0) as f32,
+        ns_per_capture_texel: (b * 1e6) as f32,
+        ..fit
+    };
+    let first = rows.len();
+    passes(&mut lab, &model, &mut rows);
+    let [a, b, c] = fit_passes(&rows[first..]);
+    model.us_per_pass = (a * 1e3).max(0.0) as f32;
+    model.ns_per_pass_pixel = (b * 1e6).max(0.0) as f32;
+    model.ns_per_sample = (c * 1e6).max(0.0) as f32;
+    (model, rows)
+}
+
+/// Triangles: the city at four detail levels, the same silhouettes and pixels.
+fn triangles(lab: &mut Lab, rows: &mut Vec<Calibration>) {
+    let (size, reps) = (lab.size, lab.reps);
+    let ks = [4, 8, 16, 24].map(|k| lab.count(k as f32).max(2) as u32);
+    let Lab {
+        renderer,
+        target,
+        opts,
+        ..
+    } = lab;
+    for k in ks {
         let city = City::new(4, k, 7);
         let cam = frame_camera(&city, CityPath::Translate, 0.25, 0, 2, size);
         let mut draws = Vec::new();
         city.buildings.iter().for_each(|b| b.draws(&mut draws));
         let light = &city.lighting;
-        let stats = renderer.render(draws.iter().copied(), &cam, light, &mut target, &opts);
+        let stats = renderer.render(draws.iter().copied(), &cam, light, target, opts);
         let ms = median(reps, || {
-            renderer.render(draws.iter().copied(), &cam, light, &mut target, &opts);
+            renderer.render(draws.iter().copied(), &cam, light, target, opts);
         });
         rows.push(Calibration {
             experiment: "triangles",
@@ -112,10 +170,24 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             ..Calibration::default()
         });
     }
-    // Triangles far away: tori of 2000 triangles a few pixels across, as distant objects
-    // are (most of a large world's triangles).
-    let torus = Arc::new(procedural::torus_with_triangles(2000));
-    for n in [50.0, 100.0, 200.0, 400.0].map(count) {
+}
+
+/// Triangles far away: tori of 2000 triangles a few pixels across, as distant objects
+/// are (most of a large world's triangles).
+fn far(lab: &mut Lab, rows: &mut Vec<Calibration>) {
+    let reps = lab.reps;
+    let ns = [50.0, 100.0, 200.0, 400.0].map(|n| lab.count(n));
+    let Lab {
+        renderer,
+        target,
+        opts,
+        camera,
+        light,
+        lit,
+        torus,
+        ..
+    } = lab;
+    for n in ns {
         let placed: Vec<Mat4> = (0..n)
             .map(|k| {
                 let (x, y) = ((k % 20) as f32 - 9.5, (k / 20) as f32 - 9.5);
@@ -124,14 +196,14 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             .collect();
         let draws = || {
             placed.iter().map(|&m| engine::Draw {
-                mesh: &torus,
-                material: &lit,
+                mesh: torus,
+                material: lit,
                 transform: m,
             })
         };
-        let stats = renderer.render(draws(), &camera, &light, &mut target, &opts);
+        let stats = renderer.render(draws(), camera, light, target, opts);
         let ms = median(reps, || {
-            renderer.render(draws(), &camera, &light, &mut target, &opts);
+            renderer.render(draws(), camera, light, target, opts);
         });
         rows.push(Calibration {
             experiment: "far",
@@ -143,11 +215,24 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             ..Calibration::default()
         });
     }
-    // Pixels: stacks of quads filling the view, drawn back to front so each is shaded: lit
-    // geometry, then images (textured, blended).
+}
+
+/// Pixels: stacks of quads filling the view, drawn back to front so each is shaded: lit
+/// geometry, then images (textured, blended).
+fn pixels(lab: &mut Lab, rows: &mut Vec<Calibration>) {
+    let reps = lab.reps;
+    let Lab {
+        renderer,
+        target,
+        opts,
+        camera,
+        light,
+        lit,
+        ..
+    } = lab;
     let quad = Arc::new(quad_mesh());
     let image = Arc::new(impostor::image_material(64, 64, "calibration"));
-    for (material, is_image) in [(&lit, false), (&image, true)] {
+    for (material, is_image) in [(&*lit, false), (&image, true)] {
         for k in [1usize, 2, 4, 8] {
             let draws = || {
                 (0..k).map(|j| engine::Draw {
@@ -156,9 +241,9 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
                     transform: Mat4::from_translation(Vec3::new(0.0, 0.0, -((k - 1 - j) as f32))),
                 })
             };
-            let stats = renderer.render(draws(), &camera, &light, &mut target, &opts);
+            let stats = renderer.render(draws(), camera, light, target, opts);
             let ms = median(reps, || {
-                renderer.render(draws(), &camera, &light, &mut target, &opts);
+                renderer.render(draws(), camera, light, target, opts);
             });
             let px = stats.fragments_shaded;
             rows.push(Calibration {
@@ -172,13 +257,17 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             });
         }
     }
-    let fit = fit(&rows);
-    // Captures: batches of rebuilds of one small object's images through the planner's
-    // call, far (16 to 32 texels a side) and near (64), so that what the fit leaves
-    // unexplained splits into a cost per capture and one per captured texel.
-    let n = count(128.0);
+}
+
+/// Captures: batches of rebuilds of one small object's images through the planner's
+/// call, far (16 to 32 texels a side) and near (64), so that what the `fit` leaves
+/// unexplained splits into a cost per capture and one per captured texel: those two (ms).
+fn captures(lab: &mut Lab, fit: &CostModel, rows: &mut Vec<Calibration>) -> (f64, f64) {
+    let ((w, h), reps) = (lab.size, lab.reps);
+    let n = lab.count(128.0);
+    let (camera, light, lit) = (&lab.camera, &lab.light, &lab.lit);
     let small = Arc::new(procedural::torus_with_triangles(200));
-    let view = FrameView::still(&camera, w, h, &light);
+    let view = FrameView::still(camera, w, h, light);
     let all: Vec<usize> = (0..n).collect();
     let mut left = Vec::new();
     for z in [-60.0, -20.0] {
@@ -212,7 +301,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
     }
     // Two batches, two unknowns: `left = a captures + b texels` (ms); a texel cost below
     // zero is noise, and then the captures take all that is left.
-    let (a, b) = match left[..] {
+    match left[..] {
         [(d0, l0), (d1, l1)] => {
             let m = [
                 [d0.captures as f64, d0.pixels as f64],
@@ -224,17 +313,24 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             }
         }
         _ => (0.0, 0.0),
-    };
-    let mut model = CostModel {
-        us_per_capture: (a * 1e3).max(0.0) as f32,
-        ns_per_capture_texel: (b * 1e6) as f32,
-        ..fit
-    };
-    // Image passes: objects held as depth images, LDIs and light fields (4 x 4 tori of
-    // 2000 triangles, at three distances), prepared and composited; what the fit above
-    // leaves of each time is fitted to the passes, their pixels and their samples.
-    let grid = count(16.0).min(16);
-    let first = rows.len();
+    }
+}
+
+/// Image passes: objects held as depth images, LDIs and light fields (4 x 4 tori of
+/// 2000 triangles, at three distances), prepared and composited; what the `model` so far
+/// leaves of each time is the passes' own.
+fn passes(lab: &mut Lab, model: &CostModel, rows: &mut Vec<Calibration>) {
+    let ((w, h), reps) = (lab.size, lab.reps);
+    let grid = lab.count(16.0).min(16);
+    let Lab {
+        target,
+        camera,
+        light,
+        lit,
+        torus,
+        ..
+    } = lab;
+    let view = FrameView::still(camera, w, h, light);
     for z in [-7.0, -14.0, -28.0] {
         let spread = -z / 14.0;
         let held: Vec<MeshGroup> = (0..grid)
@@ -263,7 +359,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             rep.rebuild(&all, &mut subjects, &view);
             let mut work = ibr::plan::Work::default();
             for (i, s) in subjects.iter().enumerate() {
-                let sight = Sight::new(&camera, w, h, s.bounds());
+                let sight = Sight::new(camera, w, h, s.bounds());
                 work += rep
                     .estimate(i, s, &sight)
                     .map(|e| e.draw)
@@ -271,7 +367,7 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             }
             let ms = median(reps, || {
                 rep.prepare(&all, &subjects, &view);
-                rep.passes(&view, &mut target);
+                rep.passes(&view, target);
             });
             rows.push(Calibration {
                 experiment,
@@ -290,11 +386,6 @@ pub fn calibrate(size: (u32, u32), scale: f32, reps: usize) -> (CostModel, Vec<C
             });
         }
     }
-    let [a, b, c] = fit_passes(&rows[first..]);
-    model.us_per_pass = (a * 1e3).max(0.0) as f32;
-    model.ns_per_pass_pixel = (b * 1e6).max(0.0) as f32;
-    model.ns_per_sample = (c * 1e6).max(0.0) as f32;
-    (model, rows)
 }
 
 /// Least squares of `ms = a triangles + b pixels + c image_pixels + d` over the frame rows
