@@ -23,18 +23,18 @@
 //! - `geometry`: the geometry's frame time at each eye (the error reference).
 
 mod report;
+mod series;
 
 pub use report::{charts, LightfieldSweep};
+pub use series::run;
 
-use crate::bench::sweep::{ticker, CsvRow, Timing as Frames};
+use crate::bench::sweep::{CsvRow, Timing as Frames};
 use crate::timing::Summary;
 use engine::{
     procedural, Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Target,
 };
 use glam::{Mat4, Vec3};
-use ibr::lightfield::{
-    Interpolation, LightField, LightFieldObject, Lookup, Rect3, Slab, TileShape, VqSettings,
-};
+use ibr::lightfield::{Interpolation, LightField, LightFieldObject, Lookup, Rect3, Slab};
 use ibr::metrics;
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use std::time::{Duration, Instant};
@@ -557,165 +557,4 @@ fn file_size(lf: &LightField, name: &str) -> u64 {
         .map_or(0, |m| m.len());
     let _ = std::fs::remove_file(&path);
     size
-}
-
-/// Runs the sweep at these settings; `progress(step, total, what)` before each point.
-pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
-    let total = settings.uv.len()
-        + settings.st.len()
-        + settings.codewords.len()
-        + settings.tiles.len()
-        + settings.resolutions.len()
-        + settings.triangles.len()
-        + settings.photographs.len()
-        + 3;
-    let mut tick = ticker(total, progress);
-    let mut bench = Bench {
-        settings,
-        renderer: Renderer::new(),
-        frames: FrameLoop::new(),
-    };
-    let mut rows = Vec::new();
-    let object = Object::torus(settings.object_triangles);
-    let (base_uv, base_st) = settings.base;
-    tick("geometry".into());
-    for k in 0..EYES.len() {
-        let setting = Setting {
-            triangles: settings.object_triangles,
-            ..Setting::default()
-        };
-        rows.push(bench.point("geometry", &object, None, k, settings.size, &setting));
-    }
-    for (series, values) in [("density", &settings.uv), ("st", &settings.st)] {
-        for &n in values {
-            let (uv, st) = if series == "density" {
-                (n, base_st)
-            } else {
-                (base_uv, n)
-            };
-            tick(format!("{series} {uv}x{uv}x{st}x{st}"));
-            let (lf, capture_s) = capture(&object, slab(uv, st));
-            let setting = Setting {
-                uv,
-                st,
-                triangles: settings.object_triangles,
-                raw_bytes: lf.bytes() as u64,
-                capture_s,
-                ..Setting::default()
-            };
-            rows.extend(bench.lookups(series, &object, lf, &setting));
-        }
-    }
-    tick("capture the base slab".into());
-    let (lf, capture_s) = capture(&object, slab(base_uv, base_st));
-    let raw = Setting {
-        uv: base_uv,
-        st: base_st,
-        triangles: settings.object_triangles,
-        raw_bytes: lf.bytes() as u64,
-        raw_file_bytes: file_size(&lf, "raw.plf"),
-        capture_s,
-        ..Setting::default()
-    };
-    let quantised = settings
-        .codewords
-        .iter()
-        .map(|&k| ("codebook", k, [2, 2, 2, 2]))
-        .chain(
-            settings
-                .tiles
-                .iter()
-                .map(|&t| ("tile", settings.tile_codewords, t)),
-        );
-    let dc = Lookup::default();
-    for (series, codewords, dims) in quantised {
-        let tile = TileShape::new(dims).expect("a valid tile");
-        tick(format!("{series} {codewords} codewords, {tile} tiles"));
-        let vq = VqSettings {
-            tile,
-            codewords,
-            training_tiles: settings.training_tiles,
-            ..VqSettings::default()
-        };
-        let start = Instant::now();
-        let (q, report) = lf.quantise(&vq).expect("valid settings");
-        let setting = Setting {
-            codewords: report.codewords,
-            tile: tile.to_string(),
-            quantise_s: start.elapsed().as_secs_f64(),
-            file_bytes: file_size(&q, "vq.plf"),
-            ..raw.clone()
-        };
-        rows.extend(bench.every_eye(series, &object, q, &setting));
-    }
-    // Sparse against dense capture of one slab.
-    let (uv, st) = settings.sparse_slab;
-    tick(format!("sparse: dense {uv}x{uv}x{st}x{st}"));
-    let (dense, capture_s) = capture(&object, slab(uv, st));
-    let mut setting = Setting {
-        uv,
-        st,
-        triangles: settings.object_triangles,
-        raw_bytes: dense.bytes() as u64,
-        capture_s,
-        ..Setting::default()
-    };
-    rows.extend(bench.every_eye("sparse", &object, dense, &setting));
-    for &n in &settings.photographs {
-        tick(format!("sparse: {n} photographs"));
-        let start = Instant::now();
-        let cameras: Vec<Camera> = (0..n).map(|k| wander(k, n)).collect();
-        let images = ibr::capture::capture_batch(
-            &[object.draw()],
-            &cameras,
-            &object.lighting,
-            settings.photo_size,
-            settings.photo_size,
-        );
-        let r = ibr::lightfield::rebin(slab(uv, st), &images);
-        setting.capture_s = start.elapsed().as_secs_f64();
-        setting.photographs = n;
-        setting.invented = r.invented();
-        rows.extend(bench.every_eye("sparse", &object, r.field, &setting));
-    }
-    let mut o = LightFieldObject::new("torus", lf);
-    o.lookup = dc;
-    for &size in &settings.resolutions {
-        tick(format!("resolution {}x{}", size.0, size.1));
-        rows.push(bench.point(
-            "resolution",
-            &object,
-            Some(("quadrilinear-dc", &mut o)),
-            0,
-            size,
-            &raw,
-        ));
-        rows.push(bench.point("resolution", &object, None, 0, size, &raw));
-    }
-    drop(o);
-    for &n in &settings.triangles {
-        tick(format!("triangles {n}"));
-        let object = Object::torus(n);
-        let (lf, capture_s) = capture(&object, slab(base_uv.min(16), base_st));
-        let setting = Setting {
-            uv: lf.slab.nu,
-            st: lf.slab.ns,
-            triangles: object.mesh.triangle_count() as u32,
-            raw_bytes: lf.bytes() as u64,
-            capture_s,
-            ..Setting::default()
-        };
-        let mut o = LightFieldObject::new("torus", lf);
-        o.lookup = dc;
-        rows.push(bench.point(
-            "triangles",
-            &object,
-            Some(("quadrilinear-dc", &mut o)),
-            0,
-            settings.size,
-            &setting,
-        ));
-        rows.push(bench.point("triangles", &object, None, 0, settings.size, &setting));
-    }
-    rows
 }
