@@ -302,6 +302,74 @@ fn target_eye(city: &City, series: &str, value: f32) -> Vec3 {
     }
 }
 
+/// What the warps start from: the depth images of each reference count as a warped view,
+/// the LDI at the home eye, and the home view as a mesh with its material.
+struct References {
+    views: Vec<(usize, WarpedView)>,
+    ldi: WarpedView,
+    mesh: engine::Mesh,
+    material: engine::Material,
+}
+
+/// Renders the references of `settings` around the city's home eye looking at `at`.
+fn references(
+    city: &City,
+    at: Vec3,
+    settings: &Settings,
+    renderer: &mut Renderer,
+    frame: &mut FrameLoop,
+    target: &mut Target,
+) -> References {
+    let capture =
+        |renderer: &mut Renderer, frame: &mut FrameLoop, target: &mut Target, n: usize| {
+            reference_eyes(city, n)
+                .into_iter()
+                .map(|eye| {
+                    let cam = camera(eye, at, settings.size, city);
+                    geometry(renderer, frame, city, &cam, target);
+                    DepthImage::from_target(target, &cam)
+                })
+                .collect::<Vec<_>>()
+        };
+    let views: Vec<(usize, WarpedView)> = settings
+        .references
+        .iter()
+        .map(|&n| {
+            let refs = capture(renderer, frame, target, n);
+            let mut v = WarpedView::new(format!("warp {n}"), refs);
+            v.nearest = n;
+            (n, v)
+        })
+        .collect();
+    // An LDI at the home eye from the home view and the four around it (the home view
+    // first, so it is the front layer).
+    let ldi = {
+        let (eye, _) = home(city);
+        let home_cam = camera(eye, at, settings.size, city);
+        let mut images = capture(renderer, frame, target, 1);
+        images.extend(capture(renderer, frame, target, 4));
+        let ldi =
+            LdiBuilder::default().build(&home_cam, settings.size.0, settings.size.1, &images, 0.02);
+        let mut v = WarpedView::new("ldi", Vec::new());
+        v.layered.push(ldi);
+        v.nearest = 0;
+        v
+    };
+    // The home view as a mesh (the third reconstruction), drawn by the rasterizer.
+    let (mesh, material) = {
+        let image = &capture(renderer, frame, target, 1)[0];
+        let (mut mesh, mut index) = (engine::Mesh::default(), Vec::new());
+        depth_mesh(image, 0.05, &mut mesh, &mut index);
+        (mesh, depth_mesh_material())
+    };
+    References {
+        views,
+        ldi,
+        mesh,
+        material,
+    }
+}
+
 /// Runs the sweep at these settings; `progress(step, total, what)` before each point.
 pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) -> Vec<Row> {
     let city = City::with_triangles(4, settings.triangles, 7);
@@ -309,17 +377,6 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
     let mut renderer = Renderer::new();
     let mut frame = FrameLoop::new();
     let mut target = Target::new(settings.size.0, settings.size.1);
-    let capture =
-        |renderer: &mut Renderer, frame: &mut FrameLoop, target: &mut Target, n: usize| {
-            reference_eyes(&city, n)
-                .into_iter()
-                .map(|eye| {
-                    let cam = camera(eye, at, settings.size, &city);
-                    geometry(renderer, frame, &city, &cam, target);
-                    DepthImage::from_target(target, &cam)
-                })
-                .collect::<Vec<_>>()
-        };
     let moves: Vec<(&'static str, f32)> = settings
         .distances
         .iter()
@@ -329,37 +386,12 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
     let per_move = 3 + settings.references.len() * METHODS.len();
     let mut tick = ticker(moves.len() * per_move + 1, progress);
     let mut rows = Vec::new();
-    let mut views: Vec<(usize, WarpedView)> = settings
-        .references
-        .iter()
-        .map(|&n| {
-            let refs = capture(&mut renderer, &mut frame, &mut target, n);
-            let mut v = WarpedView::new(format!("warp {n}"), refs);
-            v.nearest = n;
-            (n, v)
-        })
-        .collect();
-    // An LDI at the home eye from the home view and the four around it (the home view
-    // first, so it is the front layer).
-    let mut ldi_view = {
-        let (eye, _) = home(&city);
-        let home_cam = camera(eye, at, settings.size, &city);
-        let mut images = capture(&mut renderer, &mut frame, &mut target, 1);
-        images.extend(capture(&mut renderer, &mut frame, &mut target, 4));
-        let ldi =
-            LdiBuilder::default().build(&home_cam, settings.size.0, settings.size.1, &images, 0.02);
-        let mut v = WarpedView::new("ldi", Vec::new());
-        v.layered.push(ldi);
-        v.nearest = 0;
-        v
-    };
-    // The home view as a mesh (the third reconstruction), drawn by the rasterizer.
-    let (home_mesh, mesh_material) = {
-        let image = &capture(&mut renderer, &mut frame, &mut target, 1)[0];
-        let (mut mesh, mut index) = (engine::Mesh::default(), Vec::new());
-        depth_mesh(image, 0.05, &mut mesh, &mut index);
-        (mesh, depth_mesh_material())
-    };
+    let References {
+        mut views,
+        ldi: mut ldi_view,
+        mesh: home_mesh,
+        material: mesh_material,
+    } = references(&city, at, settings, &mut renderer, &mut frame, &mut target);
     let (w, h) = settings.size;
     let mut truth = Target::new(w, h);
     for &(series, value) in &moves {
