@@ -486,27 +486,8 @@ fn window(args: &Args) -> Result<(), WindowError> {
         let (title, readout, help);
         let mut city = String::new();
         if moment == Moment::Views {
-            // Made at the window's size when entered (later sizes are scaled to): the
-            // layered background, the panorama sky and the morph for 20 s each, in a loop.
             let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
-            const LOOP: f32 = 60.0;
-            let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
-            let steps = 10_000;
-            let t0 = Instant::now();
-            readout = match tour.render((t * (steps - 1) as f32) as usize, steps) {
-                Ok(frame) => {
-                    frame.write_rgb_u32(&mut pixels, ww, wh);
-                    tour.readout()
-                }
-                Err(e) => {
-                    pixels.clear();
-                    pixels.resize(bw * bh, 0);
-                    e.to_uppercase()
-                }
-            };
-            recent.push(t0.elapsed());
-            title = "views (layered background, panorama sky, view morph)".to_string();
-            help = "V OUTDOORS  B BUILDING  ESC QUIT";
+            (title, readout, help) = views_frame(tour, start, (ww, wh), &mut pixels, &mut recent);
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
@@ -514,13 +495,8 @@ fn window(args: &Args) -> Result<(), WindowError> {
                 tour
             });
             tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
-            // The walkthrough plays in a loop of 30 s.
-            const LOOP: f32 = 30.0;
-            let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
-            let steps = 10_000;
-            let camera = BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh);
             let t0 = Instant::now();
-            tour.render(&mut renderer, &camera, &mut target);
+            tour.render(&mut renderer, &building_camera(start, ww, wh), &mut target);
             recent.push(t0.elapsed());
             title = "building".to_string();
             readout = tour.readout();
@@ -576,26 +552,83 @@ fn window(args: &Args) -> Result<(), WindowError> {
                 1e3 / shown.median_ms.max(1e-9),
             ));
         }
-        let text = format!(
-            "{:.1} MS  {:.0} FPS  {}X{}",
-            shown.median_ms,
-            1e3 / shown.median_ms.max(1e-9),
-            ww,
-            wh
+        let lines = [readout.as_str(), city.as_str(), statue.as_str()];
+        let outdoor = moment == Moment::Outdoor;
+        overlay(
+            &mut pixels,
+            (bw, bh),
+            &shown,
+            &lines[..if outdoor { 3 } else { 1 }],
+            help,
         );
-        font::draw_text(&mut pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
-        font::draw_text(&mut pixels, bw, bh, 6, 20, 2, &readout, 0x0080_ffc0);
-        if moment == Moment::Outdoor {
-            font::draw_text(&mut pixels, bw, bh, 6, 34, 2, &city, 0x0080_ffc0);
-            font::draw_text(&mut pixels, bw, bh, 6, 48, 2, &statue, 0x00ff_c080);
-        }
-        let bottom = bh.saturating_sub(18);
-        font::draw_text(&mut pixels, bw, bh, 6, bottom, 2, help, 0x00e0_e0e0);
         window
             .update_with_buffer(&pixels, bw, bh)
             .map_err(WindowError::Update)?;
     }
     Ok(())
+}
+
+/// One frame of the views moment, at the window's size when it was made (later sizes are
+/// scaled to): the layered background, the panorama sky and the morph for 20 s each, in a
+/// loop. Its title, readout and help.
+fn views_frame(
+    tour: &mut ViewsTour,
+    start: Instant,
+    (ww, wh): (u32, u32),
+    pixels: &mut Vec<u32>,
+    recent: &mut Vec<Duration>,
+) -> (String, String, &'static str) {
+    const LOOP: f32 = 60.0;
+    let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+    let steps = 10_000;
+    let t0 = Instant::now();
+    let readout = match tour.render((t * (steps - 1) as f32) as usize, steps) {
+        Ok(frame) => {
+            frame.write_rgb_u32(pixels, ww, wh);
+            tour.readout()
+        }
+        Err(e) => {
+            pixels.clear();
+            pixels.resize(ww as usize * wh as usize, 0);
+            e.to_uppercase()
+        }
+    };
+    recent.push(t0.elapsed());
+    let title = "views (layered background, panorama sky, view morph)".to_string();
+    (title, readout, "V OUTDOORS  B BUILDING  ESC QUIT")
+}
+
+/// The building walkthrough's camera now: it plays in a loop of 30 s.
+fn building_camera(start: Instant, ww: u32, wh: u32) -> engine::Camera {
+    const LOOP: f32 = 30.0;
+    let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+    let steps = 10_000;
+    BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
+}
+
+/// The on-screen text: frame time and size, the readout `lines` one under another, the
+/// keys' `help` at the bottom.
+fn overlay(
+    pixels: &mut [u32],
+    (bw, bh): (usize, usize),
+    shown: &Summary,
+    lines: &[&str],
+    help: &str,
+) {
+    let text = format!(
+        "{:.1} MS  {:.0} FPS  {}X{}",
+        shown.median_ms,
+        1e3 / shown.median_ms.max(1e-9),
+        bw,
+        bh
+    );
+    font::draw_text(pixels, bw, bh, 6, 6, 2, &text, 0x00ff_ff80);
+    let colours = [0x0080_ffc0, 0x0080_ffc0, 0x00ff_c080];
+    for (k, (line, colour)) in lines.iter().zip(colours).enumerate() {
+        font::draw_text(pixels, bw, bh, 6, 20 + 14 * k, 2, line, colour);
+    }
+    let bottom = bh.saturating_sub(18);
+    font::draw_text(pixels, bw, bh, 6, bottom, 2, help, 0x00e0_e0e0);
 }
 
 /// The building tour along its walkthrough, `n` frames; writes PNGs unless `--no-save`;
