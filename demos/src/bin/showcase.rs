@@ -522,17 +522,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
             statue = show.ibr.statue.line();
             let imp = show.ibr.impostors.readout();
             let debug = show.ibr.impostors.debug();
-            let [g, i, l] = imp.city.counts;
-            title = format!(
-                "{tris} tris, {} shaded px - impostors: {} refreshed, {} images, {} geometry, \
-                 max error {:.2} - city: {g} geometry, {i} impostors, {l} layers{}",
-                stats.fragments_shaded,
-                imp.refreshes(),
-                imp.images(),
-                imp.geometry(),
-                imp.max_ratio(),
-                if debug { " (debug view)" } else { "" }
-            );
+            title = outdoor_title(tris, &stats, &imp, debug);
             readout = format!("{}{}", imp.line(), if debug { "  DEBUG" } else { "" });
             city = imp.city.line();
             if debug {
@@ -546,11 +536,7 @@ fn window(args: &Args) -> Result<(), WindowError> {
             shown = Summary::of(&recent);
             recent.clear();
             title_at = Instant::now();
-            window.set_title(&format!(
-                "Parallax showcase - {:.1} ms ({:.0} fps) - {ww}x{wh} - {title}",
-                shown.median_ms,
-                1e3 / shown.median_ms.max(1e-9),
-            ));
+            window.set_title(&window_title(&shown, (ww, wh), &title));
         }
         let lines = [readout.as_str(), city.as_str(), statue.as_str()];
         let outdoor = moment == Moment::Outdoor;
@@ -566,6 +552,36 @@ fn window(args: &Args) -> Result<(), WindowError> {
             .map_err(WindowError::Update)?;
     }
     Ok(())
+}
+
+/// What the window's title says of an outdoor frame: its work, the impostors' and the
+/// city's.
+fn outdoor_title(
+    tris: usize,
+    stats: &FrameStats,
+    imp: &showcase::impostors::Readout,
+    debug: bool,
+) -> String {
+    let [g, i, l] = imp.city.counts;
+    format!(
+        "{tris} tris, {} shaded px - impostors: {} refreshed, {} images, {} geometry, \
+         max error {:.2} - city: {g} geometry, {i} impostors, {l} layers{}",
+        stats.fragments_shaded,
+        imp.refreshes(),
+        imp.images(),
+        imp.geometry(),
+        imp.max_ratio(),
+        if debug { " (debug view)" } else { "" }
+    )
+}
+
+/// The window's title: frame time, rate, size and what is shown.
+fn window_title(shown: &Summary, (ww, wh): (u32, u32), title: &str) -> String {
+    format!(
+        "Parallax showcase - {:.1} ms ({:.0} fps) - {ww}x{wh} - {title}",
+        shown.median_ms,
+        1e3 / shown.median_ms.max(1e-9),
+    )
 }
 
 /// One frame of the views moment, at the window's size when it was made (later sizes are
