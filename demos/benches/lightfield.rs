@@ -1,11 +1,11 @@
 //! Criterion benchmarks of the light-field render at 1280x720, through the public API: a
-//! lit torus captured into a 32x32x256x256 slab once (`demos::bench_lightfield::frame_case`),
+//! lit torus captured into a 32x32x256x256 slab once (`demos::bench::lightfield::frame_case`),
 //! rendered from an eye between the capture cameras by each lookup, from the raw samples
 //! and from 1,024 codewords of 2x2x2x2 tiles (`lightfield/<lookup>` and
 //! `lightfield/<lookup>_codes`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use demos::bench_lightfield::{frame_case, FRAME_SIZE};
+use demos::bench::lightfield::{frame_case, FRAME_SIZE};
 use ibr::lightfield::{render, Interpolation, Lookup, VqSettings};
 use ibr::warp::Warped;
 use std::hint::black_box;

@@ -16,7 +16,7 @@
 //! - `full_frame`: the showcase's built-in scene at 1280x720.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use demos::bench::peer_camera;
+use demos::bench::raster::peer_camera;
 use demos::showcase::{self, Showcase};
 use engine::procedural::{self, XorShift};
 use engine::{
@@ -88,7 +88,17 @@ fn torus(c: &mut Criterion) {
     }
 }
 
+/// The pipeline's stages one by one: vertex and rejection, clipping, set-up and binning
+/// ([`geometry_stages`]), fill, shading and blending ([`fill_stages`]), and texture
+/// sampling alone.
 fn stages(c: &mut Criterion) {
+    geometry_stages(c);
+    let tex = fill_stages(c);
+    texture_sample(c, &tex);
+}
+
+/// Vertex and rejection, clipping, set-up and binning.
+fn geometry_stages(c: &mut Criterion) {
     let (w, h) = (1920, 1080);
     // Vertex + rejection: the torus sits behind the eye.
     let behind = one(
@@ -139,7 +149,11 @@ fn stages(c: &mut Criterion) {
         peer_camera(1280, 720),
         (1280, 720),
     );
+}
 
+/// Fill, lit and textured shading, blending; the checker texture it used.
+fn fill_stages(c: &mut Criterion) -> Arc<Texture> {
+    let (w, h) = (1920, 1080);
     // Fill: 16 huge triangles, constant colour, then lit + textured, then blended.
     let huge = procedural::huge_triangles(16, 2);
     let fill = one(
@@ -195,8 +209,11 @@ fn stages(c: &mut Criterion) {
         peer_camera(w, h),
         (w, h),
     );
+    tex
+}
 
-    // Texture sampling on its own.
+/// Texture sampling on its own.
+fn texture_sample(c: &mut Criterion, tex: &Texture) {
     let mut g = c.benchmark_group("stage");
     g.sample_size(20);
     let sampler = Sampler::default();

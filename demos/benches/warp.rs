@@ -5,7 +5,7 @@
 //! - `warp/splats_background`: with the background-side fill.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use demos::bench_warp::showcase_reference;
+use demos::bench::warp::showcase_reference;
 use ibr::warp::holes::Fill;
 use ibr::warp::technique::WarpedView;
 use ibr::warp::Reconstruction;

@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release -p demos --example draw_cost`
 
-use demos::bench_impostors::frame_camera;
+use demos::bench::impostors::frame_camera;
 use demos::city::{City, Path as CityPath};
 use engine::{Draw, FrameOptions, Renderer, Target};
 use ibr::billboard::BillboardSet;

@@ -7,7 +7,7 @@
 //! `cargo run --release -p demos --example lightfield_frame [CODEWORDS]`.
 //! Wall-clock figures from a shared machine.
 
-use demos::bench_lightfield::{frame_case, FRAME_SIZE};
+use demos::bench::lightfield::{frame_case, FRAME_SIZE};
 use ibr::lightfield::{render, Interpolation, Lookup, VqSettings};
 use ibr::warp::Warped;
 use std::time::Instant;

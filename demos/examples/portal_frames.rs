@@ -3,7 +3,7 @@
 //! `cargo run --release -p demos --example portal_frames -- [FRAMES]` (default 60, the
 //! walk of `bench portals`). Wall-clock figures from a shared machine.
 
-use demos::showcase_building::BuildingTour;
+use demos::showcase::building::BuildingTour;
 use engine::{Renderer, Target};
 use std::time::Instant;
 

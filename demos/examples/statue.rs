@@ -4,7 +4,7 @@
 //! `cargo run --release -p demos --example statue -- [DIR] [--raw] [--no-depth-correction]`
 //! (`--raw`: the unquantised capture instead of the codebook).
 
-use demos::showcase_lightfield::{armillary, Statue, ST, STATUE_AT, UV};
+use demos::showcase::lightfield::{armillary, Statue, ST, STATUE_AT, UV};
 use engine::{Camera, FrameOptions, Light, Lighting, Renderer, Rgba, Target};
 use glam::Vec3;
 use ibr::lightfield::{LightField, LightFieldObject, Slab};

@@ -8,7 +8,7 @@
 //! Wall-clock figures from a shared machine: compare runs alternated, not one against an
 //! old number.
 
-use demos::bench_warp::{city_reference, showcase_reference};
+use demos::bench::warp::{city_reference, showcase_reference};
 use ibr::warp::holes::{Fill, Filler};
 use ibr::warp::{Prepared, WarpOptions, Warper};
 use std::time::{Duration, Instant};

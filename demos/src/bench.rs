@@ -1,391 +1,198 @@
-//! Benchmark sweeps behind the `bench` CLI: what is measured, how, and the CSV it becomes.
+//! The benchmark sweeps behind the `bench` CLI, one module per sweep, and what they share
+//! ([`sweep`]: CSV rows, progress steps, the timed-frames loop).
 //!
-//! A measurement renders one scene from one camera into one target size: `warmup` frames
-//! first (caches, scratch buffers), then up to `frames` timed frames of
-//! `Renderer::render_scene` alone (`std::time::Instant`), stopping early once the time
-//! budget is spent but never before [`MIN_FRAMES`]. Procedural scenes reproduce the peers'
-//! set-up (`shared/peers/make_scenes.py`: torus of major radius 0.95 and minor 0.38 tilted by
-//! (-55, 20) degrees, eye (0, 0, 3), 60 degree field of view) with a lit, vertex-coloured
-//! material; shared models are framed by their bounding sphere and keep their own
-//! materials.
+//! Every sweep implements [`Sweep`]: its flags, its settings (tiny, quick or full), its rows
+//! and their CSV file, what it prints and its charts. [`sweeps`] lists them in the CLI's
+//! order as [`Listed`], the face the CLI builds its subcommands from and runs; [`execute`]
+//! is the one run of a sweep: progress bar, rows printed, `OUT/NAME.csv`, `OUT/NAME_*.png`.
+//! A new sweep is one module here and one line in [`sweeps`].
 
-use crate::chart::{self, Chart};
-use crate::sweep::{CsvRow, Timing};
-use crate::timing::Summary;
-use engine::procedural;
-use engine::{Camera, FrameOptions, FrameStats, Material, Renderer, Rgba, Scene, Target};
-use glam::{Mat4, Vec3};
+pub mod billboards;
+pub mod budget;
+pub mod impostors;
+pub mod layers;
+pub mod lightfield;
+pub mod morph;
+pub mod panorama;
+pub mod portals;
+pub mod raster;
+pub mod scaling;
+pub mod stereo;
+pub mod sweep;
+pub mod warp;
+
+use crate::chart::{self, Chart, Drawn};
+use clap::{ArgMatches, Args, FromArgMatches};
+use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
+use sweep::CsvRow;
 
-pub use crate::sweep::MIN_FRAMES;
-
-/// How much a sweep measures.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Plan {
-    /// Target sizes of the resolution series (torus of `fixed_triangles`).
-    pub resolutions: Vec<(u32, u32)>,
-    pub fixed_triangles: u32,
-    /// Torus sizes of the triangle series (at `fixed_resolution`).
-    pub triangle_counts: Vec<u32>,
-    pub fixed_resolution: (u32, u32),
-    /// Whether to render the shared models (when their folder exists).
-    pub models: bool,
-    /// How each measurement times its frames.
-    pub timing: Timing,
+/// The flags every sweep takes.
+#[derive(Args, Clone, Debug)]
+pub struct RunFlags {
+    /// Folder for SWEEP.csv and the charts (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// A reduced sweep (every point, few frames): about a minute at most.
+    #[arg(long)]
+    pub quick: bool,
+    /// A seconds-long smoke run for tests: tiny sizes and counts (and no models).
+    #[arg(long, hide = true)]
+    pub tiny: bool,
 }
 
-impl Plan {
-    /// The full sweep.
-    pub fn full() -> Plan {
-        Plan {
-            resolutions: vec![
-                (320, 240),
-                (640, 480),
-                (1280, 720),
-                (1920, 1080),
-                (2560, 1440),
-                (3840, 2160),
-            ],
-            fixed_triangles: 100_000,
-            triangle_counts: vec![1_000, 10_000, 100_000, 1_000_000, 2_000_000],
-            fixed_resolution: (1280, 720),
-            models: true,
-            timing: Timing::new(3, 31, 3),
-        }
-    }
-
-    /// Every point of the full sweep with few frames: about a minute at most.
-    pub fn quick() -> Plan {
-        Plan {
-            timing: Timing {
-                warmup: 1,
-                frames: 9,
-                budget: Duration::from_millis(1200),
-            },
-            ..Plan::full()
-        }
-    }
-
-    /// A seconds-long smoke run (tests): two small sizes, two small meshes, no models.
-    pub fn tiny() -> Plan {
-        Plan {
-            resolutions: vec![(160, 120), (320, 240)],
-            fixed_triangles: 10_000,
-            triangle_counts: vec![1_000, 10_000],
-            fixed_resolution: (320, 240),
-            models: false,
-            timing: Timing {
-                warmup: 0,
-                frames: 2,
-                budget: Duration::from_millis(200),
-            },
+impl RunFlags {
+    /// The settings the flags ask for: tiny, quick or full.
+    pub fn pick<S>(&self, tiny: fn() -> S, quick: fn() -> S, full: fn() -> S) -> S {
+        if self.tiny {
+            tiny()
+        } else if self.quick {
+            quick()
+        } else {
+            full()
         }
     }
 }
 
-/// One measurement: a CSV row.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Row {
-    /// `resolution`, `triangles` or `model`.
-    pub series: String,
-    pub mesh: String,
-    pub triangles: u64,
-    pub width: u32,
-    pub height: u32,
-    pub threads: usize,
-    pub time: Summary,
-    pub stats: FrameStats,
-}
-
-impl CsvRow for Row {
-    const HEADER: &'static str = "series,mesh,triangles,width,height,threads,median_ms,min_ms,p90_ms,mean_ms,frames,triangles_set_up,fragments_shaded";
-
-    fn csv(&self) -> String {
-        format!(
-            "{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{},{},{}",
-            self.series,
-            self.mesh.replace(',', "_"),
-            self.triangles,
-            self.width,
-            self.height,
-            self.threads,
-            self.time.median_ms,
-            self.time.min_ms,
-            self.time.p90_ms,
-            self.time.mean_ms,
-            self.time.frames,
-            self.stats.triangles_set_up,
-            self.stats.fragments_shaded
-        )
+impl AsRef<RunFlags> for RunFlags {
+    fn as_ref(&self) -> &RunFlags {
+        self
     }
 }
 
-/// The sweep's charts: file name and chart.
-pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
-    vec![
-        ("raster_resolution.png", chart::resolution_chart(rows)),
-        ("raster_triangles.png", chart::triangles_chart(rows)),
+/// Progress of a sweep: the step's 0-based index, the total, and what it is.
+pub type Progress<'a> = &'a mut dyn FnMut(usize, usize, &str);
+
+/// One benchmark sweep: its flags, settings, rows (and so its CSV), printout and charts.
+pub trait Sweep: Sync {
+    /// The subcommand's name, also the CSV's file stem (`NAME.csv`).
+    const NAME: &'static str;
+    /// The subcommand's help.
+    const ABOUT: &'static str;
+    /// What its rows are called in the closing line (`rows`, `points`, `measurements`).
+    const ROWS: &'static str = "rows";
+    /// Its flags: [`RunFlags`] and any of its own.
+    type Flags: Args + FromArgMatches + AsRef<RunFlags>;
+    /// How much it measures.
+    type Settings;
+    /// One line of its CSV.
+    type Row: CsvRow;
+
+    /// The settings the flags ask for (anything they need loaded, loaded).
+    fn settings(&self, flags: &Self::Flags) -> Result<Self::Settings, String>;
+    /// Measures: its rows, reporting each step to `progress`.
+    fn rows(
+        &self,
+        settings: &Self::Settings,
+        flags: &Self::Flags,
+        progress: Progress,
+    ) -> Result<Vec<Self::Row>, String>;
+    /// Prints the rows for the terminal.
+    fn report(&self, rows: &[Self::Row]);
+    /// Its charts of the rows: file name and chart.
+    fn charts(&self, rows: &[Self::Row]) -> Vec<(&'static str, Chart)> {
+        let _ = rows;
+        Vec::new()
+    }
+}
+
+/// A sweep as the CLI lists it: its subcommand, and its run from the parsed flags. Every
+/// [`Sweep`] is one; a subcommand of several sweeps (`budget`) implements it by hand.
+pub trait Listed: Sync {
+    /// The subcommand's name.
+    fn name(&self) -> &'static str;
+    /// The subcommand, with its help and flags.
+    fn command(&self) -> clap::Command;
+    /// Runs the sweep the flags ask for.
+    fn run(&self, matches: &ArgMatches) -> Result<(), String>;
+}
+
+impl<S: Sweep> Listed for S {
+    fn name(&self) -> &'static str {
+        S::NAME
+    }
+
+    fn command(&self) -> clap::Command {
+        S::Flags::augment_args(clap::Command::new(S::NAME)).about(S::ABOUT)
+    }
+
+    fn run(&self, matches: &ArgMatches) -> Result<(), String> {
+        let flags = S::Flags::from_arg_matches(matches).map_err(|e| e.to_string())?;
+        execute(self, &flags)
+    }
+}
+
+/// Every sweep of the `bench` CLI, in its order.
+pub fn sweeps() -> [&'static dyn Listed; 12] {
+    [
+        &raster::RasterSweep,
+        &billboards::BillboardsSweep,
+        &impostors::ImpostorsSweep,
+        &scaling::ScalingSweep,
+        &warp::WarpSweep,
+        &portals::PortalsSweep,
+        &lightfield::LightfieldSweep,
+        &stereo::StereoSweep,
+        &morph::MorphSweep,
+        &panorama::PanoramaSweep,
+        &layers::LayersSweep,
+        &budget::BudgetCommand,
     ]
 }
 
-/// Short names for triangle counts: 1k, 100k, 2M.
-pub fn count_name(n: u64) -> String {
-    if n >= 1_000_000 && n.is_multiple_of(1_000_000) {
-        format!("{}M", n / 1_000_000)
-    } else if n >= 1_000 && n.is_multiple_of(1_000) {
-        format!("{}k", n / 1_000)
-    } else {
-        n.to_string()
-    }
-}
-
-/// The peers' tilted torus of `n` triangles, lit, with colours from its normals.
-pub fn torus_scene(n: u32) -> Scene {
-    let mut s = Scene::default();
-    let tilt =
-        Mat4::from_rotation_y(20f32.to_radians()) * Mat4::from_rotation_x(-55f32.to_radians());
-    s.add(
-        procedural::torus_with_triangles(n),
-        Material::lit(Rgba::WHITE),
-        tilt,
+/// Runs one sweep under a progress bar, prints its rows, writes `OUT/NAME.csv` and its
+/// charts, and says what it wrote.
+pub fn execute<S: Sweep>(sweep: &S, flags: &S::Flags) -> Result<(), String> {
+    let run = flags.as_ref();
+    let settings = sweep.settings(flags)?;
+    std::fs::create_dir_all(&run.out)
+        .map_err(|e| format!("cannot create {}: {e}", run.out.display()))?;
+    let start = Instant::now();
+    let bar = ProgressBar::new(1);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
     );
-    s
-}
-
-/// The peers' default camera: eye (0, 0, 3) looking at the origin, 60 degrees, 0.1 - 100.
-pub fn peer_camera(width: u32, height: u32) -> Camera {
-    Camera::look_at(
-        Vec3::new(0.0, 0.0, 3.0),
-        Vec3::ZERO,
-        Vec3::Y,
-        60f32.to_radians(),
-        1.0,
-    )
-    .with_aspect(width, height)
-    .with_depth_range(0.1, 100.0)
-}
-
-/// A camera that frames a scene's bounding sphere from the front, a little above.
-pub fn framing_camera(scene: &Scene, width: u32, height: u32) -> Camera {
-    let s = scene.bounding_sphere();
-    let r = s.radius.max(1e-3);
-    let fov = 50f32.to_radians();
-    let aspect = width.max(1) as f32 / height.max(1) as f32;
-    let half = (fov * 0.5).tan().min((fov * 0.5).tan() * aspect).atan();
-    let dist = r / half.sin() * 1.05;
-    let eye = s.center + Vec3::new(0.35, 0.3, 1.0).normalize() * dist;
-    Camera::look_at(eye, s.center, Vec3::Y, fov, aspect)
-        .with_depth_range((dist - 1.5 * r).max(dist * 1e-3), dist + 1.5 * r)
-}
-
-/// Times one scene from one camera at one size.
-pub fn measure(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    camera: &Camera,
-    (width, height): (u32, u32),
-    plan: &Plan,
-) -> (Summary, FrameStats) {
-    let mut target = Target::new(width, height);
-    let opts = FrameOptions {
-        clear: Some(Rgba::new(0.1, 0.1, 0.12, 1.0)),
-        ..Default::default()
-    };
-    let frames = plan.timing.run(|| {
-        let t0 = Instant::now();
-        let stats = renderer.render_scene(scene, camera, &mut target, &opts);
-        (t0.elapsed(), stats)
+    let measured = sweep.rows(&settings, flags, &mut |i, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(i as u64);
+        bar.set_message(what.to_string());
     });
-    let times: Vec<Duration> = frames.iter().map(|f| f.0).collect();
-    let stats = frames.last().map_or_else(FrameStats::default, |f| f.1);
-    (Summary::of(&times), stats)
+    bar.finish_and_clear();
+    let measured = measured?;
+    sweep.report(&measured);
+    let name = S::NAME;
+    let csv = run.out.join(format!("{name}.csv"));
+    sweep::write_csv(&csv, &measured)
+        .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    for (file, chart) in sweep.charts(&measured) {
+        drawn(&run.out.join(file), &chart)?;
+    }
+    println!(
+        "bench: {} {} in {:.1} s on {} threads; wrote {} and {}/{name}_*.png",
+        measured.len(),
+        S::ROWS,
+        start.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        csv.display(),
+        run.out.display(),
+    );
+    Ok(())
 }
 
-/// The shared models folder: `$PARALLAX_ASSETS`, else `shared/assets` beside the
-/// workspace, else `/work/shared/assets`; `None` when none exists.
-pub fn default_assets_dir() -> Option<PathBuf> {
-    let mut candidates = Vec::new();
-    if let Some(p) = std::env::var_os("PARALLAX_ASSETS") {
-        candidates.push(PathBuf::from(p));
-    }
-    let ws = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    candidates.push(ws.join("../shared/assets"));
-    candidates.push(PathBuf::from("/work/shared/assets"));
-    candidates.into_iter().find(|p| p.is_dir())
-}
-
-/// Model files under `dir` (`.obj`, `.gltf`, `.glb`), one per model name (a `.glb` is
-/// preferred over a `.gltf` over an `.obj` of the same name), sorted by name.
-pub fn find_models(dir: &Path) -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        let mut entries: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
-        entries.sort();
-        for p in entries {
-            if p.is_dir() {
-                walk(&p, out);
-            } else if rank(&p).is_some() {
-                out.push(p);
-            }
+/// Draws one chart, saying so when it had to go without text.
+fn drawn(path: &Path, chart: &Chart) -> Result<(), String> {
+    match chart::draw(path, chart) {
+        Ok(Drawn::WithText) => Ok(()),
+        Ok(Drawn::WithoutText) => {
+            println!(
+                "bench: the chart font could not be used; {} was drawn without text",
+                path.display()
+            );
+            Ok(())
         }
-    }
-    fn rank(p: &Path) -> Option<u8> {
-        match p.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-            "glb" => Some(0),
-            "gltf" => Some(1),
-            "obj" => Some(2),
-            _ => None,
-        }
-    }
-    let mut all = Vec::new();
-    walk(dir, &mut all);
-    let mut best: std::collections::BTreeMap<String, PathBuf> = Default::default();
-    for p in all {
-        let name = model_name(&p);
-        let better = best.get(&name).is_none_or(|q| rank(&p) < rank(q));
-        if better {
-            best.insert(name, p);
-        }
-    }
-    best.into_values().collect()
-}
-
-/// A model's name: its file stem.
-pub fn model_name(p: &Path) -> String {
-    p.file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default()
-}
-
-/// What a sweep is about to do, for progress reporting.
-#[derive(Clone, Debug)]
-pub struct Step {
-    pub series: &'static str,
-    pub mesh: String,
-    pub size: (u32, u32),
-}
-
-/// The resolution and triangle-count series, then the given models; `progress` is called
-/// before each measurement with its 0-based index and the total.
-pub fn raster(
-    plan: &Plan,
-    models: &[(String, Scene)],
-    mut progress: impl FnMut(usize, usize, &Step),
-) -> Vec<Row> {
-    let total = plan.resolutions.len()
-        + plan.triangle_counts.len()
-        + if plan.models { models.len() } else { 0 };
-    let mut rows = Vec::with_capacity(total);
-    let mut renderer = Renderer::new();
-    let threads = rayon::current_num_threads();
-    let mut run = |rows: &mut Vec<Row>, step: Step, scene: &Scene, camera: &Camera| {
-        progress(rows.len(), total, &step);
-        let (time, stats) = measure(&mut renderer, scene, camera, step.size, plan);
-        rows.push(Row {
-            series: step.series.to_string(),
-            mesh: step.mesh,
-            triangles: scene.triangle_count() as u64,
-            width: step.size.0,
-            height: step.size.1,
-            threads,
-            time,
-            stats,
-        });
-    };
-    let fixed = torus_scene(plan.fixed_triangles);
-    let fixed_name = format!("torus_{}", count_name(fixed.triangle_count() as u64));
-    for &(w, h) in &plan.resolutions {
-        let step = Step {
-            series: "resolution",
-            mesh: fixed_name.clone(),
-            size: (w, h),
-        };
-        run(&mut rows, step, &fixed, &peer_camera(w, h));
-    }
-    drop(fixed);
-    let (w, h) = plan.fixed_resolution;
-    for &n in &plan.triangle_counts {
-        let scene = torus_scene(n);
-        let step = Step {
-            series: "triangles",
-            mesh: format!("torus_{}", count_name(scene.triangle_count() as u64)),
-            size: (w, h),
-        };
-        run(&mut rows, step, &scene, &peer_camera(w, h));
-    }
-    if plan.models {
-        for (name, scene) in models {
-            let step = Step {
-                series: "model",
-                mesh: name.clone(),
-                size: (w, h),
-            };
-            run(&mut rows, step, scene, &framing_camera(scene, w, h));
-        }
-    }
-    rows
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn csv_row_matches_header() {
-        let row = Row {
-            series: "triangles".into(),
-            mesh: "torus_1k".into(),
-            triangles: 1000,
-            width: 320,
-            height: 240,
-            threads: 2,
-            time: Summary::default(),
-            stats: FrameStats::default(),
-        };
-        assert_eq!(row.csv().split(',').count(), Row::HEADER.split(',').count());
-        assert_eq!(count_name(2_000_000), "2M");
-        assert_eq!(count_name(10_000), "10k");
-        assert_eq!(count_name(1234), "1234");
-    }
-
-    #[test]
-    fn tiny_sweep_measures_every_point_and_draws_the_torus() {
-        let plan = Plan::tiny();
-        let mut seen = 0;
-        let rows = raster(&plan, &[], |i, total, _| {
-            assert_eq!(i, seen);
-            assert_eq!(total, 4);
-            seen += 1;
-        });
-        assert_eq!(rows.len(), 4);
-        for r in &rows {
-            assert!(r.time.frames >= MIN_FRAMES);
-            assert!(r.stats.fragments_shaded > 0, "{r:?}");
-            assert!(r.time.median_ms > 0.0);
-        }
-        assert_eq!(rows[2].triangles, 1_000);
-        assert_eq!(rows[3].triangles, 10_000);
-    }
-
-    #[test]
-    fn framing_camera_sees_the_whole_scene() {
-        let mut s = Scene::default();
-        s.add(
-            procedural::uv_sphere(5.0, 8, 16),
-            Material::unlit(Rgba::WHITE),
-            Mat4::from_translation(Vec3::new(100.0, 0.0, 0.0)),
-        );
-        let cam = framing_camera(&s, 64, 48);
-        let mut t = Target::new(64, 48);
-        let stats = Renderer::new().render_scene(&s, &cam, &mut t, &FrameOptions::default());
-        assert!(stats.fragments_shaded > 200);
-        // Nothing touches the border: the sphere is entirely in view.
-        for x in 0..64 {
-            assert_eq!(t.pixel(x, 0), Some(0xff00_0000));
-            assert_eq!(t.pixel(x, 47), Some(0xff00_0000));
-        }
+        Err(e) => Err(format!("cannot draw {}: {e}", path.display())),
     }
 }

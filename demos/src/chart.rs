@@ -6,16 +6,16 @@
 //! Should drawing with text still fail, the chart is drawn without it (axes, grid, series
 //! and points) rather than not at all, and the caller is told.
 
+mod dots;
 mod font;
 mod lines;
 mod plot;
-mod raster;
 mod style;
 
+pub use dots::{LineAndDots, Point};
 pub use font::font_bytes;
 pub use lines::{Line, Lines};
 pub use plot::Layout;
-pub use raster::{resolution_chart, triangles_chart, LineAndDots};
 
 use font::font_ready;
 use lines::Series;

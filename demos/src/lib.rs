@@ -1,36 +1,23 @@
-//! Shared code of the Parallax binaries: the showcase scene, its image-based layer and fly
-//! camera ([`showcase`], [`showcase_ibr`]), frame-time statistics ([`timing`]), a tiny
-//! bitmap font for on-screen readouts ([`font`]), captures written for the `warp` command
-//! ([`capture`]), the scalable city of the impostor
-//! benchmarks ([`city`]), and the benchmark sweeps and charts behind the `bench` CLI
-//! ([`bench`], [`bench_billboards`], [`chart`]). Binaries stay thin; what they do is here,
-//! where tests reach it.
+//! Shared code of the Parallax binaries: the showcase scene, its image-based layer, its
+//! moments and fly camera ([`showcase`]), frame-time statistics ([`timing`]), a tiny
+//! bitmap font for on-screen readouts ([`font`]), datasets of views written for the
+//! `warp` command ([`dataset`]), the scalable city of the impostor benchmarks ([`city`]),
+//! the building of the portal walkthrough ([`building`]), the benchmark sweeps behind the
+//! `bench` CLI ([`bench`]) and the charts they draw ([`chart`]). Binaries stay thin; what they do is
+//! here, where tests reach it.
+//!
+//! The top-level modules form layers without a circle: [`bench`] and [`showcase`] use the
+//! leaves ([`chart`], [`city`], [`building`], [`font`], [`timing`]); [`bench`] also uses
+//! [`showcase`]'s scene; nothing uses [`bench`].
 
 pub mod bench;
-pub mod bench_billboards;
-pub mod bench_budget;
-pub mod bench_impostors;
-pub mod bench_layers;
-pub mod bench_lightfield;
-pub mod bench_morph;
-pub mod bench_panorama;
-pub mod bench_portals;
-pub mod bench_scaling;
-pub mod bench_stereo;
-pub mod bench_warp;
 pub mod building;
-pub mod capture;
 pub mod chart;
 pub mod city;
 pub mod cli;
+pub mod dataset;
 pub mod font;
 pub mod showcase;
-pub mod showcase_building;
-pub mod showcase_ibr;
-pub mod showcase_impostors;
-pub mod showcase_lightfield;
-pub mod showcase_views;
-pub mod sweep;
 pub mod timing;
 
 /// Sets the global rayon pool to `threads` workers (when given); a failure is reported on

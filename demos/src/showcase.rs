@@ -6,10 +6,16 @@
 //! texture, a checker-textured plaza, an alpha-tested lattice fence (`AlphaMode::Mask`),
 //! blended glass (`AlphaMode::Blend`), a house, trees and rocks, lit by a sun and two point
 //! lights (one orbiting the torus, marked by a glowing lamp). Its image-based layer
-//! ([`crate::showcase_ibr`]) adds a billboard forest, a laser exchange with explosions,
+//! ([`crate::showcase::ibr_layer`]) adds a billboard forest, a laser exchange with explosions,
 //! the sun's lens flare, a sky of clouds drawn through runtime impostors, and a city
 //! district whose buildings a planner draws as geometry, impostors or image layers
-//! ([`crate::showcase_impostors`]).
+//! ([`crate::showcase::impostors`]).
+
+pub mod building;
+pub mod ibr_layer;
+pub mod impostors;
+pub mod lightfield;
+pub mod views;
 
 mod build;
 mod fly;
@@ -19,7 +25,7 @@ mod textures;
 pub use fly::{toggled, FlyCamera, FlyInput, TapCounter};
 pub use textures::{crate_texture, lattice_texture};
 
-use crate::showcase_ibr::IbrLayer;
+use crate::showcase::ibr_layer::IbrLayer;
 use engine::procedural::Terrain;
 use engine::{Camera, FrameOptions, FrameStats, Light, Mesh, Renderer, Rgba, Scene, Target};
 use glam::{Mat4, Vec3};

@@ -81,7 +81,7 @@ fn predicted_image_error_bounds_the_measured_error_across_subjects() {
             per_subject_slopes.push(y / x.max(1e-9));
         }
     }
-    let r = demos::bench_impostors::correlation(&samples).expect("varied samples");
+    let r = demos::bench::impostors::correlation(&samples).expect("varied samples");
     let under = samples.iter().filter(|s| s.1 <= s.0).count();
     let spread = per_subject_slopes.iter().copied().fold(0.0, f64::max)
         / per_subject_slopes

@@ -3,7 +3,7 @@
 //! matched at full size only, every period is as good a match pixel by pixel and most of
 //! the pair is unknown or an alias; drawn toward the half-size match, most is right.
 
-use demos::bench_stereo::repeated_pair;
+use demos::bench::stereo::repeated_pair;
 use ibr::stereo::{luminance, measure, Sgm};
 
 #[test]

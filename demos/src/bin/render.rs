@@ -408,13 +408,9 @@ fn stats_line(s: &FrameStats) -> String {
     )
 }
 
-fn run(a: &Args) -> Result<(), String> {
-    check(a)?;
-    let (path, is_obj) = match (&a.obj, &a.gltf) {
-        (Some(p), _) => (p.as_path(), true),
-        (None, Some(p)) => (p.as_path(), false),
-        (None, None) => return Err("one of --obj or --gltf is required".into()),
-    };
+/// Loads the model at `path` and prepares it for the shading asked for; the scene, the
+/// target's encoding and the model's file name (warnings and a summary on stderr).
+fn load_scene(a: &Args, path: &Path, is_obj: bool) -> Result<(Scene, Encoding, String), String> {
     let t0 = Instant::now();
     let loaded = if is_obj {
         load::obj(path)
@@ -449,6 +445,64 @@ fn run(a: &Args) -> Result<(), String> {
         scene.instances.len(),
         t0.elapsed().as_secs_f64() * 1e3
     );
+    Ok((scene, encoding, name))
+}
+
+/// Writes what the flags ask for: the PNG, the depth file, the dataset of views.
+fn write_outputs(
+    a: &Args,
+    target: &Target,
+    scene: &Scene,
+    camera: &Camera,
+    encoding: Encoding,
+    opts: &FrameOptions,
+) -> Result<(), String> {
+    if let Some(png) = &a.out {
+        image::save_buffer_with_format(
+            png,
+            &target.to_rgba8(),
+            target.width(),
+            target.height(),
+            image::ColorType::Rgba8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| format!("{}: cannot write PNG: {e}", png.display()))?;
+    }
+    if let Some(depth) = &a.depth {
+        let bytes: Vec<u8> = target
+            .depth_gl_image()
+            .iter()
+            .flat_map(|d| d.to_le_bytes())
+            .collect();
+        std::fs::write(depth, bytes)
+            .map_err(|e| format!("{}: cannot write depth: {e}", depth.display()))?;
+    }
+    if let Some(dir) = &a.capture {
+        let cameras: Vec<Camera> = demos::dataset::arc(a.eye, a.target, a.up, a.views, a.spread)
+            .into_iter()
+            .map(|eye| Camera {
+                view: Mat4::look_at_rh(eye, a.target, a.up),
+                ..*camera
+            })
+            .collect();
+        let size = (a.width, a.height);
+        let n = demos::dataset::write(dir, scene, &cameras, size, encoding, opts)?;
+        eprintln!(
+            "render: wrote a capture of {n} view(s) to {}",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+fn run(a: &Args) -> Result<(), String> {
+    check(a)?;
+    let (path, is_obj) = match (&a.obj, &a.gltf) {
+        (Some(p), _) => (p.as_path(), true),
+        (None, Some(p)) => (p.as_path(), false),
+        (None, None) => return Err("one of --obj or --gltf is required".into()),
+    };
+    let (scene, encoding, name) = load_scene(a, path, is_obj)?;
 
     let camera = Camera {
         view: Mat4::look_at_rh(a.eye, a.target, a.up),
@@ -505,41 +559,7 @@ fn run(a: &Args) -> Result<(), String> {
             eprintln!("render: warning: {line}");
         }
     }
-    if let Some(png) = &a.out {
-        image::save_buffer_with_format(
-            png,
-            &target.to_rgba8(),
-            target.width(),
-            target.height(),
-            image::ColorType::Rgba8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| format!("{}: cannot write PNG: {e}", png.display()))?;
-    }
-    if let Some(depth) = &a.depth {
-        let bytes: Vec<u8> = target
-            .depth_gl_image()
-            .iter()
-            .flat_map(|d| d.to_le_bytes())
-            .collect();
-        std::fs::write(depth, bytes)
-            .map_err(|e| format!("{}: cannot write depth: {e}", depth.display()))?;
-    }
-    if let Some(dir) = &a.capture {
-        let cameras: Vec<Camera> = demos::capture::arc(a.eye, a.target, a.up, a.views, a.spread)
-            .into_iter()
-            .map(|eye| Camera {
-                view: Mat4::look_at_rh(eye, a.target, a.up),
-                ..camera
-            })
-            .collect();
-        let size = (a.width, a.height);
-        let n = demos::capture::write(dir, &scene, &cameras, size, encoding, &opts)?;
-        eprintln!(
-            "render: wrote a capture of {n} view(s) to {}",
-            dir.display()
-        );
-    }
+    write_outputs(a, &target, &scene, &camera, encoding, &opts)?;
     if a.frames.is_some() {
         let (median, min, p90) = summary(&times);
         println!(

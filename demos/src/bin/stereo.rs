@@ -52,7 +52,7 @@
 //! two frames, views of different sizes, cameras that cannot be rectified among them).
 
 use clap::{ArgGroup, Parser, ValueEnum};
-use demos::bench_stereo::key;
+use demos::bench::stereo::key;
 use engine::load::{self, write_float_image, FloatImage};
 use engine::{Camera, Premul};
 use ibr::images::transforms::{read_photos, write_transforms, Intrinsics};

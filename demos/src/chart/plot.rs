@@ -244,26 +244,7 @@ pub(super) fn plot(
         }
     }
     if text {
-        let wanted: Vec<(&Mark, (i32, i32))> = marks
-            .iter()
-            .filter(|m| !m.label.is_empty())
-            .map(|m| (m, text_size(&m.label, LABEL_FONT, text)))
-            .collect();
-        let anchors: Vec<Anchor> = wanted.iter().map(|(m, size)| (m.at, *size)).collect();
-        let boxes = place_labels(&anchors, &layout.markers, plot_area);
-        for ((m, _), b) in wanted.iter().zip(&boxes) {
-            match b {
-                Some(b) => {
-                    root.draw(&Text::new(
-                        m.label.clone(),
-                        (b[0] + 1, b[1] + 1),
-                        ("sans-serif", LABEL_FONT).into_font(),
-                    ))?;
-                    layout.labels.push(*b);
-                }
-                None => layout.dropped += 1,
-            }
-        }
+        draw_labels(&root, &marks, &mut layout, plot_area)?;
     }
     if let Some(size) = legend {
         let at = (SIZE.0 as i32 - 16 - size.0, plot_area[1]);
@@ -272,6 +253,37 @@ pub(super) fn plot(
     }
     root.present()?;
     Ok(layout)
+}
+
+/// Draws the marks' labels where [`place_labels`] finds room (none for some: counted in
+/// `layout.dropped`), each box placed recorded in `layout.labels`.
+fn draw_labels(
+    root: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    marks: &[Mark],
+    layout: &mut Layout,
+    plot_area: [i32; 4],
+) -> Result<(), Error> {
+    let wanted: Vec<(&Mark, (i32, i32))> = marks
+        .iter()
+        .filter(|m| !m.label.is_empty())
+        .map(|m| (m, text_size(&m.label, LABEL_FONT, true)))
+        .collect();
+    let anchors: Vec<Anchor> = wanted.iter().map(|(m, size)| (m.at, *size)).collect();
+    let boxes = place_labels(&anchors, &layout.markers, plot_area);
+    for ((m, _), b) in wanted.iter().zip(&boxes) {
+        match b {
+            Some(b) => {
+                root.draw(&Text::new(
+                    m.label.clone(),
+                    (b[0] + 1, b[1] + 1),
+                    ("sans-serif", LABEL_FONT).into_font(),
+                ))?;
+                layout.labels.push(*b);
+            }
+            None => layout.dropped += 1,
+        }
+    }
+    Ok(())
 }
 
 /// Height of the band the title takes above the plot.

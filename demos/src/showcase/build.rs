@@ -3,8 +3,8 @@
 
 use super::textures::{crate_texture, lattice_texture};
 use super::{lamp_position, Showcase};
-use crate::showcase_ibr::IbrLayer;
-use crate::showcase_impostors;
+use crate::showcase::ibr_layer::IbrLayer;
+use crate::showcase::impostors;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{AlphaMode, Instance, Light, Lighting, Material, Mesh, Rgba, Scene, Shading, Texture};
 use glam::{Mat4, Quat, Vec3};
@@ -27,6 +27,7 @@ fn instance(scene: &mut Scene, mesh: usize, material: usize, transform: Mat4) ->
     scene.instances.len() - 1
 }
 
+/// A lit material of `color` with a specular highlight.
 fn lit(color: Rgba, specular: f32, shininess: f32) -> Material {
     Material {
         shading: Shading::Lit {
@@ -37,6 +38,13 @@ fn lit(color: Rgba, specular: f32, shininess: f32) -> Material {
     }
 }
 
+/// A lit material with almost no highlight.
+fn matte(c: Rgba) -> Material {
+    lit(c, 0.05, 8.0)
+}
+
+/// The showcase scene, built step by step (each step adds its meshes, materials and
+/// instances in turn; the order is the scene's), then animated to time 0.
 pub(super) fn build() -> Showcase {
     let mut s = Scene::default();
     let terrain = Terrain {
@@ -47,9 +55,32 @@ pub(super) fn build() -> Showcase {
         flat_radius: 12.0,
         seed: 7,
     };
-    let matte = |c: Rgba| lit(c, 0.05, 8.0);
+    ground(&mut s, &terrain);
+    let torus = centre_piece(&mut s);
+    let sphere = procedural::uv_sphere(1.0, 24, 48);
+    spheres(&mut s, &sphere);
+    crates(&mut s);
+    fence(&mut s);
+    glass(&mut s, &sphere);
+    let lamp = lamp(&mut s);
+    let house_at = house(&mut s);
+    vegetation(&mut s, &terrain);
+    s.lighting = lighting(house_at);
+    let ibr = IbrLayer::new(&mut s, &terrain);
+    let mut show = Showcase {
+        scene: s,
+        terrain,
+        ibr,
+        torus,
+        lamp,
+        lamp_light: 1,
+    };
+    show.animate(0.0);
+    show
+}
 
-    // Ground: vertex-coloured terrain and a checker-textured plaza.
+/// Ground: vertex-coloured terrain and a checker-textured plaza.
+fn ground(s: &mut Scene, terrain: &Terrain) {
     s.add(terrain.mesh(), matte(Rgba::WHITE), Mat4::IDENTITY);
     let stone = Texture::checker(
         256,
@@ -64,8 +95,10 @@ pub(super) fn build() -> Showcase {
         matte(Rgba::WHITE).with_texture(Arc::new(stone)),
         Mat4::from_translation(Vec3::new(0.0, 0.02, 0.0)),
     );
+}
 
-    // Centre piece: a vertex-coloured torus over a stone pedestal.
+/// Centre piece: a vertex-coloured torus over a stone pedestal; the torus's instance.
+fn centre_piece(s: &mut Scene) -> usize {
     let mut pedestal = procedural::cylinder(0.7, 0.6, 24);
     pedestal.colors.clear();
     s.add(
@@ -73,17 +106,18 @@ pub(super) fn build() -> Showcase {
         matte(Rgba::from_srgb8(150, 146, 140)),
         Mat4::IDENTITY,
     );
-    let torus = s.add(
+    s.add(
         procedural::torus(1.1, 0.38, 96, 48),
         lit(Rgba::WHITE, 0.5, 48.0),
         Mat4::IDENTITY,
-    );
+    )
+}
 
-    // Lit spheres: red plastic, gold, chalk (one mesh, three materials).
-    let sphere = procedural::uv_sphere(1.0, 24, 48);
+/// Lit spheres: red plastic, gold, chalk (one mesh, three materials).
+fn spheres(s: &mut Scene, sphere: &Mesh) {
     let mut plain_sphere = sphere.clone();
     plain_sphere.colors.clear();
-    let (sphere_m, _) = push(&mut s, plain_sphere, Material::default());
+    let (sphere_m, _) = push(s, plain_sphere, Material::default());
     for (color, spec, shin, scale, at) in [
         (
             Rgba::from_srgb8(200, 30, 30),
@@ -110,10 +144,12 @@ pub(super) fn build() -> Showcase {
         s.materials.push(lit(color, spec, shin));
         let m = s.materials.len() - 1;
         let xf = Mat4::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, at);
-        instance(&mut s, sphere_m, m, xf);
+        instance(s, sphere_m, m, xf);
     }
+}
 
-    // Crates with a generated wood texture.
+/// Crates with a generated wood texture.
+fn crates(s: &mut Scene) {
     let mut crate_mesh = procedural::cuboid(Vec3::ONE);
     crate_mesh.colors.clear();
     s.add(
@@ -127,7 +163,7 @@ pub(super) fn build() -> Showcase {
     );
     let (crate_m, crate_mat) = (s.meshes.len() - 1, s.materials.len() - 1);
     instance(
-        &mut s,
+        s,
         crate_m,
         crate_mat,
         Mat4::from_scale_rotation_translation(
@@ -137,7 +173,7 @@ pub(super) fn build() -> Showcase {
         ),
     );
     instance(
-        &mut s,
+        s,
         crate_m,
         crate_mat,
         Mat4::from_scale_rotation_translation(
@@ -146,8 +182,10 @@ pub(super) fn build() -> Showcase {
             Vec3::new(5.4, 0.5, 1.6),
         ),
     );
+}
 
-    // Alpha-tested lattice fence behind the plaza, with posts.
+/// Alpha-tested lattice fence behind the plaza, with posts.
+fn fence(s: &mut Scene) {
     let fence_mat = Material {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
         ..matte(Rgba::WHITE)
@@ -156,22 +194,24 @@ pub(super) fn build() -> Showcase {
     };
     let mut panel = procedural::quad(2.0, 1.3);
     panel.colors.clear();
-    let (panel_m, panel_mat) = push(&mut s, panel, fence_mat);
+    let (panel_m, panel_mat) = push(s, panel, fence_mat);
     let mut post = procedural::cylinder(0.07, 1.5, 8);
     post.colors.clear();
-    let (post_m, post_mat) = push(&mut s, post, matte(Rgba::from_srgb8(110, 90, 70)));
+    let (post_m, post_mat) = push(s, post, matte(Rgba::from_srgb8(110, 90, 70)));
     let z = -6.5;
     for k in 0..7 {
         let x = -6.0 + 2.0 * k as f32;
         let at = Mat4::from_translation(Vec3::new(x, 0.0, z));
-        instance(&mut s, post_m, post_mat, at);
+        instance(s, post_m, post_mat, at);
         if k < 6 {
             let at = Mat4::from_translation(Vec3::new(x + 1.0, 0.75, z));
-            instance(&mut s, panel_m, panel_mat, at);
+            instance(s, panel_m, panel_mat, at);
         }
     }
+}
 
-    // Blended glass: a tinted cube by the fence and a sphere in front of the plaza.
+/// Blended glass: a tinted cube by the fence and a sphere in front of the plaza.
+fn glass(s: &mut Scene, sphere: &Mesh) {
     let glass = |tint: Rgba| Material {
         alpha_mode: AlphaMode::Blend,
         ..lit(tint, 1.2, 96.0)
@@ -198,25 +238,32 @@ pub(super) fn build() -> Showcase {
             Vec3::new(1.6, 0.92, 4.2),
         ),
     );
+}
 
-    // The lamp: an emissive ball marking the orbiting point light.
+/// The lamp: an emissive ball marking the orbiting point light; its instance.
+fn lamp(s: &mut Scene) -> usize {
     let mut lamp_mesh = procedural::uv_sphere(0.15, 8, 16);
     lamp_mesh.colors.clear();
-    let lamp = s.add(
+    s.add(
         lamp_mesh,
         Material::unlit(Rgba::new(1.0, 0.75, 0.35, 1.0)),
         Mat4::IDENTITY,
-    );
+    )
+}
 
-    // A house with its own blue door light.
+/// A house (its own blue door light is in [`lighting`]); where it stands.
+fn house(s: &mut Scene) -> Mat4 {
     let house_at = Mat4::from_translation(Vec3::new(-9.5, 0.0, -1.5)) * Mat4::from_rotation_y(0.6);
     s.add(
         procedural::house(4.0, 3.2, 2.4, 1.6),
         matte(Rgba::WHITE),
         house_at,
     );
+    house_at
+}
 
-    // Trees and rocks on the hills around the plaza (instanced variants).
+/// Trees and rocks on the hills around the plaza (instanced variants).
+fn vegetation(s: &mut Scene, terrain: &Terrain) {
     let mut rng = XorShift::new(2024);
     let mut variants = Vec::new();
     for (k, kind) in [
@@ -239,7 +286,7 @@ pub(super) fn build() -> Showcase {
         let r = rng.range(21.0, 44.0);
         let (x, z) = (r * a.cos(), r * a.sin());
         let h = rng.range(3.5, 7.0);
-        if showcase_impostors::in_city(x, z, 2.0) {
+        if impostors::in_city(x, z, 2.0) {
             continue;
         }
         let y = terrain.height_at(x, z) - 0.1;
@@ -249,7 +296,7 @@ pub(super) fn build() -> Showcase {
             Quat::from_rotation_y(rng.range(0.0, 6.0)),
             Vec3::new(x, y, z),
         );
-        instance(&mut s, v, veg, xf);
+        instance(s, v, veg, xf);
         placed += 1;
     }
     for (k, (x, z, h)) in [(-12.0, -4.5, 5.0), (-7.5, -9.5, 4.2), (-4.0, -11.0, 4.6)]
@@ -257,7 +304,7 @@ pub(super) fn build() -> Showcase {
         .enumerate()
     {
         instance(
-            &mut s,
+            s,
             variants[k % variants.len()],
             veg,
             Mat4::from_scale_rotation_translation(
@@ -281,7 +328,7 @@ pub(super) fn build() -> Showcase {
         };
         let (x, z) = (r * a.cos(), r * a.sin());
         let size = rng.range(0.3, 1.2);
-        if showcase_impostors::in_city(x, z, 1.0) {
+        if impostors::in_city(x, z, 1.0) {
             continue;
         }
         let xf = Mat4::from_scale_rotation_translation(
@@ -289,10 +336,13 @@ pub(super) fn build() -> Showcase {
             Quat::from_rotation_y(rng.range(0.0, 6.0)),
             Vec3::new(x, terrain.height_at(x, z) + 0.1 * size, z),
         );
-        instance(&mut s, rocks[k % rocks.len()], veg, xf);
+        instance(s, rocks[k % rocks.len()], veg, xf);
     }
+}
 
-    s.lighting = Lighting {
+/// The sun, the orbiting lamp's light and the house's blue door light.
+fn lighting(house_at: Mat4) -> Lighting {
+    Lighting {
         ambient: Rgba::new(0.2, 0.23, 0.3, 1.0),
         lights: vec![
             Light::Directional {
@@ -310,16 +360,5 @@ pub(super) fn build() -> Showcase {
                 range: 6.0,
             },
         ],
-    };
-    let ibr = IbrLayer::new(&mut s, &terrain);
-    let mut show = Showcase {
-        scene: s,
-        terrain,
-        ibr,
-        torus,
-        lamp,
-        lamp_light: 1,
-    };
-    show.animate(0.0);
-    show
+    }
 }

@@ -2,7 +2,7 @@
 //! key poses over the forest, along the laser, toward the sun, over the city and through a cloud.
 
 use super::Showcase;
-use crate::showcase_impostors::CITY_CENTER;
+use crate::showcase::impostors::CITY_CENTER;
 use glam::Vec3;
 use std::f32::consts::{PI, TAU};
 

@@ -1,0 +1,396 @@
+//! The showcase: a built-in game-like scene (terrain, lit and textured objects, alpha-tested
+//! fence, blended glass, trees, a house, a sun and point lights) drawn by the CPU rasterizer.
+//!
+//! With a display it opens a window (`minifb`) with a fly camera: WASD move, mouse drag or
+//! arrow keys look, Q / E down / up, Shift faster, B enters the building and V the views
+//! moment (below), I toggles the debug view (cloud impostors tinted by predicted error,
+//! the city's buildings coloured by how the planner draws them: geometry flat white,
+//! impostors green, image layers blue), Esc quits; the frame time, the clouds' impostor
+//! readout (refreshes this frame, images, geometry fallbacks, largest predicted error) and
+//! the city planner's (buildings drawn as geometry, impostors and layers, rebuilds,
+//! switches, largest predicted error against the budget) are shown in the title and in the
+//! corner of the image. Without a display (no `DISPLAY` / `WAYLAND_DISPLAY`, or the window
+//! cannot be opened), or with `--headless`, it renders a deterministic camera path to
+//! `DIR/frame_0000.png ...` and prints frame-time, impostor and planner statistics and the
+//! last frame's counters.
+//!
+//! The tour then enters a building (`demos::showcase::building`): a hall whose three
+//! furnished rooms are seen through LDI portals as the camera walks along it and through
+//! the middle door, with the portals' readout (warped and geometry portals, samples, holes,
+//! pixels, rebuilds). Headless, its frames follow the outdoor ones (`building_0000.png`
+//! ..., `--building-frames`); in the window B switches between the outdoor scene and the
+//! building. `--building` shows only the building; `--debug-portals` (or I in the
+//! building) tints warped pixels green.
+//!
+//! Last comes the views moment (`demos::showcase::views`): a layered background of image
+//! layers warped instead of re-rendered, a panorama sky re-captured as the
+//! eye walks away from it, and two views of the plaza morphed into each other, each with
+//! its error against the geometry; headless after the building (`views_0000.png` ...,
+//! `--views-frames`), V in the window, `--views` alone.
+
+mod window;
+
+use clap::Parser;
+use demos::showcase::building::BuildingTour;
+use demos::showcase::views::ViewsTour;
+use demos::showcase::{self, Showcase, SKY};
+use demos::timing::Summary;
+use engine::{FrameOptions, FrameStats, Renderer, Target};
+use ibr::subject::Subject;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Parser, Debug)]
+#[command(
+    version,
+    about = "Parallax showcase: a CPU-rasterized game scene (window or headless)"
+)]
+struct Args {
+    /// Render a camera path to PNG files in DIR instead of opening a window.
+    #[arg(long, value_name = "DIR", num_args = 0..=1, default_missing_value = "out/showcase")]
+    headless: Option<PathBuf>,
+    /// Frames to render in headless mode.
+    #[arg(long, default_value_t = 120)]
+    frames: usize,
+    /// Image width (headless default 640, window default 960).
+    #[arg(short = 'W', long)]
+    width: Option<u32>,
+    /// Image height (headless default 360, window default 540).
+    #[arg(short = 'H', long)]
+    height: Option<u32>,
+    /// Render threads (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Headless: time the frames but do not write PNG files.
+    #[arg(long)]
+    no_save: bool,
+    /// Start with the debug view: cloud impostors tinted by their predicted error (green
+    /// 0, yellow at the tolerance, red at twice it), buildings by their representation
+    /// (geometry white, impostors green, layers blue). The I key toggles it in the window.
+    #[arg(long)]
+    debug_impostors: bool,
+    /// Only the building tour: rooms seen through LDI portals, walked past and into (the
+    /// window starts in it).
+    #[arg(long)]
+    building: bool,
+    /// Headless: frames of the building walkthrough after the outdoor tour (default: half
+    /// of --frames, at least one; 0 skips it).
+    #[arg(long, value_name = "N")]
+    building_frames: Option<usize>,
+    /// With --building: start with warped pixels tinted green (I toggles in the window).
+    #[arg(long)]
+    debug_portals: bool,
+    /// Only the views moment: a layered background, a panorama sky and a view morph, each
+    /// measured against the
+    /// geometry (the window starts in it).
+    #[arg(long, conflicts_with = "building")]
+    views: bool,
+    /// Headless: frames of the views moment after the building (default: a tenth of
+    /// --frames, at least three; 0 skips it).
+    #[arg(long, value_name = "N")]
+    views_frames: Option<usize>,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    demos::set_threads("showcase", args.threads);
+    let has_display = ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
+    let result = match (&args.headless, has_display) {
+        (Some(dir), _) => headless(&args, dir),
+        (None, false) => {
+            eprintln!("showcase: no display found (DISPLAY / WAYLAND_DISPLAY unset); rendering headless to out/showcase");
+            headless(&args, Path::new("out/showcase"))
+        }
+        (None, true) => match window::window(&args) {
+            Ok(()) => Ok(()),
+            Err(window::WindowError::Open(e)) => {
+                eprintln!(
+                    "showcase: cannot open a window ({e}); rendering headless to out/showcase"
+                );
+                headless(&args, Path::new("out/showcase"))
+            }
+            Err(window::WindowError::Update(e)) => Err(format!("window update failed: {e}")),
+        },
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("showcase: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Renders the outdoor camera path, the building walkthrough and the views moment (or,
+/// with `--building` or `--views`, that part alone).
+fn headless(args: &Args, dir: &Path) -> Result<(), String> {
+    if !args.no_save {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    let n = args.frames.max(1);
+    if args.building {
+        return building_headless(args, dir, n);
+    }
+    if args.views {
+        return views_headless(args, dir, n, Showcase::new());
+    }
+    let show = outdoor_headless(args, dir, n)?;
+    match args.building_frames.unwrap_or((n / 2).max(1)) {
+        0 => {}
+        frames => building_headless(args, dir, frames)?,
+    }
+    match args.views_frames.unwrap_or((n / 10).max(3)) {
+        0 => Ok(()),
+        frames => views_headless(args, dir, frames, show),
+    }
+}
+
+/// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
+/// statistics. Returns the scene, for the views moment.
+fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    let mut show = Showcase::new();
+    show.ibr.impostors.set_debug(args.debug_impostors);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    println!(
+        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind images), \
+         {n} frames at {w}x{h} on {} threads",
+        show.scene.triangle_count(),
+        show.scene.instances.len(),
+        show.ibr.impostors.triangle_count(),
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    let mut stats = FrameStats::default();
+    for i in 0..n {
+        show.animate(i as f32 / 30.0);
+        let (eye, look) = show.path(i, n);
+        let camera = showcase::camera(eye, look, w, h);
+        let start = Instant::now();
+        stats = show.render(&mut renderer, &camera, &mut target, &opts);
+        times.push(start.elapsed());
+        show.ibr.statue.measure(&camera, w, h);
+        if !args.no_save {
+            let path = dir.join(format!("frame_{i:04}.png"));
+            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    let summary = Summary::of(&times);
+    println!("frame time: {summary}");
+    println!(
+        "  median {:.2} ms  min {:.2} ms  p90 {:.2} ms  ({:.1} fps at the median)",
+        summary.median_ms,
+        summary.min_ms,
+        summary.p90_ms,
+        1e3 / summary.median_ms.max(1e-9)
+    );
+    let imp = show.ibr.impostors.run_stats();
+    println!(
+        "impostors: {} clouds; planner: {} buildings as {}{}",
+        show.ibr.impostors.clouds.clouds.len(),
+        show.ibr.impostors.city.objects.len(),
+        show.ibr.impostors.city.names().join(", "),
+        if args.debug_impostors {
+            format!(
+                " (debug view: cloud images tinted by predicted error; {})",
+                show.ibr.impostors.legend()
+            )
+        } else {
+            String::new()
+        }
+    );
+    println!(
+        "  refreshes: total {}, mean {:.2} per frame, peak {} (the clouds' and the city's \
+         rebuilds); {} wanted but left for later",
+        imp.refreshes,
+        imp.mean_refreshes(),
+        imp.peak_refreshes,
+        imp.stale
+    );
+    println!(
+        "  predicted error ratio (1 = tolerance or budget) of the images shown: max {:.3}, \
+         mean {:.3}",
+        imp.max_ratio,
+        imp.mean_ratio()
+    );
+    let pct = |k: usize| 100.0 * k as f64 / imp.frames.max(1) as f64;
+    println!(
+        "  frames showing an image over its tolerance: {} ({:.1}%), over twice it: {} \
+         ({:.1}%); stale cloud images drawn as geometry instead: {}; pre-warmed refreshes: {}",
+        imp.frames_over,
+        pct(imp.frames_over),
+        imp.frames_over_twice,
+        pct(imp.frames_over_twice),
+        imp.stale_fallbacks,
+        imp.prewarmed
+    );
+    let [g, i, l] = imp.city_frames;
+    println!(
+        "  city: {} rebuilds, {} switches; building-frames as geometry {g}, impostors {i}, \
+         layers {l}; {} over the error budget; largest predicted error {:.2} levels \
+         (budget {:.1})",
+        imp.city_rebuilds,
+        imp.city_switches,
+        imp.city_over_budget,
+        imp.city_max_error,
+        show.ibr.impostors.city.config.budgets.error
+    );
+    if !args.no_save {
+        let path = dir.join("impostor_error.png");
+        match showcase::impostors::tour_chart(imp, &times, &path) {
+            Ok(()) => println!(
+                "  chart of error, refreshes and frame time over the tour: {}",
+                path.display()
+            ),
+            Err(e) => eprintln!("  could not write {}: {e}", path.display()),
+        }
+    }
+    let last = show.ibr.impostors.readout();
+    println!("  last frame: {}", last.line());
+    println!("  last frame: {}", last.city.line());
+    print_statue(&show, n);
+    println!("last frame: {stats:#?}");
+    if !args.no_save {
+        println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
+    }
+    Ok(show)
+}
+
+/// The light-field statue's readout over the tour.
+fn print_statue(show: &Showcase, n: usize) {
+    let s = &show.ibr.statue;
+    let slabs = &s.object.slabs;
+    let [nu, nv, ns, nt] = slabs.first().map_or([0; 4], |f| f.slab.counts());
+    println!(
+        "light-field statue: {} slabs of {nu}x{nv}x{ns}x{nt}, captured in {:.2} s and \
+         vector-quantised ({} codewords) in {:.2} s",
+        slabs.len(),
+        s.capture.as_secs_f64(),
+        showcase::lightfield::CODEWORDS,
+        s.quantise.as_secs_f64()
+    );
+    println!(
+        "  memory {:.2} MB held (codebooks and indices), {:.1} MB raw: {:.0}:1",
+        s.bytes() as f64 / 1e6,
+        s.raw_bytes as f64 / 1e6,
+        s.ratio()
+    );
+    let psnr: Vec<f64> = s.errors.iter().map(|e| e.psnr_capped(99.0)).collect();
+    let mean = psnr.iter().sum::<f64>() / psnr.len().max(1) as f64;
+    let min = psnr.iter().copied().fold(f64::INFINITY, f64::min);
+    println!(
+        "  drawn from the light field in {} of {n} frames; error against its geometry there: \
+         PSNR mean {mean:.1} dB, worst {min:.1} dB",
+        psnr.len()
+    );
+    println!("  last frame: {}", s.line());
+}
+
+/// The building tour along its walkthrough, `n` frames; writes PNGs unless `--no-save`;
+/// prints the frame times and the portals' work.
+fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    let mut tour = BuildingTour::new();
+    tour.portals.debug_tint = args.debug_portals;
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    println!(
+        "building: a hall of {} triangles, {} triangles behind its {} doorways, \
+         {n} frames at {w}x{h} on {} threads",
+        tour.building.hall.triangle_count(),
+        tour.building.room_triangles(),
+        tour.building.rooms.len(),
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    let (mut warped, mut geometry, mut rebuilds, mut samples, mut holes) = (0, 0, 0, 0, 0);
+    for i in 0..n {
+        let camera = BuildingTour::camera(i, n, w, h);
+        let start = Instant::now();
+        tour.render(&mut renderer, &camera, &mut target);
+        times.push(start.elapsed());
+        let f = tour.last();
+        (warped, geometry, rebuilds) = (
+            warped + f.warped,
+            geometry + f.geometry,
+            rebuilds + f.rebuilds,
+        );
+        (samples, holes) = (samples + f.stats.samples, holes + f.holes);
+        if !args.no_save {
+            let path = dir.join(format!("building_{i:04}.png"));
+            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    let summary = Summary::of(&times);
+    println!("building frame time: {summary}");
+    println!(
+        "portals over the tour: {warped} warped and {geometry} drawn as geometry (portal-frames), \
+         {rebuilds} LDI rebuilds, {samples} samples warped, {holes} holes before filling{}",
+        if args.debug_portals {
+            " (warped pixels tinted green)"
+        } else {
+            ""
+        }
+    );
+    println!("  last frame: {}", tour.readout());
+    if !args.no_save {
+        println!(
+            "wrote {n} frames to {}/building_0000.png ...",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// The views moment over `show`'s scene (posed at time 0), `n` frames; writes PNGs unless
+/// `--no-save`; prints each frame's readout and a summary per part.
+fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Result<(), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    show.animate(0.0);
+    let mut tour = ViewsTour::new(show.scene, w, h);
+    println!(
+        "views: a layered background, a panorama sky and a view morph of the plaza, {n} frames at {w}x{h} on {} \
+         threads",
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    for i in 0..n {
+        let start = Instant::now();
+        let frame = tour.render(i, n)?;
+        times.push(start.elapsed());
+        if !args.no_save {
+            let path = dir.join(format!("views_{i:04}.png"));
+            image::save_buffer(
+                &path,
+                &frame.rgba,
+                frame.width,
+                frame.height,
+                image::ColorType::Rgba8,
+            )
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        println!("  {i:4}: {}", tour.readout());
+    }
+    let summary = Summary::of(&times);
+    println!(
+        "views frame time (captures and the geometry it is measured against included): {summary}"
+    );
+    for line in tour.summary() {
+        println!("  {line}");
+    }
+    if !args.no_save {
+        println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
+    }
+    Ok(())
+}
