@@ -38,27 +38,10 @@
 
 #![warn(missing_docs)]
 
-pub mod billboard;
-pub mod capture;
-pub mod cloud;
-pub mod effects;
-pub mod flare;
-pub mod images;
-pub mod impostor;
-pub mod laser;
-pub mod layers;
-pub mod lightfield;
+pub mod core;
 pub mod metrics;
-pub mod morph;
-pub mod octahedral;
-pub mod panorama;
 pub mod plan;
-pub mod portal;
-pub mod schedule;
-pub mod sprites;
 pub mod stereo;
-pub mod subject;
-pub mod technique;
+pub mod techniques;
+pub mod transforms;
 pub mod warp;
-
-pub use billboard::{AxialFallback, Basis, Billboard, BillboardBatch, Facing, Size, UvRect, View};

@@ -87,21 +87,19 @@
 //! assert!(!draws.is_empty());
 //! ```
 
-mod cost;
 mod frame_budget;
 pub mod occlusion;
-mod represent;
 mod technique;
 
-use cost::Priced;
-pub use cost::{CostModel, Work};
+use crate::core::Priced;
+use crate::core::{CostModel, Representation, Sight, Work};
 pub use frame_budget::Z99;
-pub use represent::{image_bytes, Estimate, Geometry, Representation, Sight};
 
-use crate::impostor::{Frustum, RectProjector};
-use crate::metrics::{Rect, RectUnion};
-use crate::subject::Subject;
-use crate::technique::FrameView;
+use crate::core::FrameView;
+use crate::core::Rect;
+use crate::core::Subject;
+use crate::core::{Frustum, RectProjector};
+use crate::metrics::RectUnion;
 use engine::{Camera, Draw, FrameStats, Material, Rgba, Sphere, Target};
 use occlusion::Occlusion;
 use rayon::prelude::*;

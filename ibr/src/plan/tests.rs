@@ -6,12 +6,13 @@
 //! object by its representation and leaves no trace when turned off.
 
 use super::*;
-use crate::impostor::screen_rect;
-use crate::impostor::{self, ImpostorSet};
-use crate::layers::{self, LayerSet};
+use crate::core::screen_rect;
+use crate::core::MeshGroup;
+use crate::core::{image_bytes, CostModel, Estimate, Geometry, Representation, Sight, Work};
+use crate::core::{FrameLoop, Technique};
 use crate::metrics::{self, Options, Region};
-use crate::subject::MeshGroup;
-use crate::technique::{FrameLoop, Technique};
+use crate::techniques::impostors::{self as impostor, ImpostorSet};
+use crate::techniques::layers::{self, LayerSet};
 use engine::{
     procedural, Camera, FrameOptions, Lighting, Material, Renderer, Rgba, Target, Texture,
 };

@@ -3,9 +3,9 @@
 //! the target camera really sees is cast from the geometry, so a fill's paint outside it,
 //! and holes left inside it, are counted against the truth, not against the warp.
 
-use super::super::super::technique::WarpedView;
 use super::super::Fill;
-use crate::images::{unproject, DepthImage};
+use crate::core::{unproject, DepthImage};
+use crate::techniques::depth_images::WarpedView;
 use engine::{Camera, Rgba};
 use glam::Vec3;
 
