@@ -92,7 +92,7 @@ pub mod occlusion;
 mod technique;
 
 use crate::core::Priced;
-use crate::core::{CostModel, Representation, Sight, Work};
+pub use crate::core::{image_bytes, CostModel, Estimate, Geometry, Representation, Sight, Work};
 pub use frame_budget::Z99;
 
 use crate::core::FrameView;

@@ -7,7 +7,7 @@
 mod set;
 mod view;
 
-pub use set::DepthImageSet;
+pub use set::{Config, DepthImageSet};
 pub use view::{WarpFrame, WarpedView};
 
 #[cfg(test)]
