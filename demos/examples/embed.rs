@@ -1,8 +1,6 @@
-//! Embedding Parallax in a game: a loaded glTF model, a few tower blocks whose
-//! representation the planner chooses each frame under an error budget (geometry or a
-//! runtime impostor), a billboard forest and a lens flare on the sun, all drawn by one frame
-//! loop into a `minifb` window; without a display (or with `--headless`) it renders frames
-//! and writes the last one as a PNG. `cargo run --release -p demos --example embed --
+//! Embedding Parallax in a game: a glTF model, tower blocks the planner draws as geometry or
+//! impostors under an error budget, a billboard forest and a sun flare, in one frame loop into
+//! a `minifb` window, or headless to a PNG. `cargo run --release -p demos --example embed --
 //! [--headless OUT.png] [--frames N] [--model FILE.gltf]`
 
 use engine::procedural::{self, TreeKind, XorShift};
@@ -19,23 +17,14 @@ use std::{f32::consts::TAU, path::Path, sync::Arc, time::Instant};
 
 const SAMPLE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/models/sample.gltf");
 
-fn main() {
-    if let Err(e) = run() {
-        eprintln!("embed: error: {e}");
-        std::process::exit(1);
-    }
-}
-
-fn run() -> Result<(), Box<dyn std::error::Error>> {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     // `--flag value`: Some(Some(value)), `--flag` alone: Some(None).
     let arg = |name: &str| {
         let value = |i: usize| args.get(i + 1).filter(|v| !v.starts_with("--"));
         args.iter().position(|a| a == name).map(value)
     };
-    let frames = arg("--frames").flatten().map_or(Ok(60), |n| {
-        n.parse::<usize>().map_err(|e| format!("--frames {n}: {e}"))
-    })?;
+    let frames: usize = arg("--frames").flatten().map_or(Ok(60), |n| n.parse())?;
     let (w, h) = (960, 540);
 
     // The scene: a glTF model (the project's sample unless --model), on grass, in sunlight.
@@ -59,10 +48,13 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     for i in 0..6 {
         let size = Vec3::new(2.5, rng.range(2.5, 5.0), 2.5);
         let wall = Rgba::new(rng.range(0.4, 0.8), 0.5, 0.4, 1.0);
-        let mesh = Arc::new(demos::city::building(size, 16, wall));
+        let (mesh, white) = (
+            demos::city::building(size, 16, wall),
+            Material::lit(Rgba::WHITE),
+        );
         let at = Vec3::new(4.0 * i as f32 - 10.0, 0.0, -9.0 - rng.range(0.0, 4.0));
         let at = Mat4::from_translation(at);
-        towers.push(MeshGroup::new().with(mesh, Arc::new(Material::lit(Rgba::WHITE)), at));
+        towers.push(MeshGroup::new().with(Arc::new(mesh), Arc::new(white), at));
     }
     let impostors = ImpostorSet::new(impostor::Config::default(), towers.len());
     let reps: Vec<Box<dyn Representation<MeshGroup>>> =
@@ -99,10 +91,11 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             .map_err(|e| eprintln!("no window ({e}): {frames} frames headless"))
             .ok(),
     };
-    let (mut renderer, mut frame, mut target) =
-        (Renderer::new(), FrameLoop::new(), Target::new(w, h));
+    let (mut renderer, mut frame) = (Renderer::new(), FrameLoop::new());
+    let mut target = Target::new(w, h);
+    let sky = Some(Rgba::new(0.45, 0.65, 0.9, 1.0));
     let opts = FrameOptions {
-        clear: Some(Rgba::new(0.45, 0.65, 0.9, 1.0)), // the sky
+        clear: sky,
         ..FrameOptions::default()
     };
     let (start, mut last, mut times, mut pixels) = (Instant::now(), 0.0, Vec::new(), Vec::new());
@@ -117,14 +110,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         let mut view = FrameView::still(&camera, w, h, &scene.lighting);
         (view.time, view.dt, last) = (t, t - last, t);
         let mut techniques: [&mut dyn Technique; 3] = [&mut planner, &mut forest, &mut flare];
-        frame.render(
-            &mut renderer,
-            scene.draws(),
-            &mut techniques,
-            &view,
-            &mut target,
-            &opts,
-        );
+        let (r, draws) = (&mut renderer, scene.draws());
+        frame.render(r, draws, &mut techniques, &view, &mut target, &opts);
         times.push(frame.times.total.as_secs_f64() * 1e3);
         match window.as_mut() {
             Some(win) if win.is_open() && !win.is_key_down(Key::Escape) => {
