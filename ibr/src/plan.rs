@@ -1226,6 +1226,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
 }
 
 #[cfg(test)]
+mod by_technique;
+#[cfg(test)]
 mod occlusion_tests;
 #[cfg(test)]
 mod ranking_tests;

@@ -507,7 +507,7 @@ pub fn fuzz(data: &[u8]) {
 mod tests;
 
 #[cfg(test)]
-mod foreign;
+pub(crate) mod foreign;
 
 #[cfg(test)]
 mod properties;

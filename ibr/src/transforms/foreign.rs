@@ -188,7 +188,7 @@ fn exr_with_depth(w: u32, h: u32, depth: &[Option<f64>]) -> Vec<u8> {
     out
 }
 
-fn read_memory(files: &Memory) -> Result<Vec<DepthImage>, LoadError> {
+pub(crate) fn read_memory(files: &Memory) -> Result<Vec<DepthImage>, LoadError> {
     read_transforms_from(Path::new("c/transforms.json"), files)
 }
 
@@ -263,7 +263,7 @@ fn nerfstudio_top(shot: &Shot, model: &str, k1: f64) -> String {
     )
 }
 
-fn nerfstudio_files(model: &str, k1: f64) -> Memory {
+pub(crate) fn nerfstudio_files(model: &str, k1: f64) -> Memory {
     let shots = shots();
     let mut files = Memory::default();
     let mut frames = Vec::new();
@@ -348,7 +348,7 @@ fn a_nerfstudio_capture_with_scaled_exr_depth_reads_and_warps_to_itself() {
 /// `cy`, `w`, `h`, `aabb_scale`, `scale`, `offset`, `integer_depth_scale` (metres per
 /// integer: a range of 10 m over 16 bits) and per-frame `depth_path`; poses in `f32`,
 /// the last row as an `f32` inverse leaves it.
-fn instant_ngp_files(with_scale: bool) -> Memory {
+pub(crate) fn instant_ngp_files(with_scale: bool) -> Memory {
     let shots = shots();
     let unit = 10.0 / 65535.0;
     let mut files = Memory::default();
@@ -458,7 +458,7 @@ fn a_nerf_synthetic_capture_reads_and_with_a_middlebury_pfm_warps_to_itself() {
 
 /// The NeRF-synthetic convention with both shots: `camera_angle_x` alone (square pixels,
 /// centred, 80 x 80), paths without extension, a big-endian PFM depth beside each.
-fn nerf_synthetic_files() -> Memory {
+pub(crate) fn nerf_synthetic_files() -> Memory {
     let (side, fl) = (80u32, 88.0f32);
     let mut files = Memory::default();
     let mut frames = Vec::new();
@@ -490,16 +490,13 @@ fn nerf_synthetic_files() -> Memory {
     files.with("c/transforms.json", json)
 }
 
-/// Beyond warping: every convention's capture also rebins into a light field (depth
-/// corrected, what the photographs saw measured, not invented) and is matched as a stereo
+/// Beyond warping: every convention's capture is matched as a stereo
 /// pair from its cameras (rectified, its disparity range taken from its depth maps, the
 /// disparities found where the disc shows in both views: 86%, 86% and 59% of its pixels
 /// within 1.5 px, measured), with no refusal on the way.
 #[test]
-fn every_conventions_capture_rebins_and_matches_as_a_stereo_pair() {
+fn every_conventions_capture_matches_as_a_stereo_pair() {
     use crate::stereo::{luminance, range, rectify, Sgm};
-    use crate::techniques::lightfields::rebin::rebin;
-    use crate::techniques::lightfields::{Rect3, Slab};
     let conventions = [
         ("nerfstudio", nerfstudio_files("OPENCV", 0.0)),
         ("instant-ngp", instant_ngp_files(true)),
@@ -508,26 +505,6 @@ fn every_conventions_capture_rebins_and_matches_as_a_stereo_pair() {
     for (name, files) in conventions {
         let images = read_memory(&files).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(images.len(), 2, "{name}");
-
-        // A slab whose camera plane spans both eyes and whose focal plane holds the disc.
-        let square = |c: Vec3, side: f32| Rect3::centered(c, Vec3::X * side, Vec3::NEG_Y * side);
-        let slab = Slab::new(
-            square(Vec3::new(-0.45, 0.85, 2.9), 3.0),
-            square(Vec3::ZERO, 3.0),
-            [6, 6, 32, 32],
-            0.5,
-            20.0,
-        )
-        .expect("a valid slab");
-        let rebinned = rebin(slab, &images);
-        assert!(rebinned.depth_corrected, "{name}");
-        assert!(rebinned.rays > 0, "{name}: no photograph sample used");
-        let measured = 1.0 - rebinned.invented();
-        eprintln!(
-            "{name}: rebinned, {:.1}% of samples measured",
-            100.0 * measured
-        );
-        assert!(measured > 0.9, "{name}: {measured}");
 
         // The two shots as a stereo pair, rectified from their cameras.
         let pair = rectify(&images[0], &images[1]).unwrap_or_else(|e| panic!("{name}: {e}"));

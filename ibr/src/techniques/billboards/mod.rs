@@ -4,11 +4,8 @@
 //! representation ([`BillboardSet`]).
 
 mod bake;
-mod plan;
+pub(crate) mod plan;
 mod technique;
 
 pub use bake::{Profile, AZIMUTHS, ELEVATIONS};
 pub use plan::{BillboardSet, MAX_ELEVATION};
-
-#[cfg(test)]
-mod plan_tests;

@@ -54,7 +54,7 @@ pub const PERSPECTIVE: f32 = 2.0 / 3.0;
 pub const RESAMPLING: f32 = 0.5;
 
 /// Levels of error per level of the measured view error plus the perspective term. Fitted
-/// with [`RESAMPLING`] by `plan_tests::predicted_error_bounds_the_measured_on_the_calibration_run`:
+/// with [`RESAMPLING`] by `plan::by_technique::billboards::predicted_error_bounds_the_measured_on_the_calibration_run`:
 /// five subjects (the planner tests' tilted lit torus, lit box, double-sided checkered
 /// card and torus through a box, and an unlit cone tree), each baked at 64 pixels from +Z,
 /// then drawn alone on a 320 x 192 target (0.9 radian field of view) along six random

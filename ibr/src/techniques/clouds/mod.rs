@@ -326,6 +326,4 @@ impl Subject for Cloud {
 }
 
 #[cfg(test)]
-mod plan_tests;
-#[cfg(test)]
 mod tests;

@@ -4,11 +4,11 @@
 //! ([`DepthImageSet`], a planner representation). The warp itself is the image operation
 //! in `crate::warp`.
 
-mod set;
+pub(crate) mod set;
 mod view;
 
 pub use set::{Config, DepthImageSet};
 pub use view::{WarpFrame, WarpedView};
 
 #[cfg(test)]
-mod plan_tests;
+mod seen_tests;

@@ -29,7 +29,7 @@ use reference::capture;
 /// Error per level of gradient (times texels per pixel) a fresh reference makes by
 /// resampling alone: the warp takes the nearest sample (splats) where the geometry samples
 /// each pixel's centre. Fitted with [`DISPLACEMENT`] by
-/// `plan_tests::predicted_error_bounds_the_measured_on_the_calibration_run`: the four
+/// `plan::by_technique::depth_images::predicted_error_bounds_the_measured_on_the_calibration_run`: the four
 /// calibration subjects as depth images and as three-layer LDIs from 3 to 14 radii, each
 /// seen alone from 12 views (its own eye, orbits of 2 to 75 degrees, rises of 10 and 25,
 /// dollies in and out), 384 views. The pair with the least summed prediction that keeps 95%

@@ -420,31 +420,6 @@ fn odd_cameras_and_subjects_do_not_break_the_set() {
 }
 
 #[test]
-fn one_set_holds_subjects_of_several_kinds_under_one_budget() {
-    use crate::techniques::clouds::Cloud;
-    let mut subjects: Vec<Box<dyn Subject + Send>> = vec![
-        Box::new(torus(Vec3::new(-1.5, 0.0, 0.0))),
-        Box::new(Cloud::cumulus(
-            Vec3::new(1.5, 0.0, 0.0),
-            Vec3::new(2.0, 1.0, 1.5),
-            40,
-            3,
-        )),
-        Box::new(torus(Vec3::new(0.0, 1.5, 0.0))),
-    ];
-    let mut imps = set(3, 2);
-    let cam = camera(Vec3::new(0.0, 0.5, 8.0), Vec3::ZERO);
-    let first = imps.update(&mut subjects, &cam, H, &lighting());
-    assert_eq!(first.refreshes, 2, "one budget across both kinds");
-    let second = imps.update(&mut subjects, &cam, H, &lighting());
-    assert_eq!(second.refreshes, 1);
-    assert_eq!(second.images, 3);
-    let mut draws = Vec::new();
-    imps.draws(&subjects, &mut draws);
-    assert_eq!(draws.len(), 3, "one quad each");
-}
-
-#[test]
 fn screen_rect_is_none_behind_the_eye_and_whole_around_it() {
     let cam = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0, 1.0);
     let rect = |z: f32| screen_rect(&cam, Vec3::new(0.0, 0.0, z), 1.0, 64, 64);

@@ -242,7 +242,7 @@ pub(super) fn image_corners(w: f32, h: f32) -> [Vec2; 4] {
 }
 
 /// The rectangle around `points`.
-pub(super) fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
+pub(crate) fn bounds(points: &[Vec2]) -> (Vec2, Vec2) {
     let lo = points.iter().fold(Vec2::splat(f32::MAX), |a, &p| a.min(p));
     let hi = points.iter().fold(Vec2::splat(f32::MIN), |a, &p| a.max(p));
     (lo, hi)
@@ -252,7 +252,7 @@ pub(super) fn overlaps(a: (Vec2, Vec2), b: (Vec2, Vec2)) -> bool {
     a.0.x < b.1.x && a.0.y < b.1.y && b.0.x < a.1.x && b.0.y < a.1.y
 }
 
-pub(super) fn clip(a: (Vec2, Vec2), to: (Vec2, Vec2)) -> (Vec2, Vec2) {
+pub(crate) fn clip(a: (Vec2, Vec2), to: (Vec2, Vec2)) -> (Vec2, Vec2) {
     (a.0.max(to.0), a.1.min(to.1))
 }
 

@@ -26,7 +26,7 @@
 
 mod fit;
 mod frame;
-mod plan;
+pub(crate) mod plan;
 mod split;
 mod technique;
 
@@ -34,7 +34,8 @@ pub use fit::{project, unproject, Affine, Homography, Projector, Unprojector};
 pub use split::split_by_depth;
 pub use technique::Layered;
 
-use frame::{bounds, build_quad, clip, finish, grow, job, overlaps, predict};
+pub(crate) use frame::{bounds, clip};
+use frame::{build_quad, finish, grow, job, overlaps, predict};
 
 use crate::core::Subject;
 use crate::core::{image_material, Frustum};
@@ -127,12 +128,12 @@ pub struct Predicted {
 
 /// What a layer's image holds: where its subject's characteristic points lay in it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Image {
+pub(crate) struct Image {
     texels: [Vec2; 8],
     width: u32,
     height: u32,
     /// Screen pixels per texel when it was rendered.
-    scale: f32,
+    pub(crate) scale: f32,
     version: u64,
     /// Sides (left, top, right, bottom) where the image was cut at the margin beyond the
     /// view, not at the layer's edge: only there can the screen come to show what it lacks.
@@ -140,13 +141,13 @@ struct Image {
     /// How busy the image is: the mean absolute difference between neighbouring texels,
     /// 8-bit levels per texel (RGB), as the impostors' [`crate::core::Capture::gradient`]:
     /// what turns the warp's error in pixels into an image error for the planner.
-    gradient: f32,
+    pub(crate) gradient: f32,
 }
 
 /// One layer's state.
 #[derive(Debug)]
 pub struct Layer {
-    image: Option<Image>,
+    pub(crate) image: Option<Image>,
     material: Material,
     quad: Mesh,
     /// This frame's warp of the image to the screen.
@@ -423,7 +424,10 @@ impl LayerSet {
 /// Where `s`'s characteristic points land through `projector` (a camera's image), and
 /// the nearest one's distance along the view direction; `None` when one is at or behind
 /// the near plane (no warp will do).
-fn project_corners(corners: [Vec3; 8], projector: &Projector) -> Option<([Vec2; 8], f32)> {
+pub(crate) fn project_corners(
+    corners: [Vec3; 8],
+    projector: &Projector,
+) -> Option<([Vec2; 8], f32)> {
     let mut points = [Vec2::ZERO; 8];
     let mut nearest = f32::INFINITY;
     for (p, c) in points.iter_mut().zip(corners) {
@@ -433,7 +437,5 @@ fn project_corners(corners: [Vec3; 8], projector: &Projector) -> Option<([Vec2; 
     Some((points, nearest))
 }
 
-#[cfg(test)]
-mod plan_tests;
 #[cfg(test)]
 mod tests;

@@ -28,7 +28,7 @@ pub const RESAMPLING: f32 = 0.55;
 /// displacement over the layer is at most that (up to 1 texel per pixel, if every surface
 /// were at a worst corner), and an edge's error stops growing once it has moved past its
 /// neighbour. Fitted with [`RESAMPLING`] by
-/// `plan_tests::predicted_error_bounds_the_measured_on_the_calibration_run`: twelve layers
+/// `plan::by_technique::layers::predicted_error_bounds_the_measured_on_the_calibration_run`: twelve layers
 /// (tori, boxes, checkered cards; 320 x 192), each drawn alone from 11 views along five
 /// paths away from where it was rendered (slide, rise, orbit, dolly, turn; up to 5.1 pixels
 /// and 0.46 octaves), 659 images. The pair with the least mean prediction that keeps 95%

@@ -734,8 +734,6 @@ impl LightField {
 #[cfg(test)]
 mod infinity_tests;
 #[cfg(test)]
-mod plan_tests;
-#[cfg(test)]
 mod rebin_tests;
 #[cfg(test)]
 mod stability_tests;

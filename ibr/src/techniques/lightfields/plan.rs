@@ -53,7 +53,7 @@ pub const TEXEL: f32 = 1.1;
 
 /// Levels of error per level of depth-weighted gradient per texel a surface one radius
 /// off the focal plane ghosts by. Fitted with [`TEXEL`] by
-/// `plan_tests::predicted_error_bounds_the_measured_on_the_calibration_run`, with the
+/// `plan::by_technique::lightfields::predicted_error_bounds_the_measured_on_the_calibration_run`, with the
 /// set's lookup (bilinear between cameras, depth-corrected): four subjects (a tilted lit
 /// torus, a lit box, a double-sided checkered card, a torus through a box), each baked
 /// with four settings (4 x 4 cameras of 48 samples, 8 x 8 of 32, 12 x 12 of 24 and of 64:

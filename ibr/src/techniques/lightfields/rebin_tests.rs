@@ -295,3 +295,39 @@ fn a_capture_written_and_read_back_gives_its_photographs_back_at_their_eyes() {
         assert!(halo < 0.03, "photograph {k}: halo {halo}");
     }
 }
+
+/// Every convention's capture (`crate::transforms`' foreign captures) rebins into a light
+/// field depth-corrected, what the photographs saw measured, not invented.
+#[test]
+fn every_conventions_capture_rebins_into_a_light_field() {
+    use crate::transforms::foreign::{
+        instant_ngp_files, nerf_synthetic_files, nerfstudio_files, read_memory,
+    };
+    let conventions = [
+        ("nerfstudio", nerfstudio_files("OPENCV", 0.0)),
+        ("instant-ngp", instant_ngp_files(true)),
+        ("NeRF synthetic", nerf_synthetic_files()),
+    ];
+    for (name, files) in conventions {
+        let images = read_memory(&files).unwrap_or_else(|e| panic!("{name}: {e}"));
+        // A slab whose camera plane spans both eyes and whose focal plane holds the disc.
+        let square = |c: Vec3, side: f32| Rect3::centered(c, Vec3::X * side, Vec3::NEG_Y * side);
+        let slab = Slab::new(
+            square(Vec3::new(-0.45, 0.85, 2.9), 3.0),
+            square(Vec3::ZERO, 3.0),
+            [6, 6, 32, 32],
+            0.5,
+            20.0,
+        )
+        .expect("a valid slab");
+        let rebinned = rebin(slab, &images);
+        assert!(rebinned.depth_corrected, "{name}");
+        assert!(rebinned.rays > 0, "{name}: no photograph sample used");
+        let measured = 1.0 - rebinned.invented();
+        eprintln!(
+            "{name}: rebinned, {:.1}% of samples measured",
+            100.0 * measured
+        );
+        assert!(measured > 0.9, "{name}: {measured}");
+    }
+}

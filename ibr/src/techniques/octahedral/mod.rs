@@ -57,7 +57,7 @@ use engine::{
 use glam::{IVec2, Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
-mod plan;
+pub(crate) mod plan;
 mod technique;
 pub use plan::OctahedralSet;
 
@@ -521,7 +521,5 @@ impl OctahedralImpostor {
     }
 }
 
-#[cfg(test)]
-mod plan_tests;
 #[cfg(test)]
 mod tests;

@@ -60,7 +60,7 @@ pub const RESAMPLING: f32 = 0.6;
 
 /// Texels of error per texel a surface one radius off the frames' planes is misplaced
 /// by, per texel of depth-weighted gradient. Fitted with [`RESAMPLING`] by
-/// `plan_tests::predicted_error_bounds_the_measured_on_the_calibration_run`: four subjects
+/// `plan::by_technique::octahedral::predicted_error_bounds_the_measured_on_the_calibration_run`: four subjects
 /// (a tilted lit torus, a lit box, a double-sided checkered card, a torus through a box),
 /// each baked with four settings (8 x 8 views of 64 pixels and 6 x 6 of 32 over the
 /// sphere and 6 x 6 of 48 over the upper hemisphere, blended from three frames; 8 x 8 of

@@ -4,11 +4,10 @@
 use super::super::tests::{covered, looking, psnr, verged, views};
 use super::*;
 use crate::stereo::scenes::{H, W};
-use crate::techniques::layers::project;
 use crate::techniques::morph::fundamental::FundamentalError;
 use crate::techniques::morph::{plain_morph, Correspondence};
 use engine::procedural::XorShift;
-use glam::{DMat4, Vec3};
+use glam::{DMat4, Vec2, Vec3};
 
 /// `F = K_b^-T [t]_x R K_a^-1` for pixels (x right, y down) of `W` x `H` images of `a`
 /// and `b`: from the cameras' matrices, not from any points.
@@ -319,4 +318,17 @@ fn motion_toward_the_scene_is_refused_without_cameras() {
         "{err}"
     );
     assert!(err.to_string().contains("epipole"), "{err}");
+}
+
+/// Pixel position and view depth of `p` in a `width` x `height` image of `camera`, `None`
+/// behind the near plane (as the layers' fitted projection does it).
+fn project(camera: &Camera, p: Vec3, width: u32, height: u32) -> Option<(Vec2, f32)> {
+    let z = -(camera.view * p.extend(1.0)).z;
+    if z.is_nan() || z <= camera.near_far().0 {
+        return None;
+    }
+    let clip = camera.gl_view_proj() * p.extend(1.0);
+    let (x, y) = (clip.x / clip.w, clip.y / clip.w);
+    let px = Vec2::new(x + 1.0, 1.0 - y) * 0.5 * Vec2::new(width as f32, height as f32);
+    px.is_finite().then_some((px, z))
 }

@@ -110,3 +110,41 @@ fn a_cloud_costs_its_overdraw_as_geometry() {
         assert_eq!(g.draw.pixels, (s.pixels * od) as u64);
     }
 }
+
+/// A lit torus standing at `at`, about 1 unit across.
+fn torus(at: Vec3) -> crate::core::MeshGroup {
+    crate::core::MeshGroup::new().with(
+        std::sync::Arc::new(engine::procedural::torus(0.4, 0.15, 32, 16)),
+        std::sync::Arc::new(engine::Material::lit(engine::Rgba::new(0.8, 0.4, 0.2, 1.0))),
+        glam::Mat4::from_translation(at) * glam::Mat4::from_rotation_x(1.0),
+    )
+}
+
+/// Impostors hold clouds and meshes under one refresh budget (moved here from the
+/// impostors' tests, which import no sibling technique).
+#[test]
+fn one_set_holds_subjects_of_several_kinds_under_one_budget() {
+    let mut subjects: Vec<Box<dyn Subject + Send>> = vec![
+        Box::new(torus(Vec3::new(-1.5, 0.0, 0.0))),
+        Box::new(Cloud::cumulus(
+            Vec3::new(1.5, 0.0, 0.0),
+            Vec3::new(2.0, 1.0, 1.5),
+            40,
+            3,
+        )),
+        Box::new(torus(Vec3::new(0.0, 1.5, 0.0))),
+    ];
+    let mut config = impostor::Config::default();
+    config.budget.refreshes = 2;
+    let mut imps = ImpostorSet::new(config, 3);
+    let cam = camera(Vec3::new(0.0, 0.5, 8.0), Vec3::ZERO);
+    let light = engine::Lighting::white_sun(0.3, Vec3::new(-0.3, -1.0, -0.4));
+    let first = imps.update(&mut subjects, &cam, 72, &light);
+    assert_eq!(first.refreshes, 2, "one budget across both kinds");
+    let second = imps.update(&mut subjects, &cam, 72, &light);
+    assert_eq!(second.refreshes, 1);
+    assert_eq!(second.images, 3);
+    let mut draws = Vec::new();
+    imps.draws(&subjects, &mut draws);
+    assert_eq!(draws.len(), 3, "one quad each");
+}

@@ -1,16 +1,19 @@
 //! Image layers as a planner representation: predicted against measured error, and the
 //! planner's promises with layers among its choices.
 
-use super::*;
 use crate::core::screen_rect;
 use crate::core::FrameView;
 use crate::core::MeshGroup;
+use crate::core::Subject;
 use crate::core::{Geometry, Representation};
 use crate::metrics::{self, Options, Region};
 use crate::plan::{self, Budgets, Planner};
 use crate::techniques::impostors::{self as impostor, ImpostorSet};
+use crate::techniques::layers::*;
 use engine::{procedural, Renderer, Rgba, Target, Texture};
+use engine::{Camera, Material};
 use glam::{Mat3, Vec3};
+use glam::{Mat4, Vec2};
 use std::sync::Arc;
 
 use crate::plan::tests::{

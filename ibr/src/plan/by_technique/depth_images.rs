@@ -3,7 +3,6 @@
 //! reference, invalidation, the planner's promises with them among its choices, the same
 //! pixels on any thread count, release and odd views.
 
-use super::set::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use crate::core::FrameView;
 use crate::core::{Estimate, Representation};
 use crate::core::{MeshGroup, Subject};
@@ -13,6 +12,7 @@ use crate::plan::tests::{
     sight, subjects, tori, truth, view_at, FOV, H, W,
 };
 use crate::plan::Planner;
+use crate::techniques::depth_images::set::{Config, DepthImageSet, DISPLACEMENT, RESAMPLING};
 use engine::{Camera, Renderer, Target};
 use glam::{Mat4, Quat, Vec3};
 

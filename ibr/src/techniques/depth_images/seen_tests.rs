@@ -3,9 +3,9 @@
 //! the target camera really sees is cast from the geometry, so a fill's paint outside it,
 //! and holes left inside it, are counted against the truth, not against the warp.
 
-use super::super::Fill;
+use super::WarpedView;
 use crate::core::{unproject, DepthImage};
-use crate::techniques::depth_images::WarpedView;
+use crate::warp::holes::Fill;
 use engine::{Camera, Rgba};
 use glam::Vec3;
 

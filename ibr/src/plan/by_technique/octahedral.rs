@@ -2,8 +2,6 @@
 //! error (the calibration run), a fresh bake at its own views, invalidation, the planner's
 //! promises with octahedral impostors among its choices, release and odd inputs.
 
-use super::plan::{octahedral_error, view_terms};
-use super::*;
 use crate::core::FrameView;
 use crate::core::MeshGroup;
 use crate::core::{CostModel, Representation};
@@ -14,8 +12,12 @@ use crate::plan::tests::{
     subjects, tori, truth, view_at, Sample, FOV, H, W,
 };
 use crate::plan::{self, Planner};
+use crate::techniques::octahedral::plan::{octahedral_error, view_terms};
+use crate::techniques::octahedral::*;
 use engine::procedural::XorShift;
 use engine::Renderer;
+use engine::{Camera, Rgba};
+use glam::Vec3;
 
 type Rep = dyn Representation<MeshGroup>;
 

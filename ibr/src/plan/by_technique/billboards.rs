@@ -3,8 +3,6 @@
 //! from above, invalidation, the planner's promises with billboards among its choices,
 //! release and odd inputs.
 
-use super::plan::{self as board, billboard_error, view_terms, MAX_ELEVATION};
-use super::*;
 use crate::core::FrameView;
 use crate::core::{CostModel, Representation};
 use crate::core::{MeshGroup, Subject};
@@ -15,6 +13,10 @@ use crate::plan::tests::{
     release_one_and_ignore_out_of_range, sight, subjects, truth, FOV, H, W,
 };
 use crate::plan::{tint, Planner};
+use crate::techniques::billboards::plan::{
+    self as board, billboard_error, view_terms, MAX_ELEVATION,
+};
+use crate::techniques::billboards::*;
 use engine::procedural::{self, XorShift};
 use engine::Renderer;
 use engine::{Camera, Material, Rgba};

@@ -3,8 +3,6 @@
 //! promises with light fields among its choices, thread counts, release, a memory budget
 //! and odd inputs.
 
-use super::plan::{bake_bytes, lightfield_error, taps, view_terms, LightFieldSet};
-use super::*;
 use crate::core::screen_rect;
 use crate::core::FrameView;
 use crate::core::{MeshGroup, Subject};
@@ -16,8 +14,14 @@ use crate::plan::tests::{
     FOV, H, W,
 };
 use crate::plan::Planner;
+use crate::techniques::lightfields::plan::{
+    bake_bytes, lightfield_error, taps, view_terms, LightFieldSet,
+};
+use crate::techniques::lightfields::*;
 use engine::procedural::XorShift;
+use engine::Camera;
 use engine::Renderer;
+use glam::Vec3;
 
 type Rep = dyn Representation<MeshGroup>;
 
