@@ -50,10 +50,12 @@
 //! gives the same images back (colour to 8 bits).
 
 mod depth;
+mod fuzz;
 mod pose;
 
 pub use self::depth::read_depth_image;
 use self::depth::{planes, DepthFile, DepthUnits};
+pub use self::fuzz::fuzz;
 use self::pose::pose;
 pub use self::pose::LAST_ROW_TOLERANCE;
 pub use crate::core::srgb8;
@@ -459,48 +461,6 @@ pub fn through_8_bits(c: Premul) -> Premul {
         a,
     )
     .premultiply()
-}
-
-/// The fuzzing entry point (`fuzz/`, and the corpus replay test): `data` as a
-/// `transforms.json` whose folder holds a 2 x 2 colour image `a.png` and depth maps
-/// `a.pfm` (2 x 2) and `b.pfm` (1 x 1). A capture that loads has one camera a frame, each
-/// with finite, invertible matrices and positive depths.
-pub fn fuzz(data: &[u8]) {
-    let files = load::Memory::default()
-        .with("c/transforms.json", data)
-        .with("c/a.png", load::fuzz::TEXTURE_PNG)
-        .with(
-            "c/a.pfm",
-            load::pfm_bytes(&load::FloatImage {
-                width: 2,
-                height: 2,
-                data: vec![1.0, 2.0, f32::INFINITY, 0.5],
-            }),
-        )
-        .with(
-            "c/b.pfm",
-            load::pfm_bytes(&load::FloatImage {
-                width: 1,
-                height: 1,
-                data: vec![1.0],
-            }),
-        );
-    if let Ok(images) = read_transforms_from(Path::new("c/transforms.json"), &files) {
-        for image in &images {
-            assert!(image.camera.view.is_finite(), "a loaded pose is not finite");
-            assert!(
-                image.camera.clip_from_world().is_finite(),
-                "a loaded projection is not finite"
-            );
-            assert!(
-                image
-                    .depth
-                    .iter()
-                    .all(|d| *d > 0.0 && (d.is_finite() || *d == EMPTY)),
-                "a loaded depth is not a positive distance"
-            );
-        }
-    }
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ use crate::core::screen_rect;
 use crate::core::MeshGroup;
 use crate::core::{FrameLoop, Technique};
 use crate::metrics::{self, Options, Region};
+use engine::Rgba;
 use engine::{procedural, FrameOptions, Mesh, Renderer};
 use glam::{Mat4, Vec3};
 
