@@ -427,6 +427,8 @@ impl<S: Subject + Send + Sync> Planner<S> {
 }
 
 #[cfg(test)]
+mod budget_tests;
+#[cfg(test)]
 mod by_technique;
 #[cfg(test)]
 mod occlusion_tests;
