@@ -431,6 +431,8 @@ mod budget_tests;
 #[cfg(test)]
 mod by_technique;
 #[cfg(test)]
+mod catalog_tests;
+#[cfg(test)]
 mod occlusion_tests;
 #[cfg(test)]
 mod ranking_tests;

@@ -64,7 +64,7 @@ pub fn represent(name: &str, objects: usize) -> Option<Box<dyn Representation<Me
 }
 
 #[rustfmt::skip]
-static CATALOG: [Entry; 15] = [
+static CATALOG: [Entry; 11] = [
     Entry { name: "impostors", folder: "impostors", representation: Some(|n| Box::new(impostors::ImpostorSet::new(impostors::Config::default(), n))), technique: Some(|s| Box::new(impostors::Impostored::new("impostors", impostors::Config::default(), s))) },
     Entry { name: "layers", folder: "layers", representation: Some(|n| Box::new(layers::LayerSet::new(layers::Config::default(), n))), technique: Some(|s| Box::new(layers::Layered::new("layers", layers::Config::default(), s))) },
     Entry { name: "octahedral", folder: "octahedral", representation: Some(|n| Box::new(octahedral::OctahedralSet::new(n, 8, 32, octahedral::Layout::Hemi))), technique: Some(octahedral_baked) },
@@ -75,11 +75,7 @@ static CATALOG: [Entry; 15] = [
     Entry { name: "lasers", folder: "lasers", representation: None, technique: Some(|_| Box::new(lasers::LaserBatch::new())) },
     Entry { name: "lens flare", folder: "flare", representation: None, technique: Some(|_| Box::new(flare::Flare { lens: flare::LensFlare::default(), source: flare::FlareSource::Directional(Vec3::new(0.2, 0.3, -1.0)) })) },
     Entry { name: "effects", folder: "effects", representation: None, technique: Some(|_| Box::new(effects::Effects::default())) },
-    Entry { name: "clouds", folder: "clouds", representation: None, technique: None },
     Entry { name: "portals", folder: "portals", representation: None, technique: Some(|_| Box::new(portals::Portals::new(Vec::new(), portals::PortalConfig::default()))) },
-    Entry { name: "light field objects", folder: "lightfields", representation: None, technique: None },
-    Entry { name: "panoramas", folder: "panoramas", representation: None, technique: None },
-    Entry { name: "view morphing", folder: "morph", representation: None, technique: None },
 ];
 
 /// Octahedral impostors of `subjects`, baked with the catalogue's settings.

@@ -1,5 +1,6 @@
 use super::*;
 use engine::load::{fuzz::TEXTURE_PNG, pfm_bytes, FloatImage, Memory};
+use engine::Projection;
 use glam::{Mat4, Vec2, Vec3};
 
 fn temp_dir(name: &str) -> PathBuf {

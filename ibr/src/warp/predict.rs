@@ -10,7 +10,7 @@
 
 use super::is_filled;
 use crate::core::DepthImage;
-use crate::transforms::Intrinsics;
+use crate::core::Intrinsics;
 use engine::Camera;
 
 /// A reference's depth range: the 2nd and 98th percentiles of its finite depths (a few

@@ -65,7 +65,7 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         let imp = self.impostors.get(i)?;
         let cfg = &self.config;
-        if sight.within(cfg.transition) {
+        if !sight.sane() || sight.within(cfg.transition) {
             return None;
         }
         let (b, ppr) = (sight.bounds, sight.px_per_radian);
