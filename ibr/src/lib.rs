@@ -53,7 +53,7 @@ pub mod transforms;
 pub mod warp;
 
 // The catalogue: every technique by name, with its constructors.
-pub use techniques::{catalog, represent, Entry};
+pub use techniques::{catalog, represent, Entry, MakeRepresentation, MakeTechnique, LDI_LAYERS};
 
 // The most used billboard types at the root, as before.
 pub use crate::core::{

@@ -20,6 +20,12 @@ use crate::core::{BillboardBatch, MeshGroup, Representation, Technique};
 use engine::{Lighting, Material, Rgba};
 use glam::Vec3;
 
+/// A constructor of a planner representation for `objects` objects.
+pub type MakeRepresentation = fn(objects: usize) -> Box<dyn Representation<MeshGroup>>;
+
+/// A constructor of a frame technique over `subjects`.
+pub type MakeTechnique = fn(subjects: Vec<MeshGroup>) -> Box<dyn Technique>;
+
 /// One technique in the catalogue: its name and the constructors of its faces. A face it
 /// does not have is `None`; every technique has at least one.
 #[derive(Clone, Copy)]
@@ -30,10 +36,10 @@ pub struct Entry {
     pub folder: &'static str,
     /// Its planner representation for `objects` objects with the catalogue's settings (the
     /// ones `bench budget` measures with).
-    pub representation: Option<fn(objects: usize) -> Box<dyn Representation<MeshGroup>>>,
+    pub representation: Option<MakeRepresentation>,
     /// It drawn through the frame seam over `subjects` with the catalogue's settings
     /// (techniques that stand in for no subject ignore them).
-    pub technique: Option<fn(subjects: Vec<MeshGroup>) -> Box<dyn Technique>>,
+    pub technique: Option<MakeTechnique>,
 }
 
 impl std::fmt::Debug for Entry {

@@ -82,7 +82,7 @@ pub fn read_transforms_from(path: &Path, files: &dyn Files) -> Result<Vec<DepthI
 
 /// Reads a capture of photographs with their cameras: as [`read_transforms`], but a frame
 /// may leave out `depth_file_path`, and then has no depth (every pixel
-/// [`super::EMPTY`]). For what needs only images and poses (view morphing with the stereo
+/// `super::EMPTY`). For what needs only images and poses (view morphing with the stereo
 /// matcher, stereo from unrectified pairs).
 pub fn read_photos(path: &Path) -> Result<Vec<DepthImage>, LoadError> {
     read_photos_from(path, &Disk)

@@ -26,7 +26,7 @@
 //! A reference pixel whose colour is fully transparent is empty and skipped; one with
 //! colour and infinite depth is at infinity (sky, disparity 0): it moves with the rotation
 //! alone.
-//! [`technique::WarpedView`] runs this every frame for the references nearest the eye and
+//! `technique::WarpedView` runs this every frame for the references nearest the eye and
 //! writes the result into the frame by an image pass, depth-tested against the geometry.
 //! Output pixels nothing reached are holes: transparent, disparity [`HOLE`]. Both cameras
 //! must be perspective (symmetric or off-axis); otherwise nothing is warped.

@@ -67,7 +67,7 @@ fn named_paths(code: &str, here: &[String]) -> Vec<Vec<String>> {
             continue;
         }
         let mut rest = line;
-        while let Some(at) = rest.find(|c: char| c == 'c' || c == 's') {
+        while let Some(at) = rest.find(['c', 's']) {
             let before = &rest[..at];
             let tail = &rest[at..];
             rest = &rest[at + 1..];

@@ -114,7 +114,7 @@ pub const IMAGE_DEPTH_ALPHA: f32 = 0.5;
 
 /// The material that draws an image in place of geometry (an impostor's, an image
 /// layer's): its premultiplied image, alpha-blended, writing depth where more than half
-/// covered ([`IMAGE_DEPTH_ALPHA`]), unlit, clamped at the edges, seen from either side; a
+/// covered (`IMAGE_DEPTH_ALPHA`), unlit, clamped at the edges, seen from either side; a
 /// transparent `width` x `height` texture until it is filled.
 pub fn image_material(width: u32, height: u32, name: &str) -> Material {
     let (w, h) = (width.max(1), height.max(1));

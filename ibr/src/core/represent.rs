@@ -208,7 +208,7 @@ pub trait Representation<S>: Send + Sync {
         false
     }
     /// Frames a rebuild of its data lasts, for weighing a rebuild that only saves time
-    /// (`None`: the planner's [`super::Config::payback_frames`]). A view-independent bake
+    /// (`None`: the planner's `super::Config::payback_frames`). A view-independent bake
     /// lasts until its object changes; an image taken from one eye only until the eye moves.
     fn payback_frames(&self) -> Option<f32> {
         None
@@ -228,7 +228,7 @@ pub trait Representation<S>: Send + Sync {
         0
     }
     /// Multiplies its images by `tint` from now on (`None`: drawn as they are), for a
-    /// debug view that tells representations apart ([`super::Planner::set_tints`]). By
+    /// debug view that tells representations apart (`super::Planner::set_tints`). By
     /// default nothing (geometry is given a flat material by the planner instead).
     fn set_tint(&mut self, _tint: Option<Rgba>) {}
 }

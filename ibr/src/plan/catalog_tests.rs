@@ -8,20 +8,18 @@
 use super::tests::*;
 use super::*;
 use crate::core::{Counters, FrameLoop, MeshGroup, Technique};
-use crate::techniques::{catalog, Entry};
+use crate::techniques::{catalog, Entry, MakeRepresentation, MakeTechnique};
 use engine::{FrameOptions, Renderer};
 
 /// The catalogue's representations, with their entries.
-fn representations() -> impl Iterator<Item = (&'static Entry, RepMaker)> {
+fn representations() -> impl Iterator<Item = (&'static Entry, MakeRepresentation)> {
     catalog()
         .iter()
         .filter_map(|e| e.representation.map(|make| (e, make)))
 }
 
-type RepMaker = fn(usize) -> Box<dyn Representation<MeshGroup>>;
-
 /// The tori beside geometry and `make`'s representation, under a loose error budget.
-fn loose(make: RepMaker) -> Planner<MeshGroup> {
+fn loose(make: MakeRepresentation) -> Planner<MeshGroup> {
     let objects = tori();
     let set = make(objects.len());
     beside_geometry(objects, set, 1e9, 16, dear_geometry())
@@ -80,10 +78,7 @@ fn every_representation_gives_the_same_frames_on_one_and_two_threads() {
 
 /// Two frames of the technique `make` makes over the tori, on `threads` threads: the
 /// frames' bytes and counters.
-fn frames(
-    make: fn(Vec<MeshGroup>) -> Box<dyn Technique>,
-    threads: usize,
-) -> Vec<(Vec<u8>, Counters)> {
+fn frames(make: MakeTechnique, threads: usize) -> Vec<(Vec<u8>, Counters)> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -4,7 +4,7 @@
 use crate::core::CostModel;
 use engine::Rgba;
 
-/// The debug view's colours ([`Planner::set_tints`]), by representation in the planner's
+/// The debug view's colours (`Planner::set_tints`), by representation in the planner's
 /// order (cycling past the eighth), with their names for a legend: geometry first in the
 /// usual order, so white; images tinted green, blue, ...
 pub const TINTS: [(&str, Rgba); 8] = [
@@ -27,7 +27,7 @@ pub fn tint(r: usize) -> (&'static str, Rgba) {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budgets {
     /// Largest predicted error, in the impostors' unit: mean absolute 8-bit error over the
-    /// object's screen rectangle ([`Estimate`]), per object or over the frame ([`Scope`]).
+    /// object's screen rectangle (`Estimate`), per object or over the frame ([`Scope`]).
     /// 0: geometry only.
     pub error: f32,
     /// What the error budget bounds.
@@ -66,7 +66,7 @@ pub enum Scope {
     Object,
     /// The frame's error (the mean error over the pixels the visible objects' rectangles
     /// cover, each object's error weighted by its rectangle's area times the share of it that
-    /// shows: `frame_budget`, [`occlusion`]), with a margin for its spread so that it
+    /// shows: `frame_budget`, `occlusion`), with a margin for its spread so that it
     /// holds on 99% of frames ([`Report::bound`], `frame_budget`). Objects
     /// may then err more where that buys most time; hysteresis discounts the
     /// representation in use by [`Config::min_saving`] of its time.
@@ -76,7 +76,7 @@ pub enum Scope {
 /// The default [`Config::spread`]: see there. Fitted on `bench budget` (BENCHMARKS.md).
 pub const SPREAD: f32 = 0.5;
 
-/// Settings of a [`Planner`].
+/// Settings of a `Planner`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Config {
     /// The error, time, rebuild and memory budgets.
@@ -88,7 +88,7 @@ pub struct Config {
     /// predicted draw time.
     pub min_saving: f32,
     /// A rebuild that only saves time is worth it if the time saved over this many frames
-    /// pays for it (a representation may say its own: [`Representation::payback_frames`]),
+    /// pays for it (a representation may say its own: `Representation::payback_frames`),
     /// and within the object's horizon ([`Config::horizon`]).
     pub payback_frames: f32,
     /// Frames an object just come into view is expected to stay. A rebuild's time is

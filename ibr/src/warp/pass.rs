@@ -7,7 +7,7 @@ use engine::{Encoding, PackedFragment, PackedPass, Projection};
 /// Writes a warped image taken by the target's camera into the target: its packed colour
 /// as it is, and its disparity turned into the target's reversed depth (a multiply-add;
 /// at or beyond the far plane, sky too, the smallest positive depth, as
-/// [`Camera::reversed_from_view_depth`] gives). Holes write nothing.
+/// `Camera::reversed_from_view_depth` gives). Holes write nothing.
 #[derive(Debug)]
 pub struct ImagePass<'a> {
     image: &'a Warped,

@@ -178,7 +178,7 @@ impl DepthImageSet {
     }
 
     /// The two terms of object `i`'s predicted error seen as `sight`, without their
-    /// constants ([`RESAMPLING`], [`DISPLACEMENT`]): texels per pixel times the gradient, and
+    /// constants (`RESAMPLING`, `DISPLACEMENT`): texels per pixel times the gradient, and
     /// times the edge gradient and the parallax spread. `None` when it holds nothing.
     pub fn error_terms(&self, i: usize, sight: &Sight<'_>) -> Option<(f32, f32)> {
         let r = self.slots.get(i)?.reference.as_ref()?;
@@ -298,7 +298,7 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
         })
     }
 
-    /// Captures each object alone from the eye (its capture camera, [`Capture`]), peeled
+    /// Captures each object alone from the eye (its capture camera, `Capture`), peeled
     /// into [`Config::layers`], side by side on the thread pool (one capturer each, so the
     /// references do not depend on the thread count), and prepares them for the warp.
     fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work {
@@ -428,7 +428,7 @@ impl<S: Subject + Send + Sync> Representation<S> for DepthImageSet {
     /// A depth image stays valid over more of the eye's motion than a flat impostor: the
     /// warp moves every sample by its own depth, so only disocclusions and turning
     /// silhouettes err, not the whole image's parallax. Per pixel of parallax its error
-    /// constant ([`DISPLACEMENT`], 0.14, over the edge gradient: only the differences at
+    /// constant (`DISPLACEMENT`, 0.14, over the edge gradient: only the differences at
     /// depth edges and silhouettes) is a quarter of the impostors' (0.57, over their whole
     /// depth-weighted gradient), and parallax grows linearly with the eye's move, so a
     /// reference lasts several times the impostors' 30 frames: 90, rounded down from that

@@ -32,7 +32,7 @@ pub struct WarpedView {
     /// the image).
     pub count_holes: bool,
     /// Whether pixels no warped reference saw anything at are told from holes and left
-    /// empty ([`super::holes::seen`]); when not, every pixel nothing landed on is a hole.
+    /// empty (`super::holes::seen`); when not, every pixel nothing landed on is a hole.
     pub carve: bool,
     warper: Warper,
     /// Per output pixel: nothing landed and no reference saw anything there.
@@ -65,7 +65,7 @@ pub struct WarpFrame {
     /// References warped: every layered image and the nearest `nearest` depth images.
     pub references: u64,
     /// The predicted parallax spread of the nearest reference, pixels
-    /// ([`super::predict::parallax_px`]): the widest a disocclusion can open.
+    /// (`super::predict::parallax_px`): the widest a disocclusion can open.
     pub predicted_px: f32,
 }
 

@@ -170,7 +170,7 @@ pub struct Predicted {
     pub pixels: f32,
     /// The image error it makes, predicted: mean absolute 8-bit error over the subject's
     /// screen rectangle, from the parallax in pixels and how busy the image is
-    /// ([`Capture::gradient`], per screen pixel), calibrated so that the measured error is
+    /// (`Capture::gradient`, per screen pixel), calibrated so that the measured error is
     /// at most this on most images (`bench impostors`, the calibration series).
     pub levels: f32,
     /// The texture side the subject needs now.

@@ -181,7 +181,7 @@ pub struct LightFieldSet {
     pub st: u32,
     /// How rays are looked up, from the next frame on.
     pub lookup: Lookup,
-    /// Frames a bake is weighed as lasting ([`Representation::payback_frames`]; [`PAYBACK`]
+    /// Frames a bake is weighed as lasting ([`Representation::payback_frames`]; `PAYBACK`
     /// after [`LightFieldSet::new`]): it holds every direction outside its failure region,
     /// so it lasts until its object changes, unlike an image taken from one eye.
     pub payback_frames: f32,
