@@ -184,20 +184,7 @@ fn read_frame(
             x => Ok(x),
         }
     };
-    let unit_factor = positive("depth_unit_scale_factor")?;
-    let units = if depth_key == "depth_path" {
-        DepthUnits {
-            integer: positive("integer_depth_scale")?.ok_or_else(|| {
-                "\"depth_path\" names a 16-bit PNG but there is no \"integer_depth_scale\" (instant-ngp loads no depth without it)".to_string()
-            }),
-            float: unit_factor.unwrap_or(1.0),
-        }
-    } else {
-        DepthUnits {
-            integer: Ok(unit_factor.unwrap_or(depth::NERFSTUDIO_UNIT_SCALE)),
-            float: unit_factor.unwrap_or(1.0),
-        }
-    };
+    let units = depth_units(depth_key, &positive)?;
     let colour_path = dir.join(&colour_rel);
     let read = |rel: &Path, full: &Path| {
         files
@@ -232,6 +219,61 @@ fn read_frame(
 
     // Camera.
     lens(&key, &number).map_err(bad)?;
+    let intrinsics = intrinsics_of(&number, &bad, w, h)?;
+    let (lo, hi) = depth
+        .iter()
+        .filter(|d| d.is_finite())
+        .fold((f32::INFINITY, 0.0f32), |(lo, hi), &d| {
+            (lo.min(d), hi.max(d))
+        });
+    let near = number("near")?.unwrap_or(if lo.is_finite() { lo * 0.5 } else { 0.1 });
+    let far = number("far")?.unwrap_or(if hi > 0.0 { hi * 2.0 } else { 1000.0 });
+    if !(near > 0.0 && far > near) {
+        return Err(bad(format!(
+            "depth range near {near}, far {far}: need 0 < near < far"
+        )));
+    }
+    let view = pose(frame.get("transform_matrix")).map_err(bad)?;
+    let camera = Camera {
+        view,
+        projection: intrinsics.projection(w, h, near, far),
+    };
+
+    Ok(planes.with_camera(camera))
+}
+
+/// How a frame's depth map is scaled: instant-ngp's 16-bit PNG (`"depth_path"`) by its
+/// `integer_depth_scale`, nerfstudio's by its unit scale factor (millimetres when absent);
+/// float maps by the unit scale factor alone. `positive` reads a key that must be positive.
+fn depth_units(
+    depth_key: &str,
+    positive: &dyn Fn(&str) -> Result<Option<f32>, LoadError>,
+) -> Result<DepthUnits, LoadError> {
+    let unit_factor = positive("depth_unit_scale_factor")?;
+    Ok(if depth_key == "depth_path" {
+        DepthUnits {
+            integer: positive("integer_depth_scale")?.ok_or_else(|| {
+                "\"depth_path\" names a 16-bit PNG but there is no \"integer_depth_scale\" (instant-ngp loads no depth without it)".to_string()
+            }),
+            float: unit_factor.unwrap_or(1.0),
+        }
+    } else {
+        DepthUnits {
+            integer: Ok(unit_factor.unwrap_or(depth::NERFSTUDIO_UNIT_SCALE)),
+            float: unit_factor.unwrap_or(1.0),
+        }
+    })
+}
+
+/// A frame's intrinsics for a `w` x `h` image (`number` reads its keys, `bad` words its
+/// errors): focal lengths as given or from the fields of view, one for both axes when
+/// only one is known, and the principal point as given or at the centre.
+fn intrinsics_of(
+    number: &dyn Fn(&str) -> Result<Option<f32>, LoadError>,
+    bad: &dyn Fn(String) -> LoadError,
+    w: u32,
+    h: u32,
+) -> Result<Intrinsics, LoadError> {
     let angle = |k: &str, side: u32| -> Result<Option<f32>, LoadError> {
         match number(k)? {
             Some(a) if a > 0.0 && a < std::f32::consts::PI => {
@@ -269,26 +311,7 @@ fn read_frame(
     if !(intrinsics.fl_x > 0.0 && intrinsics.fl_y > 0.0) {
         return Err(bad("focal lengths must be positive".into()));
     }
-    let (lo, hi) = depth
-        .iter()
-        .filter(|d| d.is_finite())
-        .fold((f32::INFINITY, 0.0f32), |(lo, hi), &d| {
-            (lo.min(d), hi.max(d))
-        });
-    let near = number("near")?.unwrap_or(if lo.is_finite() { lo * 0.5 } else { 0.1 });
-    let far = number("far")?.unwrap_or(if hi > 0.0 { hi * 2.0 } else { 1000.0 });
-    if !(near > 0.0 && far > near) {
-        return Err(bad(format!(
-            "depth range near {near}, far {far}: need 0 < near < far"
-        )));
-    }
-    let view = pose(frame.get("transform_matrix")).map_err(bad)?;
-    let camera = Camera {
-        view,
-        projection: intrinsics.projection(w, h, near, far),
-    };
-
-    Ok(planes.with_camera(camera))
+    Ok(intrinsics)
 }
 
 /// Camera models whose images are pinhole images (nerfstudio's `camera_model`, COLMAP's

@@ -297,7 +297,6 @@ const KNOWN_LONG: &[&str] = &[
     "demos/src/chart/plot.rs:plot",
     "demos/src/showcase/build.rs:build",
     "ibr/src/techniques/lightfields/render/kernel.rs:blend",
-    "ibr/src/transforms.rs:read_frame",
     "ibr/src/warp/rows.rs:warp_row_with",
 ];
 
