@@ -6,8 +6,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use demos::bench::warp::showcase_reference;
+use ibr::depth_images::WarpedView;
 use ibr::warp::holes::Fill;
-use ibr::warp::technique::WarpedView;
 use ibr::warp::Reconstruction;
 use std::hint::black_box;
 use std::time::Duration;

@@ -25,8 +25,8 @@
 //! Nothing here renders: the functions read images and are exact integer sums up to the
 //! final divisions, so their answers can be checked by hand.
 
-use crate::images::transforms::srgb8;
-use crate::images::DepthImage;
+pub use crate::core::Rect;
+use crate::core::{srgb8, DepthImage};
 use engine::Target;
 use std::fmt;
 
@@ -35,69 +35,6 @@ pub use cover::{RectCover, RectUnion};
 
 /// Default [`Options::threshold`]: an error of more than 8 levels (about 3%) is visible.
 pub const DEFAULT_THRESHOLD: u8 = 8;
-
-/// A pixel rectangle: columns `x .. x + width`, rows `y .. y + height`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub struct Rect {
-    /// Left column.
-    pub x: u32,
-    /// Top row.
-    pub y: u32,
-    /// Columns covered.
-    pub width: u32,
-    /// Rows covered.
-    pub height: u32,
-}
-
-impl Rect {
-    /// The rectangle of `width` x `height` pixels with top-left pixel `(x, y)`.
-    pub fn new(x: u32, y: u32, width: u32, height: u32) -> Self {
-        Rect {
-            x,
-            y,
-            width,
-            height,
-        }
-    }
-
-    /// Whether it holds no pixel.
-    pub fn is_empty(&self) -> bool {
-        self.width == 0 || self.height == 0
-    }
-
-    /// The smallest rectangle holding both (an empty one adds nothing).
-    pub fn union(self, other: Rect) -> Rect {
-        if self.is_empty() {
-            return other;
-        }
-        if other.is_empty() {
-            return self;
-        }
-        let x0 = self.x.min(other.x);
-        let y0 = self.y.min(other.y);
-        let x1 = (self.x + self.width).max(other.x + other.width);
-        let y1 = (self.y + self.height).max(other.y + other.height);
-        Rect::new(x0, y0, x1 - x0, y1 - y0)
-    }
-
-    /// The part inside a `width` x `height` image (possibly empty).
-    pub fn clip(self, width: u32, height: u32) -> Rect {
-        let x0 = self.x.min(width);
-        let y0 = self.y.min(height);
-        let x1 = self.x.saturating_add(self.width).min(width);
-        let y1 = self.y.saturating_add(self.height).min(height);
-        Rect::new(x0, y0, x1 - x0, y1 - y0)
-    }
-
-    /// This rectangle grown by `margin` pixels on every side, clipped to the image.
-    pub fn grow(self, margin: u32, width: u32, height: u32) -> Rect {
-        let x0 = self.x.saturating_sub(margin);
-        let y0 = self.y.saturating_sub(margin);
-        let x1 = self.x.saturating_add(self.width).saturating_add(margin);
-        let y1 = self.y.saturating_add(self.height).saturating_add(margin);
-        Rect::new(x0, y0, x1 - x0, y1 - y0).clip(width, height)
-    }
-}
 
 /// When a pixel counts as covered (drawn on).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

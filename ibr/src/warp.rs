@@ -26,7 +26,7 @@
 //! A reference pixel whose colour is fully transparent is empty and skipped; one with
 //! colour and infinite depth is at infinity (sky, disparity 0): it moves with the rotation
 //! alone.
-//! [`technique::WarpedView`] runs this every frame for the references nearest the eye and
+//! `technique::WarpedView` runs this every frame for the references nearest the eye and
 //! writes the result into the frame by an image pass, depth-tested against the geometry.
 //! Output pixels nothing reached are holes: transparent, disparity [`HOLE`]. Both cameras
 //! must be perspective (symmetric or off-axis); otherwise nothing is warped.
@@ -36,20 +36,19 @@ pub mod holes;
 pub mod ldi;
 pub mod mesh;
 pub mod order;
-pub mod plan;
+mod pass;
 pub mod predict;
 pub mod prepared;
 mod rows;
-pub mod technique;
 pub mod warped;
 
-use crate::images::{DepthImage, LayeredDepthImage};
+use crate::core::{DepthImage, LayeredDepthImage};
 use engine::color::{unpack, Encoder};
 use engine::simd::LANES;
 use engine::{Camera, Premul};
 use equation::Equation;
 use order::Run;
-pub use plan::DepthImageSet;
+pub use pass::ImagePass;
 pub use prepared::Prepared;
 use prepared::BLOCK;
 use rayon::prelude::*;
@@ -682,7 +681,5 @@ fn merge_nearer(out: &mut Warped, layer: &Warped, edge: f32) {
         });
 }
 
-#[cfg(test)]
-mod plan_tests;
 #[cfg(test)]
 mod tests;

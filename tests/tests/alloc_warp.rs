@@ -6,9 +6,9 @@
 
 use engine::{FrameOptions, Renderer, Rgba, Target};
 use glam::Vec3;
+use ibr::depth_images::WarpedView;
 use ibr::images::DepthImage;
 use ibr::warp::holes::Fill;
-use ibr::warp::technique::WarpedView;
 use tests::busy::busy_scene;
 use tests::counting::{count, traces, tracked_pool, Counting};
 

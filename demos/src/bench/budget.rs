@@ -54,15 +54,11 @@ use crate::city::{City, Path as CityPath};
 use crate::showcase::{self, Showcase};
 use crate::timing::Summary;
 use engine::{Camera, Lighting, Material, Mesh};
-use ibr::billboard::BillboardSet;
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
-use ibr::lightfield::LightFieldSet;
-use ibr::octahedral::{Layout, OctahedralSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::MeshGroup;
-use ibr::warp::{self, DepthImageSet};
 use std::sync::Arc;
 
 /// What a sweep measures.
@@ -440,18 +436,10 @@ fn planner_of(
     let n = scene.objects.len();
     let mut reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![Box::new(Geometry)];
     for &k in which {
-        let depth = |layers| warp::plan::Config {
-            layers,
-            ..warp::plan::Config::default()
-        };
         reps.push(match k {
             1 => Box::new(ImpostorSet::new(image_config(scene, settings, budget), n)),
             2 => Box::new(LayerSet::new(layer_config(scene, settings, 1.0), n)),
-            3 => Box::new(OctahedralSet::new(n, 8, 32, Layout::Hemi)),
-            4 => Box::new(DepthImageSet::new(depth(1), n)),
-            5 => Box::new(DepthImageSet::new(depth(LDI_LAYERS), n)),
-            6 => Box::new(BillboardSet::new(n, 64)),
-            _ => Box::new(LightFieldSet::new(n, 8, 32)),
+            _ => ibr::represent(REPRESENTATIONS[k], n).expect("in ibr's catalogue"),
         });
     }
     let config = plan::Config {

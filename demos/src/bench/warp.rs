@@ -24,6 +24,7 @@ use crate::showcase::{self, Showcase};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
 use glam::{Mat4, Quat, Vec3};
+use ibr::depth_images::WarpedView;
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Options, Region};
 use ibr::subject::Subject;
@@ -31,7 +32,6 @@ use ibr::technique::{FrameLoop, FrameView, Technique};
 use ibr::warp::holes::Fill;
 use ibr::warp::ldi::LdiBuilder;
 use ibr::warp::mesh::{depth_mesh, depth_mesh_material};
-use ibr::warp::technique::WarpedView;
 use ibr::warp::{Composite, Reconstruction, Visibility};
 use std::time::{Duration, Instant};
 

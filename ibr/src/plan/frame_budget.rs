@@ -27,7 +27,7 @@
 //! choices of a first bisection with `kappa = 0`: one large error then costs more than
 //! many small ones adding up to it, as it does in the bound.
 
-use super::cost::Priced;
+use crate::core::Priced;
 use rayon::prelude::*;
 
 /// The standard normal's 99th percentile: the bound holds on 99% of frames.
@@ -377,7 +377,7 @@ pub(super) fn bound(sum: f64, squares: f64, area: f64, margin: f64) -> f64 {
 mod tests {
     use super::*;
 
-    use crate::plan::{CostModel, Estimate, Work};
+    use crate::core::{CostModel, Estimate, Work};
 
     fn est(error: f32, triangles: u64) -> Option<Priced> {
         let e = Estimate {

@@ -35,7 +35,7 @@
 //! share is 1, as if nothing hid it. The cells are point samples (one pixel each); an
 //! object's rectangle is read with a stride that keeps at most [`SAMPLES`] of them.
 
-use crate::impostor::RectProjector;
+use crate::core::RectProjector;
 use engine::{Camera, Sphere, Target};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -49,7 +49,7 @@ pub const MAX_MOVE: f32 = 0.1;
 
 /// How far in front of an object's bounding sphere a surface may lie, in radii, and still
 /// count as the object: an image's quad is drawn through the nearest corner of its box
-/// ([`crate::subject::Subject::corners`]), which lies within the cube around the sphere,
+/// ([`crate::core::Subject::corners`]), which lies within the cube around the sphere,
 /// up to `sqrt(3) - 1` radii in front of it; and depth is stored in 32 bits.
 pub const SLACK: f32 = 0.75;
 

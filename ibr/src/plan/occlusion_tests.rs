@@ -5,10 +5,11 @@
 
 use super::tests::{budgets, lighting, planner, view_at, H, IMAGES, W};
 use super::*;
-use crate::impostor::screen_rect;
+use crate::core::screen_rect;
+use crate::core::MeshGroup;
+use crate::core::{FrameLoop, Technique};
 use crate::metrics::{self, Options, Region};
-use crate::subject::MeshGroup;
-use crate::technique::{FrameLoop, Technique};
+use engine::Rgba;
 use engine::{procedural, FrameOptions, Mesh, Renderer};
 use glam::{Mat4, Vec3};
 

@@ -5,7 +5,8 @@
 
 use super::tests::{dear_geometry, frame, tori, view_at};
 use super::*;
-use crate::subject::MeshGroup;
+use crate::core::MeshGroup;
+use crate::core::{CostModel, Estimate, Geometry, Representation, Sight, Work};
 use engine::Renderer;
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -2,8 +2,8 @@
 //! object's chosen representation, `reference` every object's geometry.
 
 use super::Planner;
-use crate::subject::Subject;
-use crate::technique::{Counters, FrameView, Observed, Technique};
+use crate::core::Subject;
+use crate::core::{Counters, FrameView, Observed, Technique};
 use engine::{Draw, FrameStats, Target};
 
 impl<S: Subject + Send + Sync> Technique for Planner<S> {

@@ -6,7 +6,7 @@
 //! pool, the same answer at any thread count.
 
 use super::{Disparity, StereoError};
-use crate::images::DepthImage;
+use crate::core::DepthImage;
 use rayon::prelude::*;
 
 /// A block matcher's settings.

@@ -3,7 +3,7 @@
 //! camera), and a colour-mapped picture to look at.
 
 use super::Disparity;
-use crate::images::{DepthImage, EMPTY};
+use crate::core::{DepthImage, EMPTY};
 use engine::color::Premul;
 use engine::Camera;
 

@@ -4,8 +4,8 @@
 //! length in pixels along x), and the right image shows it `d` pixels to the left.
 
 use super::Disparity;
-use crate::capture::capture_batch;
-use crate::images::DepthImage;
+use crate::core::capture_batch;
+use crate::core::DepthImage;
 use engine::{Camera, Draw, Lighting};
 use glam::Mat4;
 

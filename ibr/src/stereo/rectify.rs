@@ -6,7 +6,7 @@
 //! The rectified left camera is a real camera: a disparity map of the rectified pair makes
 //! a depth image with it ([`Disparity::to_depth_image`](super::Disparity::to_depth_image)).
 
-use crate::images::DepthImage;
+use crate::core::DepthImage;
 use engine::color::Premul;
 use engine::Camera;
 use glam::{Mat4, Vec3, Vec4};
@@ -153,7 +153,7 @@ fn wider(camera: &Camera, h: u32, h2: u32, w2: u32) -> engine::Projection {
 /// original, colour bilinearly, depth from the nearest pixel, measured along the new
 /// camera's axis (the point stays where it is; only the axis turns), `w` x `h` pixels.
 /// Pixels whose ray leaves the original are transparent, with depth
-/// [`crate::images::EMPTY`]. Shared by the view morph's postwarp.
+/// [`crate::core::EMPTY`]. Shared by the view morph's postwarp.
 pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> DepthImage {
     let mut out = DepthImage::new(w, h, *camera);
     let (iw, ih) = (image.width(), image.height());

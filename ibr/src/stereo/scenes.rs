@@ -130,14 +130,14 @@ pub(super) fn slanted() -> StereoPair {
 
 /// The slanted card rendered from `camera` (colour and depth), the truth for a view of
 /// [`slanted`]'s scene.
-pub(super) fn slanted_truth(camera: &Camera) -> crate::images::DepthImage {
+pub(super) fn slanted_truth(camera: &Camera) -> crate::core::DepthImage {
     let (mesh, material) = card(12.0);
     let draws = [Draw {
         mesh: &mesh,
         material: &material,
         transform: Mat4::from_rotation_y(0.6),
     }];
-    let mut out = crate::capture::capture_batch(&draws, &[*camera], &Lighting::default(), W, H);
+    let mut out = crate::core::capture_batch(&draws, &[*camera], &Lighting::default(), W, H);
     out.remove(0)
 }
 

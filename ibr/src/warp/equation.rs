@@ -16,7 +16,7 @@
 //! is the target depth times `δ` (positive in front of the target eye), so the target depth
 //! is `h.z / δ` and a sample at infinity (`δ = 0`, sky) moves by the rotation alone.
 
-use crate::images::transforms::Intrinsics;
+use crate::core::Intrinsics;
 use engine::Camera;
 use glam::{Mat3, Vec2, Vec3};
 

@@ -5,7 +5,7 @@
 
 use super::equation::Equation;
 use super::is_filled;
-use crate::images::{DepthImage, LayeredDepthImage, LdiSample};
+use crate::core::{DepthImage, LayeredDepthImage, LdiSample};
 use engine::Camera;
 use rayon::prelude::*;
 

@@ -5,7 +5,7 @@
 //! discontinuities instead of stretching "rubber sheets" across them.
 
 use super::is_filled;
-use crate::images::{unproject, DepthImage};
+use crate::core::{unproject, DepthImage};
 use engine::{Material, Mesh};
 
 /// Rebuilds `mesh` (reusing its memory) from `image`: a vertex per filled pixel with finite

@@ -9,8 +9,8 @@
 //! rotation or a flat scene, growing linearly with the move.
 
 use super::is_filled;
-use crate::images::transforms::Intrinsics;
-use crate::images::DepthImage;
+use crate::core::DepthImage;
+use crate::core::Intrinsics;
 use engine::Camera;
 
 /// A reference's depth range: the 2nd and 98th percentiles of its finite depths (a few

@@ -5,7 +5,7 @@
 
 use super::is_filled;
 use super::warped::{ENCODING, HOLE};
-use crate::images::{DepthImage, LayeredDepthImage};
+use crate::core::{DepthImage, LayeredDepthImage};
 use engine::color::Encoder;
 use engine::{Camera, Premul};
 
@@ -17,19 +17,19 @@ pub struct Prepared {
     height: u32,
     /// Pixel `p`'s samples are `first[p]..first[p + 1]`, in painting order (back to front).
     /// Empty for a depth image: one sample per pixel, its index the pixel's.
-    pub(super) first: Vec<u32>,
+    pub(crate) first: Vec<u32>,
     /// `1 / depth`; 0 at infinity (sky); [`HOLE`] for an empty pixel of a depth image.
-    pub(super) disparity: Vec<f32>,
+    pub(crate) disparity: Vec<f32>,
     /// The change of disparity per pixel step in x on the sample's surface (zero across a
     /// depth edge), and in y.
-    pub(super) slope_x: Vec<f32>,
-    pub(super) slope_y: Vec<f32>,
+    pub(crate) slope_x: Vec<f32>,
+    pub(crate) slope_y: Vec<f32>,
     /// Premultiplied bytes in [`ENCODING`].
-    pub(super) color: Vec<u32>,
+    pub(crate) color: Vec<u32>,
     /// The least and greatest disparity of each block of [`BLOCK`] pixels of a row (row
     /// by row, blocks left to right), over its samples; `[INFINITY, -INFINITY]` when it
     /// has none. Bounds where a block can land before it is warped.
-    pub(super) blocks: Vec<[f32; 2]>,
+    pub(crate) blocks: Vec<[f32; 2]>,
     /// The samples (non-empty).
     samples: u64,
     /// The edge tolerance the slopes were read with.

@@ -4,7 +4,7 @@
 
 use super::holes::{classify, Fill, Filler};
 use super::*;
-use crate::images::unproject;
+use crate::core::unproject;
 use engine::Rgba;
 use glam::{Vec2, Vec3};
 

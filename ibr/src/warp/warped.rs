@@ -2,7 +2,7 @@
 //! a disparity, 8 bytes a pixel, in the form the frame's target stores colour (so the
 //! image pass copies bytes) and with the depth the warp computes without a divide.
 
-use crate::images::{DepthImage, EMPTY};
+use crate::core::{DepthImage, EMPTY};
 use engine::color::unpack;
 use engine::{Camera, Encoding, Premul};
 use rayon::prelude::*;

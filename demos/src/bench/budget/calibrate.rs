@@ -13,12 +13,12 @@ use crate::city::{City, Path as CityPath};
 use engine::procedural;
 use engine::{Camera, FrameOptions, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec3};
+use ibr::depth_images::{self, DepthImageSet};
 use ibr::impostor::{self, ImpostorSet};
 use ibr::lightfield::LightFieldSet;
 use ibr::plan::{CostModel, Representation, Sight};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::FrameView;
-use ibr::warp::{self, DepthImageSet};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -341,9 +341,9 @@ fn passes(lab: &mut Lab, model: &CostModel, rows: &mut Vec<Calibration>) {
                 MeshGroup::new().with(torus.clone(), lit.clone(), Mat4::from_translation(at))
             })
             .collect();
-        let ldi = warp::plan::Config {
+        let ldi = depth_images::Config {
             layers: 3,
-            ..warp::plan::Config::default()
+            ..depth_images::Config::default()
         };
         let held_by: [(&'static str, Box<dyn Representation<MeshGroup>>); 3] = [
             (

@@ -1,7 +1,7 @@
 //! Rectification of a converging pair, against a pair rendered rectified.
 
 use super::*;
-use crate::capture::capture_batch;
+use crate::core::capture_batch;
 use crate::stereo::measure::measure;
 use crate::stereo::scenes::{camera, scene_draws, BASELINE, H, W};
 use crate::stereo::{luminance, Sgm, StereoPair};

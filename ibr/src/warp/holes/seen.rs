@@ -277,6 +277,3 @@ fn seen_along(carvers: Carvers, eye: Vec3, dir: Vec3, b: Bounds, keep: f32) -> b
         occupied
     })
 }
-
-#[cfg(test)]
-mod tests;

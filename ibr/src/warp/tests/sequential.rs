@@ -6,7 +6,7 @@
 use super::super::rows::{warp_row, Lane};
 use super::super::*;
 use super::{boxes, camera, cast};
-use crate::images::LayeredDepthImage;
+use crate::core::LayeredDepthImage;
 use glam::Vec3;
 
 /// The warp of `source` to `target`, sample by sample in the traversal order.

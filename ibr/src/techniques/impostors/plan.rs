@@ -1,0 +1,178 @@
+//! Runtime impostors as one of the planner's representations: each object's image, its
+//! error predicted by the calibrated model ([`super::Predicted::levels`]), refreshed when
+//! the planner asks.
+
+use super::predict::RESAMPLING;
+use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, ImpostorSet};
+use crate::core::FrameView;
+use crate::core::Subject;
+use crate::core::PRIOR_GRADIENT;
+use crate::core::{image_bytes, Estimate, Representation, Sight, Work};
+use engine::{Draw, Rgba};
+use glam::Vec3;
+
+/// The gradient an image of a subject never captured is expected to have, learnt from the
+/// images taken so far: a least-squares line in `1 / side` (an image's outline adds
+/// differences in proportion to its side, its inside in proportion to its area, so the
+/// mean per texel is about `a / side + b`).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct GradientPrior {
+    n: f64,
+    sx: f64,
+    sy: f64,
+    sxx: f64,
+    sxy: f64,
+}
+
+impl GradientPrior {
+    pub(crate) fn add(&mut self, side: u32, gradient: f32) {
+        if !gradient.is_finite() || side == 0 {
+            return;
+        }
+        let (x, y) = (1.0 / f64::from(side), f64::from(gradient));
+        self.n += 1.0;
+        self.sx += x;
+        self.sy += y;
+        self.sxx += x * x;
+        self.sxy += x * y;
+    }
+
+    /// The expected gradient of a `side`-texel image.
+    pub(crate) fn at(&self, side: u32) -> f32 {
+        if self.n < 1.0 {
+            return PRIOR_GRADIENT;
+        }
+        let mean = self.sy / self.n;
+        let var = self.sxx - self.sx * self.sx / self.n;
+        if var <= 1e-12 {
+            return mean as f32;
+        }
+        let a = (self.sxy - self.sx * self.sy / self.n) / var;
+        let b = (self.sy - a * self.sx) / self.n;
+        (a / f64::from(side.max(1)) + b).max(0.0) as f32
+    }
+}
+
+impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
+    fn name(&self) -> &str {
+        "impostors"
+    }
+
+    /// `None` within [`super::Config::transition`] radii (the image is refreshed every
+    /// frame there in the set's own update; the planner draws geometry instead). An image
+    /// whose subject changed, moved, or needs a larger texture than it has by
+    /// [`super::Tolerance::octaves`] has infinite error.
+    fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
+        let imp = self.impostors.get(i)?;
+        let cfg = &self.config;
+        if !sight.sane() || sight.within(cfg.transition) {
+            return None;
+        }
+        let (b, ppr) = (sight.bounds, sight.px_per_radian);
+        let needed = needed_side(b.radius, sight.distance, ppr, cfg.min_side, cfg.max_side);
+        let held = imp.capture.as_ref().filter(|_| imp.slot.is_some());
+        // What a draw shades: the disc's square times the share of it the trimmed quad
+        // covers; without an image, the disc.
+        let pixels = match held {
+            Some(_) => sight.pixels * (4.0 / std::f32::consts::PI) * imp.coverage,
+            None => sight.pixels,
+        };
+        let (error, rebuilt) = match held {
+            Some(c) => {
+                let now = (b, subject.version());
+                let p = predict(Some(c), now, sight.eye, needed, ppr, cfg);
+                let coarse = needed > c.side && p.octaves >= cfg.tolerance.octaves;
+                let error = if p.ratio.is_finite() && !coarse {
+                    p.levels
+                } else {
+                    f32::INFINITY
+                };
+                let fresh = super::Capture { side: needed, ..*c };
+                (error, image_error(&fresh, sight.distance, 0.0, ppr))
+            }
+            None => {
+                // As `image_error` for a fresh image: texels per screen pixel times the
+                // resampling of the expected gradient.
+                let screen = 2.0 * (b.radius / sight.distance).min(1.0).asin() * ppr;
+                let scale = needed as f32 / screen.max(1.0);
+                (f32::INFINITY, scale * RESAMPLING * self.prior.at(needed))
+            }
+        };
+        let texels = (needed, needed);
+        let triangles = subject.triangle_count();
+        Some(Estimate::image(error, rebuilt, pixels, triangles, texels))
+    }
+
+    /// Re-renders the objects' images from the eye, side by side (as
+    /// [`ImpostorSet::update`] does its own refreshes).
+    fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work {
+        let eye = view.camera.eye();
+        let ppr = pixels_per_radian(view.camera, view.height);
+        let (lo, hi) = (self.config.min_side, self.config.max_side);
+        self.jobs.clear();
+        for &i in objects {
+            let (Some(s), true) = (subjects.get(i), i < self.impostors.len()) else {
+                continue;
+            };
+            let b = s.bounds();
+            let side = needed_side(b.radius, eye.distance(b.center), ppr, lo, hi);
+            self.impostors[i].predicted.needed_side = side;
+            if let Some(job) = self.begin_refresh(i, s, eye) {
+                self.jobs.push(job);
+            }
+        }
+        self.render_jobs(subjects, view.lighting);
+        let mut work = Work::default();
+        for k in 0..self.jobs.len() {
+            let job = self.jobs[k];
+            work.triangles += self.workers[k].stats.triangles_set_up;
+            work.pixels += u64::from(job.capture.side).pow(2);
+            work.captures += 1;
+            self.finish_refresh(job, k);
+        }
+        work
+    }
+
+    /// Tints the images of the objects drawn this frame (a texture taken from the pool since
+    /// [`Representation::set_tint`] gets it here).
+    fn prepare(&mut self, objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {
+        let tint = self.plan_tint.unwrap_or(Rgba::WHITE);
+        for &i in objects {
+            if let Some(slot) = self.impostors.get(i).and_then(|imp| imp.slot) {
+                self.pool.set_tint(slot, tint);
+            }
+        }
+    }
+
+    /// The image's quad, pulled to the object's nearest corner.
+    fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>) {
+        if let Some(mut d) = self.quad_draw(i) {
+            d.transform = pull_near(subject, eye);
+            out.push(d);
+        }
+    }
+
+    fn release(&mut self, i: usize) {
+        if let Some(imp) = self.impostors.get_mut(i) {
+            if let Some(slot) = imp.slot.take() {
+                self.pool.release(slot);
+            }
+            imp.capture = None;
+        }
+    }
+
+    /// Every pooled texture's material takes `tint` (white without).
+    fn set_tint(&mut self, tint: Option<Rgba>) {
+        self.plan_tint = tint;
+        for slot in 0..self.pool.usage().1 {
+            self.pool.set_tint(slot, tint.unwrap_or(Rgba::WHITE));
+        }
+    }
+
+    fn memory(&self) -> usize {
+        let held = self.impostors.iter().filter(|imp| imp.slot.is_some());
+        held.filter_map(|imp| imp.capture.as_ref())
+            .map(|c| image_bytes(c.side, c.side))
+            .sum()
+    }
+}

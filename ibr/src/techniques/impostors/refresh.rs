@@ -1,0 +1,229 @@
+//! Refreshing impostor images: a texture and a capture per refresh. The frame's refreshes
+//! run side by side on the thread pool, each on a worker of its own (one [`Capturer`]): it
+//! captures, copies the image into its texture (with mipmaps), and measures what the
+//! image covers and its gradients; the texture is then swapped into the pool and the
+//! quad trimmed to the covered part.
+
+use super::{Capture, ImpostorSet, Mode};
+use crate::core::Rect;
+use crate::core::Subject;
+use crate::core::{push_quad, UvRect};
+use crate::core::{refresh_side_by_side, Refresher};
+use engine::{FrameStats, Lighting, Rgba, Target};
+use glam::Vec3;
+
+/// A refresh's own [`Refresher`] (its image is copied into the refresher's texture, traded
+/// for the pool's), its counters, and what [`measure`] found, with its row scratch.
+#[derive(Debug, Default)]
+pub(super) struct Worker {
+    refresher: Refresher,
+    pub(super) stats: FrameStats,
+    measured: Measured,
+    rows: Rows,
+}
+
+/// One refresh of a frame: which impostor, from where, into which texture.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Job {
+    i: usize,
+    pub(super) capture: Capture,
+    slot: usize,
+}
+
+impl ImpostorSet {
+    /// Where and into which texture impostor `i` is re-rendered from `eye`; `None` when
+    /// there is no texture for it (pool exhausted: it keeps any old image).
+    pub(super) fn begin_refresh<S: Subject>(
+        &mut self,
+        i: usize,
+        subject: &S,
+        eye: Vec3,
+    ) -> Option<Job> {
+        let b = subject.bounds();
+        let imp = &mut self.impostors[i];
+        let side = imp.predicted.needed_side.max(1);
+        let capture = Capture::new(eye, b.center, b.radius, side, subject.version())?;
+        // Keep the current texture when it has the right size; else trade it in.
+        let slot = match imp.slot {
+            Some(s) if imp.capture.as_ref().is_some_and(|c| c.side == side) => s,
+            old => {
+                let new = self.pool.acquire(side)?;
+                if let Some(old) = old {
+                    self.pool.release(old);
+                }
+                new
+            }
+        };
+        imp.slot = Some(slot);
+        Some(Job { i, capture, slot })
+    }
+
+    /// Renders the frame's refreshes, one worker each, side by side on the thread pool
+    /// (each writes only its own target, so the images do not depend on the thread count).
+    pub(super) fn render_jobs<S: Subject + Send>(
+        &mut self,
+        subjects: &mut [S],
+        lighting: &Lighting,
+    ) {
+        if self.jobs.is_empty() {
+            return;
+        }
+        let (jobs, workers) = (&mut self.jobs, &mut self.workers);
+        refresh_side_by_side(
+            jobs,
+            |j| j.i,
+            subjects,
+            workers,
+            |job, subject, w| {
+                let camera = job.capture.camera();
+                let side = job.capture.side;
+                w.stats = w.refresher.render(subject, &camera, lighting, (side, side));
+                let target = w.refresher.target();
+                w.measured = measure(target, &job.capture, &mut w.rows);
+            },
+        );
+    }
+
+    /// Trades worker `k`'s texture for the job's and trims the quad to the image.
+    pub(super) fn finish_refresh(&mut self, job: Job, k: usize) {
+        let Job { i, capture, slot } = job;
+        let w = &mut self.workers[k];
+        if let Some(tex) = w.refresher.texture.as_mut() {
+            self.pool.swap_texture(slot, tex);
+        }
+        let side = capture.side;
+        let Measured {
+            gradient,
+            depth_gradient,
+            covered,
+        } = w.measured;
+        let capture = Capture {
+            gradient,
+            depth_gradient,
+            ..capture
+        };
+        self.prior.add(side, gradient);
+        let imp = &mut self.impostors[i];
+        let m = &mut imp.quad;
+        m.clear();
+        imp.coverage = 0.0;
+        // Trim the quad to the covered part of the image (one texel of margin for the
+        // bilinear fringe): tall or flat subjects leave much of the square empty, and every
+        // empty texel on screen would still be shaded and blended.
+        if let Some(r) = covered {
+            let r = r.grow(1, side, side);
+            let f = |p: u32| p as f32 / side as f32;
+            let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));
+            let [_, _, tr, tl] = capture.corners;
+            let down = capture.corners[0] - tl;
+            let at = |u: f32, v: f32| tl + (tr - tl) * u + down * v;
+            let quad = [at(u0, v1), at(u1, v1), at(u1, v0), at(u0, v0)];
+            let uv = UvRect {
+                min: glam::Vec2::new(u0, v0),
+                max: glam::Vec2::new(u1, v1),
+            };
+            push_quad(m, quad, uv, Rgba::WHITE, 1.0);
+            imp.coverage = (u1 - u0) * (v1 - v0);
+        }
+        m.colors.clear();
+        imp.capture = Some(capture);
+        // A pre-warmed subject stays culled until it comes into view.
+        if imp.mode != Mode::Culled {
+            imp.mode = Mode::Image;
+        }
+        imp.refreshes += 1;
+        imp.predicted.ratio = 0.0;
+        imp.predicted.degrees = 0.0;
+        imp.predicted.pixels = 0.0;
+        imp.predicted.octaves = 0.0;
+    }
+}
+
+/// What a refresh's image holds, besides its texels: the bounds of its covered texels
+/// (alpha above 0, as [`crate::metrics::covered_rect`] finds them) and its gradients.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Measured {
+    pub(super) covered: Option<Rect>,
+    /// [`Capture::gradient`].
+    pub(super) gradient: f32,
+    /// [`Capture::depth_gradient`].
+    pub(super) depth_gradient: f32,
+}
+
+/// Two rows of an image's stored pixels and of their surfaces' distances from the quad's
+/// plane, and one row of depths as stored, reused.
+#[derive(Debug, Default)]
+pub(super) struct Rows {
+    px: [Vec<u32>; 2],
+    off: [Vec<f32>; 2],
+    depth: Vec<f32>,
+}
+
+/// Reads `t` once, two rows at a time: the covered texels' bounds, the mean absolute
+/// difference between horizontally and vertically neighbouring texels over RGB of the
+/// stored 8-bit values ([`Capture::gradient`]), and the same with each difference weighted
+/// by its surface's distance from the quad's plane in radii ([`Capture::depth_gradient`];
+/// the nearer texel of a pair that holds a surface).
+pub(super) fn measure(t: &Target, c: &Capture, rows: &mut Rows) -> Measured {
+    let (w, h) = (t.width() as usize, t.height());
+    let camera = c.camera();
+    let plane = c.eye.distance(c.center);
+    // Row y's pixels and distances from the plane in radii (0 where nothing was drawn).
+    let fill = |y: u32, px: &mut Vec<u32>, off: &mut Vec<f32>, depth: &mut Vec<f32>| {
+        t.read_row(y, px, depth);
+        off.clear();
+        off.extend(depth.iter().map(|&d| {
+            if d > 0.0 {
+                ((camera.view_depth_from_reversed(d) - plane).abs() / c.radius).min(1.0)
+            } else {
+                0.0
+            }
+        }));
+    };
+    let diff = |p: u32, q: u32| {
+        let (p, q) = (p.to_le_bytes(), q.to_le_bytes());
+        (0..3).map(|k| p[k].abs_diff(q[k]) as u64).sum::<u64>()
+    };
+    let (mut sum, mut weighted, mut n) = (0u64, 0f64, 0u64);
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, u32::MAX, 0, 0);
+    if h > 0 {
+        let [px0, px1] = &mut rows.px;
+        let [off0, off1] = &mut rows.off;
+        fill(0, px0, off0, &mut rows.depth);
+        for y in 0..h {
+            let below = y + 1 < h;
+            if below {
+                fill(y + 1, px1, off1, &mut rows.depth);
+            }
+            if let Some(first) = px0.iter().position(|p| p >> 24 != 0) {
+                let last = px0.iter().rposition(|p| p >> 24 != 0).unwrap_or(first);
+                (x0, x1) = (x0.min(first), x1.max(last + 1));
+                (y0, y1) = (y0.min(y), y + 1);
+            }
+            for x in 0..w {
+                let (p, dp) = (px0[x], off0[x]);
+                // The same pairs, in the same order, as texel by texel: right, then below.
+                if x + 1 < w {
+                    let d = diff(p, px0[x + 1]);
+                    sum += d;
+                    weighted += d as f64 * dp.max(off0[x + 1]) as f64;
+                    n += 3;
+                }
+                if below {
+                    let d = diff(p, px1[x]);
+                    sum += d;
+                    weighted += d as f64 * dp.max(off1[x]) as f64;
+                    n += 3;
+                }
+            }
+            std::mem::swap(px0, px1);
+            std::mem::swap(off0, off1);
+        }
+    }
+    let n = n.max(1);
+    Measured {
+        covered: (x1 > 0).then(|| Rect::new(x0 as u32, y0, (x1 - x0) as u32, y1 - y0)),
+        gradient: sum as f32 / n as f32,
+        depth_gradient: (weighted / n as f64) as f32,
+    }
+}

@@ -1,0 +1,256 @@
+//! The morph between two parallel views, row by row: each image's pixels moved along
+//! their row by their disparity to the in-between eye, neighbours on one surface (within a
+//! pixel of disparity) joined so no crack opens, folds resolved by disparity, colours
+//! cross-dissolved where the other image sees the same point, and what neither image
+//! reaches filled from the farther side of the row.
+
+use super::{scaled, sum, MorphStats};
+use crate::core::DepthImage;
+use crate::stereo::{Disparity, Rectified};
+use engine::color::Premul;
+use engine::Camera;
+use rayon::prelude::*;
+
+/// Disparities within this many pixels are one surface.
+const SAME: f32 = 1.0;
+
+/// One source image of the morph, as a row reads it.
+struct Source<'a> {
+    color: &'a [Premul],
+    disparity: &'a [f32],
+    /// The other image, and its disparities: for the cross-dissolve.
+    other: &'a [Premul],
+    other_disparity: &'a [f32],
+    /// Where a pixel of disparity `d` at `x + 0.5` lands: `x + 0.5 + shift d`.
+    shift: f32,
+    /// Where the other image sees it: `x + 0.5 + other_shift d`.
+    other_shift: f32,
+    /// The weight of this image's colour in the dissolve.
+    weight: f32,
+}
+
+/// A row of the in-between view: colour, disparity (negative: empty) and whether it came
+/// from the second image.
+struct Row<'a> {
+    color: &'a mut [Premul],
+    disparity: Vec<f32>,
+    from_right: Vec<bool>,
+}
+
+impl Source<'_> {
+    /// Maps this image's row into `row`: `first` paints every pixel nearer than what is
+    /// there; the second image (`!first`) only pixels left empty or nearer by more than a
+    /// pixel of disparity.
+    fn map(&self, row: &mut Row, first: bool) {
+        let w = self.color.len();
+        let at = |x: usize, d: f32| x as f32 + 0.5 + self.shift * d;
+        for x in 0..w {
+            let d = self.disparity[x];
+            if !d.is_finite() {
+                continue;
+            }
+            let from = at(x, d);
+            // Joined to the next pixel when on the same surface and not folded over it.
+            let to = match self.disparity.get(x + 1) {
+                Some(&d1) if d1.is_finite() && (d1 - d).abs() <= SAME && at(x + 1, d1) > from => {
+                    at(x + 1, d1)
+                }
+                _ => from.floor() + 1.0,
+            };
+            let (lo, hi) = (from.floor().max(0.0), to.floor().min(w as f32));
+            if lo >= hi {
+                continue;
+            }
+            let color = self.dissolved(x, d);
+            for t in lo as usize..hi as usize {
+                let there = row.disparity[t];
+                let paint = if first {
+                    there < 0.0 || d > there
+                } else {
+                    there < 0.0 || d > there + SAME
+                };
+                if paint {
+                    row.color[t] = color;
+                    row.disparity[t] = d;
+                    row.from_right[t] = !first;
+                }
+            }
+        }
+    }
+
+    /// Pixel `x`'s colour, dissolved with the other image's where it sees the same point.
+    fn dissolved(&self, x: usize, d: f32) -> Premul {
+        let c = self.color[x];
+        let ox = x as f32 + 0.5 + self.other_shift * d;
+        let seen = (ox >= 0.0 && (ox as usize) < self.other.len())
+            .then_some(ox as usize)
+            .filter(|&o| (self.other_disparity[o] - d).abs() <= SAME);
+        match seen {
+            Some(o) => sum(
+                scaled(c, self.weight),
+                scaled(self.other[o], 1.0 - self.weight),
+            ),
+            None => c,
+        }
+    }
+}
+
+/// What a pixel of the parallel in-between view is made of, as one-hot colours so the
+/// postwarp carries it to the output as it carries the view ([`Made::count`]): red from
+/// the left image, green from the right only, blue filled, each as opaque as the pixel;
+/// transparent where nothing.
+pub(super) struct Made;
+
+impl Made {
+    const LEFT: Premul = Premul {
+        r: 1.0,
+        g: 0.0,
+        b: 0.0,
+        a: 1.0,
+    };
+    const RIGHT: Premul = Premul {
+        r: 0.0,
+        g: 1.0,
+        b: 0.0,
+        a: 1.0,
+    };
+    const FILLED: Premul = Premul {
+        r: 0.0,
+        g: 0.0,
+        b: 1.0,
+        a: 1.0,
+    };
+
+    /// The counts of a resampled image of these labels: each pixel at least half covered
+    /// counted by its largest share. Pixels nothing reached count nowhere.
+    pub(super) fn count(labels: &DepthImage) -> MorphStats {
+        let mut stats = MorphStats::default();
+        for c in &labels.color {
+            if c.a < 0.5 {
+                continue;
+            }
+            if c.r >= c.g && c.r >= c.b {
+                stats.from_left += 1;
+            } else if c.g >= c.b {
+                stats.from_right += 1;
+            } else {
+                stats.holes += 1;
+            }
+        }
+        stats
+    }
+}
+
+/// The parallel in-between view a fraction `s` from the left view of `pair` to its right,
+/// seen by `camera` (its depth from the disparities), and what each pixel is made of
+/// ([`Made`]).
+pub(super) fn morph(
+    pair: &Rectified,
+    left: &Disparity,
+    right: &Disparity,
+    s: f32,
+    camera: Camera,
+) -> (DepthImage, DepthImage) {
+    let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
+    let mut out = DepthImage::new(w as u32, h as u32, camera);
+    let mut made = DepthImage::new(w as u32, h as u32, camera);
+    if w == 0 || h == 0 {
+        return (out, made);
+    }
+    // Disparity to depth: d = f b / z for the pair's baseline.
+    let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
+    let depth_of = |d: f32| focal * pair.baseline / d;
+    let (lc, rc) = (&pair.left.color, &pair.right.color);
+    out.color
+        .par_chunks_mut(w)
+        .zip(out.depth.par_chunks_mut(w))
+        .zip(made.color.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, ((color, depth), made))| {
+            let span = y * w..(y + 1) * w;
+            let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
+            let (lrow, rrow) = (&lc[span.clone()], &rc[span]);
+            let mut row = Row {
+                color,
+                disparity: vec![-1.0; w],
+                from_right: vec![false; w],
+            };
+            // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
+            Source {
+                color: lrow,
+                disparity: ld,
+                other: rrow,
+                other_disparity: rd,
+                shift: -s,
+                other_shift: -1.0,
+                weight: 1.0 - s,
+            }
+            .map(&mut row, true);
+            Source {
+                color: rrow,
+                disparity: rd,
+                other: lrow,
+                other_disparity: ld,
+                shift: 1.0 - s,
+                other_shift: 1.0,
+                weight: s,
+            }
+            .map(&mut row, false);
+            for (t, &d) in row.disparity.iter().enumerate() {
+                if d >= 0.0 {
+                    made[t] = if row.from_right[t] {
+                        Made::RIGHT
+                    } else {
+                        Made::LEFT
+                    };
+                }
+            }
+            fill_from_farther(&mut row);
+            for (t, &d) in row.disparity.iter().enumerate() {
+                if d >= 0.0 && made[t].a <= 0.0 {
+                    made[t] = Made::FILLED;
+                }
+                // As opaque as the pixel, so the postwarp covers the same pixels with both.
+                made[t] = scaled(made[t], row.color[t].a);
+            }
+            for (z, &d) in depth.iter_mut().zip(&row.disparity) {
+                if d > 0.0 {
+                    *z = depth_of(d);
+                }
+            }
+        });
+    (out, made)
+}
+
+/// Fills each run of empty pixels of `row` between two mapped ones from the farther
+/// (smaller disparity) of the two: the background side, so a disocclusion does not take
+/// the colour of the surface in front.
+fn fill_from_farther(row: &mut Row) {
+    let w = row.disparity.len();
+    let mut x = 0;
+    while x < w {
+        if row.disparity[x] >= 0.0 {
+            x += 1;
+            continue;
+        }
+        let start = x;
+        while x < w && row.disparity[x] < 0.0 {
+            x += 1;
+        }
+        // Only gaps between two mapped pixels: past the last one on either side the views
+        // saw nothing, and nothing is made up.
+        let (Some(a), true) = (start.checked_sub(1), x < w) else {
+            continue;
+        };
+        let f = if row.disparity[a] <= row.disparity[x] {
+            a
+        } else {
+            x
+        };
+        let (c, d) = (row.color[f], row.disparity[f]);
+        for t in start..x {
+            row.color[t] = c;
+            row.disparity[t] = d;
+        }
+    }
+}

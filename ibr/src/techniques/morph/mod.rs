@@ -1,0 +1,512 @@
+//! View morphing (Seitz and Dyer, SIGGRAPH 96): in-between views from two images and
+//! their cameras, shape preserving, in three steps.
+//! 1. **prewarp**: both images turned to parallel views, x along the baseline
+//!    ([`fn@crate::stereo::rectify`]; the same homographies);
+//! 2. **morph** (the private `forward` module): between parallel views a point moves along its row, in
+//!    proportion to its disparity, so the view from the eye a fraction `s` along the
+//!    baseline puts left pixel `x` at `x - s d`; both images are mapped there (the left by
+//!    its disparities, the right by its own), folds resolved by disparity (nearer wins),
+//!    colours cross-dissolved where both see the point, holes filled from the other image;
+//! 3. **postwarp**: the parallel in-between view turned to the in-between camera, whose
+//!    eye is interpolated along the baseline and whose orientation is interpolated between
+//!    the two (spherically), as the lectures describe.
+//!
+//! Correspondences come from the images' depth ([`Correspondence::Depth`]) or from the
+//! stereo matcher on the prewarped pair ([`Correspondence::Stereo`]). The singular case,
+//! the baseline along the view (an epipole inside the image: motion toward the scene), is
+//! refused with the rectifier's error, not morphed into garbage.
+//!
+//! Without cameras ([`ViewMorph::from_points`], [`uncalibrated`]) the prewarp comes from
+//! point pairs: their fundamental matrix by the normalised eight-point algorithm
+//! ([`fundamental`]), homographies sending both epipoles to infinity along x (Hartley's
+//! projective rectification), and the postwarp interpolates the two prewarps' inverses.
+//!
+//! [`plain_morph`] is the morph without the prewarp: points moved along straight lines
+//! between their positions in the two images, which is not shape preserving when the
+//! views are not parallel; it is here to be measured against.
+
+mod forward;
+pub mod fundamental;
+pub mod uncalibrated;
+
+use crate::core::DepthImage;
+use crate::stereo::rectify::resample;
+use crate::stereo::rectify::{rectify_with, Framing};
+use crate::stereo::{luminance, Disparity, Rectified, RectifyError, Sgm};
+use engine::color::Premul;
+use engine::Camera;
+use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+
+/// Where the morph's dense correspondences come from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Correspondence {
+    /// The images' depth (rendered, or from a depth camera).
+    Depth,
+    /// Semi-global matching on the prewarped pair, up to this many pixels of disparity.
+    Stereo {
+        /// The largest disparity searched, in pixels of the prewarped pair.
+        max_disparity: u32,
+    },
+}
+
+/// Why two views cannot be morphed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MorphError {
+    /// The views cannot be rectified to parallel ones (no baseline, or moving along the
+    /// view).
+    #[error("cannot prewarp the views to parallel ones: {0}")]
+    Prewarp(#[from] RectifyError),
+    #[error("the images have no depth to take correspondences from (use the stereo matcher)")]
+    /// Depth correspondence was asked for, but neither image holds a surface (finite
+    /// depth).
+    NoDepth,
+    /// The stereo matcher refused the pair: its message.
+    #[error("the stereo matcher failed: {0}")]
+    Stereo(String),
+    /// The point pairs give no fundamental matrix (uncalibrated morphs).
+    #[error("cannot estimate the fundamental matrix from the point pairs: {0}")]
+    Fundamental(#[from] fundamental::FundamentalError),
+    #[error(
+        "the epipole of the {image} image is at ({x:.0}, {y:.0}) pixels, in or near the image: the eyes move toward the scene and rows cannot be made to match (move the cameras sideways)"
+    )]
+    /// An epipole lies in or near an image, so no homography can make its rows match
+    /// (the eyes move toward the scene).
+    EpipoleInImage {
+        /// Which image, `"first"` or `"second"`.
+        image: &'static str,
+        /// The epipole's x, in that image's pixels.
+        x: f64,
+        /// The epipole's y, in that image's pixels.
+        y: f64,
+    },
+    /// The point pairs' disparities exceed what the stereo matcher searches.
+    #[error("the point pairs lie up to {needed} pixels apart in the prewarped pair, past the matcher's {max}")]
+    DisparityRange {
+        /// The largest disparity of the pairs, prewarped pixels.
+        needed: u32,
+        /// The matcher's `max_disparity`.
+        max: u32,
+    },
+    /// The point pairs cannot make a prewarp: why.
+    #[error("cannot prewarp from the point pairs: {0}")]
+    Pairs(&'static str),
+}
+
+/// What a morphed frame holds, in pixels of the frame (the output, not the larger
+/// prewarped pair): each covered pixel counted once, by what most of it came from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MorphStats {
+    /// Pixels mapped from the left image, and from the right image only (holes the left
+    /// left, filled from the other image).
+    pub from_left: u64,
+    /// Pixels mapped from the right image only (where the left image left holes).
+    pub from_right: u64,
+    /// Pixels neither image mapped to, between two mapped pixels of their row in the
+    /// parallel view: filled from the farther side. (What nothing reached is not counted.)
+    pub holes: u64,
+}
+
+/// Two views prewarped to parallel ones, with their disparities: ready to morph.
+#[derive(Clone, Debug)]
+pub struct ViewMorph {
+    /// The views' size (the prewarped pair is larger).
+    width: u32,
+    height: u32,
+    from: Camera,
+    to: Camera,
+    pair: Rectified,
+    /// The prewarped left and right views' disparities (pixels, infinity where unknown).
+    left: Disparity,
+    right: Disparity,
+    /// For a morph from point pairs: the postwarp's two ends, in place of the cameras.
+    postwarp: Option<uncalibrated::Postwarp>,
+}
+
+impl ViewMorph {
+    /// Prewarps `a` and `b` (one size, cameras apart across the view) and finds their
+    /// correspondences.
+    pub fn new(a: &DepthImage, b: &DepthImage, how: Correspondence) -> Result<Self, MorphError> {
+        // Halfway between the views' directions, half again as large: a view turned to it
+        // keeps most of what it sees.
+        let framing = Framing {
+            between: true,
+            scale: 1.5,
+        };
+        let pair = rectify_with(a, b, &framing)?;
+        let (w, h) = (pair.left.width(), pair.left.height());
+        let focal = pair.left.camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
+        let (left, right) = match how {
+            Correspondence::Depth => {
+                if a.covered() == 0 && b.covered() == 0 {
+                    return Err(MorphError::NoDepth);
+                }
+                let of = |image: &DepthImage| {
+                    let data = image
+                        .depth
+                        .iter()
+                        .zip(&image.color)
+                        .map(|(&z, c)| {
+                            if c.a <= 0.0 {
+                                // Outside what the view saw: unknown.
+                                f32::INFINITY
+                            } else if z.is_finite() && z > 0.0 {
+                                focal * pair.baseline / z
+                            } else {
+                                // Sky: at infinity, the same in both views.
+                                0.0
+                            }
+                        })
+                        .collect();
+                    Disparity::new(w, h, data).expect("finite and positive, or infinite")
+                };
+                (of(&pair.left), of(&pair.right))
+            }
+            Correspondence::Stereo { max_disparity } => stereo(&pair, max_disparity)?,
+        };
+        Ok(ViewMorph {
+            width: a.width(),
+            height: a.height(),
+            from: a.camera,
+            to: b.camera,
+            pair,
+            left,
+            right,
+            postwarp: None,
+        })
+    }
+
+    /// The prewarped pair. (From point pairs its cameras are the first image's, standing
+    /// in, and its baseline 0: unknown.)
+    pub fn prewarped(&self) -> &Rectified {
+        &self.pair
+    }
+
+    /// The in-between camera a fraction `s` of the way (0: the first view, 1: the second):
+    /// its eye on the line between the two, its orientation interpolated spherically, the
+    /// first view's projection. For a morph from point pairs, the images' own cameras,
+    /// which the morph did not use.
+    pub fn camera_at(&self, s: f32) -> Camera {
+        between(&self.from, &self.to, s)
+    }
+
+    /// The in-between view a fraction `s` of the way, and what it is made of. (From point
+    /// pairs its depth is unknown: [`crate::core::EMPTY`].)
+    pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
+        let s = s.clamp(0.0, 1.0);
+        let p = &self.pair;
+        let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
+        let parallel = Camera {
+            view: moved_view(&p.left.camera, eye),
+            projection: p.left.camera.projection,
+        };
+        let (image, made) = forward::morph(p, &self.left, &self.right, s, parallel);
+        let (w, h) = (self.width, self.height);
+        let camera = self.camera_at(s);
+        // What each output pixel is made of, carried by the same postwarp as the view.
+        let postwarp = |image: &DepthImage| match &self.postwarp {
+            Some(postwarp) => postwarp.apply(image, s, camera, w, h),
+            None => resample(image, &camera, w, h),
+        };
+        (postwarp(&image), forward::Made::count(&postwarp(&made)))
+    }
+}
+
+/// The dense correspondences of a prewarped pair by semi-global matching, over a window
+/// of `max_disparity` pixels: the left view's disparities and the right's (the mirrored
+/// pair matched the same way), unknowns filled from the background side, infinite where
+/// the prewarped view saw nothing. Where the window lies comes from [`disparity_window`]:
+/// `0..max_disparity` unless the pair's disparities reach past it (views far apart, as
+/// 30 degrees at 640 pixels), when the right image is shifted by the least disparity
+/// found, so a match is never sought short of where it is (which doubled the model).
+/// (Disparities spanning more than the window cannot all be found; the window then starts
+/// at 0, as without the search.)
+/// Shared by the morph from points ([`uncalibrated`]).
+fn stereo(pair: &Rectified, max_disparity: u32) -> Result<(Disparity, Disparity), MorphError> {
+    let (w, h) = (pair.left.width(), pair.left.height());
+    let sgm = Sgm {
+        max_disparity,
+        ..Sgm::default()
+    };
+    let (l, r) = (luminance(&pair.left), luminance(&pair.right));
+    let seen: Vec<bool> = pair.left.color.iter().map(|c| c.a > 0.0).collect();
+    let lo = disparity_window(&l, &r, &seen, (w, h), max_disparity)?;
+    let run = |l: &[f32], r: &[f32]| {
+        let mut d = sgm
+            .run(l, r, w, h)
+            .map_err(|e| MorphError::Stereo(e.to_string()))?;
+        for v in &mut d.data {
+            *v += lo as f32;
+        }
+        Ok::<_, MorphError>(d)
+    };
+    // The right view's disparities: the mirrored pair matched the same way.
+    let flip = |v: &[f32]| -> Vec<f32> {
+        v.chunks(w as usize)
+            .flat_map(|row| row.iter().rev().copied())
+            .collect()
+    };
+    let mut left = run(&l, &shift(&r, w, lo))?;
+    let mirrored = run(&flip(&r), &shift(&flip(&l), w, lo))?;
+    let mut right = Disparity::new(w, h, flip(&mirrored.data)).expect("a matcher's disparities");
+    // What the checks left unknown (occlusions, mismatches) taken from the
+    // background side, where a disocclusion's pixels lie.
+    for (map, image) in [(&mut left, &pair.left), (&mut right, &pair.right)] {
+        map.fill_from_background();
+        fill_columns(map);
+        // Unknown where the prewarped view saw nothing.
+        for (d, c) in map.data.iter_mut().zip(&image.color) {
+            if c.a <= 0.0 {
+                *d = f32::INFINITY;
+            }
+        }
+    }
+    Ok((left, right))
+}
+
+/// Fills what a row fill left unknown (rows with no match at all: a textureless sky or
+/// backdrop above or below the model) from the nearest known pixels of its column above
+/// and below, the farther of the two (the background side). Without it those rows stayed
+/// empty: a band of nothing across the morph where the views saw sky.
+fn fill_columns(map: &mut Disparity) {
+    let (w, h) = (map.width as usize, map.height as usize);
+    for x in 0..w {
+        let mut above: Option<f32> = None;
+        let mut pending = Vec::new();
+        for y in 0..h {
+            let d = map.data[y * w + x];
+            if d.is_finite() {
+                for &p in &pending {
+                    map.data[p] = above.map_or(d, |a| a.min(d));
+                }
+                pending.clear();
+                above = Some(d);
+            } else {
+                pending.push(y * w + x);
+            }
+        }
+        if let Some(a) = above {
+            for &p in &pending {
+                map.data[p] = a;
+            }
+        }
+    }
+}
+
+/// The rows of `image` (`w` wide) moved right by `by` pixels, black coming in at the left:
+/// a left pixel `x` that matches `x - d` in `image` matches `x - (d - by)` in this.
+fn shift(image: &[f32], w: u32, by: u32) -> Vec<f32> {
+    let (w, by) = (w as usize, (by as usize).min(w as usize));
+    if by == 0 {
+        return image.to_vec();
+    }
+    image
+        .chunks(w)
+        .flat_map(|row| std::iter::repeat_n(0.0, by).chain(row[..w - by].iter().copied()))
+        .collect()
+}
+
+/// The pair's reduction for the coarse search: each side divided by this.
+const COARSE: u32 = 4;
+
+/// Where a window of `max` disparities must start for the pair `l`, `r` (luminance, `w` x
+/// `h`; `seen`: the left view's pixels that show something): 0 when a coarse search (the
+/// pair reduced [`COARSE`] times, matched over its whole width) finds its disparities
+/// (1st to 99th percentile over the blocks the left view sees whole, give or take two
+/// coarse pixels) inside `0..max` or spanning more than `max` (then the window cannot
+/// hold them wherever it lies); their least otherwise.
+fn disparity_window(
+    l: &[f32],
+    r: &[f32],
+    seen: &[bool],
+    (w, h): (u32, u32),
+    max: u32,
+) -> Result<u32, MorphError> {
+    let (cw, ch) = (w / COARSE, h / COARSE);
+    if cw < 8 || ch < 8 {
+        return Ok(0);
+    }
+    let k = COARSE as usize;
+    // The pixels of coarse block `i`.
+    let block = move |i: usize| {
+        let (x, y) = (i % cw as usize * k, i / cw as usize * k);
+        (0..k).flat_map(move |dy| (0..k).map(move |dx| (y + dy) * w as usize + x + dx))
+    };
+    let reduce = |v: &[f32]| -> Vec<f32> {
+        (0..(cw * ch) as usize)
+            .map(|i| block(i).map(|p| v[p]).sum::<f32>() / (k * k) as f32)
+            .collect()
+    };
+    let coarse = Sgm {
+        max_disparity: cw,
+        prior: 0,
+        ..Sgm::default()
+    };
+    let Ok(found) = coarse.run(&reduce(l), &reduce(r), cw, ch) else {
+        return Ok(0);
+    };
+    let mut d: Vec<f32> = (found.data.into_iter().enumerate())
+        .filter(|&(i, d)| d.is_finite() && block(i).all(|p| seen[p]))
+        .map(|(_, d)| d)
+        .collect();
+    if d.len() < 16 {
+        return Ok(0);
+    }
+    d.sort_by(f32::total_cmp);
+    let at = |q: f32| d[((d.len() - 1) as f32 * q) as usize] * COARSE as f32;
+    let margin = 2.0 * COARSE as f32;
+    let lo = (at(0.01) - margin).max(0.0).floor() as u32;
+    let hi = (at(0.99) + margin).ceil() as u32;
+    if hi <= max {
+        return Ok(0);
+    }
+    if hi - lo > max {
+        // Wider than the window: searched from 0 as before (what lies past it is matched
+        // short of where it is); a wider window is the cure.
+        return Ok(0);
+    }
+    Ok(lo)
+}
+
+/// `camera`'s view with its eye moved to `eye` (same orientation).
+fn moved_view(camera: &Camera, eye: Vec3) -> Mat4 {
+    let mut view = camera.view;
+    let r = Mat3::from_mat4(view);
+    view.w_axis = (-(r * eye)).extend(1.0);
+    view
+}
+
+/// The camera a fraction `s` of the way from `a` to `b`: eye linearly, orientation by
+/// spherical interpolation, `a`'s projection.
+pub fn between(a: &Camera, b: &Camera, s: f32) -> Camera {
+    let rotation = |c: &Camera| Quat::from_mat3(&Mat3::from_mat4(c.view)).normalize();
+    let r = rotation(a).slerp(rotation(b), s);
+    let eye = a.eye().lerp(b.eye(), s);
+    let m = Mat3::from_quat(r);
+    let t = -(m * eye);
+    Camera {
+        view: Mat4::from_cols(
+            m.x_axis.extend(0.0),
+            m.y_axis.extend(0.0),
+            m.z_axis.extend(0.0),
+            Vec4::new(t.x, t.y, t.z, 1.0),
+        ),
+        projection: a.projection,
+    }
+}
+
+/// The largest side (pixels) of a plain morph's splat: a wider stretch is left open.
+const MAX_SPLAT: f32 = 8.0;
+
+/// The morph without the prewarp, for comparison: each pixel of `a` with depth moved on
+/// the straight line from where `a` sees its point to where `b` does, a fraction `s` of
+/// the way, nearer points painted last; colours from `a` alone. Not shape preserving
+/// unless the views are parallel. Each pixel covers its footprint, so no crack opens
+/// where the morph stretches the image: the box around the pixel's centre moved, spanning
+/// half the way to where its neighbours on the same surface (depths within 5%) move (at
+/// most `MAX_SPLAT` (8) pixels a side); across a depth edge, one pixel's step. Unfilled
+/// pixels are transparent.
+pub fn plain_morph(a: &DepthImage, b: &DepthImage, s: f32) -> DepthImage {
+    let (w, h) = (a.width(), a.height());
+    let camera = between(&a.camera, &b.camera, s);
+    let mut out = DepthImage::new(w, h, camera);
+    let to_b = b.camera.gl_view_proj();
+    let pixel = |c: Vec4| {
+        (
+            (c.x / c.w + 1.0) * 0.5 * w as f32,
+            (1.0 - c.y / c.w) * 0.5 * h as f32,
+        )
+    };
+    // Where pixel (x, y) of `a` moves, and its depth there; `None` without depth or behind
+    // `b`'s eye.
+    let moved = |x: u32, y: u32| -> Option<(f32, f32, f32, f32)> {
+        let point = a.world_point(x, y)?;
+        let (_, z) = a.get(x, y)?;
+        let c = to_b * point.extend(1.0);
+        if c.w <= 0.0 {
+            return None;
+        }
+        let (bx, by) = pixel(c);
+        Some((
+            (x as f32 + 0.5) * (1.0 - s) + bx * s,
+            (y as f32 + 0.5) * (1.0 - s) + by * s,
+            z * (1.0 - s) + c.w * s,
+            z,
+        ))
+    };
+    // The step to a neighbour on the same surface, from either side; one pixel otherwise.
+    let step = |here: (f32, f32, f32, f32), x: u32, y: u32, dx: i32, dy: i32| -> (f32, f32) {
+        let same = |n: Option<(f32, f32, f32, f32)>| {
+            n.filter(|n| (n.3 - here.3).abs() <= 0.05 * here.3.min(n.3))
+        };
+        let at = |k: i32| {
+            let (nx, ny) = (x as i32 + k * dx, y as i32 + k * dy);
+            (nx >= 0 && ny >= 0 && nx < w as i32 && ny < h as i32)
+                .then(|| moved(nx as u32, ny as u32))
+                .flatten()
+        };
+        if let Some(n) = same(at(1)) {
+            (n.0 - here.0, n.1 - here.1)
+        } else if let Some(n) = same(at(-1)) {
+            (here.0 - n.0, here.1 - n.1)
+        } else {
+            (dx as f32, dy as f32)
+        }
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let Some(here) = moved(x, y) else {
+                continue;
+            };
+            let color = a.color[(y * w + x) as usize];
+            let (ex, ey) = (step(here, x, y, 1, 0), step(here, x, y, 0, 1));
+            // Half the steps either way, at least a pixel's box, at most the largest splat.
+            let rx = ((ex.0.abs() + ey.0.abs()) * 0.5).clamp(0.5, MAX_SPLAT * 0.5);
+            let ry = ((ex.1.abs() + ey.1.abs()) * 0.5).clamp(0.5, MAX_SPLAT * 0.5);
+            let (px, py, depth) = (here.0, here.1, here.2);
+            if !(px.is_finite() && py.is_finite()) {
+                continue;
+            }
+            // The pixels whose centres lie in the box (the centre's own at least).
+            let span = |p: f32, r: f32, n: u32| {
+                let lo = (p - r - 0.5).ceil().max(0.0);
+                let hi = (p + r - 0.5).floor().min(n as f32 - 1.0);
+                let own = p.floor();
+                (lo.min(own).max(0.0) as i64, hi.max(own) as i64)
+            };
+            let ((x0, x1), (y0, y1)) = (span(px, rx, w), span(py, ry, h));
+            for ty in y0.max(0)..=y1.min(h as i64 - 1) {
+                for tx in x0.max(0)..=x1.min(w as i64 - 1) {
+                    let (tx, ty) = (tx as u32, ty as u32);
+                    if out.get(tx, ty).is_some_and(|(_, d)| d <= depth) {
+                        continue;
+                    }
+                    out.set(tx, ty, color, depth);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `a` over nothing: premultiplied colour scaled by `k`.
+fn scaled(c: Premul, k: f32) -> Premul {
+    Premul {
+        r: c.r * k,
+        g: c.g * k,
+        b: c.b * k,
+        a: c.a * k,
+    }
+}
+
+/// The sum of two premultiplied colours.
+fn sum(a: Premul, b: Premul) -> Premul {
+    Premul {
+        r: a.r + b.r,
+        g: a.g + b.g,
+        b: a.b + b.b,
+        a: a.a + b.a,
+    }
+}
+
+#[cfg(test)]
+mod tests;

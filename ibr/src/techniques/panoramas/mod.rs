@@ -1,0 +1,296 @@
+//! Panoramas (Chen 95, QuickTime VR; environment maps): the far scene captured from one
+//! point into a cube map, six 90-degree views, and drawn as the sky behind everything from
+//! there: each pixel's ray direction looked up, whatever the eye's position. Right where
+//! it was captured and in any direction; wrong, by parallax, as the eye moves away, which
+//! is where the method fails. [`CubeMap::predicted_px`] says by how much before rendering
+//! (the nearest point it holds, seen from the moved eye), and [`Sky`] re-captures when
+//! that passes a tolerance. A [`Cylinder`] is the cube unrolled around the vertical, the
+//! QuickTime VR panorama: turn in place and look around, within its band of heights.
+
+use crate::core::capture_batch;
+use crate::core::DepthImage;
+use crate::stereo::rectify::{bilinear, pixel_ray};
+use engine::{Camera, Draw, Lighting, Premul};
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// The six faces' view directions and up vectors: +x, -x, +y, -y, +z, -z.
+const FACES: [(Vec3, Vec3); 6] = [
+    (Vec3::X, Vec3::Y),
+    (Vec3::NEG_X, Vec3::Y),
+    (Vec3::Y, Vec3::NEG_Z),
+    (Vec3::NEG_Y, Vec3::Z),
+    (Vec3::Z, Vec3::Y),
+    (Vec3::NEG_Z, Vec3::Y),
+];
+
+/// A cube map: six square views from one centre, with depth (for the error prediction).
+#[derive(Clone, Debug)]
+pub struct CubeMap {
+    centre: Vec3,
+    faces: Vec<DepthImage>,
+}
+
+impl CubeMap {
+    /// Captures `draws` from `centre` into six `size` x `size` faces, seeing from `near`
+    /// (what is nearer is left out: the near scene is drawn as geometry) to `far`.
+    pub fn capture(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        centre: Vec3,
+        size: u32,
+        near: f32,
+        far: f32,
+    ) -> CubeMap {
+        let cameras: Vec<Camera> = FACES
+            .iter()
+            .map(|&(dir, up)| {
+                Camera::look_at(centre, centre + dir, up, std::f32::consts::FRAC_PI_2, 1.0)
+                    .with_depth_range(near.max(1e-4), far.max(near * 2.0))
+            })
+            .collect();
+        CubeMap {
+            centre,
+            faces: capture_batch(draws, &cameras, lighting, size, size),
+        }
+    }
+
+    /// Where it was captured.
+    pub fn centre(&self) -> Vec3 {
+        self.centre
+    }
+
+    /// The distance (along each face's axis) of the nearest point it holds; infinity when
+    /// it holds only sky.
+    pub fn nearest(&self) -> f32 {
+        self.faces
+            .iter()
+            .flat_map(|f| f.depth.iter())
+            .copied()
+            .filter(|d| d.is_finite())
+            .fold(f32::INFINITY, f32::min)
+    }
+
+    /// The view of the panorama from `camera`'s orientation (its position does not
+    /// matter: the panorama is drawn as if infinitely far), `w` x `h`. Depth is empty
+    /// everywhere: it is the sky, behind everything.
+    pub fn view(&self, camera: &Camera, w: u32, h: u32) -> DepthImage {
+        let mut out = DepthImage::new(w, h, *camera);
+        let to_world = camera.gl_view_proj().inverse();
+        let eye = camera.eye();
+        out.color
+            .par_chunks_mut(w.max(1) as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, c) in row.iter_mut().enumerate() {
+                    let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
+                    if let Some(s) = self.sample(dir) {
+                        *c = s;
+                    }
+                }
+            });
+        out
+    }
+
+    /// Fills the pixels of `frame` that show nothing with the panorama, as its sky.
+    pub fn behind(&self, frame: &mut DepthImage) {
+        let sky = self.view(&frame.camera, frame.width(), frame.height());
+        for (c, s) in frame.color.iter_mut().zip(&sky.color) {
+            if c.a <= 0.0 {
+                *c = *s;
+            }
+        }
+    }
+
+    /// The predicted error of drawing this from `eye`: how far (in pixels, at `focal_px`
+    /// pixels per unit of tangent) the nearest point it holds moves when seen from `eye`
+    /// instead of the centre, at worst (moved across the line of sight). Zero at the
+    /// centre; it grows with the distance moved and shrinks with the scene's distance.
+    pub fn predicted_px(&self, eye: Vec3, focal_px: f32) -> f32 {
+        let nearest = self.nearest();
+        if !nearest.is_finite() {
+            return 0.0;
+        }
+        focal_px * (eye - self.centre).length() / nearest
+    }
+}
+
+impl CubeMap {
+    /// The colour seen in direction `dir` from the centre (bilinear on the face it points
+    /// into); `None` for a zero or non-finite direction.
+    pub fn sample(&self, dir: Vec3) -> Option<Premul> {
+        let a = dir.abs();
+        if !dir.is_finite() || a.max_element() <= 0.0 {
+            return None;
+        }
+        let face = if a.x >= a.y && a.x >= a.z {
+            usize::from(dir.x < 0.0)
+        } else if a.y >= a.z {
+            2 + usize::from(dir.y < 0.0)
+        } else {
+            4 + usize::from(dir.z < 0.0)
+        };
+        let f = &self.faces[face];
+        let c = f.camera.gl_view_proj() * dir.extend(0.0);
+        let (w, h) = (f.width() as f32, f.height() as f32);
+        let (u, v) = (
+            (c.x / c.w + 1.0) * 0.5 * w - 0.5,
+            (1.0 - c.y / c.w) * 0.5 * h - 0.5,
+        );
+        bilinear(f, u.clamp(-0.5, w - 0.5), v.clamp(-0.5, h - 0.5))
+    }
+}
+
+/// A cylindrical panorama (QuickTime VR's): the view around a vertical axis, every
+/// direction of azimuth over `width` columns and heights up to `tan(half_fov)` above and
+/// below the horizon over `height` rows; viewed by turning in place. What lies above or
+/// below its band is not in it.
+#[derive(Clone, Debug)]
+pub struct Cylinder {
+    centre: Vec3,
+    width: u32,
+    height: u32,
+    /// `tan` of the band's half height, as an angle above the horizon.
+    tan_half: f32,
+    /// Linear premultiplied colour, row-major, top row first; column 0 looks down -z.
+    color: Vec<Premul>,
+}
+
+impl Cylinder {
+    /// Unrolls `map` into a `width` x `height` cylinder reaching `half_fov` radians above
+    /// and below the horizon.
+    pub fn from_cube(map: &CubeMap, width: u32, height: u32, half_fov: f32) -> Cylinder {
+        let tan_half = half_fov.clamp(0.01, 1.5).tan();
+        let (w, h) = (width.max(1), height.max(1));
+        let color = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let theta = (x as f32 + 0.5) / w as f32 * std::f32::consts::TAU;
+                let up = tan_half * (1.0 - 2.0 * (y as f32 + 0.5) / h as f32);
+                let dir = Vec3::new(theta.sin(), up, -theta.cos());
+                map.sample(dir).unwrap_or(Premul::TRANSPARENT)
+            })
+            .collect();
+        Cylinder {
+            centre: map.centre,
+            width: w,
+            height: h,
+            tan_half,
+            color,
+        }
+    }
+
+    /// The view from `camera`'s orientation, turned in place at the centre, `w` x `h`:
+    /// each ray's azimuth and height looked up (wrapping around), transparent above and
+    /// below the band.
+    pub fn view(&self, camera: &Camera, w: u32, h: u32) -> DepthImage {
+        let mut out = DepthImage::new(w, h, *camera);
+        let to_world = camera.gl_view_proj().inverse();
+        let eye = camera.eye();
+        let (cw, ch) = (self.width as f32, self.height as f32);
+        for (i, c) in out.color.iter_mut().enumerate() {
+            let dir = pixel_ray(&to_world, eye, (i as u32 % w, i as u32 / w), (w, h));
+            let flat = (dir.x * dir.x + dir.z * dir.z).sqrt();
+            if flat.is_nan() || flat <= 0.0 {
+                continue;
+            }
+            let up = dir.y / flat;
+            if up.abs() > self.tan_half {
+                continue;
+            }
+            let theta = dir.x.atan2(-dir.z).rem_euclid(std::f32::consts::TAU);
+            let u = theta / std::f32::consts::TAU * cw - 0.5;
+            let v = (1.0 - up / self.tan_half) * 0.5 * ch - 0.5;
+            *c = self.texel(u, v);
+        }
+        out
+    }
+
+    /// Bilinear at `(u, v)` (texel centres at integers), wrapping in `u`, clamped in `v`.
+    fn texel(&self, u: f32, v: f32) -> Premul {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (u0, v0) = (u.floor(), v.floor());
+        let (fu, fv) = (u - u0, v - v0);
+        let at = |x: i64, y: i64| {
+            let (x, y) = (x.rem_euclid(w), y.clamp(0, h - 1));
+            self.color[(y * w + x) as usize]
+        };
+        let (x, y) = (u0 as i64, v0 as i64);
+        let mix = |a: Premul, b: Premul, t: f32| Premul {
+            r: a.r + (b.r - a.r) * t,
+            g: a.g + (b.g - a.g) * t,
+            b: a.b + (b.b - a.b) * t,
+            a: a.a + (b.a - a.a) * t,
+        };
+        mix(
+            mix(at(x, y), at(x + 1, y), fu),
+            mix(at(x, y + 1), at(x + 1, y + 1), fu),
+            fv,
+        )
+    }
+
+    /// Where it was captured.
+    pub fn centre(&self) -> Vec3 {
+        self.centre
+    }
+}
+
+/// A panorama sky with a re-capture policy: drawn from where it was captured until the
+/// predicted error passes the tolerance, then captured again at the eye.
+#[derive(Clone, Debug)]
+pub struct Sky {
+    /// The cube map drawn, captured at its [`CubeMap::centre`].
+    pub map: CubeMap,
+    /// Re-capture past this many pixels of predicted error.
+    pub tolerance_px: f32,
+    /// Side of each cube face of a capture, pixels.
+    pub size: u32,
+    /// Near distance of a capture, world units.
+    pub near: f32,
+    /// Far distance of a capture, world units.
+    pub far: f32,
+    /// Captures made (the first included).
+    pub captures: u32,
+}
+
+impl Sky {
+    /// Captures the first panorama at `eye`.
+    pub fn new(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        eye: Vec3,
+        size: u32,
+        (near, far): (f32, f32),
+        tolerance_px: f32,
+    ) -> Sky {
+        Sky {
+            map: CubeMap::capture(draws, lighting, eye, size, near, far),
+            tolerance_px,
+            size,
+            near,
+            far,
+            captures: 1,
+        }
+    }
+
+    /// Before drawing from `camera` (`focal_px` pixels per unit of tangent): re-captures at
+    /// its eye when the predicted error there passes the tolerance. Returns whether it did.
+    pub fn update(
+        &mut self,
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        camera: &Camera,
+        focal_px: f32,
+    ) -> bool {
+        let eye = camera.eye();
+        if self.map.predicted_px(eye, focal_px) <= self.tolerance_px {
+            return false;
+        }
+        self.map = CubeMap::capture(draws, lighting, eye, self.size, self.near, self.far);
+        self.captures += 1;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,633 @@
+//! LDI portals (Popescu, Lastra, Aliaga and de Oliveira 98): what lies behind a door or
+//! window is drawn from a layered depth image warped to the eye each frame, instead of
+//! its geometry, so the frame's cost follows the pixels the opening covers, not the
+//! triangles behind it.
+//!
+//! Per portal:
+//! 1. **build** (when there is no image, the eye has left the region it was built for,
+//!    or the predicted error of the move, [`PortalConfig::tolerance_px`], is too large):
+//!    the geometry behind the opening is captured from the eye and from eyes spread
+//!    around it (left, right, up, down by [`PortalConfig::reach`]), a few views a frame
+//!    ([`PortalConfig::views_per_frame`] over all portals, so a rebuild is spread over
+//!    frames instead of stalling one), and once all are in, merged into one LDI seen from
+//!    the eye ([`LdiBuilder`]) and prepared for the warp. The old LDI is shown meanwhile
+//!    (or the geometry, before the first);
+//! 2. **warp**: the LDI is warped to the frame's camera and its holes filled;
+//! 3. **clip**: only pixels inside the opening's outline on screen are kept
+//!    ([`Opening::outline`]), gathered into one image for all portals;
+//! 4. **composite**: an image pass writes them into the frame, depth-tested against the
+//!    near room the rasterizer drew (warped samples carry depth, so a table in front of
+//!    the door hides them).
+//!
+//! Portals can be made in code ([`Portal::new`]) or read from a loaded scene whose nodes
+//! mark them ([`marked`]: `portal.<room>` and `room.<room>`).
+//!
+//! Walking up to the opening (within [`PortalConfig::through`] of its plane, over it) or
+//! into the room behind it, the portal draws its geometry instead; the LDI built from an
+//! eye at the opening sees what the geometry shows, so the switch does not pop. An eye past
+//! the opening's plane is in its room if it came through the opening (or stands inside
+//! the box around the room's geometry); otherwise, come in through another door, it sees
+//! the opening from behind and the portal is culled.
+
+pub mod marked;
+pub mod opening;
+
+use crate::core::Capturer;
+use crate::core::{Counters, FrameView, Technique};
+use crate::core::{DepthImage, LayeredDepthImage};
+use crate::core::{MeshGroup, Subject};
+use crate::warp::holes::{Fill, Filler};
+use crate::warp::ldi::{LdiBuilder, LdiLanding};
+use crate::warp::predict::{depth_range, parallax_px};
+use crate::warp::ImagePass;
+use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
+use engine::{
+    run_packed_pass, Camera, Draw, FrameStats, Lighting, PassMode, PixelRect, Projection, Target,
+};
+use glam::{Vec2, Vec3};
+pub use marked::{from_scene, MarkError, Marked};
+pub use opening::{Opening, Outline};
+
+/// What a portal's image holds (the three representations Rafferty et al. 98 compared).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalImage {
+    /// A layered depth image merged from the eye's view and four side views.
+    Ldi,
+    /// One depth image, the eye's view: parallax, but what the eye did not see is a hole.
+    DepthImage,
+    /// The eye's view flat on the opening (every sample at the opening's plane): a
+    /// textured portal, right only from where it was taken.
+    Flat,
+}
+
+/// How portals are built and drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PortalConfig {
+    /// Which image of the room a build makes.
+    pub image: PortalImage,
+    /// The LDI's largest side, pixels. A build makes it 1.5 times the opening's size on
+    /// screen, up to this; an opening grown to twice what its LDI was built for is rebuilt.
+    pub side: u32,
+    /// How far (scene units) the eye may move from where an LDI was built before it is
+    /// rebuilt, and how far the side views of a build are from its eye; at most 0.35
+    /// of the eye's distance from the opening's plane (a region is narrower near the
+    /// opening, where the parallax is larger).
+    pub reach: f32,
+    /// The predicted parallax (target pixels: how wide a disocclusion the eye's move from
+    /// where the image was built can open, [`parallax_px`]) past which the image is
+    /// rebuilt even inside its region.
+    pub tolerance_px: f32,
+    /// Relative depth within which samples of the build's views merge into one.
+    pub tolerance: f32,
+    /// Within this distance of the opening's plane (and over the opening) the portal
+    /// draws its geometry.
+    pub through: f32,
+    /// The most views captured in one frame, over all portals (an LDI takes five, a depth
+    /// or flat image one).
+    pub views_per_frame: usize,
+    /// How the holes left inside the openings after warping are filled.
+    pub fill: Fill,
+    /// How the images are warped into the openings.
+    pub options: WarpOptions,
+}
+
+impl Default for PortalConfig {
+    fn default() -> Self {
+        PortalConfig {
+            image: PortalImage::Ldi,
+            side: 384,
+            reach: 1.0,
+            tolerance_px: 48.0,
+            tolerance: 0.03,
+            through: 1.0,
+            views_per_frame: 1,
+            fill: Fill::PullPush,
+            options: WarpOptions::default(),
+        }
+    }
+}
+
+/// How a portal was drawn in the last frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortalMode {
+    /// Its opening is not on screen, or faces away (the eye is past its plane in another
+    /// room): nothing drawn.
+    Culled,
+    /// Its LDI warped into the opening.
+    Warped,
+    /// Its geometry: the eye is at the opening or in the room behind it, or no LDI has
+    /// been built yet.
+    Geometry,
+}
+
+/// A door or window and what lies behind it.
+#[derive(Debug)]
+pub struct Portal {
+    /// The doorway or window, world space.
+    pub opening: Opening,
+    /// The geometry seen through the opening (drawn only when the portal shows geometry).
+    pub behind: MeshGroup,
+    ldi: Option<LayeredDepthImage>,
+    prepared: Prepared,
+    /// The eye the LDI was built from, the reach of its region, and the on-screen size
+    /// (pixels) it was built for.
+    built_at: Option<(Vec3, f32, u32)>,
+    /// A build under way.
+    pending: Option<Pending>,
+    /// The depth range of the LDI's front layer (for the predicted error).
+    range: Option<(f32, f32)>,
+    mode: PortalMode,
+    rebuilds: u64,
+    /// Whether the eye came into the room through this opening (it was over the opening,
+    /// and has not since gone back out in front of it farther than `through`).
+    entered: bool,
+    /// The box `[min, max]` around `behind`'s vertices: an eye past the opening's plane is
+    /// in the room if it came through the opening or stands inside this box.
+    room: Option<[Vec3; 2]>,
+}
+
+impl Portal {
+    /// A portal through `opening` onto `behind`, culled and with no image until the first
+    /// frame that sees it.
+    pub fn new(opening: Opening, behind: MeshGroup) -> Self {
+        let room = room_box(&behind);
+        Portal {
+            opening,
+            behind,
+            entered: false,
+            room,
+            ldi: None,
+            prepared: Prepared::default(),
+            built_at: None,
+            pending: None,
+            range: None,
+            mode: PortalMode::Culled,
+            rebuilds: 0,
+        }
+    }
+
+    /// How it was drawn in the last frame.
+    pub fn mode(&self) -> PortalMode {
+        self.mode
+    }
+
+    /// The LDI it warps, if built.
+    pub fn ldi(&self) -> Option<&LayeredDepthImage> {
+        self.ldi.as_ref()
+    }
+
+    /// LDIs built so far.
+    pub fn rebuilds(&self) -> u64 {
+        self.rebuilds
+    }
+
+    /// Forgets the LDI (after `behind` changed): the next frame rebuilds it.
+    pub fn invalidate(&mut self) {
+        self.ldi = None;
+        self.built_at = None;
+        self.pending = None;
+        self.room = room_box(&self.behind);
+    }
+
+    /// Whether the eye is in the room behind the opening (past its plane, and come
+    /// through it or inside the room's box), updating what the eye came through.
+    fn eye_inside(&mut self, eye: Vec3, through: f32) -> bool {
+        let side = self.opening.side(eye);
+        if side > through {
+            self.entered = false;
+        } else if self.opening.over(eye) {
+            self.entered = true;
+        }
+        let boxed = self
+            .room
+            .is_some_and(|[lo, hi]| eye.cmpge(lo).all() && eye.cmple(hi).all());
+        side <= 0.0 && (self.entered || boxed)
+    }
+
+    /// The reach of a region around `eye` ([`PortalConfig::reach`]).
+    fn reach(&self, eye: Vec3, config: &PortalConfig) -> f32 {
+        config.reach.min(0.35 * self.opening.side(eye).abs())
+    }
+
+    /// Starts a build from `eye` for an opening `screen` pixels across.
+    fn start(&mut self, eye: Vec3, screen: u32, config: &PortalConfig) {
+        let reach = self.reach(eye, config);
+        let cameras = build_cameras(&self.opening, &self.behind, eye, reach);
+        let side = (screen as f32 * 1.5).clamp(64.0, config.side.max(1) as f32) as u32;
+        let views = match config.image {
+            PortalImage::Ldi => cameras.len(),
+            PortalImage::DepthImage | PortalImage::Flat => 1,
+        };
+        let (w, h) = ldi_size(&cameras[0], side);
+        self.pending = Some(Pending {
+            eye,
+            reach,
+            screen,
+            size: (w, h),
+            landing: LdiLanding::new(&cameras[0], w, h),
+            cameras,
+            views,
+        });
+    }
+
+    /// Captures up to `budget` more views of the build under way; when the last is in,
+    /// merges them into the new LDI. Returns the views captured and whether it finished.
+    fn advance(
+        &mut self,
+        budget: usize,
+        config: &PortalConfig,
+        lighting: &Lighting,
+        capturer: &mut Capturer,
+        builder: &mut LdiBuilder,
+    ) -> (usize, bool) {
+        let Some(b) = self.pending.as_mut() else {
+            return (0, false);
+        };
+        let mut captured = 0;
+        let mut draws = Vec::new();
+        self.behind.draws(&mut draws);
+        // The eye's image plane is parallel to the opening: for a flat image the opening's
+        // plane is at one depth along the axis for every pixel.
+        let plane = self.opening.side(b.eye);
+        while captured < budget && b.landing.images() < b.views {
+            let camera = b.cameras[b.landing.images()];
+            let mut image = DepthImage::new(0, 0, camera);
+            let (w, h) = b.size;
+            capturer.capture(draws.iter().copied(), &camera, lighting, w, h, &mut image);
+            if config.image == PortalImage::Flat {
+                for d in image.depth.iter_mut().filter(|d| d.is_finite()) {
+                    *d = plane;
+                }
+            }
+            // Landed now, so the frame that takes the last view only merges.
+            b.landing.add(&image, config.tolerance);
+            captured += 1;
+        }
+        if b.landing.images() < b.views {
+            return (captured, false);
+        }
+        let Some(mut b) = self.pending.take() else {
+            return (captured, false);
+        };
+        let ldi = builder.merge(&mut b.landing, config.tolerance);
+        self.prepared.prepare_ldi(&ldi, config.options.edge);
+        self.range = depth_range(&ldi.layer(0));
+        self.ldi = Some(ldi);
+        self.built_at = Some((b.eye, b.reach, b.screen));
+        self.rebuilds += 1;
+        (captured, true)
+    }
+}
+
+/// A portal's build under way: where from, for what, and the views captured so far.
+#[derive(Debug)]
+struct Pending {
+    eye: Vec3,
+    reach: f32,
+    screen: u32,
+    size: (u32, u32),
+    cameras: [Camera; 5],
+    /// Views the build takes (the first `views` cameras).
+    views: usize,
+    /// The views captured so far, landed in the LDI camera.
+    landing: LdiLanding,
+}
+
+/// The cameras of a build from `eye`: the eye, then four side eyes `reach` away in the
+/// opening's plane directions. Each looks straight through the opening (along its
+/// inward normal, so the image plane is parallel to the opening, as in Popescu 98) with an
+/// off-axis frustum framing the opening widened by `reach` on every side: every LDI pixel
+/// is one that can be seen through the opening, from anywhere in the region.
+fn build_cameras(opening: &Opening, behind: &MeshGroup, eye: Vec3, reach: f32) -> [Camera; 5] {
+    let n = opening.normal();
+    let up = (Vec3::Y - n * n.y).normalize_or(Vec3::Z);
+    let right = (-n).cross(up);
+    let bounds = behind.bounds();
+    let eyes = [
+        eye,
+        eye - right * reach,
+        eye + right * reach,
+        eye + up * reach,
+        eye - up * reach,
+    ];
+    eyes.map(|e| {
+        let view = glam::Mat4::look_at_rh(e, e - n, up);
+        let dist = opening.side(e).max(1e-4);
+        let near = (dist * 0.5).clamp(1e-3, 0.5);
+        let far = (e.distance(bounds.center) + bounds.radius) * 1.5 + 1.0;
+        // The opening in view space (all at depth `dist`), widened for the region: an
+        // eye `reach` nearer sees, far behind the opening, up to `dist / (dist - reach)`
+        // times the opening's half size off its centre, and one `reach` aside that much
+        // more; scaled to the near plane.
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
+        for c in opening.corners {
+            let v = view.transform_point3(c);
+            let p = Vec2::new(v.x, v.y);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        let k = near / dist;
+        let (center, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        let grow = dist / (dist - reach).max(0.25 * dist);
+        let half = half * grow + Vec2::splat(reach);
+        let (lo, hi) = ((center - half) * k, (center + half) * k);
+        Camera {
+            view,
+            projection: Projection::Frustum {
+                left: lo.x,
+                right: hi.x,
+                bottom: lo.y,
+                top: hi.y,
+                near,
+                far,
+            },
+        }
+    })
+}
+
+/// The box around the vertices of `group`'s parts, `None` when it has none.
+fn room_box(group: &MeshGroup) -> Option<[Vec3; 2]> {
+    let mut draws = Vec::new();
+    group.draws(&mut draws);
+    let points = draws.iter().flat_map(|d| {
+        let t = d.transform;
+        d.mesh.positions.iter().map(move |&p| t.transform_point3(p))
+    });
+    points
+        .filter(|p| p.is_finite())
+        .fold(None, |b: Option<[Vec3; 2]>, p| {
+            Some(b.map_or([p, p], |[lo, hi]| [lo.min(p), hi.max(p)]))
+        })
+}
+
+/// The LDI's size for `camera` (a frustum): `side` across its wider extent.
+fn ldi_size(camera: &Camera, side: u32) -> (u32, u32) {
+    let [l, r, b, t] = camera.projection.extents();
+    let (w, h) = ((r - l).abs(), (t - b).abs());
+    let side = side.max(1) as f32;
+    if !(w > 0.0 && h > 0.0) {
+        return (side as u32, side as u32);
+    }
+    let (pw, ph) = if w >= h {
+        (side, side * h / w)
+    } else {
+        (side * w / h, side)
+    };
+    (pw.round().max(1.0) as u32, ph.round().max(1.0) as u32)
+}
+
+/// What the portals did in the last frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PortalFrame {
+    /// Portals warped.
+    pub warped: u64,
+    /// Portals drawn as geometry.
+    pub geometry: u64,
+    /// Portals off the view, not drawn.
+    pub culled: u64,
+    /// LDIs finished this frame.
+    pub rebuilds: u64,
+    /// Views captured for builds this frame.
+    pub views: u64,
+    /// Portals shown with an image (or geometry) older than they want while their build is
+    /// under way.
+    pub stale: u64,
+    /// The work of the frame's warps, summed over the warped portals.
+    pub stats: WarpStats,
+    /// The largest predicted parallax of the warped portals, target pixels.
+    pub predicted_px: f32,
+    /// Holes inside the openings before filling.
+    pub holes: u64,
+    /// Pixels the image pass offers the frame.
+    pub pixels: u64,
+}
+
+/// A set of portals as one technique.
+#[derive(Debug)]
+pub struct Portals {
+    /// The portals, each warped or drawn as geometry on its own.
+    pub portals: Vec<Portal>,
+    /// Settings; may be changed between frames.
+    pub config: PortalConfig,
+    /// Tints warped pixels green, to see where the image stands in for geometry.
+    pub debug_tint: bool,
+    warper: Warper,
+    filler: Filler,
+    builder: LdiBuilder,
+    capturer: Capturer,
+    /// The warped pixels inside the openings, at the frame's camera.
+    composite: Warped,
+    /// The rectangle of the frame the openings cover.
+    covered: Option<[u32; 4]>,
+    last: PortalFrame,
+}
+
+impl Portals {
+    /// A technique drawing `portals` with `config`; nothing is built before the first frame.
+    pub fn new(portals: Vec<Portal>, config: PortalConfig) -> Self {
+        let camera = Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+        Portals {
+            portals,
+            config,
+            debug_tint: false,
+            warper: Warper::new(),
+            filler: Filler::default(),
+            builder: LdiBuilder::default(),
+            capturer: Capturer::new(),
+            composite: Warped::new(0, 0, camera),
+            covered: None,
+            last: PortalFrame::default(),
+        }
+    }
+
+    /// What the portals did in the last frame.
+    pub fn last(&self) -> PortalFrame {
+        self.last
+    }
+
+    /// The warped pixels of the last frame (holes elsewhere).
+    pub fn image(&self) -> &Warped {
+        &self.composite
+    }
+
+    /// Decides each portal's mode for `camera`, rebuilds LDIs within the budget, and warps
+    /// and clips the warped portals into the composite image.
+    pub fn update(&mut self, camera: &Camera, width: u32, height: u32, lighting: &Lighting) {
+        let eye = camera.eye();
+        let cfg = self.config;
+        let mut frame = PortalFrame::default();
+        self.composite.reset(camera, width, height);
+        self.covered = None;
+        let mut budget = cfg.views_per_frame;
+        for p in &mut self.portals {
+            let side = p.opening.side(eye);
+            if p.eye_inside(eye, cfg.through) || (side <= cfg.through && p.opening.over(eye)) {
+                p.mode = PortalMode::Geometry;
+                frame.geometry += 1;
+                continue;
+            }
+            // Past the plane but not in the room (come in through another door): the
+            // opening faces away, its room cannot be seen through it.
+            let outline = (side > 0.0)
+                .then(|| p.opening.outline(camera, width, height))
+                .flatten();
+            let Some(outline) = outline else {
+                p.mode = PortalMode::Culled;
+                frame.culled += 1;
+                continue;
+            };
+            let [x0, y0, x1, y1] = outline.bounds;
+            let screen = (x1 - x0).max(y1 - y0);
+            let predicted = match (&p.ldi, p.range) {
+                (Some(ldi), Some(range)) => parallax_px(range, &ldi.camera, camera, width, height),
+                _ => 0.0,
+            };
+            let fresh = p.built_at.is_some_and(|(at, reach, built)| {
+                at.distance(eye) <= reach && screen <= 2 * built.max(32)
+            }) && predicted <= cfg.tolerance_px;
+            if !fresh {
+                // A build under way is finished even if the eye has left its region (it is
+                // still nearer than the old one, and restarting could starve a fast eye);
+                // the next is started from wherever the eye is then.
+                if p.pending.is_none() {
+                    p.start(eye, screen, &cfg);
+                }
+                let (views, done) = p.advance(
+                    budget,
+                    &cfg,
+                    lighting,
+                    &mut self.capturer,
+                    &mut self.builder,
+                );
+                budget -= views;
+                frame.views += views as u64;
+                frame.rebuilds += done as u64;
+                frame.stale += !done as u64;
+            }
+            if p.ldi.is_none() {
+                p.mode = PortalMode::Geometry;
+                frame.geometry += 1;
+                continue;
+            }
+            p.mode = PortalMode::Warped;
+            frame.warped += 1;
+            frame.predicted_px = frame.predicted_px.max(predicted);
+            // Warped into the outline's rectangle only (a crop of the frame's camera), so
+            // the warp's image, its fill and the copy cost the opening's pixels.
+            let (lo, hi) = (
+                Vec2::new(x0 as f32, y0 as f32),
+                Vec2::new(x1 as f32, y1 as f32),
+            );
+            let crop = camera.crop(lo, hi, width, height);
+            self.warper.begin(&crop, x1 - x0, y1 - y0);
+            frame.stats += self.warper.add_prepared(&p.prepared, &cfg.options);
+            let out = self.warper.output_mut();
+            frame.holes += holes_inside(out, &outline);
+            self.filler.fill(out, cfg.fill, cfg.options.edge);
+            frame.pixels += clip_into(&mut self.composite, out, &outline, self.debug_tint);
+            self.covered = Some(match self.covered {
+                None => outline.bounds,
+                Some([a, b, c, d]) => [a.min(x0), b.min(y0), c.max(x1), d.max(y1)],
+            });
+        }
+        self.last = frame;
+    }
+}
+
+/// Holes of `image` (the outline's rectangle) inside `outline` (before filling).
+fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
+    let w = image.width() as usize;
+    let [x0, y0, _, y1] = outline.bounds;
+    (y0..y1)
+        .map(|y| {
+            let (a, b) = outline.span(y);
+            let row = (y - y0) as usize * w;
+            let span = row + (a - x0) as usize..row + (b - x0) as usize;
+            image.disparity[span]
+                .iter()
+                .filter(|&&d| d.is_nan() || d < 0.0)
+                .count() as u64
+        })
+        .sum()
+}
+
+/// Copies the pixels of `from` (the outline's rectangle) inside `outline` into `into` (the
+/// frame; tinted green if asked); returns the filled pixels copied.
+fn clip_into(into: &mut Warped, from: &Warped, outline: &Outline, tint: bool) -> u64 {
+    let (w, fw) = (into.width() as usize, from.width() as usize);
+    let [x0, y0, _, y1] = outline.bounds;
+    let mut copied = 0;
+    for y in y0..y1 {
+        let (a, b) = outline.span(y);
+        let (i0, j0) = (y as usize * w, (y - y0) as usize * fw);
+        for x in a as usize..b as usize {
+            let (i, j) = (i0 + x, j0 + x - x0 as usize);
+            if from.is_filled(j) {
+                let c = from.color[j];
+                into.color[i] = if tint { tinted(c) } else { c };
+                into.disparity[i] = from.disparity[j];
+                copied += 1;
+            }
+        }
+    }
+    copied
+}
+
+/// A packed colour pushed toward green.
+fn tinted(c: u32) -> u32 {
+    let [r, g, b, a] = c.to_le_bytes();
+    u32::from_le_bytes([r / 2, g / 2 + a / 2, b / 2, a])
+}
+
+impl Technique for Portals {
+    fn name(&self) -> &str {
+        "ldi portals"
+    }
+
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.update(view.camera, view.width, view.height, view.lighting);
+    }
+
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for p in &self.portals {
+            if p.mode == PortalMode::Geometry {
+                p.behind.draws(out);
+            }
+        }
+    }
+
+    fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let Some([x0, y0, x1, y1]) = self.covered else {
+            return FrameStats::default();
+        };
+        let rect = PixelRect { x0, y0, x1, y1 };
+        run_packed_pass(
+            target,
+            rect,
+            &ImagePass::new(&self.composite),
+            PassMode::default(),
+        )
+    }
+
+    fn counters(&self) -> Counters {
+        let f = self.last;
+        Counters {
+            images: f.warped,
+            refreshes: f.rebuilds,
+            geometry: f.geometry,
+            pixels: f.pixels,
+            samples: f.stats.samples,
+            holes: f.holes,
+            ..Counters::default()
+        }
+    }
+
+    fn reference<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for p in &self.portals {
+            p.behind.draws(out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
