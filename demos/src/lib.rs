@@ -6,9 +6,9 @@
 //! `bench` CLI ([`bench`]) and the charts they draw ([`chart`]). Binaries stay thin; what they do is
 //! here, where tests reach it.
 //!
-//! The top-level modules form layers without a circle: [`bench`] and [`showcase`] use the
-//! leaves ([`chart`], [`city`], [`building`], [`font`], [`timing`]); [`bench`] also uses
-//! [`showcase`]'s scene; nothing uses [`bench`].
+//! The top-level modules form layers without a circle: [`showcase`] uses [`chart`],
+//! [`city`] and [`building`]; [`bench`] uses those, [`font`], [`timing`] and
+//! [`showcase`]'s scene; the others are leaves, and nothing here uses [`bench`].
 
 pub mod bench;
 pub mod building;

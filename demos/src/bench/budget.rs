@@ -163,7 +163,7 @@ pub struct Row {
     pub predicted_mean: f64,
     pub predicted_max: f64,
     /// The planner's bound on the frame's error (mean over frames), and the spread that
-    /// would have made it hold on 99% of frames ([`spread_fit`]).
+    /// would have made it hold on 99% of frames ([`flight::spread_fit`]).
     pub predicted_bound: f64,
     pub spread_fit: f64,
     pub geometry_per_frame: f64,
