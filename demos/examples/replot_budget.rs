@@ -6,7 +6,7 @@
 //! cargo run --release -p demos --example replot_budget -- docs/bench/budget.csv docs/bench
 //! ```
 
-use demos::bench_budget::{charts, Row};
+use demos::bench::budget::{charts, Row};
 use demos::timing::Summary;
 use std::collections::HashMap;
 use std::path::Path;
