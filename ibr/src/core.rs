@@ -8,31 +8,31 @@
 //!
 //! Every item is re-exported here, so users name `crate::core::Item`.
 
-pub mod billboard;
-pub mod capture;
-pub mod cost;
-pub mod frame;
-pub mod framing;
-pub mod images;
-pub mod intrinsics;
-pub mod pool;
-pub mod prior;
-pub mod represent;
-pub mod schedule;
-pub mod sprites;
-pub mod subject;
-pub mod view;
+pub(crate) mod billboard;
+pub(crate) mod capture;
+pub(crate) mod cost;
+pub(crate) mod frame;
+pub(crate) mod framing;
+pub(crate) mod images;
+pub(crate) mod intrinsics;
+pub(crate) mod pool;
+pub(crate) mod prior;
+pub(crate) mod represent;
+pub(crate) mod schedule;
+pub(crate) mod sprites;
+pub(crate) mod subject;
+pub(crate) mod view;
 
 pub use billboard::*;
 pub use capture::*;
 pub use cost::*;
 pub use frame::*;
-pub use framing::*;
-pub use images::atlas::Atlas;
+pub(crate) use framing::*;
+pub(crate) use images::atlas::Atlas;
 pub use images::*;
 pub use intrinsics::*;
 pub use pool::*;
-pub use prior::*;
+pub(crate) use prior::*;
 pub use represent::*;
 pub use schedule::*;
 pub use subject::*;

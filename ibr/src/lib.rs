@@ -37,6 +37,7 @@
 //!   sprites of meshes).
 
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
 
 // Every module is private: the public API is the curated list below. The layers, each
 // importing only those before it: `core` (engine only) <- image operations (`warp`,

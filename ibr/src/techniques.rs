@@ -2,19 +2,19 @@
 //! image operations (`crate::warp`, `crate::stereo`, `crate::metrics`, `crate::transforms`),
 //! never a sibling technique.
 
-pub mod billboards;
-pub mod clouds;
-pub mod depth_images;
-pub mod effects;
-pub mod flare;
-pub mod impostors;
-pub mod lasers;
-pub mod layers;
-pub mod lightfields;
-pub mod morph;
-pub mod octahedral;
-pub mod panoramas;
-pub mod portals;
+pub(crate) mod billboards;
+pub(crate) mod clouds;
+pub(crate) mod depth_images;
+pub(crate) mod effects;
+pub(crate) mod flare;
+pub(crate) mod impostors;
+pub(crate) mod lasers;
+pub(crate) mod layers;
+pub(crate) mod lightfields;
+pub(crate) mod morph;
+pub(crate) mod octahedral;
+pub(crate) mod panoramas;
+pub(crate) mod portals;
 
 use crate::core::{BillboardBatch, MeshGroup, Representation, Technique};
 use engine::{Lighting, Material, Rgba};

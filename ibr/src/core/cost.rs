@@ -123,7 +123,7 @@ impl CostModel {
 /// An [`Estimate`] priced in milliseconds, as the planner keeps it: a world's estimates are
 /// a hundred thousand a frame, read several times over, so they are kept small.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Priced {
+pub(crate) struct Priced {
     /// [`Estimate::error`].
     pub error: f32,
     /// [`Estimate::rebuilt`].
@@ -141,7 +141,7 @@ pub struct Priced {
 
 impl Priced {
     /// `e` priced by `cost`.
-    pub fn new(e: &Estimate, cost: &CostModel) -> Priced {
+    pub(crate) fn new(e: &Estimate, cost: &CostModel) -> Priced {
         let rebuilds = e.rebuild != Work::default();
         Priced {
             error: e.error,

@@ -87,7 +87,7 @@ impl Capture {
 
 /// A square perspective camera from `eye` at `center` whose frustum just holds the sphere
 /// of `radius` (half field of view `half_fov`), near and far planes hugging the sphere.
-pub fn capture_camera(eye: Vec3, center: Vec3, radius: f32, half_fov: f32) -> Camera {
+pub(crate) fn capture_camera(eye: Vec3, center: Vec3, radius: f32, half_fov: f32) -> Camera {
     let dist = eye.distance(center);
     let dir = (center - eye) / dist.max(1e-12);
     Camera {
@@ -112,7 +112,7 @@ fn capture_up(dir: Vec3) -> Vec3 {
 
 /// The transform that scales an image's quad about `eye` (the same pixels, only nearer) to
 /// the depth of `s`'s nearest corner along the line of sight ([`ImpostorSet::draws_near`]).
-pub fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
+pub(crate) fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
     let to = s.bounds().center - eye;
     let dist = to.length().max(1e-6);
     let dir = to / dist;

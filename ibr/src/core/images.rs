@@ -13,7 +13,7 @@
 //! `-z`) in scene units, the convention of depth files (PFM); `f32::INFINITY` where nothing
 //! was drawn. Colour is premultiplied linear, as everywhere in the engine.
 
-pub mod atlas;
+pub(crate) mod atlas;
 
 use engine::color::encode_srgb8;
 use engine::{Camera, Premul, Target};

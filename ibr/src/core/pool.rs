@@ -110,7 +110,7 @@ impl Pool {
 /// The alpha from which an image drawn in place of an opaque object writes depth
 /// ([`engine::Material::blend_depth`]): what reads the depth after it sees the object
 /// where it is more than half covered.
-pub const IMAGE_DEPTH_ALPHA: f32 = 0.5;
+pub(crate) const IMAGE_DEPTH_ALPHA: f32 = 0.5;
 
 /// The material that draws an image in place of geometry (an impostor's, an image
 /// layer's): its premultiplied image, alpha-blended, writing depth where more than half

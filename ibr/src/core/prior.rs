@@ -5,21 +5,21 @@
 
 /// The neighbour difference assumed for an object never captured or baked (8-bit levels
 /// per texel), until a set's first image measures one.
-pub const PRIOR_GRADIENT: f32 = 8.0;
+pub(crate) const PRIOR_GRADIENT: f32 = 8.0;
 
 /// The depth-weighted gradient assumed for an object never baked, as a fraction of its
 /// gradient, until a set's first bake measures one (the calibration run's subjects measure
 /// 0.30 to 0.43).
-pub const PRIOR_DEPTH_SHARE: f32 = 0.5;
+pub(crate) const PRIOR_DEPTH_SHARE: f32 = 0.5;
 
 /// Bake cameras sit this many radii from the centre: orthographic images do not depend on
 /// it, but view-dependent shading (specular) does, and baked images are seen from afar.
-pub const BAKE_DISTANCE: f32 = 16.0;
+pub(crate) const BAKE_DISTANCE: f32 = 16.0;
 
 /// The gradient and depth-weighted gradient expected of a bake never made, from a set's
 /// running sums `(gradients, depth gradients, bakes)`: their mean, or the shared prior
 /// ([`PRIOR_GRADIENT`], [`PRIOR_DEPTH_SHARE`]) before any bake.
-pub fn prior((gradients, depth_gradients, bakes): (f64, f64, u32)) -> (f32, f32) {
+pub(crate) fn prior((gradients, depth_gradients, bakes): (f64, f64, u32)) -> (f32, f32) {
     if bakes == 0 {
         return (PRIOR_GRADIENT, PRIOR_GRADIENT * PRIOR_DEPTH_SHARE);
     }

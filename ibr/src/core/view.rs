@@ -70,7 +70,7 @@ impl Rect {
 }
 
 /// Pixels per radian at the centre of an image `height` pixels tall.
-pub fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
+pub(crate) fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
     match camera.projection {
         Projection::Perspective { fov_y, .. } => {
             height as f32 * 0.5 / (fov_y * 0.5).tan().max(1e-6)
@@ -84,7 +84,7 @@ pub fn pixels_per_radian(camera: &Camera, height: u32) -> f32 {
 
 /// The power-of-two texture side for a sphere of `radius` at `dist` (its screen diameter
 /// rounded up), clamped to `[min, max]`.
-pub fn needed_side(radius: f32, dist: f32, px_per_radian: f32, min: u32, max: u32) -> u32 {
+pub(crate) fn needed_side(radius: f32, dist: f32, px_per_radian: f32, min: u32, max: u32) -> u32 {
     let px = 2.0 * px_per_radian * (radius / dist.max(1e-6)).min(1e3);
     let px = if px.is_finite() {
         px.ceil() as u32

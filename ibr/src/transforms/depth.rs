@@ -35,7 +35,7 @@ pub(super) struct Planes {
 }
 
 impl Planes {
-    pub fn with_camera(self, camera: Camera) -> DepthImage {
+    pub(super) fn with_camera(self, camera: Camera) -> DepthImage {
         let (w, h) = (self.width, self.height);
         DepthImage::from_planes(w, h, self.color, self.depth, camera)
             .unwrap_or_else(|| DepthImage::new(w, h, camera))

@@ -20,7 +20,7 @@ fn affine(mut rows: [[f64; 4]; 4]) -> [[f64; 4]; 4] {
 }
 
 /// The world -> view matrix of a frame's camera-to-world `transform_matrix` (4 rows of 4).
-pub fn pose(value: Option<&Value>) -> Result<Mat4, String> {
+pub(super) fn pose(value: Option<&Value>) -> Result<Mat4, String> {
     let rows = value
         .and_then(Value::as_array)
         .filter(|r| r.len() == 4)
@@ -64,7 +64,7 @@ pub fn pose(value: Option<&Value>) -> Result<Mat4, String> {
 
 /// The rows of the camera-to-world matrix of `view` (world -> view), inverted in `f64`,
 /// with an exact last row.
-pub fn camera_to_world_rows(view: &Mat4) -> [[f64; 4]; 4] {
+pub(super) fn camera_to_world_rows(view: &Mat4) -> [[f64; 4]; 4] {
     affine(view.as_dmat4().inverse().transpose().to_cols_array_2d())
 }
 

@@ -92,7 +92,7 @@ impl Profile {
 
 /// Unit direction toward the viewer from probe azimuth `azimuth` (radians, about +Y from
 /// the horizontal `side`, toward its right `Y x side`) and elevation `elevation` radians.
-pub fn probe_direction(side: Vec3, azimuth: f32, elevation: f32) -> Vec3 {
+pub(super) fn probe_direction(side: Vec3, azimuth: f32, elevation: f32) -> Vec3 {
     let right = Vec3::Y.cross(side);
     let h = side * azimuth.cos() + right * azimuth.sin();
     h * elevation.cos() + Vec3::Y * elevation.sin()
@@ -100,7 +100,7 @@ pub fn probe_direction(side: Vec3, azimuth: f32, elevation: f32) -> Vec3 {
 
 /// The orthographic camera looking at the sphere along `-d` (`d` toward the viewer, not
 /// vertical), up as near +Y as it can be, framing exactly its `2r x 2r` square.
-pub fn bake_camera(bounds: Sphere, d: Vec3) -> Camera {
+pub(super) fn bake_camera(bounds: Sphere, d: Vec3) -> Camera {
     let (c, r) = (bounds.center, bounds.radius);
     Camera {
         view: Mat4::look_at_rh(c + d * (BAKE_DISTANCE * r), c, Vec3::Y),
@@ -116,13 +116,13 @@ pub fn bake_camera(bounds: Sphere, d: Vec3) -> Camera {
 }
 
 /// The horizontal unit direction of `side` (+Z if it has none).
-pub fn horizontal(side: Vec3) -> Vec3 {
+pub(super) fn horizontal(side: Vec3) -> Vec3 {
     Vec3::new(side.x, 0.0, side.z).normalize_or(Vec3::Z)
 }
 
 /// The bounds a bake frames: the subject's sphere, its radius at least 1e-3 and its
 /// centre finite.
-pub fn bake_bounds(s: Sphere) -> Sphere {
+pub(super) fn bake_bounds(s: Sphere) -> Sphere {
     let center = Some(s.center).filter(|c| c.is_finite()).unwrap_or_default();
     let radius = if s.radius < f32::INFINITY {
         s.radius.max(1e-3)
@@ -135,7 +135,7 @@ pub fn bake_bounds(s: Sphere) -> Sphere {
 /// A finished bake: the image (`px` square, premultiplied sRGB with mipmaps), what it
 /// measured, and the captures it took.
 #[derive(Clone, Debug)]
-pub struct Bake {
+pub(super) struct Bake {
     pub image: Texture,
     pub profile: Profile,
     pub bounds: Sphere,
@@ -146,7 +146,7 @@ pub struct Bake {
 
 /// Captures `subject` seen from the horizontal direction `side` into a `px` square image,
 /// and measures its [`Profile`] with `probe` pixel probes (see the module docs).
-pub fn bake(
+pub(super) fn bake(
     subject: &mut impl Subject,
     lighting: &Lighting,
     side: Vec3,
@@ -203,7 +203,7 @@ pub fn bake(
 }
 
 /// The captures and pixels of a bake of `px` with `probe` probes (as [`bake`] counts them).
-pub fn bake_work(px: u32, probe: u32) -> (u64, u64) {
+pub(super) fn bake_work(px: u32, probe: u32) -> (u64, u64) {
     let (px, probe) = (u64::from(px.max(4)), u64::from(probe.max(4)));
     let probes = (AZIMUTHS * ELEVATIONS.len()) as u64;
     (1 + probes, px * px + probes * probe * probe)

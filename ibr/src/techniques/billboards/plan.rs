@@ -43,15 +43,15 @@ use std::sync::Arc;
 pub const MAX_ELEVATION: f32 = ELEVATIONS[ELEVATIONS.len() - 1];
 
 /// Within this many radii of the centre the set does not draw an object.
-pub const NEAR: f32 = 2.0;
+pub(crate) const NEAR: f32 = 2.0;
 
 /// The mean displacement of a near eye's view of the object against the quad, in units of
 /// `sin(s) frame_px / 2` texels for a surface one radius off the quad's plane.
-pub const PERSPECTIVE: f32 = 2.0 / 3.0;
+pub(crate) const PERSPECTIVE: f32 = 2.0 / 3.0;
 
 /// Texels of error the resampling makes per texel of gradient. Fitted with [`VIEW`]:
 /// see there.
-pub const RESAMPLING: f32 = 0.5;
+pub(crate) const RESAMPLING: f32 = 0.5;
 
 /// Levels of error per level of the measured view error plus the perspective term. Fitted
 /// with [`RESAMPLING`] by `plan::by_technique::billboards::predicted_error_bounds_the_measured_on_the_calibration_run`:
@@ -67,7 +67,7 @@ pub const RESAMPLING: f32 = 0.5;
 /// prediction bounds 883 of the 900 views (98.1%), at 1.5 times the measured error on
 /// average (36.6 against 24.0 levels). The box errs most against its prediction (164 of
 /// its 180 views bounded), the cone tree least (2 to 6 levels at eye level).
-pub const VIEW: f32 = 0.6;
+pub(crate) const VIEW: f32 = 0.6;
 
 /// The profile of an object never baked, before the set's first bake: a gradient of 4
 /// levels per texel, a fifth of it depth-weighted, and a view error of 1 level at eye level
@@ -76,19 +76,19 @@ pub const VIEW: f32 = 0.6;
 /// 3.5 to 13 and eye-level view errors of 0 to 50): a bake is made once and then predicted
 /// from what it measured, so an object is tried once; a pessimistic prior would never let
 /// the planner try any.
-pub const PRIOR: (f32, f32, f32, f32) = (4.0, 0.2, 1.0, 40.0);
+pub(crate) const PRIOR: (f32, f32, f32, f32) = (4.0, 0.2, 1.0, 40.0);
 
 /// The frames a bake is weighed as lasting by default: a minute at 60 frames a second.
-pub const PAYBACK: f32 = 3600.0;
+pub(crate) const PAYBACK: f32 = 3600.0;
 
 /// The smallest bake, pixels a side ([`BillboardSet::px`] the largest).
-pub const MIN_PX: u32 = 16;
+pub(crate) const MIN_PX: u32 = 16;
 
 /// The predicted mean absolute 8-bit error over the object's screen rectangle of a
 /// billboard with profile `p` seen from `azimuth` and `elevation` (radians) off its baked
 /// view, at `texels_per_px` texels per screen pixel, surfaces one radius off its plane
 /// displaced by `shift` texels.
-pub fn billboard_error(
+pub(crate) fn billboard_error(
     p: &Profile,
     azimuth: f32,
     elevation: f32,
@@ -108,7 +108,7 @@ pub fn billboard_error(
 /// horizontal `side`: azimuth and elevation (radians), texels per pixel and perspective
 /// shift (texels) for a `px` image. `None` for a broken view or an eye at the centre.
 #[cfg(test)]
-pub fn view_terms(side: Vec3, px: u32, sight: &Sight<'_>) -> Option<(f32, f32, f32, f32)> {
+pub(crate) fn view_terms(side: Vec3, px: u32, sight: &Sight<'_>) -> Option<(f32, f32, f32, f32)> {
     Some(Look::new(sight)?.terms(side, px))
 }
 

@@ -35,11 +35,11 @@ use reference::capture;
 /// dollies in and out), 384 views. The pair with the least summed prediction that keeps 95%
 /// of the measured errors at or below it is 0.33 and 0.13; rounded up, these hold for 370
 /// of the 384 (96.4%).
-pub const RESAMPLING: f32 = 0.35;
+pub(crate) const RESAMPLING: f32 = 0.35;
 /// Error per pixel of parallax spread, per level of the reference's edge gradient (times
 /// texels per pixel): the colour differences across its depth edges and silhouettes,
 /// where disocclusions open and silhouettes turn. Fitted with [`RESAMPLING`].
-pub const DISPLACEMENT: f32 = 0.14;
+pub(crate) const DISPLACEMENT: f32 = 0.14;
 
 /// Bytes a prepared reference holds per pixel: disparity, its two slopes and the packed
 /// colour ([`Prepared`]).
@@ -195,7 +195,12 @@ impl DepthImageSet {
 /// The predicted error of a reference with `gradient` and `edge_gradient` (levels per
 /// texel) at `texels_per_px` texels per screen pixel, warped with a parallax spread of
 /// `parallax` pixels.
-pub fn warp_error(gradient: f32, edge_gradient: f32, texels_per_px: f32, parallax: f32) -> f32 {
+pub(crate) fn warp_error(
+    gradient: f32,
+    edge_gradient: f32,
+    texels_per_px: f32,
+    parallax: f32,
+) -> f32 {
     texels_per_px * (RESAMPLING * gradient + DISPLACEMENT * edge_gradient * parallax)
 }
 

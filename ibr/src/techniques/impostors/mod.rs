@@ -81,7 +81,7 @@ pub use predict::error_color;
 use predict::{image_error, predict};
 use refresh::{Job, Worker};
 
-pub use crate::core::Budget;
+pub(crate) use crate::core::Budget;
 use crate::core::Scheduler;
 use crate::core::Subject;
 use crate::metrics::{self, ImageError, Options, Region};

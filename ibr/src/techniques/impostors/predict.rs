@@ -72,9 +72,9 @@ pub(crate) fn image_error(c: &Capture, dist: f32, parallax_px: f32, px_per_radia
 }
 
 /// Texels of error a fresh image makes by resampling alone (fitted).
-pub const RESAMPLING: f32 = 0.15;
+pub(super) const RESAMPLING: f32 = 0.15;
 /// Texel displacement per pixel of parallax (fitted; up to 0.5 in theory).
-pub const DISPLACEMENT: f32 = 0.57;
+pub(super) const DISPLACEMENT: f32 = 0.57;
 
 /// Green at 0, yellow at the tolerance, red at twice it and beyond.
 pub fn error_color(ratio: f32) -> Rgba {

@@ -21,7 +21,7 @@ use std::sync::PoisonError;
 /// pixels, and bilinear filtering blurs every edge by up to half a texel each way (the
 /// mean of two neighbours differs from either by half their difference). Fitted with
 /// [`DISPLACEMENT`]: see there.
-pub const RESAMPLING: f32 = 0.55;
+pub(crate) const RESAMPLING: f32 = 0.55;
 
 /// Texels of error per pixel of the warp's geometric error. The geometric error is the
 /// largest over the box's corners; the surfaces lie inside the box, so the mean
@@ -36,12 +36,12 @@ pub const RESAMPLING: f32 = 0.55;
 /// larger) at or below it is 0.09 and 0.50; rounded up (a variant of the scene with three
 /// cards facing away, nine layers, needed 0.12 and 0.54), these hold for 98.5% of them
 /// (99.8% over the object's rectangle).
-pub const DISPLACEMENT: f32 = 0.12;
+pub(crate) const DISPLACEMENT: f32 = 0.12;
 
 /// The predicted image error of a layer whose image has `gradient` levels per texel and
 /// `texels_per_px` texels per screen pixel, warped with a geometric error of `pixels`:
 /// mean absolute 8-bit error over its screen rectangle.
-pub fn layer_error(gradient: f32, texels_per_px: f32, pixels: f32) -> f32 {
+pub(crate) fn layer_error(gradient: f32, texels_per_px: f32, pixels: f32) -> f32 {
     gradient * texels_per_px * (RESAMPLING + DISPLACEMENT * pixels)
 }
 

@@ -57,8 +57,8 @@
 
 mod field;
 pub mod file;
-pub mod object;
-pub mod plan;
+pub(crate) mod object;
+pub(crate) mod plan;
 pub mod rebin;
 pub mod render;
 pub mod vq;

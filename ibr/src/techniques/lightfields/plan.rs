@@ -49,7 +49,7 @@ use rayon::prelude::*;
 
 /// Levels of error per level of gradient per texel of blur (counted at one texel per pixel
 /// at least). Fitted with [`GHOST`]: see there.
-pub const TEXEL: f32 = 1.1;
+pub(crate) const TEXEL: f32 = 1.1;
 
 /// Levels of error per level of depth-weighted gradient per texel a surface one radius
 /// off the focal plane ghosts by. Fitted with [`TEXEL`] by
@@ -66,23 +66,23 @@ pub const TEXEL: f32 = 1.1;
 /// about twice the measured error on average (10.2 against 5.1 levels). Depth correction
 /// leaves little of the ghosting (without it, bilinear between cameras, the fit is 0.43
 /// and 1.02, measuring 11.6 levels on average where this lookup measures 4.2).
-pub const GHOST: f32 = 0.1;
+pub(crate) const GHOST: f32 = 0.1;
 
 /// The frames a bake is weighed as lasting by default: a minute at 60 frames a second.
-pub const PAYBACK: f32 = 3600.0;
+pub(crate) const PAYBACK: f32 = 3600.0;
 
 /// The predicted mean absolute 8-bit error over the object's screen rectangle of a light
 /// field with `gradient` and `depth_gradient` levels per texel, `texels_per_px` focal-plane
 /// texels per screen pixel, whose cameras ghost a surface one radius off the focal plane
 /// by `shift` texels.
-pub fn lightfield_error(g: Gradients, texels_per_px: f32, shift: f32) -> f32 {
+pub(crate) fn lightfield_error(g: Gradients, texels_per_px: f32, shift: f32) -> f32 {
     TEXEL * g.gradient * texels_per_px.max(1.0) + GHOST * g.depth_gradient * shift
 }
 
 /// Texels of `slab`'s focal plane per screen pixel, and the texels by which its
 /// neighbouring cameras see a surface one radius off the focal plane apart, for the object
 /// seen as `sight`.
-pub fn view_terms(slab: &Slab, sight: &Sight<'_>) -> (f32, f32) {
+pub(crate) fn view_terms(slab: &Slab, sight: &Sight<'_>) -> (f32, f32) {
     let texel = slab.st.edge_a.length() / slab.ns.max(1) as f32;
     let pixel = sight.distance / sight.px_per_radian.max(1e-6);
     let spacing = slab.uv.edge_a.length() / slab.nu.max(1) as f32;
@@ -195,7 +195,7 @@ pub struct LightFieldSet {
 }
 
 /// Samples each ray reads with `lookup` (cameras times taps in each).
-pub fn taps(lookup: Lookup) -> u64 {
+pub(crate) fn taps(lookup: Lookup) -> u64 {
     match lookup.interpolation {
         Interpolation::Nearest => 1,
         Interpolation::BilinearUv => 4,
@@ -256,7 +256,7 @@ impl LightFieldSet {
 }
 
 /// Bytes a bake of six slabs of `counts` holds (samples and depths, 4 bytes each).
-pub fn bake_bytes(counts: [u32; 4]) -> usize {
+pub(crate) fn bake_bytes(counts: [u32; 4]) -> usize {
     6 * 8 * counts.iter().map(|&n| n as usize).product::<usize>()
 }
 

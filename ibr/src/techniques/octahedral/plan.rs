@@ -47,16 +47,16 @@ use rayon::prelude::*;
 /// Within this many radii of the centre the set does not draw an object (the planner
 /// draws another representation): the composed image is an orthographic view, and a
 /// near perspective eye sees the object's rim far off that view.
-pub const NEAR: f32 = 2.0;
+pub(crate) const NEAR: f32 = 2.0;
 
 /// The mean angle of a perspective eye's rays through the object's disc off the ray to
 /// its centre, in units of the disc's angular radius (2/3 for a uniform disc).
-pub const PERSPECTIVE: f32 = 2.0 / 3.0;
+pub(crate) const PERSPECTIVE: f32 = 2.0 / 3.0;
 
 /// Texels of error the two resamplings make, per texel of gradient (counted at one texel
 /// per pixel at least: magnified, the mean error stays at about the texel's). Fitted with
 /// [`DISPLACEMENT`]: see there.
-pub const RESAMPLING: f32 = 0.6;
+pub(crate) const RESAMPLING: f32 = 0.6;
 
 /// Texels of error per texel a surface one radius off the frames' planes is misplaced
 /// by, per texel of depth-weighted gradient. Fitted with [`RESAMPLING`] by
@@ -75,12 +75,17 @@ pub const RESAMPLING: f32 = 0.6;
 /// checkered card least, is what the 95% bound pays for). Seen along a baked direction at
 /// one texel a pixel, the same subjects err 1.9 levels on average (2.8 at most);
 /// halfway between two of 8 x 8 views, 11.1.
-pub const DISPLACEMENT: f32 = 0.6;
+pub(crate) const DISPLACEMENT: f32 = 0.6;
 
 /// The predicted mean absolute 8-bit error over the object's screen rectangle of an image
 /// with `gradient` and `depth_gradient` levels per texel, `texels_per_px` texels per screen
 /// pixel, and a surface one radius off the frames' planes misplaced by `shift` texels.
-pub fn octahedral_error(gradient: f32, depth_gradient: f32, texels_per_px: f32, shift: f32) -> f32 {
+pub(crate) fn octahedral_error(
+    gradient: f32,
+    depth_gradient: f32,
+    texels_per_px: f32,
+    shift: f32,
+) -> f32 {
     RESAMPLING * gradient * texels_per_px.max(1.0) + DISPLACEMENT * depth_gradient * shift
 }
 
@@ -179,7 +184,7 @@ struct Baked {
 }
 
 /// The frames a bake is weighed as lasting by default: a minute at 60 frames a second.
-pub const PAYBACK: f32 = 3600.0;
+pub(crate) const PAYBACK: f32 = 3600.0;
 
 /// Baked octahedral impostors of the planner's objects, by object index: each baked with
 /// the set's settings when the planner rebuilds it, kept until released or its subject
@@ -273,7 +278,7 @@ fn angle(a: Vec3, b: Vec3) -> f32 {
 
 /// The angle from the view direction `v` to the frames the impostor blends for it: their
 /// weighted mean (the heaviest frame's alone with [`Blend::Nearest`]), radians.
-pub fn frame_angle(layout: Layout, grid: u32, blend: Blend, v: Vec3) -> f32 {
+pub(crate) fn frame_angle(layout: Layout, grid: u32, blend: Blend, v: Vec3) -> f32 {
     let n = grid.clamp(MIN_GRID, MAX_GRID);
     let (idx, w) = select(layout, n, encode(layout, v));
     let dir = |k: u32| decode(layout, cell_uv(n, k % n, k / n));
@@ -288,7 +293,7 @@ pub fn frame_angle(layout: Layout, grid: u32, blend: Blend, v: Vec3) -> f32 {
 
 /// Texels per screen pixel and the shift (texels) of a surface one radius off the frames'
 /// planes, for `frame_px`-texel frames of a `grid` x `grid` `layout` seen as `sight`.
-pub fn view_terms(
+pub(crate) fn view_terms(
     layout: Layout,
     grid: u32,
     frame_px: u32,
@@ -308,7 +313,7 @@ pub fn view_terms(
 
 /// Bytes a bake of `grid` x `grid` frames of `px` pixels holds, as
 /// [`OctahedralImpostor::bytes`] counts them (its quad and fixed-size fields left out).
-pub fn bake_bytes(grid: u32, px: u32) -> usize {
+pub(crate) fn bake_bytes(grid: u32, px: u32) -> usize {
     let (cells, texels) = ((grid * grid) as usize, (px * px) as usize);
     let atlas =
         cells * texels * (size_of::<engine::Premul>() + 4) + cells * size_of::<Option<Camera>>();
