@@ -59,7 +59,7 @@ use ibr::layers::{self, LayerSet, Layered};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::MeshGroup;
-use std::sync::Arc;
+use std::sync::{Arc, LazyLock};
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
@@ -383,16 +383,15 @@ fn frame_scope(
 /// hemisphere), depth images and LDIs of [`LDI_LAYERS`] layers (each object's captured
 /// from the eye and warped to the view), axial billboards (64 pixels, baked from the
 /// side) and light fields (six slabs of 8 x 8 cameras of 32 pixels around each object).
-pub const REPRESENTATIONS: [&str; 8] = [
-    "geometry",
-    "impostors",
-    "layers",
-    "octahedral",
-    "depth images",
-    "LDIs",
-    "billboards",
-    "light fields",
-];
+///
+/// Geometry, then every representation in ibr's catalogue ([`ibr::catalog`]),
+/// in its order: a technique added there is swept here with no change to this file.
+pub static REPRESENTATIONS: LazyLock<Vec<&'static str>> = LazyLock::new(|| {
+    let catalogued = ibr::catalog().iter().filter(|e| e.representation.is_some());
+    std::iter::once("geometry")
+        .chain(catalogued.map(|e| e.name))
+        .collect()
+});
 
 /// The representations from this one on ([`REPRESENTATIONS`]) are also run alone, each
 /// wherever its predicted error is within the budget and geometry elsewhere (the planner

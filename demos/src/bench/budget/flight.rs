@@ -18,6 +18,10 @@ pub(super) trait Probe: Technique {
     fn probe(&self) -> Sample;
 }
 
+/// Room for the planner's representations in a frame's counters: geometry and every
+/// representation in ibr's catalogue ([`REPRESENTATIONS`]; a test checks they fit).
+pub(super) const MIX: usize = 16;
+
 /// One frame's counters.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Sample {
@@ -25,7 +29,7 @@ pub(super) struct Sample {
     /// representations ([`REPRESENTATIONS`]).
     geometry: usize,
     images: usize,
-    mix: [usize; REPRESENTATIONS.len()],
+    mix: [usize; MIX],
     switches: usize,
     rebuilds: usize,
     /// Bytes images hold.
@@ -44,7 +48,7 @@ impl Probe for Planner<MeshGroup> {
     fn probe(&self) -> Sample {
         let r = &self.report;
         let c = self.counters();
-        let mut mix = [0; REPRESENTATIONS.len()];
+        let mut mix = [0; MIX];
         mix.iter_mut().zip(&r.counts).for_each(|(m, &n)| *m = n);
         Sample {
             mix,
@@ -344,4 +348,25 @@ pub(super) fn spread_fit(probes: &[Sample], measured: &[f64]) -> f64 {
     z.sort_by(f64::total_cmp);
     let p99 = z[((z.len() as f64 * 0.99).ceil() as usize).saturating_sub(1)];
     (p99 / plan::Z99).max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{MIX, REPRESENTATIONS};
+
+    #[test]
+    fn the_sweep_takes_every_catalogued_representation_and_they_fit_the_counters() {
+        let catalogued: Vec<&str> = ibr::catalog()
+            .iter()
+            .filter(|e| e.representation.is_some())
+            .map(|e| e.name)
+            .collect();
+        assert_eq!(REPRESENTATIONS[0], "geometry");
+        assert_eq!(REPRESENTATIONS[1..], catalogued[..]);
+        assert!(REPRESENTATIONS.len() <= MIX, "{:?}", *REPRESENTATIONS);
+        // The budget sweep's CSV has always named these, in this order.
+        for name in ["impostors", "layers", "octahedral", "depth images", "LDIs"] {
+            assert!(REPRESENTATIONS.contains(&name), "{name}");
+        }
+    }
 }
