@@ -90,6 +90,11 @@ impl LayersPart {
             tolerance_px: LAYERS_TOLERANCE_PX,
             perspective: true,
             budget: Budget::count(LAYERS_BUDGET),
+            // A layer past its tolerance that the budget did not reach this frame is drawn
+            // as geometry, not as an image up to twice the tolerance wrong (the default):
+            // the stroll's steps put most layers past a pixel every frame, so every image
+            // drawn is within the tolerance.
+            fallback_ratio: 1.0,
             ..layers::Config::default()
         };
         LayersPart {

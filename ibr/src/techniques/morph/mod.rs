@@ -30,7 +30,7 @@ pub mod fundamental;
 pub mod uncalibrated;
 
 use crate::core::DepthImage;
-use crate::stereo::rectify::resample;
+use crate::stereo::rectify::{pixel_ray, resample};
 use crate::stereo::rectify::{rectify_with, Framing};
 use crate::stereo::{luminance, Disparity, Rectified, RectifyError, Sgm};
 use engine::color::Premul;
@@ -140,26 +140,30 @@ impl ViewMorph {
                 if a.covered() == 0 && b.covered() == 0 {
                     return Err(MorphError::NoDepth);
                 }
-                let of = |image: &DepthImage| {
+                let of = |image: &DepthImage, original: &Camera| {
+                    let saw = seen_directions(image, original);
                     let data = image
                         .depth
                         .iter()
                         .zip(&image.color)
-                        .map(|(&z, c)| {
-                            if c.a <= 0.0 {
+                        .zip(saw)
+                        .map(|((&z, c), saw)| {
+                            if c.a > 0.0 && z.is_finite() && z > 0.0 {
+                                focal * pair.baseline / z
+                            } else if c.a > 0.0 || saw {
+                                // Sky, and what lies past the far plane: seen, empty, at
+                                // infinity, the same in both views (a direction, moved by
+                                // the postwarp's turn only, never filled along its row).
+                                0.0
+                            } else {
                                 // Outside what the view saw: unknown.
                                 f32::INFINITY
-                            } else if z.is_finite() && z > 0.0 {
-                                focal * pair.baseline / z
-                            } else {
-                                // Sky: at infinity, the same in both views.
-                                0.0
                             }
                         })
                         .collect();
                     Disparity::new(w, h, data).expect("finite and positive, or infinite")
                 };
-                (of(&pair.left), of(&pair.right))
+                (of(&pair.left, &a.camera), of(&pair.right, &b.camera))
             }
             Correspondence::Stereo { max_disparity } => stereo(&pair, max_disparity)?,
         };
@@ -209,6 +213,24 @@ impl ViewMorph {
         };
         (postwarp(&image), forward::Made::count(&postwarp(&made)))
     }
+}
+
+/// Whether each pixel of `image` (a prewarped view) looks in a direction `original` (the
+/// view it was resampled from) saw: inside its frustum, taken as a direction (at
+/// infinity). Tells the sky and what lies past the far plane (empty, but seen) from what
+/// the view never saw (empty, unknown).
+fn seen_directions(image: &DepthImage, original: &Camera) -> Vec<bool> {
+    let (w, h) = (image.width(), image.height());
+    let to_world = image.camera.gl_view_proj().inverse();
+    let eye = image.camera.eye();
+    let to_clip = original.gl_view_proj();
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|p| {
+            let c = to_clip * pixel_ray(&to_world, eye, p, (w, h)).extend(0.0);
+            c.w > 0.0 && c.x.abs() <= c.w && c.y.abs() <= c.w
+        })
+        .collect()
 }
 
 /// The dense correspondences of a prewarped pair by semi-global matching, over a window

@@ -279,3 +279,50 @@ fn stereo_disparities_past_the_search_window_are_found_by_a_coarse_search() {
         "window 64: {narrow:.1?} against {wide:.1?}"
     );
 }
+
+/// Two textured posts side by side with open sky between and around them, seen from
+/// `cameras`.
+fn posts_views(cameras: &[Camera]) -> Vec<DepthImage> {
+    use engine::procedural;
+    use engine::{Draw, Material, Rgba};
+    let material = Material::unlit(Rgba::new(0.8, 0.4, 0.2, 1.0)).double_sided(true);
+    let post = procedural::quad(0.6, 2.0);
+    let draws: Vec<Draw<'_>> = [-1.0f32, 1.0]
+        .iter()
+        .map(|&x| Draw {
+            mesh: &post,
+            material: &material,
+            transform: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
+        })
+        .collect();
+    capture_batch(&draws, cameras, &Lighting::default(), W, H)
+}
+
+#[test]
+fn the_open_sky_between_objects_morphs_as_a_direction_not_a_smear() {
+    // Before the fix, sky (empty, infinitely far) counted as unknown: the gap between the
+    // posts was filled along each row from the farther post, a smear across the sky.
+    let (a, b) = verged();
+    let v = posts_views(&[a, b]);
+    let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
+    for s in [0.33, 0.5, 0.67] {
+        let truth = posts_views(&[morph.camera_at(s)]).remove(0);
+        let (view, _) = morph.frame(s);
+        let sky = truth.color.iter().filter(|c| c.a <= 0.0).count();
+        let smeared = (truth.color.iter().zip(&view.color))
+            .filter(|(t, m)| t.a <= 0.0 && m.a >= 0.5)
+            .count();
+        let (p, c) = (psnr(&view, &truth), covered(&view, &truth));
+        eprintln!(
+            "s {s}: {smeared} of {sky} sky pixels painted; {p:.1} dB over {:.1}%",
+            100.0 * c
+        );
+        // Only the posts' anti-aliased rims may spill (a pixel or two of each edge row).
+        assert!(sky > (W * H / 2) as usize, "the posts fill the view");
+        assert!(
+            smeared * 100 < sky,
+            "s {s}: {smeared} of {sky} sky pixels painted"
+        );
+        assert!(c > 0.9 && p > 20.0, "s {s}: {p:.1} dB over {c:.3}");
+    }
+}
