@@ -407,7 +407,7 @@ fn city_impostors_hold_a_texel_per_screen_pixel_over_the_tour() {
         };
         let px_per_radian = h as f32 * 0.5 / (fov_y * 0.5).tan();
         let lighting = show.scene.lighting.clone();
-        let view = ibr::technique::FrameView::still(&cam, w, h, &lighting);
+        let view = FrameView::still(&cam, w, h, &lighting);
         show.ibr.impostors.update(&view);
         let city = &show.ibr.impostors.city;
         for (k, c) in city.choices().iter().enumerate() {
