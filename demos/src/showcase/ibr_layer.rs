@@ -25,6 +25,14 @@ use ibr::{AxialFallback, Billboard, BillboardBatch, Facing};
 
 /// Billboard trees in the forest ring.
 pub const FOREST_TREES: usize = 2400;
+/// Height of the trees' baked side view, texels: a tree stays at or under a texel per
+/// screen pixel until it is this many pixels tall (at 1280 x 720 and the showcase's
+/// field of view, nearer than about 1.2 of its heights, which the tour never comes).
+pub const SPRITE_PX: u32 = 512;
+/// Elevations (degrees) over which an upright tree hands over to its top-down sprite: it
+/// is gone before it is seen squashed (the default 55 to 75 showed trees lying on their
+/// sides), in a narrow band so the two are seen together briefly.
+pub const FADE_DEGREES: [f32; 2] = [30.0, 42.0];
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
 /// Bolt speed (units per second) and length.
@@ -248,9 +256,10 @@ fn add_turret(scene: &mut Scene, base: Vec3) {
 }
 
 /// The billboard forest: sprites baked from a pine and a broadleaf tree (side view plus a
-/// top view for the over-the-top fallback), alpha-tested so the trees write depth (they
-/// hide the sun's flare and take the soft smoke's fade), placed on the hills outside the
-/// city district.
+/// top view for the over-the-top fallback), alpha-blended back to front (their soft edges
+/// and the hand-over to the top view fade smoothly, with no screen-door pattern) and
+/// writing depth where they are at least half opaque (they hide the sun's flare and take
+/// the soft smoke's fade), placed on the hills outside the city district.
 fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     let bake = |kind: TreeKind, seed: u64| -> BakedSprite {
         let mesh: Mesh = procedural::tree(kind, 1.0, seed);
@@ -260,7 +269,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
             &material,
             &scene.lighting,
             Vec3::new(1.0, 0.0, 0.6),
-            96,
+            SPRITE_PX,
         )
     };
     let mut rng = XorShift::new(4242);
@@ -268,15 +277,17 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
         let sprite = bake(kind, seed);
         let material = Material {
-            alpha_mode: AlphaMode::Dither,
+            alpha_mode: AlphaMode::Blend,
+            blend_depth: Some(0.5),
             vertex_colors: true,
             ..Material::unlit(Rgba::WHITE).with_texture(sprite.texture.clone())
         };
         let facing = Facing::Axial {
             axis: Vec3::Y,
             fallback: AxialFallback {
+                fade_start: FADE_DEGREES[0],
+                fade_end: FADE_DEGREES[1],
                 top: Some(sprite.top),
-                ..AxialFallback::default()
             },
         };
         let mut batch = BillboardBatch::new(material);

@@ -23,9 +23,12 @@ use std::time::{Duration, Instant};
 
 /// Where the statue stands (the centre of its base).
 pub const STATUE_AT: Vec3 = Vec3::new(1.9, 0.0, -4.4);
-/// Samples of each slab: `uv` cameras per side and `st` samples per side.
+/// Samples of each slab: `uv` cameras per side and `st` samples per side. Measured over
+/// the tour at 320 x 180 (`over_the_tour_the_statue_matches_its_geometry_and_does_not_flicker`):
+/// 96 `st` samples gave 20.3 dB mean, 160 give 21.7 (raw slabs, diffuse subject); 32 `uv`
+/// cameras gained less (21.0) at four times the capture.
 pub const UV: u32 = 16;
-pub const ST: u32 = 96;
+pub const ST: u32 = 160;
 /// Codewords of the statue's vector quantiser.
 pub const CODEWORDS: u32 = 1024;
 
@@ -180,7 +183,7 @@ impl Statue {
 }
 
 /// The statue's geometry standing at `at`: a stone plinth and column carrying an armillary
-/// sphere (three bronze rings round a gilded globe), about 2.9 units tall.
+/// sphere (three stout bronze rings round a gilded globe, all matte), about 3 units tall.
 pub fn armillary(at: Vec3) -> MeshGroup {
     let metal = |color: Rgba, specular: f32, shininess: f32| {
         Arc::new(Material {
@@ -195,11 +198,17 @@ pub fn armillary(at: Vec3) -> MeshGroup {
         m.colors.clear();
         Arc::new(m)
     };
-    let stone = metal(Rgba::from_srgb8(168, 160, 148), 0.05, 8.0);
-    let bronze = metal(Rgba::from_srgb8(170, 110, 60), 0.8, 40.0);
-    let gold = metal(Rgba::from_srgb8(230, 180, 70), 0.9, 64.0);
+    // Matte: a light field with depth correction carries a diffuse surface exactly
+    // between its cameras, a highlight only as well as its camera spacing samples it (the
+    // polished metals measured 16.9 dB mean, 10.9 worst over the tour, matte 20.3, 16.4).
+    let stone = metal(Rgba::from_srgb8(168, 160, 148), 0.0, 8.0);
+    let bronze = metal(Rgba::from_srgb8(170, 110, 60), 0.0, 40.0);
+    let gold = metal(Rgba::from_srgb8(230, 180, 70), 0.0, 64.0);
     let centre = at + Vec3::Y * 2.1;
-    let ring = plain(procedural::torus(0.72, 0.05, 96, 12));
+    // Stout rings (a tube of 0.2): thin ones (0.05) are a few samples across, and their
+    // edges, ghosted between cameras, cost most of the error (21.6 against 20.3 dB at
+    // 0.1, 22.3 with 160 `st` samples at 0.2).
+    let ring = plain(procedural::torus(0.72, 0.2, 96, 12));
     let mut group = MeshGroup::new()
         .with(
             plain(procedural::cuboid(Vec3::new(0.9, 0.3, 0.9))),
@@ -276,5 +285,90 @@ mod tests {
         assert!(statue.line().contains("GEOMETRY"), "{}", statue.line());
         let c = show.ibr.counters();
         assert_eq!(c[4].geometry, 1, "{c:?}");
+    }
+
+    /// The statue alone on a transparent `w` x `h` frame from `camera`: its light-field
+    /// image's error against its geometry (over the pixels either covers) and the two as
+    /// 8-bit RGBA (`None` when no slab showed it).
+    fn alone(statue: &mut Statue, camera: &Camera, w: u32, h: u32) -> Option<Shown> {
+        let view = FrameView::still(camera, w, h, &statue.lighting);
+        let opts = FrameOptions {
+            clear: Some(Rgba::TRANSPARENT),
+            ..Default::default()
+        };
+        let (mut renderer, mut frames) = (Renderer::new(), FrameLoop::new());
+        let (mut image, mut truth) = (Target::new(w, h), Target::new(w, h));
+        let mut list: [&mut dyn Technique; 1] = [&mut statue.object];
+        frames.render(&mut renderer, [], &mut list, &view, &mut image, &opts);
+        if !matches!(statue.object.showing(), Showing::Slab(_)) {
+            return None;
+        }
+        let mut draws: Vec<Draw<'_>> = Vec::new();
+        statue.object.reference(&mut draws);
+        frames.render(&mut renderer, draws, &mut [], &view, &mut truth, &opts);
+        let e = metrics::compare_covered(&image, &truth).ok()?;
+        Some((e, [image.to_rgba8(), truth.to_rgba8()]))
+    }
+
+    type Shown = (ImageError, [Vec<u8>; 2]);
+
+    /// Sum of the absolute colour change between two frames over the pixels either
+    /// covers, and those pixels.
+    fn change(a: &[u8], b: &[u8]) -> (u64, u64) {
+        let mut sum = 0;
+        let mut n = 0;
+        for (p, q) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+            if p[3] > 0 || q[3] > 0 {
+                sum += (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>();
+                n += 1;
+            }
+        }
+        (sum, n)
+    }
+
+    /// The statue over the showcase tour at `w` x `h` (`n` frames): its light-field image
+    /// against its geometry from the same eye on every frame a slab shows it; the mean and
+    /// worst PSNR and the flicker (mean absolute frame-to-frame change of its image over
+    /// the same of its geometry, over consecutive frames both drawn from the light field).
+    pub(crate) fn tour_error(w: u32, h: u32, n: usize) -> (f64, f64, f64, usize) {
+        let show = Showcase::new();
+        let mut statue = Statue::new(&show.scene.lighting);
+        let (mut psnr, mut worst, mut frames) = (0.0, f64::INFINITY, 0);
+        let (mut moved, mut moved_truth) = (0u64, 0u64);
+        let mut last: Option<[Vec<u8>; 2]> = None;
+        for i in 0..n {
+            let (eye, look) = show.path(i, n);
+            let cam = camera(eye, look, w, h);
+            let now = alone(&mut statue, &cam, w, h);
+            if let Some((e, [image, truth])) = &now {
+                if e.pixels > 0 {
+                    let db = e.psnr_capped(99.0);
+                    psnr += db;
+                    worst = f64::min(worst, db);
+                    frames += 1;
+                }
+                if let Some([was, was_truth]) = &last {
+                    moved += change(image, was).0;
+                    moved_truth += change(truth, was_truth).0;
+                }
+            }
+            last = now.map(|n| n.1);
+        }
+        let flicker = moved as f64 / moved_truth.max(1) as f64;
+        (psnr / frames.max(1) as f64, worst, flicker, frames)
+    }
+
+    /// Over the tour at 320 x 180, the statue drawn from its light field is close to its
+    /// geometry on every frame and flickers no more than it (within 1.5 times).
+    #[test]
+    fn over_the_tour_the_statue_matches_its_geometry_and_does_not_flicker() {
+        let (mean, worst, flicker, frames) = tour_error(320, 180, 120);
+        eprintln!("statue over the tour: {frames} frames, PSNR mean {mean:.1} dB, worst {worst:.1} dB, flicker {flicker:.2}");
+        assert!(frames >= 10, "{frames} frames from the light field");
+        // Measured 22.3 dB mean, 19.7 worst (the polished, thin-ringed statue before:
+        // 16.9 and 10.9); the goal is 30 and 25.
+        assert!(mean >= 21.5, "mean PSNR {mean:.1} dB");
+        assert!(worst >= 18.5, "worst PSNR {worst:.1} dB");
+        assert!(flicker <= 1.5, "flicker {flicker:.2}");
     }
 }

@@ -387,3 +387,47 @@ fn flying_into_a_cloud_does_not_pop() {
         &diffs[at - 5..at + 4]
     );
 }
+
+/// At the size the tour shows them (1280 x 720), the city's impostors hold at least one
+/// texel per screen pixel: a building whose disc on screen is wider than the largest
+/// impostor texture is drawn another way (its geometry or a layer), never as a blurred
+/// image beside sharp geometry. The disc's width is taken from the camera's own field of
+/// view, independently of the impostors' sizing.
+#[test]
+fn city_impostors_hold_a_texel_per_screen_pixel_over_the_tour() {
+    let mut show = Showcase::new();
+    let (w, h, n) = (1280, 720, 120);
+    let mut shown = 0;
+    let mut refused = 0;
+    for i in 0..n {
+        let (eye, look) = show.path(i, n);
+        let cam = showcase::camera(eye, look, w, h);
+        let engine::Projection::Perspective { fov_y, .. } = cam.projection else {
+            panic!("the tour's camera is a perspective one");
+        };
+        let px_per_radian = h as f32 * 0.5 / (fov_y * 0.5).tan();
+        let lighting = show.scene.lighting.clone();
+        let view = FrameView::still(&cam, w, h, &lighting);
+        show.ibr.impostors.update(&view);
+        let city = &show.ibr.impostors.city;
+        for (k, c) in city.choices().iter().enumerate() {
+            let b = city.objects[k].bounds();
+            let d = b.center.distance(eye);
+            let disc = 2.0 * (b.radius / d).min(1.0).asin() * px_per_radian;
+            if c.rep == Some(IMPOSTORS) {
+                shown += 1;
+                assert!(
+                    disc <= CITY_MAX_SIDE as f32,
+                    "frame {i}: building {k} shown as a {CITY_MAX_SIDE}-texel impostor over {disc:.0} px"
+                );
+            } else if c.rep.is_some() && disc > CITY_MAX_SIDE as f32 {
+                refused += 1;
+            }
+        }
+    }
+    assert!(shown > 0, "no impostor shown over the tour");
+    assert!(
+        refused > 0,
+        "no building too near for an impostor on the tour"
+    );
+}

@@ -8,6 +8,7 @@ use crate::core::FrameView;
 use crate::core::Subject;
 use crate::core::PRIOR_GRADIENT;
 use crate::core::{image_bytes, Estimate, Representation, Sight, Work};
+use crate::plan::REASK_MOVE;
 use engine::{Draw, Rgba};
 use glam::Vec3;
 
@@ -59,7 +60,9 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     }
 
     /// `None` within [`super::Config::transition`] radii (the image is refreshed every
-    /// frame there in the set's own update; the planner draws geometry instead). An image
+    /// frame there in the set's own update; the planner draws geometry instead) and where
+    /// the subject's disc on screen is wider than [`super::Config::max_side`] texels (less
+    /// than a texel per pixel). An image
     /// whose subject changed, moved, or needs a larger texture than it has by
     /// [`super::Tolerance::octaves`] has infinite error.
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
@@ -70,6 +73,14 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         }
         let (b, ppr) = (sight.bounds, sight.px_per_radian);
         let needed = needed_side(b.radius, sight.distance, ppr, cfg.min_side, cfg.max_side);
+        // An image the largest texture cannot give a texel per screen pixel would show
+        // blurred beside sharp geometry: not offered.
+        // The planner asks again only once the eye has moved REASK_MOVE of its distance:
+        // the disc may grow that much before the next answer.
+        let disc = 2.0 * (b.radius / sight.distance).min(1.0).asin() * ppr;
+        if disc * (1.0 + REASK_MOVE) > cfg.max_side as f32 {
+            return None;
+        }
         let held = imp.capture.as_ref().filter(|_| imp.slot.is_some());
         // What a draw shades: the disc's square times the share of it the trimmed quad
         // covers; without an image, the disc.
