@@ -7,8 +7,11 @@
 //!   draws and image passes, as the frame just showed them, and its geometry (the
 //!   technique's `reference`) are each rendered alone, from the frame's camera at the
 //!   frame's size, into a transparent target. Its *screen mask* is the pixels either covers
-//!   (alpha > 0). Nothing is prepared again, so measuring changes nothing the tour shows;
-//!   the renders happen after the frame's clock stopped and are never in a frame time.
+//!   (alpha > 0). An attraction seen through something (the portals, through the hall's
+//!   doorways) has that occluder drawn first into both and into a third target alone; its
+//!   mask is then the pixels where either differs from the occluder alone. Nothing is
+//!   prepared again, so measuring changes nothing the tour shows; the renders happen after
+//!   the frame's clock stopped and are never in a frame time.
 //! - **Views** (image layers, panorama, view morph): the views moment measures each frame
 //!   against the geometry itself; its figure is taken as it is (no flicker: the moment
 //!   keeps its images to itself).
@@ -17,7 +20,7 @@
 //!
 //! The figures, over the frames an attraction was measured in:
 //! - **PSNR** of the image against the geometry over the mask
-//!   ([`ibr::metrics::compare_covered`]), capped at [`PSNR_CAP`] dB; `mean` over frames and
+//!   ([`ibr::metrics::compare`] with a [`Region::Mask`]), capped at [`PSNR_CAP`] dB; `mean` over frames and
 //!   `worst` (the lowest).
 //! - **Flicker**: for each pair of consecutive frames both measured, over the union `M` of
 //!   the two frames' masks, `I` = the sum over `M` of the mean absolute change of the
@@ -31,7 +34,8 @@ use crate::showcase::building::BuildingTour;
 use crate::showcase::views::Shown;
 use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
-use ibr::metrics::{self, ImageError};
+use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::subject::Subject;
 use ibr::technique::{FrameView, Technique};
 
 /// PSNR figures are capped here (an image identical to its geometry has an infinite one).
@@ -46,6 +50,8 @@ pub struct Drawn<'a> {
     /// Whose image passes run over the image render (after its draws).
     pub passes: Option<&'a dyn Technique>,
     pub truth: Vec<Draw<'a>>,
+    /// Drawn first under both (module docs); empty for most.
+    pub occluder: Vec<Draw<'a>>,
     pub lighting: &'a Lighting,
 }
 
@@ -169,7 +175,7 @@ fn clouds(show: &Showcase) -> Option<Drawn<'_>> {
     let mut drawn = Drawn::new(&show.scene.lighting);
     imp.cloud_set.draws(&imp.clouds.clouds, &mut drawn.image);
     for c in &imp.clouds.clouds {
-        ibr::subject::Subject::draws(c, &mut drawn.truth);
+        c.draws(&mut drawn.truth);
     }
     Some(drawn)
 }
@@ -179,6 +185,7 @@ fn portals(tour: &BuildingTour) -> Option<Drawn<'_>> {
         return None;
     }
     let mut drawn = Drawn::new(&tour.building.lighting);
+    tour.building.hall.draws(&mut drawn.occluder);
     tour.portals.draws(&mut drawn.image);
     drawn.passes = Some(&tour.portals);
     tour.portals.reference(&mut drawn.truth);
@@ -191,6 +198,7 @@ impl<'a> Drawn<'a> {
             image: Vec::new(),
             passes: None,
             truth: Vec::new(),
+            occluder: Vec::new(),
             lighting,
         }
     }
@@ -210,7 +218,7 @@ pub struct Track {
     mask: f64,
     /// The last measured frame's image and geometry (premultiplied RGBA8), when the
     /// frame before this one was measured.
-    prev: Option<(Vec<u8>, Vec<u8>)>,
+    prev: Option<Renders>,
 }
 
 /// One attraction's result, as the summary gives it.
@@ -238,28 +246,28 @@ impl Track {
         self.prev = None;
     }
 
-    /// Adds a frame's image and geometry renders: its PSNR and its change since the last.
-    fn add_renders(&mut self, image: &Target, truth: &Target) -> Option<ImageError> {
-        let e = metrics::compare_covered(image, truth).ok();
-        let (img, tru) = (
-            image.to_rgba8_premultiplied(),
-            truth.to_rgba8_premultiplied(),
-        );
-        match e {
-            Some(e) => self.add(e),
-            None => {
+    /// Adds a frame's renders: its PSNR over its mask and its change since the last.
+    fn add_renders(&mut self, image: &Target, truth: &Target, r: Renders) -> Option<ImageError> {
+        let opts = Options {
+            region: Region::Mask(&r.mask),
+            ..Options::default()
+        };
+        let e = match metrics::compare(image, truth, &opts) {
+            Ok(e) if r.mask.contains(&true) => e,
+            _ => {
                 self.prev = None;
                 return None;
             }
-        }
-        if let Some((pi, pt)) = &self.prev {
-            let (di, dt, m) = change(pi, &img, pt, &tru);
+        };
+        self.add(e);
+        if let Some(p) = &self.prev {
+            let (di, dt, m) = change(p, &r);
             self.image_change += di;
             self.truth_change += dt;
             self.mask += m;
         }
-        self.prev = Some((img, tru));
-        e
+        self.prev = Some(r);
+        Some(e)
     }
 
     /// The flicker ratio so far (module docs); `None` before a measured pair.
@@ -284,29 +292,53 @@ impl Track {
     }
 }
 
-/// Summed mean-RGB absolute change of the image and of the geometry from the previous
-/// frame, over the union of the four renders' coverage, and that union's pixel count.
-fn change(prev_img: &[u8], img: &[u8], prev_truth: &[u8], truth: &[u8]) -> (f64, f64, f64) {
-    fn px(b: &[u8], i: usize) -> &[u8] {
-        &b[4 * i..4 * i + 4]
+/// One measured frame's image and geometry renders (premultiplied RGBA8) and its mask.
+#[derive(Clone, Debug, Default)]
+struct Renders {
+    image: Vec<u8>,
+    truth: Vec<u8>,
+    mask: Vec<bool>,
+}
+
+impl Renders {
+    /// The renders and their mask: where either is covered, or with `base` (the occluder
+    /// alone), where either differs from it.
+    fn of(image: &Target, truth: &Target, base: Option<&Target>) -> Renders {
+        let (image, truth) = (
+            image.to_rgba8_premultiplied(),
+            truth.to_rgba8_premultiplied(),
+        );
+        let mask = match base.map(Target::to_rgba8_premultiplied) {
+            Some(b) => (0..b.len() / 4)
+                .map(|i| px(&image, i) != px(&b, i) || px(&truth, i) != px(&b, i))
+                .collect(),
+            None => (0..image.len() / 4)
+                .map(|i| px(&image, i)[3] > 0 || px(&truth, i)[3] > 0)
+                .collect(),
+        };
+        Renders { image, truth, mask }
     }
+}
+
+/// `occluder`'s draws, then `d`'s.
+fn under<'a>(occluder: &[Draw<'a>], d: Vec<Draw<'a>>) -> Vec<Draw<'a>> {
+    occluder.iter().copied().chain(d).collect()
+}
+
+fn px(b: &[u8], i: usize) -> &[u8] {
+    &b[4 * i..4 * i + 4]
+}
+
+/// Summed mean-RGB absolute change of the image and of the geometry from `prev` to `now`,
+/// over the union of their masks, and that union's pixel count.
+fn change(prev: &Renders, now: &Renders) -> (f64, f64, f64) {
     let diff = |a: &[u8], b: &[u8]| (0..3).map(|c| a[c].abs_diff(b[c]) as f64).sum::<f64>() / 3.0;
     let (mut di, mut dt, mut m) = (0.0, 0.0, 0.0);
-    for i in 0..img
-        .len()
-        .min(prev_img.len())
-        .min(truth.len())
-        .min(prev_truth.len())
-        / 4
-    {
-        let covered = [prev_img, img, prev_truth, truth]
-            .iter()
-            .any(|b| px(b, i)[3] > 0);
-        if covered {
-            di += diff(px(prev_img, i), px(img, i));
-            dt += diff(px(prev_truth, i), px(truth, i));
-            m += 1.0;
-        }
+    let masks = prev.mask.iter().zip(&now.mask);
+    for (i, _) in masks.enumerate().filter(|(_, (a, b))| **a || **b) {
+        di += diff(px(&prev.image, i), px(&now.image, i));
+        dt += diff(px(&prev.truth, i), px(&now.truth, i));
+        m += 1.0;
     }
     (di, dt, m)
 }
@@ -321,6 +353,7 @@ pub struct Meter {
     renderer: Renderer,
     image: Target,
     truth: Target,
+    base: Target,
 }
 
 impl Default for Meter {
@@ -331,6 +364,7 @@ impl Default for Meter {
             renderer: Renderer::new(),
             image: Target::new(1, 1),
             truth: Target::new(1, 1),
+            base: Target::new(1, 1),
         }
     }
 }
@@ -380,7 +414,7 @@ impl Meter {
             self.last[k] = None;
             return;
         };
-        for t in [&mut self.image, &mut self.truth] {
+        for t in [&mut self.image, &mut self.truth, &mut self.base] {
             if t.width() != w || t.height() != h {
                 *t = Target::new(w, h);
             }
@@ -390,13 +424,19 @@ impl Meter {
             ..Default::default()
         };
         let view = FrameView::still(cam, w, h, drawn.lighting);
-        let r = &mut self.renderer;
-        r.render(drawn.image, cam, drawn.lighting, &mut self.image, &opts);
+        let (r, l) = (&mut self.renderer, drawn.lighting);
+        let occluded = !drawn.occluder.is_empty();
+        let under = |d| under(&drawn.occluder, d);
+        r.render(under(drawn.image), cam, l, &mut self.image, &opts);
         if let Some(t) = drawn.passes {
             t.passes(&view, &mut self.image);
         }
-        r.render(drawn.truth, cam, drawn.lighting, &mut self.truth, &opts);
-        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth);
+        r.render(under(drawn.truth), cam, l, &mut self.truth, &opts);
+        if occluded {
+            r.render(under(Vec::new()), cam, l, &mut self.base, &opts);
+        }
+        let renders = Renders::of(&self.image, &self.truth, occluded.then_some(&self.base));
+        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth, renders);
     }
 
     /// The last error measured of the attraction named `name` (`None`: not drawn from
