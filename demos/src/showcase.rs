@@ -11,10 +11,12 @@
 //! district whose buildings a planner draws as geometry, impostors or image layers
 //! ([`crate::showcase::impostors`]).
 
+pub mod attractions;
 pub mod building;
 pub mod ibr_layer;
 pub mod impostors;
 pub mod lightfield;
+pub mod summary;
 pub mod views;
 
 mod build;

@@ -31,7 +31,9 @@
 mod window;
 
 use clap::Parser;
+use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
+use demos::showcase::summary::{self as report, PartTimes};
 use demos::showcase::views::ViewsTour;
 use demos::showcase::{self, Showcase, SKY};
 use demos::timing::Summary;
@@ -132,26 +134,54 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     }
     let n = args.frames.max(1);
+    let mut meter = Meter::new();
+    let mut parts: [PartTimes; 3] = Default::default();
     if args.building {
-        return building_headless(args, dir, n);
+        parts[1] = building_headless(args, dir, n, &mut meter)?;
+    } else if args.views {
+        parts[2] = views_headless(args, dir, n, Showcase::new(), &mut meter)?;
+    } else {
+        let show;
+        (show, parts[0]) = outdoor_headless(args, dir, n, &mut meter)?;
+        match args.building_frames.unwrap_or((n / 2).max(1)) {
+            0 => {}
+            frames => parts[1] = building_headless(args, dir, frames, &mut meter)?,
+        }
+        match args.views_frames.unwrap_or((n / 10).max(3)) {
+            0 => {}
+            frames => parts[2] = views_headless(args, dir, frames, show, &mut meter)?,
+        }
     }
-    if args.views {
-        return views_headless(args, dir, n, Showcase::new());
+    write_summary(dir, parts, &meter)
+}
+
+/// Prints the summary (each part's frame times, each attraction's figures) and writes it
+/// to `DIR/summary.json` (also with `--no-save`).
+fn write_summary(dir: &Path, parts: [PartTimes; 3], meter: &Meter) -> Result<(), String> {
+    let summary = report::Summary {
+        parts,
+        attractions: meter.figures(),
+    };
+    println!("summary (frame times exclude the attractions' reference renders):");
+    for line in summary.lines() {
+        println!("  {line}");
     }
-    let show = outdoor_headless(args, dir, n)?;
-    match args.building_frames.unwrap_or((n / 2).max(1)) {
-        0 => {}
-        frames => building_headless(args, dir, frames)?,
-    }
-    match args.views_frames.unwrap_or((n / 10).max(3)) {
-        0 => Ok(()),
-        frames => views_headless(args, dir, frames, show),
-    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let path = dir.join("summary.json");
+    std::fs::write(&path, summary.json())
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    println!("wrote {}", path.display());
+    Ok(())
 }
 
 /// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
 /// statistics. Returns the scene, for the views moment.
-fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, String> {
+fn outdoor_headless(
+    args: &Args,
+    dir: &Path,
+    n: usize,
+    meter: &mut Meter,
+) -> Result<(Showcase, PartTimes), String> {
     let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
     let mut show = Showcase::new();
     show.ibr.impostors.set_debug(args.debug_impostors);
@@ -178,7 +208,10 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
         let start = Instant::now();
         stats = show.render(&mut renderer, &camera, &mut target, &opts);
         times.push(start.elapsed());
-        show.ibr.statue.measure(&camera, w, h);
+        meter.tour(&show, &camera, w, h);
+        let statue = &mut show.ibr.statue;
+        statue.error = meter.last_of("statue");
+        statue.errors.extend(statue.error);
         if !args.no_save {
             let path = dir.join(format!("frame_{i:04}.png"));
             image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
@@ -263,7 +296,7 @@ fn outdoor_headless(args: &Args, dir: &Path, n: usize) -> Result<Showcase, Strin
     if !args.no_save {
         println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
     }
-    Ok(show)
+    Ok((show, PartTimes::of(&times)))
 }
 
 /// The light-field statue's readout over the tour.
@@ -298,7 +331,12 @@ fn print_statue(show: &Showcase, n: usize) {
 
 /// The building tour along its walkthrough, `n` frames; writes PNGs unless `--no-save`;
 /// prints the frame times and the portals' work.
-fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
+fn building_headless(
+    args: &Args,
+    dir: &Path,
+    n: usize,
+    meter: &mut Meter,
+) -> Result<PartTimes, String> {
     let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
     let mut tour = BuildingTour::new();
     tour.portals.debug_tint = args.debug_portals;
@@ -319,6 +357,7 @@ fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
         let start = Instant::now();
         tour.render(&mut renderer, &camera, &mut target);
         times.push(start.elapsed());
+        meter.building(&tour, &camera, w, h);
         let f = tour.last();
         (warped, geometry, rebuilds) = (
             warped + f.warped,
@@ -350,12 +389,18 @@ fn building_headless(args: &Args, dir: &Path, n: usize) -> Result<(), String> {
             dir.display()
         );
     }
-    Ok(())
+    Ok(PartTimes::of(&times))
 }
 
 /// The views moment over `show`'s scene (posed at time 0), `n` frames; writes PNGs unless
 /// `--no-save`; prints each frame's readout and a summary per part.
-fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Result<(), String> {
+fn views_headless(
+    args: &Args,
+    dir: &Path,
+    n: usize,
+    mut show: Showcase,
+    meter: &mut Meter,
+) -> Result<PartTimes, String> {
     let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
     show.animate(0.0);
     let mut tour = ViewsTour::new(show.scene, w, h);
@@ -380,6 +425,7 @@ fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Resu
             )
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
+        meter.views(&tour.last());
         println!("  {i:4}: {}", tour.readout());
     }
     let summary = Summary::of(&times);
@@ -392,5 +438,5 @@ fn views_headless(args: &Args, dir: &Path, n: usize, mut show: Showcase) -> Resu
     if !args.no_save {
         println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
     }
-    Ok(())
+    Ok(PartTimes::of(&times))
 }

@@ -3,6 +3,7 @@
 
 use super::Args;
 use demos::font;
+use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
 use demos::showcase::views::ViewsTour;
 use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
@@ -188,6 +189,9 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
     let mut shown = Summary::default();
     let mut title_at = Instant::now();
     let (mut frame_no, mut statue) = (0u64, String::new());
+    // Each attraction measured against its geometry every eighth frame of its part (the
+    // flicker pairs are eight frames apart here).
+    let mut meter = Meter::new();
     while let Some(taps) = poll(&window, &keys) {
         let debug_taps = taps.debug;
         let now = Instant::now();
@@ -204,6 +208,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         if moment == Moment::Views {
             let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
             (title, readout, help) = views_frame(tour, start, (ww, wh), &mut pixels, &mut recent);
+            meter.views(&tour.last());
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
@@ -212,8 +217,13 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             });
             tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
             let t0 = Instant::now();
-            tour.render(&mut renderer, &building_camera(start, ww, wh), &mut target);
+            let camera = building_camera(start, ww, wh);
+            tour.render(&mut renderer, &camera, &mut target);
             recent.push(t0.elapsed());
+            frame_no += 1;
+            if frame_no % 8 == 1 {
+                meter.building(tour, &camera, ww, wh);
+            }
             title = "building".to_string();
             readout = tour.readout();
             help = "I TINT WARPED PIXELS  B OUTDOORS  V VIEWS  ESC QUIT";
@@ -230,10 +240,11 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             let t0 = Instant::now();
             let stats = show.render(&mut renderer, &camera, &mut target, &opts);
             recent.push(t0.elapsed());
-            // Measured every eighth frame: it renders the statue twice more.
+            // Measured every eighth frame: it renders each attraction twice more.
             frame_no += 1;
             if frame_no % 8 == 1 {
-                show.ibr.statue.measure(&camera, ww, wh);
+                meter.tour(&show, &camera, ww, wh);
+                show.ibr.statue.error = meter.last_of("statue");
             }
             statue = show.ibr.statue.line();
             let imp = show.ibr.impostors.readout();
@@ -263,6 +274,12 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             &lines[..if outdoor { 3 } else { 1 }],
             help,
         );
+        let part = match moment {
+            Moment::Outdoor => "tour",
+            Moment::Building => "building",
+            Moment::Views => "views",
+        };
+        attraction_lines(&mut pixels, (bw, bh), &meter.part_lines(part));
         window
             .update_with_buffer(&pixels, bw, bh)
             .map_err(WindowError::Update)?;
@@ -336,6 +353,15 @@ fn building_camera(start: Instant, ww: u32, wh: u32) -> engine::Camera {
     let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
     let steps = 10_000;
     BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
+}
+
+/// The part's attractions' figures so far (PSNR against geometry, flicker), one small line
+/// each above the keys' help.
+fn attraction_lines(pixels: &mut [u32], (bw, bh): (usize, usize), lines: &[String]) {
+    let top = bh.saturating_sub(30 + 10 * lines.len());
+    for (k, line) in lines.iter().enumerate() {
+        font::draw_text(pixels, bw, bh, 6, top + 10 * k, 1, line, 0x00c0_ffc0);
+    }
 }
 
 /// The on-screen text: frame time and size, the readout `lines` one under another, the

@@ -1,0 +1,516 @@
+//! Each image-based attraction of the showcase measured against its geometry from the same
+//! eye, on every frame where it is drawn from images: one row of [`ATTRACTIONS`] per
+//! attraction, one [`Track`] of figures per row, filled by a [`Meter`].
+//!
+//! How an attraction is measured (a [`Probe`] in its row):
+//! - **Draws** (statue, city impostors, cloud impostors, LDI portals): the attraction's own
+//!   draws and image passes, as the frame just showed them, and its geometry (the
+//!   technique's `reference`) are each rendered alone, from the frame's camera at the
+//!   frame's size, into a transparent target. Its *screen mask* is the pixels either covers
+//!   (alpha > 0). An attraction seen through something (the portals, through the hall's
+//!   doorways) has that occluder drawn first into both and into a third target alone; its
+//!   mask is then the pixels where either differs from the occluder alone. Nothing is
+//!   prepared again, so measuring changes nothing the tour shows; the renders happen after
+//!   the frame's clock stopped and are never in a frame time.
+//! - **Views** (image layers, panorama, view morph): the views moment measures each frame
+//!   against the geometry itself; its figure is taken as it is (no flicker: the moment
+//!   keeps its images to itself).
+//! - **Unmeasured** (billboards): the forest gives no geometry to compare with; its row
+//!   stays at zero frames and says so.
+//!
+//! The figures, over the frames an attraction was measured in:
+//! - **PSNR** of the image against the geometry over the mask
+//!   ([`ibr::metrics::compare`] with a [`Region::Mask`]), capped at [`PSNR_CAP`] dB; `mean` over frames and
+//!   `worst` (the lowest).
+//! - **Flicker**: for each pair of consecutive frames both measured, over the union `M` of
+//!   the two frames' masks, `I` = the sum over `M` of the mean absolute change of the
+//!   image's R, G, B (8-bit premultiplied levels) from one frame to the next, and `G` the
+//!   same for the geometry. Flicker = `(ΣI / ΣM + ε) / (ΣG / ΣM + ε)` summed over all
+//!   pairs, with `ε` = [`FLICKER_EPS`] levels guarding a still geometry (both still gives
+//!   1). 1 means the image changes as much as its geometry does; above, it flickers.
+//!   `None` before two consecutive frames were measured.
+
+use crate::showcase::building::BuildingTour;
+use crate::showcase::views::Shown;
+use crate::showcase::Showcase;
+use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
+use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::subject::Subject;
+use ibr::technique::{FrameView, Technique};
+
+/// PSNR figures are capped here (an image identical to its geometry has an infinite one).
+pub const PSNR_CAP: f64 = 99.0;
+/// Levels added to both mean changes of the flicker ratio (module docs).
+pub const FLICKER_EPS: f64 = 0.5;
+
+/// What the image draws and the geometry draws of one attraction are, in a frame of its
+/// part; `None` from a probe: not drawn from images this frame.
+pub struct Drawn<'a> {
+    pub image: Vec<Draw<'a>>,
+    /// Whose image passes run over the image render (after its draws).
+    pub passes: Option<&'a dyn Technique>,
+    pub truth: Vec<Draw<'a>>,
+    /// Drawn first under both (module docs); empty for most.
+    pub occluder: Vec<Draw<'a>>,
+    pub lighting: &'a Lighting,
+}
+
+/// How an attraction is measured (module docs).
+#[derive(Clone, Copy)]
+pub enum Probe {
+    Tour(fn(&Showcase) -> Option<Drawn<'_>>),
+    Building(fn(&BuildingTour) -> Option<Drawn<'_>>),
+    Views(fn(&Shown) -> Option<ImageError>),
+    Unmeasured(&'static str),
+}
+
+/// One attraction: its name, its technique in plain words, the part of the tour it is in.
+#[derive(Clone, Copy)]
+pub struct Attraction {
+    pub name: &'static str,
+    pub technique: &'static str,
+    pub part: &'static str,
+    pub probe: Probe,
+}
+
+/// The eight attractions, in the order the summary lists them.
+pub const ATTRACTIONS: [Attraction; 8] = [
+    Attraction {
+        name: "statue",
+        technique: "light field",
+        part: "tour",
+        probe: Probe::Tour(statue),
+    },
+    Attraction {
+        name: "portals",
+        technique: "LDI portals",
+        part: "building",
+        probe: Probe::Building(portals),
+    },
+    Attraction {
+        name: "background",
+        technique: "image layers",
+        part: "views",
+        probe: Probe::Views(layers),
+    },
+    Attraction {
+        name: "sky",
+        technique: "panorama",
+        part: "views",
+        probe: Probe::Views(sky),
+    },
+    Attraction {
+        name: "morph",
+        technique: "view morph",
+        part: "views",
+        probe: Probe::Views(morph),
+    },
+    Attraction {
+        name: "city",
+        technique: "impostors",
+        part: "tour",
+        probe: Probe::Tour(city),
+    },
+    Attraction {
+        name: "forest",
+        technique: "billboards",
+        part: "tour",
+        probe: Probe::Unmeasured("the billboard forest gives no geometry to compare with"),
+    },
+    Attraction {
+        name: "clouds",
+        technique: "cloud impostors",
+        part: "tour",
+        probe: Probe::Tour(clouds),
+    },
+];
+
+fn layers(shown: &Shown) -> Option<ImageError> {
+    match shown {
+        Shown::Layers(f) => f.error,
+        _ => None,
+    }
+}
+
+fn sky(shown: &Shown) -> Option<ImageError> {
+    match shown {
+        Shown::Sky(f) => f.error,
+        _ => None,
+    }
+}
+
+fn morph(shown: &Shown) -> Option<ImageError> {
+    match shown {
+        Shown::Morph(f) => f.error.map(|(e, _)| e),
+        _ => None,
+    }
+}
+
+fn statue(show: &Showcase) -> Option<Drawn<'_>> {
+    let s = &show.ibr.statue;
+    s.object.rect()?;
+    let mut drawn = Drawn::new(&s.lighting);
+    s.object.draws(&mut drawn.image);
+    drawn.passes = Some(&s.object);
+    s.object.reference(&mut drawn.truth);
+    Some(drawn)
+}
+
+fn city(show: &Showcase) -> Option<Drawn<'_>> {
+    let imp = &show.ibr.impostors;
+    if imp.readout().city.images() == 0 {
+        return None;
+    }
+    let mut drawn = Drawn::new(&show.scene.lighting);
+    imp.city.draws(&mut drawn.image);
+    imp.city.reference(&mut drawn.truth);
+    Some(drawn)
+}
+
+fn clouds(show: &Showcase) -> Option<Drawn<'_>> {
+    let imp = &show.ibr.impostors;
+    if imp.readout().clouds.images == 0 {
+        return None;
+    }
+    let mut drawn = Drawn::new(&show.scene.lighting);
+    imp.cloud_set.draws(&imp.clouds.clouds, &mut drawn.image);
+    for c in &imp.clouds.clouds {
+        c.draws(&mut drawn.truth);
+    }
+    Some(drawn)
+}
+
+fn portals(tour: &BuildingTour) -> Option<Drawn<'_>> {
+    if tour.last().warped == 0 {
+        return None;
+    }
+    let mut drawn = Drawn::new(&tour.building.lighting);
+    tour.building.hall.draws(&mut drawn.occluder);
+    tour.portals.draws(&mut drawn.image);
+    drawn.passes = Some(&tour.portals);
+    tour.portals.reference(&mut drawn.truth);
+    Some(drawn)
+}
+
+impl<'a> Drawn<'a> {
+    fn new(lighting: &'a Lighting) -> Self {
+        Drawn {
+            image: Vec::new(),
+            passes: None,
+            truth: Vec::new(),
+            occluder: Vec::new(),
+            lighting,
+        }
+    }
+}
+
+/// One attraction's figures so far (module docs).
+#[derive(Clone, Debug, Default)]
+pub struct Track {
+    /// Frames measured (drawn from images).
+    pub frames: usize,
+    /// Each measured frame's PSNR, capped.
+    pub psnr: Vec<f64>,
+    /// Sums over consecutive measured pairs: image change, geometry change (levels summed
+    /// over the mask) and mask pixels.
+    image_change: f64,
+    truth_change: f64,
+    mask: f64,
+    /// The last measured frame's image and geometry (premultiplied RGBA8), when the
+    /// frame before this one was measured.
+    prev: Option<Renders>,
+}
+
+/// One attraction's result, as the summary gives it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Figures {
+    pub name: &'static str,
+    pub technique: &'static str,
+    pub part: &'static str,
+    pub frames: usize,
+    /// Mean and worst PSNR (dB); `None` with no frame measured.
+    pub psnr_mean: Option<f64>,
+    pub psnr_worst: Option<f64>,
+    pub flicker: Option<f64>,
+}
+
+impl Track {
+    /// Adds a frame's error (PSNR only).
+    pub fn add(&mut self, e: ImageError) {
+        self.frames += 1;
+        self.psnr.push(e.psnr_capped(PSNR_CAP));
+    }
+
+    /// A frame not drawn from images: the next measured frame starts a new flicker pair.
+    pub fn skip(&mut self) {
+        self.prev = None;
+    }
+
+    /// Adds a frame's renders: its PSNR over its mask and its change since the last.
+    fn add_renders(&mut self, image: &Target, truth: &Target, r: Renders) -> Option<ImageError> {
+        let opts = Options {
+            region: Region::Mask(&r.mask),
+            ..Options::default()
+        };
+        let e = match metrics::compare(image, truth, &opts) {
+            Ok(e) if r.mask.contains(&true) => e,
+            _ => {
+                self.prev = None;
+                return None;
+            }
+        };
+        self.add(e);
+        if let Some(p) = &self.prev {
+            let (di, dt, m) = change(p, &r);
+            self.image_change += di;
+            self.truth_change += dt;
+            self.mask += m;
+        }
+        self.prev = Some(r);
+        Some(e)
+    }
+
+    /// The flicker ratio so far (module docs); `None` before a measured pair.
+    pub fn flicker(&self) -> Option<f64> {
+        (self.mask > 0.0).then(|| {
+            (self.image_change / self.mask + FLICKER_EPS)
+                / (self.truth_change / self.mask + FLICKER_EPS)
+        })
+    }
+
+    fn figures(&self, a: &Attraction) -> Figures {
+        let n = self.psnr.len();
+        Figures {
+            name: a.name,
+            technique: a.technique,
+            part: a.part,
+            frames: self.frames,
+            psnr_mean: (n > 0).then(|| self.psnr.iter().sum::<f64>() / n as f64),
+            psnr_worst: (n > 0).then(|| self.psnr.iter().copied().fold(f64::INFINITY, f64::min)),
+            flicker: self.flicker(),
+        }
+    }
+}
+
+/// One measured frame's image and geometry renders (premultiplied RGBA8) and its mask.
+#[derive(Clone, Debug, Default)]
+struct Renders {
+    image: Vec<u8>,
+    truth: Vec<u8>,
+    mask: Vec<bool>,
+}
+
+impl Renders {
+    /// The renders and their mask: where either is covered, or with `base` (the occluder
+    /// alone), where either differs from it.
+    fn of(image: &Target, truth: &Target, base: Option<&Target>) -> Renders {
+        let (image, truth) = (
+            image.to_rgba8_premultiplied(),
+            truth.to_rgba8_premultiplied(),
+        );
+        let mask = match base.map(Target::to_rgba8_premultiplied) {
+            Some(b) => (0..b.len() / 4)
+                .map(|i| px(&image, i) != px(&b, i) || px(&truth, i) != px(&b, i))
+                .collect(),
+            None => (0..image.len() / 4)
+                .map(|i| px(&image, i)[3] > 0 || px(&truth, i)[3] > 0)
+                .collect(),
+        };
+        Renders { image, truth, mask }
+    }
+}
+
+/// `occluder`'s draws, then `d`'s.
+fn under<'a>(occluder: &[Draw<'a>], d: Vec<Draw<'a>>) -> Vec<Draw<'a>> {
+    occluder.iter().copied().chain(d).collect()
+}
+
+fn px(b: &[u8], i: usize) -> &[u8] {
+    &b[4 * i..4 * i + 4]
+}
+
+/// Summed mean-RGB absolute change of the image and of the geometry from `prev` to `now`,
+/// over the union of their masks, and that union's pixel count.
+fn change(prev: &Renders, now: &Renders) -> (f64, f64, f64) {
+    let diff = |a: &[u8], b: &[u8]| (0..3).map(|c| a[c].abs_diff(b[c]) as f64).sum::<f64>() / 3.0;
+    let (mut di, mut dt, mut m) = (0.0, 0.0, 0.0);
+    let masks = prev.mask.iter().zip(&now.mask);
+    for (i, _) in masks.enumerate().filter(|(_, (a, b))| **a || **b) {
+        di += diff(px(&prev.image, i), px(&now.image, i));
+        dt += diff(px(&prev.truth, i), px(&now.truth, i));
+        m += 1.0;
+    }
+    (di, dt, m)
+}
+
+/// Measures the attractions frame by frame; one [`Track`] per row of [`ATTRACTIONS`].
+#[derive(Debug)]
+pub struct Meter {
+    pub tracks: Vec<Track>,
+    /// The last error measured per attraction (for the readout), `None` if not drawn
+    /// from images in its part's last frame.
+    pub last: Vec<Option<ImageError>>,
+    renderer: Renderer,
+    image: Target,
+    truth: Target,
+    base: Target,
+}
+
+impl Default for Meter {
+    fn default() -> Self {
+        Meter {
+            tracks: vec![Track::default(); ATTRACTIONS.len()],
+            last: vec![None; ATTRACTIONS.len()],
+            renderer: Renderer::new(),
+            image: Target::new(1, 1),
+            truth: Target::new(1, 1),
+            base: Target::new(1, 1),
+        }
+    }
+}
+
+impl Meter {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Measures the tour's attractions in the frame `show` just rendered with `camera`
+    /// at `width` x `height`.
+    pub fn tour(&mut self, show: &Showcase, camera: &Camera, width: u32, height: u32) {
+        for (k, a) in ATTRACTIONS.iter().enumerate() {
+            if let Probe::Tour(probe) = a.probe {
+                let drawn = probe(show);
+                self.measure(k, drawn, camera, width, height);
+            }
+        }
+    }
+
+    /// The same for the building's frame.
+    pub fn building(&mut self, tour: &BuildingTour, camera: &Camera, width: u32, height: u32) {
+        for (k, a) in ATTRACTIONS.iter().enumerate() {
+            if let Probe::Building(probe) = a.probe {
+                let drawn = probe(tour);
+                self.measure(k, drawn, camera, width, height);
+            }
+        }
+    }
+
+    /// Takes the views moment's own measures of its last frame.
+    pub fn views(&mut self, shown: &Shown) {
+        for (k, a) in ATTRACTIONS.iter().enumerate() {
+            if let Probe::Views(probe) = a.probe {
+                self.last[k] = probe(shown);
+                match self.last[k] {
+                    Some(e) => self.tracks[k].add(e),
+                    None => self.tracks[k].skip(),
+                }
+            }
+        }
+    }
+
+    fn measure(&mut self, k: usize, drawn: Option<Drawn<'_>>, cam: &Camera, w: u32, h: u32) {
+        let Some(drawn) = drawn else {
+            self.tracks[k].skip();
+            self.last[k] = None;
+            return;
+        };
+        for t in [&mut self.image, &mut self.truth, &mut self.base] {
+            if t.width() != w || t.height() != h {
+                *t = Target::new(w, h);
+            }
+        }
+        let opts = FrameOptions {
+            clear: Some(Rgba::TRANSPARENT),
+            ..Default::default()
+        };
+        let view = FrameView::still(cam, w, h, drawn.lighting);
+        let (r, l) = (&mut self.renderer, drawn.lighting);
+        let occluded = !drawn.occluder.is_empty();
+        let under = |d| under(&drawn.occluder, d);
+        r.render(under(drawn.image), cam, l, &mut self.image, &opts);
+        if let Some(t) = drawn.passes {
+            t.passes(&view, &mut self.image);
+        }
+        r.render(under(drawn.truth), cam, l, &mut self.truth, &opts);
+        if occluded {
+            r.render(under(Vec::new()), cam, l, &mut self.base, &opts);
+        }
+        let renders = Renders::of(&self.image, &self.truth, occluded.then_some(&self.base));
+        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth, renders);
+    }
+
+    /// The last error measured of the attraction named `name` (`None`: not drawn from
+    /// images in its part's last measured frame, or no such attraction).
+    pub fn last_of(&self, name: &str) -> Option<ImageError> {
+        let k = ATTRACTIONS.iter().position(|a| a.name == name)?;
+        self.last[k]
+    }
+
+    /// Every attraction's figures, in table order.
+    pub fn figures(&self) -> Vec<Figures> {
+        ATTRACTIONS
+            .iter()
+            .zip(&self.tracks)
+            .map(|(a, t)| t.figures(a))
+            .collect()
+    }
+
+    /// One upper-case line per attraction (the bitmap font's), for the window and console:
+    /// name, technique, frames, PSNR mean / worst, flicker, or why it is not measured.
+    pub fn lines(&self) -> Vec<String> {
+        self.lines_of(|_| true)
+    }
+
+    /// [`Meter::lines`] of the attractions in `part` alone.
+    pub fn part_lines(&self, part: &str) -> Vec<String> {
+        self.lines_of(|a| a.part == part)
+    }
+
+    fn lines_of(&self, keep: impl Fn(&Attraction) -> bool) -> Vec<String> {
+        let f = |v: Option<f64>, d: usize| v.map_or("-".to_string(), |v| format!("{v:.d$}"));
+        ATTRACTIONS
+            .iter()
+            .zip(self.figures())
+            .filter(|(a, _)| keep(a))
+            .map(|(a, g)| match a.probe {
+                Probe::Unmeasured(why) => {
+                    format!("{} ({}): NOT MEASURED, {why}", g.name, g.technique)
+                }
+                _ => format!(
+                    "{} ({}): {} frames  PSNR mean {} dB worst {} dB  flicker {}",
+                    g.name,
+                    g.technique,
+                    g.frames,
+                    f(g.psnr_mean, 1),
+                    f(g.psnr_worst, 1),
+                    f(g.flicker, 2)
+                ),
+            })
+            .map(|s| s.to_uppercase())
+            .collect()
+    }
+}
+
+impl std::fmt::Debug for Probe {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Probe::Tour(_) => write!(f, "Tour"),
+            Probe::Building(_) => write!(f, "Building"),
+            Probe::Views(_) => write!(f, "Views"),
+            Probe::Unmeasured(why) => write!(f, "Unmeasured({why})"),
+        }
+    }
+}
+
+impl std::fmt::Debug for Drawn<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (i, t) = (self.image.len(), self.truth.len());
+        write!(f, "Drawn {{ image: {i} draws, truth: {t} draws }}")
+    }
+}
+
+impl std::fmt::Debug for Attraction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} ({})", self.name, self.technique)
+    }
+}

@@ -1,0 +1,191 @@
+//! The headless showcase's summary, for a user and a script: each part's frame times
+//! (median, p90, p99, max and the frame that took it) and each attraction's figures
+//! ([`crate::showcase::attractions`]), as text lines and as `summary.json`:
+//!
+//! ```json
+//! {"parts": {"tour": {"frames": 120, "ms": {"median": 0, "p90": 0, "p99": 0, "max": 0, "max_frame": 0}},
+//!            "building": {...}, "views": {...}},
+//!  "attractions": [{"name": "statue", "technique": "light field", "part": "tour", "frames": 66,
+//!                   "psnr_db": {"mean": 0, "worst": 0}, "flicker": 0}]}
+//! ```
+//!
+//! Every part has the same five `ms` keys (all 0 for a part not rendered, with `frames` 0);
+//! a figure not measured is `null`. Percentiles are nearest-rank; `max_frame` is the
+//! index of the slowest frame within its part (its PNG's number). Written by hand: demos
+//! has no JSON dependency and the shape is small.
+
+use crate::showcase::attractions::Figures;
+use std::fmt::Write as _;
+use std::time::Duration;
+
+/// The parts of the headless tour, in the order they play.
+pub const PARTS: [&str; 3] = ["tour", "building", "views"];
+
+/// One part's frame times, in milliseconds.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PartTimes {
+    pub frames: usize,
+    pub median: f64,
+    pub p90: f64,
+    pub p99: f64,
+    pub max: f64,
+    /// The index of the slowest frame (the first of equals).
+    pub max_frame: usize,
+}
+
+impl PartTimes {
+    /// The figures of `times`, one per frame in order (all 0 when empty).
+    pub fn of(times: &[Duration]) -> PartTimes {
+        let ms: Vec<f64> = times.iter().map(|t| t.as_secs_f64() * 1e3).collect();
+        let mut sorted = ms.clone();
+        sorted.sort_by(f64::total_cmp);
+        let (max_frame, max) =
+            ms.iter()
+                .copied()
+                .enumerate()
+                .fold((0, 0.0), |b, (i, v)| if v > b.1 { (i, v) } else { b });
+        PartTimes {
+            frames: ms.len(),
+            median: percentile(&sorted, 0.5),
+            p90: percentile(&sorted, 0.9),
+            p99: percentile(&sorted, 0.99),
+            max,
+            max_frame,
+        }
+    }
+
+    /// `median 12.30 ms  p90 ...  max 40.10 ms (frame 17)`.
+    pub fn line(&self) -> String {
+        format!(
+            "{} frames: median {:.2} ms  p90 {:.2} ms  p99 {:.2} ms  max {:.2} ms (frame {})",
+            self.frames, self.median, self.p90, self.p99, self.max, self.max_frame
+        )
+    }
+}
+
+/// Nearest-rank percentile `q` in [0, 1] of sorted samples (0 when empty).
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let rank = (q * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+/// The whole summary: a part's times per name of [`PARTS`], and the attractions.
+#[derive(Clone, Debug, Default)]
+pub struct Summary {
+    pub parts: [PartTimes; 3],
+    pub attractions: Vec<Figures>,
+}
+
+impl Summary {
+    /// The text summary: one line per part, one per attraction.
+    pub fn lines(&self) -> Vec<String> {
+        let parts = PARTS.iter().zip(&self.parts);
+        let mut out: Vec<String> = parts.map(|(n, p)| format!("{n}: {}", p.line())).collect();
+        for a in &self.attractions {
+            let f = |v: Option<f64>, d: usize| v.map_or("-".to_string(), |v| format!("{v:.d$}"));
+            out.push(format!(
+                "{} ({}, {}): {} frames  PSNR mean {} dB, worst {} dB  flicker {}",
+                a.name,
+                a.technique,
+                a.part,
+                a.frames,
+                f(a.psnr_mean, 1),
+                f(a.psnr_worst, 1),
+                f(a.flicker, 2)
+            ));
+        }
+        out
+    }
+
+    /// The JSON text (module docs), one part or attraction per line.
+    pub fn json(&self) -> String {
+        let mut s = String::from("{\"parts\": {");
+        for (k, (name, p)) in PARTS.iter().zip(&self.parts).enumerate() {
+            let sep = if k > 0 { ",\n          " } else { "" };
+            let _ = write!(
+                s,
+                "{sep}{}: {{\"frames\": {}, \"ms\": {{\"median\": {}, \"p90\": {}, \"p99\": {}, \
+                 \"max\": {}, \"max_frame\": {}}}}}",
+                string(name),
+                p.frames,
+                number(Some(p.median)),
+                number(Some(p.p90)),
+                number(Some(p.p99)),
+                number(Some(p.max)),
+                p.max_frame
+            );
+        }
+        s.push_str("},\n \"attractions\": [");
+        for (k, a) in self.attractions.iter().enumerate() {
+            let sep = if k > 0 { ",\n   " } else { "\n   " };
+            let _ = write!(
+                s,
+                "{sep}{{\"name\": {}, \"technique\": {}, \"part\": {}, \"frames\": {}, \
+                 \"psnr_db\": {{\"mean\": {}, \"worst\": {}}}, \"flicker\": {}}}",
+                string(a.name),
+                string(a.technique),
+                string(a.part),
+                a.frames,
+                number(a.psnr_mean),
+                number(a.psnr_worst),
+                number(a.flicker)
+            );
+        }
+        s.push_str("]}\n");
+        s
+    }
+}
+
+/// A JSON number with four decimals, or `null` for none or a non-finite value.
+fn number(v: Option<f64>) -> String {
+    match v {
+        Some(v) if v.is_finite() => format!("{}", (v * 1e4).round() / 1e4),
+        _ => "null".to_string(),
+    }
+}
+
+/// A JSON string: quoted, with quotes, backslashes and control characters escaped.
+pub fn string(v: &str) -> String {
+    let mut s = String::with_capacity(v.len() + 2);
+    s.push('"');
+    for c in v.chars() {
+        match c {
+            '"' => s.push_str("\\\""),
+            '\\' => s.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(s, "\\u{:04x}", c as u32);
+            }
+            c => s.push(c),
+        }
+    }
+    s.push('"');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn part_times_find_the_slowest_frame_and_nearest_rank_percentiles() {
+        let ms = [5u64, 9, 3, 40, 7, 6, 8, 4, 2, 1];
+        let times: Vec<Duration> = ms.iter().map(|&m| Duration::from_millis(m)).collect();
+        let p = PartTimes::of(&times);
+        assert_eq!((p.frames, p.max_frame), (10, 3));
+        // Sorted: 1 2 3 4 5 6 7 8 9 40; rank ceil(0.5 * 10) = 5, ceil(9) = 9, ceil(9.9) = 10.
+        assert!((p.median - 5.0).abs() < 1e-9 && (p.p90 - 9.0).abs() < 1e-9);
+        assert!((p.p99 - 40.0).abs() < 1e-9 && (p.max - 40.0).abs() < 1e-9);
+        assert_eq!(PartTimes::of(&[]), PartTimes::default());
+    }
+
+    #[test]
+    fn strings_and_numbers_are_valid_json() {
+        assert_eq!(string("a\"b\\c\nd"), "\"a\\\"b\\\\c\\u000ad\"");
+        assert_eq!(number(Some(f64::INFINITY)), "null");
+        assert_eq!(number(None), "null");
+        assert_eq!(number(Some(1.23456)), "1.2346");
+    }
+}

@@ -1,0 +1,202 @@
+//! A short, low-resolution headless tour: `summary.json` has the issue's shape, and each
+//! image-based attraction's PSNR against its geometry and its flicker stay within bounds.
+//!
+//! The goals (issue 39) are mean >= 30 dB, worst >= 25 dB and flicker <= 1.5 for every
+//! attraction; the attractions are being fixed on other branches, so the bounds below are
+//! what this branch's code achieves in this run, with a margin, each with its gap to the
+//! goal. Raise them as the attractions improve.
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+const W: &str = "240";
+const H: &str = "136";
+const FRAMES: &str = "24";
+
+/// Bounds of one attraction: least mean PSNR, least worst PSNR (dB), most flicker
+/// (`None`: not measured, the figure must be `null`).
+struct Bound {
+    name: &'static str,
+    technique: &'static str,
+    part: &'static str,
+    mean: Option<f64>,
+    worst: Option<f64>,
+    flicker: Option<f64>,
+}
+
+const GOAL: (f64, f64, f64) = (30.0, 25.0, 1.5);
+
+/// Runs the tour `--no-save` (the summary is written anyway) and parses its summary.
+fn summary() -> Value {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_attractions");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .arg("--headless")
+        .arg(&dir)
+        .args(["--frames", FRAMES, "-W", W, "-H", H, "--no-save"])
+        .output()
+        .expect("showcase runs");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("summary (frame times exclude"), "{stdout}");
+    assert!(
+        !dir.join("frame_0000.png").exists(),
+        "--no-save wrote frames"
+    );
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json written");
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"))
+}
+
+#[test]
+fn summary_has_the_shape_and_the_attractions_stay_within_bounds() {
+    let s = summary();
+    let frames = [("tour", 24), ("building", 12), ("views", 3)];
+    let parts = s["parts"].as_object().expect("parts");
+    assert_eq!(parts.len(), 3);
+    for (part, n) in frames {
+        let p = &parts[part];
+        assert_eq!(p["frames"].as_u64(), Some(n), "{part}");
+        let ms = p["ms"].as_object().expect("ms");
+        let keys: Vec<&str> = ms.keys().map(String::as_str).collect();
+        let mut want = ["median", "p90", "p99", "max", "max_frame"];
+        want.sort();
+        let mut keys = keys;
+        keys.sort();
+        assert_eq!(keys, want, "{part}");
+        let f = |k: &str| ms[k].as_f64().expect(k);
+        assert!(
+            f("median") > 0.0 && f("median") <= f("p90"),
+            "{part}: {ms:?}"
+        );
+        assert!(
+            f("p90") <= f("p99") && f("p99") <= f("max"),
+            "{part}: {ms:?}"
+        );
+        assert!(ms["max_frame"].as_u64().expect("max_frame") < n, "{part}");
+    }
+    let list = s["attractions"].as_array().expect("attractions");
+    assert_eq!(list.len(), BOUNDS.len());
+    // Every figure first, so a failure shows them all.
+    for a in list {
+        println!("{a}");
+    }
+    for (a, b) in list.iter().zip(&BOUNDS) {
+        let name = a["name"].as_str().expect("name");
+        assert_eq!(name, b.name);
+        assert_eq!(a["technique"].as_str(), Some(b.technique), "{name}");
+        assert_eq!(a["part"].as_str(), Some(b.part), "{name}");
+        let n = a["frames"].as_u64().expect("frames");
+        let (mean, worst) = (&a["psnr_db"]["mean"], &a["psnr_db"]["worst"]);
+        let flicker = &a["flicker"];
+        println!(
+            "{name}: {n} frames, PSNR {mean} / {worst} dB, flicker {flicker} (goals {:?})",
+            GOAL
+        );
+        check(name, "mean PSNR", mean, b.mean, |v, b| v >= b);
+        check(name, "worst PSNR", worst, b.worst, |v, b| v >= b);
+        check(name, "flicker", flicker, b.flicker, |v, b| v <= b);
+        if b.mean.is_some() {
+            assert!(n > 0, "{name}: measured in no frame");
+            let (m, w) = (mean.as_f64().unwrap(), worst.as_f64().unwrap());
+            assert!(w <= m, "{name}: worst {w} above mean {m}");
+        }
+    }
+}
+
+/// `value` is a number within `bound` by `ok`, or `null` when there is no bound.
+fn check(name: &str, what: &str, value: &Value, bound: Option<f64>, ok: fn(f64, f64) -> bool) {
+    match bound {
+        Some(b) => {
+            let v = value
+                .as_f64()
+                .unwrap_or_else(|| panic!("{name}: {what} {value}"));
+            assert!(ok(v, b), "{name}: {what} {v} outside its bound {b}");
+        }
+        None => assert!(value.is_null(), "{name}: {what} {value}, expected null"),
+    }
+}
+
+/// Bounds per attraction, in the summary's order: this run's figures (240x136, 24 tour
+/// frames) less a margin of about 1.5 dB (flicker: +0.3 or more), each with its gap to the
+/// goals [`GOAL`].
+const BOUNDS: [Bound; 8] = [
+    // Measured 14.2 / 12.6 dB, flicker 1.02: 15.8 dB and 12.4 dB short of the PSNR goals,
+    // flicker within its goal.
+    Bound {
+        name: "statue",
+        technique: "light field",
+        part: "tour",
+        mean: Some(12.5),
+        worst: Some(11.0),
+        flicker: Some(1.3),
+    },
+    // Measured 55.5 / 38.7 dB (2 frames warped), flicker 1.01: meets the goals.
+    Bound {
+        name: "portals",
+        technique: "LDI portals",
+        part: "building",
+        mean: Some(50.0),
+        worst: Some(35.0),
+        flicker: Some(1.3),
+    },
+    // Measured 51.5 / 51.5 dB: meets the PSNR goals; flicker not measured.
+    Bound {
+        name: "background",
+        technique: "image layers",
+        part: "views",
+        mean: Some(45.0),
+        worst: Some(45.0),
+        flicker: None,
+    },
+    // Measured 22.6 / 22.6 dB: 7.4 dB and 2.4 dB short; flicker not measured.
+    Bound {
+        name: "sky",
+        technique: "panorama",
+        part: "views",
+        mean: Some(21.0),
+        worst: Some(21.0),
+        flicker: None,
+    },
+    // Measured 25.9 / 25.9 dB: mean 4.1 dB short, worst meets its goal;
+    // flicker not measured.
+    Bound {
+        name: "morph",
+        technique: "view morph",
+        part: "views",
+        mean: Some(24.0),
+        worst: Some(24.0),
+        flicker: None,
+    },
+    // Measured 26.2 / 21.1 dB, flicker 1.00: 3.8 dB and 3.9 dB short, flicker within.
+    Bound {
+        name: "city",
+        technique: "impostors",
+        part: "tour",
+        mean: Some(24.5),
+        worst: Some(19.5),
+        flicker: Some(1.3),
+    },
+    // Not measured: the billboard forest gives no geometry to compare with.
+    Bound {
+        name: "forest",
+        technique: "billboards",
+        part: "tour",
+        mean: None,
+        worst: None,
+        flicker: None,
+    },
+    // Measured 21.0 / 13.5 dB, flicker 0.98: 9.0 dB and 11.5 dB short, flicker within.
+    Bound {
+        name: "clouds",
+        technique: "cloud impostors",
+        part: "tour",
+        mean: Some(19.5),
+        worst: Some(12.0),
+        flicker: Some(1.3),
+    },
+];
