@@ -433,8 +433,10 @@ impl BillboardBatch {
         );
         if self.material.is_blended() {
             // Far to near; NaN depths (non-finite positions) are dropped by `corners`.
+            // Ties are broken by index, so the unstable sort (which, unlike the stable
+            // one, needs no scratch memory) gives the one order.
             self.order
-                .sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                .sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         }
         for &(_, i) in &self.order {
             let b = &self.items[i as usize];
