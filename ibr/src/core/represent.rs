@@ -270,3 +270,8 @@ impl<S: Subject + Send + Sync> Representation<S> for Geometry {
         subject.draws(out);
     }
 }
+
+/// How far the eye may move, as a fraction of its distance from an object, before every
+/// representation is asked for the object's prediction again (the planner's `Config::reask`):
+/// a representation's promise must hold over that much movement.
+pub const REASK_MOVE: f32 = 0.05;

@@ -117,9 +117,7 @@ pub struct Config {
     pub cost: CostModel,
 }
 
-/// How far the eye may move, as a fraction of its distance from an object, before every
-/// representation is asked for the object's prediction again ([`Config::reask`]).
-pub const REASK_MOVE: f32 = 0.05;
+pub use crate::core::REASK_MOVE;
 
 impl Default for Config {
     fn default() -> Self {

@@ -41,7 +41,7 @@ use engine::{FrameOptions, FrameStats, Renderer, Target};
 use ibr::subject::Subject;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -174,59 +174,9 @@ fn write_summary(dir: &Path, parts: [PartTimes; 3], meter: &Meter) -> Result<(),
     Ok(())
 }
 
-/// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
-/// statistics. Returns the scene, for the views moment.
-fn outdoor_headless(
-    args: &Args,
-    dir: &Path,
-    n: usize,
-    meter: &mut Meter,
-) -> Result<(Showcase, PartTimes), String> {
-    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
-    let mut show = Showcase::new();
-    show.ibr.impostors.set_debug(args.debug_impostors);
-    let mut renderer = Renderer::new();
-    let mut target = Target::new(w, h);
-    let opts = FrameOptions {
-        clear: Some(SKY),
-        ..Default::default()
-    };
-    println!(
-        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind images), \
-         {n} frames at {w}x{h} on {} threads",
-        show.scene.triangle_count(),
-        show.scene.instances.len(),
-        show.ibr.impostors.triangle_count(),
-        rayon::current_num_threads()
-    );
-    let mut times = Vec::with_capacity(n);
-    let mut stats = FrameStats::default();
-    for i in 0..n {
-        show.animate(i as f32 / 30.0);
-        let (eye, look) = show.path(i, n);
-        let camera = showcase::camera(eye, look, w, h);
-        let start = Instant::now();
-        stats = show.render(&mut renderer, &camera, &mut target, &opts);
-        times.push(start.elapsed());
-        meter.tour(&show, &camera, w, h);
-        let statue = &mut show.ibr.statue;
-        statue.error = meter.last_of("statue");
-        statue.errors.extend(statue.error);
-        if !args.no_save {
-            let path = dir.join(format!("frame_{i:04}.png"));
-            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        }
-    }
-    let summary = Summary::of(&times);
-    println!("frame time: {summary}");
-    println!(
-        "  median {:.2} ms  min {:.2} ms  p90 {:.2} ms  ({:.1} fps at the median)",
-        summary.median_ms,
-        summary.min_ms,
-        summary.p90_ms,
-        1e3 / summary.median_ms.max(1e-9)
-    );
+/// Prints the tour's impostor and city statistics, and (unless `--no-save`) writes their
+/// chart over the tour.
+fn print_impostors(show: &Showcase, args: &Args, times: &[Duration], dir: &Path) {
     let imp = show.ibr.impostors.run_stats();
     println!(
         "impostors: {} clouds; planner: {} buildings as {}{}",
@@ -280,7 +230,7 @@ fn outdoor_headless(
     );
     if !args.no_save {
         let path = dir.join("impostor_error.png");
-        match showcase::impostors::tour_chart(imp, &times, &path) {
+        match showcase::impostors::tour_chart(imp, times, &path) {
             Ok(()) => println!(
                 "  chart of error, refreshes and frame time over the tour: {}",
                 path.display()
@@ -288,6 +238,62 @@ fn outdoor_headless(
             Err(e) => eprintln!("  could not write {}: {e}", path.display()),
         }
     }
+}
+
+/// Renders the outdoor camera path, `n` frames; writes PNGs unless `--no-save`; prints
+/// statistics. Returns the scene, for the views moment.
+fn outdoor_headless(
+    args: &Args,
+    dir: &Path,
+    n: usize,
+    meter: &mut Meter,
+) -> Result<(Showcase, PartTimes), String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    let mut show = Showcase::new();
+    show.ibr.impostors.set_debug(args.debug_impostors);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    println!(
+        "showcase: {} triangles in {} draws (+ {} in clouds and buildings behind images), \
+         {n} frames at {w}x{h} on {} threads",
+        show.scene.triangle_count(),
+        show.scene.instances.len(),
+        show.ibr.impostors.triangle_count(),
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    let mut stats = FrameStats::default();
+    for i in 0..n {
+        show.animate(i as f32 / 30.0);
+        let (eye, look) = show.path(i, n);
+        let camera = showcase::camera(eye, look, w, h);
+        let start = Instant::now();
+        stats = show.render(&mut renderer, &camera, &mut target, &opts);
+        times.push(start.elapsed());
+        meter.tour(&show, &camera, w, h);
+        let statue = &mut show.ibr.statue;
+        statue.error = meter.last_of("statue");
+        statue.errors.extend(statue.error);
+        if !args.no_save {
+            let path = dir.join(format!("frame_{i:04}.png"));
+            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    let summary = Summary::of(&times);
+    println!("frame time: {summary}");
+    println!(
+        "  median {:.2} ms  min {:.2} ms  p90 {:.2} ms  ({:.1} fps at the median)",
+        summary.median_ms,
+        summary.min_ms,
+        summary.p90_ms,
+        1e3 / summary.median_ms.max(1e-9)
+    );
+    print_impostors(&show, args, &times, dir);
     let last = show.ibr.impostors.readout();
     println!("  last frame: {}", last.line());
     println!("  last frame: {}", last.city.line());

@@ -48,6 +48,15 @@ enum Moment {
 }
 
 impl Moment {
+    /// The part of the showcase this moment is, as `summary.json` names it.
+    fn part(self) -> &'static str {
+        match self {
+            Moment::Outdoor => "tour",
+            Moment::Building => "building",
+            Moment::Views => "views",
+        }
+    }
+
     /// After `taps`: each tap of B enters the building or leaves it for outdoors, and V
     /// likewise the views moment.
     fn after(self, taps: Taps) -> Moment {
@@ -166,8 +175,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         .impostors
         .set_time_budget(Some(Duration::from_millis(REFRESH_MS)));
     // The building and the views moment are made when first entered (B, V).
-    let mut tour: Option<BuildingTour> = None;
-    let mut views: Option<ViewsTour> = None;
+    let (mut tour, mut views): (Option<BuildingTour>, Option<ViewsTour>) = (None, None);
     let mut moment = match (args.building, args.views) {
         (true, _) => Moment::Building,
         (_, true) => Moment::Views,
@@ -182,8 +190,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         ..Default::default()
     };
     let tris = show.scene.triangle_count();
-    let start = Instant::now();
-    let mut last = Instant::now();
+    let (start, mut last) = (Instant::now(), Instant::now());
     let mut last_mouse = None;
     let mut recent: Vec<Duration> = Vec::new();
     let mut shown = Summary::default();
@@ -266,20 +273,9 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             window.set_title(&window_title(&shown, (ww, wh), &title));
         }
         let lines = [readout.as_str(), city.as_str(), statue.as_str()];
-        let outdoor = moment == Moment::Outdoor;
-        overlay(
-            &mut pixels,
-            (bw, bh),
-            &shown,
-            &lines[..if outdoor { 3 } else { 1 }],
-            help,
-        );
-        let part = match moment {
-            Moment::Outdoor => "tour",
-            Moment::Building => "building",
-            Moment::Views => "views",
-        };
-        attraction_lines(&mut pixels, (bw, bh), &meter.part_lines(part));
+        let n = if moment == Moment::Outdoor { 3 } else { 1 };
+        overlay(&mut pixels, (bw, bh), &shown, &lines[..n], help);
+        attraction_lines(&mut pixels, (bw, bh), &meter.part_lines(moment.part()));
         window
             .update_with_buffer(&pixels, bw, bh)
             .map_err(WindowError::Update)?;

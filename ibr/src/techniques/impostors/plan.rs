@@ -7,8 +7,8 @@ use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, Imp
 use crate::core::FrameView;
 use crate::core::Subject;
 use crate::core::PRIOR_GRADIENT;
+use crate::core::REASK_MOVE;
 use crate::core::{image_bytes, Estimate, Representation, Sight, Work};
-use crate::plan::REASK_MOVE;
 use engine::{Draw, Rgba};
 use glam::Vec3;
 
