@@ -181,22 +181,26 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(19.5),
         flicker: Some(1.3),
     },
-    // Not measured: the billboard forest gives no geometry to compare with.
+    // Measured 14.7 / 13.0 dB, flicker 1.08, against the tree meshes where the billboards
+    // stand: 15.3 dB and 12.0 dB short of the PSNR goals (one baked azimuth for every
+    // viewing direction), flicker within.
     Bound {
         name: "forest",
         technique: "billboards",
         part: "tour",
-        mean: None,
-        worst: None,
-        flicker: None,
+        mean: Some(13.0),
+        worst: Some(11.5),
+        flicker: Some(1.4),
     },
-    // Measured 21.0 / 13.5 dB, flicker 0.98: 9.0 dB and 11.5 dB short, flicker within.
+    // Measured 31.7 / 21.9 dB, flicker 1.02 (against particles prepared for the frame's
+    // eye; the clouds judged by their parallax in pixels): the mean meets its goal, the
+    // worst is 3.1 dB short, flicker within.
     Bound {
         name: "clouds",
         technique: "cloud impostors",
         part: "tour",
-        mean: Some(19.5),
-        worst: Some(12.0),
+        mean: Some(30.0),
+        worst: Some(20.0),
         flicker: Some(1.3),
     },
 ];

@@ -3,20 +3,27 @@
 //! attraction, one [`Track`] of figures per row, filled by a [`Meter`].
 //!
 //! How an attraction is measured (a [`Probe`] in its row):
-//! - **Draws** (statue, city impostors, cloud impostors, LDI portals): the attraction's own
+//! - **Draws** (statue, city impostors, cloud impostors, billboard forest, LDI portals): the
+//!   attraction's own
 //!   draws and image passes, as the frame just showed them, and its geometry (the
-//!   technique's `reference`) are each rendered alone, from the frame's camera at the
+//!   technique's `reference`; the forest's tree meshes where its billboards stand) are
+//!   each rendered alone, from the frame's camera at the
 //!   frame's size, into a transparent target. Its *screen mask* is the pixels either covers
 //!   (alpha > 0). An attraction seen through something (the portals, through the hall's
 //!   doorways) has that occluder drawn first into both and into a third target alone; its
 //!   mask is then the pixels where either differs from the occluder alone. Nothing is
 //!   prepared again, so measuring changes nothing the tour shows; the renders happen after
-//!   the frame's clock stopped and are never in a frame time.
+//!   the frame's clock stopped and are never in a frame time. A subject whose geometry
+//!   depends on the eye (a cloud's particles face it and fade near it) is measured
+//!   through a copy prepared for the frame's eye (the [`Stand`]): the frame prepares only
+//!   the clouds it draws as particles, so the others' particles still face the eye of
+//!   their last capture, and measuring those (as before) compared the image with a
+//!   stale reference.
 //! - **Views** (image layers, panorama, view morph): the views moment measures each frame
 //!   against the geometry itself; its figure is taken as it is (no flicker: the moment
 //!   keeps its images to itself).
-//! - **Unmeasured** (billboards): the forest gives no geometry to compare with; its row
-//!   stays at zero frames and says so.
+//! - **Unmeasured**: a row that gives no geometry to compare with stays at zero frames
+//!   and says why (none at present).
 //!
 //! The figures, over the frames an attraction was measured in:
 //! - **PSNR** of the image against the geometry over the mask
@@ -34,6 +41,7 @@ use crate::showcase::building::BuildingTour;
 use crate::showcase::views::Shown;
 use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
+use ibr::cloud::Cloud;
 use ibr::metrics::{self, ImageError, Options, Region};
 use ibr::subject::Subject;
 use ibr::technique::{FrameView, Technique};
@@ -42,6 +50,13 @@ use ibr::technique::{FrameView, Technique};
 pub const PSNR_CAP: f64 = 99.0;
 /// Levels added to both mean changes of the flicker ratio (module docs).
 pub const FLICKER_EPS: f64 = 0.5;
+
+/// Copies of eye-dependent subjects prepared for the frame's eye (module docs), reused
+/// frame to frame.
+#[derive(Debug, Default)]
+pub struct Stand {
+    clouds: Vec<Cloud>,
+}
 
 /// What the image draws and the geometry draws of one attraction are, in a frame of its
 /// part; `None` from a probe: not drawn from images this frame.
@@ -58,7 +73,8 @@ pub struct Drawn<'a> {
 /// How an attraction is measured (module docs).
 #[derive(Clone, Copy)]
 pub enum Probe {
-    Tour(fn(&Showcase) -> Option<Drawn<'_>>),
+    /// Given the frame's camera and height, and the [`Stand`] for copies prepared for it.
+    Tour(for<'a> fn(&'a Showcase, &'a mut Stand, &Camera, u32) -> Option<Drawn<'a>>),
     Building(fn(&BuildingTour) -> Option<Drawn<'_>>),
     Views(fn(&Shown) -> Option<ImageError>),
     Unmeasured(&'static str),
@@ -115,7 +131,7 @@ pub const ATTRACTIONS: [Attraction; 8] = [
         name: "forest",
         technique: "billboards",
         part: "tour",
-        probe: Probe::Unmeasured("the billboard forest gives no geometry to compare with"),
+        probe: Probe::Tour(forest),
     },
     Attraction {
         name: "clouds",
@@ -146,7 +162,7 @@ fn morph(shown: &Shown) -> Option<ImageError> {
     }
 }
 
-fn statue(show: &Showcase) -> Option<Drawn<'_>> {
+fn statue<'a>(show: &'a Showcase, _: &'a mut Stand, _: &Camera, _: u32) -> Option<Drawn<'a>> {
     let s = &show.ibr.statue;
     s.object.rect()?;
     let mut drawn = Drawn::new(&s.lighting);
@@ -156,7 +172,7 @@ fn statue(show: &Showcase) -> Option<Drawn<'_>> {
     Some(drawn)
 }
 
-fn city(show: &Showcase) -> Option<Drawn<'_>> {
+fn city<'a>(show: &'a Showcase, _: &'a mut Stand, _: &Camera, _: u32) -> Option<Drawn<'a>> {
     let imp = &show.ibr.impostors;
     if imp.readout().city.images() == 0 {
         return None;
@@ -167,16 +183,36 @@ fn city(show: &Showcase) -> Option<Drawn<'_>> {
     Some(drawn)
 }
 
-fn clouds(show: &Showcase) -> Option<Drawn<'_>> {
+/// The clouds drawn from images, against their particles prepared for this eye.
+fn clouds<'a>(
+    show: &'a Showcase,
+    stand: &'a mut Stand,
+    camera: &Camera,
+    height: u32,
+) -> Option<Drawn<'a>> {
     let imp = &show.ibr.impostors;
     if imp.readout().clouds.images == 0 {
         return None;
     }
     let mut drawn = Drawn::new(&show.scene.lighting);
     imp.cloud_set.draws(&imp.clouds.clouds, &mut drawn.image);
-    for c in &imp.clouds.clouds {
+    stand.clouds.clone_from(&imp.clouds.clouds);
+    for c in &mut stand.clouds {
+        c.prepare(camera, height);
+    }
+    for c in &stand.clouds {
         c.draws(&mut drawn.truth);
     }
+    Some(drawn)
+}
+
+/// The billboard trees as the frame drew them, against the tree meshes they were baked
+/// from, standing where the billboards do.
+fn forest<'a>(show: &'a Showcase, _: &'a mut Stand, cam: &Camera, _: u32) -> Option<Drawn<'a>> {
+    let layer = &show.ibr;
+    let mut drawn = Drawn::new(&show.scene.lighting);
+    layer.forest_draws(&mut drawn.image);
+    layer.forest_geometry(cam, &mut drawn.truth);
     Some(drawn)
 }
 
@@ -354,6 +390,7 @@ pub struct Meter {
     image: Target,
     truth: Target,
     base: Target,
+    stand: Stand,
 }
 
 impl Default for Meter {
@@ -365,6 +402,7 @@ impl Default for Meter {
             image: Target::new(1, 1),
             truth: Target::new(1, 1),
             base: Target::new(1, 1),
+            stand: Stand::default(),
         }
     }
 }
@@ -377,12 +415,14 @@ impl Meter {
     /// Measures the tour's attractions in the frame `show` just rendered with `camera`
     /// at `width` x `height`.
     pub fn tour(&mut self, show: &Showcase, camera: &Camera, width: u32, height: u32) {
+        let mut stand = std::mem::take(&mut self.stand);
         for (k, a) in ATTRACTIONS.iter().enumerate() {
             if let Probe::Tour(probe) = a.probe {
-                let drawn = probe(show);
+                let drawn = probe(show, &mut stand, camera, height);
                 self.measure(k, drawn, camera, width, height);
             }
         }
+        self.stand = stand;
     }
 
     /// The same for the building's frame.

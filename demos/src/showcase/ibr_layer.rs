@@ -18,6 +18,7 @@ use engine::{
 use glam::{Mat4, Vec2, Vec3};
 use ibr::effects::Effects;
 use ibr::flare::{FlareSource, LensFlare};
+use ibr::impostor::Frustum;
 use ibr::laser::{Laser, LaserBatch};
 use ibr::sprites::{self, BakedSprite};
 use ibr::technique::{Counters, Flare, FrameLoop, FrameView, Technique};
@@ -45,6 +46,9 @@ const TURRET_HEIGHT: f32 = 4.4;
 #[derive(Debug)]
 pub struct IbrLayer {
     forest: Vec<BillboardBatch>,
+    /// The tree meshes the forest's sprites were baked from, where its billboards stand
+    /// (what the forest is measured against, never drawn in the tour).
+    trees: ForestGeometry,
     lasers: LaserBatch,
     effects: Effects,
     flare: Flare,
@@ -72,8 +76,10 @@ impl IbrLayer {
             base + Vec3::Y * TURRET_HEIGHT
         });
         let sun = scene.lighting.sun().map_or(Vec3::Y, |(d, _)| -d);
+        let (forest, trees) = forest(scene, terrain);
         let mut layer = IbrLayer {
-            forest: forest(scene, terrain),
+            forest,
+            trees,
             lasers: LaserBatch::new(),
             effects: Effects::new(77),
             flare: Flare {
@@ -108,6 +114,29 @@ impl IbrLayer {
         self.forest
             .iter()
             .flat_map(|b| b.items.iter().map(|t| t.position))
+    }
+
+    /// Appends the forest's billboard draws as the last frame prepared them.
+    pub fn forest_draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        self.forest.draws(out);
+    }
+
+    /// Appends the forest as geometry: each tree's mesh (the one its sprite was baked
+    /// from, as it stands, unturned) at its billboard's place and height, tinted as its
+    /// billboard, the trees outside `camera`'s view left out.
+    pub fn forest_geometry<'a>(&'a self, camera: &Camera, out: &mut Vec<Draw<'a>>) {
+        let frustum = Frustum::new(camera.clip_from_world());
+        let t = &self.trees;
+        for (i, &(kind, at)) in t.trees.iter().enumerate() {
+            let b = t.bounds[kind];
+            if frustum.sees(at.transform_point3(b.center), b.radius * at.x_axis.length()) {
+                out.push(Draw {
+                    mesh: &t.meshes[kind],
+                    material: &t.materials[i],
+                    transform: at,
+                });
+            }
+        }
     }
 
     /// Moves to time `t` seconds: lasers pulse, bolts fly, arriving bolts explode. Time
@@ -255,17 +284,36 @@ fn add_turret(scene: &mut Scene, base: Vec3) {
     );
 }
 
+/// The forest as geometry: per kind the tree mesh (and its bounds), per tree its kind and
+/// placement, and its material (the billboard's tint as base colour).
+#[derive(Debug, Default)]
+struct ForestGeometry {
+    meshes: Vec<Mesh>,
+    bounds: Vec<engine::Sphere>,
+    trees: Vec<(usize, Mat4)>,
+    materials: Vec<Material>,
+}
+
+/// A sphere holding `mesh`'s (finite) vertices: about their bounding box's centre.
+fn sphere_around(mesh: &Mesh) -> engine::Sphere {
+    let finite = || mesh.positions.iter().filter(|p| p.is_finite());
+    let (lo, hi) = finite().fold((Vec3::MAX, Vec3::MIN), |(l, h), p| (l.min(*p), h.max(*p)));
+    let center = (lo + hi) * 0.5;
+    let radius = finite().map(|p| p.distance(center)).fold(0.0, f32::max);
+    engine::Sphere { center, radius }
+}
+
 /// The billboard forest: sprites baked from a pine and a broadleaf tree (side view plus a
 /// top view for the over-the-top fallback), alpha-blended back to front (their soft edges
 /// and the hand-over to the top view fade smoothly, with no screen-door pattern) and
 /// writing depth where they are at least half opaque (they hide the sun's flare and take
 /// the soft smoke's fade), placed on the hills outside the city district.
-fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
-    let bake = |kind: TreeKind, seed: u64| -> BakedSprite {
-        let mesh: Mesh = procedural::tree(kind, 1.0, seed);
+/// Also returns the trees' geometry ([`ForestGeometry`]).
+fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<BillboardBatch>, ForestGeometry) {
+    let bake = |mesh: &Mesh| -> BakedSprite {
         let material = Material::lit(Rgba::WHITE);
         sprites::bake_upright(
-            &mesh,
+            mesh,
             &material,
             &scene.lighting,
             Vec3::new(1.0, 0.0, 0.6),
@@ -274,8 +322,13 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
     };
     let mut rng = XorShift::new(4242);
     let mut batches = Vec::new();
+    let mut trees = ForestGeometry::default();
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
-        let sprite = bake(kind, seed);
+        let mesh: Mesh = procedural::tree(kind, 1.0, seed);
+        let sprite = bake(&mesh);
+        let k = trees.meshes.len();
+        trees.bounds.push(sphere_around(&mesh));
+        trees.meshes.push(mesh);
         let material = Material {
             alpha_mode: AlphaMode::Blend,
             blend_depth: Some(0.5),
@@ -300,12 +353,20 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
                 continue;
             }
             let shade = rng.range(0.85, 1.1);
+            let foot = Vec3::new(x, terrain.height_at(x, z) - 0.1, z);
+            // The sprite's quad is `sprite.size` scaled to `h` tall, the mesh's origin at
+            // its pivot: the mesh scaled alike with its origin at the foot.
+            let scale = Mat4::from_scale(Vec3::splat(h / sprite.size.y));
+            trees.trees.push((k, Mat4::from_translation(foot) * scale));
+            trees
+                .materials
+                .push(Material::lit(Rgba::new(shade, shade, shade, 1.0)));
             batch.push(Billboard {
                 pivot: sprite.pivot,
                 tint: Rgba::new(shade, shade, shade, 1.0),
                 region: sprite.side,
                 ..Billboard::new(
-                    Vec3::new(x, terrain.height_at(x, z) - 0.1, z),
+                    foot,
                     facing,
                     Vec2::new(sprite.size.x / sprite.size.y, 1.0) * h,
                 )
@@ -313,7 +374,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> Vec<BillboardBatch> {
         }
         batches.push(batch);
     }
-    batches
+    (batches, trees)
 }
 
 #[cfg(test)]
