@@ -431,3 +431,47 @@ fn city_impostors_hold_a_texel_per_screen_pixel_over_the_tour() {
         "no building too near for an impostor on the tour"
     );
 }
+
+/// Over the tour the clouds' refreshes are spread over frames: no frame re-renders more
+/// cloud images than their cap ([`CLOUD_BUDGET`]) however many are wanted, the capped
+/// ones are left for later frames (counted stale), and no cloud image is shown with a
+/// predicted parallax over its tolerance (such a cloud is drawn as its particles).
+#[test]
+fn cloud_refreshes_stay_within_their_cap_each_frame() {
+    let mut show = Showcase::new();
+    let (w, h, n) = (160, 90, 120);
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    let (mut total, mut capped, mut deferred) = (0, 0, 0);
+    for i in 0..n {
+        show.animate(i as f32 / 30.0);
+        let (eye, look) = show.path(i, n);
+        let cam = showcase::camera(eye, look, w, h);
+        let before: Vec<u64> = cloud_refreshes(&show);
+        show.render(&mut renderer, &cam, &mut target, &opts());
+        let after = cloud_refreshes(&show);
+        // Counted from each impostor's own refresh count, not the report's.
+        let done: u64 = after.iter().zip(&before).map(|(a, b)| a - b).sum();
+        let r = show.ibr.impostors.readout().clouds;
+        assert_eq!(done as usize, r.refreshes, "frame {i}");
+        assert!(r.refreshes <= CLOUD_BUDGET, "frame {i}: {r:?}");
+        assert_eq!(r.over_tolerance, 0, "frame {i}: {r:?}");
+        let imps = &show.ibr.impostors.cloud_set.impostors;
+        for imp in imps.iter().filter(|m| m.mode == Mode::Image) {
+            assert!(imp.predicted.pixels <= CLOUD_TOLERANCE_PX, "frame {i}");
+        }
+        total += r.refreshes;
+        capped += (r.refreshes == CLOUD_BUDGET) as usize;
+        deferred += r.stale;
+    }
+    // The cap is reached and work is left for later: the cap is what spreads it.
+    assert!(
+        total > 0 && capped > 0 && deferred > 0,
+        "{total} {capped} {deferred}"
+    );
+}
+
+fn cloud_refreshes(show: &Showcase) -> Vec<u64> {
+    let imps = &show.ibr.impostors.cloud_set.impostors;
+    imps.iter().map(|m| m.refreshes).collect()
+}
