@@ -29,12 +29,19 @@ const GOAL: (f64, f64, f64) = (30.0, 25.0, 1.5);
 
 /// Runs the tour `--no-save` (the summary is written anyway) and parses its summary.
 fn summary() -> Value {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_attractions");
+    run("showcase_attractions", &["--frames", FRAMES])
+}
+
+/// Runs the showcase headless into `name` with `args` at [`W`] x [`H`], `--no-save`, and
+/// parses its summary.
+fn run(name: &str, args: &[&str]) -> Value {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
         .arg("--headless")
         .arg(&dir)
-        .args(["--frames", FRAMES, "-W", W, "-H", H, "--no-save"])
+        .args(args)
+        .args(["-W", W, "-H", H, "--no-save"])
         .output()
         .expect("showcase runs");
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -105,6 +112,20 @@ fn summary_has_the_shape_and_the_attractions_stay_within_bounds() {
             let (m, w) = (mean.as_f64().unwrap(), worst.as_f64().unwrap());
             assert!(w <= m, "{name}: worst {w} above mean {m}");
         }
+    }
+}
+
+/// The views moment alone, two frames of each part: each of its attractions has a flicker
+/// (its two frames are consecutive), measured 1.00, 0.97 and 0.95 (layers, panorama,
+/// morph): within the goal.
+#[test]
+fn the_views_attractions_have_a_flicker() {
+    let s = run("showcase_views_flicker", &["--frames", "6", "--views"]);
+    let list = s["attractions"].as_array().expect("attractions");
+    for a in list.iter().filter(|a| a["part"] == "views") {
+        assert_eq!(a["frames"].as_u64(), Some(2), "{a}");
+        let f = a["flicker"].as_f64().unwrap_or_else(|| panic!("{a}"));
+        assert!(f > 0.0 && f <= 1.3, "{a}");
     }
 }
 

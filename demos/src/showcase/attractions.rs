@@ -20,8 +20,10 @@
 //!   their last capture, and measuring those (as before) compared the image with a
 //!   stale reference.
 //! - **Views** (image layers, panorama, view morph): the views moment measures each frame
-//!   against the geometry itself; its figure is taken as it is (no flicker: the moment
-//!   keeps its images to itself).
+//!   against the geometry itself; its figure is taken as it is, and its flicker from the
+//!   frame it showed and its geometry ([`ViewsTour::renders`], over the pixels its part
+//!   measures: the panorama's far scene, the whole frame for the others) when the
+//!   previous frame showed the same part.
 //! - **Unmeasured**: a row that gives no geometry to compare with stays at zero frames
 //!   and says why (none at present).
 //!
@@ -38,7 +40,7 @@
 //!   `None` before two consecutive frames were measured.
 
 use crate::showcase::building::BuildingTour;
-use crate::showcase::views::Shown;
+use crate::showcase::views::{Shown, ViewsTour};
 use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::cloud::Cloud;
@@ -296,6 +298,13 @@ impl Track {
             }
         };
         self.add(e);
+        self.pair(r);
+        Some(e)
+    }
+
+    /// Adds a measured frame's renders to the flicker: its change since the last measured
+    /// frame, if that was the frame before.
+    fn pair(&mut self, r: Renders) {
         if let Some(p) = &self.prev {
             let (di, dt, m) = change(p, &r);
             self.image_change += di;
@@ -303,7 +312,6 @@ impl Track {
             self.mask += m;
         }
         self.prev = Some(r);
-        Some(e)
     }
 
     /// The flicker ratio so far (module docs); `None` before a measured pair.
@@ -410,6 +418,22 @@ impl Default for Meter {
 impl Meter {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// [`Meter::views`] of the moment's last frame, and that frame's renders for the
+    /// flicker of the attraction it showed.
+    pub fn views_tour(&mut self, tour: &ViewsTour) {
+        let shown = tour.last();
+        self.views(&shown);
+        let Some((image, truth, mask)) = tour.renders() else {
+            return;
+        };
+        let shown_k = ATTRACTIONS.iter().enumerate().position(|(k, a)| {
+            matches!(a.probe, Probe::Views(p) if p(&shown).is_some()) && self.last[k].is_some()
+        });
+        if let Some(k) = shown_k {
+            self.tracks[k].pair(Renders { image, truth, mask });
+        }
     }
 
     /// Measures the tour's attractions in the frame `show` just rendered with `camera`

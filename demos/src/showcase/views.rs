@@ -244,6 +244,21 @@ impl ViewsTour {
         self.last
     }
 
+    /// The last frame as shown and its geometry from the same eye (RGBA8, the frame's
+    /// encoding), and the pixels its part is measured over; `None` before a frame.
+    pub fn renders(&self) -> Option<(Vec<u8>, Vec<u8>, Vec<bool>)> {
+        let image = self.frame.rgba.clone();
+        let all = || vec![true; image.len() / 4];
+        let (truth, mask) = match self.last {
+            Shown::Nothing => return None,
+            Shown::Layers(_) => (self.layers.as_ref()?.truth_rgba(), all()),
+            Shown::Sky(_) => self.sky.as_ref()?.truth_and_mask(),
+            Shown::Morph(_) => (self.morph.as_ref()?.as_ref().ok()?.truth_rgba(), all()),
+        };
+        (truth.len() == image.len() && mask.len() == image.len() / 4)
+            .then_some((image, truth, mask))
+    }
+
     /// Panorama captures so far (0 before the sky was shown).
     pub fn captures(&self) -> u32 {
         self.sky.as_ref().map_or(0, |s| s.sky.captures)

@@ -431,7 +431,7 @@ fn views_headless(
             )
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
-        meter.views(&tour.last());
+        meter.views_tour(&tour);
         println!("  {i:4}: {}", tour.readout());
     }
     let summary = Summary::of(&times);

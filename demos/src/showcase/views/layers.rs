@@ -119,6 +119,11 @@ impl LayersPart {
 
     /// The frame a fraction `t` along the stroll (the near scene as geometry, the far one
     /// as layers) into `out`, measured against all the geometry.
+    /// The last frame's geometry, as the frame's RGBA8 (for its flicker).
+    pub(super) fn truth_rgba(&self) -> Vec<u8> {
+        self.truth.to_rgba8()
+    }
+
     pub(super) fn frame(&mut self, scene: &Scene, t: f32, out: &mut Frame) -> LayersFrame {
         let camera = self.camera(t);
         let (w, h) = (self.image.width(), self.image.height());

@@ -84,6 +84,13 @@ impl MorphPart {
 
     /// The in-between view a fraction `s` of the way, measured with the plain morph
     /// against the geometry from the in-between camera.
+    /// The last frame's geometry as RGBA8 over the sky (for its flicker).
+    pub(super) fn truth_rgba(&self) -> Vec<u8> {
+        let mut out = Vec::new();
+        over_sky(&self.truth, &mut out);
+        out
+    }
+
     pub(super) fn frame(
         &mut self,
         draws: &[Draw<'_>],

@@ -139,6 +139,12 @@ impl SkyPart {
 
     /// The near scene drawn, the panorama behind it (captured again first if needed), and
     /// the whole geometry from the same eye to measure it against.
+    /// The last frame's geometry as RGBA8 over the sky, and the far scene's pixels it is
+    /// measured over (for its flicker).
+    pub(super) fn truth_and_mask(&self) -> (Vec<u8>, Vec<bool>) {
+        (self.truth_rgba.clone(), self.mask.clone())
+    }
+
     pub(super) fn frame(
         &mut self,
         draws: &[Draw<'_>],
