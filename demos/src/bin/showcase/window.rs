@@ -215,7 +215,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         if moment == Moment::Views {
             let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
             (title, readout, help) = views_frame(tour, start, (ww, wh), &mut pixels, &mut recent);
-            meter.views_tour(&tour);
+            meter.views_tour(tour);
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
