@@ -203,8 +203,9 @@ const BOUNDS: [Bound; 8] = [
         flicker: Some(1.3),
     },
     // Measured 14.7 / 13.0 dB, flicker 1.08, against the tree meshes where the billboards
-    // stand: 15.3 dB and 12.0 dB short of the PSNR goals (one baked azimuth for every
-    // viewing direction), flicker within.
+    // stand: 15.3 dB and 12.0 dB short of the PSNR goals (one baked azimuth, with its
+    // lighting, for every viewing direction: the sprites show their lit side from
+    // everywhere), flicker within.
     Bound {
         name: "forest",
         technique: "billboards",
