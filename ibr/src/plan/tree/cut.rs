@@ -27,8 +27,12 @@ pub struct TreeConfig {
     pub leaf: usize,
     /// Rebuilds per frame,
     pub rebuilds: usize,
-    /// and their predicted milliseconds (the first always allowed).
+    /// and their predicted milliseconds (a node whose image alone costs more is never
+    /// imaged: its children are).
     pub rebuild_ms: f32,
+    /// While loading, the first `.0` frames planned, `.1` predicted milliseconds of
+    /// rebuilds instead (a game loading a level takes its images then).
+    pub loading: (u32, f32),
     /// A node whose image errs within this many times the budget is drawn stale, once the
     /// rebuild budget is spent, rather than opened.
     pub stale: f32,
@@ -48,6 +52,7 @@ impl Default for TreeConfig {
             leaf: 4,
             rebuilds: 16,
             rebuild_ms: 6.0,
+            loading: (0, 0.0),
             stale: 2.0,
             payback: 4.0,
             release_after: 60,
@@ -247,6 +252,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             self.queue.push_back(0);
         }
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
+        let rebuild_ms = if self.frame <= cfg.loading.0 {
+            cfg.loading.1.max(cfg.rebuild_ms)
+        } else {
+            cfg.rebuild_ms
+        };
         while let Some(k) = self.queue.pop_front() {
             report.visited += 1;
             let node = self.tree.nodes()[k as usize];
@@ -284,8 +294,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 }
             }
             let room = |f: &(usize, f32, f32, f32)| {
-                report.rebuilds < cfg.rebuilds
-                    && (report.rebuilds == 0 || report.rebuild_ms + f.3 <= cfg.rebuild_ms)
+                report.rebuilds < cfg.rebuilds && report.rebuild_ms + f.3 <= rebuild_ms
             };
             let take = match (as_is, fresh) {
                 (Some(a), _) => Some(a),
