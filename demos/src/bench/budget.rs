@@ -242,24 +242,62 @@ fn scenes(settings: &Settings) -> Vec<Scene> {
         }),
     });
     if settings.world > 0 {
-        let world = World::new(settings.world, 11);
-        let (objects, ground, lighting) = (
-            world.objects.clone(),
-            world.ground.clone(),
-            world.lighting.clone(),
-        );
-        out.push(Scene {
-            name: "world",
-            objects,
-            ground,
-            lighting,
-            camera: Box::new(move |f, n, size| {
-                world.camera(f as f32 / n.max(2) as f32 * 0.25, size)
-            }),
-        });
+        out.push(world_scene(settings.world));
     }
     out.retain(|s| settings.only.as_deref().is_none_or(|o| o == s.name));
     out
+}
+
+/// The world of `side` x `side` lots and its fly-over.
+fn world_scene(side: u32) -> Scene {
+    let world = World::new(side, 11);
+    let (objects, ground, lighting) = (
+        world.objects.clone(),
+        world.ground.clone(),
+        world.lighting.clone(),
+    );
+    Scene {
+        name: "world",
+        objects,
+        ground,
+        lighting,
+        camera: Box::new(move |f, n, size| world.camera(f as f32 / n.max(2) as f32 * 0.25, size)),
+    }
+}
+
+/// `bench objects`: per number of objects in `counts` (the world of the nearest square
+/// number of lots, the same mix of objects, so the same triangles per object on average),
+/// the geometry (up to `geometry_up_to` objects) and the per-node planner at each of
+/// `settings.budgets`, flown and measured as the budget sweep's runs.
+pub fn by_count(
+    settings: &Settings,
+    counts: &[usize],
+    geometry_up_to: usize,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Vec<Row> {
+    let runs = counts
+        .iter()
+        .map(|&n| usize::from(n <= geometry_up_to) + settings.budgets.len())
+        .sum();
+    let mut tick = sweep::ticker(runs, progress);
+    let mut rows = Vec::new();
+    for &n in counts {
+        let side = ((n as f64).sqrt().round() as u32).max(1);
+        let scene = world_scene(side);
+        if n <= geometry_up_to {
+            tick(format!("{n} objects: geometry"));
+            let mut geometry = planner(&scene, settings, 0.0, false);
+            rows.push(
+                fly(&scene, settings, 0.0, &mut geometry).row(&scene, "geometry", 0.0, settings),
+            );
+        }
+        for &b in &settings.budgets {
+            tick(format!("{n} objects: planner-tree {b}"));
+            let mut tree = hierarchy(&scene, settings, b);
+            rows.push(fly(&scene, settings, b, &mut tree).row(&scene, "planner-tree", b, settings));
+        }
+    }
+    rows
 }
 
 /// The showcase's planned objects (its city district's buildings), the rest of its scene
