@@ -13,6 +13,7 @@ pub mod impostors;
 pub mod layers;
 pub mod lightfield;
 pub mod morph;
+pub mod objects;
 pub mod panorama;
 pub mod portals;
 pub mod raster;
@@ -124,7 +125,7 @@ impl<S: Sweep> Listed for S {
 }
 
 /// Every sweep of the `bench` CLI, in its order.
-pub fn sweeps() -> [&'static dyn Listed; 12] {
+pub fn sweeps() -> [&'static dyn Listed; 13] {
     [
         &raster::RasterSweep,
         &billboards::BillboardsSweep,
@@ -138,6 +139,7 @@ pub fn sweeps() -> [&'static dyn Listed; 12] {
         &panorama::PanoramaSweep,
         &layers::LayersSweep,
         &budget::BudgetCommand,
+        &objects::ObjectsSweep,
     ]
 }
 

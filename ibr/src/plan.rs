@@ -93,6 +93,7 @@ mod frame_budget;
 pub mod occlusion;
 mod settings;
 mod technique;
+pub mod tree;
 
 use crate::core::Priced;
 pub use crate::core::{image_bytes, CostModel, Estimate, Geometry, Representation, Sight, Work};

@@ -56,6 +56,7 @@ use crate::timing::Summary;
 use engine::{Camera, Lighting, Material, Mesh};
 use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
 use ibr::layers::{self, LayerSet, Layered};
+use ibr::plan::tree::{Cluster, Hierarchy, TreeConfig};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::MeshGroup;
@@ -241,24 +242,62 @@ fn scenes(settings: &Settings) -> Vec<Scene> {
         }),
     });
     if settings.world > 0 {
-        let world = World::new(settings.world, 11);
-        let (objects, ground, lighting) = (
-            world.objects.clone(),
-            world.ground.clone(),
-            world.lighting.clone(),
-        );
-        out.push(Scene {
-            name: "world",
-            objects,
-            ground,
-            lighting,
-            camera: Box::new(move |f, n, size| {
-                world.camera(f as f32 / n.max(2) as f32 * 0.25, size)
-            }),
-        });
+        out.push(world_scene(settings.world));
     }
     out.retain(|s| settings.only.as_deref().is_none_or(|o| o == s.name));
     out
+}
+
+/// The world of `side` x `side` lots and its fly-over.
+fn world_scene(side: u32) -> Scene {
+    let world = World::new(side, 11);
+    let (objects, ground, lighting) = (
+        world.objects.clone(),
+        world.ground.clone(),
+        world.lighting.clone(),
+    );
+    Scene {
+        name: "world",
+        objects,
+        ground,
+        lighting,
+        camera: Box::new(move |f, n, size| world.camera(f as f32 / n.max(2) as f32 * 0.25, size)),
+    }
+}
+
+/// `bench objects`: per number of objects in `counts` (the world of the nearest square
+/// number of lots, the same mix of objects, so the same triangles per object on average),
+/// the geometry (up to `geometry_up_to` objects) and the per-node planner at each of
+/// `settings.budgets`, flown and measured as the budget sweep's runs.
+pub fn by_count(
+    settings: &Settings,
+    counts: &[usize],
+    geometry_up_to: usize,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Vec<Row> {
+    let runs = counts
+        .iter()
+        .map(|&n| usize::from(n <= geometry_up_to) + settings.budgets.len())
+        .sum();
+    let mut tick = sweep::ticker(runs, progress);
+    let mut rows = Vec::new();
+    for &n in counts {
+        let side = ((n as f64).sqrt().round() as u32).max(1);
+        let scene = world_scene(side);
+        if n <= geometry_up_to {
+            tick(format!("{n} objects: geometry"));
+            let mut geometry = planner(&scene, settings, 0.0, false);
+            rows.push(
+                fly(&scene, settings, 0.0, &mut geometry).row(&scene, "geometry", 0.0, settings),
+            );
+        }
+        for &b in &settings.budgets {
+            tick(format!("{n} objects: planner-tree {b}"));
+            let mut tree = hierarchy(&scene, settings, b);
+            rows.push(fly(&scene, settings, b, &mut tree).row(&scene, "planner-tree", b, settings));
+        }
+    }
+    rows
 }
 
 /// The showcase's planned objects (its city district's buildings), the rest of its scene
@@ -365,7 +404,8 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
     rows
 }
 
-/// The frame-scope planner's run at `budget`.
+/// The frame-scope planner's run at `budget`: per node of a hierarchy over the objects
+/// ([`hierarchy`]) in scenes of [`TREE_FROM`] objects or more, else per object.
 fn frame_scope(
     scene: &Scene,
     settings: &Settings,
@@ -373,6 +413,15 @@ fn frame_scope(
     tick: &mut dyn FnMut(String),
 ) -> Row {
     tick(format!("{} planner-frame {budget}", scene.name));
+    if scene.objects.len() >= TREE_FROM {
+        let mut tree = hierarchy(scene, settings, budget);
+        return fly(scene, settings, budget, &mut tree).row(
+            scene,
+            "planner-frame",
+            budget,
+            settings,
+        );
+    }
     let mut whole = planner(scene, settings, budget, true);
     whole.config.budgets.scope = Scope::Frame;
     fly(scene, settings, budget, &mut whole).row(scene, "planner-frame", budget, settings)
@@ -453,6 +502,41 @@ fn planner_of(
         ..plan::Config::default()
     };
     Planner::new(config, scene.objects.clone(), reps)
+}
+
+/// Objects from which the frame scope plans per node of a hierarchy ([`hierarchy`]): a
+/// world's thousands of objects, where planning each would cost more than it saves.
+pub const TREE_FROM: usize = 4096;
+
+/// The largest cluster image, texels a side: a node wider than that on screen is opened
+/// (the cut's clusters stay small on screen, so each is cheap to retake and slow to go
+/// stale as the eye moves).
+pub const TREE_SIDE: u32 = 64;
+
+/// The hierarchy planner's predicted milliseconds of rebuilds (cluster images) per frame:
+/// the share of a 60 Hz frame left to captures (measured at budget 16 in the world, 24
+/// frames: 40 to 60 ms a frame, its prepare, the captures, 15 to 25 ms of it).
+pub const TREE_REBUILD_MS: f32 = 8.0;
+
+/// The per-node planner over a hierarchy of the scene's objects, each node drawn as one
+/// runtime impostor of all its objects when its predicted error is within `budget`.
+fn hierarchy(scene: &Scene, settings: &Settings, budget: f32) -> Hierarchy<MeshGroup> {
+    let config = TreeConfig {
+        budget,
+        rebuilds: rebuilds(scene, settings),
+        rebuild_ms: TREE_REBUILD_MS,
+        // The warm-up's frames, at the other planners' rebuild budget.
+        loading: (settings.warmup as u32, REBUILD_MS),
+        ..TreeConfig::default()
+    };
+    let images = impostor::Config {
+        max_side: TREE_SIDE,
+        ..image_config(scene, settings, budget)
+    };
+    Hierarchy::new(config, scene.objects.clone(), |nodes| {
+        vec![Box::new(ImpostorSet::new(images, nodes))
+            as Box<dyn Representation<Cluster<MeshGroup>>>]
+    })
 }
 
 /// Impostor settings shared by both impostor methods: enough textures for every object.

@@ -8,6 +8,7 @@ use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
 use ibr::impostor::{self, Frustum, Impostored};
 use ibr::layers::Layered;
 use ibr::metrics::{self, Options, RectCover};
+use ibr::plan::tree::Hierarchy;
 use ibr::plan::{self, Planner};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
@@ -62,6 +63,27 @@ impl Probe for Planner<MeshGroup> {
             bound: r.bound,
             scatter: r.scatter,
             planning_ms: r.planning_ms,
+        }
+    }
+}
+
+/// The per-node planner: its images in the impostors' column of the mix (its one image
+/// representation), the objects it draws as geometry in the geometry's.
+impl Probe for Hierarchy<MeshGroup> {
+    fn probe(&self) -> Sample {
+        let r = &self.report;
+        let mut mix = [0; MIX];
+        (mix[0], mix[1]) = (r.geometry, r.images);
+        Sample {
+            mix,
+            geometry: r.geometry,
+            images: r.images,
+            rebuilds: r.rebuilds,
+            memory: r.memory,
+            predicted_mean: r.mean_error,
+            predicted_max: r.max_error,
+            planning_ms: r.planning_ms,
+            ..Sample::default()
         }
     }
 }

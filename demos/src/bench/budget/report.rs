@@ -38,6 +38,25 @@ pub struct BudgetFlags {
     /// what spread each run's frames needed.
     #[arg(long)]
     pub spread: Option<f32>,
+    /// Target sizes, `WIDTHxHEIGHT` (repeat the option: each size's rows in one CSV;
+    /// default 640x360).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Vec<(u32, u32)>,
+    /// Only these error budgets, levels (repeat the option; default: the sweep's own).
+    #[arg(long)]
+    pub budget: Vec<f32>,
+}
+
+/// `WIDTHxHEIGHT`, each from 1 to 8192.
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT (e.g. 1280x720), got {s:?}");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
+        return Err(format!("{s:?}: each side from 1 to 8192 pixels"));
+    }
+    Ok((w, h))
 }
 
 impl AsRef<RunFlags> for BudgetFlags {
@@ -49,13 +68,25 @@ impl AsRef<RunFlags> for BudgetFlags {
 impl BudgetFlags {
     /// The settings the flags ask for, narrowed to their scene, methods and spread.
     fn settings(&self) -> Settings {
+        let base = self
+            .run
+            .pick(Settings::tiny, Settings::quick, Settings::full);
+        let budgets = |own: Vec<f32>| match self.budget.is_empty() {
+            true => own,
+            false => self.budget.clone(),
+        };
         Settings {
             only: self.scene.clone(),
             methods: self.method.clone(),
             spread: self.spread,
-            ..self
-                .run
-                .pick(Settings::tiny, Settings::quick, Settings::full)
+            size: self.size.first().copied().unwrap_or(base.size),
+            budgets: budgets(base.budgets.clone()),
+            frame_budgets: if self.budget.is_empty() {
+                base.frame_budgets.clone()
+            } else {
+                Vec::new()
+            },
+            ..base
         }
     }
 }
@@ -106,10 +137,20 @@ impl Sweep for BudgetSweep {
     fn rows(
         &self,
         settings: &Settings,
-        _: &BudgetFlags,
+        flags: &BudgetFlags,
         progress: Progress,
     ) -> Result<Vec<Row>, String> {
-        Ok(run(settings, progress))
+        let mut rows = run(settings, progress);
+        for &size in flags.size.iter().skip(1) {
+            rows.extend(run(
+                &Settings {
+                    size,
+                    ..settings.clone()
+                },
+                progress,
+            ));
+        }
+        Ok(rows)
     }
 
     fn report(&self, rows: &[Row]) {

@@ -1,0 +1,407 @@
+//! The per-node planner: each frame a cut through the hierarchy, chosen top down (breadth
+//! first, so the large far clusters are served before the small near ones).
+//!
+//! A node off the view is skipped whole. A node in view is drawn as one image (of the
+//! image representations given, the cheapest whose predicted error, as it is or rebuilt
+//! this frame within the rebuild budget, is within [`TreeConfig::budget`]); else its
+//! children are considered; a leaf that no image will do for draws its objects' geometry
+//! (each in view). When the rebuild budget is spent, a node whose image errs within
+//! [`TreeConfig::stale`] times the budget is drawn stale (counted in
+//! [`TreeReport::over`]) rather than opened. Planning asks estimates only of the nodes it
+//! visits: its cost follows the nodes opened, not the objects in the world.
+
+use super::bvh::Tree;
+use super::cluster::Cluster;
+use crate::core::{CostModel, FrameView, Frustum, Representation, Sight, Subject};
+use engine::{Draw, FrameStats, Target};
+use glam::Vec3;
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+/// Settings of a [`Hierarchy`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeConfig {
+    /// Largest predicted error of a node drawn as an image, levels (the impostors' unit).
+    pub budget: f32,
+    /// Objects per leaf, at most.
+    pub leaf: usize,
+    /// Rebuilds per frame,
+    pub rebuilds: usize,
+    /// and their predicted milliseconds (a node whose image alone costs more is never
+    /// imaged: its children are).
+    pub rebuild_ms: f32,
+    /// While loading, the first `.0` frames planned, `.1` predicted milliseconds of
+    /// rebuilds instead (a game loading a level takes its images then).
+    pub loading: (u32, f32),
+    /// A node whose image errs within this many times the budget is drawn stale, once the
+    /// rebuild budget is spent, rather than opened.
+    pub stale: f32,
+    /// A rebuild is taken only if it costs no more than this many frames of drawing the
+    /// node's objects as geometry.
+    pub payback: f32,
+    /// Frames an unused image is kept before it is released.
+    pub release_after: u32,
+    /// Predicted milliseconds of work.
+    pub cost: CostModel,
+}
+
+impl Default for TreeConfig {
+    fn default() -> Self {
+        TreeConfig {
+            budget: 2.0,
+            leaf: 4,
+            rebuilds: 16,
+            rebuild_ms: 6.0,
+            loading: (0, 0.0),
+            stale: 2.0,
+            payback: 4.0,
+            release_after: 60,
+            cost: CostModel::default(),
+        }
+    }
+}
+
+/// What the last frame's cut did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TreeReport {
+    /// Nodes visited,
+    pub visited: usize,
+    /// skipped off the view,
+    pub culled: usize,
+    /// and opened (their children considered).
+    pub opened: usize,
+    /// Estimates asked.
+    pub estimates: usize,
+    /// Nodes drawn as one image each,
+    pub images: usize,
+    /// and objects drawn as their geometry.
+    pub geometry: usize,
+    /// Objects the images stand for.
+    pub imaged_objects: usize,
+    /// Images rebuilt,
+    pub rebuilds: usize,
+    /// and their predicted milliseconds.
+    pub rebuild_ms: f32,
+    /// Images drawn over the budget (stale, the rebuild budget spent).
+    pub over: usize,
+    /// Predicted error of the images, weighted by their pixels,
+    pub mean_error: f32,
+    /// and the largest.
+    pub max_error: f32,
+    /// Bytes the representations hold.
+    pub memory: usize,
+    /// The planner's own time this frame (the cut, without rebuilds), milliseconds.
+    pub planning_ms: f32,
+    /// Nodes refitted by the last [`Hierarchy::update`].
+    pub refitted: usize,
+}
+
+/// A hierarchy over objects and the image representations its nodes may take.
+pub struct Hierarchy<S> {
+    /// Settings; may be changed between frames.
+    pub config: TreeConfig,
+    tree: Tree,
+    objects: Arc<Vec<S>>,
+    clusters: Vec<Cluster<S>>,
+    reps: Vec<Box<dyn Representation<Cluster<S>>>>,
+    /// This frame's images (node, representation, predicted error) and geometry objects.
+    images: Vec<(u32, u8, f32)>,
+    geometry: Vec<u32>,
+    /// Per representation, the nodes to rebuild and those drawn (scratch).
+    batch: Vec<Vec<usize>>,
+    queue: VecDeque<u32>,
+    /// Per node, the frame it was last drawn as an image; the images held.
+    used: Vec<u32>,
+    held: Vec<(u32, u8)>,
+    frame: u32,
+    eye: Vec3,
+    /// What the last [`Hierarchy::plan`] did.
+    pub report: TreeReport,
+}
+
+impl<S> std::fmt::Debug for Hierarchy<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Hierarchy")
+            .field("config", &self.config)
+            .field("objects", &self.objects.len())
+            .field("nodes", &self.tree.nodes().len())
+            .field("report", &self.report)
+            .finish()
+    }
+}
+
+/// The box of a subject's corners.
+fn box_of<S: Subject>(s: &S) -> (Vec3, Vec3) {
+    let c = s.corners();
+    let lo = c.iter().fold(Vec3::splat(f32::MAX), |a, &p| a.min(p));
+    let hi = c.iter().fold(Vec3::splat(f32::MIN), |a, &p| a.max(p));
+    (lo, hi)
+}
+
+impl<S: Subject + Send + Sync> Hierarchy<S> {
+    /// The hierarchy over `objects`; `reps` makes the image representations for a number
+    /// of nodes (each node is one of their objects, a [`Cluster`]).
+    pub fn new(
+        config: TreeConfig,
+        objects: Vec<S>,
+        reps: impl FnOnce(usize) -> Vec<Box<dyn Representation<Cluster<S>>>>,
+    ) -> Self {
+        let boxes: Vec<(Vec3, Vec3)> = objects.iter().map(box_of).collect();
+        let tree = Tree::build(&boxes, config.leaf);
+        let objects = Arc::new(objects);
+        let members = Arc::new(tree.order().to_vec());
+        let clusters = tree
+            .nodes()
+            .iter()
+            .map(|n| {
+                let (first, count) = (n.first, n.count);
+                let b = (n.lo, n.hi);
+                Cluster::new(objects.clone(), members.clone(), first, count, b, 0)
+            })
+            .collect();
+        let n = tree.nodes().len();
+        let reps = reps(n);
+        Hierarchy {
+            config,
+            used: vec![0; n],
+            batch: vec![Vec::new(); reps.len()],
+            tree,
+            objects,
+            clusters,
+            reps,
+            images: Vec::new(),
+            geometry: Vec::new(),
+            queue: VecDeque::new(),
+            held: Vec::new(),
+            frame: 0,
+            eye: Vec3::ZERO,
+            report: TreeReport::default(),
+        }
+    }
+
+    /// The hierarchy.
+    pub fn tree(&self) -> &Tree {
+        &self.tree
+    }
+
+    /// The objects.
+    pub fn objects(&self) -> &[S] {
+        &self.objects
+    }
+
+    /// The last frame's images: (node, representation, predicted error).
+    pub fn images(&self) -> &[(u32, u8, f32)] {
+        &self.images
+    }
+
+    /// The last frame's objects drawn as geometry.
+    pub fn geometry(&self) -> &[u32] {
+        &self.geometry
+    }
+
+    /// Changes the objects `moved` by `change` and refits the hierarchy where they are:
+    /// only the nodes on their paths to the root change version (so only images of those
+    /// are retaken). Returns the nodes refitted ([`TreeReport::refitted`]).
+    pub fn update(&mut self, moved: &[usize], mut change: impl FnMut(usize, &mut S)) -> usize {
+        let empty = Arc::new(Vec::new());
+        for c in &mut self.clusters {
+            c.let_go(&empty);
+        }
+        let mut boxes = Vec::with_capacity(moved.len());
+        // The clusters let go, so the objects are held here alone.
+        if let Some(objects) = Arc::get_mut(&mut self.objects) {
+            for &i in moved {
+                if let Some(s) = objects.get_mut(i) {
+                    change(i, s);
+                    boxes.push((i, box_of(s)));
+                }
+            }
+        }
+        let refitted = self.tree.refit(&boxes).len();
+        for (c, n) in self.clusters.iter_mut().zip(self.tree.nodes()) {
+            c.take(&self.objects, (n.lo, n.hi), n.version);
+        }
+        self.report.refitted = refitted;
+        refitted
+    }
+
+    /// Chooses the frame's cut (module docs), rebuilds within the budget and prepares the
+    /// images. Returns the report.
+    pub fn plan(&mut self, view: &FrameView<'_>) -> &TreeReport {
+        let start = std::time::Instant::now();
+        let cfg = self.config;
+        let camera = view.camera;
+        let eye = camera.eye();
+        self.eye = eye;
+        self.frame = self.frame.wrapping_add(1);
+        let frustum = Frustum::new(camera.clip_from_world());
+        let at_eye = engine::Sphere {
+            center: eye,
+            radius: 0.0,
+        };
+        let base = Sight::new(camera, view.width, view.height, at_eye);
+        let mut report = TreeReport {
+            refitted: self.report.refitted,
+            ..TreeReport::default()
+        };
+        self.images.clear();
+        self.geometry.clear();
+        self.batch.iter_mut().for_each(Vec::clear);
+        self.queue.clear();
+        if !self.tree.nodes().is_empty() {
+            self.queue.push_back(0);
+        }
+        let (mut weighted, mut weight) = (0.0f64, 0.0f64);
+        let rebuild_ms = if self.frame <= cfg.loading.0 {
+            cfg.loading.1.max(cfg.rebuild_ms)
+        } else {
+            cfg.rebuild_ms
+        };
+        while let Some(k) = self.queue.pop_front() {
+            report.visited += 1;
+            let node = self.tree.nodes()[k as usize];
+            let sphere = node.sphere();
+            if !frustum.sees(sphere.center, sphere.radius) {
+                report.culled += 1;
+                continue;
+            }
+            let cluster = &self.clusters[k as usize];
+            let sight = base.at(sphere).with_corners(cluster.corners());
+            let geometry_ms = cfg.cost.ms(crate::core::Work {
+                triangles: cluster.triangle_count() as u64,
+                pixels: sight.pixels as u64,
+                ..Default::default()
+            });
+            // (representation, error, draw ms, rebuild ms) as it is and rebuilt.
+            let (mut as_is, mut fresh, mut stale) = (None, None, None);
+            for (r, rep) in self.reps.iter().enumerate() {
+                let Some(e) = rep.estimate(k as usize, cluster, &sight) else {
+                    continue;
+                };
+                report.estimates += 1;
+                let (ms, rb) = (cfg.cost.ms(e.draw), cfg.cost.ms(e.rebuild));
+                let cheaper = |o: &Option<(usize, f32, f32, f32)>| o.is_none_or(|b| ms < b.2);
+                if e.error <= cfg.budget && cheaper(&as_is) {
+                    as_is = Some((r, e.error, ms, rb));
+                }
+                if e.error <= cfg.budget * cfg.stale && cheaper(&stale) {
+                    stale = Some((r, e.error, ms, rb));
+                }
+                let pays = rb <= geometry_ms * cfg.payback;
+                if e.rebuilt <= cfg.budget && pays && fresh.is_none_or(|b: (_, _, _, f32)| rb < b.3)
+                {
+                    fresh = Some((r, e.rebuilt, ms, rb));
+                }
+            }
+            let room = |f: &(usize, f32, f32, f32)| {
+                report.rebuilds < cfg.rebuilds && report.rebuild_ms + f.3 <= rebuild_ms
+            };
+            let take = match (as_is, fresh) {
+                (Some(a), _) => Some(a),
+                (None, Some(f)) if room(&f) => {
+                    report.rebuilds += 1;
+                    report.rebuild_ms += f.3;
+                    self.batch[f.0].push(k as usize);
+                    Some(f)
+                }
+                _ => stale.inspect(|_| report.over += 1),
+            };
+            if let Some((r, error, _, _)) = take {
+                self.images.push((k, r as u8, error));
+                report.imaged_objects += node.count as usize;
+                let px = f64::from(sight.pixels.max(1.0));
+                weighted += f64::from(error) * px;
+                weight += px;
+                report.max_error = report.max_error.max(error);
+                continue;
+            }
+            if node.is_leaf() {
+                for &i in self.tree.objects_of(k as usize) {
+                    let b = self.objects[i as usize].bounds();
+                    if frustum.sees(b.center, b.radius) {
+                        self.geometry.push(i);
+                    }
+                }
+                continue;
+            }
+            report.opened += 1;
+            // Nearer child first (the order images are drawn in does not matter: depth).
+            let [a, b] = node.children;
+            let d = |c: u32| self.tree.nodes()[c as usize].sphere().center.distance(eye);
+            let (a, b) = if d(b) < d(a) { (b, a) } else { (a, b) };
+            self.queue.push_back(a);
+            self.queue.push_back(b);
+        }
+        report.images = self.images.len();
+        report.geometry = self.geometry.len();
+        report.mean_error = if weight > 0.0 {
+            (weighted / weight) as f32
+        } else {
+            0.0
+        };
+        let planned = start.elapsed();
+        self.rebuild_and_prepare(view, &mut report);
+        report.planning_ms = planned.as_secs_f32() * 1e3;
+        self.report = report;
+        &self.report
+    }
+
+    /// Rebuilds the batches, releases images long unused, prepares every representation
+    /// with the nodes it draws.
+    fn rebuild_and_prepare(&mut self, view: &FrameView<'_>, report: &mut TreeReport) {
+        for (r, rep) in self.reps.iter_mut().enumerate() {
+            let batch = &mut self.batch[r];
+            if batch.is_empty() {
+                continue;
+            }
+            batch.sort_unstable();
+            rep.rebuild(batch, &mut self.clusters, view);
+            for &k in batch.iter() {
+                if !self.held.contains(&(k as u32, r as u8)) {
+                    self.held.push((k as u32, r as u8));
+                }
+            }
+        }
+        for &(k, _, _) in &self.images {
+            self.used[k as usize] = self.frame;
+        }
+        let (frame, after) = (self.frame, self.config.release_after);
+        let (used, reps) = (&self.used, &mut self.reps);
+        self.held.retain(|&(k, r)| {
+            let keep = frame.wrapping_sub(used[k as usize]) <= after;
+            if !keep {
+                reps[r as usize].release(k as usize);
+            }
+            keep
+        });
+        for (r, rep) in self.reps.iter_mut().enumerate() {
+            let batch = &mut self.batch[r];
+            batch.clear();
+            let mine = self.images.iter().filter(|x| usize::from(x.1) == r);
+            batch.extend(mine.map(|x| x.0 as usize));
+            batch.sort_unstable();
+            rep.prepare(batch, &self.clusters, view);
+        }
+        report.memory = self.reps.iter().map(|r| r.memory()).sum();
+    }
+
+    /// The frame's draws: each image node's image, each geometry object's triangles.
+    pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        for &(k, r, _) in &self.images {
+            let k = k as usize;
+            self.reps[usize::from(r)].draw(k, &self.clusters[k], self.eye, out);
+        }
+        for &i in &self.geometry {
+            self.objects[i as usize].draws(out);
+        }
+    }
+
+    /// Every representation's image passes over the rendered frame.
+    pub fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let mut stats = FrameStats::default();
+        for rep in &self.reps {
+            stats += rep.passes(view, target);
+        }
+        stats
+    }
+}
