@@ -11,6 +11,9 @@ KEYS = {
     "billboards": ["series", "param", "value", "width", "height"],
     "impostors": ["series", "path", "policy", "tolerance_deg", "frame", "impostor"],
     "scaling": ["series", "mode", "triangles", "width", "height"],
+    "warp": ["series", "value", "method", "references", "width", "height"],
+    "lightfield": ["series", "method", "eye_class", "eye", "uv", "st", "codewords", "tile",
+                   "triangles", "width", "height"],
 }
 ERRORS = ["psnr_db", "mean_abs", "mae", "mae_mean", "mae_max", "worst_mae"]
 

@@ -6,7 +6,8 @@
 #
 # Each commit is exported (git archive) and built in its own folder under OUT; each round
 # runs every sweep with one binary then the other, the order alternating between rounds.
-# Defaults: 2 rounds; sweeps billboards impostors scaling.
+# Defaults: 2 rounds; sweeps billboards impostors scaling. BENCH_FLAGS (e.g. `--quick`)
+# is passed to every run.
 set -euo pipefail
 before=$1 after=$2 out=$3 rounds=${4:-2}
 shift $(( $# < 4 ? $# : 4 ))
@@ -28,7 +29,7 @@ for r in $(seq 1 "$rounds"); do
     for c in "${order[@]}"; do
         for s in "${sweeps[@]}"; do
             echo "round $r: $c $s"
-            "$out/src-$c/target/release/bench" "$s" --out "$out/$c-r$r" >"$out/$c-r$r-$s.log"
+            "$out/src-$c/target/release/bench" "$s" ${BENCH_FLAGS:-} --out "$out/$c-r$r" >"$out/$c-r$r-$s.log"
         done
     done
 done

@@ -89,8 +89,26 @@ pub trait Sweep: Sync {
         flags: &Self::Flags,
         progress: Progress,
     ) -> Result<Vec<Self::Row>, String>;
-    /// Prints the rows for the terminal.
-    fn report(&self, rows: &[Self::Row]);
+    /// One row as the terminal shows it; `None` for a row not shown on its own.
+    fn line(&self, row: &Self::Row) -> Option<String> {
+        let _ = row;
+        None
+    }
+    /// Lines shown after the rows: what is said over several of them.
+    fn summary(&self, rows: &[Self::Row]) -> Vec<String> {
+        let _ = rows;
+        Vec::new()
+    }
+    /// Prints the rows for the terminal: each row's [`Sweep::line`], then the
+    /// [`Sweep::summary`]. The one printing path of every sweep.
+    fn report(&self, rows: &[Self::Row]) {
+        for line in rows.iter().filter_map(|r| self.line(r)) {
+            println!("{line}");
+        }
+        for line in self.summary(rows) {
+            println!("{line}");
+        }
+    }
     /// Its charts of the rows: file name and chart.
     fn charts(&self, rows: &[Self::Row]) -> Vec<(&'static str, Chart)> {
         let _ = rows;
@@ -115,12 +133,27 @@ impl<S: Sweep> Listed for S {
     }
 
     fn command(&self) -> clap::Command {
-        S::Flags::augment_args(clap::Command::new(S::NAME)).about(S::ABOUT)
+        S::Flags::augment_args(clap::Command::new(S::NAME)).about(about(S::NAME, S::ABOUT))
     }
 
     fn run(&self, matches: &ArgMatches) -> Result<(), String> {
         let flags = S::Flags::from_arg_matches(matches).map_err(|e| e.to_string())?;
         execute(self, &flags)
+    }
+}
+
+/// A sweep's help: its own, then the techniques of `ibr::catalog()` it measures (those
+/// whose entry names it as their sweep).
+pub fn about(name: &str, about: &str) -> String {
+    let measured: Vec<&str> = ibr::catalog()
+        .iter()
+        .filter(|e| e.sweep == Some(name))
+        .map(|e| e.name)
+        .collect();
+    if measured.is_empty() {
+        about.to_string()
+    } else {
+        format!("{about} (catalogue: {})", measured.join(", "))
     }
 }
 
@@ -196,5 +229,26 @@ fn drawn(path: &Path, chart: &Chart) -> Result<(), String> {
             Ok(())
         }
         Err(e) => Err(format!("cannot draw {}: {e}", path.display())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every sweep the catalogue names is a sweep here, and its help lists the technique.
+    #[test]
+    fn every_catalogued_sweep_is_listed_and_names_its_techniques() {
+        for e in ibr::catalog() {
+            let Some(name) = e.sweep else { continue };
+            let sweep = sweeps().into_iter().find(|s| s.name() == name);
+            let sweep = sweep.unwrap_or_else(|| panic!("{}: no sweep {name}", e.name));
+            let help = sweep.command().get_about().map(|a| a.to_string());
+            assert!(
+                help.is_some_and(|h| h.contains(e.name)),
+                "{name}: {}",
+                e.name
+            );
+        }
     }
 }

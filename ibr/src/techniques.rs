@@ -26,8 +26,10 @@ pub type MakeRepresentation = fn(objects: usize) -> Box<dyn Representation<MeshG
 /// A constructor of a frame technique over `subjects`.
 pub type MakeTechnique = fn(subjects: Vec<MeshGroup>) -> Box<dyn Technique>;
 
-/// One technique in the catalogue: its name and the constructors of its faces. A face it
-/// does not have is `None`; every technique has at least one.
+/// One technique in the catalogue: its name, the constructors of its faces and where the
+/// demos show and measure it. A face it does not have is `None`; every technique has at
+/// least one of the four (clouds, panoramas and view morphing are drawn by their owners,
+/// outside both seams: the showcase and the bench name them here).
 #[derive(Clone, Copy)]
 pub struct Entry {
     /// The technique's name in plain words, as sweeps' CSV rows and charts print it.
@@ -40,6 +42,10 @@ pub struct Entry {
     /// It drawn through the frame seam over `subjects` with the catalogue's settings
     /// (techniques that stand in for no subject ignore them).
     pub technique: Option<MakeTechnique>,
+    /// The `bench` sweep that measures it on its own, by its subcommand's name.
+    pub sweep: Option<&'static str>,
+    /// The showcase attraction that shows it, by the attraction's name.
+    pub attraction: Option<&'static str>,
 }
 
 impl std::fmt::Debug for Entry {
@@ -49,6 +55,8 @@ impl std::fmt::Debug for Entry {
             .field("folder", &self.folder)
             .field("representation", &self.representation.is_some())
             .field("technique", &self.technique.is_some())
+            .field("sweep", &self.sweep)
+            .field("attraction", &self.attraction)
             .finish()
     }
 }
@@ -58,7 +66,8 @@ pub const LDI_LAYERS: usize = 3;
 
 /// Every technique, in the order the sweeps list them: the planner's representations
 /// first (in `bench budget`'s order), then the techniques drawn only through the frame
-/// seam. Adding a technique is its folder and one line here.
+/// seam, then those outside both seams. Every folder under `ibr/src/techniques/` has at
+/// least one line. Adding a technique is its folder and one line here.
 pub fn catalog() -> &'static [Entry] {
     &CATALOG
 }
@@ -70,18 +79,21 @@ pub fn represent(name: &str, objects: usize) -> Option<Box<dyn Representation<Me
 }
 
 #[rustfmt::skip]
-static CATALOG: [Entry; 11] = [
-    Entry { name: "impostors", folder: "impostors", representation: Some(|n| Box::new(impostors::ImpostorSet::new(impostors::Config::default(), n))), technique: Some(|s| Box::new(impostors::Impostored::new("impostors", impostors::Config::default(), s))) },
-    Entry { name: "layers", folder: "layers", representation: Some(|n| Box::new(layers::LayerSet::new(layers::Config::default(), n))), technique: Some(|s| Box::new(layers::Layered::new("layers", layers::Config::default(), s))) },
-    Entry { name: "octahedral", folder: "octahedral", representation: Some(|n| Box::new(octahedral::OctahedralSet::new(n, 8, 32, octahedral::Layout::Hemi))), technique: Some(octahedral_baked) },
-    Entry { name: "depth images", folder: "depth_images", representation: Some(|n| Box::new(depth_images::DepthImageSet::new(depth_images::Config::default(), n))), technique: None },
-    Entry { name: "LDIs", folder: "depth_images", representation: Some(|n| Box::new(depth_images::DepthImageSet::new(depth_images::Config { layers: LDI_LAYERS, ..depth_images::Config::default() }, n))), technique: None },
-    Entry { name: "billboards", folder: "billboards", representation: Some(|n| Box::new(billboards::BillboardSet::new(n, 64))), technique: Some(|_| Box::new(BillboardBatch::new(Material::unlit(Rgba::WHITE)))) },
-    Entry { name: "light fields", folder: "lightfields", representation: Some(|n| Box::new(lightfields::LightFieldSet::new(n, 8, 32))), technique: None },
-    Entry { name: "lasers", folder: "lasers", representation: None, technique: Some(|_| Box::new(lasers::LaserBatch::new())) },
-    Entry { name: "lens flare", folder: "flare", representation: None, technique: Some(|_| Box::new(flare::Flare { lens: flare::LensFlare::default(), source: flare::FlareSource::Directional(Vec3::new(0.2, 0.3, -1.0)) })) },
-    Entry { name: "effects", folder: "effects", representation: None, technique: Some(|_| Box::new(effects::Effects::default())) },
-    Entry { name: "portals", folder: "portals", representation: None, technique: Some(|_| Box::new(portals::Portals::new(Vec::new(), portals::PortalConfig::default()))) },
+static CATALOG: [Entry; 14] = [
+    Entry { name: "impostors", folder: "impostors", representation: Some(|n| Box::new(impostors::ImpostorSet::new(impostors::Config::default(), n))), technique: Some(|s| Box::new(impostors::Impostored::new("impostors", impostors::Config::default(), s))), sweep: Some("impostors"), attraction: Some("city") },
+    Entry { name: "layers", folder: "layers", representation: Some(|n| Box::new(layers::LayerSet::new(layers::Config::default(), n))), technique: Some(|s| Box::new(layers::Layered::new("layers", layers::Config::default(), s))), sweep: Some("layers"), attraction: Some("background") },
+    Entry { name: "octahedral", folder: "octahedral", representation: Some(|n| Box::new(octahedral::OctahedralSet::new(n, 8, 32, octahedral::Layout::Hemi))), technique: Some(octahedral_baked), sweep: Some("impostors"), attraction: None },
+    Entry { name: "depth images", folder: "depth_images", representation: Some(|n| Box::new(depth_images::DepthImageSet::new(depth_images::Config::default(), n))), technique: None, sweep: Some("warp"), attraction: None },
+    Entry { name: "LDIs", folder: "depth_images", representation: Some(|n| Box::new(depth_images::DepthImageSet::new(depth_images::Config { layers: LDI_LAYERS, ..depth_images::Config::default() }, n))), technique: None, sweep: Some("portals"), attraction: None },
+    Entry { name: "billboards", folder: "billboards", representation: Some(|n| Box::new(billboards::BillboardSet::new(n, 64))), technique: Some(|_| Box::new(BillboardBatch::new(Material::unlit(Rgba::WHITE)))), sweep: Some("billboards"), attraction: Some("forest") },
+    Entry { name: "light fields", folder: "lightfields", representation: Some(|n| Box::new(lightfields::LightFieldSet::new(n, 8, 32))), technique: None, sweep: Some("lightfield"), attraction: Some("statue") },
+    Entry { name: "lasers", folder: "lasers", representation: None, technique: Some(|_| Box::new(lasers::LaserBatch::new())), sweep: None, attraction: None },
+    Entry { name: "lens flare", folder: "flare", representation: None, technique: Some(|_| Box::new(flare::Flare { lens: flare::LensFlare::default(), source: flare::FlareSource::Directional(Vec3::new(0.2, 0.3, -1.0)) })), sweep: None, attraction: None },
+    Entry { name: "effects", folder: "effects", representation: None, technique: Some(|_| Box::new(effects::Effects::default())), sweep: None, attraction: None },
+    Entry { name: "portals", folder: "portals", representation: None, technique: Some(|_| Box::new(portals::Portals::new(Vec::new(), portals::PortalConfig::default()))), sweep: Some("portals"), attraction: Some("portals") },
+    Entry { name: "clouds", folder: "clouds", representation: None, technique: None, sweep: None, attraction: Some("clouds") },
+    Entry { name: "panoramas", folder: "panoramas", representation: None, technique: None, sweep: Some("panorama"), attraction: Some("sky") },
+    Entry { name: "view morphing", folder: "morph", representation: None, technique: None, sweep: Some("morph"), attraction: Some("morph") },
 ];
 
 /// Octahedral impostors of `subjects`, baked with the catalogue's settings.

@@ -85,7 +85,7 @@ pub use calibration::{
     calibration_per_impostor, calibration_points, calibration_summary, correlation, slope,
 };
 pub use methods::method_label;
-pub use report::{charts, print_row, ImpostorsSweep, PSNR_CAP_DB};
+pub use report::{charts, row_line, ImpostorsSweep, PSNR_CAP_DB};
 pub use row::{Errors, PredictedStats, Row};
 pub use scene::{frame_camera, measure_draws, path_name};
 

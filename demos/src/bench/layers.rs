@@ -448,24 +448,22 @@ impl Sweep for LayersSweep {
         Ok(run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            println!(
-                "{:<9} {:<9} {:>5} px {}x{}  refreshes {:>6.2}/frame ({:>7.1} kpx)  median {:>7.2} ms  mean abs {:>6.3}  PSNR {:>6.2} dB  off {:>5.2}%  predicted max {:>6.2} px",
-                r.path,
-                r.method,
-                r.tolerance_px,
-                r.width,
-                r.height,
-                r.refreshes_per_frame,
-                r.capture_kpx_per_frame,
-                r.time.median_ms,
-                r.error.mean_abs,
-                r.error.psnr_capped(99.0),
-                100.0 * r.error.frac_over,
-                r.predicted_px_max,
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        Some(format!(
+            "{:<9} {:<9} {:>5} px {}x{}  refreshes {:>6.2}/frame ({:>7.1} kpx)  median {:>7.2} ms  mean abs {:>6.3}  PSNR {:>6.2} dB  off {:>5.2}%  predicted max {:>6.2} px",
+            r.path,
+            r.method,
+            r.tolerance_px,
+            r.width,
+            r.height,
+            r.refreshes_per_frame,
+            r.capture_kpx_per_frame,
+            r.time.median_ms,
+            r.error.mean_abs,
+            r.error.psnr_capped(99.0),
+            100.0 * r.error.frac_over,
+            r.predicted_px_max,
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {

@@ -215,21 +215,19 @@ impl Sweep for MorphSweep {
         run(settings, progress)
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            println!(
-                "{:<5} {:<13} s {:.2} {}x{} median {:>8.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  covered {:>5.1}%",
-                r.path,
-                r.method,
-                r.s,
-                r.width,
-                r.height,
-                r.time.median_ms,
-                r.error.psnr_capped(99.0),
-                100.0 * r.error.frac_over,
-                100.0 * r.covered,
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        Some(format!(
+            "{:<5} {:<13} s {:.2} {}x{} median {:>8.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  covered {:>5.1}%",
+            r.path,
+            r.method,
+            r.s,
+            r.width,
+            r.height,
+            r.time.median_ms,
+            r.error.psnr_capped(99.0),
+            100.0 * r.error.frac_over,
+            100.0 * r.covered,
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {

@@ -194,20 +194,18 @@ impl Sweep for PanoramaSweep {
         Ok(run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            println!(
-                "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px",
-                r.moved,
-                r.width,
-                r.height,
-                r.panorama.median_ms,
-                r.geometry.median_ms,
-                r.error.psnr_capped(99.0),
-                100.0 * r.error.frac_over,
-                r.predicted_px,
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        Some(format!(
+            "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px",
+            r.moved,
+            r.width,
+            r.height,
+            r.panorama.median_ms,
+            r.geometry.median_ms,
+            r.error.psnr_capped(99.0),
+            100.0 * r.error.frac_over,
+            r.predicted_px,
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {

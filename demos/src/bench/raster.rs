@@ -445,21 +445,19 @@ impl Sweep for RasterSweep {
         }))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            println!(
-                "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
-                r.series,
-                r.mesh,
-                r.triangles,
-                r.width,
-                r.height,
-                r.time.median_ms,
-                r.time.min_ms,
-                r.time.p90_ms,
-                r.time.frames
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        Some(format!(
+            "{:<10} {:<22} {:>9} tris {:>4}x{:<4} median {:>9.3} ms  min {:>9.3}  p90 {:>9.3}  ({} frames)",
+            r.series,
+            r.mesh,
+            r.triangles,
+            r.width,
+            r.height,
+            r.time.median_ms,
+            r.time.min_ms,
+            r.time.p90_ms,
+            r.time.frames
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

@@ -176,3 +176,18 @@ fn key_taps_toggle_once_per_press_from_events() {
     assert_eq!(n, 2);
     assert!(toggled(true, n));
 }
+
+#[test]
+fn every_attraction_shows_a_catalogued_technique_and_every_catalogued_one_is_shown() {
+    use crate::showcase::attractions::ATTRACTIONS;
+    for a in ATTRACTIONS {
+        let entry = ibr::catalog().iter().find(|e| e.attraction == Some(a.name));
+        assert!(entry.is_some(), "{}: no catalogue entry shows it", a.name);
+    }
+    for e in ibr::catalog() {
+        if let Some(name) = e.attraction {
+            let shown = ATTRACTIONS.iter().any(|a| a.name == name);
+            assert!(shown, "{}: no showcase attraction {name}", e.name);
+        }
+    }
+}

@@ -1,9 +1,11 @@
 //! The contract every technique in the catalogue keeps, checked once for all of them
 //! (adding a catalogue line adds the technique to every test here): each entry has a face
-//! and a unique name; each planner representation gives no estimate from odd views, is
-//! chosen and holds memory under a loose budget and frees it when looked away from, and
-//! gives the same pixels and choices on one and two threads; each frame technique renders
-//! through the frame loop with the same pixels and counters on one and two threads.
+//! (or a sweep or attraction that shows it), a unique name and its folder, and every
+//! technique folder has an entry; each planner representation gives no estimate from odd
+//! views, is chosen and holds memory under a loose budget and frees it when looked away
+//! from, and gives the same pixels and choices on one and two threads; each frame
+//! technique renders through the frame loop with the same pixels and counters on one and
+//! two threads.
 
 use super::tests::*;
 use super::*;
@@ -29,14 +31,39 @@ fn loose(make: MakeRepresentation) -> Planner<MeshGroup> {
 fn every_entry_has_a_face_a_unique_name_and_its_folder() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/src/techniques/");
     for (k, e) in catalog().iter().enumerate() {
+        let faces = [
+            e.representation.is_some(),
+            e.technique.is_some(),
+            e.sweep.is_some(),
+            e.attraction.is_some(),
+        ];
         assert!(
-            e.representation.is_some() || e.technique.is_some(),
-            "{}: neither a representation nor a frame technique",
+            faces.contains(&true),
+            "{}: no face, sweep or attraction",
             e.name
         );
         assert!(!e.name.is_empty() && catalog()[..k].iter().all(|o| o.name != e.name));
         let folder = std::path::Path::new(dir).join(e.folder);
         assert!(folder.join("mod.rs").is_file(), "{}: no {folder:?}", e.name);
+    }
+}
+
+#[test]
+fn every_technique_folder_has_a_catalogue_entry() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/src/techniques/");
+    let mut folders: Vec<String> = std::fs::read_dir(dir)
+        .expect("the techniques folder")
+        .map(|f| f.expect("a folder entry").path())
+        .filter(|p| p.is_dir())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    folders.sort();
+    assert!(!folders.is_empty());
+    for f in &folders {
+        assert!(
+            catalog().iter().any(|e| e.folder == *f),
+            "ibr/src/techniques/{f}/ has no line in the catalogue"
+        );
     }
 }
 

@@ -169,15 +169,14 @@ impl Sweep for BillboardsSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
-            match (&r.times, &r.error) {
-                (Some(t), _) => println!(
+    fn line(&self, r: &Row) -> Option<String> {
+        let what = format!("{:<16} {:<13} {:>9}", r.series, r.param, r.value);
+        Some(match (&r.times, &r.error) {
+                (Some(t), _) => format!(
                     "{what} {:>4}x{:<4} {:>9} tris  build {:>8.3} ms  render {:>8.3} ms  total {:>8.3} ms ({} frames)",
                     r.width, r.height, r.triangles, t.build.median_ms, t.render.median_ms, t.total.median_ms, t.total.frames
                 ),
-                (None, Some(e)) => println!(
+                (None, Some(e)) => format!(
                     "{what} {:>4}x{:<4} PSNR {:>6.2} dB  MAE {:>6.2}  max {:>3}  over {:>5.1}%  coverage {:>5.1}%",
                     r.width,
                     r.height,
@@ -187,9 +186,8 @@ impl Sweep for BillboardsSweep {
                     e.frac_over * 100.0,
                     e.coverage_mismatch * 100.0
                 ),
-                (None, None) => println!("{what} (nothing measured)"),
-            }
-        }
+                (None, None) => format!("{what} (nothing measured)"),
+            })
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

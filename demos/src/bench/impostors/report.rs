@@ -129,8 +129,8 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
     ]
 }
 
-/// Prints one row of the sweep (the CLI's summary).
-pub fn print_row(r: &Row) {
+/// One row of the sweep as the CLI prints it.
+pub fn row_line(r: &Row) -> String {
     let what = format!(
         "{:<11} {:<9} {:<16} {:>7}",
         r.series,
@@ -177,7 +177,7 @@ pub fn print_row(r: &Row) {
         (Some(m), None) => format!("  {:.1} MiB", m as f64 / 1048576.0),
         _ => String::new(),
     };
-    println!("{what} {time}{update}{refresh}{error}{predicted}{extra}");
+    format!("{what} {time}{update}{refresh}{error}{predicted}{extra}")
 }
 
 /// The `impostors` sweep (the module docs of [`super`]).
@@ -208,13 +208,12 @@ impl Sweep for ImpostorsSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows.iter().filter(|r| r.series != "calibration") {
-            print_row(r);
-        }
-        if let Some(s) = super::calibration_summary(rows) {
-            println!("{s}");
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        (r.series != "calibration").then(|| row_line(r))
+    }
+
+    fn summary(&self, rows: &[Row]) -> Vec<String> {
+        super::calibration_summary(rows).into_iter().collect()
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

@@ -331,41 +331,39 @@ impl Sweep for LightfieldSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            let err = r.error.map_or(String::new(), |e| {
-                format!(
-                    "PSNR {:>6.2} dB  off {:>5.2}%",
-                    e.psnr_capped(99.0),
-                    e.frac_over * 100.0
-                )
-            });
-            let size = if r.file_bytes > 0 {
-                format!(
-                    "  {:>6.1}:1 in memory  {:>7.1}:1 file  trained {:.1} s",
-                    r.raw_bytes as f64 / r.bytes.max(1) as f64,
-                    r.raw_file_bytes as f64 / r.file_bytes as f64,
-                    r.quantise_s
-                )
-            } else {
-                String::new()
-            };
-            println!(
-                "{:<10} {:<15} {:<7} {} uv {:>2} st {:>3} K {:>5} {:<7} {:>7} tris {:>4}x{:<4} median {:>8.3} ms  {err}{size}",
-                r.series,
-                r.method,
-                r.eye_class,
-                r.eye,
-                r.uv,
-                r.st,
-                r.codewords,
-                r.tile,
-                r.triangles,
-                r.width,
-                r.height,
-                r.time.median_ms,
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        let err = r.error.map_or(String::new(), |e| {
+            format!(
+                "PSNR {:>6.2} dB  off {:>5.2}%",
+                e.psnr_capped(99.0),
+                e.frac_over * 100.0
+            )
+        });
+        let size = if r.file_bytes > 0 {
+            format!(
+                "  {:>6.1}:1 in memory  {:>7.1}:1 file  trained {:.1} s",
+                r.raw_bytes as f64 / r.bytes.max(1) as f64,
+                r.raw_file_bytes as f64 / r.file_bytes as f64,
+                r.quantise_s
+            )
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "{:<10} {:<15} {:<7} {} uv {:>2} st {:>3} K {:>5} {:<7} {:>7} tris {:>4}x{:<4} median {:>8.3} ms  {err}{size}",
+            r.series,
+            r.method,
+            r.eye_class,
+            r.eye,
+            r.uv,
+            r.st,
+            r.codewords,
+            r.tile,
+            r.triangles,
+            r.width,
+            r.height,
+            r.time.median_ms,
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

@@ -150,16 +150,18 @@ impl Sweep for PortalsSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows.iter().filter(|r| r.series != "walk") {
-            let err = r.error.map_or(String::new(), |e| {
-                format!(
-                    "PSNR {:>6.2} dB  MAE {:>5.2}",
-                    e.psnr_capped(99.0),
-                    e.mean_abs
-                )
-            });
-            println!(
+    fn line(&self, r: &Row) -> Option<String> {
+        if r.series == "walk" {
+            return None;
+        }
+        let err = r.error.map_or(String::new(), |e| {
+            format!(
+                "PSNR {:>6.2} dB  MAE {:>5.2}",
+                e.psnr_capped(99.0),
+                e.mean_abs
+            )
+        });
+        Some(format!(
                 "{:<10} {:<11} {:>9} tris {:>4}x{:<4} median {:>8.3} ms  {:>8} tris in  {:>8} samples  {:>8} px  {err}",
                 r.series,
                 r.method,
@@ -170,8 +172,11 @@ impl Sweep for PortalsSweep {
                 r.triangles_in,
                 r.samples,
                 r.pixels,
-            );
-        }
+            ))
+    }
+
+    fn summary(&self, rows: &[Row]) -> Vec<String> {
+        let mut out = Vec::new();
         for m in ["geometry", "flat", "depth-image", "ldi"] {
             let walk: Vec<&Row> = rows
                 .iter()
@@ -189,12 +194,13 @@ impl Sweep for PortalsSweep {
                 .collect();
             let min_psnr = psnr.iter().copied().fold(f64::INFINITY, f64::min);
             let rebuilds: u64 = walk.iter().map(|r| r.rebuilds).sum();
-            println!(
+            out.push(format!(
                 "walk       {m:<11} {} frames  mean {mean_ms:>7.3} ms  max {max_ms:>7.3} ms  rebuilds {rebuilds}  lowest PSNR {}",
                 walk.len(),
                 if psnr.is_empty() { "-".to_string() } else { format!("{min_psnr:.2} dB") },
-            );
+            ));
         }
+        out
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

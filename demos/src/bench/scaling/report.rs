@@ -347,14 +347,13 @@ impl Sweep for ScalingSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            let what = format!(
-                "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
-                r.series, r.mode, r.triangles, r.width, r.height
-            );
-            match (&r.timing, &r.fit) {
-                (Some(t), _) => println!(
+    fn line(&self, r: &Row) -> Option<String> {
+        let what = format!(
+            "{:<14} {:<9} {:>9} tris {:>4}x{:<4}",
+            r.series, r.mode, r.triangles, r.width, r.height
+        );
+        Some(match (&r.timing, &r.fit) {
+                (Some(t), _) => format!(
                     "{what} median {:>9.3} ms  p90 {:>9.3}  update {:>6.3}  render {:>9.3}  ({} frames; {} with refreshes, median {:.3} ms)  set up {:>8}  shaded {:>9}",
                     t.steady.median_ms,
                     t.steady.p90_ms,
@@ -366,30 +365,34 @@ impl Sweep for ScalingSweep {
                     r.stats.triangles_set_up,
                     r.stats.fragments_shaded
                 ),
-                (None, Some(f)) => println!(
+                (None, Some(f)) => format!(
                     "{what} fit: {:.4} ms + {:.6} ns per {}, R^2 {:.4}",
                     f.intercept,
                     f.slope * 1e6,
                     if r.series == "triangles_fit" { "triangle" } else { "pixel" },
                     f.r2
                 ),
-                (None, None) => println!("{what} (nothing measured)"),
-            }
-        }
+                (None, None) => format!("{what} (nothing measured)"),
+            })
+    }
+
+    fn summary(&self, rows: &[Row]) -> Vec<String> {
         type Pick = fn(&Timing) -> f64;
         let parts: [(&str, Pick); 3] = [
             ("frame", |t| t.steady.median_ms),
             ("update", |t| t.update.median_ms),
             ("draw list + render", |t| t.render.median_ms),
         ];
+        let mut out = Vec::new();
         for (part, pick) in parts {
             if let Some((lo, hi, change)) = impostor_change(rows, 1_500_000, pick) {
-                println!(
+                out.push(format!(
                     "bench: impostor {part} median (frames without refreshes) from {lo} to {hi} triangles: {:+.1}%",
                     change * 100.0
-                );
+                ));
             }
         }
+        out
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

@@ -144,24 +144,22 @@ impl Sweep for StereoSweep {
         super::run(settings, &flags.run.out, peer.as_ref(), progress)
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            let (n, a) = (&r.error.nonocc, &r.error.all);
-            println!(
-                "{:<12} {:<15} {}x{} 0..{:<3} median {:>8.2} ms  non-occluded bad 1 {:>5.1}% bad 2 {:>5.1}% RMS {:>5.2} unknown {:>5.1}%  all bad 2 {:>5.1}%",
-                r.pair,
-                r.method,
-                r.width,
-                r.height,
-                r.max_disparity,
-                r.time.median_ms,
-                100.0 * n.bad1,
-                100.0 * n.bad2,
-                n.rms,
-                100.0 * n.unknown,
-                100.0 * a.bad2,
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        let (n, a) = (&r.error.nonocc, &r.error.all);
+        Some(format!(
+            "{:<12} {:<15} {}x{} 0..{:<3} median {:>8.2} ms  non-occluded bad 1 {:>5.1}% bad 2 {:>5.1}% RMS {:>5.2} unknown {:>5.1}%  all bad 2 {:>5.1}%",
+            r.pair,
+            r.method,
+            r.width,
+            r.height,
+            r.max_disparity,
+            r.time.median_ms,
+            100.0 * n.bad1,
+            100.0 * n.bad2,
+            n.rms,
+            100.0 * n.unknown,
+            100.0 * a.bad2,
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

@@ -171,37 +171,35 @@ impl Sweep for WarpSweep {
         Ok(super::run(settings, progress))
     }
 
-    fn report(&self, rows: &[Row]) {
-        for r in rows {
-            let err = r.error.map_or(String::new(), |e| {
-                format!(
-                    "PSNR {:>6.2} dB (seen {:>6.2})  MAE {:>5.2}  over {:>5.1}%",
-                    e.psnr_capped(99.0),
-                    r.psnr_seen.min(99.0),
-                    e.mean_abs,
-                    e.frac_over * 100.0
-                )
-            });
-            let rate = if r.samples > 0 {
-                format!(
-                    "  {:.0} M samples/s",
-                    r.samples as f64 / r.time.median_ms / 1e3
-                )
-            } else {
-                String::new()
-            };
-            println!(
-                "{:<8} {:>5} {:<8} {} ref  {:>4}x{:<4} median {:>8.3} ms  holes {:>5.2}%  {err}{rate}",
-                r.series,
-                r.value,
-                r.method,
-                r.references,
-                r.width,
-                r.height,
-                r.time.median_ms,
-                r.holes * 100.0
-            );
-        }
+    fn line(&self, r: &Row) -> Option<String> {
+        let err = r.error.map_or(String::new(), |e| {
+            format!(
+                "PSNR {:>6.2} dB (seen {:>6.2})  MAE {:>5.2}  over {:>5.1}%",
+                e.psnr_capped(99.0),
+                r.psnr_seen.min(99.0),
+                e.mean_abs,
+                e.frac_over * 100.0
+            )
+        });
+        let rate = if r.samples > 0 {
+            format!(
+                "  {:.0} M samples/s",
+                r.samples as f64 / r.time.median_ms / 1e3
+            )
+        } else {
+            String::new()
+        };
+        Some(format!(
+            "{:<8} {:>5} {:<8} {} ref  {:>4}x{:<4} median {:>8.3} ms  holes {:>5.2}%  {err}{rate}",
+            r.series,
+            r.value,
+            r.method,
+            r.references,
+            r.width,
+            r.height,
+            r.time.median_ms,
+            r.holes * 100.0
+        ))
     }
 
     fn charts(&self, rows: &[Row]) -> Vec<(&'static str, Chart)> {

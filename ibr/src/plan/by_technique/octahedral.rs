@@ -6,10 +6,9 @@ use crate::core::FrameView;
 use crate::core::MeshGroup;
 use crate::core::{CostModel, Representation};
 use crate::plan::tests::{
-    assert_changes_invalidate, assert_holds_then_releases_when_away,
-    assert_no_estimate_from_odd_views, assert_none_missing, beside_geometry, camera, camera_at,
-    drawn_alone, fit_bound, frame, lighting, measured, release_one_and_ignore_out_of_range, sight,
-    subjects, tori, truth, view_at, Sample, FOV, H, W,
+    assert_changes_invalidate, assert_no_estimate_from_odd_views, assert_none_missing,
+    beside_geometry, camera, camera_at, drawn_alone, fit_bound, frame, lighting, measured,
+    release_one_and_ignore_out_of_range, sight, subjects, tori, truth, view_at, Sample, FOV, H, W,
 };
 use crate::plan::{self, Planner};
 use crate::techniques::octahedral::plan::{octahedral_error, view_terms};
@@ -287,10 +286,8 @@ fn in_a_planner_octahedral_impostors_err_within_the_budget_and_a_large_one_takes
 
 #[test]
 fn release_frees_a_bake_and_odd_views_neither_panic_nor_estimate() {
-    let mut p = planner(1e9);
     let mut r = Renderer::new();
-    assert_holds_then_releases_when_away(&mut p, OCTAHEDRAL, &view_at(0.0), 2, &mut r);
-    // Directly: releasing one bake frees exactly its bytes; indices out of range are
+    // Releasing one bake frees exactly its bytes; indices out of range are
     // ignored by every call.
     let mut subjects = subjects();
     let mut set = baked(&mut subjects, 4, 16, Layout::Full);

@@ -49,6 +49,16 @@ struct Taps {
     window: Option<([u32; 2], u32, [[u32; LANES]; 2])>,
 }
 
+/// The cameras around a batch's rays after checking them against the surface
+/// ([`Kernel::check`]): each one's weight, the lanes it counts in, its images and, where
+/// depth correction moved them, the coordinates it is read at.
+struct Checked<I, const CAMERAS: usize> {
+    weights: [F8; CAMERAS],
+    cares: [M8; CAMERAS],
+    images: [Images<I>; CAMERAS],
+    moved: [Option<(F8, F8)>; CAMERAS],
+}
+
 /// A frame's lookup: the source, the sample counts, the cameras' places.
 pub(super) struct Kernel<'a, S> {
     src: &'a S,
@@ -225,7 +235,9 @@ impl<'a, S: Source> Kernel<'a, S> {
         frame
     }
 
-    /// [`Kernel::shade`] for one batch, its surface found.
+    /// [`Kernel::shade`] for one batch, its surface found: the cameras around each ray
+    /// found ([`Kernel::around`]), checked against the surface ([`Kernel::check`]), read
+    /// and blended ([`Kernel::accumulate`]), the pixels written ([`Kernel::write`]).
     #[inline(always)]
     fn blend<const CAMERAS: usize, const TAPS: usize>(
         &self,
@@ -236,18 +248,57 @@ impl<'a, S: Source> Kernel<'a, S> {
         disparities: &mut [f32],
     ) -> LightFieldFrame {
         let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
-        let cams = &self.cameras;
         let Followed {
             found, along, z, ..
         } = surface;
         let point = if self.correct {
-            cams.point(rays, along, z)
+            self.cameras.point(rays, along, z)
         } else {
             Point::none()
         };
-        // The cameras around each ray and their weights (zero in lanes that missed), where
-        // they are when depth correction needs it, and each one's image when all the rays
-        // share it.
+        let (cameras, eyes, shared) = self.around::<CAMERAS>(rays, hit, found);
+        let checked = self.check::<CAMERAS>(rays, found, &point, &cameras, &eyes, &shared);
+        let (acc, total, taps, disagree) =
+            self.accumulate::<CAMERAS, TAPS>(rays, hit, found, &checked);
+        // Cameras left out give their weight to the others.
+        let partial = total.gt(zero).and(total.lt(one));
+        let acc = acc.map(|a| partial.select(a / total, a));
+        // With depth correction, a ray along which no camera around it found a surface
+        // is drawn (uncorrected) only where every camera saw something at the focal
+        // plane: a silhouette's edge between samples, not one camera's shifted copy of a
+        // part the ray passes by (a ghost).
+        let drawn = if self.correct {
+            found.or(hit.and_not(disagree))
+        } else {
+            hit
+        };
+        let write = drawn.and(acc[3].gt(zero));
+        let frame = LightFieldFrame {
+            rays: count(hit),
+            taps,
+            pixels: count(write),
+        };
+        if frame.pixels == 0 {
+            return frame;
+        }
+        let depth = found.select(along * rays.rate_view, rays.flat_depth);
+        Self::write(&acc, depth, write, colors, disparities);
+        frame
+    }
+
+    /// The cameras around each ray and their weights (zero in lanes that missed), where
+    /// they are when depth correction needs it (some lanes `found` a surface), and each
+    /// one's image when all the rays that `hit` share it.
+    #[inline(always)]
+    #[allow(clippy::type_complexity)] // reason: a hot kernel's three results, named at the call
+    fn around<const CAMERAS: usize>(
+        &self,
+        rays: &Batch,
+        hit: M8,
+        found: M8,
+    ) -> ([(I8, I8, F8); 4], [Eyes; 4], [Option<S::Image>; 4]) {
+        let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
+        let cams = &self.cameras;
         let cameras: [(I8, I8, F8); 4];
         let mut eyes = [Eyes::default(); 4];
         let mut shared = [None; 4];
@@ -290,19 +341,35 @@ impl<'a, S: Source> Kernel<'a, S> {
                     [(i, j), (i1, j), (i, j1), (i1, j1)].map(|(i, j)| Some(self.src.image(i, j)));
             }
         }
-        // Each camera's weight, the lanes it counts in, its images and, where depth
-        // correction moved them, the coordinates it is read at: all the cameras checked
-        // first (their depth reads are independent), then read.
-        let mut weights = [zero; CAMERAS];
-        let mut cares = [M8::from_bits(0); CAMERAS];
-        let mut images = [Images::none(); CAMERAS];
-        let mut moved = [None; CAMERAS];
+        (cameras, eyes, shared)
+    }
+
+    /// Each camera's weight, the lanes it counts in, its images and, where depth
+    /// correction moved them, the coordinates it is read at: all the cameras checked
+    /// first (their depth reads are independent), then read.
+    #[inline(always)]
+    fn check<const CAMERAS: usize>(
+        &self,
+        rays: &Batch,
+        found: M8,
+        point: &Point,
+        cameras: &[(I8, I8, F8); 4],
+        eyes: &[Eyes; 4],
+        shared: &[Option<S::Image>; 4],
+    ) -> Checked<S::Image, CAMERAS> {
+        let zero = F8::splat(0.0);
+        let mut c = Checked {
+            weights: [zero; CAMERAS],
+            cares: [M8::from_bits(0); CAMERAS],
+            images: [Images::none(); CAMERAS],
+            moved: [None; CAMERAS],
+        };
         for k in 0..CAMERAS {
             let (i, j, mut w) = cameras[k];
             // Weights are never negative: zero or not.
             let mut care = w.gt(zero);
             if care.bits() != 0 {
-                images[k] = match shared[k] {
+                c.images[k] = match shared[k] {
                     Some(image) => Images {
                         shared: Some(image),
                         i,
@@ -314,9 +381,9 @@ impl<'a, S: Source> Kernel<'a, S> {
                 if check.bits() != 0 {
                     // Where each camera saw the surface point; left out of the blend when
                     // it saw something else there (nearer, or nothing).
-                    let (ps, pt, inside) = cams.project(&eyes[k], &point);
+                    let (ps, pt, inside) = self.cameras.project(&eyes[k], point);
                     let (is, it) = (self.nearest(ps, 2), self.nearest(pt, 3));
-                    let seen = self.depths(&images[k], is, it, check);
+                    let seen = self.depths(&c.images[k], is, it, check);
                     let z = point.z;
                     let same = (seen - z).abs().le(F8::splat(SAME_SURFACE) * z);
                     let out = found.and_not(inside.and(same));
@@ -324,39 +391,52 @@ impl<'a, S: Source> Kernel<'a, S> {
                     care = care.and_not(out);
                     let s = out.select(zero, found.select(ps, rays.s));
                     let t = out.select(zero, found.select(pt, rays.t));
-                    moved[k] = Some((s, t));
+                    c.moved[k] = Some((s, t));
                 }
             }
-            weights[k] = w;
-            cares[k] = care;
+            c.weights[k] = w;
+            c.cares[k] = care;
         }
+        c
+    }
+
+    /// The checked cameras read and blended: the weighted sum of their colours, their
+    /// total weight, the taps read (with weight: not zero) and the lanes where a camera
+    /// that counts saw nothing at any of its taps.
+    #[inline(always)]
+    fn accumulate<const CAMERAS: usize, const TAPS: usize>(
+        &self,
+        rays: &Batch,
+        hit: M8,
+        found: M8,
+        checked: &Checked<S::Image, CAMERAS>,
+    ) -> ([F8; 4], F8, u64, M8) {
+        let zero = F8::splat(0.0);
         let (mut acc, mut total) = ([zero; 4], zero);
-        // Taps read (with weight: not zero).
         let mut taps_read = 0u32;
-        // Lanes where a camera that counts saw nothing at any of its taps.
         let mut disagree = M8::from_bits(0);
         // The taps where the rays cross the focal plane: the same for all the cameras not
         // moved (found once, for all the rays that hit).
         let mut flat = None;
         for k in 0..CAMERAS {
-            let w = weights[k];
+            let w = checked.weights[k];
             total = total + w;
             // A ray without a surface that a camera before saw nothing for is not drawn:
             // the cameras after need not read it.
             let care = if self.correct {
-                cares[k].and_not(disagree.and_not(found))
+                checked.cares[k].and_not(disagree.and_not(found))
             } else {
-                cares[k]
+                checked.cares[k]
             };
             if care.bits() == 0 {
                 continue;
             }
             let w = care.select(w, zero);
-            let taps = match moved[k] {
+            let taps = match checked.moved[k] {
                 Some((s, t)) => self.taps::<TAPS>(s, t, care),
                 None => *flat.get_or_insert_with(|| self.taps::<TAPS>(rays.s, rays.t, hit)),
             };
-            let colors = self.read_taps::<TAPS>(&images[k], &taps);
+            let colors = self.read_taps::<TAPS>(&checked.images[k], &taps);
             let mut saw = M8::from_bits(0);
             for (c, weight) in colors.into_iter().zip(taps.weights).take(TAPS) {
                 let wt = w * weight;
@@ -372,28 +452,14 @@ impl<'a, S: Source> Kernel<'a, S> {
             }
             disagree = disagree.or(care.and_not(saw));
         }
-        let taps = u64::from(taps_read);
-        // Cameras left out give their weight to the others.
-        let partial = total.gt(zero).and(total.lt(one));
-        let acc = acc.map(|a| partial.select(a / total, a));
-        // With depth correction, a ray along which no camera around it found a surface
-        // is drawn (uncorrected) only where every camera saw something at the focal
-        // plane: a silhouette's edge between samples, not one camera's shifted copy of a
-        // part the ray passes by (a ghost).
-        let drawn = if self.correct {
-            found.or(hit.and_not(disagree))
-        } else {
-            hit
-        };
-        let write = drawn.and(acc[3].gt(zero));
-        let frame = LightFieldFrame {
-            rays: count(hit),
-            taps,
-            pixels: count(write),
-        };
-        if frame.pixels == 0 {
-            return frame;
-        }
+        (acc, total, u64::from(taps_read), disagree)
+    }
+
+    /// Writes the blended colours `acc` and the disparities of `depth` to lane `l`'s
+    /// pixel `l` of `(colors, disparities)` in the lanes `write`.
+    #[inline(always)]
+    fn write(acc: &[F8; 4], depth: F8, write: M8, colors: &mut [u32], disparities: &mut [f32]) {
+        let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
         let byte = |x: F8| {
             (x + F8::splat(0.5))
                 .max(zero)
@@ -404,7 +470,6 @@ impl<'a, S: Source> Kernel<'a, S> {
             .or(byte(acc[1]).shl::<8>())
             .or(byte(acc[2]).shl::<16>())
             .or(byte(acc[3]).shl::<24>());
-        let depth = found.select(along * rays.rate_view, rays.flat_depth);
         let disparity = depth.gt(zero).select(one / depth, zero);
         if colors.len() == LANES && disparities.len() == LANES {
             let packed = write.select_i32(packed, I8::load_u32(colors));
@@ -420,6 +485,5 @@ impl<'a, S: Source> Kernel<'a, S> {
                 disparities[l] = disparity[l];
             }
         }
-        frame
     }
 }
