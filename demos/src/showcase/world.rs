@@ -13,7 +13,7 @@
 use crate::world::{tree_planner, TreePlan, World};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::Frustum;
-use ibr::plan::tree::{Hierarchy, TreeReport};
+use ibr::plan::tree::{Hierarchy, TreeReport, NONE};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView, Technique};
 use std::time::{Duration, Instant};
@@ -149,7 +149,10 @@ impl WorldTour {
     }
 
     /// How often the last frame drew each object in view of `camera` (the camera it was
-    /// rendered from).
+    /// rendered from). In view is what no enclosing volume rules out: the object's bounding
+    /// sphere in the view frustum, and the sphere of every node above it too (a node's
+    /// sphere holds its box, which holds its objects' geometry: an object under a node
+    /// off the view is off it, however far its own, looser sphere reaches).
     pub fn coverage(&self, camera: &Camera) -> Coverage {
         let objects = &self.world.objects;
         let mut drawn = vec![0u32; objects.len()];
@@ -163,10 +166,22 @@ impl WorldTour {
             drawn[i as usize] += 1;
         }
         let frustum = Frustum::new(camera.clip_from_world());
+        let nodes = tree.nodes();
+        let node_seen = |mut k: u32| {
+            while k != NONE {
+                let s = nodes[k as usize].sphere();
+                if !frustum.sees(s.center, s.radius) {
+                    return false;
+                }
+                k = nodes[k as usize].parent;
+            }
+            true
+        };
         let mut c = Coverage::default();
-        for (o, &n) in objects.iter().zip(&drawn) {
+        for (i, (o, &n)) in objects.iter().zip(&drawn).enumerate() {
             let b = o.bounds();
-            if !frustum.sees(b.center, b.radius) {
+            let leaf = tree.leaf_of(i).unwrap_or(NONE);
+            if !frustum.sees(b.center, b.radius) || !node_seen(leaf) {
                 continue;
             }
             c.in_view += 1;
