@@ -28,6 +28,9 @@ pub const LOADING: u32 = 4;
 /// Predicted milliseconds of captures a loading frame (the other planners' rebuild budget
 /// in `bench budget`).
 pub const LOADING_MS: f32 = 40.0;
+/// The fly-over's part a frame: `bench budget`'s pace (a quarter of it in 24 frames),
+/// about 2.4 units a frame in the default world.
+pub const STEP: f32 = 0.01;
 /// The clear colour (the budget sweep's sky).
 pub const CLEAR: Rgba = Rgba::new(0.55, 0.65, 0.8, 1.0);
 
@@ -81,10 +84,15 @@ impl WorldTour {
         }
     }
 
-    /// The camera at frame `i` of `n` of the fly-over (sideways across the middle fifth
-    /// of the world), for a `width` x `height` image.
-    pub fn camera(&self, i: usize, n: usize, width: u32, height: u32) -> Camera {
-        let t = i as f32 / (n.max(2) - 1) as f32;
+    /// The camera at frame `i` of the fly-over (sideways across the middle fifth of the
+    /// world, [`STEP`] of it a frame, then held at its end), for a `width` x `height`
+    /// image.
+    pub fn camera(&self, i: usize, width: u32, height: u32) -> Camera {
+        self.camera_at(i as f32 * STEP, width, height)
+    }
+
+    /// The camera at `t` in [0, 1] of the fly-over.
+    pub fn camera_at(&self, t: f32, width: u32, height: u32) -> Camera {
         self.world.camera(t, (width, height))
     }
 
@@ -133,7 +141,7 @@ impl WorldTour {
         let r = self.report();
         format!(
             "WORLD {} OBJECTS  {} NODES OPENED  {} IMAGES ({} OBJECTS)  {} GEOMETRY  \
-             {} REBUILDS  ERROR {:.2} MAX {:.2} (BUDGET {:.0})  PLAN {:.2} MS  FRAME {:.1} MS",
+             {} REBUILDS  PREDICTED ERROR {:.2} MAX {:.2} (BUDGET {:.0})  PLAN {:.2} MS  FRAME {:.1} MS",
             self.world.objects.len(),
             r.opened,
             r.images,
@@ -214,7 +222,7 @@ mod tests {
         let (mut renderer, mut target) = (Renderer::new(), Target::new(160, 96));
         let n = LOADING as usize + 3;
         for i in 0..n {
-            let camera = tour.camera(i, n, 160, 96);
+            let camera = tour.camera(i, 160, 96);
             tour.render(&mut renderer, &camera, &mut target);
             let c = tour.coverage(&camera);
             let r = *tour.report();

@@ -482,7 +482,7 @@ fn world_headless(args: &Args, dir: &Path, n: usize) -> Result<PartTimes, String
     );
     let mut times = Vec::with_capacity(n);
     for i in 0..n {
-        let camera = tour.camera(i, n, w, h);
+        let camera = tour.camera(i, w, h);
         tour.render(&mut renderer, &camera, &mut target);
         times.push(tour.last_time);
         let c = tour.coverage(&camera);

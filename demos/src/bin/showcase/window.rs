@@ -379,8 +379,7 @@ fn timed<T>(f: impl FnOnce() -> T) -> Duration {
 fn world_camera(tour: &WorldTour, start: Instant, ww: u32, wh: u32) -> engine::Camera {
     const LOOP: f32 = 40.0;
     let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
-    let steps = 10_000;
-    tour.camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
+    tour.camera_at(t, ww, wh)
 }
 
 /// The part's attractions' figures so far (PSNR against geometry, flicker), one small line
