@@ -57,6 +57,16 @@ impl Moment {
         (Moment::World, Key::O),
     ];
 
+    /// The moment the window starts in: the one the flags name, else outdoors.
+    fn first(args: &Args) -> Moment {
+        match (args.building, args.views, args.world) {
+            (true, _, _) => Moment::Building,
+            (_, true, _) => Moment::Views,
+            (_, _, true) => Moment::World,
+            _ => Moment::Outdoor,
+        }
+    }
+
     /// The part of the showcase this moment is, as `summary.json` names it.
     fn part(self) -> &'static str {
         match self {
@@ -186,12 +196,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
     // The moments are made when first entered (B, V, O).
     let (mut tour, mut views): (Option<BuildingTour>, Option<ViewsTour>) = (None, None);
     let mut world: Option<WorldTour> = None;
-    let mut moment = match (args.building, args.views, args.world) {
-        (true, _, _) => Moment::Building,
-        (_, true, _) => Moment::Views,
-        (_, _, true) => Moment::World,
-        _ => Moment::Outdoor,
-    };
+    let mut moment = Moment::first(args);
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -229,11 +234,8 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             meter.views_tour(tour);
         } else if moment == Moment::World {
             let tour = world.get_or_insert_with(WorldTour::new);
-            let camera = world_camera(tour, start, ww, wh);
-            tour.render(&mut renderer, &camera, &mut target);
+            (title, readout, help) = world_frame(tour, &mut renderer, &mut target, start);
             recent.push(tour.last_time);
-            (title, readout) = ("world (planned per node)".to_string(), tour.readout());
-            help = "O OUTDOORS  B BUILDING  V VIEWS  ESC QUIT";
             target.write_rgb_u32(&mut pixels);
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
@@ -375,11 +377,24 @@ fn timed<T>(f: impl FnOnce() -> T) -> Duration {
     t0.elapsed()
 }
 
-/// The world moment's camera now: its fly-over plays in a loop of 40 s.
-fn world_camera(tour: &WorldTour, start: Instant, ww: u32, wh: u32) -> engine::Camera {
+/// One frame of the world moment: its fly-over plays in a loop of 40 s. Its title,
+/// readout and help.
+fn world_frame(
+    tour: &mut WorldTour,
+    renderer: &mut Renderer,
+    target: &mut Target,
+    start: Instant,
+) -> (String, String, &'static str) {
     const LOOP: f32 = 40.0;
     let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
-    tour.camera_at(t, ww, wh)
+    let camera = tour.camera_at(t, target.width(), target.height());
+    tour.render(renderer, &camera, target);
+    let title = "world (planned per node)".to_string();
+    (
+        title,
+        tour.readout(),
+        "O OUTDOORS  B BUILDING  V VIEWS  ESC QUIT",
+    )
 }
 
 /// The part's attractions' figures so far (PSNR against geometry, flicker), one small line
