@@ -8,11 +8,13 @@ use std::process::Command;
 
 const FRAMES: usize = 4;
 
-/// Runs `showcase --world` headless at 160 x 96; its standard output and parsed summary.
-fn run_world() -> (PathBuf, String, Value) {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("showcase_world");
+/// Runs `showcase --world` headless at 160 x 96 into `name` with `args`; its folder,
+/// standard output and parsed summary.
+fn run_world(name: &str, args: &[&str]) -> (PathBuf, String, Value) {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .args(args)
         .arg("--headless")
         .arg(&dir)
         .args(["--world", "--frames", &FRAMES.to_string()])
@@ -43,7 +45,7 @@ fn before(line: &str, word: &str) -> u64 {
 
 #[test]
 fn the_world_moment_runs_headless_with_its_readout_and_summary() {
-    let (dir, stdout, s) = run_world();
+    let (dir, stdout, s) = run_world("showcase_world", &[]);
     for i in 0..FRAMES {
         let img = image::open(dir.join(format!("world_{i:04}.png")))
             .expect("world frame decodes")
@@ -82,4 +84,16 @@ fn the_world_moment_runs_headless_with_its_readout_and_summary() {
     }
     // After the loading frames the far field is imaged.
     assert!(before(lines[FRAMES - 1], "IMAGES") > 0, "{stdout}");
+}
+
+#[test]
+fn the_world_moment_is_the_same_on_one_and_two_threads() {
+    let (one, _, _) = run_world("showcase_world_1", &["--threads", "1"]);
+    let (two, _, _) = run_world("showcase_world_2", &["--threads", "2"]);
+    for i in 0..FRAMES {
+        let name = format!("world_{i:04}.png");
+        let a = image::open(one.join(&name)).expect("frame").to_rgba8();
+        let b = image::open(two.join(&name)).expect("frame").to_rgba8();
+        assert!(a == b, "{name} differs between 1 and 2 threads");
+    }
 }
