@@ -2,12 +2,13 @@
 //! moments and fly camera ([`showcase`]), frame-time statistics ([`timing`]), a tiny
 //! bitmap font for on-screen readouts ([`font`]), datasets of views written for the
 //! `warp` command ([`dataset`]), the scalable city of the impostor benchmarks ([`city`]),
-//! the building of the portal walkthrough ([`building`]), the benchmark sweeps behind the
+//! the building of the portal walkthrough ([`building`]), the world of many objects and its
+//! per-node planner ([`world`]), the benchmark sweeps behind the
 //! `bench` CLI ([`bench`]) and the charts they draw ([`chart`]). Binaries stay thin; what they do is
 //! here, where tests reach it.
 //!
-//! The top-level modules form layers without a circle: [`showcase`] uses [`chart`],
-//! [`city`] and [`building`]; [`bench`] uses those, [`font`], [`timing`] and
+//! The top-level modules form layers without a circle: [`world`] uses [`city`];
+//! [`showcase`] uses [`chart`], [`city`], [`building`] and [`world`]; [`bench`] uses those, [`font`], [`timing`] and
 //! [`showcase`]'s scene; the others are leaves, and nothing here uses [`bench`].
 
 pub mod bench;
@@ -19,6 +20,7 @@ pub mod dataset;
 pub mod font;
 pub mod showcase;
 pub mod timing;
+pub mod world;
 
 /// Sets the global rayon pool to `threads` workers (when given); a failure is reported on
 /// stderr as `PROGRAM: ...` and the default pool is kept.

@@ -9,7 +9,9 @@
 //! ([`crate::showcase::ibr_layer`]) adds a billboard forest, a laser exchange with explosions,
 //! the sun's lens flare, a sky of clouds drawn through runtime impostors, and a city
 //! district whose buildings a planner draws as geometry, impostors or image layers
-//! ([`crate::showcase::impostors`]).
+//! ([`crate::showcase::impostors`]). Its moments: the building tour ([`building`]), the
+//! views ([`views`]) and the world of many objects drawn per node of a hierarchy
+//! ([`world`]).
 
 pub mod attractions;
 pub mod building;
@@ -18,6 +20,7 @@ pub mod impostors;
 pub mod lightfield;
 pub mod summary;
 pub mod views;
+pub mod world;
 
 mod build;
 mod fly;

@@ -62,9 +62,9 @@ fn run(name: &str, args: &[&str]) -> Value {
 #[test]
 fn summary_has_the_shape_and_the_attractions_stay_within_bounds() {
     let s = summary();
-    let frames = [("tour", 24), ("building", 12), ("views", 3)];
+    let frames = [("tour", 24), ("building", 12), ("views", 3), ("world", 3)];
     let parts = s["parts"].as_object().expect("parts");
-    assert_eq!(parts.len(), 3);
+    assert_eq!(parts.len(), 4);
     for (part, n) in frames {
         let p = &parts[part];
         assert_eq!(p["frames"].as_u64(), Some(n), "{part}");

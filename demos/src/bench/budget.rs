@@ -36,15 +36,14 @@ mod flight;
 mod objects;
 mod report;
 mod trace;
-mod world;
 
+pub use crate::world::{World, TREE_REBUILD_MS, TREE_SIDE};
 pub use calibrate::{calibrate, Calibration};
 pub use objects::{objects, ObjectRow};
 pub use report::{
     charts, BudgetCommand, BudgetFlags, BudgetSweep, CalibrateSweep, ObjectsSweep, TraceSweep,
 };
 pub use trace::{trace, TraceRow};
-pub use world::World;
 
 use flight::{fly, fly_with};
 
@@ -54,9 +53,9 @@ use crate::city::{City, Path as CityPath};
 use crate::showcase::{self, Showcase};
 use crate::timing::Summary;
 use engine::{Camera, Lighting, Material, Mesh};
-use ibr::impostor::{self, ImpostorSet, Impostored, Tolerance};
+use ibr::impostor::{self, ImpostorSet, Impostored};
 use ibr::layers::{self, LayerSet, Layered};
-use ibr::plan::tree::{Cluster, Hierarchy, TreeConfig};
+use ibr::plan::tree::Hierarchy;
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation, Scope};
 use ibr::schedule::Budget;
 use ibr::subject::MeshGroup;
@@ -508,49 +507,22 @@ fn planner_of(
 /// world's thousands of objects, where planning each would cost more than it saves.
 pub const TREE_FROM: usize = 4096;
 
-/// The largest cluster image, texels a side: a node wider than that on screen is opened
-/// (the cut's clusters stay small on screen, so each is cheap to retake and slow to go
-/// stale as the eye moves).
-pub const TREE_SIDE: u32 = 64;
-
-/// The hierarchy planner's predicted milliseconds of rebuilds (cluster images) per frame:
-/// the share of a 60 Hz frame left to captures (measured at budget 16 in the world, 24
-/// frames: 40 to 60 ms a frame, its prepare, the captures, 15 to 25 ms of it).
-pub const TREE_REBUILD_MS: f32 = 8.0;
-
 /// The per-node planner over a hierarchy of the scene's objects, each node drawn as one
-/// runtime impostor of all its objects when its predicted error is within `budget`.
+/// runtime impostor of all its objects when its predicted error is within `budget`
+/// ([`crate::world::tree_planner`]).
 fn hierarchy(scene: &Scene, settings: &Settings, budget: f32) -> Hierarchy<MeshGroup> {
-    let config = TreeConfig {
+    let plan = crate::world::TreePlan {
         budget,
         rebuilds: rebuilds(scene, settings),
-        rebuild_ms: TREE_REBUILD_MS,
         // The warm-up's frames, at the other planners' rebuild budget.
         loading: (settings.warmup as u32, REBUILD_MS),
-        ..TreeConfig::default()
     };
-    let images = impostor::Config {
-        max_side: TREE_SIDE,
-        ..image_config(scene, settings, budget)
-    };
-    Hierarchy::new(config, scene.objects.clone(), |nodes| {
-        vec![Box::new(ImpostorSet::new(images, nodes))
-            as Box<dyn Representation<Cluster<MeshGroup>>>]
-    })
+    crate::world::tree_planner(scene.objects.clone(), plan)
 }
 
 /// Impostor settings shared by both impostor methods: enough textures for every object.
 fn image_config(scene: &Scene, settings: &Settings, levels: f32) -> impostor::Config {
-    impostor::Config {
-        tolerance: Tolerance {
-            levels: Some(levels),
-            ..Tolerance::default()
-        },
-        budget: Budget::count(rebuilds(scene, settings)),
-        pool_slots: 1 << 16,
-        prewarm: 0.0,
-        ..impostor::Config::default()
-    }
+    crate::world::image_config(levels, rebuilds(scene, settings))
 }
 
 /// Layer settings: re-rendered past `px` of geometric error.

@@ -4,7 +4,7 @@
 //!
 //! ```json
 //! {"parts": {"tour": {"frames": 120, "ms": {"median": 0, "p90": 0, "p99": 0, "max": 0, "max_frame": 0}},
-//!            "building": {...}, "views": {...}},
+//!            "building": {...}, "views": {...}, "world": {...}},
 //!  "attractions": [{"name": "statue", "technique": "light field", "part": "tour", "frames": 66,
 //!                   "psnr_db": {"mean": 0, "worst": 0}, "flicker": 0}]}
 //! ```
@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 /// The parts of the headless tour, in the order they play.
-pub const PARTS: [&str; 3] = ["tour", "building", "views"];
+pub const PARTS: [&str; 4] = ["tour", "building", "views", "world"];
 
 /// One part's frame times, in milliseconds.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -75,7 +75,7 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 /// The whole summary: a part's times per name of [`PARTS`], and the attractions.
 #[derive(Clone, Debug, Default)]
 pub struct Summary {
-    pub parts: [PartTimes; 3],
+    pub parts: [PartTimes; PARTS.len()],
     pub attractions: Vec<Figures>,
 }
 

@@ -27,6 +27,12 @@
 //! eye walks away from it, and two views of the plaza morphed into each other, each with
 //! its error against the geometry; headless after the building (`views_0000.png` ...,
 //! `--views-frames`), V in the window, `--views` alone.
+//!
+//! Then the world moment (`demos::showcase::world`): a fly-over of a world of thousands
+//! of objects drawn per node of a hierarchy (a node's objects as one image, or its
+//! children), with the planner's readout (nodes opened, images, objects as geometry,
+//! predicted error, planning and frame time); headless after the views (`world_0000.png`
+//! ..., `--world-frames`), O in the window, `--world` alone.
 
 mod window;
 
@@ -35,6 +41,7 @@ use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
 use demos::showcase::summary::{self as report, PartTimes};
 use demos::showcase::views::ViewsTour;
+use demos::showcase::world::WorldTour;
 use demos::showcase::{self, Showcase, SKY};
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
@@ -92,6 +99,14 @@ struct Args {
     /// --frames, at least three; 0 skips it).
     #[arg(long, value_name = "N")]
     views_frames: Option<usize>,
+    /// Only the world moment: a fly-over of thousands of objects drawn per node of a
+    /// hierarchy, with the planner's readout (the window starts in it).
+    #[arg(long, conflicts_with_all = ["building", "views"])]
+    world: bool,
+    /// Headless: frames of the world moment after the views (default: a twentieth of
+    /// --frames, at least three; 0 skips it).
+    #[arg(long, value_name = "N")]
+    world_frames: Option<usize>,
 }
 
 fn main() -> ExitCode {
@@ -126,8 +141,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// Renders the outdoor camera path, the building walkthrough and the views moment (or,
-/// with `--building` or `--views`, that part alone).
+/// Renders the outdoor camera path, the building walkthrough, the views and the world
+/// moment (or, with `--building`, `--views` or `--world`, that part alone).
 fn headless(args: &Args, dir: &Path) -> Result<(), String> {
     if !args.no_save {
         std::fs::create_dir_all(dir)
@@ -135,11 +150,13 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
     }
     let n = args.frames.max(1);
     let mut meter = Meter::new();
-    let mut parts: [PartTimes; 3] = Default::default();
+    let mut parts: [PartTimes; report::PARTS.len()] = Default::default();
     if args.building {
         parts[1] = building_headless(args, dir, n, &mut meter)?;
     } else if args.views {
         parts[2] = views_headless(args, dir, n, Showcase::new(), &mut meter)?;
+    } else if args.world {
+        parts[3] = world_headless(args, dir, n)?;
     } else {
         let show;
         (show, parts[0]) = outdoor_headless(args, dir, n, &mut meter)?;
@@ -151,13 +168,21 @@ fn headless(args: &Args, dir: &Path) -> Result<(), String> {
             0 => {}
             frames => parts[2] = views_headless(args, dir, frames, show, &mut meter)?,
         }
+        match args.world_frames.unwrap_or((n / 20).max(3)) {
+            0 => {}
+            frames => parts[3] = world_headless(args, dir, frames)?,
+        }
     }
     write_summary(dir, parts, &meter)
 }
 
 /// Prints the summary (each part's frame times, each attraction's figures) and writes it
 /// to `DIR/summary.json` (also with `--no-save`).
-fn write_summary(dir: &Path, parts: [PartTimes; 3], meter: &Meter) -> Result<(), String> {
+fn write_summary(
+    dir: &Path,
+    parts: [PartTimes; report::PARTS.len()],
+    meter: &Meter,
+) -> Result<(), String> {
     let summary = report::Summary {
         parts,
         attractions: meter.figures(),
@@ -279,9 +304,11 @@ fn outdoor_headless(
         statue.error = meter.last_of("statue");
         statue.errors.extend(statue.error);
         if !args.no_save {
-            let path = dir.join(format!("frame_{i:04}.png"));
-            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            save_png(
+                &dir.join(format!("frame_{i:04}.png")),
+                &target.to_rgba8(),
+                (w, h),
+            )?;
         }
     }
     let summary = Summary::of(&times);
@@ -373,8 +400,7 @@ fn building_headless(
         (samples, holes) = (samples + f.stats.samples, holes + f.holes);
         if !args.no_save {
             let path = dir.join(format!("building_{i:04}.png"));
-            image::save_buffer(&path, &target.to_rgba8(), w, h, image::ColorType::Rgba8)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            save_png(&path, &target.to_rgba8(), (w, h))?;
         }
     }
     let summary = Summary::of(&times);
@@ -422,14 +448,7 @@ fn views_headless(
         times.push(start.elapsed());
         if !args.no_save {
             let path = dir.join(format!("views_{i:04}.png"));
-            image::save_buffer(
-                &path,
-                &frame.rgba,
-                frame.width,
-                frame.height,
-                image::ColorType::Rgba8,
-            )
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            save_png(&path, &frame.rgba, (frame.width, frame.height))?;
         }
         meter.views_tour(&tour);
         println!("  {i:4}: {}", tour.readout());
@@ -445,4 +464,48 @@ fn views_headless(
         println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
     }
     Ok(PartTimes::of(&times))
+}
+
+/// The world moment's fly-over, `n` frames; writes PNGs unless `--no-save`; prints each
+/// frame's planner readout.
+fn world_headless(args: &Args, dir: &Path, n: usize) -> Result<PartTimes, String> {
+    let (w, h) = (args.width.unwrap_or(640), args.height.unwrap_or(360));
+    let mut tour = WorldTour::new();
+    let mut renderer = Renderer::new();
+    let mut target = Target::new(w, h);
+    println!(
+        "world: {} objects, {} triangles, drawn per node of a hierarchy; {n} frames at \
+         {w}x{h} on {} threads",
+        tour.world.objects.len(),
+        tour.world.triangle_count(),
+        rayon::current_num_threads()
+    );
+    let mut times = Vec::with_capacity(n);
+    for i in 0..n {
+        let camera = tour.camera(i, w, h);
+        tour.render(&mut renderer, &camera, &mut target);
+        times.push(tour.last_time);
+        let c = tour.coverage(&camera);
+        println!(
+            "  {i:4}: {}  ({} of {} in view drawn once)",
+            tour.readout(),
+            c.once,
+            c.in_view
+        );
+        if !args.no_save {
+            let path = dir.join(format!("world_{i:04}.png"));
+            save_png(&path, &target.to_rgba8(), (w, h))?;
+        }
+    }
+    println!("world frame time: {}", Summary::of(&times));
+    if !args.no_save {
+        println!("wrote {n} frames to {}/world_0000.png ...", dir.display());
+    }
+    Ok(PartTimes::of(&times))
+}
+
+/// Writes an RGBA8 image.
+fn save_png(path: &Path, rgba: &[u8], (w, h): (u32, u32)) -> Result<(), String> {
+    image::save_buffer(path, rgba, w, h, image::ColorType::Rgba8)
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }

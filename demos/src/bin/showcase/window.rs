@@ -1,11 +1,13 @@
-//! The showcase's window: the fly camera outdoors, the building tour and the views moment
-//! switched by keys, each frame timed, with its readout drawn over it.
+//! The showcase's window: the fly camera outdoors, and the moments (the building tour, the
+//! views, the world) each entered and left by its key ([`Moment::KEYED`]), each frame
+//! timed, with its readout drawn over it.
 
 use super::Args;
 use demos::font;
 use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
 use demos::showcase::views::ViewsTour;
+use demos::showcase::world::WorldTour;
 use demos::showcase::{self, toggled, FlyCamera, FlyInput, Showcase, TapCounter, SKY};
 use demos::timing::Summary;
 use engine::{FrameOptions, FrameStats, Renderer, Target};
@@ -20,23 +22,22 @@ pub(super) enum WindowError {
     Update(minifb::Error),
 }
 
-/// Key events as they arrive from the window: Esc latches quitting, and taps of `I`, `B`
-/// and `V` are counted, so a tap shorter than a frame (which the key state polled once a
-/// frame, as `is_key_pressed` and `get_keys_pressed` read it, misses) still counts.
+/// Key events as they arrive from the window: Esc latches quitting, and taps of `I` and
+/// of each moment's key are counted, so a tap shorter than a frame (which the key state
+/// polled once a frame, as `is_key_pressed` and `get_keys_pressed` read it, misses) still
+/// counts.
 #[derive(Debug, Default)]
 struct KeyEvents {
     quit: bool,
     debug_taps: TapCounter,
-    building_taps: TapCounter,
-    views_taps: TapCounter,
+    moment_taps: [TapCounter; Moment::KEYED.len()],
 }
 
-/// Taps since the last frame: of I, B and V.
+/// Taps since the last frame: of I, and of each moment's key ([`Moment::KEYED`]).
 #[derive(Clone, Copy, Debug)]
 struct Taps {
     debug: u32,
-    building: u32,
-    views: u32,
+    moments: [u32; Moment::KEYED.len()],
 }
 
 /// What the window shows.
@@ -45,26 +46,42 @@ enum Moment {
     Outdoor,
     Building,
     Views,
+    World,
 }
 
 impl Moment {
+    /// The moments besides outdoors and the key that enters and leaves each.
+    const KEYED: [(Moment, Key); 3] = [
+        (Moment::Building, Key::B),
+        (Moment::Views, Key::V),
+        (Moment::World, Key::O),
+    ];
+
+    /// The moment the window starts in: the one the flags name, else outdoors.
+    fn first(args: &Args) -> Moment {
+        match (args.building, args.views, args.world) {
+            (true, _, _) => Moment::Building,
+            (_, true, _) => Moment::Views,
+            (_, _, true) => Moment::World,
+            _ => Moment::Outdoor,
+        }
+    }
+
     /// The part of the showcase this moment is, as `summary.json` names it.
     fn part(self) -> &'static str {
         match self {
             Moment::Outdoor => "tour",
             Moment::Building => "building",
             Moment::Views => "views",
+            Moment::World => "world",
         }
     }
 
-    /// After `taps`: each tap of B enters the building or leaves it for outdoors, and V
-    /// likewise the views moment.
+    /// After `taps`: each tap of a moment's key enters that moment or leaves it for
+    /// outdoors.
     fn after(self, taps: Taps) -> Moment {
         let mut m = self;
-        for (key, moment) in [
-            (taps.building, Moment::Building),
-            (taps.views, Moment::Views),
-        ] {
+        for (&(moment, _), &key) in Moment::KEYED.iter().zip(&taps.moments) {
             if toggled(m == moment, key) != (m == moment) {
                 m = if m == moment { Moment::Outdoor } else { moment };
             }
@@ -85,9 +102,12 @@ impl minifb::InputCallback for KeyLatch {
         match key {
             Key::Escape if down => events.quit = true,
             Key::I => events.debug_taps.event(down),
-            Key::B => events.building_taps.event(down),
-            Key::V => events.views_taps.event(down),
-            _ => {}
+            key => {
+                let keyed = Moment::KEYED.iter().position(|&(_, k)| k == key);
+                if let Some(k) = keyed {
+                    events.moment_taps[k].event(down);
+                }
+            }
         }
     }
 }
@@ -142,8 +162,7 @@ fn poll(window: &Window, keys: &Mutex<KeyEvents>) -> Option<Taps> {
         let mut events = keys.lock().unwrap_or_else(|e| e.into_inner());
         let taps = Taps {
             debug: events.debug_taps.take(),
-            building: events.building_taps.take(),
-            views: events.views_taps.take(),
+            moments: std::array::from_fn(|k| events.moment_taps[k].take()),
         };
         (events.quit, taps)
     };
@@ -174,13 +193,10 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
     show.ibr
         .impostors
         .set_time_budget(Some(Duration::from_millis(REFRESH_MS)));
-    // The building and the views moment are made when first entered (B, V).
+    // The moments are made when first entered (B, V, O).
     let (mut tour, mut views): (Option<BuildingTour>, Option<ViewsTour>) = (None, None);
-    let mut moment = match (args.building, args.views) {
-        (true, _) => Moment::Building,
-        (_, true) => Moment::Views,
-        _ => Moment::Outdoor,
-    };
+    let mut world: Option<WorldTour> = None;
+    let mut moment = Moment::first(args);
     let mut fly = FlyCamera::default();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -216,6 +232,11 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             let tour = views.get_or_insert_with(|| ViewsTour::new(show.scene.clone(), ww, wh));
             (title, readout, help) = views_frame(tour, start, (ww, wh), &mut pixels, &mut recent);
             meter.views_tour(tour);
+        } else if moment == Moment::World {
+            let tour = world.get_or_insert_with(WorldTour::new);
+            (title, readout, help) = world_frame(tour, &mut renderer, &mut target, start);
+            recent.push(tour.last_time);
+            target.write_rgb_u32(&mut pixels);
         } else if moment == Moment::Building {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
@@ -223,17 +244,14 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
                 tour
             });
             tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
-            let t0 = Instant::now();
             let camera = building_camera(start, ww, wh);
-            tour.render(&mut renderer, &camera, &mut target);
-            recent.push(t0.elapsed());
+            recent.push(timed(|| tour.render(&mut renderer, &camera, &mut target)));
             frame_no += 1;
             if frame_no % 8 == 1 {
                 meter.building(tour, &camera, ww, wh);
             }
-            title = "building".to_string();
-            readout = tour.readout();
-            help = "I TINT WARPED PIXELS  B OUTDOORS  V VIEWS  ESC QUIT";
+            (title, readout) = ("building".to_string(), tour.readout());
+            help = "I TINT WARPED PIXELS  B OUTDOORS  V VIEWS  O WORLD  ESC QUIT";
             target.write_rgb_u32(&mut pixels);
         } else {
             let input = read_input(&window, &mut last_mouse, dt);
@@ -244,9 +262,10 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             }
             show.animate(start.elapsed().as_secs_f32());
             let camera = fly.camera(ww, wh);
-            let t0 = Instant::now();
-            let stats = show.render(&mut renderer, &camera, &mut target, &opts);
-            recent.push(t0.elapsed());
+            let mut stats = FrameStats::default();
+            recent.push(timed(|| {
+                stats = show.render(&mut renderer, &camera, &mut target, &opts);
+            }));
             // Measured every eighth frame: it renders each attraction twice more.
             frame_no += 1;
             if frame_no % 8 == 1 {
@@ -263,7 +282,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
                 city = format!("{city}  {}", show.ibr.impostors.legend().to_uppercase());
             }
             help = "WASD MOVE  DRAG/ARROWS LOOK  Q/E DOWN/UP  SHIFT FAST  I DEBUG VIEW  \
-                    B BUILDING  V VIEWS  ESC QUIT";
+                    B BUILDING  V VIEWS  O WORLD  ESC QUIT";
             target.write_rgb_u32(&mut pixels);
         }
         if title_at.elapsed() >= Duration::from_millis(500) && !recent.is_empty() {
@@ -340,7 +359,7 @@ fn views_frame(
     };
     recent.push(t0.elapsed());
     let title = "views (layered background, panorama sky, view morph)".to_string();
-    (title, readout, "V OUTDOORS  B BUILDING  ESC QUIT")
+    (title, readout, "V OUTDOORS  B BUILDING  O WORLD  ESC QUIT")
 }
 
 /// The building walkthrough's camera now: it plays in a loop of 30 s.
@@ -349,6 +368,33 @@ fn building_camera(start: Instant, ww: u32, wh: u32) -> engine::Camera {
     let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
     let steps = 10_000;
     BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
+}
+
+/// How long `f` takes.
+fn timed<T>(f: impl FnOnce() -> T) -> Duration {
+    let t0 = Instant::now();
+    f();
+    t0.elapsed()
+}
+
+/// One frame of the world moment: its fly-over plays in a loop of 40 s. Its title,
+/// readout and help.
+fn world_frame(
+    tour: &mut WorldTour,
+    renderer: &mut Renderer,
+    target: &mut Target,
+    start: Instant,
+) -> (String, String, &'static str) {
+    const LOOP: f32 = 40.0;
+    let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
+    let camera = tour.camera_at(t, target.width(), target.height());
+    tour.render(renderer, &camera, target);
+    let title = "world (planned per node)".to_string();
+    (
+        title,
+        tour.readout(),
+        "O OUTDOORS  B BUILDING  V VIEWS  ESC QUIT",
+    )
 }
 
 /// The part's attractions' figures so far (PSNR against geometry, flicker), one small line

@@ -1,12 +1,21 @@
-//! The large procedural world `bench budget` plans over: a square of lots, each holding one
-//! instance of a few shared prototype meshes (buildings of three detail levels, trees,
-//! rocks and torus statues), tens of thousands of objects and over ten million triangles,
-//! and the low fly-over the runs follow.
+//! The large procedural world of `bench budget`, `bench objects` and the showcase's world
+//! moment: a square of lots, each holding one instance of a few shared prototype meshes
+//! (buildings of three detail levels, trees, rocks and torus statues), tens of thousands
+//! of objects and over ten million triangles, the low fly-over they follow, and the
+//! per-node planner they draw it with ([`tree_planner`]: a hierarchy over the objects whose
+//! nodes are drawn as one runtime impostor each, [`ibr::plan::tree`]).
+//!
+//! Used by `bench` and `showcase` alike; it builds only on [`crate::city`] (a leaf), so
+//! neither imports the other through it.
 
 use crate::city::{building, daylight, ground};
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{Camera, Lighting, Material, Mesh, Rgba, Shading};
 use glam::{Mat4, Vec3};
+use ibr::impostor::{self, ImpostorSet, Tolerance};
+use ibr::plan::tree::{Cluster, Hierarchy, TreeConfig};
+use ibr::plan::Representation;
+use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
 use std::sync::Arc;
 
@@ -103,5 +112,63 @@ impl World {
         let target = eye + Vec3::new(0.15, -0.32, -1.0);
         Camera::look_at(eye, target, Vec3::Y, 1.0, w as f32 / h.max(1) as f32)
             .with_depth_range(0.5, e * 2.2)
+    }
+}
+
+/// The largest cluster image, texels a side: a node wider than that on screen is opened
+/// (the cut's clusters stay small on screen, so each is cheap to retake and slow to go
+/// stale as the eye moves).
+pub const TREE_SIDE: u32 = 64;
+
+/// The hierarchy planner's predicted milliseconds of rebuilds (cluster images) per frame:
+/// the share of a 60 Hz frame left to captures (measured at budget 16 in the world, 24
+/// frames: 40 to 60 ms a frame, its prepare, the captures, 15 to 25 ms of it).
+pub const TREE_REBUILD_MS: f32 = 8.0;
+
+/// How a [`tree_planner`] plans.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreePlan {
+    /// Largest predicted error of a node drawn as one image, levels.
+    pub budget: f32,
+    /// Image rebuilds per frame, at most.
+    pub rebuilds: usize,
+    /// The first `.0` frames take images within `.1` predicted milliseconds of rebuilds
+    /// (a game loading a level), the later ones within [`TREE_REBUILD_MS`].
+    pub loading: (u32, f32),
+}
+
+/// The per-node planner over a hierarchy of `objects`, each node drawn as one runtime
+/// impostor of all its objects (at most [`TREE_SIDE`] texels a side) when its predicted
+/// error is within the budget, else its children considered.
+pub fn tree_planner(objects: Vec<MeshGroup>, plan: TreePlan) -> Hierarchy<MeshGroup> {
+    let config = TreeConfig {
+        budget: plan.budget,
+        rebuilds: plan.rebuilds,
+        rebuild_ms: TREE_REBUILD_MS,
+        loading: plan.loading,
+        ..TreeConfig::default()
+    };
+    let images = impostor::Config {
+        max_side: TREE_SIDE,
+        ..image_config(plan.budget, plan.rebuilds)
+    };
+    Hierarchy::new(config, objects, |nodes| {
+        vec![Box::new(ImpostorSet::new(images, nodes))
+            as Box<dyn Representation<Cluster<MeshGroup>>>]
+    })
+}
+
+/// Runtime impostor settings: refreshed past `levels` of predicted staleness, `rebuilds`
+/// a frame, enough textures for every object.
+pub fn image_config(levels: f32, rebuilds: usize) -> impostor::Config {
+    impostor::Config {
+        tolerance: Tolerance {
+            levels: Some(levels),
+            ..Tolerance::default()
+        },
+        budget: Budget::count(rebuilds),
+        pool_slots: 1 << 16,
+        prewarm: 0.0,
+        ..impostor::Config::default()
     }
 }

@@ -1,0 +1,99 @@
+//! The showcase's world moment headless at low resolution, a few frames: its PNGs,
+//! `summary.json`'s `world` part with the keys every part has, and the planner's readout
+//! per frame (nodes opened, and every object in view drawn exactly once by the cut).
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+const FRAMES: usize = 4;
+
+/// Runs `showcase --world` headless at 160 x 96 into `name` with `args`; its folder,
+/// standard output and parsed summary.
+fn run_world(name: &str, args: &[&str]) -> (PathBuf, String, Value) {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
+        .args(args)
+        .arg("--headless")
+        .arg(&dir)
+        .args(["--world", "--frames", &FRAMES.to_string()])
+        .args(["-W", "160", "-H", "96"])
+        .output()
+        .expect("showcase runs");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json written");
+    let summary = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
+    (dir, stdout, summary)
+}
+
+/// The number just before `word` in `line` (`12 NODES OPENED` -> 12).
+fn before(line: &str, word: &str) -> u64 {
+    let at = line
+        .find(word)
+        .unwrap_or_else(|| panic!("{word:?} in {line}"));
+    let n = line[..at].split_whitespace().last().expect("a number");
+    n.trim_start_matches('(')
+        .parse()
+        .unwrap_or_else(|_| panic!("{n:?} before {word:?} in {line}"))
+}
+
+#[test]
+fn the_world_moment_runs_headless_with_its_readout_and_summary() {
+    let (dir, stdout, s) = run_world("showcase_world", &[]);
+    for i in 0..FRAMES {
+        let img = image::open(dir.join(format!("world_{i:04}.png")))
+            .expect("world frame decodes")
+            .to_rgba8();
+        assert_eq!(img.dimensions(), (160, 96));
+    }
+    assert!(!dir.join(format!("world_{FRAMES:04}.png")).exists());
+    // Only the world: the other parts are there with no frames.
+    let parts = s["parts"].as_object().expect("parts");
+    for part in ["tour", "building", "views"] {
+        assert_eq!(parts[part]["frames"].as_u64(), Some(0), "{part}");
+    }
+    let world = &parts["world"];
+    assert_eq!(world["frames"].as_u64(), Some(FRAMES as u64));
+    let ms = world["ms"].as_object().expect("ms");
+    let mut keys: Vec<&str> = ms.keys().map(String::as_str).collect();
+    keys.sort();
+    assert_eq!(keys, ["max", "max_frame", "median", "p90", "p99"]);
+    let f = |k: &str| ms[k].as_f64().expect(k);
+    assert!(f("median") > 0.0 && f("median") <= f("p90"), "{ms:?}");
+    assert!(f("p90") <= f("p99") && f("p99") <= f("max"), "{ms:?}");
+    assert!(ms["max_frame"].as_u64().expect("max_frame") < FRAMES as u64);
+    // One readout line a frame: the cut opened nodes, and drew every object in view once.
+    let lines: Vec<&str> = stdout.lines().filter(|l| l.contains("WORLD ")).collect();
+    assert_eq!(lines.len(), FRAMES, "{stdout}");
+    for line in &lines {
+        assert!(before(line, "NODES OPENED") > 0, "{line}");
+        let objects = before(line, "OBJECTS  ");
+        let (once, in_view) = (before(line, "of "), before(line, "in view drawn once"));
+        assert!(in_view > 0 && in_view <= objects, "{line}");
+        assert_eq!(once, in_view, "{line}");
+        assert!(
+            before(line, "GEOMETRY") + before(line, "IMAGES") > 0,
+            "{line}"
+        );
+    }
+    // After the loading frames the far field is imaged.
+    assert!(before(lines[FRAMES - 1], "IMAGES") > 0, "{stdout}");
+}
+
+#[test]
+fn the_world_moment_is_the_same_on_one_and_two_threads() {
+    let (one, _, _) = run_world("showcase_world_1", &["--threads", "1"]);
+    let (two, _, _) = run_world("showcase_world_2", &["--threads", "2"]);
+    for i in 0..FRAMES {
+        let name = format!("world_{i:04}.png");
+        let a = image::open(one.join(&name)).expect("frame").to_rgba8();
+        let b = image::open(two.join(&name)).expect("frame").to_rgba8();
+        assert!(a == b, "{name} differs between 1 and 2 threads");
+    }
+}
