@@ -127,11 +127,9 @@ impl IbrLayer {
         self.billboards.iter().map(Vec::len).sum()
     }
 
-    /// Where the billboard trees stand.
+    /// Where the billboard trees stand (their feet on the ground).
     pub fn tree_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
-        self.billboards
-            .iter()
-            .flat_map(|b| b.iter().map(|t| t.position))
+        self.trees.trees.iter().map(|(_, at)| at.w_axis.truncate())
     }
 
     /// Every tree's billboard, per kind (those drawn as meshes too).
