@@ -112,7 +112,7 @@ pub mod billboard {
         Facing, Size, UvRect, View, HANDOVER,
     };
     pub use crate::techniques::billboards::{
-        BillboardSet, Profile, AZIMUTHS, ELEVATIONS, MAX_ELEVATION,
+        BillboardSet, Profile, ViewAtlas, AZIMUTHS, ELEVATIONS, MAX_ELEVATION,
     };
 }
 

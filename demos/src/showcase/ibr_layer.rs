@@ -16,24 +16,31 @@ use engine::{
     Target,
 };
 use glam::{Mat4, Vec2, Vec3};
+use ibr::billboard::ViewAtlas;
 use ibr::effects::Effects;
 use ibr::flare::{FlareSource, LensFlare};
 use ibr::impostor::Frustum;
 use ibr::laser::{Laser, LaserBatch};
-use ibr::sprites::{self, BakedSprite};
 use ibr::technique::{Counters, Flare, FrameLoop, FrameView, Technique};
-use ibr::{AxialFallback, Billboard, BillboardBatch, Facing};
+use ibr::{Billboard, BillboardBatch, Facing};
 
 /// Billboard trees in the forest ring.
 pub const FOREST_TREES: usize = 2400;
-/// Height of the trees' baked side view, texels: a tree stays at or under a texel per
-/// screen pixel until it is this many pixels tall (at 1280 x 720 and the showcase's
-/// field of view, nearer than about 1.2 of its heights, which the tour never comes).
-pub const SPRITE_PX: u32 = 512;
-/// Elevations (degrees) over which an upright tree hands over to its top-down sprite: it
-/// is gone before it is seen squashed (the default 55 to 75 showed trees lying on their
-/// sides), in a narrow band so the two are seen together briefly.
-pub const FADE_DEGREES: [f32; 2] = [30.0, 42.0];
+/// Side of each of a tree's baked views, texels (framing its bounding sphere).
+pub const SPRITE_PX: u32 = 256;
+/// Directions about the vertical each tree is baked from, evenly around it, at each of
+/// [`SPRITE_ELEVATIONS`]: a tree shows the side it is seen from (lit or in shade, and its
+/// own outline), the bake nearest the eye's direction (a single side bake showed its sunlit
+/// side from everywhere and lay down when seen from above: 14.6 dB against the meshes).
+pub const SPRITE_AZIMUTHS: usize = 12;
+/// Elevations (degrees) each tree is baked from.
+pub const SPRITE_ELEVATIONS: [f32; 5] = [0.0, 20.0, 40.0, 60.0, 80.0];
+/// A tree nearer the eye than this many of its quad's sides is drawn as its mesh: up
+/// close the quad through its centre no longer covers what the tree does in perspective
+/// (its near side reaches out toward the eye), and at 1280 x 720 and the showcase's field of
+/// view its sprite would be magnified (taller than [`SPRITE_PX`] on screen) off to the
+/// side of the view.
+pub const NEAR_SIZES: f32 = 3.5;
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
 /// Bolt speed (units per second) and length.
@@ -46,6 +53,13 @@ const TURRET_HEIGHT: f32 = 4.4;
 #[derive(Debug)]
 pub struct IbrLayer {
     forest: Vec<BillboardBatch>,
+    /// Per forest batch, its tree's views ([`ViewAtlas::region`] picks each tree's).
+    views: Vec<ViewAtlas>,
+    /// Every tree's billboard, per forest batch; each frame the batches get those not
+    /// drawn as meshes ([`near`]).
+    billboards: Vec<Vec<Billboard>>,
+    /// The trees drawn as meshes in the last frame (indices into the forest's geometry).
+    near: Vec<usize>,
     /// The tree meshes the forest's sprites were baked from, where its billboards stand
     /// (what the forest is measured against, never drawn in the tour).
     trees: ForestGeometry,
@@ -76,9 +90,13 @@ impl IbrLayer {
             base + Vec3::Y * TURRET_HEIGHT
         });
         let sun = scene.lighting.sun().map_or(Vec3::Y, |(d, _)| -d);
-        let (forest, trees) = forest(scene, terrain);
+        let (forest, views, trees) = forest(scene, terrain);
+        let billboards = forest.iter().map(|b| b.items.clone()).collect();
         let mut layer = IbrLayer {
             forest,
+            views,
+            billboards,
+            near: Vec::new(),
             trees,
             lasers: LaserBatch::new(),
             effects: Effects::new(77),
@@ -106,19 +124,24 @@ impl IbrLayer {
 
     /// The number of billboard trees.
     pub fn tree_count(&self) -> usize {
-        self.forest.iter().map(|b| b.items.len()).sum()
+        self.billboards.iter().map(Vec::len).sum()
     }
 
-    /// Where the billboard trees stand.
+    /// Where the billboard trees stand (their feet on the ground).
     pub fn tree_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
-        self.forest
-            .iter()
-            .flat_map(|b| b.items.iter().map(|t| t.position))
+        self.trees.trees.iter().map(|(_, at)| at.w_axis.truncate())
     }
 
-    /// Appends the forest's billboard draws as the last frame prepared them.
+    /// Every tree's billboard, per kind (those drawn as meshes too).
+    pub fn forest_billboards(&self) -> &[Vec<Billboard>] {
+        &self.billboards
+    }
+
+    /// Appends the forest's draws as the last frame prepared them: its billboards and the
+    /// near trees' meshes.
     pub fn forest_draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         self.forest.draws(out);
+        out.extend(self.near.iter().map(|&i| self.trees.draw(i)));
     }
 
     /// Appends the forest as geometry: each tree's mesh (the one its sprite was baked
@@ -130,11 +153,7 @@ impl IbrLayer {
         for (i, &(kind, at)) in t.trees.iter().enumerate() {
             let b = t.bounds[kind];
             if frustum.sees(at.transform_point3(b.center), b.radius * at.x_axis.length()) {
-                out.push(Draw {
-                    mesh: &t.meshes[kind],
-                    material: &t.materials[i],
-                    transform: at,
-                });
+                out.push(t.draw(i));
             }
         }
     }
@@ -200,6 +219,30 @@ impl IbrLayer {
             time: self.t,
             dt: self.dt,
         };
+        let eye = camera.eye();
+        self.near.clear();
+        let mut first = 0;
+        for ((batch, views), all) in self
+            .forest
+            .iter_mut()
+            .zip(&self.views)
+            .zip(&self.billboards)
+        {
+            batch.items.clear();
+            for (i, b) in all.iter().enumerate() {
+                if near(b, eye) {
+                    self.near.push(first + i);
+                } else {
+                    batch.items.push(Billboard {
+                        region: views.region(eye - b.position),
+                        ..*b
+                    });
+                }
+            }
+            first += all.len();
+        }
+        let trees = &self.trees;
+        let near_trees = self.near.iter().map(|&i| trees.draw(i));
         // Blended impostors, clouds and smoke write no depth: the flare captures them once
         // more around the sun to see how much light they let through.
         let mut techniques: [&mut dyn Technique; 6] = [
@@ -212,7 +255,7 @@ impl IbrLayer {
         ];
         self.frame.render(
             renderer,
-            scene.draws(),
+            scene.draws().chain(near_trees),
             &mut techniques,
             &view,
             target,
@@ -294,6 +337,27 @@ struct ForestGeometry {
     materials: Vec<Material>,
 }
 
+impl ForestGeometry {
+    /// Tree `i` as geometry.
+    fn draw(&self, i: usize) -> Draw<'_> {
+        let (kind, at) = self.trees[i];
+        Draw {
+            mesh: &self.meshes[kind],
+            material: &self.materials[i],
+            transform: at,
+        }
+    }
+}
+
+/// Whether the tree of billboard `b` (world-sized, facing the eye through its centre) is
+/// drawn as its mesh from `eye`: nearer than [`NEAR_SIZES`] of its quad's side.
+pub fn near(b: &Billboard, eye: Vec3) -> bool {
+    let ibr::billboard::Size::World(size) = b.size else {
+        return false;
+    };
+    b.position.distance(eye) < NEAR_SIZES * size.y
+}
+
 /// A sphere holding `mesh`'s (finite) vertices: about their bounding box's centre.
 fn sphere_around(mesh: &Mesh) -> engine::Sphere {
     let finite = || mesh.positions.iter().filter(|p| p.is_finite());
@@ -303,45 +367,48 @@ fn sphere_around(mesh: &Mesh) -> engine::Sphere {
     engine::Sphere { center, radius }
 }
 
-/// The billboard forest: sprites baked from a pine and a broadleaf tree (side view plus a
-/// top view for the over-the-top fallback), alpha-blended back to front (their soft edges
-/// and the hand-over to the top view fade smoothly, with no screen-door pattern) and
+/// The billboard forest: a pine and a broadleaf tree, each baked from
+/// [`SPRITE_AZIMUTHS`] x [`SPRITE_ELEVATIONS`] directions under the scene's lighting
+/// ([`ViewAtlas`]), drawn on quads facing the eye through each tree's centre, showing the
+/// view baked nearest the eye's direction (set each frame in [`IbrLayer::render`]);
+/// alpha-blended back to front (their soft edges blend, with no screen-door pattern) and
 /// writing depth where they are at least half opaque (they hide the sun's flare and take
 /// the soft smoke's fade), placed on the hills outside the city district.
 /// Also returns the trees' geometry ([`ForestGeometry`]).
-fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<BillboardBatch>, ForestGeometry) {
-    let bake = |mesh: &Mesh| -> BakedSprite {
-        let material = Material::lit(Rgba::WHITE);
-        sprites::bake_upright(
-            mesh,
-            &material,
-            &scene.lighting,
-            Vec3::new(1.0, 0.0, 0.6),
-            SPRITE_PX,
-        )
-    };
+fn forest(
+    scene: &Scene,
+    terrain: &Terrain,
+) -> (Vec<BillboardBatch>, Vec<ViewAtlas>, ForestGeometry) {
     let mut rng = XorShift::new(4242);
-    let mut batches = Vec::new();
+    let (mut batches, mut atlases) = (Vec::new(), Vec::new());
     let mut trees = ForestGeometry::default();
+    let elevations = SPRITE_ELEVATIONS.map(f32::to_radians);
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
         let mesh: Mesh = procedural::tree(kind, 1.0, seed);
-        let sprite = bake(&mesh);
+        let bounds = sphere_around(&mesh);
+        let white = Material::lit(Rgba::WHITE);
+        let draw = Draw {
+            mesh: &mesh,
+            material: &white,
+            transform: Mat4::IDENTITY,
+        };
+        let atlas = ViewAtlas::bake(
+            &[draw],
+            &scene.lighting,
+            bounds,
+            SPRITE_AZIMUTHS,
+            &elevations,
+            SPRITE_PX,
+        );
+        let height = mesh_height(&mesh);
         let k = trees.meshes.len();
-        trees.bounds.push(sphere_around(&mesh));
+        trees.bounds.push(bounds);
         trees.meshes.push(mesh);
         let material = Material {
             alpha_mode: AlphaMode::Blend,
             blend_depth: Some(0.5),
             vertex_colors: true,
-            ..Material::unlit(Rgba::WHITE).with_texture(sprite.texture.clone())
-        };
-        let facing = Facing::Axial {
-            axis: Vec3::Y,
-            fallback: AxialFallback {
-                fade_start: FADE_DEGREES[0],
-                fade_end: FADE_DEGREES[1],
-                top: Some(sprite.top),
-            },
+            ..Material::unlit(Rgba::WHITE).with_texture(atlas.texture.clone())
         };
         let mut batch = BillboardBatch::new(material);
         while batch.items.len() < FOREST_TREES / 2 {
@@ -354,27 +421,35 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<BillboardBatch>, ForestGeome
             }
             let shade = rng.range(0.85, 1.1);
             let foot = Vec3::new(x, terrain.height_at(x, z) - 0.1, z);
-            // The sprite's quad is `sprite.size` scaled to `h` tall, the mesh's origin at
-            // its pivot: the mesh scaled alike with its origin at the foot.
-            let scale = Mat4::from_scale(Vec3::splat(h / sprite.size.y));
-            trees.trees.push((k, Mat4::from_translation(foot) * scale));
+            // The mesh scaled to `h` tall with its origin at the foot; the quad through
+            // its sphere's centre, as wide as the baked square.
+            let s = h / height;
+            let at = Mat4::from_translation(foot) * Mat4::from_scale(Vec3::splat(s));
+            trees.trees.push((k, at));
             trees
                 .materials
                 .push(Material::lit(Rgba::new(shade, shade, shade, 1.0)));
             batch.push(Billboard {
-                pivot: sprite.pivot,
                 tint: Rgba::new(shade, shade, shade, 1.0),
-                region: sprite.side,
+                region: atlas.region(Vec3::X),
                 ..Billboard::new(
-                    foot,
-                    facing,
-                    Vec2::new(sprite.size.x / sprite.size.y, 1.0) * h,
+                    at.transform_point3(atlas.bounds.center),
+                    Facing::World { up: Vec3::Y },
+                    Vec2::splat(2.0 * atlas.bounds.radius * s),
                 )
             });
         }
         batches.push(batch);
+        atlases.push(atlas);
     }
-    (batches, trees)
+    (batches, atlases, trees)
+}
+
+/// The height of `mesh`'s finite vertices (at least 1e-3).
+fn mesh_height(mesh: &Mesh) -> f32 {
+    let ys = mesh.positions.iter().filter(|p| p.is_finite()).map(|p| p.y);
+    let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(l, h), y| (l.min(y), h.max(y)));
+    (hi - lo).max(1e-3)
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ const LOOK_DISTANCE: f32 = 10.0;
 impl Showcase {
     /// The headless camera path, `(eye, target)` at frame `i` of `n`. The first third
     /// circles the plaza once, bobbing up and down; the rest rises over the billboard
-    /// forest (looking down on the trees, past their fade to top-down sprites), comes back
+    /// forest (looking down on the trees, which show the views baked from above), comes back
     /// to look along the laser from just behind turret B, turns up toward the sun (lens
     /// flare), flies over the city district, climbs into a cloud and through it, and
     /// returns to the start. The eye stays [`GROUND_CLEARANCE`] above the ground around it,

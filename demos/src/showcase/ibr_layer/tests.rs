@@ -1,4 +1,4 @@
-use super::SPRITE_PX;
+use super::{near, SPRITE_ELEVATIONS, SPRITE_PX};
 use crate::showcase::{camera, Showcase, SKY};
 use engine::{FrameOptions, Renderer, Target};
 use glam::Vec3;
@@ -89,53 +89,49 @@ fn the_tour_never_shows_an_impostor_over_its_tolerance() {
     assert!(run.refreshes > n, "{run:?}");
 }
 
-/// A forest tree seen from ever higher: its upright quad is drawn only while it is seen
-/// nearly side on (foreshortened to no less than 0.7 of its height, the elevation taken
-/// from the eye and the tree here), and the top-down sprite has taken over before then;
-/// nowhere is the tree left undrawn.
+/// A forest tree seen from ever higher, from the horizon to 85 degrees: its quad always
+/// faces the eye (never foreshortened, so it never lies on its side) and shows the view
+/// baked from the elevation nearest the eye's (within half the bakes' spacing).
 #[test]
-fn forest_trees_hand_over_to_the_top_sprite_before_they_lie_on_their_side() {
-    use ibr::billboard::{corners, fade_pair, View};
+fn forest_trees_show_the_view_baked_nearest_the_eye_from_any_elevation() {
+    use ibr::billboard::{corners, View};
     let show = Showcase::new();
-    let tree = &show.ibr.forest[0].items[0];
-    let centre = tree.position + Vec3::Y * 3.0;
+    let tree = show.ibr.forest_billboards()[0][0];
+    let views = &show.ibr.views[0];
+    let spacing = SPRITE_ELEVATIONS[1] - SPRITE_ELEVATIONS[0];
     let (w, h) = (1280, 720);
-    let (mut upright, mut top) = (0, 0);
-    for step in 0..=80 {
+    for step in 0..=85 {
         let elevation = (step as f32).to_radians();
-        let eye = centre + 20.0 * Vec3::new(elevation.cos(), elevation.sin(), 0.0);
-        let cam = camera(eye, centre, w, h);
-        let view = View::new(&cam, h);
-        let seen = (centre - eye).normalize();
-        let squash = (1.0 - seen.y * seen.y).sqrt();
-        if corners(tree, &view).is_some() {
-            upright += 1;
-            assert!(
-                squash >= 0.7,
-                "{step} degrees: upright drawn at {squash:.2} of its height"
-            );
-        }
-        let basis = ibr::billboard::orient(tree.facing, &view, tree.position);
-        let (side, flat) = fade_pair(basis.fade, true);
-        assert!(side >= 1.0 || flat >= 1.0, "{step} degrees: {side} {flat}");
-        if flat > 0.0 {
-            top += 1;
-        }
+        let eye = tree.position + 40.0 * Vec3::new(elevation.cos(), elevation.sin(), 0.3);
+        assert!(!near(&tree, eye), "{step} degrees: drawn as a mesh");
+        let view = View::new(&camera(eye, tree.position, w, h), h);
+        let (q, _) = corners(&tree, &view).expect("a world-facing quad is always drawn");
+        let normal = (q[1] - q[0]).cross(q[3] - q[0]).normalize();
+        let facing = normal.dot((eye - tree.position).normalize()).abs();
+        assert!(
+            facing > 0.999,
+            "{step} degrees: the quad turns {facing} to the eye"
+        );
+        let seen = (eye - tree.position).normalize().y.asin().to_degrees();
+        let (_, row) = views.cell(eye - tree.position);
+        let baked = SPRITE_ELEVATIONS[row];
+        assert!(
+            (baked - seen).abs() <= spacing * 0.5 + 1e-3,
+            "{step} degrees: seen from {seen}, shows the view from {baked}"
+        );
     }
-    assert!(upright > 20 && top > 20, "{upright} {top}");
 }
 
-/// Over the tour at 1280 x 720, forest trees in view drawn with less than a texel per
-/// screen pixel (taller on screen than their sprite's texels: the height in pixels from
-/// the camera's own field of view and the tree's depth) are a small fraction of those the
-/// old 96-texel sprites magnified. (Those left are the trees the path brushes past, which
-/// would need their meshes.)
+/// Over the tour at 1280 x 720, no forest tree drawn as a sprite is magnified (taller on
+/// screen than its view's texels: the height in pixels from the camera's own field of
+/// view and the tree's depth): those near enough to be are drawn as their meshes
+/// ([`near`]), and the path does come that near some.
 #[test]
-fn over_the_tour_few_forest_sprites_are_magnified() {
+fn over_the_tour_no_forest_sprite_is_magnified() {
     use ibr::billboard::Size;
     let show = Showcase::new();
     let (w, h, n) = (1280, 720, 120);
-    let (mut over, mut over_old, mut seen) = (0, 0, 0);
+    let (mut meshes, mut seen) = (0, 0);
     for i in 0..n {
         let (eye, look) = show.path(i, n);
         let cam = camera(eye, look, w, h);
@@ -144,28 +140,25 @@ fn over_the_tour_few_forest_sprites_are_magnified() {
         };
         let px_per_unit_at_1 = h as f32 * 0.5 / (fov_y * 0.5).tan();
         let forward = (look - eye).normalize();
-        for b in show.ibr.forest.iter().flat_map(|f| &f.items) {
+        for b in show.ibr.forest_billboards().iter().flatten() {
             let Size::World(size) = b.size else {
                 panic!("forest trees are world-sized")
             };
-            let mid = b.position + Vec3::Y * size.y * 0.5;
-            let depth = (mid - eye).dot(forward);
-            if depth <= 0.1 {
+            let depth = (b.position - eye).dot(forward);
+            // Only trees whose centre is on screen.
+            let off = b.position - eye - forward * depth;
+            if depth <= 0.1 || off.length() * px_per_unit_at_1 / depth > w as f32 * 0.5 {
                 continue;
             }
-            let px = size.y * px_per_unit_at_1 / depth;
-            // Only trees whose centre is on screen.
-            let off = mid - eye - forward * depth;
-            let across = off.length() * px_per_unit_at_1 / depth;
-            if across > w as f32 * 0.5 {
+            if near(b, eye) {
+                meshes += 1;
                 continue;
             }
             seen += 1;
-            over += usize::from(px > SPRITE_PX as f32);
-            over_old += usize::from(px > 96.0);
+            let px = size.y * px_per_unit_at_1 / depth;
+            assert!(px <= SPRITE_PX as f32, "frame {i}: a sprite {px} px tall");
         }
     }
-    eprintln!("tree sightings {seen}: magnified {over} at {SPRITE_PX} texels, {over_old} at 96");
-    assert!(seen > 1000 && over_old > 0, "{seen} {over_old}");
-    assert!(over * 10 <= over_old, "{over} of {over_old}");
+    eprintln!("tree sightings {seen} as sprites, {meshes} as meshes");
+    assert!(seen > 1000 && meshes > 0, "{seen} {meshes}");
 }

@@ -6,6 +6,8 @@
 mod bake;
 pub(crate) mod plan;
 mod technique;
+mod views;
 
 pub use bake::{Profile, AZIMUTHS, ELEVATIONS};
 pub use plan::{BillboardSet, MAX_ELEVATION};
+pub use views::ViewAtlas;
