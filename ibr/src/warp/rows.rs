@@ -345,6 +345,50 @@ pub(super) fn warp_row(
     }
 }
 
+/// The pixel rectangle `[x0, x1) x [y0, y1)` (as `(x0, x1, y0, y1)`, not yet clipped to
+/// the target) that group `k`'s samples landing at `(x, y)` cover, `inv` the reciprocal of
+/// their homogeneous depth: their footprint with splats, else the pixel they land in.
+#[inline(always)]
+fn footprint<const SPLATS: bool>(
+    lane: &Lane,
+    (slope_x, slope_y): (&[f32], &[f32]),
+    k: usize,
+    x: F8,
+    y: F8,
+    inv: F8,
+) -> (F8, F8, F8, F8) {
+    let splat = F8::splat;
+    let (one, half) = (splat(1.0), splat(0.5));
+    if SPLATS {
+        let (a0, a1, b) = (lane.eq.a[0], lane.eq.a[1], lane.eq.b);
+        let max_half = splat(lane.max_splat * 0.5);
+        // The footprint: the columns of the warp's Jacobian (a reference pixel step in
+        // x and in y along the surface), summed in magnitude; as `Lane::land`.
+        let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
+        let px = x.fnma(splat(b.z), splat(b.x));
+        let py = y.fnma(splat(b.z), splat(b.y));
+        let jxx = sx.fma(px, x.fnma(splat(a0.z), splat(a0.x)));
+        let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
+        let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
+        let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
+        // At least one pixel (a NaN too: `max` returns its second operand then), at
+        // most the largest splat; `clamp_splat`'s comparisons, one instruction each.
+        // Halved by a factor taken into `inv` (scaling by two rounds nothing: the same
+        // values as halving the clamped size).
+        let inv_half = inv * half;
+        let half_size = |a: F8, b: F8| ((a.abs() + b.abs()) * inv_half).max(half).min(max_half);
+        let (half_x, half_y) = (half_size(jxx, jyx), half_size(jxy, jyy));
+        let (cx, cy) = (x + half, y + half);
+        let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
+        let (sx1, sy1) = ((cx + half_x).floor(), (cy + half_y).floor());
+        let (sx1, sy1) = (sx1.max(sx0 + one), sy1.max(sy0 + one));
+        (sx0, sx1, sy0, sy1)
+    } else {
+        let (px, py) = (x.floor(), y.floor());
+        (px, px + one, py, py + one)
+    }
+}
+
 /// [`warp_row`] for splats (`SPLATS`) or points.
 fn warp_row_with<const SPLATS: bool>(
     lane: &Lane,
@@ -359,7 +403,7 @@ fn warp_row_with<const SPLATS: bool>(
     let (lo, hi) = (lo as usize, hi.max(lo) as usize);
     let n = hi - lo;
     let disparity = &source.disparity[row + lo..row + hi];
-    let (slope_x, slope_y) = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
+    let slopes = (&source.slope_x[row + lo..], &source.slope_y[row + lo..]);
     let color = &source.color[row + lo..row + hi];
     let (marks, width) = (
         if lane.points { u32::MAX } else { 0 },
@@ -368,10 +412,10 @@ fn warp_row_with<const SPLATS: bool>(
     let eq = &lane.eq;
     let rb = lane.row_base(y);
     let splat = F8::splat;
-    let (a0, a1, b) = (eq.a[0], eq.a[1], eq.b);
+    let (a0, b) = (eq.a[0], eq.b);
     let zero = splat(0.0);
-    let (one, half) = (splat(1.0), splat(0.5));
-    let (max_half, w2, h2) = (splat(lane.max_splat * 0.5), splat(lane.w2), splat(lane.h2));
+    let one = splat(1.0);
+    let (w2, h2) = (splat(lane.w2), splat(lane.h2));
     let (mut behind, mut warped) = (0u32, 0u32);
     let groups = n.div_ceil(LANES);
     // A batch of groups is computed, then written: the writer's branches (a run or not, a
@@ -394,33 +438,7 @@ fn warp_row_with<const SPLATS: bool>(
             let hz = splat(b.z).fma(d, bz);
             let inv = one / hz;
             let (x, y) = (hx * inv, hy * inv);
-            let (rx0, rx1, ry0, ry1) = if SPLATS {
-                // The footprint: the columns of the warp's Jacobian (a reference pixel step in
-                // x and in y along the surface), summed in magnitude; as `Lane::land`.
-                let (sx, sy) = (lanes(slope_x, k, 0.0), lanes(slope_y, k, 0.0));
-                let px = x.fnma(splat(b.z), splat(b.x));
-                let py = y.fnma(splat(b.z), splat(b.y));
-                let jxx = sx.fma(px, x.fnma(splat(a0.z), splat(a0.x)));
-                let jyx = sy.fma(px, x.fnma(splat(a1.z), splat(a1.x)));
-                let jxy = sx.fma(py, y.fnma(splat(a0.z), splat(a0.y)));
-                let jyy = sy.fma(py, y.fnma(splat(a1.z), splat(a1.y)));
-                // At least one pixel (a NaN too: `max` returns its second operand then), at
-                // most the largest splat; `clamp_splat`'s comparisons, one instruction each.
-                // Halved by a factor taken into `inv` (scaling by two rounds nothing: the same
-                // values as halving the clamped size).
-                let inv_half = inv * half;
-                let half_size =
-                    |a: F8, b: F8| ((a.abs() + b.abs()) * inv_half).max(half).min(max_half);
-                let (half_x, half_y) = (half_size(jxx, jyx), half_size(jxy, jyy));
-                let (cx, cy) = (x + half, y + half);
-                let (sx0, sy0) = ((cx - half_x).floor(), (cy - half_y).floor());
-                let (sx1, sy1) = ((cx + half_x).floor(), (cy + half_y).floor());
-                let (sx1, sy1) = (sx1.max(sx0 + one), sy1.max(sy0 + one));
-                (sx0, sx1, sy0, sy1)
-            } else {
-                let (px, py) = (x.floor(), y.floor());
-                (px, px + one, py, py + one)
-            };
+            let (rx0, rx1, ry0, ry1) = footprint::<SPLATS>(lane, slopes, k, x, y, inv);
             // A NaN bound is kept (`max` and `min` return their second operand then), and
             // compares false below.
             let (rx0, rx1) = (zero.max(rx0), w2.min(rx1));
