@@ -18,6 +18,7 @@ pub mod building;
 pub mod ibr_layer;
 pub mod impostors;
 pub mod lightfield;
+pub mod moment;
 pub mod summary;
 pub mod views;
 pub mod world;

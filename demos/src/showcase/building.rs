@@ -3,11 +3,12 @@
 //! walks along the hall and through the middle door, with a readout of the portals' work
 //! and a debug view that tints warped pixels green.
 
+use super::moment::MomentFrame;
 use crate::building::Building;
-use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
+use engine::{Camera, FrameStats, Renderer, Rgba, Target};
 use ibr::portal::{PortalConfig, PortalFrame, Portals};
 use ibr::subject::Subject;
-use ibr::technique::{FrameLoop, FrameView, Technique};
+use ibr::technique::FrameView;
 
 /// Furniture triangles per room.
 pub const ROOM_TRIANGLES: u32 = 200_000;
@@ -21,8 +22,7 @@ pub const CLEAR: Rgba = Rgba::new(0.05, 0.05, 0.06, 1.0);
 pub struct BuildingTour {
     pub building: Building,
     pub portals: Portals,
-    frame: FrameLoop,
-    draws: Vec<Draw<'static>>,
+    frame: MomentFrame,
 }
 
 impl BuildingTour {
@@ -37,8 +37,7 @@ impl BuildingTour {
         BuildingTour {
             building,
             portals,
-            frame: FrameLoop::new(),
-            draws: Vec::new(),
+            frame: MomentFrame::default(),
         }
     }
 
@@ -67,23 +66,14 @@ impl BuildingTour {
             time: 0.0,
             dt: 0.0,
         };
-        let mut draws = ibr::technique::recycle(std::mem::take(&mut self.draws));
-        self.building.hall.draws(&mut draws);
-        let opts = FrameOptions {
-            clear: Some(CLEAR),
-            ..Default::default()
-        };
-        let mut list: [&mut dyn Technique; 1] = [&mut self.portals];
-        let stats = self.frame.render(
+        self.frame.render(
             renderer,
-            draws.iter().copied(),
-            &mut list,
+            |d| self.building.hall.draws(d),
+            &mut self.portals,
             &view,
             target,
-            &opts,
-        );
-        self.draws = ibr::technique::recycle(draws);
-        stats
+            CLEAR,
+        )
     }
 
     /// What the portals did in the last frame.

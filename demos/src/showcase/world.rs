@@ -10,12 +10,13 @@
 //! The first [`LOADING`] frames take images as a game loading a level would (more
 //! captures a frame), so the fly-over starts with its far field imaged.
 
+use super::moment::MomentFrame;
 use crate::world::{tree_planner, TreePlan, World};
-use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
+use engine::{Camera, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::Frustum;
 use ibr::plan::tree::{Hierarchy, TreeReport, NONE};
 use ibr::subject::{MeshGroup, Subject};
-use ibr::technique::{FrameLoop, FrameView, Technique};
+use ibr::technique::FrameView;
 use std::time::{Duration, Instant};
 
 /// Lots a side: 6,400 objects, about 5 M triangles.
@@ -39,8 +40,7 @@ pub const CLEAR: Rgba = Rgba::new(0.55, 0.65, 0.8, 1.0);
 pub struct WorldTour {
     pub world: World,
     pub planner: Hierarchy<MeshGroup>,
-    frame: FrameLoop,
-    draws: Vec<Draw<'static>>,
+    frame: MomentFrame,
     /// The last frame's time (plan, captures and render).
     pub last_time: Duration,
 }
@@ -78,8 +78,7 @@ impl WorldTour {
         WorldTour {
             world,
             planner,
-            frame: FrameLoop::new(),
-            draws: Vec::new(),
+            frame: MomentFrame::default(),
             last_time: Duration::ZERO,
         }
     }
@@ -111,22 +110,14 @@ impl WorldTour {
             target.height(),
             &self.world.lighting,
         );
-        let mut draws = ibr::technique::recycle(std::mem::take(&mut self.draws));
-        self.world.ground.draws(&mut draws);
-        let opts = FrameOptions {
-            clear: Some(CLEAR),
-            ..Default::default()
-        };
-        let mut list: [&mut dyn Technique; 1] = [&mut self.planner];
         let stats = self.frame.render(
             renderer,
-            draws.iter().copied(),
-            &mut list,
+            |d| self.world.ground.draws(d),
+            &mut self.planner,
             &view,
             target,
-            &opts,
+            CLEAR,
         );
-        self.draws = ibr::technique::recycle(draws);
         self.last_time = start.elapsed();
         stats
     }
