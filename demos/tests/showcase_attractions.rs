@@ -8,7 +8,9 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
+
+mod showcase_common;
+use showcase_common::run_showcase;
 
 const W: &str = "240";
 const H: &str = "136";
@@ -37,19 +39,11 @@ fn summary() -> Value {
 fn run(name: &str, args: &[&str]) -> Value {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
-        .arg("--headless")
-        .arg(&dir)
-        .args(args)
-        .args(["-W", W, "-H", H, "--no-save"])
-        .output()
-        .expect("showcase runs");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let dir_arg = dir.to_string_lossy().into_owned();
+    let mut all: Vec<&str> = vec!["--headless", &dir_arg];
+    all.extend(args);
+    all.extend(["-W", W, "-H", H, "--no-save"]);
+    let stdout = run_showcase(&all);
     assert!(stdout.contains("summary (frame times exclude"), "{stdout}");
     assert!(
         !dir.join("frame_0000.png").exists(),

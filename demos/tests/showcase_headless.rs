@@ -1,25 +1,28 @@
 //! Runs the showcase binary headless and checks the frames it writes and what it prints.
 
 use std::path::PathBuf;
+
+mod showcase_common;
+use showcase_common::run_showcase;
 use std::process::Command;
 
 /// Runs the showcase headless into `dir` with `args`, `frames` frames at 160 x 90; its
 /// standard output (it must succeed).
 fn run_headless(dir: &std::path::Path, args: &[&str], frames: usize) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
-        .args(args)
-        .arg("--headless")
-        .arg(dir)
-        .args(["--frames", &frames.to_string(), "-W", "160", "-H", "90"])
-        .output()
-        .expect("showcase runs");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
+    let frames = frames.to_string();
+    let dir_arg = dir.to_string_lossy().into_owned();
+    let mut all: Vec<&str> = args.to_vec();
+    all.extend([
+        "--headless",
+        &dir_arg,
+        "--frames",
+        &frames,
+        "-W",
+        "160",
+        "-H",
+        "90",
+    ]);
+    run_showcase(&all)
 }
 
 #[test]

@@ -4,7 +4,9 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
+
+mod showcase_common;
+use showcase_common::run_showcase;
 
 const FRAMES: usize = 4;
 
@@ -13,20 +15,21 @@ const FRAMES: usize = 4;
 fn run_world(name: &str, args: &[&str]) -> (PathBuf, String, Value) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_showcase"))
-        .args(args)
-        .arg("--headless")
-        .arg(&dir)
-        .args(["--world", "--frames", &FRAMES.to_string()])
-        .args(["-W", "160", "-H", "96"])
-        .output()
-        .expect("showcase runs");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let frames = FRAMES.to_string();
+    let dir_arg = dir.to_string_lossy().into_owned();
+    let mut all: Vec<&str> = args.to_vec();
+    all.extend([
+        "--headless",
+        &dir_arg,
+        "--world",
+        "--frames",
+        &frames,
+        "-W",
+        "160",
+        "-H",
+        "96",
+    ]);
+    let stdout = run_showcase(&all);
     let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json written");
     let summary = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"));
     (dir, stdout, summary)
