@@ -49,16 +49,6 @@ struct Taps {
     window: Option<([u32; 2], u32, [[u32; LANES]; 2])>,
 }
 
-/// The cameras around a batch's rays after checking them against the surface
-/// ([`Kernel::check`]): each one's weight, the lanes it counts in, its images and, where
-/// depth correction moved them, the coordinates it is read at.
-struct Checked<I, const CAMERAS: usize> {
-    weights: [F8; CAMERAS],
-    cares: [M8; CAMERAS],
-    images: [Images<I>; CAMERAS],
-    moved: [Option<(F8, F8)>; CAMERAS],
-}
-
 /// A frame's lookup: the source, the sample counts, the cameras' places.
 pub(super) struct Kernel<'a, S> {
     src: &'a S,
@@ -235,9 +225,7 @@ impl<'a, S: Source> Kernel<'a, S> {
         frame
     }
 
-    /// [`Kernel::shade`] for one batch, its surface found: the cameras around each ray
-    /// found ([`Kernel::around`]), checked against the surface ([`Kernel::check`]), read
-    /// and blended ([`Kernel::accumulate`]), the pixels written ([`Kernel::write`]).
+    /// [`Kernel::shade`] for one batch, its surface found.
     #[inline(always)]
     fn blend<const CAMERAS: usize, const TAPS: usize>(
         &self,
@@ -248,18 +236,90 @@ impl<'a, S: Source> Kernel<'a, S> {
         disparities: &mut [f32],
     ) -> LightFieldFrame {
         let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
+        let cams = &self.cameras;
         let Followed {
             found, along, z, ..
         } = surface;
         let point = if self.correct {
-            self.cameras.point(rays, along, z)
+            cams.point(rays, along, z)
         } else {
             Point::none()
         };
         let (cameras, eyes, shared) = self.around::<CAMERAS>(rays, hit, found);
-        let checked = self.check::<CAMERAS>(rays, found, &point, &cameras, &eyes, &shared);
-        let (acc, total, taps, disagree) =
-            self.accumulate::<CAMERAS, TAPS>(rays, hit, found, &checked);
+        // Each camera's weight, the lanes it counts in, its images and, where depth
+        // correction moved them, the coordinates it is read at: all the cameras checked
+        // first (their depth reads are independent), then read.
+        let mut weights = [zero; CAMERAS];
+        let mut cares = [M8::from_bits(0); CAMERAS];
+        let mut images = [Images::none(); CAMERAS];
+        let mut moved = [None; CAMERAS];
+        for k in 0..CAMERAS {
+            let (i, j, mut w) = cameras[k];
+            // Weights are never negative: zero or not.
+            let mut care = w.gt(zero);
+            if care.bits() != 0 {
+                images[k] = match shared[k] {
+                    Some(image) => Images {
+                        shared: Some(image),
+                        i,
+                        j,
+                    },
+                    None => self.images(i, j, care),
+                };
+                let check = found.and(care);
+                if check.bits() != 0 {
+                    let (out, s, t) = self.seen(rays, found, &point, &eyes[k], &images[k], check);
+                    w = out.select(zero, w);
+                    care = care.and_not(out);
+                    moved[k] = Some((s, t));
+                }
+            }
+            weights[k] = w;
+            cares[k] = care;
+        }
+        let (mut acc, mut total) = ([zero; 4], zero);
+        // Taps read (with weight: not zero).
+        let mut taps_read = 0u32;
+        // Lanes where a camera that counts saw nothing at any of its taps.
+        let mut disagree = M8::from_bits(0);
+        // The taps where the rays cross the focal plane: the same for all the cameras not
+        // moved (found once, for all the rays that hit).
+        let mut flat = None;
+        for k in 0..CAMERAS {
+            let w = weights[k];
+            total = total + w;
+            // A ray without a surface that a camera before saw nothing for is not drawn:
+            // the cameras after need not read it.
+            let care = if self.correct {
+                cares[k].and_not(disagree.and_not(found))
+            } else {
+                cares[k]
+            };
+            if care.bits() == 0 {
+                continue;
+            }
+            let w = care.select(w, zero);
+            let taps = match moved[k] {
+                Some((s, t)) => self.taps::<TAPS>(s, t, care),
+                None => *flat.get_or_insert_with(|| self.taps::<TAPS>(rays.s, rays.t, hit)),
+            };
+            let colors = self.read_taps::<TAPS>(&images[k], &taps);
+            let mut saw = M8::from_bits(0);
+            for (c, weight) in colors.into_iter().zip(taps.weights).take(TAPS) {
+                let wt = w * weight;
+                let alpha = c.and(I8::splat(0xff00_0000_u32 as i32));
+                saw = saw.or(wt.gt(zero).and_not(alpha.eq(I8::splat(0))));
+                let counted = wt.gt(zero).bits();
+                taps_read += counted.count_ones();
+                // Empty samples (all bytes zero) add nothing: skipped where every lane
+                // that counts has one (light fields of objects have much empty space).
+                if (c.eq(I8::splat(0)).bits() | !counted) & ALL != ALL {
+                    add(&mut acc, c, wt);
+                }
+            }
+            disagree = disagree.or(care.and_not(saw));
+        }
+        let taps = u64::from(taps_read);
         // Cameras left out give their weight to the others.
         let partial = total.gt(zero).and(total.lt(one));
         let acc = acc.map(|a| partial.select(a / total, a));
@@ -284,6 +344,31 @@ impl<'a, S: Source> Kernel<'a, S> {
         let depth = found.select(along * rays.rate_view, rays.flat_depth);
         Self::write(&acc, depth, write, colors, disparities);
         frame
+    }
+
+    /// Where the camera at `eyes` saw the surface `point` of the rays that `check`: the
+    /// lanes it leaves out of the blend (it saw something else there, nearer or nothing)
+    /// and the coordinates it is read at (zero where left out).
+    #[inline(always)]
+    fn seen(
+        &self,
+        rays: &Batch,
+        found: M8,
+        point: &Point,
+        eyes: &Eyes,
+        images: &Images<S::Image>,
+        check: M8,
+    ) -> (M8, F8, F8) {
+        let zero = F8::splat(0.0);
+        let (ps, pt, inside) = self.cameras.project(eyes, point);
+        let (is, it) = (self.nearest(ps, 2), self.nearest(pt, 3));
+        let seen = self.depths(images, is, it, check);
+        let z = point.z;
+        let same = (seen - z).abs().le(F8::splat(SAME_SURFACE) * z);
+        let out = found.and_not(inside.and(same));
+        let s = out.select(zero, found.select(ps, rays.s));
+        let t = out.select(zero, found.select(pt, rays.t));
+        (out, s, t)
     }
 
     /// The cameras around each ray and their weights (zero in lanes that missed), where
@@ -342,117 +427,6 @@ impl<'a, S: Source> Kernel<'a, S> {
             }
         }
         (cameras, eyes, shared)
-    }
-
-    /// Each camera's weight, the lanes it counts in, its images and, where depth
-    /// correction moved them, the coordinates it is read at: all the cameras checked
-    /// first (their depth reads are independent), then read.
-    #[inline(always)]
-    fn check<const CAMERAS: usize>(
-        &self,
-        rays: &Batch,
-        found: M8,
-        point: &Point,
-        cameras: &[(I8, I8, F8); 4],
-        eyes: &[Eyes; 4],
-        shared: &[Option<S::Image>; 4],
-    ) -> Checked<S::Image, CAMERAS> {
-        let zero = F8::splat(0.0);
-        let mut c = Checked {
-            weights: [zero; CAMERAS],
-            cares: [M8::from_bits(0); CAMERAS],
-            images: [Images::none(); CAMERAS],
-            moved: [None; CAMERAS],
-        };
-        for k in 0..CAMERAS {
-            let (i, j, mut w) = cameras[k];
-            // Weights are never negative: zero or not.
-            let mut care = w.gt(zero);
-            if care.bits() != 0 {
-                c.images[k] = match shared[k] {
-                    Some(image) => Images {
-                        shared: Some(image),
-                        i,
-                        j,
-                    },
-                    None => self.images(i, j, care),
-                };
-                let check = found.and(care);
-                if check.bits() != 0 {
-                    // Where each camera saw the surface point; left out of the blend when
-                    // it saw something else there (nearer, or nothing).
-                    let (ps, pt, inside) = self.cameras.project(&eyes[k], point);
-                    let (is, it) = (self.nearest(ps, 2), self.nearest(pt, 3));
-                    let seen = self.depths(&c.images[k], is, it, check);
-                    let z = point.z;
-                    let same = (seen - z).abs().le(F8::splat(SAME_SURFACE) * z);
-                    let out = found.and_not(inside.and(same));
-                    w = out.select(zero, w);
-                    care = care.and_not(out);
-                    let s = out.select(zero, found.select(ps, rays.s));
-                    let t = out.select(zero, found.select(pt, rays.t));
-                    c.moved[k] = Some((s, t));
-                }
-            }
-            c.weights[k] = w;
-            c.cares[k] = care;
-        }
-        c
-    }
-
-    /// The checked cameras read and blended: the weighted sum of their colours, their
-    /// total weight, the taps read (with weight: not zero) and the lanes where a camera
-    /// that counts saw nothing at any of its taps.
-    #[inline(always)]
-    fn accumulate<const CAMERAS: usize, const TAPS: usize>(
-        &self,
-        rays: &Batch,
-        hit: M8,
-        found: M8,
-        checked: &Checked<S::Image, CAMERAS>,
-    ) -> ([F8; 4], F8, u64, M8) {
-        let zero = F8::splat(0.0);
-        let (mut acc, mut total) = ([zero; 4], zero);
-        let mut taps_read = 0u32;
-        let mut disagree = M8::from_bits(0);
-        // The taps where the rays cross the focal plane: the same for all the cameras not
-        // moved (found once, for all the rays that hit).
-        let mut flat = None;
-        for k in 0..CAMERAS {
-            let w = checked.weights[k];
-            total = total + w;
-            // A ray without a surface that a camera before saw nothing for is not drawn:
-            // the cameras after need not read it.
-            let care = if self.correct {
-                checked.cares[k].and_not(disagree.and_not(found))
-            } else {
-                checked.cares[k]
-            };
-            if care.bits() == 0 {
-                continue;
-            }
-            let w = care.select(w, zero);
-            let taps = match checked.moved[k] {
-                Some((s, t)) => self.taps::<TAPS>(s, t, care),
-                None => *flat.get_or_insert_with(|| self.taps::<TAPS>(rays.s, rays.t, hit)),
-            };
-            let colors = self.read_taps::<TAPS>(&checked.images[k], &taps);
-            let mut saw = M8::from_bits(0);
-            for (c, weight) in colors.into_iter().zip(taps.weights).take(TAPS) {
-                let wt = w * weight;
-                let alpha = c.and(I8::splat(0xff00_0000_u32 as i32));
-                saw = saw.or(wt.gt(zero).and_not(alpha.eq(I8::splat(0))));
-                let counted = wt.gt(zero).bits();
-                taps_read += counted.count_ones();
-                // Empty samples (all bytes zero) add nothing: skipped where every lane
-                // that counts has one (light fields of objects have much empty space).
-                if (c.eq(I8::splat(0)).bits() | !counted) & ALL != ALL {
-                    add(&mut acc, c, wt);
-                }
-            }
-            disagree = disagree.or(care.and_not(saw));
-        }
-        (acc, total, u64::from(taps_read), disagree)
     }
 
     /// Writes the blended colours `acc` and the disparities of `depth` to lane `l`'s
