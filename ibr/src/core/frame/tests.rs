@@ -147,7 +147,7 @@ fn the_loop_calls_every_step_in_order_and_adds_the_scene() {
         t.total
     );
     assert_eq!(frame.prepares.len(), 2);
-    assert!(frame.prepares.iter().sum::<std::time::Duration>() <= t.prepare);
+    assert!(frame.prepares.iter().sum::<Duration>() <= t.prepare);
     // A list of techniques of one kind is one technique.
     log.borrow_mut().clear();
     let mut both = vec![Probe::new("x", &log), Probe::new("y", &log)];
