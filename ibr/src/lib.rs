@@ -143,8 +143,9 @@ pub mod effects {
 /// Cumulus particle clouds lit by a precomputed light pass (Harris and Lastra).
 pub mod cloud {
     pub use crate::techniques::clouds::{
-        coverage, cumulus, near_fade, puff_profile, puff_texture, Cloud, CloudField, CloudParticle,
-        CloudShading, Phase, FOG_MAX, LIGHT_RES, MAX_PARTICLES, NEAR_FADE,
+        coverage, cumulus, fade_scale, near_fade, puff_profile, puff_texture, screen_share, Cloud,
+        CloudField, CloudParticle, CloudShading, Phase, FOG_MAX, LIGHT_RES, MAX_FILL,
+        MAX_PARTICLES, NEAR_FADE,
     };
 }
 

@@ -269,6 +269,12 @@ impl IbrLayer {
         &self.frame.counters
     }
 
+    /// The frame loop, for where the last frame's time went ([`FrameLoop::times`],
+    /// [`FrameLoop::prepares`] in the order of [`IbrLayer::counters`]).
+    pub fn frame_loop(&self) -> &FrameLoop {
+        &self.frame
+    }
+
     /// The flare's displayed visibility (0 hidden .. 1 in full view).
     pub fn flare_visibility(&self) -> f32 {
         self.flare.lens.visibility()

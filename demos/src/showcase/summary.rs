@@ -139,6 +139,86 @@ impl Summary {
     }
 }
 
+/// Where each frame of a part spent its time, in named columns (a technique's `prepare`,
+/// an engine stage, ...), one row per frame: its median per column, the slowest frame's
+/// row, and a CSV of every row. The columns need not add up to the frame (stage times
+/// summed over workers overlap the wall clock); `frame` is the frame's own time.
+#[derive(Clone, Debug, Default)]
+pub struct Breakdown {
+    columns: Vec<String>,
+    frames: Vec<Duration>,
+    rows: Vec<Vec<Duration>>,
+}
+
+impl Breakdown {
+    /// An empty breakdown with these columns.
+    pub fn new(columns: &[&str]) -> Breakdown {
+        Breakdown {
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            ..Default::default()
+        }
+    }
+
+    /// Adds one frame: its own time and one time per column (missing columns count 0).
+    pub fn push(&mut self, frame: Duration, row: &[Duration]) {
+        let mut row = row.to_vec();
+        row.resize(self.columns.len(), Duration::ZERO);
+        self.frames.push(frame);
+        self.rows.push(row);
+    }
+
+    /// Each column's median over the frames, ms, in column order.
+    pub fn medians(&self) -> Vec<f64> {
+        (0..self.columns.len())
+            .map(|c| {
+                let mut v: Vec<f64> = self.rows.iter().map(|r| ms(r[c])).collect();
+                v.sort_by(f64::total_cmp);
+                percentile(&v, 0.5)
+            })
+            .collect()
+    }
+
+    /// Two lines: each column's median, and the slowest frame's row.
+    pub fn lines(&self) -> Vec<String> {
+        let cols = |vals: &[f64]| {
+            let named = self.columns.iter().zip(vals);
+            named
+                .map(|(c, v)| format!("{c} {v:.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let mut out = vec![format!("medians, ms: {}", cols(&self.medians()))];
+        let times = PartTimes::of(&self.frames);
+        if let Some(row) = self.rows.get(times.max_frame) {
+            let row: Vec<f64> = row.iter().map(|&d| ms(d)).collect();
+            out.push(format!(
+                "slowest frame {} ({:.2} ms), ms: {}",
+                times.max_frame,
+                times.max,
+                cols(&row)
+            ));
+        }
+        out
+    }
+
+    /// `frame,ms,COLUMN...` then one line per frame, times in ms.
+    pub fn csv(&self) -> String {
+        let mut s = format!("frame,ms,{}\n", self.columns.join(","));
+        for (i, (f, row)) in self.frames.iter().zip(&self.rows).enumerate() {
+            let _ = write!(s, "{i},{:.3}", ms(*f));
+            for d in row {
+                let _ = write!(s, ",{:.3}", ms(*d));
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
 /// A JSON number with four decimals, or `null` for none or a non-finite value.
 fn number(v: Option<f64>) -> String {
     match v {
@@ -179,6 +259,32 @@ mod tests {
         assert!((p.median - 5.0).abs() < 1e-9 && (p.p90 - 9.0).abs() < 1e-9);
         assert!((p.p99 - 40.0).abs() < 1e-9 && (p.max - 40.0).abs() < 1e-9);
         assert_eq!(PartTimes::of(&[]), PartTimes::default());
+    }
+
+    #[test]
+    fn breakdown_medians_slowest_row_and_csv() {
+        let d = Duration::from_millis;
+        let mut b = Breakdown::new(&["a", "b"]);
+        b.push(d(10), &[d(1), d(2)]);
+        b.push(d(30), &[d(3), d(20)]);
+        b.push(d(20), &[d(2)]);
+        // Sorted a: 1 2 3 -> 2; b: 0 2 20 -> 2 (the missing column counts 0).
+        assert_eq!(b.medians(), vec![2.0, 2.0]);
+        let lines = b.lines();
+        assert!(
+            lines[1].starts_with("slowest frame 1 (30.00 ms)"),
+            "{lines:?}"
+        );
+        assert!(lines[1].ends_with("a 3.00, b 20.00"), "{lines:?}");
+        assert_eq!(
+            b.csv().lines().collect::<Vec<_>>(),
+            [
+                "frame,ms,a,b",
+                "0,10.000,1.000,2.000",
+                "1,30.000,3.000,20.000",
+                "2,20.000,2.000,0.000"
+            ]
+        );
     }
 
     #[test]

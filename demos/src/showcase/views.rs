@@ -73,6 +73,9 @@ pub struct Frame {
     pub width: u32,
     pub height: u32,
     pub rgba: Vec<u8>,
+    /// Time this frame spent measuring itself: rendering the geometry it is compared with
+    /// and comparing. Not part of showing it: the headless frame times leave it out.
+    pub measure: std::time::Duration,
 }
 
 impl Frame {
@@ -167,6 +170,23 @@ impl ViewsTour {
         }
     }
 
+    /// Builds every part now (its captures, prewarps and layers), so that no frame of the
+    /// moment builds one: the work that cannot be spread over frames is done ahead, as the
+    /// scene's loading is. Fails as [`ViewsTour::render_part`] does.
+    pub fn prepare(&mut self) -> Result<(), String> {
+        let draws: Vec<Draw<'_>> = self.scene.draws().collect();
+        let lighting = &self.scene.lighting;
+        let (w, h) = (self.width, self.height);
+        self.layers
+            .get_or_insert_with(|| LayersPart::new(&self.scene, w, h));
+        self.sky
+            .get_or_insert_with(|| SkyPart::new(&draws, lighting, w, h));
+        let morph = self
+            .morph
+            .get_or_insert_with(|| MorphPart::new(&draws, lighting, w, h));
+        morph.as_ref().map(|_| ()).map_err(|e| e.clone())
+    }
+
     /// Frame `i` of `n` of the moment ([`Part::at`]).
     pub fn render(&mut self, i: usize, n: usize) -> Result<&Frame, String> {
         let (part, t) = Part::at(i, n);
@@ -179,6 +199,7 @@ impl ViewsTour {
         let draws: Vec<Draw<'_>> = self.scene.draws().collect();
         let lighting = &self.scene.lighting;
         let (w, h) = (self.width, self.height);
+        self.frame.measure = std::time::Duration::ZERO;
         let t = if t.is_finite() {
             t.clamp(0.0, 1.0)
         } else {

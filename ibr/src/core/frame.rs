@@ -17,7 +17,9 @@
 //! access to them between frames.
 
 use crate::core::{Capturer, View};
-use engine::{Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, Target};
+use engine::{
+    Camera, Draw, FrameOptions, FrameStats, Lighting, Mesh, Renderer, StageTimes, Target,
+};
 use std::ops::AddAssign;
 use std::time::{Duration, Instant};
 
@@ -146,6 +148,14 @@ pub fn recycle<'b>(mut v: Vec<Draw<'_>>) -> Vec<Draw<'b>> {
 pub struct FrameTimes {
     /// In the techniques' `prepare` (impostor refreshes, billboard rebuilds).
     pub prepare: Duration,
+    /// The renderer's main pass over the scene's and the techniques' draws.
+    pub render: Duration,
+    /// The techniques' image passes.
+    pub passes: Duration,
+    /// Observing and resolving (the flare's occlusion capture).
+    pub observe: Duration,
+    /// The overlay pass (flare sprites).
+    pub overlay: Duration,
     /// The whole frame, `prepare` included.
     pub total: Duration,
 }
@@ -190,6 +200,10 @@ pub struct FrameLoop {
     pub counters: Vec<Counters>,
     /// The last frame's times.
     pub times: FrameTimes,
+    /// The last frame's time in each technique's `prepare`, in list order.
+    pub prepares: Vec<Duration>,
+    /// The engine's stage times of the last frame's main pass.
+    pub stages: StageTimes,
 }
 
 impl FrameLoop {
@@ -211,8 +225,11 @@ impl FrameLoop {
         opts: &FrameOptions,
     ) -> FrameStats {
         let start = Instant::now();
+        self.prepares.clear();
         for t in techniques.iter_mut() {
+            let t0 = Instant::now();
             t.prepare(view);
+            self.prepares.push(t0.elapsed());
         }
         let prepared = Instant::now();
         let mut draws = recycle(std::mem::take(&mut self.draws));
@@ -230,9 +247,12 @@ impl FrameLoop {
             target,
             opts,
         );
+        let rendered = Instant::now();
+        self.stages = renderer.stage_times();
         for t in techniques.iter() {
             stats += t.passes(view, target);
         }
+        let passed = Instant::now();
         self.observed.clear();
         {
             let mut seen = Observed {
@@ -252,6 +272,7 @@ impl FrameLoop {
             t.resolve(view, *o);
             self.counters.push(t.counters());
         }
+        let observed = Instant::now();
         for t in techniques.iter() {
             t.overlay(&mut over);
         }
@@ -269,9 +290,14 @@ impl FrameLoop {
             );
         }
         self.draws = recycle(over);
+        let end = Instant::now();
         self.times = FrameTimes {
             prepare: prepared - start,
-            total: start.elapsed(),
+            render: rendered - prepared,
+            passes: passed - rendered,
+            observe: observed - passed,
+            overlay: end - observed,
+            total: end - start,
         };
         stats
     }

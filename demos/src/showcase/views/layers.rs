@@ -20,6 +20,7 @@ use ibr::metrics::{self, ImageError, Options};
 use ibr::schedule::Budget;
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::{FrameLoop, FrameView};
+use std::time::{Duration, Instant};
 
 /// Objects whose bounding sphere's centre lies farther than this from the plaza's centre
 /// (horizontally) are layers.
@@ -144,20 +145,24 @@ impl LayersPart {
             &mut self.image,
             &opts,
         );
-        self.renderer
-            .render(scene.draws(), &camera, lighting, &mut self.truth, &opts);
         let r = self.layers.report;
         *out = Frame {
             width: w,
             height: h,
             rgba: self.image.to_rgba8(),
+            measure: Duration::ZERO,
         };
+        let measure = Instant::now();
+        self.renderer
+            .render(scene.draws(), &camera, lighting, &mut self.truth, &opts);
+        let error = metrics::compare(&self.truth, &self.image, &Options::default()).ok();
+        out.measure = measure.elapsed();
         LayersFrame {
             images: r.images,
             geometry: r.geometry,
             refreshes: r.refreshes,
             max_px: r.max_px,
-            error: metrics::compare(&self.truth, &self.image, &Options::default()).ok(),
+            error,
         }
     }
 }

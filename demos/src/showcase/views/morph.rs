@@ -11,6 +11,7 @@ use ibr::capture::{capture_batch, Capturer};
 use ibr::images::DepthImage;
 use ibr::metrics::{compare_seen, ImageError};
 use ibr::morph::{plain_morph, Correspondence, MorphStats, ViewMorph};
+use std::time::Instant;
 
 /// The morphed views' eyes, both looking at [`MORPH_TARGET`] (the "near" pair of
 /// `bench morph`: 4 units apart across the view, not parallel).
@@ -101,6 +102,7 @@ impl MorphPart {
         let (view, stats) = self.morph.frame(s);
         let camera = self.morph.camera_at(s);
         let (w, h) = (view.width(), view.height());
+        let measure = Instant::now();
         self.capturer.capture(
             draws.iter().copied(),
             &camera,
@@ -109,14 +111,20 @@ impl MorphPart {
             h,
             &mut self.truth,
         );
+        // The plain cross-dissolve is only a figure to compare with: measuring too.
         let plain = plain_morph(&self.views[0], &self.views[1], s);
+        let (error, plain) = (
+            compare_seen(&view, &self.truth).ok(),
+            compare_seen(&plain, &self.truth).ok(),
+        );
+        out.measure = measure.elapsed();
         over_sky(&view, &mut out.rgba);
         (out.width, out.height) = (w, h);
         MorphFrame {
             s,
             frame_px: w as u64 * h as u64,
-            error: compare_seen(&view, &self.truth).ok(),
-            plain: compare_seen(&plain, &self.truth).ok(),
+            error,
+            plain,
             stats,
         }
     }

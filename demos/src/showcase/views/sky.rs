@@ -13,6 +13,7 @@ use ibr::capture::Capturer;
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Image, ImageError, Options, Region};
 use ibr::panorama::Sky;
+use std::time::Instant;
 
 /// The panorama holds what lies farther than this from where it was captured (along each
 /// cube face's axis); nearer geometry is drawn.
@@ -163,6 +164,7 @@ impl SkyPart {
         let near = camera.with_depth_range(0.1, reach);
         let cap = &mut self.capturer;
         cap.capture(draws.iter().copied(), &near, lighting, w, h, &mut self.near);
+        let measure = Instant::now();
         cap.capture(
             draws.iter().copied(),
             &camera,
@@ -171,6 +173,7 @@ impl SkyPart {
             h,
             &mut self.truth,
         );
+        let truth = measure.elapsed();
         self.image.clone_from(&self.near);
         self.sky.map.behind(&mut self.image);
         self.mask.clear();
@@ -188,9 +191,11 @@ impl SkyPart {
             self.mask.push(sky);
         }
         over_sky(&self.image, &mut out.rgba);
+        let measure = Instant::now();
         over_sky(&self.truth, &mut self.truth_rgba);
         (out.width, out.height) = (w, h);
         let error = compare_masked(&out.rgba, &self.truth_rgba, (w, h), &self.mask);
+        out.measure = truth + measure.elapsed();
         SkyFrame {
             predicted_px: self.sky.map.predicted_px(eye, self.focal),
             before_px,

@@ -231,3 +231,23 @@ fn the_sky_at_the_headless_runs_steps_recaptures_only_past_its_tolerance_and_say
         }
     }
 }
+
+/// Building the parts ahead ([`ViewsTour::prepare`]) changes nothing a frame shows, makes
+/// the panorama's first capture before any frame, and a second call builds nothing more.
+#[test]
+fn parts_built_ahead_show_the_same_frames() {
+    let n = 12;
+    let mut lazy = ViewsTour::new(scene(), W, H);
+    let mut ahead = ViewsTour::new(scene(), W, H);
+    assert_eq!(ahead.captures(), 0);
+    ahead.prepare().expect("the parts build");
+    let captured = ahead.captures();
+    assert!(captured >= 1, "{captured}");
+    ahead.prepare().expect("already built");
+    assert_eq!(ahead.captures(), captured);
+    for i in 0..n {
+        let a = lazy.render(i, n).expect("lazy").rgba.clone();
+        let b = ahead.render(i, n).expect("ahead").rgba.clone();
+        assert!(a == b, "frame {i} differs");
+    }
+}

@@ -140,6 +140,14 @@ fn the_loop_calls_every_step_in_order_and_adds_the_scene() {
         "{:?}",
         frame.times
     );
+    // The stages split the frame: their times add up to the total, one prepare per technique.
+    let t = frame.times;
+    assert_eq!(
+        t.prepare + t.render + t.passes + t.observe + t.overlay,
+        t.total
+    );
+    assert_eq!(frame.prepares.len(), 2);
+    assert!(frame.prepares.iter().sum::<Duration>() <= t.prepare);
     // A list of techniques of one kind is one technique.
     log.borrow_mut().clear();
     let mut both = vec![Probe::new("x", &log), Probe::new("y", &log)];

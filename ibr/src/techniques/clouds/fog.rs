@@ -12,6 +12,17 @@
 //! one mean particle radius inside, so the fog grows from nothing as the eye enters (an
 //! impostor shows the cloud up to there, and is captured with the same fade). From
 //! beyond [`NEAR_FADE`] radii of every particle a cloud draws as before.
+//!
+//! From inside, even faded, the particles a few radii away each cover a large part of the
+//! view, and a cloud of a few hundred of them blends tens of screens of fragments (the
+//! showcase's fly-through: 950 ms of raster work in one 1280 x 720 frame). So the fade is
+//! also stretched, from inside the bounding sphere: by the smallest scale `s >= 1`
+//! ([`fade_scale`]) for which the particles still drawn, those beyond `s` radii, fill at
+//! most [`MAX_FILL`] screens (estimated from their quads' sizes in the view,
+//! [`screen_share`]); the fade then runs from `s` to `s` [`NEAR_FADE`] radii, and the
+//! opacity it takes goes into the fog as before. `s` eases in with the fog (from 1 on the
+//! bounding sphere to all of it one mean particle radius inside), so entering does not pop,
+//! and from outside (where an impostor may stand in) the cloud draws as before.
 
 use crate::core::{push_quad, UvRect, View};
 use engine::{Mesh, Rgba};
@@ -24,6 +35,54 @@ pub const FOG_MAX: f32 = 0.7;
 
 /// Distance, in particle radii, from which a particle is drawn at full opacity.
 pub const NEAR_FADE: f32 = 3.0;
+
+/// Most screens of particle quads a cloud draws seen from close by or inside (module
+/// docs): with the fog's own screen, about four blended layers over the whole view.
+pub const MAX_FILL: f32 = 3.0;
+
+/// The share of a view (`tan_half`: tangent of half its vertical field of view, `aspect`:
+/// width over height) covered by a screen-facing quad of side `2 r` at view depth `z`
+/// (along the view direction): its height and width over the view's, each at most 1; 1
+/// when the eye is within `r` of its plane, 0 behind the eye beyond that.
+pub fn screen_share(r: f32, z: f32, tan_half: f32, aspect: f32) -> f32 {
+    if z <= -r {
+        return 0.0;
+    }
+    if z <= r {
+        return 1.0;
+    }
+    let h = (r / (z * tan_half)).min(1.0);
+    let w = (r / (z * tan_half * aspect)).min(1.0);
+    let share = h * w;
+    if share.is_finite() {
+        share.max(0.0)
+    } else {
+        1.0
+    }
+}
+
+/// The fade's scale (module docs) for particles given as `(d, share)`: distance from the
+/// eye in radii and [`screen_share`]. Sorts `near` by distance. The smallest `s >= 1`,
+/// either 1 or one of the distances, such that the shares of the particles farther than
+/// `s` radii sum to at most `max_fill` (those within 1 radius are never drawn).
+pub fn fade_scale(near: &mut [(f32, f32)], max_fill: f32) -> f32 {
+    near.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let drawn = |&(d, share): &(f32, f32)| if d > 1.0 { share } else { 0.0 };
+    let mut fill: f32 = near.iter().map(drawn).sum();
+    if fill <= max_fill {
+        return 1.0;
+    }
+    // Drop the nearest first: each one dropped moves the scale out to its distance.
+    for (k, p) in near.iter().enumerate() {
+        fill -= drawn(p);
+        // Equal distances go together: the fade drops every particle at the scale.
+        let tied = near.get(k + 1).is_some_and(|q| q.0 == p.0);
+        if fill <= max_fill && !tied {
+            return p.0.max(1.0);
+        }
+    }
+    near.last().map_or(1.0, |p| p.0.max(1.0))
+}
 
 /// Share of a particle's opacity kept at `d` radii from the eye: 0 up to 1 radius (the eye
 /// inside its sphere), rising smoothly to 1 at [`NEAR_FADE`].

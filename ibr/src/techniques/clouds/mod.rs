@@ -41,7 +41,7 @@ mod shading;
 mod shape;
 
 pub use field::CloudField;
-pub use fog::{coverage, near_fade, FOG_MAX, NEAR_FADE};
+pub use fog::{coverage, fade_scale, near_fade, screen_share, FOG_MAX, MAX_FILL, NEAR_FADE};
 pub use shading::{CloudShading, Phase, LIGHT_RES};
 pub use shape::{cumulus, puff_profile, puff_texture, CloudParticle, MAX_PARTICLES};
 
@@ -78,6 +78,10 @@ pub struct Cloud {
     fog_material: Material,
     buffer: Vec<f32>,
     order: Vec<(f32, u32)>,
+    /// Per particle, distance in radii and share of the view (the fade's scale, `fog`).
+    near: Vec<(f32, f32)>,
+    /// The fade's scale of the last prepare (1: the plain near fade).
+    scale: f32,
 }
 
 impl Cloud {
@@ -113,6 +117,8 @@ impl Cloud {
             },
             buffer: Vec::new(),
             order: Vec::new(),
+            near: Vec::new(),
+            scale: 1.0,
         };
         cloud.light_pass();
         cloud
@@ -213,6 +219,12 @@ impl Cloud {
         Rgba::new(c.x, c.y, c.z, density)
     }
 
+    /// The near fade's scale of the last prepare: 1 but from close by or inside, where
+    /// it keeps the particles' fill within [`MAX_FILL`] screens (see `fog`).
+    pub fn fade_scale(&self) -> f32 {
+        self.scale
+    }
+
     /// The batch drawn by [`Subject::draws`] (its mesh as of the last prepare).
     pub fn batch(&self) -> &BillboardBatch {
         &self.batch
@@ -249,20 +261,44 @@ impl Subject for Cloud {
         }
         let view = View::new(camera, height);
         let ortho = matches!(camera.projection, Projection::Orthographic { .. });
+        // How far inside: 0 on the bounding sphere, 1 a mean particle radius within it.
+        let valid = self.particles.iter().filter(|p| p.valid());
+        let (radii, count) = valid.fold((0.0, 0usize), |(s, n), p| (s + p.radius, n + 1));
+        let inside = if ortho || count == 0 {
+            0.0
+        } else {
+            let bounds = self.bounds();
+            let depth = bounds.radius - view.eye.distance(bounds.center);
+            depth / (radii / count as f32)
+        };
+        self.scale = match camera.projection {
+            Projection::Perspective { fov_y, aspect, .. } if inside > 0.0 => {
+                let tan_half = (0.5 * fov_y).tan();
+                self.near.clear();
+                let valid = self.particles.iter().filter(|p| p.valid());
+                self.near.extend(valid.map(|p| {
+                    let z = (p.position - view.eye).dot(view.forward);
+                    let share = screen_share(p.radius, z, tan_half, aspect);
+                    (view.eye.distance(p.position) / p.radius, share)
+                }));
+                // Eased in over the same depth as the fog, so entering does not pop.
+                let full = fade_scale(&mut self.near, MAX_FILL);
+                1.0 + (full - 1.0) * inside.min(1.0)
+            }
+            // From outside, and for off-axis captures (impostor images): the plain fade.
+            _ => 1.0,
+        };
         self.batch.clear();
         let mut fog = fog::Fog::default();
-        let (mut radii, mut count) = (0.0, 0usize);
         for (i, p) in self.particles.iter().enumerate().filter(|(_, p)| p.valid()) {
             let to_eye = match ortho {
                 true => -view.forward,
                 false => (view.eye - p.position).normalize_or_zero(),
             };
             let mut tint = self.particle_color(i, to_eye);
-            radii += p.radius;
-            count += 1;
             if !ortho {
                 let d = view.eye.distance(p.position) / p.radius;
-                let fade = near_fade(d);
+                let fade = near_fade(d / self.scale);
                 if fade < 1.0 {
                     fog.add(d, fade, tint.a, self.particle_color(i, -view.forward));
                     tint.a *= fade;
@@ -280,13 +316,6 @@ impl Subject for Cloud {
         self.batch.build(&view);
         // The fog grows from nothing on the bounding sphere to full one mean particle
         // radius inside it.
-        let inside = if ortho || count == 0 {
-            0.0
-        } else {
-            let bounds = self.bounds();
-            let depth = bounds.radius - view.eye.distance(bounds.center);
-            depth / (radii / count as f32)
-        };
         let near = camera.near_far().0;
         fog::fog_quad(&mut self.fog, &view, 1.5 * near, fog.color(inside));
     }

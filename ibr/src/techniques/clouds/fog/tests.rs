@@ -2,7 +2,7 @@
 //! cloud draws exactly as its plain billboards did.
 
 use super::super::{Cloud, Subject};
-use super::{coverage, near_fade, NEAR_FADE};
+use super::{coverage, fade_scale, near_fade, screen_share, MAX_FILL, NEAR_FADE};
 use crate::core::{Billboard, Facing, View};
 use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
@@ -70,6 +70,10 @@ fn with_fade(cloud: &mut Cloud, cam: &Camera) -> Vec<u8> {
 /// The cloud as it was drawn before the near fade: every particle's billboard at its full
 /// opacity, no fog.
 fn plain(cloud: &Cloud, cam: &Camera) -> Vec<u8> {
+    render(cam, vec![plain_batch(cloud, cam).draw()])
+}
+
+fn plain_batch(cloud: &Cloud, cam: &Camera) -> crate::core::BillboardBatch {
     let view = View::new(cam, H);
     let mut batch = cloud.batch().clone();
     batch.clear();
@@ -80,7 +84,73 @@ fn plain(cloud: &Cloud, cam: &Camera) -> Vec<u8> {
         batch.push(b);
     }
     batch.build(&view);
-    render(cam, vec![batch.draw()])
+    batch
+}
+
+/// Screens of fragments `draws` shade from `cam` (blended quads: every covered pixel).
+fn fill(cam: &Camera, draws: Vec<Draw<'_>>) -> f32 {
+    let mut target = Target::new(W, H);
+    let stats = Renderer::new().render(
+        draws,
+        cam,
+        &Lighting::default(),
+        &mut target,
+        &FrameOptions::default(),
+    );
+    stats.fragments_shaded as f32 / (W * H) as f32
+}
+
+#[test]
+fn the_fade_scale_is_the_least_that_keeps_the_fill_within_the_budget() {
+    // Within budget (the one inside its own radius never counts): the plain fade.
+    assert_eq!(
+        fade_scale(&mut [(0.5, 1.0), (2.0, 1.0), (4.0, 1.0)], 2.0),
+        1.0
+    );
+    assert_eq!(fade_scale(&mut [], 2.0), 1.0);
+    // 1 + 1 + 0.5 + 0.25 = 2.75 screens beyond one radius; dropping the two nearest (out
+    // of order as given) leaves 0.75 <= 1, dropping one leaves 1.75.
+    let mut near = [(6.0, 0.25), (1.5, 1.0), (4.0, 0.5), (2.0, 1.0)];
+    assert_eq!(fade_scale(&mut near, 1.0), 2.0);
+    assert_eq!(near[0], (1.5, 1.0), "sorted by distance");
+    // Ties go together: both at 2 radii are dropped, never one of them.
+    assert_eq!(
+        fade_scale(&mut [(2.0, 1.0), (2.0, 1.0), (5.0, 0.1)], 1.5),
+        2.0
+    );
+    // Nothing fits: everything is dropped.
+    assert_eq!(fade_scale(&mut [(2.0, 1.0), (3.0, 1.0)], 0.0), 3.0);
+    // The view's share: whole when the quad reaches the eye's plane, none behind it, and
+    // a quarter of the height (and 1/4 / 2 of the width at aspect 2) at four times its
+    // reach.
+    assert_eq!(screen_share(1.0, 0.5, 1.0, 1.0), 1.0);
+    assert_eq!(screen_share(1.0, -1.5, 1.0, 1.0), 0.0);
+    assert!((screen_share(1.0, 4.0, 1.0, 2.0) - 0.25 * 0.125).abs() < 1e-7);
+}
+
+/// From the cloud's centre, its particles shade at most [`MAX_FILL`] screens of
+/// fragments (the renderer's count; plus the fog's one screen and a tenth for the estimate's
+/// error at the view's edges), where its plain billboards shade many times that; from
+/// outside the fade is the plain one.
+#[test]
+fn inside_a_cloud_the_particles_fill_at_most_their_budget() {
+    let mut c = cloud();
+    let ps = c.particles();
+    let centre = ps.iter().map(|p| p.position).sum::<Vec3>() / ps.len() as f32;
+    for look in [Vec3::Z, Vec3::X, Vec3::NEG_Z] {
+        let cam = camera(centre, centre + look);
+        c.prepare(&cam, H);
+        assert!(c.fade_scale() > 1.0, "{}", c.fade_scale());
+        let mut draws = Vec::new();
+        c.draws(&mut draws);
+        let capped = fill(&cam, draws);
+        let plain = fill(&cam, vec![plain_batch(&c, &cam).draw()]);
+        assert!(capped <= MAX_FILL + 1.1, "{capped} screens, look {look}");
+        assert!(plain > 4.0 * capped, "{plain} against {capped} screens");
+    }
+    let far = camera(Vec3::new(0.0, 2.0, 60.0), Vec3::ZERO);
+    c.prepare(&far, H);
+    assert_eq!(c.fade_scale(), 1.0);
 }
 
 fn luminance(px: &[u8]) -> f32 {
