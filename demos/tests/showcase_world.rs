@@ -2,6 +2,7 @@
 //! `summary.json`'s `world` part with the keys every part has, and the planner's readout
 //! per frame (nodes opened, and every object in view drawn exactly once by the cut).
 
+use demos::showcase::world::READOUT_ROWS;
 use serde_json::Value;
 use std::path::PathBuf;
 
@@ -56,6 +57,15 @@ fn the_world_moment_runs_headless_with_its_readout_and_summary() {
         assert_eq!(img.dimensions(), (160, 96));
     }
     assert!(!dir.join(format!("world_{FRAMES:04}.png")).exists());
+    // The readout is drawn in at the top left, in the window's text colour.
+    let first = image::open(dir.join("world_0000.png"))
+        .expect("frame")
+        .to_rgba8();
+    let text = (0..40)
+        .flat_map(|y| (0..160).map(move |x| (x, y)))
+        .filter(|&(x, y)| first.get_pixel(x, y).0 == [255, 255, 128, 255])
+        .count();
+    assert!(text > 50, "{text} readout pixels");
     // Only the world: the other parts are there with no frames.
     let parts = s["parts"].as_object().expect("parts");
     for part in ["tour", "building", "views"] {
@@ -71,6 +81,14 @@ fn the_world_moment_runs_headless_with_its_readout_and_summary() {
     assert!(f("median") > 0.0 && f("median") <= f("p90"), "{ms:?}");
     assert!(f("p90") <= f("p99") && f("p99") <= f("max"), "{ms:?}");
     assert!(ms["max_frame"].as_u64().expect("max_frame") < FRAMES as u64);
+    // The error measured against all the geometry: there, and null for the other parts.
+    let error = &world["error_levels"];
+    let (mean, worst) = (error["mean"].as_f64(), error["worst"].as_f64());
+    assert!(
+        matches!((mean, worst), (Some(m), Some(w)) if 0.0 <= m && m <= w),
+        "{error}"
+    );
+    assert!(parts["tour"]["error_levels"].is_null());
     // One readout line a frame: the cut opened nodes, and drew every object in view once.
     let lines: Vec<&str> = stdout.lines().filter(|l| l.contains("WORLD ")).collect();
     assert_eq!(lines.len(), FRAMES, "{stdout}");
@@ -79,6 +97,7 @@ fn the_world_moment_runs_headless_with_its_readout_and_summary() {
         let objects = before(line, "OBJECTS  ");
         let (once, in_view) = (before(line, "of "), before(line, "in view drawn once"));
         assert!(in_view > 0 && in_view <= objects, "{line}");
+        assert!(line.contains("MEASURED ERROR "), "{line}");
         assert_eq!(once, in_view, "{line}");
         assert!(
             before(line, "GEOMETRY") + before(line, "IMAGES") > 0,
@@ -95,8 +114,20 @@ fn the_world_moment_is_the_same_on_one_and_two_threads() {
     let (two, _, _) = run_world("showcase_world_2", &["--threads", "2"]);
     for i in 0..FRAMES {
         let name = format!("world_{i:04}.png");
-        let a = image::open(one.join(&name)).expect("frame").to_rgba8();
-        let b = image::open(two.join(&name)).expect("frame").to_rgba8();
-        assert!(a == b, "{name} differs between 1 and 2 threads");
+        let a = image::open(one.join(&name))
+            .expect("frame")
+            .to_rgba8()
+            .into_raw();
+        let b = image::open(two.join(&name))
+            .expect("frame")
+            .to_rgba8()
+            .into_raw();
+        // Below the readout (which shows each run's own times): the same pixels.
+        let below = (READOUT_ROWS * 160 * 4) as usize;
+        assert_eq!(a.len(), b.len());
+        assert!(
+            a[below..] == b[below..],
+            "{name} differs between 1 and 2 threads"
+        );
     }
 }

@@ -3,13 +3,16 @@
 //! ([`crate::showcase::attractions`]), as text lines and as `summary.json`:
 //!
 //! ```json
-//! {"parts": {"tour": {"frames": 120, "ms": {"median": 0, "p90": 0, "p99": 0, "max": 0, "max_frame": 0}},
+//! {"parts": {"tour": {"frames": 120, "ms": {"median": 0, "p90": 0, "p99": 0, "max": 0, "max_frame": 0},
+//!                     "error_levels": null},
 //!            "building": {...}, "views": {...}, "world": {...}},
 //!  "attractions": [{"name": "statue", "technique": "light field", "part": "tour", "frames": 66,
 //!                   "psnr_db": {"mean": 0, "worst": 0}, "flicker": 0}]}
 //! ```
 //!
-//! Every part has the same five `ms` keys (all 0 for a part not rendered, with `frames` 0);
+//! Every part has the same five `ms` keys (all 0 for a part not rendered, with `frames` 0)
+//! and `error_levels` (`{"mean": 0, "worst": 0}`, the world moment's error measured against
+//! all its geometry; `null` for the other parts);
 //! a figure not measured is `null`. Percentiles are nearest-rank; `max_frame` is the
 //! index of the slowest frame within its part (its PNG's number). Written by hand: demos
 //! has no JSON dependency and the shape is small.
@@ -31,6 +34,9 @@ pub struct PartTimes {
     pub max: f64,
     /// The index of the slowest frame (the first of equals).
     pub max_frame: usize,
+    /// Measured error against all the geometry, levels: the mean and the worst over the
+    /// frames (the world moment's; `None` where not measured).
+    pub error: Option<[f64; 2]>,
 }
 
 impl PartTimes {
@@ -51,13 +57,17 @@ impl PartTimes {
             p99: percentile(&sorted, 0.99),
             max,
             max_frame,
+            error: None,
         }
     }
 
     /// `median 12.30 ms  p90 ...  max 40.10 ms (frame 17)`.
     pub fn line(&self) -> String {
+        let error = self.error.map_or(String::new(), |[mean, worst]| {
+            format!("  measured error mean {mean:.2} worst {worst:.2} levels")
+        });
         format!(
-            "{} frames: median {:.2} ms  p90 {:.2} ms  p99 {:.2} ms  max {:.2} ms (frame {})",
+            "{} frames: median {:.2} ms  p90 {:.2} ms  p99 {:.2} ms  max {:.2} ms (frame {}){error}",
             self.frames, self.median, self.p90, self.p99, self.max, self.max_frame
         )
     }
@@ -108,14 +118,19 @@ impl Summary {
             let _ = write!(
                 s,
                 "{sep}{}: {{\"frames\": {}, \"ms\": {{\"median\": {}, \"p90\": {}, \"p99\": {}, \
-                 \"max\": {}, \"max_frame\": {}}}}}",
+                 \"max\": {}, \"max_frame\": {}}}, \"error_levels\": {}}}",
                 string(name),
                 p.frames,
                 number(Some(p.median)),
                 number(Some(p.p90)),
                 number(Some(p.p99)),
                 number(Some(p.max)),
-                p.max_frame
+                p.max_frame,
+                p.error.map_or("null".to_string(), |[mean, worst]| format!(
+                    "{{\"mean\": {}, \"worst\": {}}}",
+                    number(Some(mean)),
+                    number(Some(worst))
+                ))
             );
         }
         s.push_str("},\n \"attractions\": [");

@@ -5,15 +5,20 @@
 //! its objects when its predicted error is within [`BUDGET`], else its children are
 //! considered, and the nearest objects are drawn as geometry. Its readout is the planner's
 //! ([`WorldTour::readout`]): nodes opened, images drawn, objects as geometry, the images'
-//! predicted error, planning and frame time.
+//! predicted error, planning and frame time, and, once [`WorldTour::measure`] compared the
+//! frame with all the geometry from the same eye (outside the frame's time), the measured
+//! error. Headless frames carry the readout drawn in ([`WorldTour::annotate`]), as the
+//! window draws it.
 //!
 //! The first [`LOADING`] frames take images as a game loading a level would (more
 //! captures a frame), so the fly-over starts with its far field imaged.
 
 use super::moment::MomentFrame;
+use crate::font;
 use crate::world::{tree_planner, TreePlan, World};
-use engine::{Camera, FrameStats, Renderer, Rgba, Target};
+use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::Frustum;
+use ibr::metrics::{self, Options};
 use ibr::plan::tree::{Hierarchy, TreeReport, NONE};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::FrameView;
@@ -35,6 +40,10 @@ pub const STEP: f32 = 0.01;
 /// The clear colour (the budget sweep's sky).
 pub const CLEAR: Rgba = Rgba::new(0.55, 0.65, 0.8, 1.0);
 
+/// Image rows the readout is drawn over ([`WorldTour::annotate`]): its three lines of text
+/// from row 4, ten rows apart, each over a backing box two rows taller than the glyphs.
+pub const READOUT_ROWS: u32 = 4 + 10 * 2 + font::GLYPH_H as u32 + 3;
+
 /// The world, its planner, the frame loop's memory and the last frame's time.
 #[derive(Debug)]
 pub struct WorldTour {
@@ -43,6 +52,19 @@ pub struct WorldTour {
     frame: MomentFrame,
     /// The last frame's time (plan, captures and render).
     pub last_time: Duration,
+    /// The last measured frame's error against all the geometry ([`WorldTour::measure`]),
+    pub measured: Option<Measured>,
+    /// and the render of all the geometry it was measured against (kept between frames).
+    truth: Target,
+}
+
+/// A frame's error against a render of all the world's geometry from the same eye.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// Mean absolute channel difference over the frame, levels (the budget's unit).
+    pub mean_abs: f64,
+    /// PSNR over the frame, dB (capped at 99).
+    pub psnr_db: f64,
 }
 
 /// Which objects in view the last frame drew, and how often (from the planner's cut: the
@@ -80,6 +102,8 @@ impl WorldTour {
             planner,
             frame: MomentFrame::default(),
             last_time: Duration::ZERO,
+            measured: None,
+            truth: Target::new(0, 0),
         }
     }
 
@@ -127,24 +151,97 @@ impl WorldTour {
         &self.planner.report
     }
 
-    /// One line for the window and the console: the planner's last cut.
-    pub fn readout(&self) -> String {
+    /// Renders all the world's geometry (the ground and every object) from `camera` and
+    /// compares `frame`, the planner's render from it, with it: the frame's measured error,
+    /// kept for the readout ([`WorldTour::measured`]). Not part of the frame's time.
+    pub fn measure(
+        &mut self,
+        renderer: &mut Renderer,
+        camera: &Camera,
+        frame: &Target,
+    ) -> Measured {
+        let (w, h) = (frame.width(), frame.height());
+        if (self.truth.width(), self.truth.height()) != (w, h) {
+            self.truth = Target::new(w, h);
+        }
+        let mut all: Vec<Draw<'_>> = Vec::new();
+        self.world.ground.draws(&mut all);
+        self.world.objects.iter().for_each(|o| o.draws(&mut all));
+        let opts = FrameOptions {
+            clear: Some(CLEAR),
+            ..FrameOptions::default()
+        };
+        let lighting = &self.world.lighting;
+        renderer.render(all, camera, lighting, &mut self.truth, &opts);
+        let m = match metrics::compare(frame, &self.truth, &Options::default()) {
+            Ok(e) => Measured {
+                mean_abs: e.mean_abs,
+                psnr_db: e.psnr_capped(99.0),
+            },
+            // The same size by construction: no other failure.
+            Err(_) => Measured::default(),
+        };
+        self.measured = Some(m);
+        m
+    }
+
+    /// The readout in three lines (the window's and the headless frames' text): the
+    /// world and the cut, the images' predicted and measured error, the times.
+    pub fn readout_lines(&self) -> [String; 3] {
         let r = self.report();
-        format!(
-            "WORLD {} OBJECTS  {} NODES OPENED  {} IMAGES ({} OBJECTS)  {} GEOMETRY  \
-             {} REBUILDS  PREDICTED ERROR {:.2} MAX {:.2} (BUDGET {:.0})  PLAN {:.2} MS  FRAME {:.1} MS",
-            self.world.objects.len(),
-            r.opened,
-            r.images,
-            r.imaged_objects,
-            r.geometry,
-            r.rebuilds,
-            r.mean_error,
-            r.max_error,
-            self.planner.config.budget,
-            r.planning_ms,
-            self.last_time.as_secs_f64() * 1e3
-        )
+        let measured = self.measured.map_or(String::new(), |m| {
+            format!(
+                "  MEASURED ERROR {:.2} (PSNR {:.1} DB)",
+                m.mean_abs, m.psnr_db
+            )
+        });
+        [
+            format!(
+                "WORLD {} OBJECTS  {} NODES OPENED  {} IMAGES ({} OBJECTS)  {} GEOMETRY  {} REBUILDS",
+                self.world.objects.len(),
+                r.opened,
+                r.images,
+                r.imaged_objects,
+                r.geometry,
+                r.rebuilds,
+            ),
+            format!(
+                "PREDICTED ERROR {:.2} MAX {:.2} (BUDGET {:.0}){measured}",
+                r.mean_error, r.max_error, self.planner.config.budget,
+            ),
+            format!(
+                "PLAN {:.2} MS  CAPTURES {:.1} MS (PREDICTED {:.1})  FRAME {:.1} MS",
+                r.planning_ms,
+                r.capture_ms,
+                r.rebuild_ms,
+                self.last_time.as_secs_f64() * 1e3
+            ),
+        ]
+    }
+
+    /// One line for the window and the console: [`WorldTour::readout_lines`] joined.
+    pub fn readout(&self) -> String {
+        self.readout_lines().join("  ")
+    }
+
+    /// Draws the readout ([`WorldTour::readout_lines`]) over a `width` x `height` RGBA8
+    /// image, top left, one line under another (the window's text drawing).
+    pub fn annotate(&self, rgba: &mut [u8], width: u32, height: u32) {
+        let (w, h) = (width as usize, height as usize);
+        if rgba.len() < w * h * 4 {
+            return;
+        }
+        let mut pixels: Vec<u32> = rgba
+            .chunks_exact(4)
+            .map(|p| u32::from_be_bytes([0, p[0], p[1], p[2]]))
+            .collect();
+        for (k, line) in self.readout_lines().iter().enumerate() {
+            font::draw_text(&mut pixels, w, h, 4, 4 + 10 * k, 1, line, 0x00ff_ff80);
+        }
+        for (p, &c) in rgba.chunks_exact_mut(4).zip(&pixels) {
+            let [_, r, g, b] = c.to_be_bytes();
+            (p[0], p[1], p[2]) = (r, g, b);
+        }
     }
 
     /// How often the last frame drew each object in view of `camera` (the camera it was
@@ -223,5 +320,61 @@ mod tests {
             assert!(r.images + r.geometry > 0);
         }
         assert!(tour.report().images > 0, "after loading, images drawn");
+    }
+
+    /// A frame at `budget` after the loading frames, 160 x 96, and its measured error.
+    fn measured_at(budget: f32) -> (WorldTour, Target, Measured) {
+        let mut tour = WorldTour::with_side(16);
+        tour.planner.config.budget = budget;
+        let (mut renderer, mut target) = (Renderer::new(), Target::new(160, 96));
+        for i in 0..=LOADING as usize {
+            let camera = tour.camera(i, 160, 96);
+            tour.render(&mut renderer, &camera, &mut target);
+        }
+        let camera = tour.camera(LOADING as usize, 160, 96);
+        let m = tour.measure(&mut renderer, &camera, &target);
+        (tour, target, m)
+    }
+
+    /// At a budget no image meets, every object in view is geometry: the frame is the
+    /// render of all the geometry, and the measured error nothing. At the moment's budget,
+    /// images stand in: an error, small and finite, shown in the readout.
+    #[test]
+    fn the_measured_error_is_against_all_the_geometry() {
+        let (tour, _, m) = measured_at(0.0);
+        assert_eq!(tour.report().images, 0, "{:?}", tour.report());
+        assert_eq!((m.mean_abs, m.psnr_db), (0.0, 99.0), "{m:?}");
+        let (tour, _, m) = measured_at(BUDGET);
+        assert!(tour.report().images > 0, "{:?}", tour.report());
+        assert!(m.mean_abs > 0.0 && m.mean_abs < 10.0, "{m:?}");
+        assert_eq!(tour.measured, Some(m));
+        let line = tour.readout();
+        assert!(
+            line.contains(&format!("MEASURED ERROR {:.2}", m.mean_abs)),
+            "{line}"
+        );
+    }
+
+    /// The readout drawn into a frame changes the pixels of its three lines at the top
+    /// left, and none below them.
+    #[test]
+    fn the_readout_is_drawn_into_headless_frames() {
+        let (tour, target, _) = measured_at(BUDGET);
+        let plain = target.to_rgba8();
+        let mut annotated = plain.clone();
+        tour.annotate(&mut annotated, 160, 96);
+        let row = 160 * 4;
+        let changed = |rows: std::ops::Range<usize>| {
+            rows.flat_map(|y| y * row..(y + 1) * row)
+                .filter(|&i| plain[i] != annotated[i])
+                .count()
+        };
+        let rows = READOUT_ROWS as usize;
+        assert!(changed(0..rows) > 100, "{}", changed(0..rows));
+        assert_eq!(changed(rows..96), 0);
+        assert!(
+            changed(rows - 4..rows) > 0,
+            "the last line is within the rows"
+        );
     }
 }

@@ -530,10 +530,13 @@ fn world_headless(args: &Args, dir: &Path, n: usize) -> Result<PartTimes, String
         rayon::current_num_threads()
     );
     let mut times = Vec::with_capacity(n);
+    let mut errors = Vec::with_capacity(n);
     for i in 0..n {
         let camera = tour.camera(i, w, h);
         tour.render(&mut renderer, &camera, &mut target);
         times.push(tour.last_time);
+        // Measured against all the geometry after the frame's time was taken.
+        errors.push(tour.measure(&mut renderer, &camera, &target).mean_abs);
         let c = tour.coverage(&camera);
         println!(
             "  {i:4}: {}  ({} of {} in view drawn once)",
@@ -543,14 +546,21 @@ fn world_headless(args: &Args, dir: &Path, n: usize) -> Result<PartTimes, String
         );
         if !args.no_save {
             let path = dir.join(format!("world_{i:04}.png"));
-            save_png(&path, &target.to_rgba8(), (w, h))?;
+            let mut rgba = target.to_rgba8();
+            tour.annotate(&mut rgba, w, h);
+            save_png(&path, &rgba, (w, h))?;
         }
     }
     println!("world frame time: {}", Summary::of(&times));
     if !args.no_save {
         println!("wrote {n} frames to {}/world_0000.png ...", dir.display());
     }
-    Ok(PartTimes::of(&times))
+    let mean = errors.iter().sum::<f64>() / errors.len().max(1) as f64;
+    let worst = errors.iter().copied().fold(0.0, f64::max);
+    Ok(PartTimes {
+        error: (!errors.is_empty()).then_some([mean, worst]),
+        ..PartTimes::of(&times)
+    })
 }
 
 /// Writes an RGBA8 image.

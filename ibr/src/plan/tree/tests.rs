@@ -2,7 +2,7 @@
 //! the nodes opened (counters, not time).
 
 use super::*;
-use crate::core::{Estimate, Representation, Sight, Work};
+use crate::core::{CostModel, Estimate, Representation, Sight, Work};
 use engine::{Camera, Lighting, Sphere};
 use glam::Vec3;
 
@@ -73,6 +73,11 @@ impl Representation<Cluster<Ball>> for Snapshots {
     fn draw<'a>(&'a self, _: usize, _: &'a Cluster<Ball>, _: Vec3, _: &mut Vec<Draw<'a>>) {}
     fn release(&mut self, i: usize) {
         self.held[i] = None;
+    }
+    /// A byte per image rebuilt so far: the tests read the representation's own count of
+    /// rebuilds through [`TreeReport::memory`].
+    fn memory(&self) -> usize {
+        self.rebuilt.len()
     }
 }
 
@@ -320,4 +325,51 @@ fn odd_boxes_and_no_objects_do_not_panic() {
         h.update(&[0, 7], |_, b| b.0 = Vec3::ONE),
         1.max(h.report.refitted)
     );
+}
+
+#[test]
+fn the_rebuild_budget_holds_every_frame() {
+    // A moving eye stales images every frame. Each frame's rebuilds are the ones the
+    // representation was asked for, within the count and the predicted milliseconds
+    // (the loading frames' larger allowance first), and a frame whose budget is spent
+    // draws the rest stale or opens them: every object in view still drawn once.
+    let cost = CostModel::default();
+    let one = cost.ms(Work {
+        triangles: 500,
+        ..Work::default()
+    });
+    let config = TreeConfig {
+        rebuilds: 6,
+        // Room for about 40 objects' captures a frame, 200 while loading.
+        rebuild_ms: 40.0 * one,
+        loading: (2, 200.0 * one),
+        ..TreeConfig::default()
+    };
+    let mut h = hierarchy(64, config);
+    let mut asked = 0;
+    for f in 0..10 {
+        let cam = camera(Vec3::new(f as f32 * 2.0 - 10.0, 10.0, 40.0), 64);
+        let r = plan(&mut h, &cam);
+        let cap = if f < 2 { 200.0 } else { 40.0 } * one;
+        assert!(r.rebuilds <= 6, "frame {f}: {r:?}");
+        assert!(r.rebuild_ms <= cap * 1.0001, "frame {f}: {r:?} over {cap}");
+        // The cut's rebuilds are exactly the representation's.
+        let total = rebuilt(&h);
+        assert_eq!(total - asked, r.rebuilds, "frame {f}");
+        asked = total;
+        let frustum = crate::core::Frustum::new(cam.clip_from_world());
+        for (i, &n) in drawn(&h).iter().enumerate() {
+            let b = h.objects()[i].bounds();
+            assert!(
+                n <= 1 && (n == 1 || !frustum.sees(b.center, b.radius)),
+                "{i} {f}"
+            );
+        }
+    }
+    assert!(asked > 0);
+}
+
+/// How many node images the test representation has rebuilt so far.
+fn rebuilt(h: &Hierarchy<Ball>) -> usize {
+    h.report.memory
 }
