@@ -48,6 +48,7 @@ use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::cloud::Cloud;
 use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::portal::PortalMode;
 use ibr::subject::Subject;
 use ibr::technique::{FrameView, Technique};
 
@@ -236,15 +237,23 @@ fn forest<'a>(show: &'a Showcase, _: &'a mut Stand, cam: &Camera, _: u32) -> Opt
     Some(drawn)
 }
 
+/// The rooms drawn from their LDIs, against their geometry, seen through the hall's
+/// doorways; the hall and the rooms drawn as geometry this frame are the occluder (they
+/// were in the mask, identical in both).
 fn portals(tour: &BuildingTour) -> Option<Drawn<'_>> {
     if tour.last().warped == 0 {
         return None;
     }
     let mut drawn = Drawn::new(&tour.building.lighting);
     tour.building.hall.draws(&mut drawn.occluder);
-    tour.portals.draws(&mut drawn.image);
     drawn.passes = Some(&tour.portals);
-    tour.portals.reference(&mut drawn.truth);
+    for p in &tour.portals.portals {
+        match p.mode() {
+            PortalMode::Warped => p.behind.draws(&mut drawn.truth),
+            PortalMode::Geometry => p.behind.draws(&mut drawn.occluder),
+            _ => {}
+        }
+    }
     Some(drawn)
 }
 
