@@ -140,24 +140,29 @@ fn check(name: &str, what: &str, value: &Value, bound: Option<f64>, ok: fn(f64, 
 /// frames) less a margin of about 1.5 dB (flicker: +0.3 or more), each with its gap to the
 /// goals [`GOAL`].
 const BOUNDS: [Bound; 8] = [
-    // Measured 14.2 / 12.6 dB, flicker 1.02: 15.8 dB and 12.4 dB short of the PSNR goals,
-    // flicker within its goal.
+    // Measured 20.3 / 17.2 dB, flicker 1.02 (depth correction's one-pixel cracks filled
+    // from the nearer side): 9.7 dB and 7.8 dB short of the PSNR goals, flicker within.
+    // Left: the quantised slabs' holes and specks (raw slabs measure about 2.5 dB more)
+    // and the silhouette where a ray's surface is found or not.
     Bound {
         name: "statue",
         technique: "light field",
         part: "tour",
-        mean: Some(12.5),
-        worst: Some(11.0),
+        mean: Some(18.8),
+        worst: Some(15.7),
         flicker: Some(1.3),
     },
-    // Measured 55.5 / 38.7 dB (2 frames warped), flicker 1.01: meets the goals.
+    // Measured 49.2 dB in the one frame warped at this size (the rooms drawn as geometry
+    // are now the occluder, not in the mask; a warp leaving over 5% of its opening holes
+    // draws its room's geometry): meets the goals; flicker not measured here (no two
+    // consecutive warped frames; 1.01 over 33 frames at 640x360).
     Bound {
         name: "portals",
         technique: "LDI portals",
         part: "building",
-        mean: Some(50.0),
-        worst: Some(35.0),
-        flicker: Some(1.3),
+        mean: Some(45.0),
+        worst: Some(45.0),
+        flicker: None,
     },
     // Measured 51.5 / 51.5 dB: meets the PSNR goals; flicker not measured.
     Bound {
@@ -187,18 +192,24 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(24.0),
         flicker: None,
     },
-    // Measured 26.2 / 21.1 dB, flicker 1.00: 3.8 dB and 3.9 dB short, flicker within.
+    // Measured 20.5 / 16.5 dB, flicker 1.00, over the buildings drawn from images alone
+    // (those drawn as geometry are the occluder: before, their identical pixels were in
+    // the mask and a frame with every image hidden counted 99 dB, 26.2 / 21.1 here);
+    // the images are cutouts (no blended fringe round the buildings). 9.5 dB and 8.5 dB
+    // short of the PSNR goals: the images' silhouettes and bases a pixel off the
+    // geometry's where they peek out between buildings; flicker within.
     Bound {
         name: "city",
         technique: "impostors",
         part: "tour",
-        mean: Some(24.5),
-        worst: Some(19.5),
+        mean: Some(19.0),
+        worst: Some(15.0),
         flicker: Some(1.3),
     },
-    // Measured 21.7 / 17.9 dB, flicker 1.01 (was 14.7 / 13.0, 1.08, from one side bake),
-    // against the tree meshes where the billboards stand: 8.3 dB and 7.1 dB short of the
-    // PSNR goals. Each tree now shows the view baked nearest the eye's direction (12
+    // Measured 19.9 / 17.2 dB, flicker 1.02, over the billboards' pixels alone (the trees
+    // drawn as meshes are the occluder; they were in the mask, identical in both: 21.7 /
+    // 17.9 then; 14.7 / 13.0, 1.08, from one side bake), against the tree meshes where the
+    // billboards stand: 10.1 dB and 7.8 dB short of the PSNR goals. Each tree now shows the view baked nearest the eye's direction (12
     // azimuths x 5 elevations), and those near the eye are drawn as their meshes; what
     // is left is mostly the sprites' filtered edges and facets against the meshes' aliased
     // ones on trees a few pixels wide, flicker within.
@@ -206,8 +217,8 @@ const BOUNDS: [Bound; 8] = [
         name: "forest",
         technique: "billboards",
         part: "tour",
-        mean: Some(20.5),
-        worst: Some(16.5),
+        mean: Some(18.4),
+        worst: Some(15.7),
         flicker: Some(1.3),
     },
     // Measured 31.7 / 21.9 dB, flicker 1.02 (against particles prepared for the frame's

@@ -11,7 +11,10 @@
 //!   frame's size, into a transparent target. Its *screen mask* is the pixels either covers
 //!   (alpha > 0). An attraction seen through something (the portals, through the hall's
 //!   doorways) has that occluder drawn first into both and into a third target alone; its
-//!   mask is then the pixels where either differs from the occluder alone. Nothing is
+//!   mask is then the pixels where either differs from the occluder alone. The city's
+//!   occluder is its buildings the planner drew as geometry: the mask is the image-drawn
+//!   buildings' pixels (it was every building's, the geometry ones identical in both, and
+//!   a frame whose images were all hidden or off screen counted 99 dB). Nothing is
 //!   prepared again, so measuring changes nothing the tour shows; the renders happen after
 //!   the frame's clock stopped and are never in a frame time. A subject whose geometry
 //!   depends on the eye (a cloud's particles face it and fade near it) is measured
@@ -45,6 +48,7 @@ use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::cloud::Cloud;
 use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::portal::PortalMode;
 use ibr::subject::Subject;
 use ibr::technique::{FrameView, Technique};
 
@@ -174,15 +178,27 @@ fn statue<'a>(show: &'a Showcase, _: &'a mut Stand, _: &Camera, _: u32) -> Optio
     Some(drawn)
 }
 
-fn city<'a>(show: &'a Showcase, _: &'a mut Stand, _: &Camera, _: u32) -> Option<Drawn<'a>> {
-    let imp = &show.ibr.impostors;
-    if imp.readout().city.images() == 0 {
-        return None;
-    }
+/// The buildings drawn from images (impostors, layers), against their geometry; the
+/// buildings the planner drew as geometry are the occluder under both (module docs), so
+/// the mask is the image-drawn buildings' pixels alone, not diluted by geometry drawn
+/// identically in both.
+fn city<'a>(show: &'a Showcase, _: &'a mut Stand, cam: &Camera, _: u32) -> Option<Drawn<'a>> {
+    let plan = &show.ibr.impostors.city;
     let mut drawn = Drawn::new(&show.scene.lighting);
-    imp.city.draws(&mut drawn.image);
-    imp.city.reference(&mut drawn.truth);
-    Some(drawn)
+    let eye = cam.eye();
+    for (i, c) in plan.choices().iter().enumerate() {
+        let Some(rep) = c.rep.and_then(|r| plan.representation(r)) else {
+            continue;
+        };
+        let object = &plan.objects[i];
+        if rep.draws_subject() {
+            rep.draw(i, object, eye, &mut drawn.occluder);
+        } else {
+            rep.draw(i, object, eye, &mut drawn.image);
+            object.draws(&mut drawn.truth);
+        }
+    }
+    (!drawn.image.is_empty()).then_some(drawn)
 }
 
 /// The clouds drawn from images, against their particles prepared for this eye.
@@ -209,24 +225,35 @@ fn clouds<'a>(
 }
 
 /// The billboard trees as the frame drew them, against the tree meshes they were baked
-/// from, standing where the billboards do.
+/// from, standing where the billboards do; the trees the frame drew as meshes (near the
+/// eye) are the occluder under both, so the mask is the billboards' pixels alone (it was
+/// the near meshes' too, identical in both).
 fn forest<'a>(show: &'a Showcase, _: &'a mut Stand, cam: &Camera, _: u32) -> Option<Drawn<'a>> {
     let layer = &show.ibr;
     let mut drawn = Drawn::new(&show.scene.lighting);
-    layer.forest_draws(&mut drawn.image);
-    layer.forest_geometry(cam, &mut drawn.truth);
+    layer.forest_sprites(&mut drawn.image);
+    layer.forest_near(&mut drawn.occluder);
+    layer.forest_geometry(cam, true, &mut drawn.truth);
     Some(drawn)
 }
 
+/// The rooms drawn from their LDIs, against their geometry, seen through the hall's
+/// doorways; the hall and the rooms drawn as geometry this frame are the occluder (they
+/// were in the mask, identical in both).
 fn portals(tour: &BuildingTour) -> Option<Drawn<'_>> {
     if tour.last().warped == 0 {
         return None;
     }
     let mut drawn = Drawn::new(&tour.building.lighting);
     tour.building.hall.draws(&mut drawn.occluder);
-    tour.portals.draws(&mut drawn.image);
     drawn.passes = Some(&tour.portals);
-    tour.portals.reference(&mut drawn.truth);
+    for p in &tour.portals.portals {
+        match p.mode() {
+            PortalMode::Warped => p.behind.draws(&mut drawn.truth),
+            PortalMode::Geometry => p.behind.draws(&mut drawn.occluder),
+            _ => {}
+        }
+    }
     Some(drawn)
 }
 
@@ -387,6 +414,57 @@ fn change(prev: &Renders, now: &Renders) -> (f64, f64, f64) {
     (di, dt, m)
 }
 
+/// Environment variable naming a folder: when set, every measured frame of every
+/// attraction is written there as one PNG, image | geometry | difference (x4) over the
+/// mask, named by attraction, frame and PSNR, for looking at what the measure sees (the
+/// panorama sky's frames too, named by their place along its walk, in thousandths).
+pub const DUMP: &str = "PARALLAX_ATTRACTIONS_DUMP";
+
+/// Writes frame `n` of attraction `name`, its image and geometry (RGBA8, `w` x `h`) and
+/// their difference over `mask`, side by side into `dir` ([`DUMP`]); a failed write is
+/// reported, not fatal.
+pub(crate) fn dump(
+    dir: &std::path::Path,
+    name: &str,
+    n: usize,
+    e: ImageError,
+    [image, truth]: [&[u8]; 2],
+    mask: &[bool],
+    (w, h): (u32, u32),
+) {
+    let (w, h) = (w as usize, h as usize);
+    let mut out = vec![0u8; 3 * w * h * 4];
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            let (a, b) = (px(image, i), px(truth, i));
+            let d: Vec<u8> = (0..3)
+                .map(|c| (a[c].abs_diff(b[c]) as u32 * 4).min(255) as u8)
+                .collect();
+            let m = if mask[i] { 255 } else { 0 };
+            for (k, p) in [
+                [a[0], a[1], a[2], 255],
+                [b[0], b[1], b[2], 255],
+                [d[0], d[1], d[2], m],
+            ]
+            .iter()
+            .enumerate()
+            {
+                let o = 4 * (y * 3 * w + k * w + x);
+                out[o..o + 4].copy_from_slice(p);
+            }
+        }
+    }
+    let _ = std::fs::create_dir_all(dir);
+    let path = dir.join(format!(
+        "{name}_{n:04}_{:.1}db.png",
+        e.psnr_capped(PSNR_CAP)
+    ));
+    if let Err(err) = engine::load::write_png_rgba8(&path, 3 * w as u32, h as u32, &out) {
+        eprintln!("{}: {err}", path.display());
+    }
+}
+
 /// Measures the attractions frame by frame; one [`Track`] per row of [`ATTRACTIONS`].
 #[derive(Debug)]
 pub struct Meter {
@@ -500,7 +578,21 @@ impl Meter {
             r.render(under(Vec::new()), cam, l, &mut self.base, &opts);
         }
         let renders = Renders::of(&self.image, &self.truth, occluded.then_some(&self.base));
-        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth, renders);
+        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth, renders.clone());
+        if let (Some(dir), Some(e)) = (std::env::var_os(DUMP), self.last[k]) {
+            let n = self.tracks[k].frames - 1;
+            let name = ATTRACTIONS[k].name;
+            let r = &renders;
+            dump(
+                dir.as_ref(),
+                name,
+                n,
+                e,
+                [&r.image, &r.truth],
+                &r.mask,
+                (w, h),
+            );
+        }
     }
 
     /// The last error measured of the attraction named `name` (`None`: not drawn from

@@ -137,20 +137,32 @@ impl IbrLayer {
         &self.billboards
     }
 
-    /// Appends the forest's draws as the last frame prepared them: its billboards and the
-    /// near trees' meshes.
-    pub fn forest_draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+    /// Appends the forest's billboards alone, as the last frame prepared them.
+    pub fn forest_sprites<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         self.forest.draws(out);
+    }
+
+    /// Appends the meshes of the trees the last frame drew as meshes (the near ones).
+    pub fn forest_near<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         out.extend(self.near.iter().map(|&i| self.trees.draw(i)));
     }
 
     /// Appends the forest as geometry: each tree's mesh (the one its sprite was baked
     /// from, as it stands, unturned) at its billboard's place and height, tinted as its
-    /// billboard, the trees outside `camera`'s view left out.
-    pub fn forest_geometry<'a>(&'a self, camera: &Camera, out: &mut Vec<Draw<'a>>) {
+    /// billboard, the trees outside `camera`'s view left out, and with `sprites_only` the
+    /// trees the last frame drew as meshes.
+    pub fn forest_geometry<'a>(
+        &'a self,
+        camera: &Camera,
+        sprites_only: bool,
+        out: &mut Vec<Draw<'a>>,
+    ) {
         let frustum = Frustum::new(camera.clip_from_world());
         let t = &self.trees;
         for (i, &(kind, at)) in t.trees.iter().enumerate() {
+            if sprites_only && self.near.contains(&i) {
+                continue;
+            }
             let b = t.bounds[kind];
             if frustum.sees(at.transform_point3(b.center), b.radius * at.x_axis.length()) {
                 out.push(t.draw(i));

@@ -72,6 +72,19 @@ const CITY_BUDGET: usize = 6;
 const CLOUD_MAX_SIDE: u32 = 256;
 const CITY_MAX_SIDE: u32 = 256;
 
+/// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`].
+fn city_impostors(config: Config, n: usize) -> ImpostorSet {
+    let mut set = ImpostorSet::new(config, n);
+    set.cutout = Some(CITY_CUTOUT);
+    set
+}
+
+/// The coverage from which a city impostor's pixel is drawn (opaque): a pixel the
+/// geometry covers by its centre. Blended, the bilinear image's half-texel fringe round
+/// every building covered pixels the geometry leaves empty (the tour measured 23.9 dB
+/// mean over the image-drawn buildings blended, 24.5 as cutouts, at 640x360).
+const CITY_CUTOUT: f32 = 0.5;
+
 /// Whether the XZ point `(x, z)` is in the city district or within `margin` of it.
 pub fn in_city(x: f32, z: f32, margin: f32) -> bool {
     let half = CITY_GRID as f32 * CITY_SPACING * 0.5 + margin;
@@ -129,7 +142,7 @@ impl Impostors {
         let n = buildings.len();
         let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
             Box::new(Geometry),
-            Box::new(ImpostorSet::new(config(CITY_BUDGET, CITY_MAX_SIDE), n)),
+            Box::new(city_impostors(config(CITY_BUDGET, CITY_MAX_SIDE), n)),
             Box::new(LayerSet::new(
                 layers::Config {
                     budget: Budget::count(CITY_BUDGET),

@@ -100,6 +100,10 @@ impl Statue {
         let quantise = start.elapsed();
         let mut object = LightFieldObject::with_slabs("light-field statue", slabs, bounds);
         object.reference = Some(geometry);
+        // Depth correction leaves one-pixel cracks where the rings pass in front of each
+        // other (no camera finds the surface there); filled from the nearer side, the
+        // tour measured 20.4 / 18.5 dB mean / worst at 640x360 (19.8 / 18.0 unfilled).
+        object.fill_cracks = true;
         Statue {
             object,
             lighting,

@@ -2,7 +2,7 @@
 //! draws it, handed out to impostors and taken back, so refreshing an impostor rewrites an
 //! existing texture instead of allocating one.
 
-use engine::{BlendMode, Encoding, Filter, Material, Rgba, Sampler, Texture, Wrap};
+use engine::{AlphaMode, BlendMode, Encoding, Filter, Material, Rgba, Sampler, Texture, Wrap};
 use std::sync::Arc;
 
 /// One pooled texture and its material (the material holds the only `Arc` to the texture,
@@ -87,6 +87,14 @@ impl Pool {
     pub fn set_tint(&mut self, slot: usize, tint: Rgba) {
         if let Some(s) = self.slots.get_mut(slot) {
             s.material.base_color = tint;
+        }
+    }
+
+    /// Sets how `slot`'s material uses its image's alpha (blended by default; a cutout,
+    /// [`AlphaMode::Mask`], keeps the pixels more than the cutoff covered, as geometry's).
+    pub fn set_alpha(&mut self, slot: usize, alpha: AlphaMode) {
+        if let Some(s) = self.slots.get_mut(slot) {
+            s.material.alpha_mode = alpha;
         }
     }
 

@@ -6,7 +6,7 @@
 //! fills.
 
 use super::{db, over_sky, Frame};
-use crate::showcase::{self, FAR};
+use crate::showcase::{self, attractions, FAR};
 use engine::{Camera, Draw, Lighting};
 use glam::{Quat, Vec3};
 use ibr::capture::Capturer;
@@ -98,7 +98,10 @@ pub(super) struct SkyPart {
 impl SkyPart {
     pub(super) fn new(draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
         let focal = focal_px(&showcase::camera(SKY_CENTRE, Vec3::NEG_Z, w, h), w);
-        // Faces about as sharp as the view: half a face spans the focal length.
+        // Faces about as sharp as the view: half a face spans the focal length. (Twice as
+        // sharp, up to 1024 texels, measured 24.1 / 19.9 dB mean / worst at 640x360
+        // against 22.8 / 20.2, for four times the capture: the worst frames are the
+        // parallax's, 5 px from the capture point, not the faces'.)
         let size = ((2.0 * focal) as u32).clamp(64, 512);
         let sky = Sky::new(
             draws,
@@ -195,6 +198,11 @@ impl SkyPart {
         over_sky(&self.truth, &mut self.truth_rgba);
         (out.width, out.height) = (w, h);
         let error = compare_masked(&out.rgba, &self.truth_rgba, (w, h), &self.mask);
+        if let (Some(dir), Some(e)) = (std::env::var_os(attractions::DUMP), error) {
+            let n = (t * 1000.0) as usize;
+            let both = [out.rgba.as_slice(), self.truth_rgba.as_slice()];
+            attractions::dump(dir.as_ref(), "sky", n, e, both, &self.mask, (w, h));
+        }
         out.measure = truth + measure.elapsed();
         SkyFrame {
             predicted_px: self.sky.map.predicted_px(eye, self.focal),

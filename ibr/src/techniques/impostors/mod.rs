@@ -289,6 +289,11 @@ pub struct ImpostorSet {
     prior: plan::GradientPrior,
     /// The planner's debug tint of the images it draws ([`crate::core::Representation::set_tint`]).
     plan_tint: Option<Rgba>,
+    /// Draw the images the planner chooses as cutouts: pixels at least this covered kept
+    /// opaque, the others dropped, as the rasterizer covers a pixel by its centre, so an
+    /// image's silhouette matches its geometry's instead of a half-texel blended fringe
+    /// around it (`None`, the default: blended).
+    pub cutout: Option<f32>,
 }
 
 impl ImpostorSet {
@@ -306,6 +311,7 @@ impl ImpostorSet {
             scheduler: Scheduler::default(),
             prior: plan::GradientPrior::default(),
             plan_tint: None,
+            cutout: None,
         }
     }
 

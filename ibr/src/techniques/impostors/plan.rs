@@ -9,7 +9,7 @@ use crate::core::Subject;
 use crate::core::PRIOR_GRADIENT;
 use crate::core::REASK_MOVE;
 use crate::core::{image_bytes, Estimate, Representation, Sight, Work};
-use engine::{Draw, Rgba};
+use engine::{AlphaMode, Draw, Rgba};
 use glam::Vec3;
 
 /// The gradient an image of a subject never captured is expected to have, learnt from the
@@ -148,9 +148,14 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     /// [`Representation::set_tint`] gets it here).
     fn prepare(&mut self, objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {
         let tint = self.plan_tint.unwrap_or(Rgba::WHITE);
+        let alpha = match self.cutout {
+            Some(cutoff) => AlphaMode::Mask { cutoff },
+            None => AlphaMode::Blend,
+        };
         for &i in objects {
             if let Some(slot) = self.impostors.get(i).and_then(|imp| imp.slot) {
                 self.pool.set_tint(slot, tint);
+                self.pool.set_alpha(slot, alpha);
             }
         }
     }

@@ -49,6 +49,12 @@ pub struct LightFieldObject {
     /// The geometry captured into the light field, if kept: drawn when no slab sees the
     /// object.
     pub reference: Option<MeshGroup>,
+    /// Fills cracks: a hole between two drawn pixels (left and right, or above and below)
+    /// takes the nearer one's colour and depth. Depth correction leaves rays it finds no
+    /// surface for, where the cameras around disagree, undrawn; inside the object those
+    /// are one-pixel cracks at its depth edges (a ring passing in front of another), not
+    /// silhouette, which has a drawn pixel on one side only.
+    pub fill_cracks: bool,
     image: Composite,
     showing: Showing,
 }
@@ -85,6 +91,7 @@ impl LightFieldObject {
             bounds,
             lookup: Lookup::default(),
             reference: None,
+            fill_cracks: false,
             image: Composite::new(camera),
             showing: Showing::Nothing,
         }
@@ -159,7 +166,12 @@ impl Technique for LightFieldObject {
             None => Showing::Nothing,
         };
         match self.showing {
-            Showing::Slab(k) => self.image.render(&self.slabs[k], view, self.lookup, None),
+            Showing::Slab(k) => {
+                self.image.render(&self.slabs[k], view, self.lookup, None);
+                if self.fill_cracks {
+                    self.image.fill_cracks();
+                }
+            }
             _ => self.image.clear(),
         }
     }
@@ -313,7 +325,7 @@ pub(crate) fn drawn_rect(
 /// pass that blends its edges "over" and writes its proxy's depth.
 #[derive(Debug)]
 pub(crate) struct Composite {
-    image: Warped,
+    pub(crate) image: Warped,
     /// The pixels the image covers (`None`: nothing to draw).
     pub(crate) rect: Option<PixelRect>,
     /// The last render's work.
@@ -362,6 +374,41 @@ impl Composite {
         for c in self.image.color.iter_mut().filter(|c| **c != 0) {
             let p = unpack(ENCODING, *c);
             *c = enc.pack(p.r * tint.r, p.g * tint.g, p.b * tint.b, p.a);
+        }
+    }
+
+    /// Fills one-pixel cracks ([`LightFieldObject::fill_cracks`]), reading the image as
+    /// it was before (a filled pixel fills nothing).
+    pub(crate) fn fill_cracks(&mut self) {
+        let Some(r) = self.rect else { return };
+        let (w, h) = ((r.x1 - r.x0) as usize, (r.y1 - r.y0) as usize);
+        let image = &mut self.image;
+        if w < 3 || h < 3 || image.color.len() < w * h {
+            return;
+        }
+        let (color, disparity) = (image.color.clone(), image.disparity.clone());
+        for y in 1..h - 1 {
+            for x in 1..w - 1 {
+                let i = y * w + x;
+                if color[i] != 0 {
+                    continue;
+                }
+                let mut best: Option<usize> = None;
+                for (a, b) in [(i - 1, i + 1), (i - w, i + w)] {
+                    if color[a] == 0 || color[b] == 0 {
+                        continue;
+                    }
+                    // The nearer of the pair (larger disparity), the nearer of the pairs.
+                    let near = if disparity[a] >= disparity[b] { a } else { b };
+                    if best.is_none_or(|k| disparity[near] > disparity[k]) {
+                        best = Some(near);
+                    }
+                }
+                if let Some(k) = best {
+                    image.color[i] = color[k];
+                    image.disparity[i] = disparity[k];
+                }
+            }
         }
     }
 

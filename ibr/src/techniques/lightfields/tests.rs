@@ -521,3 +521,41 @@ fn a_saved_light_field_loads_back_and_bad_files_are_refused_by_name() {
     ));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// One-pixel cracks inside an image (a hole with drawn pixels on both sides, across or
+/// along) take the nearer side's colour and depth; a silhouette's outside (drawn on one
+/// side only) stays a hole.
+#[test]
+fn cracks_between_drawn_pixels_are_filled_from_the_nearer_side() {
+    let (near, far) = (0xff00_00ffu32, 0xffff_0000u32);
+    // 5 x 3: a column of near pixels, a crack, far pixels; the last column empty.
+    let mut c = object::Composite::new(Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0));
+    c.image = Warped::new(5, 3, c.image.camera);
+    for y in 0..3 {
+        for (x, (col, d)) in [(near, 0.5), (0, 0.0), (far, 0.1), (far, 0.1), (0, 0.0)]
+            .into_iter()
+            .enumerate()
+        {
+            if col != 0 {
+                c.image.color[y * 5 + x] = col;
+                c.image.disparity[y * 5 + x] = d;
+            }
+        }
+    }
+    c.rect = Some(engine::PixelRect {
+        x0: 0,
+        y0: 0,
+        x1: 5,
+        y1: 3,
+    });
+    let holes = c.image.disparity[1];
+    c.fill_cracks();
+    // The middle row's crack (x = 1) has near on its left, far on its right: near.
+    assert_eq!(c.image.color[5 + 1], near);
+    assert_eq!(c.image.disparity[5 + 1], 0.5);
+    // The outside column (x = 4) has a drawn pixel on one side only: still a hole; so
+    // are the border rows (no pixel above or below them to pair).
+    assert_eq!(c.image.color[5 + 4], 0);
+    assert_eq!(c.image.color[1], 0);
+    assert_eq!(c.image.disparity[1], holes);
+}

@@ -381,8 +381,11 @@ fn ldi_size(camera: &Camera, side: u32) -> (u32, u32) {
 pub struct PortalFrame {
     /// Portals warped.
     pub warped: u64,
-    /// Portals drawn as geometry.
+    /// Portals drawn as geometry (those of `gaping` included).
     pub geometry: u64,
+    /// Portals drawn as geometry because their LDI's warp left more than 5% of the
+    /// opening's pixels holes (the eye sees much the LDI does not hold).
+    pub gaping: u64,
     /// Portals off the view, not drawn.
     pub culled: u64,
     /// LDIs finished this frame.
@@ -509,9 +512,6 @@ impl Portals {
                 frame.geometry += 1;
                 continue;
             }
-            p.mode = PortalMode::Warped;
-            frame.warped += 1;
-            frame.predicted_px = frame.predicted_px.max(predicted);
             // Warped into the outline's rectangle only (a crop of the frame's camera), so
             // the warp's image, its fill and the copy cost the opening's pixels.
             let (lo, hi) = (
@@ -522,7 +522,19 @@ impl Portals {
             self.warper.begin(&crop, x1 - x0, y1 - y0);
             frame.stats += self.warper.add_prepared(&p.prepared, &cfg.options);
             let out = self.warper.output_mut();
-            frame.holes += holes_inside(out, &outline);
+            let (holes, inside) = holes_inside(out, &outline);
+            if cfg.image == PortalImage::Ldi && holes as f64 > MAX_LDI_HOLES * inside as f64 {
+                // The eye sees what the LDI does not hold (built from eyes that did not
+                // see there): the geometry, not a hole-filled smear.
+                p.mode = PortalMode::Geometry;
+                frame.geometry += 1;
+                frame.gaping += 1;
+                continue;
+            }
+            p.mode = PortalMode::Warped;
+            frame.warped += 1;
+            frame.predicted_px = frame.predicted_px.max(predicted);
+            frame.holes += holes;
             self.filler.fill(out, cfg.fill, cfg.options.edge);
             frame.pixels += clip_into(&mut self.composite, out, &outline, self.debug_tint);
             self.covered = Some(match self.covered {
@@ -534,8 +546,16 @@ impl Portals {
     }
 }
 
-/// Holes of `image` (the outline's rectangle) inside `outline` (before filling).
-fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
+/// The share of an opening's pixels an LDI's warp may leave as holes: past it, the eye
+/// sees much the LDI does not hold and the portal draws its geometry that frame. A
+/// current LDI leaves almost none (a crack's worth); a stale one seen from where its
+/// eyes did not look leaves whole walls, which the fill smeared with the doorway's
+/// edges (the grey and orange smudges of issue 39's `building_0033` to `_0037`).
+pub(crate) const MAX_LDI_HOLES: f64 = 0.05;
+
+/// Holes of `image` (the outline's rectangle) inside `outline` (before filling), and the
+/// pixels inside it.
+fn holes_inside(image: &Warped, outline: &Outline) -> (u64, u64) {
     let w = image.width() as usize;
     let [x0, y0, _, y1] = outline.bounds;
     (y0..y1)
@@ -543,12 +563,14 @@ fn holes_inside(image: &Warped, outline: &Outline) -> u64 {
             let (a, b) = outline.span(y);
             let row = (y - y0) as usize * w;
             let span = row + (a - x0) as usize..row + (b - x0) as usize;
-            image.disparity[span]
+            let n = span.len() as u64;
+            let holes = image.disparity[span]
                 .iter()
                 .filter(|&&d| d.is_nan() || d < 0.0)
-                .count() as u64
+                .count() as u64;
+            (holes, n)
         })
-        .sum()
+        .fold((0, 0), |(h, n), (a, b)| (h + a, n + b))
 }
 
 /// Copies the pixels of `from` (the outline's rectangle) inside `outline` into `into` (the
