@@ -37,6 +37,7 @@
 mod bin;
 mod clip;
 mod front;
+mod queue;
 mod raster;
 mod setup;
 mod shade;

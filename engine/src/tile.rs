@@ -2,6 +2,7 @@
 //! lazily block by block and resolved into the target at the end.
 
 use crate::color::{unpack, Encoder, Encoding, Premul};
+use crate::queue::Queue;
 use crate::shade::LANES;
 use crate::simd::F8;
 use crate::target::{TILE, TILE_PIXELS};
@@ -35,6 +36,8 @@ pub struct TileBuf {
     far_stale: u64,
     touched: u64,
     clear: Premul,
+    /// The raster stage's fragment queue (scratch, empty between triangles).
+    pub(crate) queue: Queue,
 }
 
 impl Default for TileBuf {
@@ -47,6 +50,7 @@ impl Default for TileBuf {
             far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
+            queue: Queue::default(),
         }
     }
 }

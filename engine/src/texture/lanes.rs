@@ -3,7 +3,7 @@
 //! the scalar [`Texture::sample`].
 
 use super::{Filter, Sampler, Texture, Wrap};
-use crate::simd::{F8, I8, M8};
+use crate::simd::{F8, I8, LANES, M8};
 
 impl Texture {
     /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
@@ -34,6 +34,45 @@ impl Texture {
                 std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
             }
         }
+    }
+
+    /// [`Texture::sample8_lanes`] with a level of detail per lane (lanes gathered from
+    /// several rows): each kept lane is filtered exactly as `sample8_lanes` would filter
+    /// it with its own `lod`. Lanes sharing a mip level are filtered together.
+    pub fn sample8_lods(&self, s: &Sampler, u: F8, v: F8, lod: &[f32; LANES], keep: M8) -> [F8; 4] {
+        let bits = keep.bits();
+        let first = lod[(bits.trailing_zeros() as usize).min(LANES - 1)];
+        let one_lod = (0..LANES).all(|l| bits >> l & 1 == 0 || lod[l] == first);
+        if s.filter != Filter::Trilinear || one_lod {
+            return self.sample8_lanes(s, u, v, first, keep);
+        }
+        let level = lod.map(|l| self.mip_levels(l));
+        let mut out = [F8::splat(0.0); 4];
+        let mut left = bits;
+        while left != 0 {
+            let l0 = level[left.trailing_zeros() as usize].0;
+            let same = (0..LANES)
+                .filter(|&l| left >> l & 1 != 0 && level[l].0 == l0)
+                .fold(0u32, |a, l| a | 1 << l);
+            left &= !same;
+            let m = M8::from_bits(same);
+            let a = self.bilinear8(s, l0, u, v, m);
+            let up = (0..LANES)
+                .filter(|&l| same >> l & 1 != 0 && level[l].1 > 0.0)
+                .fold(0u32, |a, l| a | 1 << l);
+            let got = if up == 0 {
+                a
+            } else {
+                let b = self.bilinear8(s, l0 + 1, u, v, M8::from_bits(up));
+                let t = F8::from_array(level.map(|(_, t)| t));
+                let up = M8::from_bits(up);
+                std::array::from_fn(|c| up.select((b[c] - a[c]).mul_add(t, a[c]), a[c]))
+            };
+            for c in 0..4 {
+                out[c] = m.select(got[c], out[c]);
+            }
+        }
+        out
     }
 
     fn nearest8(&self, s: &Sampler, u: F8, v: F8, keep: M8) -> [F8; 4] {
