@@ -11,6 +11,7 @@
 
 use crate::shade::{Pixels, LANES};
 use crate::simd::F8;
+use crate::target::TILE_PIXELS;
 
 /// A row tested and waiting for its colour.
 #[derive(Clone, Copy, Debug)]
@@ -29,9 +30,11 @@ pub(crate) struct Queue {
     /// Rows waiting, from `done` on; rows before `done` are written.
     pub rows: Vec<Waiting>,
     pub done: usize,
-    /// Shaded straight `[r, g, b, a]` of the waiting rows' lanes, in row and lane order,
-    /// from `used` on.
-    pub shaded: Vec<[f32; 4]>,
+    /// Shaded straight colour of the waiting rows' lanes, one plane per channel, in row
+    /// and lane order: `len` values, read up to `used`. Grown once to hold a tile's pixels
+    /// (a triangle's fragments in a tile) plus a batch of slack for whole-vector stores.
+    pub shaded: [Vec<f32>; 4],
+    pub len: usize,
     pub used: usize,
     /// The batch being filled: `n` lanes.
     pub n: usize,
@@ -82,40 +85,59 @@ impl Queue {
     /// Keeps the shaded colours of the first `n` lanes of `out`.
     #[inline]
     pub fn keep(&mut self, out: &[F8; 4], n: usize) {
-        let o = out.map(F8::to_array);
-        self.shaded
-            .extend((0..n).map(|k| [o[0][k], o[1][k], o[2][k], o[3][k]]));
+        for (plane, o) in self.shaded.iter_mut().zip(out) {
+            if plane.len() < self.len + LANES {
+                plane.resize((self.len + LANES).max(TILE_PIXELS + LANES), 0.0);
+            }
+            o.store(&mut plane[self.len..]);
+        }
+        self.len += n;
     }
 
-    /// The next waiting row and its lanes' colours (zeros in lanes not in its mask), if all
-    /// its lanes are shaded; marks it written.
+    /// The next waiting row and its lanes' colours (lanes not in its mask hold any of its
+    /// colours), if all its lanes are shaded; marks it written.
     #[inline]
     pub fn next_ready(&mut self) -> Option<(Waiting, [F8; 4])> {
         let w = *self.rows.get(self.done)?;
         let count = w.mask.count_ones() as usize;
-        if self.shaded.len() - self.used < count {
+        if self.len - self.used < count {
             return None;
         }
-        let mut lanes = [[0.0f32; LANES]; 4];
-        let mut bits = w.mask;
-        for s in &self.shaded[self.used..self.used + count] {
-            let l = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            for c in 0..4 {
-                lanes[c][l] = s[c];
-            }
-        }
+        // The row's lanes sit packed from `used`: spread them back to their places.
+        let idx = EXPAND[w.mask as usize & 0xff];
+        let used = self.used;
+        let out = std::array::from_fn(|c| F8::load(&self.shaded[c][used..]).permute(idx));
         self.done += 1;
         self.used += count;
         if self.done == self.rows.len() {
             self.rows.clear();
-            self.shaded.clear();
             self.done = 0;
+            self.len = 0;
             self.used = 0;
         }
-        Some((w, lanes.map(F8::from_array)))
+        Some((w, out))
     }
 }
+
+/// For each 8-lane mask, lane `l`'s place among the mask's set lanes (its rank: set lanes
+/// below it), so that packed values spread back to their lanes by one permute.
+const EXPAND: [[u32; LANES]; 256] = {
+    let mut t = [[0u32; LANES]; 256];
+    let mut m = 0;
+    while m < 256 {
+        let mut l = 0;
+        let mut rank = 0;
+        while l < LANES {
+            if m >> l & 1 != 0 {
+                t[m][l] = rank;
+                rank += 1;
+            }
+            l += 1;
+        }
+        m += 1;
+    }
+    t
+};
 
 #[cfg(test)]
 mod tests {

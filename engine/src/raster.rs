@@ -115,13 +115,13 @@ pub fn raster_tri<S: FragShader>(
         mode,
         soft,
         stats,
-        queue: std::mem::take(&mut buf.queue),
+        queue: buf.queue.take().unwrap_or_default(),
     };
     match tri.vertices() {
         None => rows.small(buf, [x0, y0, x1, y1]),
         Some((x, y)) => rows.walk(buf, &edges_of(&x, &y), [x0, y0, x1, y1]),
     }
-    buf.queue = rows.queue;
+    buf.queue = Some(rows.queue);
 }
 
 /// One triangle's pass over one tile: what every covered row needs.
@@ -137,7 +137,7 @@ struct Rows<'a, S: FragShader> {
     /// was reloaded as one wide vector that waited on the row kernel's scalar stores.
     stats: &'a mut FrameStats,
     /// Batched shaders' fragments waiting for their batch (see [`crate::queue`]).
-    queue: Queue,
+    queue: Box<Queue>,
 }
 
 impl<S: FragShader> Rows<'_, S> {

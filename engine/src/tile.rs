@@ -36,8 +36,9 @@ pub struct TileBuf {
     far_stale: u64,
     touched: u64,
     clear: Premul,
-    /// The raster stage's fragment queue (scratch, empty between triangles).
-    pub(crate) queue: Queue,
+    /// The raster stage's fragment queue (scratch, empty between triangles; boxed so that
+    /// lending it to a triangle moves a pointer).
+    pub(crate) queue: Option<Box<Queue>>,
 }
 
 impl Default for TileBuf {
@@ -50,7 +51,7 @@ impl Default for TileBuf {
             far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
-            queue: Queue::default(),
+            queue: None,
         }
     }
 }

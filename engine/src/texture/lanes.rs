@@ -41,12 +41,11 @@ impl Texture {
     /// it with its own `lod`. Lanes sharing a mip level are filtered together.
     pub fn sample8_lods(&self, s: &Sampler, u: F8, v: F8, lod: &[f32; LANES], keep: M8) -> [F8; 4] {
         let bits = keep.bits();
-        let first = lod[(bits.trailing_zeros() as usize).min(LANES - 1)];
-        let one_lod = (0..LANES).all(|l| bits >> l & 1 == 0 || lod[l] == first);
-        if s.filter != Filter::Trilinear || one_lod {
-            return self.sample8_lanes(s, u, v, first, keep);
+        if s.filter != Filter::Trilinear || bits == 0 {
+            return self.sample8_lanes(s, u, v, 0.0, keep);
         }
         let level = lod.map(|l| self.mip_levels(l));
+        let t = F8::from_array(level.map(|(_, t)| t));
         let mut out = [F8::splat(0.0); 4];
         let mut left = bits;
         while left != 0 {
@@ -57,17 +56,16 @@ impl Texture {
             left &= !same;
             let m = M8::from_bits(same);
             let a = self.bilinear8(s, l0, u, v, m);
-            let up = (0..LANES)
-                .filter(|&l| same >> l & 1 != 0 && level[l].1 > 0.0)
-                .fold(0u32, |a, l| a | 1 << l);
-            let got = if up == 0 {
+            let up = m.and(t.gt(F8::splat(0.0)));
+            let got = if up.bits() == 0 {
                 a
             } else {
-                let b = self.bilinear8(s, l0 + 1, u, v, M8::from_bits(up));
-                let t = F8::from_array(level.map(|(_, t)| t));
-                let up = M8::from_bits(up);
+                let b = self.bilinear8(s, l0 + 1, u, v, up);
                 std::array::from_fn(|c| up.select((b[c] - a[c]).mul_add(t, a[c]), a[c]))
             };
+            if same == bits {
+                return got;
+            }
             for c in 0..4 {
                 out[c] = m.select(got[c], out[c]);
             }
