@@ -44,15 +44,23 @@ impl Texture {
         if s.filter != Filter::Trilinear || bits == 0 {
             return self.sample8_lanes(s, u, v, 0.0, keep);
         }
-        let level = lod.map(|l| self.mip_levels(l));
-        let t = F8::from_array(level.map(|(_, t)| t));
+        // `mip_levels` lane by lane: non-finite levels 0, clamped to the chain, split into
+        // the level below and the blend weight (the same operations, so the same bits).
+        let lod = F8::from_array(*lod);
+        let max = F8::splat((self.levels.len() - 1) as f32);
+        let lod = lod
+            .within(f32::INFINITY)
+            .select(lod.max(F8::splat(0.0)).min(max), F8::splat(0.0));
+        let below = lod.floor();
+        let t = lod - below;
+        let below = below.to_i32();
+        let level = below.to_array();
         let mut out = [F8::splat(0.0); 4];
         let mut left = bits;
         while left != 0 {
-            let l0 = level[left.trailing_zeros() as usize].0;
-            let same = (0..LANES)
-                .filter(|&l| left >> l & 1 != 0 && level[l].0 == l0)
-                .fold(0u32, |a, l| a | 1 << l);
+            let l0 = level[left.trailing_zeros() as usize];
+            let same = below.eq(I8::splat(l0)).bits() & left;
+            let l0 = l0 as usize;
             left &= !same;
             let m = M8::from_bits(same);
             let a = self.bilinear8(s, l0, u, v, m);
