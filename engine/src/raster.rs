@@ -116,6 +116,7 @@ pub fn raster_tri<S: FragShader>(
         soft,
         stats,
         queue: buf.queue.take().unwrap_or_default(),
+        batched: shader.batched(),
     };
     match tri.vertices() {
         None => rows.small(buf, [x0, y0, x1, y1]),
@@ -138,6 +139,8 @@ struct Rows<'a, S: FragShader> {
     stats: &'a mut FrameStats,
     /// Batched shaders' fragments waiting for their batch (see [`crate::queue`]).
     queue: Box<Queue>,
+    /// Whether this triangle's fragments go through the queue ([`FragShader::batched`]).
+    batched: bool,
 }
 
 impl<S: FragShader> Rows<'_, S> {
@@ -195,7 +198,7 @@ impl<S: FragShader> Rows<'_, S> {
             }
             by = by1;
         }
-        if S::BATCHED {
+        if self.batched {
             self.finish(buf, &mut prepared);
         }
     }
@@ -300,7 +303,7 @@ impl<S: FragShader> Rows<'_, S> {
                     wrote |= self.row(buf, block, bx, j, cov.bits(), &mut prepared);
                 }
                 if wrote && self.mode.writes_depth() {
-                    if S::BATCHED {
+                    if self.batched {
                         // Its rows may still wait for their colour and depth write.
                         self.queue.far.push(block);
                     } else {
@@ -311,29 +314,23 @@ impl<S: FragShader> Rows<'_, S> {
             }
             by += BLOCK;
         }
-        if S::BATCHED {
+        if self.batched {
             self.finish(buf, &mut prepared);
         }
     }
 
-    /// Queues the lanes `m` of a depth-tested row for batched shading, shading every batch
-    /// that fills up.
+    /// Queues the lanes `m` of a depth-tested row for batched shading, shading the batch
+    /// when it fills up.
     #[inline(always)]
     fn queue_row(
         &mut self,
         buf: &mut TileBuf,
         base: usize,
         m: u32,
-        z: &Lane,
+        z: Lane,
         row: &Row,
         prepared: &mut Option<S::Prepared>,
     ) {
-        let index = self.queue.rows.len() as u32;
-        self.queue.rows.push(crate::queue::Waiting {
-            base,
-            mask: m,
-            z: z.to_array(),
-        });
         // A row split between two batches takes its level of detail from all its lanes,
         // as on the row path.
         let lod = if self.queue.n + m.count_ones() as usize > LANES {
@@ -343,13 +340,11 @@ impl<S: FragShader> Rows<'_, S> {
         } else {
             None
         };
-        let mut bits = m;
-        while bits != 0 {
-            let l = bits.trailing_zeros();
-            bits &= bits - 1;
-            self.queue.push(row.fx, row.fy, l, index, lod);
-            if self.queue.n == LANES {
-                self.shade_batch(buf, prepared);
+        let packed = self.queue.add(base, m, z, row, lod);
+        if self.queue.n == LANES {
+            self.shade_batch(buf, prepared);
+            if packed.rest > 0 {
+                self.queue.place_rest(&packed);
             }
         }
     }
@@ -357,18 +352,16 @@ impl<S: FragShader> Rows<'_, S> {
     /// Shades the batch being filled and writes the rows it completes.
     #[inline(never)]
     fn shade_batch(&mut self, buf: &mut TileBuf, prepared: &mut Option<S::Prepared>) {
-        let n = self.queue.n;
         let (px, mask) = self.queue.take();
         let (shader, tri, vary) = (self.shader, self.tri, self.vary);
         let p = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
         shader.shade_pixels(p, tri, &px, mask, &mut out);
         self.stats.rows_shaded += 1;
-        self.queue.keep(&out, n);
+        self.queue.keep(out);
         while let Some((w, out)) = self.queue.next_ready() {
-            let z = F8::from_array(w.z);
             let m = M8::from_bits(w.mask);
-            let written = write_row(buf, w.base, m, &z, &out, self.mode, self.soft);
+            let written = write_row(buf, w.base, m, &w.z, &out, self.mode, self.soft);
             self.stats.fragments_written += written as u64;
         }
     }
@@ -379,7 +372,7 @@ impl<S: FragShader> Rows<'_, S> {
         if self.queue.n > 0 {
             self.shade_batch(buf, prepared);
         }
-        debug_assert!(self.queue.rows.is_empty());
+        self.queue.reset();
         for &block in &self.queue.far {
             buf.update_block_far(block);
         }
@@ -429,8 +422,8 @@ impl<S: FragShader> Rows<'_, S> {
             return false;
         }
         self.stats.fragments_shaded += passed as u64;
-        if S::BATCHED {
-            self.queue_row(buf, base, m.bits(), &z, &row, prepared);
+        if self.batched {
+            self.queue_row(buf, base, m.bits(), z, &row, prepared);
             return true;
         }
         self.stats.rows_shaded += 1;

@@ -118,8 +118,11 @@ pub trait FragShader: Sync {
 
     /// Whether the rasterizer queues this shader's depth-tested fragments and shades them
     /// 8 at a time with [`FragShader::shade_pixels`] (worth it where shading costs more
-    /// than the queue: textures and lights).
-    const BATCHED: bool = false;
+    /// than the queue: textures).
+    #[inline(always)]
+    fn batched(&self) -> bool {
+        false
+    }
 
     /// The level of detail the row path would use for the lanes `mask` of `row` (0 where
     /// the shader has none).
@@ -325,13 +328,22 @@ impl FragShader for GeneralShader<'_> {
         }
     }
 
-    const BATCHED: bool = true;
+    /// Textured materials only: measured, untextured lit shading costs too little for
+    /// the queue to pay.
+    #[inline(always)]
+    fn batched(&self) -> bool {
+        self.material.base_texture.is_some()
+    }
 
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
         self.shade_pixels(p, tri, &Pixels::of_row(row), mask, out);
     }
 
     fn row_lod(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32) -> f32 {
+        let m = self.material;
+        if m.base_texture.is_none() || m.sampler.filter != Filter::Trilinear {
+            return 0.0;
+        }
         let px = Pixels::of_row(row);
         let (l1, l2, w) = barycentrics_at(tri, &px);
         match self.footprints(p, tri, l1, l2, w) {
