@@ -37,7 +37,6 @@
 mod bin;
 mod clip;
 mod front;
-mod queue;
 mod raster;
 mod setup;
 mod shade;

@@ -15,7 +15,6 @@
 
 use crate::camera::Camera;
 use crate::material::{AlphaMode, BlendMode};
-use crate::queue::Queue;
 use crate::setup::Tri;
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
 use crate::simd::{F8, I8, M8};
@@ -115,14 +114,11 @@ pub fn raster_tri<S: FragShader>(
         mode,
         soft,
         stats,
-        queue: buf.queue.take().unwrap_or_default(),
-        batched: shader.batched(),
     };
     match tri.vertices() {
         None => rows.small(buf, [x0, y0, x1, y1]),
         Some((x, y)) => rows.walk(buf, &edges_of(&x, &y), [x0, y0, x1, y1]),
     }
-    buf.queue = Some(rows.queue);
 }
 
 /// One triangle's pass over one tile: what every covered row needs.
@@ -137,10 +133,6 @@ struct Rows<'a, S: FragShader> {
     /// The tile's counters, counted into directly: a per-triangle copy added at the end
     /// was reloaded as one wide vector that waited on the row kernel's scalar stores.
     stats: &'a mut FrameStats,
-    /// Batched shaders' fragments waiting for their batch (see [`crate::queue`]).
-    queue: Box<Queue>,
-    /// Whether this triangle's fragments go through the queue ([`FragShader::batched`]).
-    batched: bool,
 }
 
 impl<S: FragShader> Rows<'_, S> {
@@ -197,9 +189,6 @@ impl<S: FragShader> Rows<'_, S> {
                 break;
             }
             by = by1;
-        }
-        if self.batched {
-            self.finish(buf, &mut prepared);
         }
     }
 
@@ -303,80 +292,12 @@ impl<S: FragShader> Rows<'_, S> {
                     wrote |= self.row(buf, block, bx, j, cov.bits(), &mut prepared);
                 }
                 if wrote && self.mode.writes_depth() {
-                    if self.batched {
-                        // Its rows may still wait for their colour and depth write.
-                        self.queue.far.push(block);
-                    } else {
-                        buf.update_block_far(block);
-                    }
+                    buf.update_block_far(block);
                 }
                 bx += BLOCK;
             }
             by += BLOCK;
         }
-        if self.batched {
-            self.finish(buf, &mut prepared);
-        }
-    }
-
-    /// Queues the lanes `m` of a depth-tested row for batched shading, shading the batch
-    /// when it fills up.
-    #[inline(always)]
-    fn queue_row(
-        &mut self,
-        buf: &mut TileBuf,
-        base: usize,
-        m: u32,
-        z: Lane,
-        row: &Row,
-        prepared: &mut Option<S::Prepared>,
-    ) {
-        // A row split between two batches takes its level of detail from all its lanes,
-        // as on the row path.
-        let lod = if self.queue.n + m.count_ones() as usize > LANES {
-            let (shader, tri, vary) = (self.shader, self.tri, self.vary);
-            let p = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-            Some(shader.row_lod(p, tri, row, m))
-        } else {
-            None
-        };
-        let packed = self.queue.add(base, m, z, row, lod);
-        if self.queue.n == LANES {
-            self.shade_batch(buf, prepared);
-            if packed.rest > 0 {
-                self.queue.place_rest(&packed);
-            }
-        }
-    }
-
-    /// Shades the batch being filled and writes the rows it completes.
-    #[inline(never)]
-    fn shade_batch(&mut self, buf: &mut TileBuf, prepared: &mut Option<S::Prepared>) {
-        let (px, mask) = self.queue.take();
-        let (shader, tri, vary) = (self.shader, self.tri, self.vary);
-        let p = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        let mut out = [F8::splat(0.0); 4];
-        shader.shade_pixels(p, tri, &px, mask, &mut out);
-        self.stats.rows_shaded += 1;
-        self.queue.keep(out);
-        while let Some((w, out)) = self.queue.next_ready() {
-            let m = M8::from_bits(w.mask);
-            let written = write_row(buf, w.base, m, &w.z, &out, self.mode, self.soft);
-            self.stats.fragments_written += written as u64;
-        }
-    }
-
-    /// The triangle's end in this tile: shades the last batch, writes the rows left and
-    /// recomputes the farthest depth of the blocks written.
-    fn finish(&mut self, buf: &mut TileBuf, prepared: &mut Option<S::Prepared>) {
-        if self.queue.n > 0 {
-            self.shade_batch(buf, prepared);
-        }
-        self.queue.reset();
-        for &block in &self.queue.far {
-            buf.update_block_far(block);
-        }
-        self.queue.far.clear();
     }
 
     /// Depth-tests, shades and writes the covered lanes `cov` of row `j` of the block at
@@ -422,10 +343,6 @@ impl<S: FragShader> Rows<'_, S> {
             return false;
         }
         self.stats.fragments_shaded += passed as u64;
-        if self.batched {
-            self.queue_row(buf, base, m.bits(), z, &row, prepared);
-            return true;
-        }
         self.stats.rows_shaded += 1;
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));

@@ -37,66 +37,6 @@ pub fn eval(p: &Plane, row: &Row) -> Lane {
     F8::splat(p.dx).mul_add(F8::ramp(), F8::splat(base))
 }
 
-/// 8 lanes gathered from up to 8 rows of one triangle (the rasterizer's queue fills every
-/// lane): lane `k` is pixel `lane[k]` of the row at `(fx[k], fy[k])`, so every plane is
-/// evaluated with the same operations, to the same bits, as [`eval`] on that row.
-#[derive(Clone, Copy, Debug)]
-pub struct Pixels {
-    pub fx: F8,
-    pub fy: F8,
-    /// The pixel's lane in its row, `0.0..8.0`.
-    pub lane: F8,
-    /// Which queued row each lane came from; a row's lanes are consecutive. The lanes of
-    /// one row share its level of detail, as on the row path.
-    pub row: [u32; LANES],
-    /// Lanes whose level of detail is given in `lod` (a row split between two batches
-    /// had it worked out over the whole row by [`FragShader::row_lod`]).
-    pub fixed: u32,
-    pub lod: [f32; LANES],
-}
-
-impl Pixels {
-    /// The 8 lanes of one row, in place.
-    #[inline(always)]
-    pub fn of_row(row: &Row) -> Pixels {
-        Pixels {
-            fx: F8::splat(row.fx),
-            fy: F8::splat(row.fy),
-            lane: F8::ramp(),
-            row: [0; LANES],
-            fixed: 0,
-            lod: [0.0; LANES],
-        }
-    }
-
-    /// Lane `k`'s row, as the row path sees it.
-    #[inline]
-    fn row_of(&self, k: usize) -> Row {
-        Row {
-            fx: self.fx.to_array()[k],
-            fy: self.fy.to_array()[k],
-        }
-    }
-}
-
-/// [`eval`] for gathered lanes: `c + dx fx + dy fy` (as `eval`'s scalar base, lane by lane)
-/// plus `dx lane`, so each lane gets the bits it gets on its row.
-#[inline(always)]
-pub fn eval_at(p: &Plane, px: &Pixels) -> Lane {
-    let base = F8::splat(p.c) + F8::splat(p.dx) * px.fx + F8::splat(p.dy) * px.fy;
-    F8::splat(p.dx).mul_add(px.lane, base)
-}
-
-/// [`barycentrics`] for gathered lanes.
-#[inline]
-pub fn barycentrics_at(tri: &Tri, px: &Pixels) -> (Lane, Lane, Lane) {
-    let iw = eval_at(&tri.iw, px);
-    let a = eval_at(&tri.l1, px);
-    let b = eval_at(&tri.l2, px);
-    let w = F8::splat(1.0).div(iw);
-    (a.mul(w), b.mul(w), w)
-}
-
 /// Perspective-correct barycentrics of vertices 1 and 2, and `w`, for 8 lanes.
 #[inline]
 pub fn barycentrics(tri: &Tri, row: &Row) -> (Lane, Lane, Lane) {
@@ -115,57 +55,6 @@ pub trait FragShader: Sync {
     /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
     /// `mask` will be used, so a shader may skip per-lane work for the others.
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
-
-    /// Whether the rasterizer queues this shader's depth-tested fragments and shades them
-    /// 8 at a time with [`FragShader::shade_pixels`] (worth it where shading costs more
-    /// than the queue: textures).
-    #[inline(always)]
-    fn batched(&self) -> bool {
-        false
-    }
-
-    /// The level of detail the row path would use for the lanes `mask` of `row` (0 where
-    /// the shader has none).
-    fn row_lod(&self, _p: &Self::Prepared, _tri: &Tri, _row: &Row, _mask: u32) -> f32 {
-        0.0
-    }
-
-    /// [`FragShader::shade`] for gathered lanes: lane `k`'s colour is the one the row path
-    /// gives its pixel. This default runs `shade` once per row of the lanes (exact for
-    /// shaders without a level of detail); batched shaders do all lanes at once.
-    fn shade_pixels(
-        &self,
-        p: &Self::Prepared,
-        tri: &Tri,
-        px: &Pixels,
-        mask: u32,
-        out: &mut [Lane; 4],
-    ) {
-        let lanes = px.lane.to_array().map(|l| l as usize & (LANES - 1));
-        let mut res = [[0.0f32; LANES]; 4];
-        let mut k = 0;
-        while k < LANES {
-            let end = (k..LANES)
-                .find(|&e| px.row[e] != px.row[k])
-                .unwrap_or(LANES);
-            let in_row: u32 = (k..end)
-                .filter(|&e| mask >> e & 1 != 0)
-                .map(|e| 1 << lanes[e])
-                .fold(0, |a, b| a | b);
-            if in_row != 0 {
-                let mut o = [F8::splat(0.0); 4];
-                self.shade(p, tri, &px.row_of(k), in_row, &mut o);
-                let o = o.map(F8::to_array);
-                for e in k..end {
-                    for c in 0..4 {
-                        res[c][e] = o[c][lanes[e]];
-                    }
-                }
-            }
-            k = end;
-        }
-        *out = res.map(F8::from_array);
-    }
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -328,33 +217,9 @@ impl FragShader for GeneralShader<'_> {
         }
     }
 
-    /// Textured materials only: measured, untextured lit shading costs too little for
-    /// the queue to pay.
-    #[inline(always)]
-    fn batched(&self) -> bool {
-        self.material.base_texture.is_some()
-    }
-
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
-        self.shade_pixels(p, tri, &Pixels::of_row(row), mask, out);
-    }
-
-    fn row_lod(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32) -> f32 {
         let m = self.material;
-        if m.base_texture.is_none() || m.sampler.filter != Filter::Trilinear {
-            return 0.0;
-        }
-        let px = Pixels::of_row(row);
-        let (l1, l2, w) = barycentrics_at(tri, &px);
-        match self.footprints(p, tri, l1, l2, w) {
-            Some(rho2) => lod_of(&rho2, mask),
-            None => 0.0,
-        }
-    }
-
-    fn shade_pixels(&self, p: &GeneralTri, tri: &Tri, px: &Pixels, mask: u32, out: &mut [Lane; 4]) {
-        let m = self.material;
-        let (l1, l2, w) = barycentrics_at(tri, px);
+        let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
             let [a0, d1, d2] = p.attr[c];
             l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)))
@@ -367,28 +232,44 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         if let Some(tex) = &m.base_texture {
-            // One level of detail per row: the largest footprint among the row's kept
-            // lanes (GPUs share one per 2x2 quad).
-            let mut lod = [0.0f32; LANES];
-            if let Some(rho2) = self.footprints(p, tri, l1, l2, w) {
-                let mut k = 0;
-                while k < LANES {
-                    let end = (k..LANES)
-                        .find(|&e| px.row[e] != px.row[k])
-                        .unwrap_or(LANES);
-                    let run = ((1u32 << end) - 1) & !((1u32 << k) - 1);
-                    let l = lod_of(&rho2, mask & run);
-                    lod[k..end].fill(l);
-                    k = end;
-                }
-                for (k, l) in lod.iter_mut().enumerate() {
-                    if px.fixed >> k & 1 != 0 {
-                        *l = px.lod[k];
-                    }
-                }
-            }
+            let [_, du1, du2] = p.attr[UV];
+            let [_, dv1, dv2] = p.attr[UV + 1];
+            // One level of detail for the row: the largest footprint among the kept lanes
+            // (GPUs share one per 2x2 quad). d(l1)/dx = (d(l1/w)/dx - l1 d(1/w)/dx) w, and
+            // likewise for y and l2.
+            let lod = if m.sampler.filter == Filter::Trilinear {
+                let d = |pl: &Plane, lam: F8| {
+                    (
+                        (F8::splat(pl.dx) - lam * F8::splat(tri.iw.dx)) * w,
+                        (F8::splat(pl.dy) - lam * F8::splat(tri.iw.dy)) * w,
+                    )
+                };
+                let (a1x, a1y) = d(&tri.l1, l1);
+                let (a2x, a2y) = d(&tri.l2, l2);
+                let (tw, th) = (
+                    F8::splat(tex.width() as f32),
+                    F8::splat(tex.height() as f32),
+                );
+                let (du1, du2) = (F8::splat(du1), F8::splat(du2));
+                let (dv1, dv2) = (F8::splat(dv1), F8::splat(dv2));
+                let dudx = a1x.mul_add(du1, a2x * du2) * tw;
+                let dvdx = a1x.mul_add(dv1, a2x * dv2) * th;
+                let dudy = a1y.mul_add(du1, a2y * du2) * tw;
+                let dvdy = a1y.mul_add(dv1, a2y * dv2) * th;
+                let rho2 = dudx
+                    .mul_add(dudx, dvdx * dvdx)
+                    .max(dudy.mul_add(dudy, dvdy * dvdy))
+                    .to_array();
+                let widest = (0..LANES)
+                    .filter(|l| mask >> l & 1 != 0)
+                    .map(|l| rho2[l])
+                    .fold(0.0f32, f32::max);
+                0.5 * fast_log2(widest)
+            } else {
+                0.0
+            };
             let keep = crate::simd::M8::from_bits(mask);
-            let t = tex.sample8_lods(&m.sampler, at(UV), at(UV + 1), &lod, keep);
+            let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {
@@ -447,53 +328,7 @@ impl FragShader for GeneralShader<'_> {
     }
 }
 
-/// The level of detail of the lanes `mask` from their squared footprints: the widest.
-#[inline]
-fn lod_of(rho2: &[f32; LANES], mask: u32) -> f32 {
-    let widest = (0..LANES)
-        .filter(|l| mask >> l & 1 != 0)
-        .map(|l| rho2[l])
-        .fold(0.0f32, f32::max);
-    0.5 * fast_log2(widest)
-}
-
 impl GeneralShader<'_> {
-    /// Squared texel footprints of 8 lanes for a trilinear base texture, `None` without
-    /// one. d(l1)/dx = (d(l1/w)/dx - l1 d(1/w)/dx) w, and likewise for y and l2.
-    #[inline(always)]
-    fn footprints(&self, p: &GeneralTri, tri: &Tri, l1: F8, l2: F8, w: F8) -> Option<[f32; LANES]> {
-        let m = self.material;
-        let tex = m.base_texture.as_ref()?;
-        if m.sampler.filter != Filter::Trilinear {
-            return None;
-        }
-        let [_, du1, du2] = p.attr[UV];
-        let [_, dv1, dv2] = p.attr[UV + 1];
-        let d = |pl: &Plane, lam: F8| {
-            (
-                (F8::splat(pl.dx) - lam * F8::splat(tri.iw.dx)) * w,
-                (F8::splat(pl.dy) - lam * F8::splat(tri.iw.dy)) * w,
-            )
-        };
-        let (a1x, a1y) = d(&tri.l1, l1);
-        let (a2x, a2y) = d(&tri.l2, l2);
-        let (tw, th) = (
-            F8::splat(tex.width() as f32),
-            F8::splat(tex.height() as f32),
-        );
-        let (du1, du2) = (F8::splat(du1), F8::splat(du2));
-        let (dv1, dv2) = (F8::splat(dv1), F8::splat(dv2));
-        let dudx = a1x.mul_add(du1, a2x * du2) * tw;
-        let dvdx = a1x.mul_add(dv1, a2x * dv2) * th;
-        let dudy = a1y.mul_add(du1, a2y * du2) * tw;
-        let dvdy = a1y.mul_add(dv1, a2y * dv2) * th;
-        Some(
-            dudx.mul_add(dudx, dvdx * dvdx)
-                .max(dudy.mul_add(dudy, dvdy * dvdy))
-                .to_array(),
-        )
-    }
-
     /// The interpolated normal of 8 lanes, unit length, facing the viewer.
     #[inline(always)]
     fn normal(&self, p: &GeneralTri, at: &impl Fn(usize) -> F8) -> V3 {

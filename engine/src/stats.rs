@@ -28,9 +28,8 @@ pub struct FrameStats {
     pub fragments_tested: u64,
     /// Fragments that passed the depth test and were shaded.
     pub fragments_shaded: u64,
-    /// Runs of the shader on 8 lanes: one per row for row shaders, one per batch of up to 8
-    /// queued fragments for batched ones (`fragments_shaded / rows_shaded` is how full the
-    /// lanes were: 8 at best; on the row path thin and small triangles leave most idle).
+    /// Rows of 8 lanes the shader ran on (`fragments_shaded / rows_shaded` is how full the
+    /// lanes were: 8 at best; thin and small triangles leave most lanes idle).
     pub rows_shaded: u64,
     /// Fragments written to the target (after alpha test).
     pub fragments_written: u64,

@@ -2,7 +2,6 @@
 //! lazily block by block and resolved into the target at the end.
 
 use crate::color::{unpack, Encoder, Encoding, Premul};
-use crate::queue::Queue;
 use crate::shade::LANES;
 use crate::simd::F8;
 use crate::target::{TILE, TILE_PIXELS};
@@ -36,9 +35,6 @@ pub struct TileBuf {
     far_stale: u64,
     touched: u64,
     clear: Premul,
-    /// The raster stage's fragment queue (scratch, empty between triangles; boxed so that
-    /// lending it to a triangle moves a pointer).
-    pub(crate) queue: Option<Box<Queue>>,
 }
 
 impl Default for TileBuf {
@@ -51,7 +47,6 @@ impl Default for TileBuf {
             far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
-            queue: None,
         }
     }
 }

@@ -119,11 +119,6 @@ impl F8 {
         let i: __m256i = bytemuck::cast(idx);
         avx!(F8(_mm256_permutevar8x32_ps(self.0, i)))
     }
-    /// Lane `l` is lane `idx[l] & 7` of `self`.
-    #[inline(always)]
-    pub fn permute_by(self, idx: I8) -> Self {
-        avx!(F8(_mm256_permutevar8x32_ps(self.0, idx.0)))
-    }
     /// The sign bit cleared.
     #[inline(always)]
     pub fn abs(self) -> Self {

@@ -89,10 +89,6 @@ impl F8 {
     pub fn permute(self, idx: [u32; LANES]) -> Self {
         F8(idx.map(|i| self.0[i as usize % LANES]))
     }
-    /// Lane `l` is lane `idx[l] & 7` of `self`.
-    pub fn permute_by(self, idx: I8) -> Self {
-        F8(idx.0.map(|i| self.0[i as usize & (LANES - 1)]))
-    }
     /// Lanes 0, 2, .. 14 and lanes 1, 3, .. 15 of the sixteen lanes of `self` then `o`.
     pub fn deinterleave(self, o: Self) -> (Self, Self) {
         let at = |i: usize| if i < LANES { self.0[i] } else { o.0[i - LANES] };

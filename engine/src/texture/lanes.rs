@@ -3,7 +3,7 @@
 //! the scalar [`Texture::sample`].
 
 use super::{Filter, Sampler, Texture, Wrap};
-use crate::simd::{F8, I8, LANES, M8};
+use crate::simd::{F8, I8, M8};
 
 impl Texture {
     /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
@@ -34,51 +34,6 @@ impl Texture {
                 std::array::from_fn(|c| (b[c] - a[c]).mul_add(t, a[c]))
             }
         }
-    }
-
-    /// [`Texture::sample8_lanes`] with a level of detail per lane (lanes gathered from
-    /// several rows): each kept lane is filtered exactly as `sample8_lanes` would filter
-    /// it with its own `lod`. Lanes sharing a mip level are filtered together.
-    pub fn sample8_lods(&self, s: &Sampler, u: F8, v: F8, lod: &[f32; LANES], keep: M8) -> [F8; 4] {
-        let bits = keep.bits();
-        if s.filter != Filter::Trilinear || bits == 0 {
-            return self.sample8_lanes(s, u, v, 0.0, keep);
-        }
-        // `mip_levels` lane by lane: non-finite levels 0, clamped to the chain, split into
-        // the level below and the blend weight (the same operations, so the same bits).
-        let lod = F8::from_array(*lod);
-        let max = F8::splat((self.levels.len() - 1) as f32);
-        let lod = lod
-            .within(f32::INFINITY)
-            .select(lod.max(F8::splat(0.0)).min(max), F8::splat(0.0));
-        let below = lod.floor();
-        let t = lod - below;
-        let below = below.to_i32();
-        let level = below.to_array();
-        let mut out = [F8::splat(0.0); 4];
-        let mut left = bits;
-        while left != 0 {
-            let l0 = level[left.trailing_zeros() as usize];
-            let same = below.eq(I8::splat(l0)).bits() & left;
-            let l0 = l0 as usize;
-            left &= !same;
-            let m = M8::from_bits(same);
-            let a = self.bilinear8(s, l0, u, v, m);
-            let up = m.and(t.gt(F8::splat(0.0)));
-            let got = if up.bits() == 0 {
-                a
-            } else {
-                let b = self.bilinear8(s, l0 + 1, u, v, up);
-                std::array::from_fn(|c| up.select((b[c] - a[c]).mul_add(t, a[c]), a[c]))
-            };
-            if same == bits {
-                return got;
-            }
-            for c in 0..4 {
-                out[c] = m.select(got[c], out[c]);
-            }
-        }
-        out
     }
 
     fn nearest8(&self, s: &Sampler, u: F8, v: F8, keep: M8) -> [F8; 4] {

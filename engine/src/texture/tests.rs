@@ -142,23 +142,6 @@ fn eight_lanes_match_the_scalar_sampler() {
                             assert_eq!(part[c].to_array()[l].to_bits(), want.to_bits());
                         }
                     }
-                    // A level of detail per lane (lanes gathered from several rows): each
-                    // kept lane as `sample8_lanes` gives it with its own level, bit for bit.
-                    let lods: [f32; 8] = std::array::from_fn(|l| match l % 3 {
-                        0 => lod,
-                        1 => lod + 0.25,
-                        _ => (l as f32 * 0.7 + round as f32 * 0.3) % 4.5 - 0.5,
-                    });
-                    let (uu, vv) = (F8::from_array(u), F8::from_array(v));
-                    let keep8 = crate::simd::M8::from_bits(keep);
-                    let each = t.sample8_lods(&s, uu, vv, &lods, keep8);
-                    for l in (0..8).filter(|l| keep >> l & 1 != 0) {
-                        let one = t.sample8_lanes(&s, uu, vv, lods[l], keep8);
-                        for c in 0..4 {
-                            let (g, w) = (each[c].to_array()[l], one[c].to_array()[l]);
-                            assert_eq!(g.to_bits(), w.to_bits(), "lane {l} lod {}", lods[l]);
-                        }
-                    }
                     for l in 0..8 {
                         if !(u[l].abs() < 1e6 && v[l].abs() < 1e6) {
                             // Either coordinate odd: any finite colour in range will do.
