@@ -234,7 +234,10 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             meter.views_tour(tour);
         } else if moment == Moment::World {
             let tour = world.get_or_insert_with(WorldTour::new);
-            (title, readout, help) = world_frame(tour, &mut renderer, &mut target, start);
+            (title, _, help) = world_frame(tour, &mut renderer, &mut target, start);
+            // Its three lines, one under another: as one line it runs past the window's
+            // right edge at 960 pixels.
+            [readout, city, statue] = tour.readout_lines();
             recent.push(tour.last_time);
             target.write_rgb_u32(&mut pixels);
         } else if moment == Moment::Building {
@@ -292,7 +295,10 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             window.set_title(&window_title(&shown, (ww, wh), &title));
         }
         let lines = [readout.as_str(), city.as_str(), statue.as_str()];
-        let n = if moment == Moment::Outdoor { 3 } else { 1 };
+        let n = match moment {
+            Moment::Outdoor | Moment::World => 3,
+            _ => 1,
+        };
         overlay(&mut pixels, (bw, bh), &shown, &lines[..n], help);
         attraction_lines(&mut pixels, (bw, bh), &meter.part_lines(moment.part()));
         window
