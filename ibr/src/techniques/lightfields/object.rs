@@ -330,6 +330,9 @@ pub(crate) struct Composite {
     pub(crate) rect: Option<PixelRect>,
     /// The last render's work.
     pub(crate) last: LightFieldFrame,
+    /// The image's colours and disparities before [`Composite::fill_cracks`], kept from
+    /// frame to frame so the fill allocates nothing once warm.
+    before: (Vec<u32>, Vec<f32>),
 }
 
 impl Composite {
@@ -339,6 +342,7 @@ impl Composite {
             image: Warped::new(0, 0, camera),
             rect: None,
             last: LightFieldFrame::default(),
+            before: (Vec::new(), Vec::new()),
         }
     }
 
@@ -386,7 +390,9 @@ impl Composite {
         if w < 3 || h < 3 || image.color.len() < w * h {
             return;
         }
-        let (color, disparity) = (image.color.clone(), image.disparity.clone());
+        let (color, disparity) = &mut self.before;
+        color.clone_from(&image.color);
+        disparity.clone_from(&image.disparity);
         for y in 1..h - 1 {
             for x in 1..w - 1 {
                 let i = y * w + x;
