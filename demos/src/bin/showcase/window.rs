@@ -77,6 +77,15 @@ impl Moment {
         }
     }
 
+    /// The lines of readout it shows under the frame time (the world's three: as one
+    /// line it runs past the window's right edge at 960 pixels).
+    fn readout_lines(self) -> usize {
+        match self {
+            Moment::Outdoor | Moment::World => 3,
+            Moment::Building | Moment::Views => 1,
+        }
+    }
+
     /// After `taps`: each tap of a moment's key enters that moment or leaves it for
     /// outdoors.
     fn after(self, taps: Taps) -> Moment {
@@ -235,8 +244,6 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         } else if moment == Moment::World {
             let tour = world.get_or_insert_with(WorldTour::new);
             (title, _, help) = world_frame(tour, &mut renderer, &mut target, start);
-            // Its three lines, one under another: as one line it runs past the window's
-            // right edge at 960 pixels.
             [readout, city, statue] = tour.readout_lines();
             recent.push(tour.last_time);
             target.write_rgb_u32(&mut pixels);
@@ -295,10 +302,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             window.set_title(&window_title(&shown, (ww, wh), &title));
         }
         let lines = [readout.as_str(), city.as_str(), statue.as_str()];
-        let n = match moment {
-            Moment::Outdoor | Moment::World => 3,
-            _ => 1,
-        };
+        let n = moment.readout_lines();
         overlay(&mut pixels, (bw, bh), &shown, &lines[..n], help);
         attraction_lines(&mut pixels, (bw, bh), &meter.part_lines(moment.part()));
         window
