@@ -3,9 +3,11 @@
 //! `vertex` (per draw, parallel over vertices) -> `clip` + `setup` + `bin` (parallel over
 //! fixed chunks of triangles, each chunk writing only its own buffers) -> `raster` + `shade`
 //! (parallel over tiles, each worker owning one tile's memory) -> resolve into the target.
-//! Opaque and alpha-tested draws go first in submission order, then blended draws sorted
-//! back to front, so a tile sees every triangle in one deterministic order whatever the
-//! thread count. All buffers live in the [`Renderer`] and are reset, not reallocated, each
+//! Opaque and alpha-tested draws go first, sorted near to far by their bounding boxes (so
+//! what lies behind is mostly rejected before it is shaded: the depth test is strict, and
+//! only fragments of exactly equal depth from two draws can come out otherwise than in
+//! submission order), then blended draws sorted back to front, so a tile sees every
+//! triangle in one deterministic order whatever the thread count. All buffers live in the [`Renderer`] and are reset, not reallocated, each
 //! frame: once a scene has been drawn, drawing it again allocates nothing.
 
 use crate::camera::Camera;
@@ -24,7 +26,7 @@ use crate::stats::FrameStats;
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::tile::TileBuf;
 use crate::vertex::{self, Layout, VertexPos};
-use glam::Vec3;
+use glam::{BVec3, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -147,7 +149,7 @@ pub struct Renderer {
     chunks: Vec<Chunk>,
     workers: Vec<Worker>,
     infos: Vec<DrawInfo<'static>>,
-    sort_keys: Vec<(f32, u32)>,
+    sort_keys: Vec<(u32, f32, u32)>,
     last: FrameStats,
     times: StageTimes,
 }
@@ -485,66 +487,73 @@ impl Renderer {
             });
     }
 
-    /// Opaque and alpha-tested draws first, in submission order; then blended draws, far to
-    /// near by the view depth of their bounding-box centre (ties keep submission order).
+    /// Opaque and alpha-tested draws first, near to far by the nearest view depth of their
+    /// bounding box, so the hierarchical depth test and the per-pixel test reject what lies
+    /// behind before it is shaded; then blended draws, far to near by the view depth of
+    /// their bounding-box centre. An opaque draw without depth test is a barrier: it keeps
+    /// its place, and the draws on each side of it are sorted among themselves. Ties keep
+    /// submission order. The depth test is strict, so the pixels are those of submission
+    /// order except where two draws' fragments have exactly the same depth (there the
+    /// nearer-sorted draw wins).
     fn order_draws(&mut self, infos: &mut [DrawInfo<'_>], camera: &Camera) {
-        let n_blend = infos
-            .iter()
-            .filter(|i| i.mode.alpha == AlphaMode::Blend)
-            .count();
-        if n_blend == 0 {
-            return;
-        }
         self.sort_keys.clear();
+        let mut barriers = 0u32;
         for (i, info) in infos.iter().enumerate() {
+            let depths = draw_depths(info, camera);
             let key = if info.mode.alpha == AlphaMode::Blend {
-                let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-                for p in info.mesh.positions.iter().filter(|p| p.is_finite()) {
-                    lo = lo.min(*p);
-                    hi = hi.max(*p);
-                }
-                let c = if lo.x <= hi.x {
-                    (lo + hi) * 0.5
-                } else {
-                    Vec3::ZERO
-                };
-                let z = camera
-                    .view
-                    .transform_point3(info.transform.transform_point3(c))
-                    .z;
                 // view z is negative in front; more negative = farther = drawn first
-                if z.is_finite() {
-                    z
-                } else {
-                    0.0
-                }
+                let z = depths.map_or(0.0, |(_, centre)| centre);
+                (u32::MAX, if z.is_finite() { z } else { 0.0 })
+            } else if !info.mode.depth_test {
+                barriers += 1;
+                (2 * barriers - 1, 0.0)
             } else {
-                f32::NEG_INFINITY
+                match depths {
+                    Some((near, _)) if near.is_finite() => (2 * barriers, near),
+                    _ => (2 * barriers, f32::MAX),
+                }
             };
-            self.sort_keys.push((key, i as u32));
+            self.sort_keys.push((key.0, key.1, i as u32));
         }
-        // Opaque keys are -inf, so a stable order of (is_blend, z, index) does it.
-        self.sort_keys.sort_unstable_by(|a, b| {
-            let blend_a = a.0 != f32::NEG_INFINITY;
-            let blend_b = b.0 != f32::NEG_INFINITY;
-            blend_a
-                .cmp(&blend_b)
-                .then(if blend_a {
-                    a.0.total_cmp(&b.0)
-                } else {
-                    std::cmp::Ordering::Equal
-                })
-                .then(a.1.cmp(&b.1))
-        });
+        self.sort_keys
+            .sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
         // Apply the permutation in place by cycle-walking (no allocation).
         for i in 0..infos.len() {
-            let mut j = self.sort_keys[i].1 as usize;
+            let mut j = self.sort_keys[i].2 as usize;
             while j < i {
-                j = self.sort_keys[j].1 as usize;
+                j = self.sort_keys[j].2 as usize;
             }
             infos.swap(i, j);
         }
     }
+}
+
+/// A draw's bounding box seen from `camera`: the distance in front of the eye to its
+/// nearest corner (0 when a corner lies beside or behind the eye), and the view z of its
+/// centre (negative in front). `None` for a draw without a finite vertex.
+fn draw_depths(info: &DrawInfo<'_>, camera: &Camera) -> Option<(f32, f32)> {
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for p in info.mesh.positions.iter().filter(|p| p.is_finite()) {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    if lo.x > hi.x {
+        return None;
+    }
+    let to_view = |p: Vec3| {
+        camera
+            .view
+            .transform_point3(info.transform.transform_point3(p))
+            .z
+    };
+    let mut nearest = f32::MIN;
+    for k in 0..8 {
+        let corner = Vec3::select(BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), hi, lo);
+        nearest = nearest.max(to_view(corner));
+    }
+    // The centre as blended draws were always ordered by (the same arithmetic).
+    let centre = to_view((lo + hi) * 0.5);
+    Some(((-nearest).max(0.0), centre))
 }
 
 /// What the raster stage reads for every tile of a frame.
@@ -599,6 +608,7 @@ impl TileFrame<'_, '_> {
             let src = self.varyings(chunk, tri);
             let info = &self.infos[tri.draw() as usize];
             let (mode, soft) = (&info.mode, self.soft);
+            let shaded = stats.fragments_shaded;
             match &info.kind {
                 Kind::Const(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
                 Kind::Color(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
@@ -611,6 +621,16 @@ impl TileFrame<'_, '_> {
                     raster_tri(buf, ox, oy, tri, &s, src, mode, soft, stats);
                 }
             }
+            let shaded = stats.fragments_shaded - shaded;
+            if mode.alpha == AlphaMode::Blend {
+                stats.fragments_shaded_blended += shaded;
+            }
+            if matches!(info.kind, Kind::General) {
+                stats.fragments_shaded_general += shaded;
+            }
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

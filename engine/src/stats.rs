@@ -28,6 +28,13 @@ pub struct FrameStats {
     pub fragments_tested: u64,
     /// Fragments that passed the depth test and were shaded.
     pub fragments_shaded: u64,
+    /// Of `fragments_shaded`, those of blended draws (each shades what lies behind it too:
+    /// `fragments_shaded - fragments_shaded_blended` over the pixels is the opaque
+    /// overdraw).
+    pub fragments_shaded_blended: u64,
+    /// Of `fragments_shaded`, those shaded by the general shader (textures, vertex colour
+    /// or lights), the costliest per fragment.
+    pub fragments_shaded_general: u64,
     /// Rows of 8 lanes the shader ran on (`fragments_shaded / rows_shaded` is how full the
     /// lanes were: 8 at best; thin and small triangles leave most lanes idle).
     pub rows_shaded: u64,
@@ -52,6 +59,8 @@ impl AddAssign for FrameStats {
         self.triangles_binned += o.triangles_binned;
         self.fragments_tested += o.fragments_tested;
         self.fragments_shaded += o.fragments_shaded;
+        self.fragments_shaded_blended += o.fragments_shaded_blended;
+        self.fragments_shaded_general += o.fragments_shaded_general;
         self.rows_shaded += o.rows_shaded;
         self.fragments_written += o.fragments_written;
         self.blocks_full += o.blocks_full;

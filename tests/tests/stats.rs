@@ -135,13 +135,12 @@ fn fragments_tested_shaded_written_follow_depth_and_alpha_tests() {
         .count() as u64;
     let (n_near, n_far) = (coverage(near), coverage(far));
     assert!(both > 100, "the triangles should overlap");
-    // Far first: every covered pixel is tested, shaded and written.
-    let s = stats_of(
-        &[far, near],
-        Material::default().double_sided(true),
-        &cam,
-        Cull::None,
-    );
+    // Far first within one draw (the renderer keeps a draw's triangle order): every
+    // covered pixel is tested, shaded and written.
+    let mut one = Scene::default();
+    let mat = Material::default().double_sided(true);
+    one.add(soup(&[far, near]), mat, Mat4::IDENTITY);
+    let s = render(&one, &cam, W, H, Encoding::Unorm, Cull::None).1;
     assert_eq!(
         (s.fragments_tested, s.fragments_shaded, s.fragments_written),
         (n_near + n_far, n_near + n_far, n_near + n_far),
@@ -162,6 +161,14 @@ fn fragments_tested_shaded_written_follow_depth_and_alpha_tests() {
         s.fragments_tested >= s.fragments_shaded && s.fragments_tested <= n_near + n_far,
         "{s:?}"
     );
+    // Far first as two draws: opaque draws are sorted near to far, so the same.
+    let far_first = stats_of(
+        &[far, near],
+        Material::default().double_sided(true),
+        &cam,
+        Cull::None,
+    );
+    assert_eq!(far_first, s);
     // Alpha-tested away entirely: shaded but not written.
     let mat = Material {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },

@@ -292,6 +292,7 @@ fn outdoor_headless(
     );
     let mut times = Vec::with_capacity(n);
     let mut stats = FrameStats::default();
+    let mut sum = FrameStats::default();
     let mut breakdown = report::Breakdown::new(&TOUR_COLUMNS);
     for i in 0..n {
         show.animate(i as f32 / 30.0);
@@ -299,6 +300,7 @@ fn outdoor_headless(
         let camera = showcase::camera(eye, look, w, h);
         let start = Instant::now();
         stats = show.render(&mut renderer, &camera, &mut target, &opts);
+        sum += stats;
         times.push(start.elapsed());
         breakdown.push(start.elapsed(), &tour_row(show.ibr.frame_loop()));
         meter.tour(&show, &camera, w, h);
@@ -336,6 +338,16 @@ fn outdoor_headless(
     println!("  last frame: {}", last.city.line());
     print_statue(&show, n);
     println!("last frame: {stats:#?}");
+    let per_px = |x: u64| x as f64 / (n.max(1) as f64 * w as f64 * h as f64);
+    println!(
+        "fragments per pixel over the tour: tested {:.2}, shaded {:.2} (blended {:.2}, \
+         textured or lit {:.2}), written {:.2}",
+        per_px(sum.fragments_tested),
+        per_px(sum.fragments_shaded),
+        per_px(sum.fragments_shaded_blended),
+        per_px(sum.fragments_shaded_general),
+        per_px(sum.fragments_written)
+    );
     if !args.no_save {
         println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
     }

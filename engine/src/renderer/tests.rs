@@ -1,0 +1,116 @@
+//! Draw order: opaque draws sorted near to far shade each covered pixel about once, give
+//! the pixels of submission order, and keep them at any thread count; an opaque draw
+//! without depth test keeps its place.
+
+use super::*;
+use crate::material::Material;
+use glam::Mat4;
+
+const SIZE: u32 = 64;
+
+/// A quad facing the camera at view distance `d`, large enough to cover the whole view.
+fn wall(d: f32) -> Mat4 {
+    Mat4::from_translation(Vec3::new(0.0, 0.0, 5.0 - d)) * Mat4::from_scale(Vec3::splat(d))
+}
+
+fn quad() -> Mesh {
+    Mesh {
+        positions: vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
+    }
+}
+
+/// Renders the walls `(distance, material)` in the order given on `threads` threads.
+fn check(walls: &[(f32, &Material)], threads: usize) -> (Target, FrameStats) {
+    let mesh = quad();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+    let draws: Vec<Draw<'_>> = walls
+        .iter()
+        .map(|&(d, material)| Draw {
+            mesh: &mesh,
+            material,
+            transform: wall(d),
+        })
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    let mut target = Target::new(SIZE, SIZE);
+    let opts = FrameOptions::default();
+    let stats = pool.install(|| {
+        Renderer::new().render(draws, &camera, &Lighting::default(), &mut target, &opts)
+    });
+    (target, stats)
+}
+
+fn colour(k: usize) -> Material {
+    Material::unlit(Rgba::new(k as f32 / 8.0, 1.0 - k as f32 / 8.0, 0.5, 1.0))
+}
+
+#[test]
+fn walls_drawn_back_to_front_shade_one_screen() {
+    let mats: Vec<Material> = (0..6).map(colour).collect();
+    // Submitted far to near: in submission order every wall would be shaded whole.
+    let walls: Vec<(f32, &Material)> = (0..6).rev().map(|k| (4.0 + k as f32, &mats[k])).collect();
+    let pixels = (SIZE * SIZE) as u64;
+    let (target, stats) = check(&walls, 2);
+    assert_eq!(stats.fragments_shaded, pixels, "{stats:?}");
+    assert_eq!(stats.fragments_written, pixels, "{stats:?}");
+    // The nearest wall everywhere, as the depth test gives in any order.
+    let (near, _) = check(&walls[5..], 1);
+    assert_eq!(target.to_rgba8(), near.to_rgba8());
+    // Any submission order, any thread count: the same pixels and counters.
+    let mut shuffled = walls.clone();
+    shuffled.swap(0, 3);
+    shuffled.swap(1, 5);
+    for threads in [1, 2] {
+        let (t, s) = check(&shuffled, threads);
+        assert_eq!(t.to_rgba8(), target.to_rgba8(), "{threads} threads");
+        assert_eq!(s, stats, "{threads} threads");
+    }
+}
+
+#[test]
+fn an_opaque_draw_without_depth_test_keeps_its_place() {
+    let (red, green) = (colour(0), colour(7));
+    let mut over = green.clone();
+    over.depth_test = false;
+    let red_px = check(&[(4.0, &red)], 1).0.pixel(32, 32);
+    let green_px = check(&[(9.0, &green)], 1).0.pixel(32, 32);
+    // Drawn last, the far wall without depth test covers the near one...
+    let (t, _) = check(&[(4.0, &red), (9.0, &over)], 2);
+    assert_eq!(t.pixel(32, 32), green_px);
+    // ...and drawn first it is covered, though it is farther.
+    let (t, _) = check(&[(9.0, &over), (4.0, &red)], 2);
+    assert_eq!(t.pixel(32, 32), red_px);
+    // Walls on each side of it are still sorted among themselves.
+    let (t, s) = check(&[(6.0, &green), (4.0, &red), (9.0, &over), (5.0, &red)], 2);
+    assert_eq!(t.pixel(32, 32), red_px);
+    assert_eq!(s.fragments_shaded, 3 * (SIZE * SIZE) as u64, "{s:?}");
+}
+
+#[test]
+fn blended_draws_still_go_after_the_opaque_ones_far_to_near() {
+    let opaque = colour(0);
+    let glass = Material {
+        alpha_mode: AlphaMode::Blend,
+        ..Material::unlit(Rgba::new(0.0, 0.0, 1.0, 0.5))
+    };
+    // The glass is submitted first and nearest; the opaque wall behind it still shows
+    // through, and the glass is shaded over it once per pixel.
+    let (t, s) = check(&[(4.0, &glass), (8.0, &opaque)], 2);
+    let (alone, _) = check(&[(8.0, &opaque)], 1);
+    assert_ne!(t.pixel(32, 32), alone.pixel(32, 32));
+    let (after, _) = check(&[(8.0, &opaque), (4.0, &glass)], 1);
+    assert_eq!(t.to_rgba8(), after.to_rgba8());
+    let pixels = (SIZE * SIZE) as u64;
+    assert_eq!(s.fragments_shaded_blended, pixels, "{s:?}");
+    assert_eq!(s.fragments_shaded, 2 * pixels, "{s:?}");
+}
