@@ -338,9 +338,18 @@ fn outdoor_headless(
     println!("  last frame: {}", last.city.line());
     print_statue(&show, n);
     println!("last frame: {stats:#?}");
+    print_fragments("the tour", &sum, n, (w, h));
+    if !args.no_save {
+        println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
+    }
+    Ok((show, PartTimes::of(&times)))
+}
+
+/// Prints the fragments of `sum`, counted over `n` frames of `w x h`, per pixel per frame.
+fn print_fragments(what: &str, sum: &FrameStats, n: usize, (w, h): (u32, u32)) {
     let per_px = |x: u64| x as f64 / (n.max(1) as f64 * w as f64 * h as f64);
     println!(
-        "fragments per pixel over the tour: tested {:.2}, shaded {:.2} (blended {:.2}, \
+        "fragments per pixel over {what}: tested {:.2}, shaded {:.2} (blended {:.2}, \
          textured or lit {:.2}), written {:.2}",
         per_px(sum.fragments_tested),
         per_px(sum.fragments_shaded),
@@ -348,10 +357,6 @@ fn outdoor_headless(
         per_px(sum.fragments_shaded_general),
         per_px(sum.fragments_written)
     );
-    if !args.no_save {
-        println!("wrote {n} frames to {}/frame_0000.png ...", dir.display());
-    }
-    Ok((show, PartTimes::of(&times)))
 }
 
 /// The columns of the tour's time breakdown: each technique's `prepare` (in the layer's
@@ -438,11 +443,13 @@ fn building_headless(
     );
     let mut times = Vec::with_capacity(n);
     let (mut warped, mut geometry, mut rebuilds, mut samples, mut holes) = (0, 0, 0, 0, 0);
+    let mut sum = FrameStats::default();
     for i in 0..n {
         let camera = BuildingTour::camera(i, n, w, h);
         let start = Instant::now();
         tour.render(&mut renderer, &camera, &mut target);
         times.push(start.elapsed());
+        sum += renderer.stats();
         meter.building(&tour, &camera, w, h);
         let f = tour.last();
         (warped, geometry, rebuilds) = (
@@ -468,6 +475,7 @@ fn building_headless(
         }
     );
     println!("  last frame: {}", tour.readout());
+    print_fragments("the walk's last render of each frame", &sum, n, (w, h));
     if !args.no_save {
         println!(
             "wrote {n} frames to {}/building_0000.png ...",
