@@ -70,12 +70,15 @@ const CITY_BUDGET: usize = 6;
 /// the switch pops (the no-pop test measures a frame difference 2.5 times the typical),
 /// at 256 it does not.
 const CLOUD_MAX_SIDE: u32 = 256;
-const CITY_MAX_SIDE: u32 = 256;
+const CITY_MAX_SIDE: u32 = 512;
+/// Texels per screen pixel of the city's images, at least ([`ImpostorSet::density`]).
+const CITY_DENSITY: f32 = 2.0;
 
 /// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`].
 fn city_impostors(config: Config, n: usize) -> ImpostorSet {
     let mut set = ImpostorSet::new(config, n);
     set.cutout = Some(CITY_CUTOUT);
+    set.density = CITY_DENSITY;
     set
 }
 
@@ -468,7 +471,7 @@ pub const TOLERANCE_LEVELS: f32 = 1.5;
 
 /// The clouds' tolerance instead: the parallax between the near and far ends of a cloud's
 /// bounding sphere, screen pixels.
-pub const CLOUD_TOLERANCE_PX: f32 = 2.0;
+pub const CLOUD_TOLERANCE_PX: f32 = 1.0;
 
 /// The city planner's error budget: predicted mean absolute 8-bit error over a building,
 /// all of it (the impostors' tolerance is what staleness adds to a fresh image's own

@@ -1,6 +1,11 @@
 //! Cloud particle systems after Harris and Lastra 2001, "Real-Time Cloud Rendering": cumulus
 //! clouds of a few hundred soft particles, lit by a precomputed light pass and drawn as
-//! blended screen-facing billboards, back to front, in one [`BillboardBatch`] per cloud.
+//! blended billboards facing the eye (each turned toward the eye point, upright about +Y),
+//! back to front, in one [`BillboardBatch`] per cloud. Facing the eye rather than the image
+//! plane, a cloud looks the same whichever way the camera turns: parallel to the image
+//! plane, the puffs of a cloud near the edge of a wide view covered less of the sky than
+//! seen straight on, so an impostor captured straight on (toward the cloud) was up to 32
+//! levels brighter than the particles at the top edge of the showcase's view.
 //!
 //! Shading has the paper's two passes:
 //!
@@ -50,6 +55,9 @@ use crate::core::{Billboard, BillboardBatch, Facing, View};
 use engine::{BlendMode, Camera, Draw, Material, Mesh, Projection, Rgba, Sphere, Texture, Wrap};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
+
+/// How the puffs face (module docs): the eye point, upright about +Y.
+pub(crate) const FACING: Facing = Facing::World { up: Vec3::Y };
 
 /// `x` if finite, else `fallback`.
 fn finite(x: f32, fallback: f32) -> f32 {
@@ -307,7 +315,7 @@ impl Subject for Cloud {
                     continue;
                 }
             }
-            let mut b = Billboard::new(p.position, Facing::Screen, Vec2::splat(2.0 * p.radius));
+            let mut b = Billboard::new(p.position, FACING, Vec2::splat(2.0 * p.radius));
             // Golden-angle rotations, so neighbouring puffs do not repeat one silhouette.
             b.rotation = (i % 256) as f32 * 2.399_963;
             b.tint = tint;

@@ -294,6 +294,10 @@ pub struct ImpostorSet {
     /// image's silhouette matches its geometry's instead of a half-texel blended fringe
     /// around it (`None`, the default: blended).
     pub cutout: Option<f32>,
+    /// Texels per screen pixel the planner's images are taken at, at least (1, the
+    /// default: the power of two at or above the subject's disc). At 2 a cutout's
+    /// silhouette, halfway between texel centres, is half as far from the geometry's.
+    pub density: f32,
 }
 
 impl ImpostorSet {
@@ -312,6 +316,7 @@ impl ImpostorSet {
             prior: plan::GradientPrior::default(),
             plan_tint: None,
             cutout: None,
+            density: 1.0,
         }
     }
 

@@ -90,6 +90,15 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         };
         let (error, rebuilt) = match held {
             Some(c) => {
+                // Predicted as the image a texel per pixel would be: taken denser, its
+                // texels are that much smaller and their differences that much larger.
+                let d = (c.side as f32 / needed.max(1) as f32).clamp(1.0, self.density.max(1.0));
+                let c = &super::Capture {
+                    side: (c.side as f32 / d).round().max(1.0) as u32,
+                    gradient: c.gradient * d,
+                    depth_gradient: c.depth_gradient * d,
+                    ..*c
+                };
                 let now = (b, subject.version());
                 let p = predict(Some(c), now, sight.eye, needed, ppr, cfg);
                 let coarse = needed > c.side && p.octaves >= cfg.tolerance.octaves;
@@ -118,7 +127,8 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     /// [`ImpostorSet::update`] does its own refreshes).
     fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work {
         let eye = view.camera.eye();
-        let ppr = pixels_per_radian(view.camera, view.height);
+        // Taken at `density` texels per pixel, as far as the largest side allows.
+        let ppr = pixels_per_radian(view.camera, view.height) * self.density.max(1.0);
         let (lo, hi) = (self.config.min_side, self.config.max_side);
         self.jobs.clear();
         for &i in objects {

@@ -1,9 +1,9 @@
 //! The view from inside a cloud is a fog through which the scene shows; from outside, the
 //! cloud draws exactly as its plain billboards did.
 
-use super::super::{Cloud, Subject};
+use super::super::{Cloud, Subject, FACING};
 use super::{coverage, fade_scale, near_fade, screen_share, MAX_FILL, NEAR_FADE};
-use crate::core::{Billboard, Facing, View};
+use crate::core::{Billboard, View};
 use engine::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
 
@@ -78,7 +78,7 @@ fn plain_batch(cloud: &Cloud, cam: &Camera) -> crate::core::BillboardBatch {
     let mut batch = cloud.batch().clone();
     batch.clear();
     for (i, p) in cloud.particles().iter().enumerate() {
-        let mut b = Billboard::new(p.position, Facing::Screen, Vec2::splat(2.0 * p.radius));
+        let mut b = Billboard::new(p.position, FACING, Vec2::splat(2.0 * p.radius));
         b.rotation = (i % 256) as f32 * 2.399_963;
         b.tint = cloud.particle_color(i, (view.eye - p.position).normalize_or_zero());
         batch.push(b);
