@@ -388,15 +388,17 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
     }
 
     /// Steps the far field's captures for the frame (within its triangle budget, the
-    /// loading one during the loading frames); returns their wall time, milliseconds.
+    /// loading one during the loading frames and until a first field is shown); returns
+    /// their wall time, milliseconds.
     fn step_far(&mut self, view: &FrameView<'_>) -> f32 {
         let Some(cfg) = self.config.far else {
             self.far = None;
             return 0.0;
         };
         let start = std::time::Instant::now();
-        let loading = self.frame.wrapping_add(1) <= self.config.loading.0;
         let far = self.far.get_or_insert_with(|| FarField::new(cfg));
+        // The first field is a level's load: at the loading budget until it is shown.
+        let loading = self.frame.wrapping_add(1) <= self.config.loading.0 || far.split().is_none();
         far.config = cfg;
         let budget = if loading {
             cfg.loading_triangles.max(cfg.triangles)

@@ -38,7 +38,8 @@ pub struct FarConfig {
     /// Triangles captured per frame, at most (a tile over it alone is still taken, one a
     /// frame),
     pub triangles: u64,
-    /// and during the hierarchy's loading frames ([`super::TreeConfig::loading`]).
+    /// and during the hierarchy's loading frames ([`super::TreeConfig::loading`]) or while
+    /// no field has been shown yet.
     pub loading_triangles: u64,
     /// Pixels of parallax at [`FarConfig::distance`], as the eye moves from the shown
     /// field's eye, past which a new field is captured.
