@@ -260,31 +260,12 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         let camera = view.camera;
         let eye = camera.eye();
         self.eye = eye;
-        self.frame = self.frame.wrapping_add(1);
-        let frustum = Frustum::new(camera.clip_from_world());
         let at_eye = engine::Sphere {
             center: eye,
             radius: 0.0,
         };
         let base = Sight::new(camera, view.width, view.height, at_eye);
-        let mut report = TreeReport {
-            refitted: self.report.refitted,
-            far_ms,
-            ..TreeReport::default()
-        };
-        self.frustum = Some(frustum);
-        let split = self.far.as_ref().and_then(FarField::split);
-        if let Some(far) = &self.far {
-            report.far = far.report;
-            report.far_triangles = far.triangles_seen(&frustum);
-        }
-        self.images.clear();
-        self.geometry.clear();
-        self.batch.iter_mut().for_each(Vec::clear);
-        self.queue.clear();
-        if !self.tree.nodes().is_empty() {
-            self.queue.push_back(0);
-        }
+        let (mut report, frustum, split) = self.begin(camera, far_ms);
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
         let rebuild_ms = if self.frame <= cfg.loading.0 {
             cfg.loading.1.max(cfg.rebuild_ms)
@@ -385,6 +366,36 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         report.planning_ms = planned.as_secs_f32() * 1e3;
         self.report = report;
         &self.report
+    }
+
+    /// Starts a frame's cut seen by `camera`: the report (with the far field's), the
+    /// view's frustum, the far field's split, the scratch cleared and the root queued.
+    fn begin(
+        &mut self,
+        camera: &engine::Camera,
+        far_ms: f32,
+    ) -> (TreeReport, Frustum, Option<Split>) {
+        self.frame = self.frame.wrapping_add(1);
+        let frustum = Frustum::new(camera.clip_from_world());
+        let mut report = TreeReport {
+            refitted: self.report.refitted,
+            far_ms,
+            ..TreeReport::default()
+        };
+        self.frustum = Some(frustum);
+        let split = self.far.as_ref().and_then(FarField::split);
+        if let Some(far) = &self.far {
+            report.far = far.report;
+            report.far_triangles = far.triangles_seen(&frustum);
+        }
+        self.images.clear();
+        self.geometry.clear();
+        self.batch.iter_mut().for_each(Vec::clear);
+        self.queue.clear();
+        if !self.tree.nodes().is_empty() {
+            self.queue.push_back(0);
+        }
+        (report, frustum, split)
     }
 
     /// Steps the far field's captures for the frame (within its triangle budget, the
