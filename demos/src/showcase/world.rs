@@ -197,13 +197,14 @@ impl WorldTour {
         });
         [
             format!(
-                "WORLD {} OBJECTS  {} NODES OPENED  {} IMAGES ({} OBJECTS)  {} GEOMETRY  {} REBUILDS",
+                "WORLD {} OBJECTS  {} NODES OPENED  {} IMAGES ({} OBJECTS)  {} GEOMETRY  {} REBUILDS  FAR {}",
                 self.world.objects.len(),
                 r.opened,
                 r.images,
                 r.imaged_objects,
                 r.geometry,
                 r.rebuilds,
+                r.far_objects,
             ),
             format!(
                 "PREDICTED ERROR {:.2} MAX {:.2} (BUDGET {:.0}){measured}",
@@ -245,7 +246,7 @@ impl WorldTour {
     }
 
     /// How often the last frame drew each object in view of `camera` (the camera it was
-    /// rendered from). In view is what no enclosing volume rules out: the object's bounding
+    /// rendered from): under an image, as geometry or in the far field. In view is what no enclosing volume rules out: the object's bounding
     /// sphere in the view frustum, and the sphere of every node above it too (a node's
     /// sphere holds its box, which holds its objects' geometry: an object under a node
     /// off the view is off it, however far its own, looser sphere reaches).
@@ -261,6 +262,14 @@ impl WorldTour {
         for &i in self.planner.geometry() {
             drawn[i as usize] += 1;
         }
+        // The far field's objects, once however many of its tiles show them.
+        let mut far = vec![false; objects.len()];
+        let captured = self.planner.far().into_iter().flat_map(|f| f.captured());
+        captured.for_each(|i| far[i as usize] = true);
+        drawn
+            .iter_mut()
+            .zip(&far)
+            .for_each(|(d, &f)| *d += u32::from(f));
         let frustum = Frustum::new(camera.clip_from_world());
         let nodes = tree.nodes();
         let node_seen = |mut k: u32| {

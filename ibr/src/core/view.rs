@@ -234,4 +234,9 @@ impl Frustum {
         }
         self.0.iter().all(|p| p.truncate().dot(c) + p.w >= -r)
     }
+
+    /// Whether a point is inside (on every plane's inner side; false for non-finite points).
+    pub fn contains(&self, p: Vec3) -> bool {
+        p.is_finite() && self.0.iter().all(|q| q.truncate().dot(p) + q.w >= 0.0)
+    }
 }

@@ -14,10 +14,12 @@
 mod bvh;
 mod cluster;
 mod cut;
+mod far;
 
 pub use bvh::{Node, Tree, NONE};
 pub use cluster::Cluster;
 pub use cut::{Hierarchy, TreeConfig, TreeReport};
+pub use far::{FarConfig, FarField, FarReport, Side, Split};
 
 use crate::core::{Counters, FrameView, Subject, Technique};
 use engine::{Draw, FrameStats, Target};
@@ -42,7 +44,7 @@ impl<S: Subject + Send + Sync> Technique for Hierarchy<S> {
             images: r.images as u64,
             quads: r.images as u64,
             geometry: r.geometry as u64,
-            refreshes: r.rebuilds as u64,
+            refreshes: (r.rebuilds + r.far.tiles) as u64,
             ..Counters::default()
         }
     }
@@ -51,5 +53,7 @@ impl<S: Subject + Send + Sync> Technique for Hierarchy<S> {
     }
 }
 
+#[cfg(test)]
+mod far_tests;
 #[cfg(test)]
 mod tests;

@@ -10,8 +10,9 @@
 //! [`TreeReport::over`]) rather than opened. Planning asks estimates only of the nodes it
 //! visits: its cost follows the nodes opened, not the objects in the world.
 
-use super::bvh::Tree;
+use super::bvh::{Node, Tree};
 use super::cluster::Cluster;
+use super::far::{FarConfig, FarField, FarReport, Side, Split};
 use crate::core::{CostModel, FrameView, Frustum, Representation, Sight, Subject};
 use engine::{Draw, FrameStats, Target};
 use glam::Vec3;
@@ -43,6 +44,9 @@ pub struct TreeConfig {
     pub release_after: u32,
     /// Predicted milliseconds of work.
     pub cost: CostModel,
+    /// The far field: everything beyond a distance as one image mesh with depth, the cut
+    /// stopping at its boundary (`None`: the cut covers the whole world).
+    pub far: Option<FarConfig>,
 }
 
 impl Default for TreeConfig {
@@ -57,6 +61,7 @@ impl Default for TreeConfig {
             payback: 4.0,
             release_after: 60,
             cost: CostModel::default(),
+            far: None,
         }
     }
 }
@@ -97,6 +102,14 @@ pub struct TreeReport {
     pub planning_ms: f32,
     /// Nodes refitted by the last [`Hierarchy::update`].
     pub refitted: usize,
+    /// Objects in nodes in view left to the shown far field,
+    pub far_objects: usize,
+    /// the far field's captures this frame,
+    pub far: FarReport,
+    /// their measured milliseconds (part of [`TreeReport::capture_ms`]),
+    pub far_ms: f32,
+    /// and the triangles of its meshes in view.
+    pub far_triangles: usize,
 }
 
 /// A hierarchy over objects and the image representations its nodes may take.
@@ -118,6 +131,9 @@ pub struct Hierarchy<S> {
     held: Vec<(u32, u8)>,
     frame: u32,
     eye: Vec3,
+    /// The far field, when [`TreeConfig::far`] is set, and the frame's frustum.
+    far: Option<FarField>,
+    frustum: Option<Frustum>,
     /// What the last [`Hierarchy::plan`] did.
     pub report: TreeReport,
 }
@@ -178,6 +194,8 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             held: Vec::new(),
             frame: 0,
             eye: Vec3::ZERO,
+            far: config.far.map(FarField::new),
+            frustum: None,
             report: TreeReport::default(),
         }
     }
@@ -195,6 +213,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
     /// The last frame's images: (node, representation, predicted error).
     pub fn images(&self) -> &[(u32, u8, f32)] {
         &self.images
+    }
+
+    /// The far field, when [`TreeConfig::far`] is set.
+    pub fn far(&self) -> Option<&FarField> {
+        self.far.as_ref()
     }
 
     /// The last frame's objects drawn as geometry.
@@ -231,29 +254,18 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
     /// Chooses the frame's cut (module docs), rebuilds within the budget and prepares the
     /// images. Returns the report.
     pub fn plan(&mut self, view: &FrameView<'_>) -> &TreeReport {
+        let far_ms = self.step_far(view);
         let start = std::time::Instant::now();
         let cfg = self.config;
         let camera = view.camera;
         let eye = camera.eye();
         self.eye = eye;
-        self.frame = self.frame.wrapping_add(1);
-        let frustum = Frustum::new(camera.clip_from_world());
         let at_eye = engine::Sphere {
             center: eye,
             radius: 0.0,
         };
         let base = Sight::new(camera, view.width, view.height, at_eye);
-        let mut report = TreeReport {
-            refitted: self.report.refitted,
-            ..TreeReport::default()
-        };
-        self.images.clear();
-        self.geometry.clear();
-        self.batch.iter_mut().for_each(Vec::clear);
-        self.queue.clear();
-        if !self.tree.nodes().is_empty() {
-            self.queue.push_back(0);
-        }
+        let (mut report, frustum, split) = self.begin(camera, far_ms);
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
         let rebuild_ms = if self.frame <= cfg.loading.0 {
             cfg.loading.1.max(cfg.rebuild_ms)
@@ -267,6 +279,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             if !frustum.sees(sphere.center, sphere.radius) {
                 report.culled += 1;
                 continue;
+            }
+            if let Some(split) = &split {
+                if self.far_side(k, &node, split, &frustum, &mut report) {
+                    continue;
+                }
             }
             let cluster = &self.clusters[k as usize];
             let sight = base.at(sphere).with_corners(cluster.corners());
@@ -345,10 +362,104 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         let planned = start.elapsed();
         let captures = std::time::Instant::now();
         self.rebuild_and_prepare(view, &mut report);
-        report.capture_ms = captures.elapsed().as_secs_f32() * 1e3;
+        report.capture_ms = captures.elapsed().as_secs_f32() * 1e3 + far_ms;
         report.planning_ms = planned.as_secs_f32() * 1e3;
         self.report = report;
         &self.report
+    }
+
+    /// Starts a frame's cut seen by `camera`: the report (with the far field's), the
+    /// view's frustum, the far field's split, the scratch cleared and the root queued.
+    fn begin(
+        &mut self,
+        camera: &engine::Camera,
+        far_ms: f32,
+    ) -> (TreeReport, Frustum, Option<Split>) {
+        self.frame = self.frame.wrapping_add(1);
+        let frustum = Frustum::new(camera.clip_from_world());
+        let mut report = TreeReport {
+            refitted: self.report.refitted,
+            far_ms,
+            ..TreeReport::default()
+        };
+        self.frustum = Some(frustum);
+        let split = self.far.as_ref().and_then(FarField::split);
+        if let Some(far) = &self.far {
+            report.far = far.report;
+            report.far_triangles = far.triangles_seen(&frustum);
+        }
+        self.images.clear();
+        self.geometry.clear();
+        self.batch.iter_mut().for_each(Vec::clear);
+        self.queue.clear();
+        if !self.tree.nodes().is_empty() {
+            self.queue.push_back(0);
+        }
+        (report, frustum, split)
+    }
+
+    /// Steps the far field's captures for the frame (within its triangle budget, the
+    /// loading one during the loading frames and until a first field is shown); returns
+    /// their wall time, milliseconds.
+    fn step_far(&mut self, view: &FrameView<'_>) -> f32 {
+        let Some(cfg) = self.config.far else {
+            self.far = None;
+            return 0.0;
+        };
+        let start = std::time::Instant::now();
+        let far = self.far.get_or_insert_with(|| FarField::new(cfg));
+        // The first field is a level's load: at the loading budget until it is shown.
+        let loading = self.frame.wrapping_add(1) <= self.config.loading.0 || far.split().is_none();
+        far.config = cfg;
+        let budget = if loading {
+            cfg.loading_triangles.max(cfg.triangles)
+        } else {
+            cfg.triangles
+        };
+        let size = (view.width, view.height);
+        let world = (&self.tree, &self.objects[..]);
+        far.step(view.camera, size, view.lighting, world, budget);
+        start.elapsed().as_secs_f32() * 1e3
+    }
+
+    /// The cut at node `k` against the far field's `split`: a node wholly the field's is
+    /// left to it (true: done), one with none of its objects is the cut's (false), one
+    /// across is opened, or for a leaf its objects not the field's drawn as geometry
+    /// (true), never drawn as one image.
+    fn far_side(
+        &mut self,
+        k: u32,
+        node: &Node,
+        split: &Split,
+        frustum: &Frustum,
+        report: &mut TreeReport,
+    ) -> bool {
+        match split.side(node.lo, node.hi) {
+            Side::Near => return false,
+            Side::Far => {
+                report.far_objects += node.count as usize;
+                return true;
+            }
+            Side::Across => {}
+        }
+        if node.is_leaf() {
+            for &i in self.tree.objects_of(k as usize) {
+                let b = self.objects[i as usize].bounds();
+                if self
+                    .tree
+                    .box_of(i as usize)
+                    .is_some_and(|x| split.is_far(x))
+                {
+                    report.far_objects += 1;
+                } else if frustum.sees(b.center, b.radius) {
+                    self.geometry.push(i);
+                }
+            }
+            return true;
+        }
+        report.opened += 1;
+        self.queue.extend(node.children);
+        true
     }
 
     /// Rebuilds the batches (their wall time is [`TreeReport::capture_ms`]), releases images
@@ -389,10 +500,15 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             rep.prepare(batch, &self.clusters, view);
         }
         report.memory = self.reps.iter().map(|r| r.memory()).sum();
+        report.memory += self.far.as_ref().map_or(0, FarField::memory);
     }
 
-    /// The frame's draws: each image node's image, each geometry object's triangles.
+    /// The frame's draws: each image node's image, each geometry object's triangles, the
+    /// far field's meshes in view.
     pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        if let (Some(far), Some(frustum)) = (&self.far, &self.frustum) {
+            far.draws(frustum, out);
+        }
         for &(k, r, _) in &self.images {
             let k = k as usize;
             self.reps[usize::from(r)].draw(k, &self.clusters[k], self.eye, out);

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 /// A ball of radius `r` at `c`, of 500 triangles, drawing nothing (the cut is what is tested).
 #[derive(Clone, Debug)]
-struct Ball(Vec3, f32);
+pub(super) struct Ball(pub Vec3, pub f32);
 
 impl Subject for Ball {
     fn bounds(&self) -> Sphere {
@@ -26,7 +26,7 @@ impl Subject for Ball {
 /// An image per node, from the eye it was taken at: its error grows with the angle the eye
 /// moved as seen from the node (100 levels per radian), infinite once the node changed;
 /// none for a node wider than 64 pixels on screen.
-struct Snapshots {
+pub(super) struct Snapshots {
     held: Vec<Option<(Vec3, u64)>>,
     rebuilt: Vec<usize>,
 }
@@ -82,7 +82,7 @@ impl Representation<Cluster<Ball>> for Snapshots {
 }
 
 /// `side` x `side` balls a unit apart on the ground, centred on the origin.
-fn field(side: usize) -> Vec<Ball> {
+pub(super) fn field(side: usize) -> Vec<Ball> {
     let h = side as f32 * 0.5;
     (0..side * side)
         .map(|k| {
@@ -94,7 +94,7 @@ fn field(side: usize) -> Vec<Ball> {
         .collect()
 }
 
-fn hierarchy(side: usize, config: TreeConfig) -> Hierarchy<Ball> {
+pub(super) fn hierarchy(side: usize, config: TreeConfig) -> Hierarchy<Ball> {
     Hierarchy::new(config, field(side), |n| {
         let snaps = Snapshots {
             held: vec![None; n],
@@ -105,7 +105,7 @@ fn hierarchy(side: usize, config: TreeConfig) -> Hierarchy<Ball> {
 }
 
 /// Looking over the field from `eye`, 16:9.
-fn camera(eye: Vec3, side: usize) -> Camera {
+pub(super) fn camera(eye: Vec3, side: usize) -> Camera {
     Camera::look_at(
         eye,
         Vec3::new(0.0, 0.0, -(side as f32) * 0.25),
@@ -116,13 +116,13 @@ fn camera(eye: Vec3, side: usize) -> Camera {
     .with_depth_range(0.1, side as f32 * 4.0)
 }
 
-fn plan(h: &mut Hierarchy<Ball>, camera: &Camera) -> TreeReport {
+pub(super) fn plan(h: &mut Hierarchy<Ball>, camera: &Camera) -> TreeReport {
     let lighting = Lighting::default();
     *h.plan(&FrameView::still(camera, 320, 180, &lighting))
 }
 
 /// Per object, how many times the last cut draws it (as geometry or under an image).
-fn drawn(h: &Hierarchy<Ball>) -> Vec<usize> {
+pub(super) fn drawn(h: &Hierarchy<Ball>) -> Vec<usize> {
     let mut times = vec![0; h.objects().len()];
     for &i in h.geometry() {
         times[i as usize] += 1;
