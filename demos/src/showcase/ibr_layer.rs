@@ -12,8 +12,7 @@ use crate::showcase::impostors::{self, Impostors};
 use crate::showcase::lightfield::Statue;
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
-    AlphaMode, Camera, Draw, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene,
-    Target,
+    Camera, Draw, FrameOptions, FrameStats, Material, Mesh, Renderer, Rgba, Scene, Target,
 };
 use glam::{Mat4, Vec2, Vec3};
 use ibr::billboard::ViewAtlas;
@@ -251,6 +250,7 @@ impl IbrLayer {
                     });
                 }
             }
+            ViewAtlas::order(&mut batch.items, eye);
             first += all.len();
         }
         let trees = &self.trees;
@@ -389,9 +389,10 @@ fn sphere_around(mesh: &Mesh) -> engine::Sphere {
 /// [`SPRITE_AZIMUTHS`] x [`SPRITE_ELEVATIONS`] directions under the scene's lighting
 /// ([`ViewAtlas`]), drawn on quads facing the eye through each tree's centre, showing the
 /// view baked nearest the eye's direction (set each frame in [`IbrLayer::render`]);
-/// alpha-blended back to front (their soft edges blend, with no screen-door pattern) and
-/// writing depth where they are at least half opaque (they hide the sun's flare and take
-/// the soft smoke's fade), placed on the hills outside the city district.
+/// as cutouts near to far ([`ViewAtlas::material`], [`ViewAtlas::order`]: alpha-tested
+/// with depth writes in the opaque pass, so a sprite hidden behind nearer ones or the hills
+/// is never shaded; they hide the sun's flare and take the soft smoke's fade), placed on the
+/// hills outside the city district.
 /// Also returns the trees' geometry ([`ForestGeometry`]).
 fn forest(
     scene: &Scene,
@@ -422,13 +423,7 @@ fn forest(
         let k = trees.meshes.len();
         trees.bounds.push(bounds);
         trees.meshes.push(mesh);
-        let material = Material {
-            alpha_mode: AlphaMode::Blend,
-            blend_depth: Some(0.5),
-            vertex_colors: true,
-            ..Material::unlit(Rgba::WHITE).with_texture(atlas.texture.clone())
-        };
-        let mut batch = BillboardBatch::new(material);
+        let mut batch = BillboardBatch::new(atlas.material());
         while batch.items.len() < FOREST_TREES / 2 {
             let a = rng.range(0.0, std::f32::consts::TAU);
             let r = rng.range(27.0, 58.0);

@@ -8,10 +8,15 @@
 //! framing the sphere's `2r x 2r` square) and shows the image baked from the direction
 //! nearest the eye's, so it shows the side seen, lit as the object is, at any elevation
 //! the grid covers. The cost is memory: one `px` square per direction.
+//!
+//! Drawn as cutouts ([`ViewAtlas::material`], [`ViewAtlas::order`]): alpha-tested, opaque
+//! where a view's alpha is at least `CUTOFF` (0.5), writing depth, the quads near to far, so
+//! the fragments of a sprite hidden behind a nearer one (or any opaque surface) fail the
+//! depth test and are never shaded; blended, every sprite shades its whole quad.
 
 use super::bake::{bake_bounds, bake_camera};
-use crate::core::{Capturer, UvRect};
-use engine::{Draw, Encoding, Lighting, Sphere, Texture};
+use crate::core::{Billboard, Capturer, UvRect};
+use engine::{AlphaMode, Draw, Encoding, Lighting, Material, Rgba, Sphere, Texture};
 use glam::{Vec2, Vec3};
 use std::f32::consts::TAU;
 use std::sync::Arc;
@@ -19,6 +24,12 @@ use std::sync::Arc;
 /// Texels of transparent margin framed around the sphere in every cell, so the mipmaps
 /// of one cell blend no neighbour's texels in at the levels a quad of its size uses.
 const MARGIN: f32 = 0.04;
+
+/// The alpha at which a view's texel is kept ([`ViewAtlas::material`]): the mip-filtered
+/// alpha of a pixel is about the share of it the object covers, so a pixel is drawn where
+/// the object covers at least half of it, as a rasterised mesh covers the pixels whose
+/// centres it holds.
+const CUTOFF: f32 = 0.5;
 
 /// An object's images from `azimuths` evenly spaced directions about +Y (the first along
 /// +X, then toward +Z) at each of `elevations` (radians above the horizon), in one atlas:
@@ -96,6 +107,34 @@ impl ViewAtlas {
         }
     }
 
+    /// The material that draws the atlas's views on billboards: unlit (the views are baked
+    /// lit), the billboard's tint times the texture, alpha-tested at `CUTOFF` (0.5) with depth
+    /// writes, in the opaque pass (draw the quads in [`ViewAtlas::order`]).
+    pub fn material(&self) -> Material {
+        Material {
+            alpha_mode: AlphaMode::Mask { cutoff: CUTOFF },
+            vertex_colors: true,
+            ..Material::unlit(Rgba::WHITE).with_texture(self.texture.clone())
+        }
+    }
+
+    /// Puts `items` near to far from `eye` (by distance; ties by position, so the order is
+    /// one at any thread count), the order in which cutouts hide the most before they are
+    /// shaded: each sprite's hidden fragments then fail the depth test written by the
+    /// nearer ones. Allocates nothing.
+    pub fn order(items: &mut [Billboard], eye: Vec3) {
+        items.sort_unstable_by(|a, b| {
+            let (da, db) = (
+                a.position.distance_squared(eye),
+                b.position.distance_squared(eye),
+            );
+            da.total_cmp(&db)
+                .then(a.position.x.total_cmp(&b.position.x))
+                .then(a.position.z.total_cmp(&b.position.z))
+                .then(a.position.y.total_cmp(&b.position.y))
+        });
+    }
+
     /// The cell baked from the direction nearest `to_eye` (from the object toward the eye,
     /// any length): the nearest azimuth, and the nearest elevation of the grid. A zero or
     /// non-finite direction gives the first cell.
@@ -141,7 +180,8 @@ fn direction(azimuths: usize, k: usize, e: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use engine::{procedural, Material, Rgba};
+    use crate::core::{BillboardBatch, Facing, View};
+    use engine::{procedural, Camera, FrameOptions, Renderer, Target};
     use glam::Mat4;
 
     /// A ball of radius 0.5, unlit red, in a sphere of 0.6: every cell shows it.
@@ -201,5 +241,70 @@ mod tests {
                 assert_eq!(at(x, y), 0, "cell {cx},{cy} corner {x},{y}");
             }
         }
+    }
+
+    /// Fragments shaded drawing `items` (in the order given, with `material`) from `cam`.
+    fn shaded(cam: &Camera, material: Material, items: &[Billboard]) -> (u64, Target) {
+        let mut batch = BillboardBatch::new(material);
+        batch.items.extend_from_slice(items);
+        batch.build(&View::new(cam, 120));
+        let mut target = Target::new(160, 120);
+        let stats = Renderer::new().render(
+            [batch.draw()],
+            cam,
+            &Lighting::default(),
+            &mut target,
+            &FrameOptions {
+                clear: Some(Rgba::TRANSPARENT),
+                ..FrameOptions::default()
+            },
+        );
+        (stats.fragments_shaded, target)
+    }
+
+    #[test]
+    fn a_row_of_cutouts_near_to_far_shades_about_one_sprite() {
+        let a = atlas(4, &[0.0]);
+        let (eye, side) = (Vec3::new(0.0, 0.0, 2.5), 2.0 * a.bounds.radius);
+        let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.8, 160.0 / 120.0);
+        // Eight balls in a row straight away from the eye, 0.25 apart, pushed far to near.
+        let row: Vec<Billboard> = (0..8)
+            .map(|k| {
+                let p = Vec3::new(0.0, 0.0, -0.25 * k as f32);
+                Billboard {
+                    region: a.region(eye - p),
+                    ..Billboard::new(p, Facing::World { up: Vec3::Y }, Vec2::splat(side))
+                }
+            })
+            .rev()
+            .collect();
+        let mut sorted = row.clone();
+        ViewAtlas::order(&mut sorted, eye);
+        assert_eq!(sorted[0].position, Vec3::ZERO, "nearest first");
+        // The reference: the nearest sprite drawn alone.
+        let (one, alone) = shaded(&cam, a.material(), &sorted[..1]);
+        let solid = (0..120)
+            .flat_map(|y| (0..160).map(move |x| (x, y)))
+            .filter(|&(x, y)| alone.pixel(x, y).is_some_and(|c| c >> 24 == 255))
+            .count() as u64;
+        assert!(one > 2000 && solid * 2 > one, "{one} {solid}");
+        let (cut, image) = shaded(&cam, a.material(), &sorted);
+        let blended = Material {
+            alpha_mode: AlphaMode::Blend,
+            ..a.material()
+        };
+        let (blend, _) = shaded(&cam, blended, &row);
+        let (far_first, _) = shaded(&cam, a.material(), &row);
+        // Near to far, a farther sprite (smaller on screen, its ball inside the nearer
+        // balls) shades at most the clear part of its quad, no more than the nearest's;
+        // blended or far to near, every quad shades whole.
+        assert!(cut <= one + 7 * (one - solid), "{cut}: {one} {solid}");
+        assert!(
+            cut * 2 < blend && cut * 2 < far_first,
+            "{cut} {blend} {far_first}"
+        );
+        assert!(blend * 10 > one * 40, "{blend} vs {one}");
+        // And the row looks as its nearest sprite does where that one is opaque.
+        assert_eq!(image.pixel(80, 60), alone.pixel(80, 60));
     }
 }
