@@ -204,7 +204,7 @@ pub mod panorama {
 /// View morphing (Seitz and Dyer), calibrated or from point pairs.
 pub mod morph {
     pub use crate::techniques::morph::{
-        between, fundamental, plain_morph, uncalibrated, Correspondence, MorphError, MorphStats,
-        ViewMorph,
+        between, fundamental, plain_morph, uncalibrated, Correspondence, Labels, MorphError,
+        MorphStats, ViewMorph,
     };
 }

@@ -10,6 +10,7 @@ use crate::core::DepthImage;
 use engine::color::Premul;
 use engine::Camera;
 use glam::{Mat4, Vec3, Vec4};
+use rayon::prelude::*;
 
 /// Why a pair cannot be rectified.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -161,29 +162,34 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
     let to_old = image.camera.gl_view_proj();
     let eye = camera.eye();
     let (old_forward, new_forward) = (image.camera.forward(), camera.forward());
-    for y in 0..h {
-        for x in 0..w {
-            let dir = pixel_ray(&to_world, eye, (x, y), (w, h));
-            let Some((u, v)) = source(&to_old, dir, (iw, ih)) else {
-                continue;
-            };
-            if let Some(p) = bilinear(image, u, v) {
-                let i = (y * w + x) as usize;
-                out.color[i] = p;
-                // Nearest: depth does not blend across edges. `z_old` along the old axis is
-                // `t dir . old_forward` for the point `eye + t dir`.
-                let nx = u.round().clamp(0.0, iw as f32 - 1.0) as u32;
-                let ny = v.round().clamp(0.0, ih as f32 - 1.0) as u32;
-                let z_old = image.depth[(ny * iw + nx) as usize];
-                let (along_old, along_new) = (dir.dot(old_forward), dir.dot(new_forward));
-                out.depth[i] = if z_old.is_finite() && z_old > 0.0 && along_old > 0.0 {
-                    z_old / along_old * along_new
-                } else {
-                    z_old
+    // Row by row on the pool: each pixel is its own, so the image is the same on any
+    // number of threads.
+    out.color
+        .par_chunks_mut(w.max(1) as usize)
+        .zip(out.depth.par_chunks_mut(w.max(1) as usize))
+        .enumerate()
+        .for_each(|(y, (colors, depths))| {
+            for (x, (color, depth)) in colors.iter_mut().zip(depths).enumerate() {
+                let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
+                let Some((u, v)) = source(&to_old, dir, (iw, ih)) else {
+                    continue;
                 };
+                if let Some(p) = bilinear(image, u, v) {
+                    *color = p;
+                    // Nearest: depth does not blend across edges. `z_old` along the old
+                    // axis is `t dir . old_forward` for the point `eye + t dir`.
+                    let nx = u.round().clamp(0.0, iw as f32 - 1.0) as u32;
+                    let ny = v.round().clamp(0.0, ih as f32 - 1.0) as u32;
+                    let z_old = image.depth[(ny * iw + nx) as usize];
+                    let (along_old, along_new) = (dir.dot(old_forward), dir.dot(new_forward));
+                    *depth = if z_old.is_finite() && z_old > 0.0 && along_old > 0.0 {
+                        z_old / along_old * along_new
+                    } else {
+                        z_old
+                    };
+                }
             }
-        }
-    }
+        });
     out
 }
 

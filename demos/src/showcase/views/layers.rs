@@ -13,7 +13,7 @@
 
 use super::Frame;
 use crate::showcase;
-use engine::{Camera, FrameOptions, Renderer, Scene, Target};
+use engine::{Camera, FrameOptions, Lighting, Renderer, Scene, Target};
 use glam::Vec3;
 use ibr::layers::{self, Layered};
 use ibr::metrics::{self, ImageError, Options};
@@ -98,14 +98,29 @@ impl LayersPart {
             fallback_ratio: 1.0,
             ..layers::Config::default()
         };
-        LayersPart {
+        let mut part = LayersPart {
             layers: Layered::new("layered background", cfg, far),
             near,
             renderer: Renderer::new(),
             frames: FrameLoop::new(),
             image: Target::new(width, height),
             truth: Target::new(width, height),
-        }
+        };
+        part.render_first_images(&scene.lighting);
+        part
+    }
+
+    /// Renders the image of every layer the stroll's first view reaches, with no cap: the
+    /// burst of the first frame, which no per-frame budget holds, done as loading. Later
+    /// frames re-render only the layers whose predicted error passes the tolerance.
+    fn render_first_images(&mut self, lighting: &Lighting) {
+        let camera = self.camera(0.0);
+        let size = (self.image.width(), self.image.height());
+        let set = &mut self.layers.set;
+        let budget = set.config.budget;
+        set.config.budget = Budget::count(set.layers.len());
+        set.update(&mut self.layers.subjects, &camera, size, lighting);
+        set.config.budget = budget;
     }
 
     /// The camera a fraction `t` along the stroll: 6 units across the plaza looking out

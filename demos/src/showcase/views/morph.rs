@@ -99,10 +99,12 @@ impl MorphPart {
         s: f32,
         out: &mut Frame,
     ) -> MorphFrame {
-        let (view, stats) = self.morph.frame(s);
+        let (view, labels) = self.morph.view(s);
         let camera = self.morph.camera_at(s);
         let (w, h) = (view.width(), view.height());
         let measure = Instant::now();
+        // What the view is made of (its holes' share) is a figure for the readout: measuring.
+        let stats = self.morph.stats(&labels);
         self.capturer.capture(
             draws.iter().copied(),
             &camera,

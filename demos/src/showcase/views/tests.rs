@@ -177,15 +177,51 @@ fn the_layered_background_warps_most_layers_and_stays_near_the_geometry() {
         scene_triangles,
         "every object a layer or near geometry"
     );
-    // The first frame takes the images in view (within the budget); later ones warp most.
-    assert_eq!(frames[0].refreshes, LAYERS_BUDGET, "{:?}", frames[0]);
-    let later: usize = frames[1..].iter().map(|f| f.refreshes).sum();
+    // The first view's images were made ahead (as loading): every frame warps most.
+    let later: usize = frames.iter().map(|f| f.refreshes).sum();
     assert!(later < 7 * LAYERS_BUDGET, "{frames:?}");
     for f in &frames {
         assert!(f.max_px <= LAYERS_TOLERANCE_PX + 1e-3, "{f:?}");
         let e = f.error.expect("same size");
         assert!(e.psnr_db > 25.0 && e.frac_over < 0.05, "{}", f.line());
     }
+}
+
+/// A slow pan, as the window plays the stroll (20 s at 30 frames a second: t moves 1/600 a
+/// frame, 1 cm, and the view turns 0.07 degrees): the images of the first view are made
+/// ahead, and after that a layer is re-rendered only when its predicted error passes the
+/// tolerance. A layer 10 units away or farther moves at most `focal x 0.01 / 10` pixels a
+/// frame by parallax (0.3 px at 320 wide; the turn the perspective warp follows exactly),
+/// so it passes a pixel no sooner than every third frame: a third of the images a frame at
+/// most, on average, and far below the per-frame cap.
+#[test]
+fn on_a_slow_pan_few_layers_are_re_rendered_and_every_frame_is_within_tolerance() {
+    let mut tour = ViewsTour::new(scene(), 320, 180);
+    let n = 30;
+    let (mut refreshes, mut images) = (0, 0);
+    for k in 0..n {
+        tour.render_part(Part::Layers, k as f32 / 600.0)
+            .expect("layers always render");
+        let Shown::Layers(f) = tour.last() else {
+            panic!("showed {:?}", tour.last());
+        };
+        eprintln!("{k}: {}", f.line());
+        if k == 0 {
+            assert_eq!(f.refreshes, 0, "made ahead: {f:?}");
+        }
+        assert!(f.max_px <= LAYERS_TOLERANCE_PX, "frame {k}: {f:?}");
+        assert!(f.refreshes <= LAYERS_BUDGET / 2, "frame {k}: {f:?}");
+        assert_eq!(
+            f.geometry, 0,
+            "frame {k}: every layer in view an image: {f:?}"
+        );
+        refreshes += f.refreshes;
+        images += f.images;
+    }
+    assert!(
+        3 * refreshes <= images,
+        "{refreshes} re-rendered for {images} drawn"
+    );
 }
 
 #[test]

@@ -196,6 +196,14 @@ impl ViewMorph {
     /// The in-between view a fraction `s` of the way, and what it is made of. (From point
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
+        let (view, labels) = self.view(s);
+        (view, self.stats(&labels))
+    }
+
+    /// The in-between view a fraction `s` of the way, and the labels of what each pixel of
+    /// it is made of, for [`ViewMorph::stats`]. Showing the view needs only the first:
+    /// counting takes a second postwarp of the labels.
+    pub fn view(&self, s: f32) -> (DepthImage, Labels) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
         let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
@@ -204,15 +212,33 @@ impl ViewMorph {
             projection: p.left.camera.projection,
         };
         let (image, made) = forward::morph(p, &self.left, &self.right, s, parallel);
+        (self.postwarp(&image, s), Labels { parallel: made, s })
+    }
+
+    /// What the view of `labels` is made of: the labels carried by the same postwarp as
+    /// the view, then counted.
+    pub fn stats(&self, labels: &Labels) -> MorphStats {
+        forward::Made::count(&self.postwarp(&labels.parallel, labels.s))
+    }
+
+    /// The parallel in-between `image` (a fraction `s` of the way) turned to the
+    /// in-between camera.
+    fn postwarp(&self, image: &DepthImage, s: f32) -> DepthImage {
         let (w, h) = (self.width, self.height);
         let camera = self.camera_at(s);
-        // What each output pixel is made of, carried by the same postwarp as the view.
-        let postwarp = |image: &DepthImage| match &self.postwarp {
+        match &self.postwarp {
             Some(postwarp) => postwarp.apply(image, s, camera, w, h),
             None => resample(image, &camera, w, h),
-        };
-        (postwarp(&image), forward::Made::count(&postwarp(&made)))
+        }
     }
+}
+
+/// What each pixel of a parallel in-between view is made of (from the left view, the
+/// right, or filled), as [`ViewMorph::view`] made them, for [`ViewMorph::stats`].
+#[derive(Clone, Debug)]
+pub struct Labels {
+    parallel: DepthImage,
+    s: f32,
 }
 
 /// Whether each pixel of `image` (a prewarped view) looks in a direction `original` (the

@@ -11,7 +11,7 @@ use crate::core::capture_batch;
 use crate::core::DepthImage;
 use crate::stereo::rectify::{bilinear, pixel_ray};
 use engine::{Camera, Draw, Lighting, Premul};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 
 /// The six faces' view directions and up vectors: +x, -x, +y, -y, +z, -z.
@@ -29,6 +29,10 @@ const FACES: [(Vec3, Vec3); 6] = [
 pub struct CubeMap {
     centre: Vec3,
     faces: Vec<DepthImage>,
+    /// Each face's world-to-clip matrix, made once: a lookup per pixel of every frame.
+    to_clip: Vec<Mat4>,
+    /// The nearest point's distance ([`CubeMap::nearest`]), found once at the capture.
+    nearest: f32,
 }
 
 impl CubeMap {
@@ -49,9 +53,18 @@ impl CubeMap {
                     .with_depth_range(near.max(1e-4), far.max(near * 2.0))
             })
             .collect();
+        let faces = capture_batch(draws, &cameras, lighting, size, size);
+        let nearest = faces
+            .iter()
+            .flat_map(|f| f.depth.iter())
+            .copied()
+            .filter(|d| d.is_finite())
+            .fold(f32::INFINITY, f32::min);
         CubeMap {
             centre,
-            faces: capture_batch(draws, &cameras, lighting, size, size),
+            to_clip: faces.iter().map(|f| f.camera.gl_view_proj()).collect(),
+            faces,
+            nearest,
         }
     }
 
@@ -63,12 +76,7 @@ impl CubeMap {
     /// The distance (along each face's axis) of the nearest point it holds; infinity when
     /// it holds only sky.
     pub fn nearest(&self) -> f32 {
-        self.faces
-            .iter()
-            .flat_map(|f| f.depth.iter())
-            .copied()
-            .filter(|d| d.is_finite())
-            .fold(f32::INFINITY, f32::min)
+        self.nearest
     }
 
     /// The view of the panorama from `camera`'s orientation (its position does not
@@ -94,12 +102,23 @@ impl CubeMap {
 
     /// Fills the pixels of `frame` that show nothing with the panorama, as its sky.
     pub fn behind(&self, frame: &mut DepthImage) {
-        let sky = self.view(&frame.camera, frame.width(), frame.height());
-        for (c, s) in frame.color.iter_mut().zip(&sky.color) {
-            if c.a <= 0.0 {
-                *c = *s;
-            }
-        }
+        let (w, h) = (frame.width(), frame.height());
+        let to_world = frame.camera.gl_view_proj().inverse();
+        let eye = frame.camera.eye();
+        // Only the empty pixels are looked up (the same colour `view` gives them).
+        frame
+            .color
+            .par_chunks_mut(w.max(1) as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, c) in row.iter_mut().enumerate() {
+                    if c.a > 0.0 {
+                        continue;
+                    }
+                    let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
+                    *c = self.sample(dir).unwrap_or(Premul::TRANSPARENT);
+                }
+            });
     }
 
     /// The predicted error of drawing this from `eye`: how far (in pixels, at `focal_px`
@@ -131,7 +150,7 @@ impl CubeMap {
             4 + usize::from(dir.z < 0.0)
         };
         let f = &self.faces[face];
-        let c = f.camera.gl_view_proj() * dir.extend(0.0);
+        let c = self.to_clip[face] * dir.extend(0.0);
         let (w, h) = (f.width() as f32, f.height() as f32);
         let (u, v) = (
             (c.x / c.w + 1.0) * 0.5 * w - 0.5,

@@ -85,6 +85,28 @@ fn the_sky_is_captured_again_when_the_predicted_error_passes_the_tolerance() {
     });
 }
 
+/// Many small steps that together stay under the tolerance: no re-capture at all, while
+/// the predicted parallax (what the decision acts on) grows with the distance moved.
+#[test]
+fn moves_smaller_than_the_tolerance_never_capture_again() {
+    with_draws(|draws| {
+        let lighting = Lighting::default();
+        let mut sky = Sky::new(draws, &lighting, CENTRE, 64, (0.1, 50.0), 4.0);
+        // The move the tolerance allows: 4 px at the nearest point's distance.
+        let allowed = 4.0 * sky.map.nearest() / focal();
+        let mut last = 0.0;
+        for k in 1..=20 {
+            let eye = CENTRE + Vec3::new(0.9 * allowed * k as f32 / 20.0, 0.0, 0.0);
+            let predicted = sky.map.predicted_px(eye, focal());
+            assert!(predicted > last && predicted < 4.0, "step {k}: {predicted}");
+            assert!(!sky.update(draws, &lighting, &looking(eye, Vec3::NEG_Z), focal()));
+            last = predicted;
+        }
+        assert_eq!(sky.captures, 1);
+        assert!((sky.map.centre() - CENTRE).length() < 1e-6);
+    });
+}
+
 #[test]
 fn the_panorama_fills_only_what_the_frame_left_empty() {
     with_draws(|draws| {
