@@ -6,9 +6,11 @@
 //! `cargo run --release -p engine --example fragbench -- MODEL [W H FRAMES THREADS [peer]]`
 //!
 //! `peer` lights the scene as `../shared/peers/llvmpipe_textured.py` does (ambient 0.2, one
-//! white light of 0.8 from (0.4, 0.8, 0.45), no highlights).
+//! white light of 0.8 from (0.4, 0.8, 0.45), no highlights, the texture's bytes read as unorm).
 
-use engine::{Camera, FrameOptions, Light, Lighting, Renderer, Rgba, Shading, Target};
+use engine::{
+    Camera, Encoding, FrameOptions, Light, Lighting, Renderer, Rgba, Shading, Target, Texture,
+};
 use glam::Vec3;
 use std::path::Path;
 use std::time::Instant;
@@ -38,6 +40,19 @@ fn main() -> Result<(), String> {
         for m in &mut scene.materials {
             if let Shading::Lit { specular, .. } = &mut m.shading {
                 *specular = 0.0;
+            }
+            // The peer's texture is not sRGB: its bytes re-read as unorm, as `render
+            // --peer-light` does.
+            if let Some(t) = &m.base_texture {
+                let l = &t.levels()[0];
+                let unorm = Texture::from_packed(
+                    l.width,
+                    l.height,
+                    l.texels.clone(),
+                    Encoding::Unorm,
+                    false,
+                );
+                m.base_texture = unorm.map(std::sync::Arc::new);
             }
         }
     }

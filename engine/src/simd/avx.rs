@@ -194,6 +194,53 @@ impl I8 {
         };
         I8(a).deinterleave(I8(b))
     }
+    /// `table[idx]` for the lanes of `keep` (each index first clamped into the table),
+    /// zero in the others, which read nothing. One AVX2 gather of eight 32-bit texels.
+    #[inline(always)]
+    pub fn gather_u32_lanes(table: &[u32], idx: I8, keep: M8) -> I8 {
+        let Some(last) = table.len().checked_sub(1) else {
+            return I8::splat(0);
+        };
+        let last = last.min(i32::MAX as usize) as i32;
+        let i = idx.max(I8::splat(0)).min(I8::splat(last)).0;
+        let base = table.as_ptr().cast::<i32>();
+        let m = avx!(_mm256_castps_si256(keep.0));
+        let zero = avx!(_mm256_setzero_si256());
+        // SAFETY: every index was clamped into `0..=last`, so each 4-byte read a kept lane
+        // makes lies inside `table`, a live slice of `u32`s; masked-off lanes read nothing.
+        I8(unsafe { _mm256_mask_i32gather_epi32::<4>(zero, base, i, m) })
+    }
+    /// `(table[idx], table[idx + 1])` for the lanes of `keep`, each index first clamped
+    /// into `0..=len - 2` (zeros for a table under two long, and in the lanes not kept,
+    /// which read nothing): two neighbours of a row in one 8-byte read a lane, two AVX2
+    /// gathers for eight pairs.
+    #[inline(always)]
+    pub fn gather_u32_pairs_lanes(table: &[u32], idx: I8, keep: M8) -> (I8, I8) {
+        let Some(last) = table.len().checked_sub(2) else {
+            return (I8::splat(0), I8::splat(0));
+        };
+        let last = last.min(i32::MAX as usize) as i32;
+        let i = idx.max(I8::splat(0)).min(I8::splat(last)).0;
+        let base = table.as_ptr().cast::<i64>();
+        let m = avx!(_mm256_castps_si256(keep.0));
+        let (lo4, hi4) = avx!((_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i)));
+        let (mlo, mhi) = avx!((
+            _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m)),
+            _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(m)),
+        ));
+        let zero = avx!(_mm256_setzero_si256());
+        // SAFETY: every index was clamped into `0..=len - 2`, so each 8-byte read a kept
+        // lane makes (from 4 times the index, in bytes, past `base`: the `u32`s at `idx`
+        // and `idx + 1`) lies inside `table`; unaligned reads are what gathers do;
+        // masked-off lanes read nothing.
+        let (a, b) = unsafe {
+            (
+                _mm256_mask_i32gather_epi64::<4>(zero, base, lo4, mlo),
+                _mm256_mask_i32gather_epi64::<4>(zero, base, hi4, mhi),
+            )
+        };
+        I8(a).deinterleave(I8(b))
+    }
     /// `table[idx]` for every lane, each index first clamped into the table, split into
     /// its low and high 32 bits (zeros for an empty table). Two AVX2 gathers of four
     /// 64-bit texels.

@@ -74,6 +74,23 @@ fn lanes_behave() {
             .to_array(),
         [0; 8]
     );
+    let words = [10u32, 11, 12, 13];
+    let keep = M8::from_bits(0b1010_0111);
+    assert_eq!(
+        I8::gather_u32_lanes(&words, idx, keep).to_array(),
+        [10, 10, 11, 0, 0, 13, 0, 11]
+    );
+    assert_eq!(I8::gather_u32_lanes(&[], idx, keep).to_array(), [0; 8]);
+    // Pairs: indices clamped into 0..=len - 2, so the last word is only ever a second.
+    let (first, second) = I8::gather_u32_pairs_lanes(&words, idx, keep);
+    assert_eq!(first.to_array(), [10, 10, 11, 0, 0, 12, 0, 11]);
+    assert_eq!(second.to_array(), [11, 11, 12, 0, 0, 13, 0, 12]);
+    assert_eq!(
+        I8::gather_u32_pairs_lanes(&words[..1], idx, keep)
+            .1
+            .to_array(),
+        [0; 8]
+    );
     // Fused: rounded once, so (1 + e)(1 - e) - 1 keeps the -e^2 an unfused product loses.
     let e = F8::splat(f32::EPSILON);
     let (p, q) = (F8::splat(1.0) + e, F8::splat(1.0) - e);

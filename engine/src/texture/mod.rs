@@ -66,10 +66,17 @@ pub struct Texture {
     levels: Vec<MipLevel>,
     encoding: Encoding,
     premultiplied: bool,
-    /// Every level decoded for the 8-lane sampler ([`Texture::sample8`]).
+    /// Every level decoded for the 8-lane sampler ([`Texture::sample8`]); empty levels
+    /// when `bytes` is set.
     linear: Vec<LinearLevel>,
     /// Every texel of level 0 has alpha 255 (so every level's does).
     opaque: bool,
+    /// The 8-lane sampler reads the stored bytes themselves: unorm texels that are
+    /// premultiplied already (or opaque, where straight is premultiplied), whose linear
+    /// value is the byte over 255, so the 16-bit copy would hold the same numbers (byte
+    /// times 257) in twice the memory. Half the bytes a tap, and a row's two neighbours in
+    /// one 8-byte read.
+    bytes: bool,
 }
 
 /// One level as premultiplied linear colour in 16-bit channels, one `u64` a texel
@@ -169,6 +176,7 @@ impl Texture {
             premultiplied,
             linear: Vec::new(),
             opaque: false,
+            bytes: false,
         };
         t.rebuild();
         t
@@ -206,6 +214,7 @@ impl Texture {
     fn rebuild(&mut self) {
         let (encoding, premultiplied) = (self.encoding, self.premultiplied);
         self.opaque = self.levels[0].texels.iter().all(|&px| px >> 24 == 0xff);
+        self.bytes = encoding == Encoding::Unorm && (premultiplied || self.opaque);
         let enc = crate::color::Encoder::new(encoding);
         let mut k = 1;
         loop {
@@ -259,10 +268,20 @@ impl Texture {
             k += 1;
         }
         self.levels.truncate(k);
-        self.linear.resize_with(k, LinearLevel::default);
+        self.build_linear();
+    }
+
+    /// The 16-bit linear copy of every level (emptied levels when the sampler reads bytes).
+    fn build_linear(&mut self) {
+        let (encoding, premultiplied) = (self.encoding, self.premultiplied);
+        self.linear
+            .resize_with(self.levels.len(), LinearLevel::default);
         let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u64;
         for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
             lin.rgba.clear();
+            if self.bytes {
+                continue;
+            }
             for &px in &level.texels {
                 let c = decode(encoding, premultiplied, px);
                 let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));

@@ -81,6 +81,8 @@ fn eight_lanes_match_the_scalar_sampler() {
     let textures = [
         Texture::from_rgba8(13, 7, &bytes, Encoding::Srgb).unwrap(),
         Texture::from_rgba8(13, 7, &bytes, Encoding::Unorm).unwrap(),
+        opaque_unorm(13, 7),
+        Texture::from_packed(13, 7, premultiplied_bytes(13 * 7), Encoding::Unorm, true).unwrap(),
         Texture::checker(16, 4, Rgba::WHITE, Rgba::new(0.2, 0.5, 0.9, 0.4)),
         Texture::from_packed(
             4,
@@ -211,4 +213,93 @@ fn odd_coordinates_do_not_panic() {
     }
     assert!(Texture::from_rgba8(0, 4, &[], Encoding::Srgb).is_none());
     assert!(Texture::from_rgba8(2, 2, &[0; 15], Encoding::Srgb).is_none());
+}
+
+/// An opaque unorm texture of odd size with texels that differ everywhere.
+fn opaque_unorm(w: u32, h: u32) -> Texture {
+    let texels = (0..w * h)
+        .map(|i| (i.wrapping_mul(2_654_435_761u32.wrapping_mul(i + 1)) & 0x00ff_ffff) | 0xff00_0000)
+        .collect();
+    Texture::from_packed(w, h, texels, Encoding::Unorm, false).unwrap()
+}
+
+/// `n` premultiplied texels: every channel at most the texel's alpha.
+fn premultiplied_bytes(n: u32) -> Vec<u32> {
+    (0..n)
+        .map(|i| {
+            let a = (i * 37 + 20) % 256;
+            let c = |k: u32| (i * k + 3) % (a + 1);
+            c(11) | c(29) << 8 | c(53) << 16 | a << 24
+        })
+        .collect()
+}
+
+/// The byte sampler (unorm, premultiplied or opaque: `Texture::bytes`) against the same
+/// texture read from its 16-bit linear copy, the independent path: at and between every
+/// texel of every level of odd sizes (13 x 7 down to 1 x 1), across the edges and a period
+/// beyond them, in every wrap mode, bilinear and trilinear, all lanes and some.
+#[test]
+fn byte_taps_match_the_16_bit_copy() {
+    let textures = [
+        opaque_unorm(13, 7),
+        Texture::from_packed(13, 7, premultiplied_bytes(13 * 7), Encoding::Unorm, true).unwrap(),
+        opaque_unorm(5, 1),
+    ];
+    for t in &textures {
+        assert!(t.bytes && t.linear.iter().all(|l| l.rgba.is_empty()));
+        let mut wide = t.clone();
+        wide.bytes = false;
+        wide.build_linear();
+        for (level, l) in t.levels().iter().enumerate() {
+            let (w, h) = (l.width as f32, l.height as f32);
+            // Texel centres and corners from one texel before the level to one after, then
+            // a whole period further out.
+            let xs: Vec<f32> = (-2..=2 * l.width as i32 + 2)
+                .map(|k| k as f32 * 0.5 / w)
+                .chain([1.0 + 0.25 / w, -1.0 - 0.75 / w])
+                .collect();
+            let ys: Vec<f32> = (-2..=2 * l.height as i32 + 2)
+                .map(|k| k as f32 * 0.5 / h)
+                .chain([2.0 + 0.5 / h])
+                .collect();
+            for filter in [Filter::Bilinear, Filter::Trilinear] {
+                for (wrap_u, wrap_v) in [
+                    (Wrap::Repeat, Wrap::Repeat),
+                    (Wrap::Clamp, Wrap::Clamp),
+                    (Wrap::Mirror, Wrap::Mirror),
+                    (Wrap::Repeat, Wrap::Clamp),
+                ] {
+                    let s = Sampler {
+                        filter,
+                        wrap_u,
+                        wrap_v,
+                    };
+                    for &y in &ys {
+                        for (n, xs8) in xs.chunks(8).enumerate() {
+                            let u: [f32; 8] = std::array::from_fn(|k| xs8[k % xs8.len()]);
+                            let (u, v) = (F8::from_array(u), F8::splat(y));
+                            let keep = crate::simd::M8::from_bits([0xff, 0x5a, 0x81][n % 3]);
+                            for lod in [level as f32, level as f32 + 0.5] {
+                                let got = t.sample8_lanes(&s, u, v, lod, keep);
+                                let want = wide.sample8_lanes(&s, u, v, lod, keep);
+                                for c in 0..4 {
+                                    let (g, e) = (got[c].to_array(), want[c].to_array());
+                                    for k in 0..8 {
+                                        assert!(
+                                            (g[k] - e[k]).abs() < 1e-5,
+                                            "{filter:?} {wrap_u:?}/{wrap_v:?} level {level} \
+                                             ({}, {y}) lod {lod} channel {c}: {} vs {}",
+                                            u.to_array()[k],
+                                            g[k],
+                                            e[k]
+                                        );
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
