@@ -6,8 +6,9 @@
 //! This is the crate's only `unsafe` code (in `avx.rs`), and it is the calls of
 //! register-to-register intrinsics (no pointers: `bytemuck` converts arrays to and from
 //! registers), one cache hint ([`prefetch`], which takes an address but reads nothing
-//! through it) and one gather ([`I8::gather_pairs`], whose indices are clamped into its
-//! table before the read). The gather replaced eight scalar loads and inserts per texture
+//! through it) and the texture gathers ([`I8::gather_pairs`], [`I8::gather_u32_lanes`],
+//! [`I8::gather_u32_pairs_lanes`] and their masked forms, whose indices are clamped into
+//! their table before the read). The gather replaced eight scalar loads and inserts per texture
 //! tap: on this Zen 5 class machine the textured torus 100k (`engine/examples/fragbench.rs`,
 //! 1280x720, one thread, peer lighting) went from a 30.9 to a 28.2 ms fastest frame, same
 //! run, 60 frames (an earlier measurement on Zen 4 had found it no faster). Measured on
