@@ -56,4 +56,6 @@ impl<S: Subject + Send + Sync> Technique for Hierarchy<S> {
 #[cfg(test)]
 mod far_tests;
 #[cfg(test)]
+mod lod_tests;
+#[cfg(test)]
 mod tests;
