@@ -16,7 +16,7 @@ use ibr::impostor::{self, ImpostorSet, Tolerance};
 use ibr::plan::tree::{Cluster, FarConfig, Hierarchy, TreeConfig};
 use ibr::plan::Representation;
 use ibr::schedule::Budget;
-use ibr::subject::{MeshGroup, Subject};
+use ibr::subject::{MeshGroup, Part, Subject};
 use std::sync::Arc;
 
 /// Lot side, world units.
@@ -67,8 +67,9 @@ impl World {
             base_color: Rgba::new(0.75, 0.62, 0.3, 1.0),
             ..(*shiny).clone()
         };
-        let statue_mesh = procedural::torus_with_triangles(3000);
+        let statue_mesh = procedural::torus_with_triangles(STATUE.0);
         protos.push((Arc::new(statue_mesh), Arc::new(statue)));
+        let statue_lods = statue_lods();
         let mut objects = Vec::with_capacity((side * side) as usize);
         for gz in 0..side {
             for gx in 0..side {
@@ -86,7 +87,14 @@ impl World {
                     * Mat4::from_rotation_y(rng.range(0.0, std::f32::consts::TAU))
                     * Mat4::from_scale(Vec3::splat(rng.range(0.8, 1.2)));
                 let (mesh, material) = protos[p].clone();
-                objects.push(MeshGroup::new().with(mesh, material, place));
+                let mut part = Part::new(mesh, material, place);
+                if p == 6 {
+                    part = part.with_lods(statue_lods.clone());
+                }
+                objects.push(MeshGroup {
+                    parts: vec![part],
+                    version: 0,
+                });
             }
         }
         World {
@@ -113,6 +121,27 @@ impl World {
         Camera::look_at(eye, target, Vec3::Y, 1.0, w as f32 / h.max(1) as f32)
             .with_depth_range(0.5, e * 2.2)
     }
+}
+
+/// Triangles of the world's torus statue, and of its coarser levels of detail, finest
+/// first: the statues are 15% of the objects and over half the triangles, so the near
+/// ones drawn as geometry and the far field's captures take the coarsest level whose
+/// deviation projects within half a pixel ([`TreeConfig::lod_px`], [`FarConfig::lod_px`]);
+/// images of clusters and the measured error's reference draw the full mesh.
+pub const STATUE: (u32, [u32; 2]) = (3000, [800, 200]);
+
+/// The statue's levels of detail ([`STATUE`]), each with its deviation from the full mesh:
+/// both meshes' bounds from the true torus summed ([`procedural::torus_deviation`]).
+pub fn statue_lods() -> Vec<(Arc<Mesh>, f32)> {
+    let full = procedural::torus_deviation(STATUE.0);
+    STATUE
+        .1
+        .iter()
+        .map(|&n| {
+            let mesh = Arc::new(procedural::torus_with_triangles(n));
+            (mesh, procedural::torus_deviation(n) + full)
+        })
+        .collect()
 }
 
 /// The largest cluster image, texels a side: a node wider than that on screen is opened

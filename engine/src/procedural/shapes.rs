@@ -31,6 +31,18 @@ pub fn torus_with_triangles(n: u32) -> Mesh {
     torus(0.95, 0.38, u.max(3), v.max(3))
 }
 
+/// The largest distance of [`torus_with_triangles`]`(n)`'s surface from the true torus it
+/// stands for, object units (a bound: the chord's sagitta around the ring at the outer
+/// equator plus the sagitta around the tube). Coarser tori stand in for finer ones within
+/// the two bounds summed (levels of detail).
+pub fn torus_deviation(n: u32) -> f32 {
+    let (u, v) = factor_grid((n / 2).max(9), 2.0);
+    let (u, v) = (u.max(3) as f32, v.max(3) as f32);
+    let (major, minor) = (0.95f32, 0.38f32);
+    let sagitta = |radius: f32, segments: f32| radius * (1.0 - (PI / segments).cos());
+    sagitta(major + minor, u) + sagitta(minor, v)
+}
+
 /// A UV sphere of `rings` latitude bands and `segments` longitude segments:
 /// `2 * segments * (rings - 1)` triangles (one triangle per segment at each pole).
 pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Mesh {

@@ -208,3 +208,36 @@ fn a_doorway_wall_covers_the_wall_but_its_doorways() {
     assert!(m.positions.iter().all(|p| p.z == 0.0));
     assert!(m.normals.iter().all(|n| *n == Vec3::Z));
 }
+
+/// Distance of `p` from the surface of the torus of `major` and `minor` radii around Y.
+fn torus_distance(p: Vec3, major: f32, minor: f32) -> f32 {
+    let ring = (p.x * p.x + p.z * p.z).sqrt() - major;
+    ((ring * ring + p.y * p.y).sqrt() - minor).abs()
+}
+
+#[test]
+fn torus_deviation_bounds_every_coarse_torus_surface_and_is_tight() {
+    // Sampled on every triangle (vertices, edge midpoints, centroid and points between),
+    // the distance to the analytic torus stays within the bound, and reaches at least a
+    // third of it (the bound is no wild overestimate), for the world's statue levels.
+    for n in [200u32, 800, 3000] {
+        let m = torus_with_triangles(n);
+        assert_eq!(m.triangle_count(), n as usize);
+        let bound = torus_deviation(n);
+        let mut worst = 0.0f32;
+        for t in m.indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| m.positions[t[k] as usize]);
+            for i in 0..=8 {
+                for j in 0..=(8 - i) {
+                    let (wa, wb) = (i as f32 / 8.0, j as f32 / 8.0);
+                    let p = a * wa + b * wb + c * (1.0 - wa - wb);
+                    worst = worst.max(torus_distance(p, 0.95, 0.38));
+                }
+            }
+        }
+        assert!(worst <= bound * 1.0001, "{n}: {worst} over {bound}");
+        assert!(worst >= bound / 3.0, "{n}: {worst} far under {bound}");
+    }
+    assert!(torus_deviation(200) > torus_deviation(800));
+    assert!(torus_deviation(800) > torus_deviation(3000));
+}

@@ -20,6 +20,20 @@ pub trait Subject {
     /// Appends the draws that render the subject as geometry.
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>);
 
+    /// Appends the draws that render the subject as geometry seen from `eye` at
+    /// `px_per_radian`, each mesh replaced by its coarsest level of detail whose geometric
+    /// deviation stays within `tolerance_px` pixels there (see [`Part::with_lods`]). By
+    /// default the full [`Subject::draws`].
+    fn draws_seen<'s>(
+        &'s self,
+        _eye: Vec3,
+        _px_per_radian: f32,
+        _tolerance_px: f32,
+        out: &mut Vec<Draw<'s>>,
+    ) {
+        self.draws(out);
+    }
+
     /// Changes whenever the subject's appearance changes (animation), so images of it can
     /// be invalidated. Constant for static subjects.
     fn version(&self) -> u64 {
@@ -69,6 +83,9 @@ impl<T: Subject + ?Sized> Subject for Box<T> {
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
         (**self).draws(out);
     }
+    fn draws_seen<'s>(&'s self, eye: Vec3, ppr: f32, tolerance: f32, out: &mut Vec<Draw<'s>>) {
+        (**self).draws_seen(eye, ppr, tolerance, out);
+    }
     fn version(&self) -> u64 {
         (**self).version()
     }
@@ -105,6 +122,9 @@ pub struct Part {
     /// for (by address): bounds are asked for every frame, and a mesh may have a million
     /// vertices.
     local: (usize, Sphere, Option<(Vec3, Vec3)>),
+    /// Coarser stand-ins for `mesh`, finest first, each with its largest distance from
+    /// `mesh`'s surface in object-space units (see [`Part::with_lods`]).
+    lods: Vec<(Arc<Mesh>, f32)>,
 }
 
 impl Part {
@@ -121,7 +141,35 @@ impl Part {
             material,
             transform,
             local,
+            lods: Vec::new(),
         }
+    }
+
+    /// The part with levels of detail: coarser meshes, finest first, each with its
+    /// geometric deviation from `mesh` (object-space units, the larger of the two one-sided
+    /// distances between the surfaces). [`Subject::draws_seen`] draws the coarsest whose
+    /// deviation, scaled by the transform and projected at the part's nearest distance
+    /// from the eye, is within its pixel tolerance; [`Subject::draws`] and images stay full.
+    pub fn with_lods(mut self, lods: Vec<(Arc<Mesh>, f32)>) -> Self {
+        self.lods = lods;
+        self
+    }
+
+    /// The mesh [`Subject::draws_seen`] draws for this part seen from `eye` (see
+    /// [`Part::with_lods`]): `mesh` unless a coarser one deviates within `tolerance_px`.
+    pub fn mesh_seen(&self, eye: Vec3, px_per_radian: f32, tolerance_px: f32) -> &Arc<Mesh> {
+        if self.lods.is_empty() {
+            return &self.mesh;
+        }
+        let b = self.bounds();
+        let t = self.transform;
+        let scale = t.x_axis.truncate().length();
+        let scale = scale.max(t.y_axis.truncate().length());
+        let scale = scale.max(t.z_axis.truncate().length());
+        let distance = (b.center.distance(eye) - b.radius).max(1e-3);
+        let fits = |dev: f32| dev * scale * px_per_radian / distance <= tolerance_px;
+        let coarsest = self.lods.iter().rev().find(|(_, dev)| fits(*dev));
+        coarsest.map_or(&self.mesh, |(m, _)| m)
     }
 
     /// World-space box around the part: the box around its object-space box's corners
@@ -227,6 +275,14 @@ impl Subject for MeshGroup {
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
         out.extend(self.parts.iter().map(|p| Draw {
             mesh: &p.mesh,
+            material: &p.material,
+            transform: p.transform,
+        }));
+    }
+
+    fn draws_seen<'s>(&'s self, eye: Vec3, ppr: f32, tolerance: f32, out: &mut Vec<Draw<'s>>) {
+        out.extend(self.parts.iter().map(|p| Draw {
+            mesh: p.mesh_seen(eye, ppr, tolerance),
             material: &p.material,
             transform: p.transform,
         }));

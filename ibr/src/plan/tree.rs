@@ -15,6 +15,7 @@ mod bvh;
 mod cluster;
 mod cut;
 mod far;
+mod far_mesh;
 
 pub use bvh::{Node, Tree, NONE};
 pub use cluster::Cluster;
@@ -55,5 +56,7 @@ impl<S: Subject + Send + Sync> Technique for Hierarchy<S> {
 
 #[cfg(test)]
 mod far_tests;
+#[cfg(test)]
+mod lod_tests;
 #[cfg(test)]
 mod tests;

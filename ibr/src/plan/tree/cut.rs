@@ -47,6 +47,9 @@ pub struct TreeConfig {
     /// The far field: everything beyond a distance as one image mesh with depth, the cut
     /// stopping at its boundary (`None`: the cut covers the whole world).
     pub far: Option<FarConfig>,
+    /// Objects drawn as geometry take their coarsest level of detail whose geometric
+    /// deviation projects within this many pixels ([`Subject::draws_seen`]; 0: always full).
+    pub lod_px: f32,
 }
 
 impl Default for TreeConfig {
@@ -62,6 +65,7 @@ impl Default for TreeConfig {
             release_after: 60,
             cost: CostModel::default(),
             far: None,
+            lod_px: 0.5,
         }
     }
 }
@@ -110,6 +114,8 @@ pub struct TreeReport {
     pub far_ms: f32,
     /// and the triangles of its meshes in view.
     pub far_triangles: usize,
+    /// Triangles of the objects drawn as geometry, at the levels of detail drawn.
+    pub geometry_triangles: usize,
 }
 
 /// A hierarchy over objects and the image representations its nodes may take.
@@ -131,6 +137,8 @@ pub struct Hierarchy<S> {
     held: Vec<(u32, u8)>,
     frame: u32,
     eye: Vec3,
+    /// The frame's pixels per radian (for the geometry's levels of detail).
+    px_per_radian: f32,
     /// The far field, when [`TreeConfig::far`] is set, and the frame's frustum.
     far: Option<FarField>,
     frustum: Option<Frustum>,
@@ -194,6 +202,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             held: Vec::new(),
             frame: 0,
             eye: Vec3::ZERO,
+            px_per_radian: 0.0,
             far: config.far.map(FarField::new),
             frustum: None,
             report: TreeReport::default(),
@@ -265,6 +274,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             radius: 0.0,
         };
         let base = Sight::new(camera, view.width, view.height, at_eye);
+        self.px_per_radian = base.px_per_radian;
         let (mut report, frustum, split) = self.begin(camera, far_ms);
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
         let rebuild_ms = if self.frame <= cfg.loading.0 {
@@ -354,6 +364,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         }
         report.images = self.images.len();
         report.geometry = self.geometry.len();
+        report.geometry_triangles = self.geometry_triangles();
         report.mean_error = if weight > 0.0 {
             (weighted / weight) as f32
         } else {
@@ -513,9 +524,20 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             let k = k as usize;
             self.reps[usize::from(r)].draw(k, &self.clusters[k], self.eye, out);
         }
+        let (eye, ppr, tolerance) = (self.eye, self.px_per_radian, self.config.lod_px);
         for &i in &self.geometry {
-            self.objects[i as usize].draws(out);
+            self.objects[i as usize].draws_seen(eye, ppr, tolerance, out);
         }
+    }
+
+    /// Triangles of this frame's geometry objects at the levels of detail drawn.
+    fn geometry_triangles(&self) -> usize {
+        let (eye, ppr, tolerance) = (self.eye, self.px_per_radian, self.config.lod_px);
+        let mut draws = Vec::new();
+        for &i in &self.geometry {
+            self.objects[i as usize].draws_seen(eye, ppr, tolerance, &mut draws);
+        }
+        draws.iter().map(|d| d.mesh.triangle_count()).sum()
     }
 
     /// Every representation's image passes over the rendered frame.

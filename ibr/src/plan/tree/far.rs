@@ -3,9 +3,9 @@
 //! nodes as a few cached images). The image is captured from the field's eye through a
 //! frustum a margin wider than the view's, in tiles (crops of it, a tile over the budget
 //! split in four) spread over frames within a per-frame budget of captured triangles, and
-//! drawn as a mesh of one small quad per covered pixel at that pixel's depth, with its
-//! colour (grown a fraction of a pixel so neighbours on a surface leave no cracks as the
-//! eye moves): opaque, depth written, seen from any nearby eye with the parallax of its
+//! drawn as a mesh of small quads at the pixels' depths with their colours, one per run of
+//! pixels along a row that a quad's interpolation reproduces ([`super::far_mesh`]; grown a
+//! fraction of a pixel so neighbours on a surface leave no cracks as the eye moves): opaque, depth written, seen from any nearby eye with the parallax of its
 //! depths, so near geometry and the far field occlude each other. (A mesh joining pixel
 //! centres, [`crate::warp::mesh`], shrinks every silhouette by half a pixel and drops
 //! features a pixel wide: the far field's objects are a few pixels wide.)
@@ -20,10 +20,11 @@
 //! field's frustum), so a view that turns past the field sees the rest drawn by the cut.
 
 use super::bvh::Tree;
+use super::far_mesh::span_mesh;
 use crate::core::{Capturer, DepthImage, Frustum, Subject};
 use crate::warp::mesh::depth_mesh_material;
 use engine::{Camera, Draw, Material, Mesh, Projection, Sphere};
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Settings of a [`FarField`].
@@ -46,6 +47,10 @@ pub struct FarConfig {
     pub parallax: f32,
     /// Pixels each quad of the mesh is grown by on every side.
     pub grow: f32,
+    /// Objects are captured at their coarsest level of detail whose geometric deviation
+    /// projects within this many of the field's pixels ([`Subject::draws_seen`]; 0: full
+    /// meshes), and the per-frame budget counts the triangles so captured.
+    pub lod_px: f32,
 }
 
 impl Default for FarConfig {
@@ -58,6 +63,7 @@ impl Default for FarConfig {
             loading_triangles: 4_000_000,
             parallax: 24.0,
             grow: 0.25,
+            lod_px: 0.5,
         }
     }
 }
@@ -181,6 +187,15 @@ impl Field {
             distance: cfg.distance,
             tiles,
             taken: 0,
+        }
+    }
+
+    /// How this field's captures draw objects, at `lod_px` pixels of deviation.
+    fn seen(&self, lod_px: f32) -> Seen {
+        Seen {
+            eye: self.eye,
+            px_per_radian: px_per_radian(&self.camera, self.size.1),
+            lod_px,
         }
     }
 
@@ -337,6 +352,8 @@ impl FarField {
             self.work.clear();
             let mut spent = 0u64;
             let split = field.split();
+            let seen = field.seen(cfg.lod_px);
+            let mut scratch = Vec::new();
             while field.taken + self.work.len() < field.tiles.len() {
                 let k = field.taken + self.work.len();
                 let mut members = Vec::new();
@@ -345,7 +362,7 @@ impl FarField {
                 far_objects(tree, objects, &split, &camera, &mut members);
                 let tris: u64 = members
                     .iter()
-                    .map(|&i| objects[i as usize].triangle_count() as u64)
+                    .map(|&i| seen.triangles(&objects[i as usize], &mut scratch))
                     .sum();
                 if tris > budget {
                     let quarters = tile.quarters();
@@ -361,7 +378,7 @@ impl FarField {
                 report.objects += members.len();
                 self.work.push((k, members));
             }
-            capture_tiles(field, &self.work, objects, lighting, cfg.grow);
+            capture_tiles(field, &self.work, (objects, seen), lighting, cfg.grow);
             field.taken += self.work.len();
             report.tiles = self.work.len();
             report.triangles = spent;
@@ -426,6 +443,32 @@ impl FarField {
     }
 }
 
+/// How a field's captures draw its objects: from its eye at its pixels per radian, each at
+/// its coarsest level of detail within `lod_px` pixels ([`Subject::draws_seen`]).
+#[derive(Clone, Copy, Debug)]
+struct Seen {
+    eye: Vec3,
+    px_per_radian: f32,
+    lod_px: f32,
+}
+
+impl Seen {
+    fn draws<'s, S: Subject>(&self, s: &'s S, out: &mut Vec<Draw<'s>>) {
+        if self.lod_px > 0.0 {
+            s.draws_seen(self.eye, self.px_per_radian, self.lod_px, out);
+        } else {
+            s.draws(out);
+        }
+    }
+
+    /// Triangles `s` is captured with (`scratch`: a reused draw list).
+    fn triangles<'s, S: Subject>(&self, s: &'s S, scratch: &mut Vec<Draw<'s>>) -> u64 {
+        scratch.clear();
+        self.draws(s, scratch);
+        scratch.iter().map(|d| d.mesh.triangle_count() as u64).sum()
+    }
+}
+
 /// Pixels per radian of `camera`'s image `height` pixels high, at its centre.
 fn px_per_radian(camera: &Camera, height: u32) -> f32 {
     let [_, _, b, t] = camera.projection.extents();
@@ -475,7 +518,7 @@ pub(super) fn far_objects<S: Subject>(
 fn capture_tiles<S: Subject + Sync>(
     field: &mut Field,
     work: &[(usize, Vec<u32>)],
-    objects: &[S],
+    (objects, seen): (&[S], Seen),
     lighting: &engine::Lighting,
     grow: f32,
 ) {
@@ -495,64 +538,15 @@ fn capture_tiles<S: Subject + Sync>(
             }
             let mut draws = Vec::new();
             for &i in members {
-                objects[i as usize].draws(&mut draws);
+                seen.draws(&objects[i as usize], &mut draws);
             }
             let camera = tile.camera(&whole, size);
             let (w, h) = tile.size();
             cap.capture(draws, &camera, lighting, w, h, image);
-            quad_mesh(image, grow, &mut tile.mesh);
+            span_mesh(image, grow, &mut tile.mesh);
             tile.sphere = bounds_of(&tile.mesh.positions);
         },
     );
-}
-
-/// Rebuilds `mesh` from `image` (a perspective capture): a quad per pixel at least half
-/// covered, at the pixel's depth along the axis, with its colour, grown by `grow` pixels
-/// on every side.
-fn quad_mesh(image: &DepthImage, grow: f32, mesh: &mut Mesh) {
-    mesh.clear();
-    let (w, h) = (image.width(), image.height());
-    if w == 0 || h == 0 {
-        return;
-    }
-    let camera = &image.camera;
-    let inverse = camera.projection.reversed_z_matrix().inverse();
-    let world = camera.view.inverse();
-    // The view-space direction through a point of the image, at unit depth along -z: affine
-    // in the image point for a perspective camera.
-    let dir = |sx: f32, sy: f32| {
-        let ndc = Vec4::new(
-            2.0 * sx / w as f32 - 1.0,
-            1.0 - 2.0 * sy / h as f32,
-            0.0,
-            1.0,
-        );
-        let p = inverse * ndc;
-        let p = p.truncate() / p.w;
-        p / -p.z
-    };
-    let o = dir(0.0, 0.0);
-    let (dx, dy) = (dir(1.0, 0.0) - o, dir(0.0, 1.0) - o);
-    for y in 0..h {
-        for x in 0..w {
-            let i = (y * w + x) as usize;
-            let (c, z) = (image.color[i], image.depth[i]);
-            if c.a < 0.5 || !z.is_finite() {
-                continue;
-            }
-            let color = c.unpremultiply();
-            let base = mesh.positions.len() as u32;
-            let (x0, y0) = (x as f32 - grow, y as f32 - grow);
-            let (x1, y1) = (x as f32 + 1.0 + grow, y as f32 + 1.0 + grow);
-            for (sx, sy) in [(x0, y0), (x1, y0), (x0, y1), (x1, y1)] {
-                let v = (o + dx * sx + dy * sy) * z;
-                mesh.positions.push(world.transform_point3(v));
-                mesh.colors.push(color);
-            }
-            mesh.indices
-                .extend([base, base + 2, base + 1, base + 1, base + 2, base + 3]);
-        }
-    }
 }
 
 /// A sphere around `points` (their box's), `None` when there are none.
