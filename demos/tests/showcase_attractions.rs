@@ -175,13 +175,15 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(39.0),
         flicker: None,
     },
-    // Measured 22.6 / 22.6 dB: 7.4 dB and 2.4 dB short; flicker not measured.
+    // Measured 24.6 / 24.6 dB (22.6 before the near scene was trimmed to the panorama's
+    // cube, so the fence is no longer drawn and also seen through its holes in the
+    // panorama): 5.4 dB and 0.4 dB short; flicker not measured.
     Bound {
         name: "sky",
         technique: "panorama",
         part: "views",
-        mean: Some(21.0),
-        worst: Some(21.0),
+        mean: Some(23.0),
+        worst: Some(23.0),
         flicker: None,
     },
     // Measured 25.9 / 25.9 dB: mean 4.1 dB short, worst meets its goal;
