@@ -13,7 +13,7 @@
 use engine::procedural;
 use engine::{Camera, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading};
 use engine::{Draw, Target};
-use glam::{Mat4, Quat, Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use ibr::lightfield::{LightField, LightFieldObject, Showing, Slab, TileShape, VqSettings};
 use ibr::metrics::{self, ImageError};
 use ibr::subject::{MeshGroup, Subject};
