@@ -4,7 +4,7 @@
 //! `cargo run --release -p demos --example statue -- [DIR] [--raw] [--no-depth-correction]`
 //! (`--raw`: the unquantised capture instead of the codebook).
 
-use demos::showcase::lightfield::{armillary, Statue, ST, STATUE_AT, UV};
+use demos::showcase::lightfield::{urn, Statue, ST, STATUE_AT, UV};
 use engine::{Camera, FrameOptions, Light, Lighting, Renderer, Rgba, Target};
 use glam::Vec3;
 use ibr::lightfield::{LightField, LightFieldObject, Slab};
@@ -36,7 +36,7 @@ fn main() {
         statue.raw_bytes as f64 / 1e6,
         statue.ratio()
     );
-    let geometry = armillary(STATUE_AT);
+    let geometry = urn(STATUE_AT);
     let bounds = geometry.bounds();
     if flag("--raw") {
         let mut draws = Vec::new();
@@ -48,7 +48,7 @@ fn main() {
             .map(|s| LightField::capture(&draws, &statue.lighting, *s))
             .collect();
         let mut object = LightFieldObject::with_slabs("raw statue", raw, bounds);
-        object.reference = Some(armillary(STATUE_AT));
+        object.reference = Some(urn(STATUE_AT));
         statue.object = object;
     }
     statue.object.lookup.depth_correction = !flag("--no-depth-correction");

@@ -12,12 +12,16 @@ use glam::{Quat, Vec3};
 use ibr::capture::Capturer;
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Image, ImageError, Options, Region};
-use ibr::panorama::Sky;
+use ibr::panorama::{trim_beyond, Sky};
 use std::time::Instant;
 
 /// The panorama holds what lies farther than this from where it was captured (along each
 /// cube face's axis); nearer geometry is drawn.
 pub const SPLIT: f32 = 10.0;
+/// The panorama also holds the last this many units inside [`SPLIT`], drawn over by the
+/// near scene where it is there: as the eye moves, a ray the near scene leaves empty just
+/// past the split finds the panorama's copy instead of a hole.
+const SEAM: f32 = 1.0;
 /// Where the first panorama is captured: above the plaza's southern edge, looking north
 /// over it (from its centre the eye would be inside the torus).
 pub const SKY_CENTRE: Vec3 = Vec3::new(0.0, 3.0, 7.0);
@@ -108,12 +112,13 @@ impl SkyPart {
             lighting,
             SKY_CENTRE,
             size,
-            (SPLIT, FAR),
+            (SPLIT - SEAM, FAR),
             SKY_TOLERANCE_PX,
         );
-        let nearest = sky.map.nearest();
-        let walk = if nearest.is_finite() {
-            SKY_WALK_TOLERANCES * SKY_TOLERANCE_PX * nearest / focal.max(1.0)
+        // The walk is set by the split (where the drawn geometry ends), not by the seam's
+        // nearer points, which the near scene covers where they show.
+        let walk = if sky.map.nearest().is_finite() {
+            SKY_WALK_TOLERANCES * SKY_TOLERANCE_PX * SPLIT / focal.max(1.0)
         } else {
             1.0
         };
@@ -162,11 +167,14 @@ impl SkyPart {
         let before_px = self.sky.map.predicted_px(eye, self.focal);
         let recaptured = self.sky.update(draws, lighting, &camera, self.focal);
         // Everything in the panorama's cube (half side SPLIT round its centre) is nearer
-        // than this: drawn, so nothing falls between the geometry and the panorama.
+        // than this: drawn, so nothing falls between the geometry and the panorama; what
+        // is drawn outside the cube is cleared, the panorama's (each point drawn once: the
+        // fence's copy in the panorama no longer shows through its drawn lattice's holes).
         let reach = SPLIT * 3f32.sqrt() + (eye - self.sky.map.centre()).length();
         let near = camera.with_depth_range(0.1, reach);
         let cap = &mut self.capturer;
         cap.capture(draws.iter().copied(), &near, lighting, w, h, &mut self.near);
+        trim_beyond(&mut self.near, self.sky.map.centre(), SPLIT);
         let measure = Instant::now();
         cap.capture(
             draws.iter().copied(),

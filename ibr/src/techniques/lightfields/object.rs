@@ -55,6 +55,12 @@ pub struct LightFieldObject {
     /// are one-pixel cracks at its depth edges (a ring passing in front of another), not
     /// silhouette, which has a drawn pixel on one side only.
     pub fill_cracks: bool,
+    /// When the bounding sphere's projected diameter is smaller than this many pixels and
+    /// the geometry is kept, the geometry is drawn instead of a slab: far away the light
+    /// field is minified many samples to a pixel and its outline, a pixel or two wide, is
+    /// most of the object, while the geometry is a few pixels' worth of triangles. 0 (the
+    /// default): a slab at any distance.
+    pub min_px: f32,
     image: Composite,
     showing: Showing,
 }
@@ -92,6 +98,7 @@ impl LightFieldObject {
             lookup: Lookup::default(),
             reference: None,
             fill_cracks: false,
+            min_px: 0.0,
             image: Composite::new(camera),
             showing: Showing::Nothing,
         }
@@ -110,6 +117,17 @@ impl LightFieldObject {
     /// The pixels the last frame's light-field image covered (`None` when it drew none).
     pub fn rect(&self) -> Option<PixelRect> {
         self.image.rect
+    }
+
+    /// The bounding sphere's diameter on screen in `view`, pixels (infinite from inside
+    /// it).
+    pub fn projected_px(&self, view: &FrameView<'_>) -> f32 {
+        let focal = view.camera.projection.gl_matrix().y_axis.y * 0.5 * view.height as f32;
+        let distance = (self.bounds.center - view.camera.eye()).length();
+        if distance <= self.bounds.radius {
+            return f32::INFINITY;
+        }
+        2.0 * self.bounds.radius * focal.abs() / distance
     }
 
     /// Bytes of all slabs' samples in memory.
@@ -160,10 +178,12 @@ impl Technique for LightFieldObject {
     }
 
     fn prepare(&mut self, view: &FrameView<'_>) {
-        self.showing = match self.choose(view.camera.eye()) {
-            Some(k) => Showing::Slab(k),
-            None if self.reference.is_some() => Showing::Geometry,
-            None => Showing::Nothing,
+        let small = self.projected_px(view) < self.min_px;
+        self.showing = match (self.choose(view.camera.eye()), &self.reference) {
+            (Some(_), Some(_)) if small => Showing::Geometry,
+            (Some(k), _) => Showing::Slab(k),
+            (None, Some(_)) => Showing::Geometry,
+            (None, None) => Showing::Nothing,
         };
         match self.showing {
             Showing::Slab(k) => {

@@ -126,6 +126,47 @@ fn an_eye_no_slab_covers_falls_back_to_the_geometry() {
     }
 }
 
+/// Below `min_px` of projected diameter the kept geometry is drawn; the same eye shows
+/// the slab when the object is nearer (or without the threshold, or without geometry).
+#[test]
+fn a_small_object_on_screen_falls_back_to_its_geometry() {
+    let (mesh, material) = block();
+    let (mesh, material) = (Arc::new(mesh), Arc::new(material));
+    let draw = Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    };
+    let slab = Slab::facing(Vec3::ZERO, 0.6, Vec3::NEG_Z, Vec3::Y, [6, 6, 32, 32]).expect("slab");
+    let field = LightField::capture(&[draw], &Lighting::default(), slab);
+    let mut object = LightFieldObject::new("block", field);
+    let lighting = Lighting::default();
+    let near = look(Vec3::new(0.2, 0.1, 2.4));
+    let far = look(Vec3::new(0.2, 0.1, 4.8));
+    let px = |object: &LightFieldObject, cam: &Camera| {
+        object.projected_px(&FrameView::still(cam, W, H, &lighting))
+    };
+    // Twice as far, half the size on screen.
+    let (big, small) = (px(&object, &near), px(&object, &far));
+    assert!((big / small - 2.0).abs() < 0.1, "{big} {small}");
+    let threshold = 0.5 * (big + small);
+    for (cam, min_px, geometry, want) in [
+        (&far, 0.0, true, Showing::Slab(0)),
+        (&far, threshold, false, Showing::Slab(0)),
+        (&far, threshold, true, Showing::Geometry),
+        (&near, threshold, true, Showing::Slab(0)),
+    ] {
+        object.min_px = min_px;
+        object.reference =
+            geometry.then(|| MeshGroup::new().with(mesh.clone(), material.clone(), Mat4::IDENTITY));
+        object.prepare(&FrameView::still(cam, W, H, &lighting));
+        assert_eq!(object.showing(), want, "{min_px} {geometry}");
+        let mut draws = Vec::new();
+        object.draws(&mut draws);
+        assert_eq!(draws.is_empty(), want != Showing::Geometry);
+    }
+}
+
 #[test]
 fn an_eye_between_the_planes_still_sees_the_light_field() {
     let (mesh, material) = block();

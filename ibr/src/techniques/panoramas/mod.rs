@@ -37,7 +37,10 @@ pub struct CubeMap {
 
 impl CubeMap {
     /// Captures `draws` from `centre` into six `size` x `size` faces, seeing from `near`
-    /// (what is nearer is left out: the near scene is drawn as geometry) to `far`.
+    /// (what is nearer is left out: the near scene is drawn as geometry) to `far` along each
+    /// face's axis. A point seen by a face lies farther along that face's axis than along
+    /// any other, so what it holds is what lies outside the cube of half side `near` round
+    /// the centre ([`trim_beyond`] keeps the rest).
     pub fn capture(
         draws: &[Draw<'_>],
         lighting: &Lighting,
@@ -132,6 +135,45 @@ impl CubeMap {
         }
         focal_px * (eye - self.centre).length() / nearest
     }
+}
+
+/// Clears the pixels of `frame` that show a point outside the cube of half side `half`
+/// round `centre`: the near scene's part of a view drawn in front of a panorama captured
+/// at `centre` that holds what lies outside that cube ([`CubeMap::capture`]), so that each
+/// point of the scene is drawn by one or the other, not both (an alpha-tested fence drawn
+/// as geometry with its resampled copy showing through its holes). Returns the pixels
+/// cleared.
+pub fn trim_beyond(frame: &mut DepthImage, centre: Vec3, half: f32) -> usize {
+    let (w, h) = (frame.width(), frame.height());
+    let to_world = frame.camera.gl_view_proj().inverse();
+    let eye = frame.camera.eye();
+    let forward = frame.camera.forward();
+    let (color, depth) = (&mut frame.color, &mut frame.depth);
+    color
+        .par_chunks_mut(w.max(1) as usize)
+        .zip(depth.par_chunks_mut(w.max(1) as usize))
+        .enumerate()
+        .map(|(y, (row, row_depth))| {
+            let mut n = 0;
+            for (x, (c, d)) in row.iter_mut().zip(row_depth.iter_mut()).enumerate() {
+                if !d.is_finite() {
+                    continue;
+                }
+                let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
+                let along = dir.dot(forward);
+                if along <= 0.0 {
+                    continue;
+                }
+                let point = eye + dir * (*d / along);
+                if (point - centre).abs().max_element() > half {
+                    *c = Premul::TRANSPARENT;
+                    *d = crate::core::EMPTY;
+                    n += 1;
+                }
+            }
+            n
+        })
+        .sum()
 }
 
 impl CubeMap {

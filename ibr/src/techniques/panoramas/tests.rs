@@ -196,3 +196,42 @@ fn after_a_large_translation_the_error_is_reported_not_garbage() {
         assert_eq!(sky.captures, 2);
     });
 }
+
+/// The near scene trimmed to the panorama's cube: every pixel kept shows a point inside
+/// it, every pixel cleared one outside (checked through `DepthImage::world_point`, the
+/// unprojection the trim does not use), and both kinds occur.
+#[test]
+fn trimming_keeps_exactly_the_points_inside_the_cube() {
+    with_draws(|draws| {
+        let eye = CENTRE + Vec3::new(0.4, 0.2, 0.0);
+        let camera = looking(eye, Vec3::new(0.2, -0.1, -1.0));
+        let full = capture_batch(draws, &[camera], &Lighting::default(), W, H).remove(0);
+        let inside = |p: Vec3| (p - CENTRE).abs().max_element();
+        let mut far: Vec<f32> = (0..W * H)
+            .filter_map(|i| full.world_point(i % W, i / W).map(inside))
+            .collect();
+        far.sort_by(f32::total_cmp);
+        let half = far[far.len() / 2];
+        let mut trimmed = full.clone();
+        let cleared = trim_beyond(&mut trimmed, CENTRE, half);
+        let (mut kept, mut gone) = (0, 0);
+        for i in 0..W * H {
+            let Some(p) = full.world_point(i % W, i / W) else {
+                assert!(trimmed.depth[i as usize].is_infinite());
+                continue;
+            };
+            // Half a thousandth of slack for the two unprojections' rounding.
+            if trimmed.depth[i as usize].is_finite() {
+                assert!(inside(p) <= half * 1.0005, "kept {p} at {}", inside(p));
+                assert_eq!(trimmed.color[i as usize], full.color[i as usize]);
+                kept += 1;
+            } else {
+                assert!(inside(p) >= half * 0.9995, "cleared {p} at {}", inside(p));
+                assert_eq!(trimmed.color[i as usize], Premul::TRANSPARENT);
+                gone += 1;
+            }
+        }
+        assert_eq!(gone, cleared);
+        assert!(kept > 100 && gone > 100, "{kept} kept, {gone} cleared");
+    });
+}
