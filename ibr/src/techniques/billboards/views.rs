@@ -447,7 +447,9 @@ mod tests {
         for o in inner {
             assert!((o - want).abs() < 0.05, "{o} vs {want}: {g:?}");
         }
-        assert_eq!(g[0], 0.0, "an empty corner stays on the centre plane");
+        // A corner's share only grazes the ball's outline, where its surface meets the
+        // centre plane.
+        assert!((0.0..0.15).contains(&g[0]), "corner {}", g[0]);
         // Seen from the first bake's direction, in perspective: the relief's depth is
         // the ball's, where the flat quad's is its centre's.
         let eye = Vec3::new(3.0, 0.0, 0.0);
