@@ -21,7 +21,7 @@ use ibr::flare::{FlareSource, LensFlare};
 use ibr::impostor::Frustum;
 use ibr::laser::{Laser, LaserBatch};
 use ibr::technique::{Counters, Flare, FrameLoop, FrameView, Technique};
-use ibr::{Billboard, BillboardBatch, Facing};
+use ibr::{Billboard, Facing};
 
 /// Billboard trees in the forest ring.
 pub const FOREST_TREES: usize = 2400;
@@ -51,9 +51,8 @@ const TURRET_HEIGHT: f32 = 4.4;
 /// The image-based part of the showcase.
 #[derive(Debug)]
 pub struct IbrLayer {
-    forest: Vec<BillboardBatch>,
-    /// Per forest batch, its tree's views ([`ViewAtlas::region`] picks each tree's).
-    views: Vec<ViewAtlas>,
+    /// Per tree kind, its views and the sprites drawn from them this frame.
+    forest: Vec<TreeSprites>,
     /// Every tree's billboard, per forest batch; each frame the batches get those not
     /// drawn as meshes ([`near`]).
     billboards: Vec<Vec<Billboard>>,
@@ -89,11 +88,10 @@ impl IbrLayer {
             base + Vec3::Y * TURRET_HEIGHT
         });
         let sun = scene.lighting.sun().map_or(Vec3::Y, |(d, _)| -d);
-        let (forest, views, trees) = forest(scene, terrain);
+        let (forest, trees) = forest(scene, terrain);
         let billboards = forest.iter().map(|b| b.items.clone()).collect();
         let mut layer = IbrLayer {
             forest,
-            views,
             billboards,
             near: Vec::new(),
             trees,
@@ -231,23 +229,23 @@ impl IbrLayer {
             dt: self.dt,
         };
         let eye = camera.eye();
+        let frustum = Frustum::new(camera.clip_from_world());
         self.near.clear();
         let mut first = 0;
-        for ((batch, views), all) in self
-            .forest
-            .iter_mut()
-            .zip(&self.views)
-            .zip(&self.billboards)
-        {
+        for (batch, all) in self.forest.iter_mut().zip(&self.billboards) {
             batch.items.clear();
             for (i, b) in all.iter().enumerate() {
                 if near(b, eye) {
                     self.near.push(first + i);
-                } else {
-                    batch.items.push(Billboard {
-                        region: views.region(eye - b.position),
-                        ..*b
-                    });
+                } else if let ibr::billboard::Size::World(size) = b.size {
+                    // Sprites out of the view make no triangles (the quad's corner
+                    // distance bounds its relief's vertices).
+                    if frustum.sees(b.position, size.length() * 0.5) {
+                        batch.items.push(Billboard {
+                            region: batch.atlas.region(eye - b.position),
+                            ..*b
+                        });
+                    }
                 }
             }
             ViewAtlas::order(&mut batch.items, eye);
@@ -300,6 +298,41 @@ impl IbrLayer {
     /// The light the flare follows.
     pub fn sun(&self) -> FlareSource {
         self.flare.source
+    }
+}
+
+/// One tree kind's billboards: its views, the sprites shown this frame (set in
+/// [`IbrLayer::render`], near to far) and the mesh they make, each its view's depth grid
+/// ([`ViewAtlas::relief`]) so sprites and meshes hide one another about where the trees'
+/// surfaces do.
+#[derive(Debug)]
+struct TreeSprites {
+    atlas: ViewAtlas,
+    material: Material,
+    items: Vec<Billboard>,
+    mesh: Mesh,
+}
+
+impl Technique for TreeSprites {
+    fn name(&self) -> &str {
+        "billboards"
+    }
+    fn prepare(&mut self, view: &FrameView<'_>) {
+        self.atlas
+            .relief(&self.items, &view.billboard_view(), &mut self.mesh);
+    }
+    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
+        out.push(Draw {
+            mesh: &self.mesh,
+            material: &self.material,
+            transform: Mat4::IDENTITY,
+        });
+    }
+    fn counters(&self) -> Counters {
+        Counters {
+            quads: self.items.len() as u64,
+            ..Counters::default()
+        }
     }
 }
 
@@ -394,16 +427,14 @@ fn sphere_around(mesh: &Mesh) -> engine::Sphere {
 /// is never shaded; they hide the sun's flare and take the soft smoke's fade), placed on the
 /// hills outside the city district.
 /// Also returns the trees' geometry ([`ForestGeometry`]).
-fn forest(
-    scene: &Scene,
-    terrain: &Terrain,
-) -> (Vec<BillboardBatch>, Vec<ViewAtlas>, ForestGeometry) {
+fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry) {
     let mut rng = XorShift::new(4242);
-    let (mut batches, mut atlases) = (Vec::new(), Vec::new());
+    let mut batches = Vec::new();
     let mut trees = ForestGeometry::default();
     let elevations = SPRITE_ELEVATIONS.map(f32::to_radians);
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
-        let mesh: Mesh = procedural::tree(kind, 1.0, seed);
+        let mut mesh: Mesh = procedural::tree(kind, 1.0, seed);
+        smooth_crown(&mut mesh);
         let bounds = sphere_around(&mesh);
         let white = Material::lit(Rgba::WHITE);
         let draw = Draw {
@@ -423,7 +454,13 @@ fn forest(
         let k = trees.meshes.len();
         trees.bounds.push(bounds);
         trees.meshes.push(mesh);
-        let mut batch = BillboardBatch::new(atlas.material());
+        let mut batch = TreeSprites {
+            material: atlas.material().double_sided(true),
+            atlas,
+            items: Vec::new(),
+            mesh: Mesh::default(),
+        };
+        let atlas = &batch.atlas;
         while batch.items.len() < FOREST_TREES / 2 {
             let a = rng.range(0.0, std::f32::consts::TAU);
             let r = rng.range(27.0, 58.0);
@@ -442,7 +479,7 @@ fn forest(
             trees
                 .materials
                 .push(Material::lit(Rgba::new(shade, shade, shade, 1.0)));
-            batch.push(Billboard {
+            batch.items.push(Billboard {
                 tint: Rgba::new(shade, shade, shade, 1.0),
                 region: atlas.region(Vec3::X),
                 ..Billboard::new(
@@ -453,9 +490,54 @@ fn forest(
             });
         }
         batches.push(batch);
-        atlases.push(atlas);
     }
-    (batches, atlases, trees)
+    (batches, trees)
+}
+
+/// Normals turned more than this (cosine) from a vertex's own are a crease: not averaged.
+const CREASE_COS: f32 = 0.5;
+
+/// Makes a faceted tree's crown a smooth-shaded mass, the game-art way: each vertex's
+/// normal the mean of the normals at its position within [`CREASE_COS`] of its own (a
+/// cone's base stays flat, its side round), and every leaf vertex (green over red) the
+/// crown's mean colour (no per-facet shade). Per-facet lighting is detail a sprite a few
+/// texels across cannot carry: mip-filtered in the bake and aliased in the mesh, the two
+/// never match (issue 39: most of the forest's error was inside the crowns). Bark keeps
+/// its colour; positions are untouched, so the outline is the same tree's.
+fn smooth_crown(mesh: &mut Mesh) {
+    let n = mesh.positions.len();
+    if mesh.normals.len() == n {
+        let key = |p: Vec3| (p * 1.0e4).round().to_array().map(|c| c as i64);
+        let mut at: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+        for (i, p) in mesh.positions.iter().enumerate() {
+            at.entry(key(*p)).or_default().push(i);
+        }
+        let flat = mesh.normals.clone();
+        for (i, p) in mesh.positions.iter().enumerate() {
+            let own = flat[i];
+            let sum: Vec3 = at[&key(*p)]
+                .iter()
+                .map(|&j| flat[j])
+                .filter(|m| m.dot(own) >= CREASE_COS)
+                .sum();
+            mesh.normals[i] = sum.try_normalize().unwrap_or(own);
+        }
+    }
+    let leaf = |c: &Rgba| c.g > c.r;
+    let (sum, count) = mesh
+        .colors
+        .iter()
+        .filter(|c| leaf(c))
+        .fold(([0.0f32; 4], 0u32), |(s, k), c| {
+            ([s[0] + c.r, s[1] + c.g, s[2] + c.b, s[3] + c.a], k + 1)
+        });
+    if count > 0 {
+        let m = sum.map(|v| v / count as f32);
+        let mean = Rgba::new(m[0], m[1], m[2], m[3]);
+        for c in mesh.colors.iter_mut().filter(|c| leaf(c)) {
+            *c = mean;
+        }
+    }
 }
 
 /// The height of `mesh`'s finite vertices (at least 1e-3).

@@ -97,7 +97,7 @@ fn forest_trees_show_the_view_baked_nearest_the_eye_from_any_elevation() {
     use ibr::billboard::{corners, View};
     let show = Showcase::new();
     let tree = show.ibr.forest_billboards()[0][0];
-    let views = &show.ibr.views[0];
+    let views = &show.ibr.forest[0].atlas;
     let spacing = SPRITE_ELEVATIONS[1] - SPRITE_ELEVATIONS[0];
     let (w, h) = (1280, 720);
     for step in 0..=85 {
