@@ -61,7 +61,8 @@ impl Opening {
     /// corner of the pyramid may be kept though hidden); an eye on or past the plane sees
     /// everything.
     pub fn sees(&self, eye: Vec3, center: Vec3, radius: f32) -> bool {
-        if !(self.side(eye) > 0.0) || !(center.is_finite() && radius.is_finite()) {
+        let side = self.side(eye);
+        if side.is_nan() || side <= 0.0 || !center.is_finite() || !radius.is_finite() {
             return true;
         }
         if self.side(center) > radius {

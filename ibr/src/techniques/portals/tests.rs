@@ -622,7 +622,7 @@ fn a_room_drawn_as_geometry_from_the_hall_sets_up_only_what_the_doorway_shows() 
     assert_eq!(f.triangles, drawn);
     assert!(drawn <= all - torus);
     assert!(
-        (stats.triangles_in as u64) < all - torus / 2,
+        stats.triangles_in < all - torus / 2,
         "{} triangles set up of {all}",
         stats.triangles_in
     );
