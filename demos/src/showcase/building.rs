@@ -85,9 +85,10 @@ impl BuildingTour {
     pub fn readout(&self) -> String {
         let f = self.last();
         format!(
-            "PORTALS {} WARPED {} GEOMETRY  {} SAMPLES  {} HOLES  {} PX  {} REBUILDS  PREDICTED {:.1} PX{}",
+            "PORTALS {} WARPED {} GEOMETRY ({} TRIS)  {} SAMPLES  {} HOLES  {} PX  {} REBUILDS  PREDICTED {:.1} PX{}",
             f.warped,
             f.geometry,
+            f.triangles,
             f.stats.samples,
             f.holes,
             f.pixels,

@@ -443,6 +443,7 @@ fn building_headless(
     );
     let mut times = Vec::with_capacity(n);
     let (mut warped, mut geometry, mut rebuilds, mut samples, mut holes) = (0, 0, 0, 0, 0);
+    let (mut room_tris, mut hidden) = (0, 0);
     let mut sum = FrameStats::default();
     for i in 0..n {
         let camera = BuildingTour::camera(i, n, w, h);
@@ -458,6 +459,7 @@ fn building_headless(
             rebuilds + f.rebuilds,
         );
         (samples, holes) = (samples + f.stats.samples, holes + f.holes);
+        (room_tris, hidden) = (room_tris + f.triangles, hidden + f.hidden_parts);
         if !args.no_save {
             let path = dir.join(format!("building_{i:04}.png"));
             save_png(&path, &target.to_rgba8(), (w, h))?;
@@ -473,6 +475,11 @@ fn building_headless(
         } else {
             ""
         }
+    );
+    println!(
+        "  rooms drawn as geometry: {room_tris} triangles over the walk ({hidden} parts out of \
+         their doorway's sight left out); triangles set up a frame: {:.0}",
+        sum.triangles_in as f64 / n.max(1) as f64
     );
     println!("  last frame: {}", tour.readout());
     print_fragments("the walk's last render of each frame", &sum, n, (w, h));

@@ -144,6 +144,9 @@ pub struct Portal {
     /// The box `[min, max]` around `behind`'s vertices: an eye past the opening's plane is
     /// in the room if it came through the opening or stands inside this box.
     room: Option<[Vec3; 2]>,
+    /// Which of `behind`'s parts are drawn when the portal shows its geometry: from an
+    /// eye in front of the opening, only those it can see through it ([`Opening::sees`]).
+    shown: Vec<bool>,
 }
 
 impl Portal {
@@ -163,6 +166,7 @@ impl Portal {
             range: None,
             mode: PortalMode::Culled,
             rebuilds: 0,
+            shown: Vec::new(),
         }
     }
 
@@ -202,6 +206,26 @@ impl Portal {
             .room
             .is_some_and(|[lo, hi]| eye.cmpge(lo).all() && eye.cmple(hi).all());
         side <= 0.0 && (self.entered || boxed)
+    }
+
+    /// Marks the parts of `behind` the portal draws as geometry from `eye`: those it can
+    /// see through the opening (all of them from inside the room); returns their
+    /// triangles and the parts left out.
+    fn show_from(&mut self, eye: Vec3) -> (u64, u64) {
+        let opening = self.opening;
+        self.shown.clear();
+        let (mut triangles, mut hidden) = (0, 0);
+        for part in &self.behind.parts {
+            let s = part.bounds();
+            let seen = opening.sees(eye, s.center, s.radius);
+            self.shown.push(seen);
+            if seen {
+                triangles += (part.mesh.indices.len() / 3) as u64;
+            } else {
+                hidden += 1;
+            }
+        }
+        (triangles, hidden)
     }
 
     /// The reach of a region around `eye` ([`PortalConfig::reach`]).
@@ -383,6 +407,11 @@ pub struct PortalFrame {
     pub warped: u64,
     /// Portals drawn as geometry (those of `gaping` included).
     pub geometry: u64,
+    /// Triangles of the geometry drawn for those portals (parts that cannot be seen
+    /// through the opening from the eye left out).
+    pub triangles: u64,
+    /// Parts of the rooms drawn as geometry left out: not seen through their opening.
+    pub hidden_parts: u64,
     /// Portals drawn as geometry because their LDI's warp left more than 5% of the
     /// opening's pixels holes (the eye sees much the LDI does not hold).
     pub gaping: u64,
@@ -403,6 +432,14 @@ pub struct PortalFrame {
     pub holes: u64,
     /// Pixels the image pass offers the frame.
     pub pixels: u64,
+}
+
+impl PortalFrame {
+    /// Counts a portal's geometry: its triangles drawn and parts left out.
+    fn show(&mut self, (triangles, hidden): (u64, u64)) {
+        self.triangles += triangles;
+        self.hidden_parts += hidden;
+    }
 }
 
 /// A set of portals as one technique.
@@ -467,6 +504,7 @@ impl Portals {
             if p.eye_inside(eye, cfg.through) || (side <= cfg.through && p.opening.over(eye)) {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
+                frame.show(p.show_from(eye));
                 continue;
             }
             // Past the plane but not in the room (come in through another door): the
@@ -510,6 +548,7 @@ impl Portals {
             if p.ldi.is_none() {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
+                frame.show(p.show_from(eye));
                 continue;
             }
             // Warped into the outline's rectangle only (a crop of the frame's camera), so
@@ -529,6 +568,7 @@ impl Portals {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
                 frame.gaping += 1;
+                frame.show(p.show_from(eye));
                 continue;
             }
             p.mode = PortalMode::Warped;
@@ -613,7 +653,12 @@ impl Technique for Portals {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         for p in &self.portals {
             if p.mode == PortalMode::Geometry {
-                p.behind.draws(out);
+                let parts = p.behind.parts.iter().zip(&p.shown);
+                out.extend(parts.filter(|(_, &s)| s).map(|(part, _)| Draw {
+                    mesh: &part.mesh,
+                    material: &part.material,
+                    transform: part.transform,
+                }));
             }
         }
     }

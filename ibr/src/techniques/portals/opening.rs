@@ -55,6 +55,29 @@ impl Opening {
         })
     }
 
+    /// Whether anything of the sphere (`center`, `radius`) can be seen from `eye` (on the
+    /// near side) through the opening: it reaches past the opening's plane and into the
+    /// pyramid from the eye through the opening's edges. Conservative (a sphere near a
+    /// corner of the pyramid may be kept though hidden); an eye on or past the plane sees
+    /// everything.
+    pub fn sees(&self, eye: Vec3, center: Vec3, radius: f32) -> bool {
+        let side = self.side(eye);
+        if side.is_nan() || side <= 0.0 || !center.is_finite() || !radius.is_finite() {
+            return true;
+        }
+        if self.side(center) > radius {
+            return false;
+        }
+        let mid = self.center() - eye;
+        (0..4).all(|i| {
+            let (a, b) = (self.corners[i] - eye, self.corners[(i + 1) % 4] - eye);
+            let n = a.cross(b).normalize_or_zero();
+            // Inward: the opening's centre is inside the pyramid.
+            let n = if n.dot(mid) < 0.0 { -n } else { n };
+            n.dot(center - eye) >= -radius
+        })
+    }
+
     /// The opening's outline in `camera`'s `width` x `height` image: clipped against the
     /// near plane, in pixels (y down). `None` when nothing of it is in front of the eye.
     pub fn outline(&self, camera: &Camera, width: u32, height: u32) -> Option<Outline> {

@@ -569,3 +569,68 @@ fn a_rows_span_is_the_pixels_the_outline_contains() {
         "{rows} rows, {pixels} pixels"
     );
 }
+
+#[test]
+fn the_opening_sees_what_lies_in_the_pyramid_through_it() {
+    let door = doorway();
+    let eye = Vec3::new(2.0, 1.5, 3.0);
+    // Straight through the doorway from the eye, and far off to the side behind the wall.
+    let through = eye + (door.center() - eye) * 2.0;
+    assert!(door.sees(eye, through, 0.1));
+    assert!(!door.sees(eye, Vec3::new(2.2, 1.2, -3.0), 1.3));
+    // On the near side of the wall: not behind the opening.
+    assert!(!door.sees(eye, Vec3::new(0.0, 1.0, 2.0), 0.5));
+    // From on or past the plane everything may be seen.
+    assert!(door.sees(Vec3::new(0.0, 1.0, -1.0), Vec3::new(2.2, 1.2, -3.0), 0.1));
+    assert!(door.sees(eye, Vec3::NAN, 1.0));
+}
+
+#[test]
+fn a_room_drawn_as_geometry_from_the_hall_sets_up_only_what_the_doorway_shows() {
+    // A torus behind the wall to the right, out of sight through the doorway from an eye
+    // to the right of it (which sees the room's left side).
+    let hidden = 20_000;
+    let behind = room(500).with(
+        Arc::new(procedural::torus_with_triangles(hidden)),
+        lit(0.2, 0.2, 0.9),
+        Mat4::from_translation(Vec3::new(2.2, 1.2, -3.0)) * Mat4::from_scale(Vec3::splat(0.6)),
+    );
+    let radius = behind.parts.last().unwrap().bounds().radius;
+    assert!(radius < 1.3, "the torus's sphere: {radius}");
+    // No views captured: the portal has no LDI and draws its geometry.
+    let cfg = PortalConfig {
+        views_per_frame: 0,
+        ..config()
+    };
+    let mut p = Portals::new(vec![Portal::new(doorway(), behind)], cfg);
+    let cam = camera(Vec3::new(2.0, 1.5, 3.0));
+    let (frame, stats) = render(&mut p, &cam, &[]);
+    assert_eq!(p.portals[0].mode(), PortalMode::Geometry);
+    let f = p.last();
+    let q = &p.portals[0];
+    let tris = |k: usize| (q.behind.parts[k].mesh.indices.len() / 3) as u64;
+    let all: u64 = (0..q.behind.parts.len()).map(tris).sum();
+    let torus = tris(q.behind.parts.len() - 1);
+    // The torus (and any box or wall out of the doorway's sight) left out, and counted.
+    assert_eq!(q.shown.last(), Some(&false));
+    assert_eq!(
+        f.hidden_parts,
+        q.shown.iter().filter(|s| !**s).count() as u64
+    );
+    assert!(f.hidden_parts >= 1);
+    let drawn: u64 = (0..q.shown.len()).filter(|&k| q.shown[k]).map(tris).sum();
+    assert_eq!(f.triangles, drawn);
+    assert!(drawn <= all - torus);
+    assert!(
+        stats.triangles_in < all - torus / 2,
+        "{} triangles set up of {all}",
+        stats.triangles_in
+    );
+    // The pixels are those of the whole room drawn: what was left out was hidden.
+    let truth = truth(&p, &cam, &[]);
+    let differ = (0..H)
+        .flat_map(|y| (0..W).map(move |x| (x, y)))
+        .filter(|&(x, y)| frame.pixel(x, y) != truth.pixel(x, y))
+        .count();
+    assert_eq!(differ, 0, "pixels differ from the whole room's");
+}
