@@ -138,6 +138,10 @@ struct Totals {
     /// The sum of the holes' (filled) shares of the frame (morph), or of the layers
     /// re-rendered (layers).
     holes: f64,
+    /// The morph's PSNR sum over every pixel the geometry covers (holes count), and its
+    /// pixels shown as sky where the geometry shows a surface, over the measured frames.
+    full_psnr: f64,
+    sky_on_ground: u64,
 }
 
 impl Totals {
@@ -248,6 +252,8 @@ impl ViewsTour {
                 {
                     totals.add(e);
                     totals.plain_psnr += plain.psnr_capped(PSNR_CAP);
+                    totals.full_psnr += f.full.map_or(0.0, |e| e.psnr_capped(PSNR_CAP));
+                    totals.sky_on_ground += f.sky_on_ground;
                 }
                 self.last = Shown::Morph(f);
             }
@@ -337,10 +343,13 @@ impl ViewsTour {
             let between = if m.measured > 0 {
                 format!(
                     "between them ({} frames) PSNR mean {:.1} dB against the geometry, the plain \
-                     morph's {:.1} dB",
+                     morph's {:.1} dB; over every pixel the geometry covers {:.1} dB, {} pixels \
+                     shown as sky where it shows a surface",
                     m.measured,
                     m.mean(m.psnr),
-                    m.mean(m.plain_psnr)
+                    m.mean(m.plain_psnr),
+                    m.mean(m.full_psnr),
+                    m.sky_on_ground
                 )
             } else {
                 "no frame between them".to_string()

@@ -9,7 +9,7 @@ use engine::{Draw, Lighting};
 use glam::Vec3;
 use ibr::capture::{capture_batch, Capturer};
 use ibr::images::DepthImage;
-use ibr::metrics::{compare_seen, ImageError};
+use ibr::metrics::{compare_rgba8, compare_seen, Image, ImageError, Options, Region};
 use ibr::morph::{plain_morph, Correspondence, MorphStats, ViewMorph};
 use std::time::Instant;
 
@@ -28,6 +28,12 @@ pub struct MorphFrame {
     pub error: Option<(ImageError, f64)>,
     pub plain: Option<(ImageError, f64)>,
     pub stats: MorphStats,
+    /// The morph against the geometry over every pixel the geometry covers, both over the
+    /// sky colour as shown: holes and what the morph left empty count (issue 39).
+    pub full: Option<ImageError>,
+    /// Pixels where the geometry shows something (ground, trees) and the morph shows the
+    /// sky colour (less than half covered): sky-coloured holes and corners.
+    pub sky_on_ground: u64,
     /// Pixels of the frame, which the holes of `stats` are counted in.
     pub frame_px: u64,
 }
@@ -40,9 +46,11 @@ impl MorphFrame {
             format!("{} ({share:.0}% SEEN)", db(e.map(|e| e.0)))
         };
         format!(
-            "VIEW MORPH S {:.2}  {}  PLAIN {}  HOLES {:.0}%",
+            "VIEW MORPH S {:.2}  {}  ALL {}  SKY ON GROUND {} PX  PLAIN {}  HOLES {:.0}%",
             self.s,
             seen(self.error),
+            db(self.full),
+            self.sky_on_ground,
             seen(self.plain),
             100.0 * self.holes_share()
         )
@@ -119,8 +127,9 @@ impl MorphPart {
             compare_seen(&view, &self.truth).ok(),
             compare_seen(&plain, &self.truth).ok(),
         );
-        out.measure = measure.elapsed();
         over_sky(&view, &mut out.rgba);
+        let (full, sky_on_ground) = against_all(&view, &out.rgba, &self.truth);
+        out.measure = measure.elapsed();
         (out.width, out.height) = (w, h);
         MorphFrame {
             s,
@@ -128,6 +137,32 @@ impl MorphPart {
             error,
             plain,
             stats,
+            full,
+            sky_on_ground,
         }
     }
+}
+
+/// The morphed `view` (shown as `shown`, RGBA8 over the sky) against `truth` over every
+/// pixel `truth` covers, and the count of those where the view is less than half covered
+/// (shows the sky colour).
+fn against_all(view: &DepthImage, shown: &[u8], truth: &DepthImage) -> (Option<ImageError>, u64) {
+    if view.color.len() != truth.color.len() {
+        return (None, 0);
+    }
+    let covered: Vec<bool> = truth.color.iter().map(|c| c.a > 0.0).collect();
+    let sky_on_ground = (view.color.iter().zip(&truth.color))
+        .filter(|(v, t)| t.a >= 0.5 && v.a < 0.5)
+        .count() as u64;
+    let mut reference = Vec::new();
+    over_sky(truth, &mut reference);
+    let (w, h) = (view.width(), view.height());
+    let options = Options {
+        region: Region::Mask(&covered),
+        ..Options::default()
+    };
+    let error = Image::new(w, h, shown)
+        .and_then(|a| compare_rgba8(a, Image::new(w, h, &reference)?, &options))
+        .ok();
+    (error, sky_on_ground)
 }

@@ -2,7 +2,8 @@
 //! their row by their disparity to the in-between eye, neighbours on one surface (within a
 //! pixel of disparity) joined so no crack opens, folds resolved by disparity, colours
 //! cross-dissolved where the other image sees the same point, and what neither image
-//! reaches filled from the farther side of the row.
+//! reaches filled from the farther side of the row (at the row's ends, from the surface
+//! beside it).
 
 use super::{scaled, sum, MorphStats};
 use crate::core::DepthImage;
@@ -224,7 +225,11 @@ pub(super) fn morph(
 
 /// Fills each run of empty pixels of `row` between two mapped ones from the farther
 /// (smaller disparity) of the two: the background side, so a disocclusion does not take
-/// the colour of the surface in front.
+/// the colour of the surface in front. A run at either end of the row, which neither view
+/// saw (the corners a turned in-between view shows beyond both frames), is filled from the
+/// one mapped pixel beside it when that shows a surface (the ground), so the corner is not
+/// left to the sky colour where the scene shows ground; beside the sky, or in a row with
+/// nothing mapped, it stays empty.
 fn fill_from_farther(row: &mut Row) {
     let w = row.disparity.len();
     let mut x = 0;
@@ -237,15 +242,22 @@ fn fill_from_farther(row: &mut Row) {
         while x < w && row.disparity[x] < 0.0 {
             x += 1;
         }
-        // Only gaps between two mapped pixels: past the last one on either side the views
-        // saw nothing, and nothing is made up.
-        let (Some(a), true) = (start.checked_sub(1), x < w) else {
-            continue;
-        };
-        let f = if row.disparity[a] <= row.disparity[x] {
-            a
-        } else {
-            x
+        let f = match (start.checked_sub(1), (x < w).then_some(x)) {
+            (Some(a), Some(b)) => {
+                if row.disparity[a] <= row.disparity[b] {
+                    a
+                } else {
+                    b
+                }
+            }
+            (Some(f), None) | (None, Some(f)) => {
+                // The row's end: only from a surface.
+                if row.disparity[f] <= 0.0 || row.color[f].a < 0.5 {
+                    continue;
+                }
+                f
+            }
+            (None, None) => continue,
         };
         let (c, d) = (row.color[f], row.disparity[f]);
         for t in start..x {

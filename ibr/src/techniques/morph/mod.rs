@@ -102,7 +102,8 @@ pub struct MorphStats {
     /// Pixels mapped from the right image only (where the left image left holes).
     pub from_right: u64,
     /// Pixels neither image mapped to, between two mapped pixels of their row in the
-    /// parallel view: filled from the farther side. (What nothing reached is not counted.)
+    /// parallel view (filled from the farther side), or past the last mapped pixel of a row
+    /// that shows a surface (filled from it: the corners neither view saw).
     pub holes: u64,
 }
 
@@ -142,13 +143,10 @@ impl ViewMorph {
                 }
                 let of = |image: &DepthImage, original: &Camera| {
                     let saw = seen_directions(image, original);
-                    let data = image
-                        .depth
-                        .iter()
-                        .zip(&image.color)
-                        .zip(saw)
+                    let depth = surface_depth(image);
+                    let data = (depth.iter().zip(&image.color).zip(saw))
                         .map(|((&z, c), saw)| {
-                            if c.a > 0.0 && z.is_finite() && z > 0.0 {
+                            if z.is_finite() && z > 0.0 {
                                 focal * pair.baseline / z
                             } else if c.a > 0.0 || saw {
                                 // Sky, and what lies past the far plane: seen, empty, at
@@ -239,6 +237,39 @@ impl ViewMorph {
 pub struct Labels {
     parallel: DepthImage,
     s: f32,
+}
+
+/// The depth of each pixel of `image` (a prewarped view) that shows a surface, infinite
+/// elsewhere. A pixel on a silhouette against the sky has its colour blended from both
+/// (the prewarp's bilinear colour) but the depth of the nearest source pixel, often the
+/// sky's: taken as a direction it was moved as the sky is, leaving a faint copy of the
+/// surface's edge where the surface is not, and a disocclusion beside it was filled with
+/// that faint colour, a streak along the row (issue 39). Such a pixel (covered, no depth)
+/// takes the depth of the nearest surface among its eight neighbours; covered pixels with
+/// no surface around them stay at infinity.
+fn surface_depth(image: &DepthImage) -> Vec<f32> {
+    let (w, h) = (image.width() as usize, image.height() as usize);
+    let depth = &image.depth;
+    let surface = |z: f32| z.is_finite() && z > 0.0;
+    (0..w * h)
+        .map(|i| {
+            let z = depth[i];
+            if surface(z) || image.color[i].a <= 0.0 {
+                return if surface(z) { z } else { f32::INFINITY };
+            }
+            let (x, y) = (i % w, i / w);
+            let mut nearest = f32::INFINITY;
+            for ny in y.saturating_sub(1)..(y + 2).min(h) {
+                for nx in x.saturating_sub(1)..(x + 2).min(w) {
+                    let n = depth[ny * w + nx];
+                    if surface(n) && n < nearest {
+                        nearest = n;
+                    }
+                }
+            }
+            nearest
+        })
+        .collect()
 }
 
 /// Whether each pixel of `image` (a prewarped view) looks in a direction `original` (the
