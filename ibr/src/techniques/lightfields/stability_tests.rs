@@ -21,6 +21,20 @@ fn block() -> (Mesh, Material) {
     (mesh, Material::unlit(Rgba::WHITE))
 }
 
+/// The block, shared, and a light field of it from one slab facing +Z (its front).
+fn block_in_front() -> (Arc<Mesh>, Arc<Material>, LightFieldObject) {
+    let (mesh, material) = block();
+    let (mesh, material) = (Arc::new(mesh), Arc::new(material));
+    let draw = Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    };
+    let slab = Slab::facing(Vec3::ZERO, 0.6, Vec3::NEG_Z, Vec3::Y, [6, 6, 32, 32]).expect("slab");
+    let field = LightField::capture(&[draw], &Lighting::default(), slab);
+    (mesh, material, LightFieldObject::new("block", field))
+}
+
 fn look(eye: Vec3) -> Camera {
     Camera::look_at(
         eye,
@@ -90,16 +104,7 @@ fn six_slabs_show_an_object_from_every_side() {
 
 #[test]
 fn an_eye_no_slab_covers_falls_back_to_the_geometry() {
-    let (mesh, material) = block();
-    let (mesh, material) = (Arc::new(mesh), Arc::new(material));
-    let draw = Draw {
-        mesh: &mesh,
-        material: &material,
-        transform: Mat4::IDENTITY,
-    };
-    let slab = Slab::facing(Vec3::ZERO, 0.6, Vec3::NEG_Z, Vec3::Y, [6, 6, 32, 32]).expect("slab");
-    let field = LightField::capture(&[draw], &Lighting::default(), slab);
-    let mut object = LightFieldObject::new("block", field);
+    let (mesh, material, mut object) = block_in_front();
     let lighting = Lighting::default();
     // In front: the slab. Behind or far to the side: nothing, until geometry is kept.
     for (eye, with_geometry, want) in [
@@ -130,16 +135,7 @@ fn an_eye_no_slab_covers_falls_back_to_the_geometry() {
 /// the slab when the object is nearer (or without the threshold, or without geometry).
 #[test]
 fn a_small_object_on_screen_falls_back_to_its_geometry() {
-    let (mesh, material) = block();
-    let (mesh, material) = (Arc::new(mesh), Arc::new(material));
-    let draw = Draw {
-        mesh: &mesh,
-        material: &material,
-        transform: Mat4::IDENTITY,
-    };
-    let slab = Slab::facing(Vec3::ZERO, 0.6, Vec3::NEG_Z, Vec3::Y, [6, 6, 32, 32]).expect("slab");
-    let field = LightField::capture(&[draw], &Lighting::default(), slab);
-    let mut object = LightFieldObject::new("block", field);
+    let (mesh, material, mut object) = block_in_front();
     let lighting = Lighting::default();
     let near = look(Vec3::new(0.2, 0.1, 2.4));
     let far = look(Vec3::new(0.2, 0.1, 4.8));
