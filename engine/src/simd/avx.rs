@@ -175,24 +175,9 @@ impl I8 {
         };
         let last = last.min(i32::MAX as usize) as i32;
         let i = idx.max(I8::splat(0)).min(I8::splat(last)).0;
-        let base = table.as_ptr().cast::<i64>();
-        let m = avx!(_mm256_castps_si256(keep.0));
-        let (lo4, hi4) = avx!((_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i)));
-        // Each 32-bit lane mask widened (sign-extended) to the 64-bit lane it guards.
-        let (mlo, mhi) = avx!((
-            _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m)),
-            _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(m)),
-        ));
-        let zero = avx!(_mm256_setzero_si256());
         // SAFETY: as in `gather_pairs`: every index was clamped into `0..=last`, so each
         // 8-byte read a kept lane makes lies inside `table`; masked-off lanes read nothing.
-        let (a, b) = unsafe {
-            (
-                _mm256_mask_i32gather_epi64::<8>(zero, base, lo4, mlo),
-                _mm256_mask_i32gather_epi64::<8>(zero, base, hi4, mhi),
-            )
-        };
-        I8(a).deinterleave(I8(b))
+        unsafe { gather_u64_masked::<8>(table.as_ptr().cast::<i64>(), i, keep) }
     }
     /// `table[idx]` for the lanes of `keep` (each index first clamped into the table),
     /// zero in the others, which read nothing. One AVX2 gather of eight 32-bit texels.
@@ -221,25 +206,11 @@ impl I8 {
         };
         let last = last.min(i32::MAX as usize) as i32;
         let i = idx.max(I8::splat(0)).min(I8::splat(last)).0;
-        let base = table.as_ptr().cast::<i64>();
-        let m = avx!(_mm256_castps_si256(keep.0));
-        let (lo4, hi4) = avx!((_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i)));
-        let (mlo, mhi) = avx!((
-            _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m)),
-            _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(m)),
-        ));
-        let zero = avx!(_mm256_setzero_si256());
         // SAFETY: every index was clamped into `0..=len - 2`, so each 8-byte read a kept
         // lane makes (from 4 times the index, in bytes, past `base`: the `u32`s at `idx`
         // and `idx + 1`) lies inside `table`; unaligned reads are what gathers do;
         // masked-off lanes read nothing.
-        let (a, b) = unsafe {
-            (
-                _mm256_mask_i32gather_epi64::<4>(zero, base, lo4, mlo),
-                _mm256_mask_i32gather_epi64::<4>(zero, base, hi4, mhi),
-            )
-        };
-        I8(a).deinterleave(I8(b))
+        unsafe { gather_u64_masked::<4>(table.as_ptr().cast::<i64>(), i, keep) }
     }
     /// `table[idx]` for every lane, each index first clamped into the table, split into
     /// its low and high 32 bits (zeros for an empty table). Two AVX2 gathers of four
@@ -438,4 +409,31 @@ impl M8 {
         let m = avx!(_mm256_castps_si256(self.0));
         avx!(I8(_mm256_blendv_epi8(b.0, a.0, m)))
     }
+}
+
+/// Eight 8-byte reads, at `base` plus `S` times each lane's index in bytes, for the lanes
+/// of `keep` (zero in the others, which read nothing): two masked AVX2 gathers of four,
+/// deinterleaved into the reads' low and high 32 bits.
+///
+/// # Safety
+/// Every kept lane's 8 bytes at `base + S * index` must lie inside one live allocation.
+#[inline(always)]
+unsafe fn gather_u64_masked<const S: i32>(base: *const i64, i: __m256i, keep: M8) -> (I8, I8) {
+    let m = avx!(_mm256_castps_si256(keep.0));
+    let (lo4, hi4) = avx!((_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i)));
+    // Each 32-bit lane mask widened (sign-extended) to the 64-bit lane it guards.
+    let (mlo, mhi) = avx!((
+        _mm256_cvtepi32_epi64(_mm256_castsi256_si128(m)),
+        _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(m)),
+    ));
+    let zero = avx!(_mm256_setzero_si256());
+    // SAFETY: the caller promises every kept lane's read lies inside a live allocation;
+    // masked-off lanes read nothing.
+    let (a, b) = unsafe {
+        (
+            _mm256_mask_i32gather_epi64::<S>(zero, base, lo4, mlo),
+            _mm256_mask_i32gather_epi64::<S>(zero, base, hi4, mhi),
+        )
+    };
+    I8(a).deinterleave(I8(b))
 }
