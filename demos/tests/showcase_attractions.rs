@@ -212,21 +212,23 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(19.2),
         flicker: Some(1.3),
     },
-    // Measured 21.0 / 17.3 dB, flicker 1.02, since session 9: the sprites carry their
-    // trees' depth (each view's 3 x 3 depth grid, `ViewAtlas::relief`, so crowns hide one
-    // another and the near meshes by their surfaces, not their centres) and the crowns are
-    // smooth-shaded masses (no per-facet light to alias). Before: 20.0 / 16.0 dB as flat
-    // cutouts near to far, 19.9 / 17.2 blended, 14.7 / 13.0 from one side bake; over the
-    // billboards' pixels alone (the trees drawn as meshes are the occluder), against the
-    // tree meshes where the billboards stand. 9.0 dB and 7.7 dB short of the PSNR goals:
-    // most of what is left is on edges (crown against sky, crown against crown) of trees
-    // a few pixels wide, the sprites' filtered against the meshes' aliased; flicker within.
+    // Measured 23.1 / 18.3 dB, flicker 1.01, since session 10: the views are baked under
+    // the light the forest receives (the sun and the ambient; the lamp the bake put beside
+    // the tree at the origin lit every view orange on one side), the trees are matte (a
+    // view carries the bake's highlight, not the eye's) and baked every 10 degrees of
+    // elevation (was 20). Session 9: 21.0 / 17.3, the sprites carrying their trees' depth
+    // (each view's 3 x 3 grid, `ViewAtlas::relief`) and smooth-shaded crowns; before,
+    // 20.0 / 16.0 as flat cutouts, 14.7 / 13.0 from one side bake. Over the billboards'
+    // pixels alone (the trees drawn as meshes are the occluder), against the tree meshes
+    // where the billboards stand. 6.9 and 6.7 dB short of the PSNR goals: most of what is
+    // left is on edges (crown against crown, against the sky), outlines and occlusion a
+    // view's angle (up to 15 degrees of azimuth) away from the eye's; flicker within.
     Bound {
         name: "forest",
         technique: "billboards",
         part: "tour",
-        mean: Some(20.0),
-        worst: Some(16.8),
+        mean: Some(22.5),
+        worst: Some(17.8),
         flicker: Some(1.3),
     },
     // Measured 41.5 / 26.8 dB, flicker 1.00 (against particles prepared for the frame's

@@ -162,3 +162,44 @@ fn over_the_tour_no_forest_sprite_is_magnified() {
     eprintln!("tree sightings {seen} as sprites, {meshes} as meshes");
     assert!(seen > 1000 && meshes > 0, "{seen} {meshes}");
 }
+
+/// The tree views are baked under the light the forest receives: the sun and the ambient,
+/// no point light (the bake stands the tree at the origin, where the showcase's lamp
+/// orbits), and no point light of the scene reaches any tree where it stands, so the
+/// meshes there are lit by the sun and the ambient alone, as their views were baked.
+#[test]
+fn no_point_light_reaches_the_forest() {
+    use engine::Light;
+    let show = Showcase::new();
+    let lighting = &show.scene.lighting;
+    let baked = super::bake_lighting(lighting);
+    assert_eq!(baked.ambient, lighting.ambient);
+    let suns = |l: &engine::Lighting| {
+        l.lights
+            .iter()
+            .filter(|l| matches!(l, Light::Directional { .. }))
+            .count()
+    };
+    assert_eq!(suns(&baked), suns(lighting));
+    assert!(suns(&baked) >= 1 && baked.lights.len() == suns(&baked));
+    let mut points = 0;
+    for light in &lighting.lights {
+        if let Light::Point {
+            position, range, ..
+        } = light
+        {
+            points += 1;
+            for (kind, at) in &show.ibr.trees.trees {
+                let b = show.ibr.trees.bounds[*kind];
+                let scale = at.x_axis.truncate().length();
+                let centre = at.transform_point3(b.center);
+                let gap = centre.distance(*position) - b.radius * scale;
+                assert!(
+                    gap > *range,
+                    "a point light reaches a tree: {gap} < {range}"
+                );
+            }
+        }
+    }
+    assert!(points > 0, "the showcase has its lamp");
+}

@@ -512,4 +512,94 @@ mod tests {
             .count();
         assert!(off * 100 < n_flat * 8, "{off} of {n_flat} pixels differ");
     }
+
+    /// A matte ball lit by a sun, baked 64 texels a view, its sprite seen in perspective
+    /// from far along a baked direction (the quad about as many pixels across as the
+    /// view's texels), against the ball's mesh from the same eye: the sprite reproduces
+    /// the bake. Its colour is the mesh's (the light that left the ball toward the eye,
+    /// baked in) and its outline too.
+    #[test]
+    fn a_sprite_seen_from_its_bake_direction_reproduces_the_mesh() {
+        use engine::Light;
+        let ball = procedural::uv_sphere(0.5, 24, 48);
+        let matte = Material {
+            shading: engine::Shading::Lit {
+                specular: 0.0,
+                shininess: 32.0,
+            },
+            ..Material::lit(Rgba::new(0.3, 0.7, 0.2, 1.0))
+        };
+        let draw = Draw {
+            mesh: &ball,
+            material: &matte,
+            transform: Mat4::IDENTITY,
+        };
+        let lighting = Lighting {
+            ambient: Rgba::new(0.2, 0.2, 0.25, 1.0),
+            lights: vec![Light::Directional {
+                direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
+                color: Rgba::WHITE,
+            }],
+        };
+        let bounds = Sphere {
+            center: Vec3::ZERO,
+            radius: 0.6,
+        };
+        let elevations = [0.0, 0.5];
+        let a = ViewAtlas::bake(&[draw], &lighting, bounds, 6, &elevations, 64);
+        let (w, h) = (160u32, 120u32);
+        for (k, e) in [(0, 0.0), (2, 0.0), (4, 0.5)] {
+            let eye = direction(6, k, e) * 12.0;
+            assert_eq!(a.cell(eye), (k, usize::from(e > 0.0)));
+            // 64 texels over the quad's 2 * radius at 12 units.
+            let side = 2.0 * a.bounds.radius;
+            let fov = 2.0 * (0.5 * h as f32 * side / (64.0 * 12.0)).atan();
+            let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, fov, w as f32 / h as f32);
+            let item = Billboard {
+                region: a.region(eye),
+                ..Billboard::new(Vec3::ZERO, Facing::World { up: Vec3::Y }, Vec2::splat(side))
+            };
+            let mut mesh = Mesh::default();
+            a.relief(&[item], &View::new(&cam, h), &mut mesh);
+            let sprite = a.material().double_sided(true);
+            let render = |d: Draw<'_>| {
+                let mut t = Target::new(w, h);
+                Renderer::new().render(
+                    [d],
+                    &cam,
+                    &lighting,
+                    &mut t,
+                    &FrameOptions {
+                        clear: Some(Rgba::TRANSPARENT),
+                        ..FrameOptions::default()
+                    },
+                );
+                t.to_rgba8_premultiplied()
+            };
+            let image = render(Draw {
+                mesh: &mesh,
+                material: &sprite,
+                transform: Mat4::IDENTITY,
+            });
+            let truth = render(draw);
+            let (mut both, mut one, mut off) = (0u32, 0u32, 0u32);
+            for (p, q) in image.chunks(4).zip(truth.chunks(4)) {
+                match (p[3] > 0, q[3] > 0) {
+                    (true, true) => {
+                        both += 1;
+                        off += (0..3).map(|c| p[c].abs_diff(q[c]) as u32).sum::<u32>();
+                    }
+                    (false, false) => {}
+                    _ => one += 1,
+                }
+            }
+            let mean = off as f32 / (3 * both.max(1)) as f32;
+            assert!(both > 1500, "view {k}: {both} pixels");
+            assert!(
+                one * 100 < both * 4,
+                "view {k}: outline off on {one} of {both}"
+            );
+            assert!(mean < 3.0, "view {k}: colour off by {mean} levels");
+        }
+    }
 }
