@@ -15,6 +15,7 @@ mod bvh;
 mod cluster;
 mod cut;
 mod far;
+mod far_field;
 mod far_mesh;
 
 pub use bvh::{Node, Tree, NONE};
