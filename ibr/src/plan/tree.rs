@@ -15,7 +15,6 @@ mod bvh;
 mod cluster;
 mod cut;
 mod far;
-mod far_field;
 mod far_mesh;
 
 pub use bvh::{Node, Tree, NONE};

@@ -12,7 +12,7 @@
 
 use super::bvh::{Node, Tree};
 use super::cluster::Cluster;
-use super::far::{FarConfig, FarField, FarReport, Side};
+use super::far::{FarConfig, FarField, FarReport, Side, Split};
 use crate::core::{CostModel, FrameView, Frustum, Representation, Sight, Subject};
 use engine::{Draw, FrameStats, Target};
 use glam::Vec3;
@@ -253,10 +253,6 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             }
         }
         let refitted = self.tree.refit(&boxes).len();
-        if let Some(far) = &mut self.far {
-            far.release(moved);
-            far.recount(&self.tree);
-        }
         for (c, n) in self.clusters.iter_mut().zip(self.tree.nodes()) {
             c.take(&self.objects, (n.lo, n.hi), n.version);
         }
@@ -279,7 +275,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         };
         let base = Sight::new(camera, view.width, view.height, at_eye);
         self.px_per_radian = base.px_per_radian;
-        let (mut report, frustum, far_shown) = self.begin(camera, far_ms);
+        let (mut report, frustum, split) = self.begin(camera, far_ms);
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
         let rebuild_ms = if self.frame <= cfg.loading.0 {
             cfg.loading.1.max(cfg.rebuild_ms)
@@ -294,8 +290,10 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 report.culled += 1;
                 continue;
             }
-            if far_shown && self.far_side(k, &node, &frustum, &mut report) {
-                continue;
+            if let Some(split) = &split {
+                if self.far_side(k, &node, split, &frustum, &mut report) {
+                    continue;
+                }
             }
             let cluster = &self.clusters[k as usize];
             let sight = base.at(sphere).with_corners(cluster.corners());
@@ -382,8 +380,12 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
     }
 
     /// Starts a frame's cut seen by `camera`: the report (with the far field's), the
-    /// view's frustum, whether far tiles are shown, the scratch cleared and the root queued.
-    fn begin(&mut self, camera: &engine::Camera, far_ms: f32) -> (TreeReport, Frustum, bool) {
+    /// view's frustum, the far field's split, the scratch cleared and the root queued.
+    fn begin(
+        &mut self,
+        camera: &engine::Camera,
+        far_ms: f32,
+    ) -> (TreeReport, Frustum, Option<Split>) {
         self.frame = self.frame.wrapping_add(1);
         let frustum = Frustum::new(camera.clip_from_world());
         let mut report = TreeReport {
@@ -392,7 +394,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             ..TreeReport::default()
         };
         self.frustum = Some(frustum);
-        let far_shown = self.far.as_ref().is_some_and(|f| f.report.shown);
+        let split = self.far.as_ref().and_then(FarField::split);
         if let Some(far) = &self.far {
             report.far = far.report;
             report.far_triangles = far.triangles_seen(&frustum);
@@ -404,7 +406,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         if !self.tree.nodes().is_empty() {
             self.queue.push_back(0);
         }
-        (report, frustum, far_shown)
+        (report, frustum, split)
     }
 
     /// Steps the far field's captures for the frame (within its triangle budget, the
@@ -418,7 +420,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         let start = std::time::Instant::now();
         let far = self.far.get_or_insert_with(|| FarField::new(cfg));
         // The first field is a level's load: at the loading budget until it is shown.
-        let loading = self.frame.wrapping_add(1) <= self.config.loading.0 || !far.completed();
+        let loading = self.frame.wrapping_add(1) <= self.config.loading.0 || far.split().is_none();
         far.config = cfg;
         let budget = if loading {
             cfg.loading_triangles.max(cfg.triangles)
@@ -431,7 +433,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         start.elapsed().as_secs_f32() * 1e3
     }
 
-    /// The cut at node `k` against the far field's tiles: a node wholly the tiles' is
+    /// The cut at node `k` against the far field's `split`: a node wholly the field's is
     /// left to it (true: done), one with none of its objects is the cut's (false), one
     /// across is opened, or for a leaf its objects not the field's drawn as geometry
     /// (true), never drawn as one image.
@@ -439,13 +441,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         &mut self,
         k: u32,
         node: &Node,
+        split: &Split,
         frustum: &Frustum,
         report: &mut TreeReport,
     ) -> bool {
-        let Some(far) = &self.far else {
-            return false;
-        };
-        match far.side(node.first, node.count) {
+        match split.side(node.lo, node.hi) {
             Side::Near => return false,
             Side::Far => {
                 report.far_objects += node.count as usize;
@@ -456,7 +456,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         if node.is_leaf() {
             for &i in self.tree.objects_of(k as usize) {
                 let b = self.objects[i as usize].bounds();
-                if far.owns(i as usize) {
+                if self
+                    .tree
+                    .box_of(i as usize)
+                    .is_some_and(|x| split.is_far(x))
+                {
                     report.far_objects += 1;
                 } else if frustum.sees(b.center, b.radius) {
                     self.geometry.push(i);

@@ -10,29 +10,21 @@
 //! centres, [`crate::warp::mesh`], shrinks every silhouette by half a pixel and drops
 //! features a pixel wide: the far field's objects are a few pixels wide.)
 //!
-//! Tiles are swapped in one by one (Shade et al. 96 re-cache per node, not per scene): a
-//! new field starts when the eye has moved far enough from the last field's eye that its
-//! parallax at the field's distance passes [`FarConfig::parallax`] pixels, or when the
-//! view leaves the last field's frustum (a field being captured that the view leaves is
-//! given up, its tiles shown so far kept). Its slots are taken in the order the view needs
-//! them, those it sees first, nearest its centre ([`super::far_field`]), and each slot's
-//! tile is shown as soon as it is captured. Each object is in at most one tile, the one
-//! whose slot holds its box centre, captured over all the pixels its box covers; a tile
-//! swapped in takes down every older tile holding any of its objects (their other objects
-//! the cut's until their own new tiles come), and a completed field takes down every older
-//! tile. So every object is drawn exactly once: by the one shown tile standing for it, or
-//! by the cut ([`FarField::owns`], [`FarField::side`]; `plan::tree::far_tests`). An object
-//! that moves is the cut's from then on ([`FarField::release`]). [`Split`] is the rule a
-//! field's objects follow (centre beyond the distance from the field's eye, whole box
-//! inside its frustum).
+//! Two fields are held: the one shown and the one being captured. A new capture starts
+//! when the eye has moved far enough from the shown field's eye that its parallax at the
+//! field's distance passes [`FarConfig::parallax`] pixels, or when the view leaves the
+//! shown field's frustum; the shown field stays (stale but whole) until every tile of the
+//! new one is taken, then they swap. Each object is in exactly one of the shown field or
+//! the cut: [`Split`] is the rule both follow (an object is the field's when its box's
+//! centre is beyond the distance from the field's eye and its whole box inside the
+//! field's frustum), so a view that turns past the field sees the rest drawn by the cut.
 
 use super::bvh::Tree;
-use super::far_field::{take_slots, Field, Work};
 use super::far_mesh::span_mesh;
 use crate::core::{Capturer, DepthImage, Frustum, Subject};
 use crate::warp::mesh::depth_mesh_material;
-use engine::{Camera, Draw, Material, Mesh, Sphere};
-use glam::{Mat4, Vec3};
+use engine::{Camera, Draw, Material, Mesh, Projection, Sphere};
+use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 /// Settings of a [`FarField`].
@@ -79,43 +71,181 @@ impl Default for FarConfig {
 /// What the far field did in the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FarReport {
-    /// Tiles captured (each swapped in as it completed),
+    /// Tiles captured,
     pub tiles: usize,
     /// the triangles they drew,
     pub triangles: u64,
     /// and objects.
     pub objects: usize,
-    /// Of the tiles captured, those the view saw.
-    pub in_view: usize,
-    /// Tiles of older fields taken down because a new tile took some of their objects
-    /// (theirs left to the cut until their own new tiles come).
-    pub dropped: usize,
-    /// Whether any tile is shown (the cut then leaves its objects to it).
+    /// Whether a field is shown (the cut then leaves its objects to it).
     pub shown: bool,
-    /// Tiles shown.
-    pub shown_tiles: usize,
-    /// Objects the shown tiles stand for.
-    pub owned: usize,
-    /// Fields completed so far.
+    /// Fields completed and swapped in so far.
     pub swaps: usize,
-    /// Triangles of the shown meshes drawn.
+    /// Triangles of the shown field's meshes drawn.
     pub mesh_triangles: usize,
     /// Tiles of the field being captured still to take.
     pub pending: usize,
 }
 
-/// One captured tile: its pixel rectangle of its field's image, that as a mesh, and the
-/// objects it stands for (each object in one tile at most: the one holding its centre).
+/// One tile of a field: its pixel rectangle of the field's image and that as a mesh.
 #[derive(Clone, Debug)]
 struct Tile {
+    min: (u32, u32),
+    max: (u32, u32),
     mesh: Mesh,
     /// Bounds of the mesh's points (`None`: empty).
     sphere: Option<Sphere>,
     /// The objects captured into it.
     objects: Vec<u32>,
-    /// Its field's number and rule.
-    field: u32,
-    split: Split,
+}
+
+/// One capture of the far field: its eye, frustum and tiles (the first `taken` captured).
+#[derive(Clone, Debug)]
+struct Field {
+    eye: Vec3,
+    camera: Camera,
+    size: (u32, u32),
+    distance: f32,
+    tiles: Vec<Tile>,
+    taken: usize,
+}
+
+impl Tile {
+    fn new(min: (u32, u32), max: (u32, u32)) -> Tile {
+        Tile {
+            min,
+            max,
+            mesh: Mesh::default(),
+            sphere: None,
+            objects: Vec::new(),
+        }
+    }
+
+    /// Its camera, a crop of the field's.
+    fn camera(&self, field: &Camera, (w, h): (u32, u32)) -> Camera {
+        let min = Vec2::new(self.min.0 as f32, self.min.1 as f32);
+        let max = Vec2::new(self.max.0 as f32, self.max.1 as f32);
+        field.crop(min, max, w, h)
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (self.max.0 - self.min.0, self.max.1 - self.min.1)
+    }
+
+    /// Its four quarters (a tile of a pixel a side stays whole).
+    fn quarters(&self) -> Vec<Tile> {
+        let (mx, my) = ((self.min.0 + self.max.0) / 2, (self.min.1 + self.max.1) / 2);
+        if mx == self.min.0 || my == self.min.1 {
+            return vec![self.clone()];
+        }
+        vec![
+            Tile::new(self.min, (mx, my)),
+            Tile::new((mx, self.min.1), (self.max.0, my)),
+            Tile::new((self.min.0, my), (mx, self.max.1)),
+            Tile::new((mx, my), self.max),
+        ]
+    }
+}
+
+impl Field {
+    /// A field at `camera`'s eye, its frustum `margin` times the view's, its image the
+    /// view's `width` x `height` scaled alike, cut in `n` x `n` tiles.
+    fn new(camera: &Camera, (width, height): (u32, u32), cfg: &FarConfig) -> Field {
+        let m = cfg.margin.max(1.0);
+        let [l, r, b, t] = camera.projection.extents();
+        let (near, far) = camera.near_far();
+        let whole = Camera {
+            view: camera.view,
+            projection: Projection::Frustum {
+                left: l * m,
+                right: r * m,
+                bottom: b * m,
+                top: t * m,
+                near,
+                far,
+            },
+        };
+        let (w, h) = (
+            (width as f32 * m).ceil().max(1.0) as u32,
+            (height as f32 * m).ceil().max(1.0) as u32,
+        );
+        let n = cfg.tiles.clamp(1, 64);
+        let mut tiles = Vec::with_capacity((n * n) as usize);
+        for ty in 0..n {
+            for tx in 0..n {
+                let (x0, x1) = (w * tx / n, w * (tx + 1) / n);
+                let (y0, y1) = (h * ty / n, h * (ty + 1) / n);
+                if x1 > x0 && y1 > y0 {
+                    tiles.push(Tile::new((x0, y0), (x1, y1)));
+                }
+            }
+        }
+        Field {
+            eye: camera.eye(),
+            camera: whole,
+            size: (w, h),
+            distance: cfg.distance,
+            tiles,
+            taken: 0,
+        }
+    }
+
+    /// How this field's captures draw objects, at `lod_px` pixels of deviation.
+    fn seen(&self, lod_px: f32) -> Seen {
+        Seen {
+            eye: self.eye,
+            px_per_radian: px_per_radian(&self.camera, self.size.1),
+            lod_px,
+        }
+    }
+
+    /// Whether everything `camera` sees beyond the field's distance lies in the field's
+    /// frustum: the view's corner rays at that distance and at the far plane project
+    /// inside it.
+    fn covers(&self, camera: &Camera, (w, h): (u32, u32)) -> bool {
+        let clip = self.camera.clip_from_world();
+        let far = camera.near_far().1;
+        [
+            (0.0, 0.0),
+            (w as f32, 0.0),
+            (0.0, h as f32),
+            (w as f32, h as f32),
+        ]
+        .iter()
+        .all(|&(x, y)| {
+            let (o, d) = camera.pixel_ray(x, y, w, h);
+            [self.distance, far].iter().all(|&s| {
+                let p = clip * (o + d * s).extend(1.0);
+                p.w > 0.0 && p.x.abs() <= p.w && p.y.abs() <= p.w
+            })
+        })
+    }
+
+    fn split(&self) -> Split {
+        Split {
+            eye: self.eye,
+            distance: self.distance,
+            frustum: Frustum::new(self.camera.clip_from_world()),
+        }
+    }
+
+    fn is_complete(&self) -> bool {
+        self.taken == self.tiles.len()
+    }
+}
+
+/// The far field of a hierarchy's objects (module docs).
+#[derive(Debug)]
+pub struct FarField {
+    /// Settings; may be changed between frames (a new distance applies from the next field).
+    pub config: FarConfig,
+    shown: Option<Field>,
+    building: Option<Field>,
+    material: Material,
+    /// What the last [`FarField::step`] did.
+    pub report: FarReport,
+    /// Scratch: the tiles of this frame's capture and each one's objects.
+    work: Vec<(usize, Vec<u32>)>,
 }
 
 /// Which objects a shown field stands for (module docs): the field's eye, distance and
@@ -175,111 +305,28 @@ pub(super) fn box_range(p: Vec3, lo: Vec3, hi: Vec3) -> (f32, f32) {
     (near, far)
 }
 
-/// No tile: an object the cut draws.
-const NO_TILE: u32 = u32::MAX;
-
-/// The far field of a hierarchy's objects (module docs).
-#[derive(Debug)]
-pub struct FarField {
-    /// Settings; may be changed between frames (a new distance applies from the next field).
-    pub config: FarConfig,
-    /// The tiles shown (`None`: a free place), from the field being captured or older ones.
-    tiles: Vec<Option<Tile>>,
-    /// Per object, the tile that stands for it ([`NO_TILE`]: the cut's).
-    owner: Vec<u32>,
-    /// Per place of the tree's object order, how many before it are a tile's (for
-    /// [`FarField::side`]), and whether that needs recounting.
-    owned_before: Vec<u32>,
-    recount: bool,
-    /// The field being captured, and the last one begun (whose eye and frustum say when the
-    /// next one is due).
-    building: Option<Field>,
-    newest: Option<Field>,
-    fields: u32,
-    material: Material,
-    /// What the last [`FarField::step`] did.
-    pub report: FarReport,
-}
-
 impl FarField {
     /// A far field with nothing captured yet.
     pub fn new(config: FarConfig) -> Self {
         FarField {
             config,
-            tiles: Vec::new(),
-            owner: Vec::new(),
-            owned_before: Vec::new(),
-            recount: true,
+            shown: None,
             building: None,
-            newest: None,
-            fields: 0,
             material: depth_mesh_material(),
             report: FarReport::default(),
+            work: Vec::new(),
         }
     }
 
-    /// Whether a whole field has been completed (before that, the hierarchy loads).
-    pub fn completed(&self) -> bool {
-        self.report.swaps > 0
+    /// The rule the cut and the field share while a field is shown ([`Split`]).
+    pub fn split(&self) -> Option<Split> {
+        self.shown.as_ref().map(Field::split)
     }
 
-    /// Whether object `i` is a shown tile's.
-    pub fn owns(&self, i: usize) -> bool {
-        self.owner.get(i).is_some_and(|&t| t != NO_TILE)
-    }
-
-    /// The rule of the field whose tile stands for object `i`, if one does.
-    pub fn split_of(&self, i: usize) -> Option<Split> {
-        let t = *self.owner.get(i)?;
-        self.tiles.get(t as usize)?.as_ref().map(|t| t.split)
-    }
-
-    /// Where the node over `order[first..first + count]` of `tree` lies: wholly the shown
-    /// tiles' ([`Side::Far`]), none of it ([`Side::Near`]), or some ([`Side::Across`]).
-    pub fn side(&self, first: u32, count: u32) -> Side {
-        let (a, b) = (first as usize, (first + count) as usize);
-        let n = match (self.owned_before.get(a), self.owned_before.get(b)) {
-            (Some(x), Some(y)) => y - x,
-            _ => 0,
-        };
-        if n == 0 {
-            Side::Near
-        } else if n == count {
-            Side::Far
-        } else {
-            Side::Across
-        }
-    }
-
-    /// Leaves the objects `moved` to the cut (a tile shows where they were).
-    pub fn release(&mut self, moved: &[usize]) {
-        for &i in moved {
-            if let Some(t) = self.owner.get_mut(i) {
-                self.recount |= *t != NO_TILE;
-                *t = NO_TILE;
-            }
-        }
-    }
-
-    /// Recounts [`FarField::side`]'s table for `tree` if ownership changed.
-    pub fn recount(&mut self, tree: &Tree) {
-        if !self.recount && self.owned_before.len() == tree.order().len() + 1 {
-            return;
-        }
-        self.owned_before.clear();
-        let mut n = 0u32;
-        self.owned_before.push(0);
-        for &i in tree.order() {
-            n += u32::from(self.owns(i as usize));
-            self.owned_before.push(n);
-        }
-        self.recount = false;
-    }
-
-    /// Starts, continues or completes captures for the frame seen by `camera` at `size`:
-    /// the slots the view needs first ([`Field::next`]) within `budget` triangles (one
-    /// slot at least), each capturing the objects of `tree` beyond the distance whose box
-    /// centre is in it, and swapped in as it completes (module docs).
+    /// Starts, continues or swaps in captures for the frame seen by `camera` at `size`,
+    /// taking tiles in order within `budget` triangles (one at least), each capturing the
+    /// objects of `tree` beyond the distance in its frustum. Shows no field while the shown
+    /// one does not cover the view.
     pub fn step<S: Subject + Sync>(
         &mut self,
         camera: &Camera,
@@ -293,123 +340,80 @@ impl FarField {
             swaps: self.report.swaps,
             ..FarReport::default()
         };
-        if self.owner.len() != objects.len() {
-            self.owner = vec![NO_TILE; objects.len()];
-            self.tiles.clear();
-            (self.building, self.newest) = (None, None);
-        }
-        // A field being captured that the view left is given up (its tiles stay shown).
-        if self
-            .building
-            .as_ref()
-            .is_some_and(|f| !f.covers(camera, size))
-        {
-            self.building = None;
-        }
-        let stale = self.newest.as_ref().is_none_or(|f| {
+        let stale = self.shown.as_ref().is_none_or(|f| {
             let px_per_unit = px_per_radian(camera, size.1) / f.distance.max(1e-3);
             f.eye.distance(camera.eye()) * px_per_unit > cfg.parallax || !f.covers(camera, size)
         });
         if self.building.is_none() && stale {
-            let field = Field::new(camera, size, &cfg, self.fields);
-            if field.covers(camera, size) {
-                self.fields = self.fields.wrapping_add(1);
-                self.newest = Some(field.clone());
-                self.building = Some(field);
-            }
+            let field = Field::new(camera, size, &cfg);
+            self.building = field.covers(camera, size).then_some(field);
         }
-        if let Some(mut field) = self.building.take() {
-            let work = take_slots(&mut field, camera, (tree, objects), budget, &cfg);
-            report.triangles = work.iter().map(|w| w.2).sum();
-            report.objects = work.iter().map(|w| w.1.len()).sum();
-            report.tiles = work.len();
-            report.in_view = work.iter().filter(|w| w.3).count();
+        if let Some(field) = &mut self.building {
+            self.work.clear();
+            let mut spent = 0u64;
+            let split = field.split();
             let seen = field.seen(cfg.lod_px);
-            for tile in capture_tiles(&field, &work, (objects, seen), lighting, cfg.grow) {
-                report.dropped += self.swap_in(tile);
+            let mut scratch = Vec::new();
+            while field.taken + self.work.len() < field.tiles.len() {
+                let k = field.taken + self.work.len();
+                let mut members = Vec::new();
+                let tile = &field.tiles[k];
+                let camera = tile.camera(&field.camera, field.size);
+                far_objects(tree, objects, &split, &camera, &mut members);
+                let tris: u64 = members
+                    .iter()
+                    .map(|&i| seen.triangles(&objects[i as usize], &mut scratch))
+                    .sum();
+                if tris > budget {
+                    let quarters = tile.quarters();
+                    if quarters.len() > 1 {
+                        field.tiles.splice(k..=k, quarters);
+                        continue;
+                    }
+                }
+                if !self.work.is_empty() && spent + tris > budget {
+                    break;
+                }
+                spent += tris;
+                report.objects += members.len();
+                self.work.push((k, members));
             }
-            report.pending = field.pending.len();
-            if field.pending.is_empty() {
-                // Complete: older fields' tiles are taken down (their objects the cut's).
-                let old: Vec<usize> = (0..self.tiles.len())
-                    .filter(|&t| {
-                        self.tiles[t]
-                            .as_ref()
-                            .is_some_and(|x| x.field != field.number)
-                    })
-                    .collect();
-                old.iter().for_each(|&t| self.take_down(t));
+            capture_tiles(field, &self.work, (objects, seen), lighting, cfg.grow);
+            field.taken += self.work.len();
+            report.tiles = self.work.len();
+            report.triangles = spent;
+            report.pending = field.tiles.len() - field.taken;
+            if field.is_complete() {
+                self.shown = self.building.take();
                 report.swaps += 1;
-            } else {
-                self.building = Some(field);
+                report.pending = 0;
             }
         }
-        self.recount(tree);
-        report.shown_tiles = self.tiles.iter().flatten().count();
-        report.shown = report.shown_tiles > 0;
-        report.owned = self.owner.iter().filter(|&&t| t != NO_TILE).count();
+        report.shown = self.shown.is_some();
         self.report = report;
         &self.report
     }
 
-    /// Shows `tile`, taking down every tile holding one of its objects; returns how many.
-    fn swap_in(&mut self, tile: Tile) -> usize {
-        let mut old: Vec<usize> = tile
-            .objects
-            .iter()
-            .map(|&i| self.owner[i as usize])
-            .filter(|&t| t != NO_TILE)
-            .map(|t| t as usize)
-            .collect();
-        old.sort_unstable();
-        old.dedup();
-        old.iter().for_each(|&t| self.take_down(t));
-        let place = match self.tiles.iter().position(Option::is_none) {
-            Some(p) => p,
-            None => {
-                self.tiles.push(None);
-                self.tiles.len() - 1
-            }
-        };
-        for &i in &tile.objects {
-            self.owner[i as usize] = place as u32;
-        }
-        self.tiles[place] = Some(tile);
-        self.recount = true;
-        old.len()
-    }
-
-    /// Takes down tile `t`: its objects are the cut's.
-    fn take_down(&mut self, t: usize) {
-        if let Some(tile) = self.tiles.get_mut(t).and_then(Option::take) {
-            for &i in &tile.objects {
-                if self.owner[i as usize] == t as u32 {
-                    self.owner[i as usize] = NO_TILE;
-                }
-            }
-            self.recount = true;
-        }
-    }
-
-    /// The objects the shown tiles stand for (each once).
+    /// The objects the shown field's tiles captured (an object once per tile it shows in).
     pub fn captured(&self) -> impl Iterator<Item = u32> + '_ {
-        (0..self.owner.len() as u32).filter(|&i| self.owns(i as usize))
+        let tiles = self.shown.as_ref().map_or(&[][..], |f| &f.tiles[..]);
+        tiles.iter().flat_map(|t| t.objects.iter().copied())
     }
 
-    /// The shown tiles with something in them that `frustum` sees.
+    /// The shown field's tiles with something in them that `frustum` sees.
     fn seen(&self, frustum: Frustum) -> impl Iterator<Item = &Tile> {
-        self.tiles
+        let tiles = self.shown.as_ref().map_or(&[][..], |f| &f.tiles[..]);
+        tiles
             .iter()
-            .flatten()
             .filter(move |t| t.sphere.is_some_and(|s| frustum.sees(s.center, s.radius)))
     }
 
-    /// Triangles of the shown meshes that `frustum` sees.
+    /// Triangles of the shown field's meshes that `frustum` sees.
     pub fn triangles_seen(&self, frustum: &Frustum) -> usize {
         self.seen(*frustum).map(|t| t.mesh.indices.len() / 3).sum()
     }
 
-    /// The shown tiles seen by `frustum`, as draws (opaque, depth written).
+    /// The shown field's tiles seen by `frustum`, as draws (opaque, depth written).
     pub fn draws<'a>(&'a self, frustum: &Frustum, out: &mut Vec<Draw<'a>>) {
         for t in self.seen(*frustum) {
             out.push(Draw {
@@ -420,31 +424,36 @@ impl FarField {
         }
     }
 
-    /// Bytes the tiles' meshes hold.
+    /// Bytes the fields' meshes hold.
     pub fn memory(&self) -> usize {
-        self.tiles
-            .iter()
-            .flatten()
-            .map(|t| {
-                let m = &t.mesh;
-                m.positions.capacity() * 12 + m.colors.capacity() * 16 + m.indices.capacity() * 4
+        let field = |f: &Option<Field>| {
+            f.as_ref().map_or(0, |f| {
+                f.tiles
+                    .iter()
+                    .map(|t| {
+                        let m = &t.mesh;
+                        m.positions.capacity() * 12
+                            + m.colors.capacity() * 16
+                            + m.indices.capacity() * 4
+                    })
+                    .sum()
             })
-            .sum::<usize>()
-            + self.owner.capacity() * 4
+        };
+        field(&self.shown) + field(&self.building)
     }
 }
 
 /// How a field's captures draw its objects: from its eye at its pixels per radian, each at
 /// its coarsest level of detail within `lod_px` pixels ([`Subject::draws_seen`]).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Seen {
-    pub(super) eye: Vec3,
-    pub(super) px_per_radian: f32,
-    pub(super) lod_px: f32,
+struct Seen {
+    eye: Vec3,
+    px_per_radian: f32,
+    lod_px: f32,
 }
 
 impl Seen {
-    pub(super) fn draws<'s, S: Subject>(&self, s: &'s S, out: &mut Vec<Draw<'s>>) {
+    fn draws<'s, S: Subject>(&self, s: &'s S, out: &mut Vec<Draw<'s>>) {
         if self.lod_px > 0.0 {
             s.draws_seen(self.eye, self.px_per_radian, self.lod_px, out);
         } else {
@@ -453,7 +462,7 @@ impl Seen {
     }
 
     /// Triangles `s` is captured with (`scratch`: a reused draw list).
-    pub(super) fn triangles<'s, S: Subject>(&self, s: &'s S, scratch: &mut Vec<Draw<'s>>) -> u64 {
+    fn triangles<'s, S: Subject>(&self, s: &'s S, scratch: &mut Vec<Draw<'s>>) -> u64 {
         scratch.clear();
         self.draws(s, scratch);
         scratch.iter().map(|d| d.mesh.triangle_count() as u64).sum()
@@ -461,7 +470,7 @@ impl Seen {
 }
 
 /// Pixels per radian of `camera`'s image `height` pixels high, at its centre.
-pub(super) fn px_per_radian(camera: &Camera, height: u32) -> f32 {
+fn px_per_radian(camera: &Camera, height: u32) -> f32 {
     let [_, _, b, t] = camera.projection.extents();
     let near = camera.near_far().0;
     let half = ((t - b) * 0.5 / near.max(1e-6)).atan().max(1e-6);
@@ -504,44 +513,40 @@ pub(super) fn far_objects<S: Subject>(
     }
 }
 
-/// Captures the slots `work` of `field` side by side on the pool, each its objects alone,
-/// over the pixels their boxes cover, as a mesh of quads (same meshes at any thread count:
-/// each tile is its own capture); returns them in `work`'s order.
+/// Captures the tiles `work` (tile, its objects) of `field` side by side on the pool, each
+/// as a mesh of quads (same meshes at any thread count: each tile is its own capture).
 fn capture_tiles<S: Subject + Sync>(
-    field: &Field,
-    work: &[Work],
+    field: &mut Field,
+    work: &[(usize, Vec<u32>)],
     (objects, seen): (&[S], Seen),
     lighting: &engine::Lighting,
     grow: f32,
-) -> Vec<Tile> {
-    let split = field.split();
-    work.par_iter()
-        .map_init(
-            || (Capturer::new(), DepthImage::new(0, 0, field.camera)),
-            |(cap, image), (rect, members, _, _)| {
-                let mut tile = Tile {
-                    mesh: Mesh::default(),
-                    sphere: None,
-                    objects: members.clone(),
-                    field: field.number,
-                    split,
-                };
-                if members.is_empty() {
-                    return tile;
-                }
-                let mut draws = Vec::new();
-                for &i in members {
-                    seen.draws(&objects[i as usize], &mut draws);
-                }
-                let camera = field.crop(rect.min, rect.max);
-                let (w, h) = rect.size();
-                cap.capture(draws, &camera, lighting, w, h, image);
-                span_mesh(image, grow, &mut tile.mesh);
-                tile.sphere = bounds_of(&tile.mesh.positions);
-                tile
-            },
-        )
-        .collect()
+) {
+    let Some(first) = work.first().map(|w| w.0) else {
+        return;
+    };
+    let (whole, size) = (field.camera, field.size);
+    let tiles = &mut field.tiles[first..first + work.len()];
+    tiles.par_iter_mut().zip(work.par_iter()).for_each_init(
+        || (Capturer::new(), DepthImage::new(0, 0, whole)),
+        |(cap, image), (tile, (_, members))| {
+            tile.sphere = None;
+            tile.mesh.clear();
+            tile.objects.clone_from(members);
+            if members.is_empty() {
+                return;
+            }
+            let mut draws = Vec::new();
+            for &i in members {
+                seen.draws(&objects[i as usize], &mut draws);
+            }
+            let camera = tile.camera(&whole, size);
+            let (w, h) = tile.size();
+            cap.capture(draws, &camera, lighting, w, h, image);
+            span_mesh(image, grow, &mut tile.mesh);
+            tile.sphere = bounds_of(&tile.mesh.positions);
+        },
+    );
 }
 
 /// A sphere around `points` (their box's), `None` when there are none.

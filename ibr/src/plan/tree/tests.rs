@@ -6,23 +6,9 @@ use crate::core::{CostModel, Estimate, Representation, Sight, Work};
 use engine::{Camera, Lighting, Sphere};
 use glam::Vec3;
 
-/// A ball of radius `r` at `c`, of 500 triangles to the planner's cost, drawn (by the far
-/// field's captures) as a coarse ball of [`BALL_TRIANGLES`].
+/// A ball of radius `r` at `c`, of 500 triangles, drawing nothing (the cut is what is tested).
 #[derive(Clone, Debug)]
 pub(super) struct Ball(pub Vec3, pub f32);
-
-/// Triangles a [`Ball`] draws.
-pub(super) const BALL_TRIANGLES: u64 = 16;
-
-/// The mesh and material every [`Ball`] draws (a unit ball).
-fn ball_look() -> &'static (engine::Mesh, engine::Material) {
-    static LOOK: std::sync::OnceLock<(engine::Mesh, engine::Material)> = std::sync::OnceLock::new();
-    LOOK.get_or_init(|| {
-        let mesh = engine::procedural::uv_sphere(1.0, 3, 4);
-        assert_eq!(mesh.triangle_count() as u64, BALL_TRIANGLES);
-        (mesh, engine::Material::default())
-    })
-}
 
 impl Subject for Ball {
     fn bounds(&self) -> Sphere {
@@ -31,15 +17,7 @@ impl Subject for Ball {
             radius: self.1,
         }
     }
-    fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
-        let (mesh, material) = ball_look();
-        out.push(Draw {
-            mesh,
-            material,
-            transform: glam::Mat4::from_translation(self.0)
-                * glam::Mat4::from_scale(Vec3::splat(self.1)),
-        });
-    }
+    fn draws<'s>(&'s self, _out: &mut Vec<Draw<'s>>) {}
     fn triangle_count(&self) -> usize {
         500
     }
