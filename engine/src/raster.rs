@@ -180,9 +180,14 @@ impl<S: FragShader> Rows<'_, S> {
         const _: () = assert!(SMALL == BLOCK, "a mask row is a block row");
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
         let cover = self.tri.cover();
-        // Prepared up front: a small triangle that reaches the raster stage almost always
-        // has a visible pixel, and a known `Some` keeps the row loop free of the check.
-        let mut prepared = Some(self.shader.prepare(self.tri, self.vary));
+        // Prepared up front in one pass: a small triangle that reaches the raster stage
+        // almost always has a visible pixel, and a known `Some` keeps the row loop free of
+        // the check. The pre-pass's depth writes shade nothing, and after them a small
+        // triangle is often hidden: there it is prepared once a pixel is shaded.
+        let mut prepared = match self.pass {
+            Pass::Full | Pass::Masked(_) => Some(self.shader.prepare(self.tri, self.vary)),
+            Pass::Depth(_) | Pass::Visible(_) => None,
+        };
         let (bx0, by0, bx1, by1) = (
             x0 & !(BLOCK - 1),
             y0 & !(BLOCK - 1),
