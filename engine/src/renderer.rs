@@ -149,9 +149,8 @@ pub struct Renderer {
     sort_keys: Vec<(u32, f32, u32)>,
     last: FrameStats,
     times: StageTimes,
-    /// Draw every tile in one pass, without the visibility pre-pass (see
-    /// [`Renderer::set_visibility_prepass`]).
-    one_pass: bool,
+    /// Draw tiles with the visibility pre-pass (see [`Renderer::set_visibility_prepass`]).
+    prepass: bool,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -197,14 +196,16 @@ impl Renderer {
         self.last
     }
 
-    /// Whether tiles shade opaque pixels once, after a depth pre-pass (on by default). A
-    /// frame whose opaque draws all test and write depth (and is not a depth peel) then
+    /// Whether tiles shade opaque pixels once, after a depth pre-pass (off by default). On,
+    /// a frame whose opaque draws all test and write depth (and is not a depth peel)
     /// rasterizes its opaque and alpha-tested triangles first, opaque ones for depth only,
     /// and shades each opaque pixel only with the triangle that stays nearest there. The
-    /// pixels are the same either way; off, every opaque fragment that passes the depth
-    /// test when drawn is shaded (the reference the pre-pass is tested against).
+    /// pixels are the same either way. Off by default because it measured slower on the
+    /// showcase's tour (BENCHMARKS.md, "A visibility pre-pass per tile"): shading runs a
+    /// row of 8 lanes at a time, and the hidden fragments it removes mostly sit in rows
+    /// that are shaded anyway, while the opaque triangles are rasterized twice.
     pub fn set_visibility_prepass(&mut self, on: bool) {
-        self.one_pass = !on;
+        self.prepass = on;
     }
 
     /// Where the last frame's time went, stage by stage (for profiling).
@@ -454,7 +455,7 @@ impl Renderer {
             lighting: frame.lighting,
             eye: frame.camera.eye(),
             soft: &soft,
-            prepass: !self.one_pass && frame.peel.is_none() && prepass_allowed(frame.infos),
+            prepass: self.prepass && frame.peel.is_none() && prepass_allowed(frame.infos),
         };
         let (workers, peel) = (&self.workers[..], frame.peel);
         let (colors, depths) = target.storage_mut();

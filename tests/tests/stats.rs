@@ -143,23 +143,23 @@ fn fragments_tested_shaded_written_follow_depth_and_alpha_tests() {
     let mut one = Scene::default();
     let mat = Material::default().double_sided(true);
     one.add(soup(&[far, near]), mat, Mat4::IDENTITY);
-    let mut target = Target::new(W, H);
-    let opts = FrameOptions {
-        clear: Some(Rgba::BLACK),
-        cull: Cull::None,
-    };
-    let mut one_pass = Renderer::new();
-    one_pass.set_visibility_prepass(false);
-    let s = one_pass.render_scene(&one, &cam, &mut target, &opts);
+    let s = render(&one, &cam, W, H, Encoding::Unorm, Cull::None).1;
     assert_eq!(
         (s.fragments_tested, s.fragments_shaded, s.fragments_written),
         (n_near + n_far, n_near + n_far, n_near + n_far),
         "{s:?}"
     );
-    // With the visibility pre-pass (the default) only the seen pixels are shaded and
-    // written; the far triangle's are tested (a block at a time may be rejected before
-    // the per-pixel count, so `tested` is only bounded).
-    let s = render(&one, &cam, W, H, Encoding::Unorm, Cull::None).1;
+    // With the visibility pre-pass only the seen pixels are shaded and written; the far
+    // triangle's are tested (a block at a time may be rejected before the per-pixel count,
+    // so `tested` is only bounded).
+    let mut target = Target::new(W, H);
+    let opts = FrameOptions {
+        clear: Some(Rgba::BLACK),
+        cull: Cull::None,
+    };
+    let mut prepass = Renderer::new();
+    prepass.set_visibility_prepass(true);
+    let s = prepass.render_scene(&one, &cam, &mut target, &opts);
     assert_eq!(s.fragments_shaded, n_near + n_far - both, "{s:?}");
     assert_eq!(s.fragments_written, s.fragments_shaded, "{s:?}");
     assert!(

@@ -1,5 +1,6 @@
 //! The tile loop: every triangle binned to one tile, in the frame's draw order, into that
-//! tile's memory, with or without the visibility pre-pass.
+//! tile's memory, with or without the visibility pre-pass (off unless
+//! `Renderer::set_visibility_prepass` turns it on: measured slower on the showcase's tour).
 //!
 //! The pre-pass, for frames whose opaque and alpha-tested draws all test and write depth
 //! and come before every blended draw (what `Renderer::order_draws` makes of any frame
