@@ -90,7 +90,7 @@ fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
 }
 
 /// How a triangle is drawn: in one pass, or as a part of the tile's visibility pre-pass.
-/// The ids are the triangle's place in the tile's list, never [`crate::tile::NO_ID`].
+/// The ids are the triangle's place in the tile's list, never `tile::NO_ID`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Pass {
     /// Depth test, shade, write (no pre-pass).
