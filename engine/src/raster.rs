@@ -12,6 +12,13 @@
 //! Depth is reversed (greater is nearer) and tested before shading. The working buffers
 //! hold linear premultiplied colour in `f32`, so blending is exact and encoding to bytes
 //! happens once per pixel per frame, when the tile is resolved.
+//!
+//! A triangle is drawn in one of the [`Pass`]es: the one-pass path (test, shade, write), or
+//! one of the three parts of the tile's visibility pre-pass (see `renderer`): opaque
+//! triangles first write only depth and their id, alpha-tested ones shade as usual and
+//! leave their id where they wrote, then opaque triangles shade only the pixels that kept
+//! their id. The walk, the depth planes and the shading are the same in every pass, so a
+//! pixel comes out as the one-pass path would have made it.
 
 use crate::camera::Camera;
 use crate::material::{AlphaMode, BlendMode};
@@ -82,6 +89,21 @@ fn classify(ed: &Edge, px0: i32, py0: i32, px1: i32, py1: i32) -> Option<bool> {
     }
 }
 
+/// How a triangle is drawn: in one pass, or as a part of the tile's visibility pre-pass.
+/// The ids are the triangle's place in the tile's list, never `tile::NO_ID`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pass {
+    /// Depth test, shade, write (no pre-pass).
+    Full,
+    /// Pre-pass, opaque: depth test, then write depth and the id; nothing is shaded.
+    Depth(u32),
+    /// Pre-pass, alpha-tested: as [`Pass::Full`], and the lanes written take the id.
+    Masked(u32),
+    /// After the pre-pass, opaque: shade and write the pixels that still hold the id (the
+    /// triangle is the nearest there), with no depth test and no depth update needed.
+    Visible(u32),
+}
+
 /// Rasterizes `tri` into the tile whose top-left pixel is `(ox, oy)`. For walked triangles
 /// the shader prepares the triangle (reads its vertices' varyings from `vary`) only once a
 /// fragment survives the depth test, so hidden ones never touch their vertex data; small
@@ -97,7 +119,12 @@ pub fn raster_tri<S: FragShader>(
     mode: &PixelMode,
     soft: &DepthToView,
     stats: &mut FrameStats,
+    pass: Pass,
 ) {
+    debug_assert!(
+        pass == Pass::Full || !buf.vis.is_empty(),
+        "a pre-pass needs the tile's ids"
+    );
     let x0 = (tri.bbox[0] as i32).max(ox);
     let y0 = (tri.bbox[1] as i32).max(oy);
     let x1 = (tri.bbox[2] as i32).min(ox + TILE as i32 - 1);
@@ -114,6 +141,7 @@ pub fn raster_tri<S: FragShader>(
         mode,
         soft,
         stats,
+        pass,
     };
     match tri.vertices() {
         None => rows.small(buf, [x0, y0, x1, y1]),
@@ -133,6 +161,7 @@ struct Rows<'a, S: FragShader> {
     /// The tile's counters, counted into directly: a per-triangle copy added at the end
     /// was reloaded as one wide vector that waited on the row kernel's scalar stores.
     stats: &'a mut FrameStats,
+    pass: Pass,
 }
 
 impl<S: FragShader> Rows<'_, S> {
@@ -151,9 +180,14 @@ impl<S: FragShader> Rows<'_, S> {
         const _: () = assert!(SMALL == BLOCK, "a mask row is a block row");
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
         let cover = self.tri.cover();
-        // Prepared up front: a small triangle that reaches the raster stage almost always
-        // has a visible pixel, and a known `Some` keeps the row loop free of the check.
-        let mut prepared = Some(self.shader.prepare(self.tri, self.vary));
+        // Prepared up front in one pass: a small triangle that reaches the raster stage
+        // almost always has a visible pixel, and a known `Some` keeps the row loop free of
+        // the check. The pre-pass's depth writes shade nothing, and after them a small
+        // triangle is often hidden: there it is prepared once a pixel is shaded.
+        let mut prepared = match self.pass {
+            Pass::Full | Pass::Masked(_) => Some(self.shader.prepare(self.tri, self.vary)),
+            Pass::Depth(_) | Pass::Visible(_) => None,
+        };
         let (bx0, by0, bx1, by1) = (
             x0 & !(BLOCK - 1),
             y0 & !(BLOCK - 1),
@@ -301,7 +335,7 @@ impl<S: FragShader> Rows<'_, S> {
     }
 
     /// Depth-tests, shades and writes the covered lanes `cov` of row `j` of the block at
-    /// `(bx, _)`; whether anything was written.
+    /// `(bx, _)`, as its [`Pass`] says; whether depth may have changed.
     // Not inlined: measured, the loops around it keep their state in registers then (grid
     // 1M at 1920x1080, one thread: raster stage 62 -> 57 ms).
     #[inline(never)]
@@ -320,27 +354,39 @@ impl<S: FragShader> Rows<'_, S> {
         }
         let cov = M8::from_bits(cov);
         let tri = self.tri;
-        self.stats.fragments_tested += covered as u64;
         let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
         let by = (block / BLOCKS * LANES) as i32 + self.oy;
         let row = Row {
             fx: (bx - rx) as f32,
             fy: (by + j - ry) as f32,
+            covered: cov.bits(),
         };
         let base = block * BLOCK_PIXELS + j as usize * LANES;
         let z = eval(&tri.z, &row);
-        let mut m = if self.mode.depth_test {
-            cov.and(z.gt(F8::load(&buf.depth[base..])))
+        let m = if let Pass::Visible(id) = self.pass {
+            // Tested in the pre-pass already: the pixels that kept this triangle's id.
+            cov.and(I8::load_u32(&buf.vis[base..]).eq(I8::splat(id as i32)))
         } else {
-            cov
+            self.stats.fragments_tested += covered as u64;
+            let mut m = if self.mode.depth_test {
+                cov.and(z.gt(F8::load(&buf.depth[base..])))
+            } else {
+                cov
+            };
+            if self.mode.peel {
+                // Reversed depth: strictly behind is strictly smaller.
+                m = m.and(F8::load(&buf.peel[base..]).gt(z));
+            }
+            m
         };
-        if self.mode.peel {
-            // Reversed depth: strictly behind is strictly smaller.
-            m = m.and(F8::load(&buf.peel[base..]).gt(z));
-        }
         let passed = m.bits().count_ones();
         if passed == 0 {
             return false;
+        }
+        if let Pass::Depth(id) = self.pass {
+            z.blend_into(m, &mut buf.depth[base..]);
+            set_ids(&mut buf.vis[base..base + LANES], m.bits(), id);
+            return true;
         }
         self.stats.fragments_shaded += passed as u64;
         self.stats.rows_shaded += 1;
@@ -349,8 +395,24 @@ impl<S: FragShader> Rows<'_, S> {
         let mut out = [F8::splat(0.0); 4];
         shader.shade(prepared, tri, &row, m.bits(), &mut out);
         let written = write_row(buf, base, m, &z, &out, self.mode, self.soft);
-        self.stats.fragments_written += written as u64;
+        self.stats.fragments_written += written.bits().count_ones() as u64;
+        match self.pass {
+            Pass::Masked(id) => set_ids(&mut buf.vis[base..base + LANES], written.bits(), id),
+            // The depth is the pre-pass's, unchanged.
+            Pass::Visible(_) => return false,
+            _ => {}
+        }
         true
+    }
+}
+
+/// Sets the ids of the lanes in `bits` of one row.
+#[inline(always)]
+fn set_ids(ids: &mut [u32], bits: u32, id: u32) {
+    for (l, v) in ids.iter_mut().enumerate() {
+        if bits >> l & 1 != 0 {
+            *v = id;
+        }
     }
 }
 
@@ -371,7 +433,7 @@ const DITHER: [[f32; LANES]; 4] = {
     t
 };
 
-/// Writes the lanes of `m` that survive the alpha test; returns how many.
+/// Writes the lanes of `m` that survive the alpha test; returns them.
 #[inline(always)]
 fn write_row(
     buf: &mut TileBuf,
@@ -381,7 +443,7 @@ fn write_row(
     out: &[Lane; 4],
     mode: &PixelMode,
     soft: &DepthToView,
-) -> u32 {
+) -> M8 {
     let [r, g, b, a] = &mut buf.color;
     let (r, g, b, a) = (
         &mut r[base..],
@@ -439,7 +501,7 @@ fn write_row(
     if mode.depth_write {
         z.blend_into(m, &mut buf.depth[base..]);
     }
-    m.bits().count_ones()
+    m
 }
 
 #[cfg(test)]

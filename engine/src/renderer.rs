@@ -16,10 +16,9 @@ use crate::front::{front_end, Chunk};
 use crate::light::Lighting;
 use crate::material::{AlphaMode, Material, Shading};
 use crate::mesh::Mesh;
-use crate::raster::{raster_tri, DepthToView};
+use crate::raster::DepthToView;
 use crate::scene::{Draw, Scene};
-use crate::setup::{Tri, CLIPPED};
-use crate::shade::{ColorShader, ConstShader, GeneralShader};
+use crate::shade::{ColorShader, ConstShader};
 use crate::space::Viewport;
 use crate::state::{DrawInfo, Kind, PixelMode};
 use crate::stats::FrameStats;
@@ -30,9 +29,7 @@ use glam::{BVec3, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-
-/// How many triangles ahead the tile loop prefetches vertex varyings.
-const PREFETCH_AHEAD: usize = 4;
+use tiles::{prepass_allowed, TileFrame};
 
 /// One worker thread's tile memory and counters, on cache lines of its own: the raster
 /// stage updates them for every triangle and row, and a neighbour on the same line would
@@ -152,6 +149,8 @@ pub struct Renderer {
     sort_keys: Vec<(u32, f32, u32)>,
     last: FrameStats,
     times: StageTimes,
+    /// Draw tiles with the visibility pre-pass (see [`Renderer::set_visibility_prepass`]).
+    prepass: bool,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -195,6 +194,18 @@ impl Renderer {
     /// Counters of the last frame.
     pub fn stats(&self) -> FrameStats {
         self.last
+    }
+
+    /// Whether tiles shade opaque pixels once, after a depth pre-pass (off by default). On,
+    /// a frame whose opaque draws all test and write depth (and is not a depth peel)
+    /// rasterizes its opaque and alpha-tested triangles first, opaque ones for depth only,
+    /// and shades each opaque pixel only with the triangle that stays nearest there. The
+    /// pixels are the same either way. Off by default because it measured slower on the
+    /// showcase's tour (BENCHMARKS.md, "A visibility pre-pass per tile"): shading runs a
+    /// row of 8 lanes at a time, and the hidden fragments it removes mostly sit in rows
+    /// that are shaded anyway, while the opaque triangles are rasterized twice.
+    pub fn set_visibility_prepass(&mut self, on: bool) {
+        self.prepass = on;
     }
 
     /// Where the last frame's time went, stage by stage (for profiling).
@@ -444,6 +455,7 @@ impl Renderer {
             lighting: frame.lighting,
             eye: frame.camera.eye(),
             soft: &soft,
+            prepass: self.prepass && frame.peel.is_none() && prepass_allowed(frame.infos),
         };
         let (workers, peel) = (&self.workers[..], frame.peel);
         let (colors, depths) = target.storage_mut();
@@ -556,81 +568,7 @@ fn draw_depths(info: &DrawInfo<'_>, camera: &Camera) -> Option<(f32, f32)> {
     Some(((-nearest).max(0.0), centre))
 }
 
-/// What the raster stage reads for every tile of a frame.
-struct TileFrame<'f, 'a> {
-    chunks: &'f [Chunk],
-    infos: &'f [DrawInfo<'a>],
-    vary: &'f [f32],
-    lighting: &'f Lighting,
-    eye: Vec3,
-    soft: &'f DepthToView,
-}
-
-impl TileFrame<'_, '_> {
-    /// The varyings a triangle of `chunk` indexes.
-    #[inline]
-    fn varyings<'s>(&'s self, chunk: &'s Chunk, tri: &Tri) -> &'s [f32] {
-        if tri.flags() & CLIPPED != 0 {
-            &chunk.extra[..]
-        } else {
-            self.vary
-        }
-    }
-
-    /// Rasterizes every triangle binned to `tile` (top-left pixel `(ox, oy)`), chunk by
-    /// chunk, so in submission order.
-    fn raster(&self, buf: &mut TileBuf, tile: usize, ox: i32, oy: i32, stats: &mut FrameStats) {
-        let binned = || {
-            self.chunks.iter().flat_map(move |chunk| {
-                let list = chunk.bins.tile(tile);
-                list.iter()
-                    .filter_map(move |&k| Some((chunk, chunk.tris.get(k as usize)?)))
-            })
-        };
-        // Scattered triangles and their vertices are cache misses: two cursors run ahead of
-        // the one drawn, asking for the triangles, then for their vertices.
-        let mut far = binned().skip(2 * PREFETCH_AHEAD);
-        let mut near = binned().skip(PREFETCH_AHEAD);
-        for (chunk, tri) in binned() {
-            if let Some((_, t)) = far.next() {
-                crate::simd::prefetch(t);
-            }
-            if let Some((c, t)) = near.next() {
-                if self.infos[t.draw() as usize].layout != Layout::None {
-                    let src = self.varyings(c, t);
-                    for o in t.vary {
-                        if let Some(x) = src.get(o as usize) {
-                            crate::simd::prefetch(x);
-                        }
-                    }
-                }
-            }
-            let src = self.varyings(chunk, tri);
-            let info = &self.infos[tri.draw() as usize];
-            let (mode, soft) = (&info.mode, self.soft);
-            let shaded = stats.fragments_shaded;
-            match &info.kind {
-                Kind::Const(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
-                Kind::Color(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats),
-                Kind::General => {
-                    let s = GeneralShader {
-                        material: info.material,
-                        lighting: self.lighting,
-                        eye: self.eye,
-                    };
-                    raster_tri(buf, ox, oy, tri, &s, src, mode, soft, stats);
-                }
-            }
-            let shaded = stats.fragments_shaded - shaded;
-            if mode.alpha == AlphaMode::Blend {
-                stats.fragments_shaded_blended += shaded;
-            }
-            if matches!(info.kind, Kind::General) {
-                stats.fragments_shaded_general += shaded;
-            }
-        }
-    }
-}
+mod tiles;
 
 #[cfg(test)]
 mod tests;

@@ -29,6 +29,10 @@ pub struct Row {
     pub fx: f32,
     /// `y - ry`.
     pub fy: f32,
+    /// The lanes the triangle covers in this row (bit `l` for lane `l`), whether or not they
+    /// pass the depth test: their footprints choose the row's level of detail, so a pixel's
+    /// texture level does not depend on what was drawn before it (nor on the pre-pass).
+    pub covered: u32,
 }
 
 #[inline(always)]
@@ -234,7 +238,7 @@ impl FragShader for GeneralShader<'_> {
         if let Some(tex) = &m.base_texture {
             let [_, du1, du2] = p.attr[UV];
             let [_, dv1, dv2] = p.attr[UV + 1];
-            // One level of detail for the row: the largest footprint among the kept lanes
+            // One level of detail for the row: the largest footprint among the covered lanes
             // (GPUs share one per 2x2 quad). d(l1)/dx = (d(l1/w)/dx - l1 d(1/w)/dx) w, and
             // likewise for y and l2.
             let lod = if m.sampler.filter == Filter::Trilinear {
@@ -261,7 +265,7 @@ impl FragShader for GeneralShader<'_> {
                     .max(dudy.mul_add(dudy, dvdy * dvdy))
                     .to_array();
                 let widest = (0..LANES)
-                    .filter(|l| mask >> l & 1 != 0)
+                    .filter(|l| row.covered >> l & 1 != 0)
                     .map(|l| rho2[l])
                     .fold(0.0f32, f32::max);
                 0.5 * fast_log2(widest)

@@ -15,6 +15,9 @@ pub(crate) const BLOCKS: usize = TILE / LANES;
 /// Values in one block.
 pub(crate) const BLOCK_PIXELS: usize = LANES * LANES;
 
+/// The id of a pixel no triangle of the tile's visibility pre-pass has reached.
+pub(crate) const NO_ID: u32 = u32::MAX;
+
 /// One tile's working memory: linear premultiplied colour planes, reversed depth, and for
 /// each 8 x 8 block the farthest depth stored in it (a one-level hierarchical Z: a triangle
 /// nowhere nearer than that cannot pass the depth test anywhere in the block).
@@ -30,6 +33,10 @@ pub struct TileBuf {
     /// The depth a peeling frame draws strictly behind (reversed depth, tile layout);
     /// empty until a peeling frame first needs it.
     pub peel: Vec<f32>,
+    /// For the visibility pre-pass: per pixel, the place in the tile's triangle list of the
+    /// nearest opaque or alpha-tested triangle drawn there so far ([`NO_ID`]: none); empty
+    /// until a tile first uses the pre-pass.
+    pub vis: Vec<u32>,
     /// Blocks whose `block_far` may be lower than it could be (small triangles wrote there
     /// without recomputing it): still conservative, refreshed when next needed.
     far_stale: u64,
@@ -44,6 +51,7 @@ impl Default for TileBuf {
             depth: vec![0.0; TILE_PIXELS],
             block_far: vec![0.0; BLOCKS * BLOCKS],
             peel: Vec::new(),
+            vis: Vec::new(),
             far_stale: 0,
             touched: 0,
             clear: Premul::TRANSPARENT,
@@ -95,6 +103,12 @@ impl TileBuf {
         for b in 0..BLOCKS * BLOCKS {
             self.update_block_far(b);
         }
+    }
+
+    /// Starts a visibility pre-pass: no pixel holds a triangle's id.
+    pub(crate) fn clear_ids(&mut self) {
+        self.vis.clear();
+        self.vis.resize(TILE_PIXELS, NO_ID);
     }
 
     /// Loads the depth a peeling frame draws behind (a stored tile of reversed depth).

@@ -1,7 +1,10 @@
 //! Frame statistics count what the conventions say happened: culled back faces, clipped
 //! triangles, and fragments tested / shaded / written, against the reference's coverage.
 
-use engine::{AlphaMode, Camera, Cull, Encoding, FrameStats, Material, Rgba, Scene};
+use engine::{
+    AlphaMode, Camera, Cull, Encoding, FrameOptions, FrameStats, Material, Renderer, Rgba, Scene,
+    Target,
+};
 use glam::{Mat4, Vec3};
 use tests::reference::Raster;
 use tests::scenes::{pixel_camera, px, render, soup};
@@ -135,8 +138,8 @@ fn fragments_tested_shaded_written_follow_depth_and_alpha_tests() {
         .count() as u64;
     let (n_near, n_far) = (coverage(near), coverage(far));
     assert!(both > 100, "the triangles should overlap");
-    // Far first within one draw (the renderer keeps a draw's triangle order): every
-    // covered pixel is tested, shaded and written.
+    // Far first within one draw (the renderer keeps a draw's triangle order). In one
+    // pass every covered pixel is tested, shaded and written.
     let mut one = Scene::default();
     let mat = Material::default().double_sided(true);
     one.add(soup(&[far, near]), mat, Mat4::IDENTITY);
@@ -144,6 +147,23 @@ fn fragments_tested_shaded_written_follow_depth_and_alpha_tests() {
     assert_eq!(
         (s.fragments_tested, s.fragments_shaded, s.fragments_written),
         (n_near + n_far, n_near + n_far, n_near + n_far),
+        "{s:?}"
+    );
+    // With the visibility pre-pass only the seen pixels are shaded and written; the far
+    // triangle's are tested (a block at a time may be rejected before the per-pixel count,
+    // so `tested` is only bounded).
+    let mut target = Target::new(W, H);
+    let opts = FrameOptions {
+        clear: Some(Rgba::BLACK),
+        cull: Cull::None,
+    };
+    let mut prepass = Renderer::new();
+    prepass.set_visibility_prepass(true);
+    let s = prepass.render_scene(&one, &cam, &mut target, &opts);
+    assert_eq!(s.fragments_shaded, n_near + n_far - both, "{s:?}");
+    assert_eq!(s.fragments_written, s.fragments_shaded, "{s:?}");
+    assert!(
+        s.fragments_tested >= s.fragments_shaded && s.fragments_tested <= n_near + n_far,
         "{s:?}"
     );
     // Near first: the far triangle's hidden pixels fail the depth test. (They may be
