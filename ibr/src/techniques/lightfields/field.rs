@@ -97,12 +97,44 @@ impl LightField {
         aperture: u32,
         progress: &mut dyn FnMut(usize, usize),
     ) -> LightField {
+        Self::capture_filtered(draws, lighting, slab, [aperture, 1], progress)
+    }
+
+    /// A capture with coverage (an alpha channel for the silhouette): each camera's image
+    /// rendered `supersample` times finer along `s` and `t` and each sample the mean of
+    /// its `supersample` x `supersample` sub-samples, premultiplied and linear, so a
+    /// sample on an outline holds the share of its cell the object covers and the
+    /// outline can be found between samples ([`super::LightFieldObject::hard_edges`]).
+    /// A sample's depth is the mean of the finite depths its sub-samples saw. The
+    /// samples and the memory are those of the plain capture; the rendering is
+    /// `supersample` squared times. `supersample` 1 (or 0) is the plain capture.
+    pub fn capture_supersampled(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        slab: Slab,
+        supersample: u32,
+    ) -> LightField {
+        Self::capture_filtered(draws, lighting, slab, [1, supersample], &mut |_, _| {})
+    }
+
+    /// Each sample the mean over `aperture` x `aperture` views spread over its camera's
+    /// cell ([`LightField::capture_prefiltered`]) and `supersample` x `supersample`
+    /// sub-samples of its `st` cell ([`LightField::capture_supersampled`]).
+    fn capture_filtered(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        slab: Slab,
+        [aperture, supersample]: [u32; 2],
+        progress: &mut dyn FnMut(usize, usize),
+    ) -> LightField {
         let n = aperture.max(1);
+        let k = supersample.max(1) as usize;
         let enc = Encoder::new(ENCODING);
         let mut samples = Vec::with_capacity(slab.len());
         let mut depth = Vec::with_capacity(slab.len());
         let total = slab.nu as usize * slab.nv as usize;
-        let per_image = slab.ns as usize * slab.nt as usize;
+        let (ns, nt) = (slab.ns as usize, slab.nt as usize);
+        let per_image = ns * nt;
         for j in 0..slab.nv {
             // Every view of this row of cells, cell after cell.
             let cameras: Vec<Camera> = (0..slab.nu)
@@ -116,22 +148,27 @@ impl LightField {
                     })
                 })
                 .collect();
-            let images = capture_batch(draws, &cameras, lighting, slab.ns, slab.nt);
+            let (w, h) = (slab.ns * k as u32, slab.nt * k as u32);
+            let images = capture_batch(draws, &cameras, lighting, w, h);
             for views in images.chunks(n as usize * n as usize) {
                 for p in 0..per_image {
+                    let (s, t) = (p % ns, p / ns);
                     let (mut c, mut z, mut seen) = ([0.0f32; 4], 0.0f32, 0u32);
                     for v in views {
-                        let x = v.color[p];
-                        c = [c[0] + x.r, c[1] + x.g, c[2] + x.b, c[3] + x.a];
-                        // The capture cameras look along `forward` from the uv plane:
-                        // axial depth is the distance from that plane.
-                        if v.depth[p] > 0.0 && v.depth[p].is_finite() {
-                            z += v.depth[p];
-                            seen += 1;
+                        for q in 0..k * k {
+                            let at = (t * k + q / k) * w as usize + s * k + q % k;
+                            let x = v.color[at];
+                            c = [c[0] + x.r, c[1] + x.g, c[2] + x.b, c[3] + x.a];
+                            // The capture cameras look along `forward` from the uv
+                            // plane: axial depth is the distance from that plane.
+                            if v.depth[at] > 0.0 && v.depth[at].is_finite() {
+                                z += v.depth[at];
+                                seen += 1;
+                            }
                         }
                     }
-                    let k = views.len() as f32;
-                    samples.push(enc.pack(c[0] / k, c[1] / k, c[2] / k, c[3] / k));
+                    let m = (views.len() * k * k) as f32;
+                    samples.push(enc.pack(c[0] / m, c[1] / m, c[2] / m, c[3] / m));
                     depth.push(if seen > 0 {
                         z / seen as f32
                     } else {

@@ -13,7 +13,7 @@ use super::{LightField, Slab};
 use crate::core::{Counters, FrameView, Technique};
 use crate::core::{MeshGroup, Subject};
 use crate::warp::ImagePass;
-use crate::warp::{Warped, ENCODING};
+use crate::warp::{Warped, ENCODING, HOLE};
 use engine::color::{unpack, Encoder};
 use engine::{
     run_packed_pass, Camera, Draw, Encoding, FrameStats, PackedFragment, PackedPass, PassMode,
@@ -55,6 +55,12 @@ pub struct LightFieldObject {
     /// are one-pixel cracks at its depth edges (a ring passing in front of another), not
     /// silhouette, which has a drawn pixel on one side only.
     pub fill_cracks: bool,
+    /// Hard edges: a pixel whose blended coverage (alpha) is at least one half is drawn
+    /// opaque (its colour un-premultiplied), the others are left holes. The blend's
+    /// partly covered ring round the silhouette becomes a crisp edge where the
+    /// interpolated coverage crosses one half, as rasterised geometry's edge falls where
+    /// pixel centres leave its triangles.
+    pub hard_edges: bool,
     /// When the bounding sphere's projected diameter is smaller than this many pixels and
     /// the geometry is kept, the geometry is drawn instead of a slab: far away the light
     /// field is minified many samples to a pixel and its outline, a pixel or two wide, is
@@ -98,6 +104,7 @@ impl LightFieldObject {
             lookup: Lookup::default(),
             reference: None,
             fill_cracks: false,
+            hard_edges: false,
             min_px: 0.0,
             image: Composite::new(camera),
             showing: Showing::Nothing,
@@ -188,6 +195,9 @@ impl Technique for LightFieldObject {
         match self.showing {
             Showing::Slab(k) => {
                 self.image.render(&self.slabs[k], view, self.lookup, None);
+                if self.hard_edges {
+                    self.image.harden();
+                }
                 if self.fill_cracks {
                     self.image.fill_cracks();
                 }
@@ -398,6 +408,26 @@ impl Composite {
         for c in self.image.color.iter_mut().filter(|c| **c != 0) {
             let p = unpack(ENCODING, *c);
             *c = enc.pack(p.r * tint.r, p.g * tint.g, p.b * tint.b, p.a);
+        }
+    }
+
+    /// Hardens the image's edges ([`LightFieldObject::hard_edges`]): alpha of one half or
+    /// more becomes opaque, less a hole.
+    pub(crate) fn harden(&mut self) {
+        let enc = Encoder::new(ENCODING);
+        let image = &mut self.image;
+        for (c, d) in image.color.iter_mut().zip(image.disparity.iter_mut()) {
+            let a = *c >> 24;
+            if a == 255 || *c == 0 {
+                continue;
+            }
+            if a < 128 {
+                *c = 0;
+                *d = HOLE;
+            } else {
+                let p = unpack(ENCODING, *c);
+                *c = enc.pack(p.r / p.a, p.g / p.a, p.b / p.a, 1.0);
+            }
         }
     }
 

@@ -559,3 +559,64 @@ fn cracks_between_drawn_pixels_are_filled_from_the_nearer_side() {
     assert_eq!(c.image.color[1], 0);
     assert_eq!(c.image.disparity[1], holes);
 }
+
+/// Hard edges: a partly covered pixel of alpha one half or more is drawn opaque, its colour
+/// un-premultiplied (the colour the blend covered it with); below one half it becomes a
+/// hole; opaque pixels and holes are left as they are.
+#[test]
+fn hard_edges_make_half_covered_pixels_opaque_and_the_rest_holes() {
+    use engine::color::unpack;
+    let enc = Encoder::new(ENCODING);
+    let mut c = object::Composite::new(Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 1.0, 1.0));
+    c.image = Warped::new(4, 1, c.image.camera);
+    let hole = c.image.disparity[0];
+    // Opaque, three quarters covered, one quarter covered, a hole: the same colour
+    // (0.2, 0.4, 0.6) premultiplied by each coverage.
+    let at = |a: f32| enc.pack(0.2 * a, 0.4 * a, 0.6 * a, a);
+    c.image.color[..3].copy_from_slice(&[at(1.0), at(0.75), at(0.25)]);
+    c.image.disparity[..3].copy_from_slice(&[0.5; 3]);
+    c.harden();
+    assert_eq!(c.image.color[0], at(1.0));
+    let p = unpack(ENCODING, c.image.color[1]);
+    assert_eq!(p.a, 1.0);
+    // Within the 8-bit encoding's rounding of the three-quarter pixel.
+    for (got, want) in [(p.r, 0.2), (p.g, 0.4), (p.b, 0.6)] {
+        assert!((got - want).abs() < 0.02, "{got} against {want}");
+    }
+    assert_eq!(c.image.disparity[1], 0.5);
+    assert_eq!((c.image.color[2], c.image.disparity[2]), (0, hole));
+    assert_eq!((c.image.color[3], c.image.disparity[3]), (0, hole));
+}
+
+/// A supersampled capture holds each sample's coverage: a white card in the focal plane
+/// whose edges cross the middle of samples (cells a quarter wide, the card's edges at
+/// +-0.625) gives those samples alpha one half (two sub-samples of four inside), its
+/// corners one quarter, inside one and outside nothing, from every camera; the depth of
+/// a partly covered sample is the card's.
+#[test]
+fn a_supersampled_capture_holds_the_coverage_of_outlines() {
+    let mesh = procedural::quad(1.25, 1.25);
+    let material = Material::unlit(Rgba::WHITE).double_sided(true);
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    }];
+    let lf = LightField::capture_supersampled(&draws, &Lighting::default(), slab(2, 8), 2);
+    let alpha = |u, v, s, t| lf.sample(u, v, s, t) >> 24;
+    for (u, v) in [(0, 0), (1, 0), (1, 1)] {
+        for (s, t, want) in [(3, 3, 255), (1, 3, 128), (6, 4, 128), (1, 1, 64), (0, 3, 0)] {
+            assert_eq!(
+                alpha(u, v, s, t),
+                want,
+                "camera ({u}, {v}), sample ({s}, {t})"
+            );
+        }
+        // White, premultiplied (linear): every colour channel equals alpha.
+        let c = engine::color::unpack(ENCODING, lf.sample(u, v, 1, 3));
+        let near = |x: f32| (x - c.a).abs() < 0.01;
+        assert!(near(c.r) && near(c.g) && near(c.b), "{c:?}");
+        assert!((lf.depth_at(u, v, 1, 3) - 4.0).abs() < 1e-3);
+        assert_eq!(lf.depth_at(u, v, 0, 3), f32::INFINITY);
+    }
+}
