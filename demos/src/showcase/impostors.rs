@@ -8,7 +8,8 @@
 //! - The sky: a [`CloudField`] of [`CLOUD_COUNT`] cumulus clouds of [`CLOUD_PARTICLES`]
 //!   particles, their flat bases at [`CLOUD_BASE`] (the camera path climbs into one), lit
 //!   by the scene's sun. A cloud is its impostor image from afar, re-rendered when its
-//!   predicted error reaches the tolerance, worst first within the budget; within 1.25
+//!   predicted parallax reaches the tolerance (1 px a 360-line image), worst first within
+//!   the budget (a count, and the texels of captures a frame earns); within 1.25
 //!   radii of its centre the image is refreshed every frame, and with the eye inside its
 //!   bounding sphere it is drawn as its particles, so flying into it does not pop.
 //! - The city: [`CITY_GRID`]² box buildings ([`crate::city::building`], faces split

@@ -12,7 +12,8 @@
 //!
 //! An impostor whose error reaches its tolerance is invalid. Invalid impostors are
 //! re-rendered largest error first within a per-frame budget (a count, and optionally
-//! milliseconds: the count the measured cost of recent refreshes fits in), the frame's
+//! milliseconds: the count the measured cost of recent refreshes fits in; optionally a
+//! credit of texels each frame earns, [`ImpostorSet::texel_budget`]), the frame's
 //! refreshes rendered side by side on the thread pool; subjects just outside the view
 //! (within [`Config::prewarm`]) are refreshed after them when the budget has room, so they
 //! come into view with a fresh image. The others keep drawing their (stale) image, but
@@ -416,10 +417,11 @@ impl ImpostorSet {
             let (visible, i) = (c.visible, c.index);
             let side = self.impostors.get(i).map_or(0, |m| m.predicted.needed_side);
             let area = i64::from(side).pow(2);
-            // The every-frame refreshes near a subject ([`Config::transition`]) go ahead on
-            // credit; the others wait until the credit pays for them.
-            let over =
-                self.texel_budget.is_some() && c.priority < f32::MAX && area > self.texel_credit;
+            // The every-frame refreshes near a subject ([`Config::transition`], ranked at
+            // `f32::MAX`) go ahead on credit; the others, never-captured ones (ranked at
+            // infinity) included, wait until the credit pays for them.
+            let near = c.priority == f32::MAX;
+            let over = self.texel_budget.is_some() && !near && area > self.texel_credit;
             if self.jobs.len() >= budget || i >= n || over {
                 report.stale += visible as usize;
                 continue;
