@@ -8,7 +8,8 @@
 //! - The sky: a [`CloudField`] of [`CLOUD_COUNT`] cumulus clouds of [`CLOUD_PARTICLES`]
 //!   particles, their flat bases at [`CLOUD_BASE`] (the camera path climbs into one), lit
 //!   by the scene's sun. A cloud is its impostor image from afar, re-rendered when its
-//!   predicted error reaches the tolerance, worst first within the budget; within 1.25
+//!   predicted parallax reaches the tolerance (1 px a 360-line image), worst first within
+//!   the budget (a count, and the texels of captures a frame earns); within 1.25
 //!   radii of its centre the image is refreshed every frame, and with the eye inside its
 //!   bounding sphere it is drawn as its particles, so flying into it does not pop.
 //! - The city: [`CITY_GRID`]² box buildings ([`crate::city::building`], faces split
@@ -64,6 +65,14 @@ const CLOUD_AREA: f32 = 56.0;
 /// (measured 4.4 against 1.1 ms on a loaded core), and near a cloud the every-frame
 /// refreshes come first.
 const CLOUD_BUDGET: usize = 2;
+/// Texels of cloud captures a frame earns ([`ImpostorSet::texel_budget`]): half the
+/// largest capture, so one 256² cloud every other frame. A capture's cost is its fill (200
+/// blended puffs, measured 5.3 shaded fragments a texel over the 1280x720 tour); with
+/// the camera moving, clouds wanted a refresh nearly every frame (2 a frame, the count
+/// budget, on 97 of 120 frames at 1280x720, 12 ms median), about what drawing them as
+/// their particles costs. A cloud whose image is too stale meanwhile is drawn as its
+/// particles ([`Config::fallback_ratio`]), so no image over the tolerance is shown.
+const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 2;
 const CITY_BUDGET: usize = 6;
 /// Largest impostor texture sides. Near a cloud its image spans a wide field of view
 /// (up to 180 degrees at the switch to particles), so its centre gets few texels: at 128
@@ -172,8 +181,10 @@ impl Impostors {
             },
             ..config(CLOUD_BUDGET, CLOUD_MAX_SIDE)
         };
+        let mut cloud_set = ImpostorSet::new(cloud_config, clouds.clouds.len());
+        cloud_set.texel_budget = Some(CLOUD_TEXELS);
         Impostors {
-            cloud_set: ImpostorSet::new(cloud_config, clouds.clouds.len()),
+            cloud_set,
             city: Planner::new(city, buildings, reps),
             clouds,
             last: Readout::default(),
@@ -190,6 +201,10 @@ impl Impostors {
             // Reruns the light pass only if the sun moved.
             self.clouds.relight(dir, color);
         }
+        // The parallax tolerance is for a 360-line image: the same angle, as many pixels
+        // more as the image is taller.
+        let lines = (view.height as f32 / CLOUD_TOLERANCE_LINES).max(1.0);
+        self.cloud_set.config.tolerance.pixels = Some(CLOUD_TOLERANCE_PX * lines);
         let clouds = self
             .cloud_set
             .update(&mut self.clouds.clouds, camera, view.height, lighting);
@@ -472,6 +487,11 @@ pub const TOLERANCE_LEVELS: f32 = 1.5;
 /// The clouds' tolerance instead: the parallax between the near and far ends of a cloud's
 /// bounding sphere, screen pixels.
 pub const CLOUD_TOLERANCE_PX: f32 = 1.0;
+
+/// The image height [`CLOUD_TOLERANCE_PX`] is for: taller images scale it, so the
+/// tolerance is the same angle at any size (a cloud's soft features span as many more
+/// pixels, so the same angle of parallax makes about the same error in levels).
+pub const CLOUD_TOLERANCE_LINES: f32 = 360.0;
 
 /// The city planner's error budget: predicted mean absolute 8-bit error over a building,
 /// all of it (the impostors' tolerance is what staleness adds to a fresh image's own

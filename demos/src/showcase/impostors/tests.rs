@@ -475,3 +475,55 @@ fn cloud_refreshes(show: &Showcase) -> Vec<u64> {
     let imps = &show.ibr.impostors.cloud_set.impostors;
     imps.iter().map(|m| m.refreshes).collect()
 }
+
+/// At 1280x720 over the tour the clouds' captures stay within the texels their frames
+/// earned ([`CLOUD_TEXELS`] each), but for the every-frame refreshes near a cloud, which
+/// may borrow: counted from the images taken (each cloud's refresh count and its image's
+/// side), not from the clock. The budget binds (frames left with invalid clouds and no
+/// capture), and no image shown has more parallax than the tolerance at this size (2 px,
+/// [`CLOUD_TOLERANCE_LINES`]).
+#[test]
+fn cloud_captures_stay_within_their_texel_budget_at_720p() {
+    let mut show = Showcase::new();
+    let (w, h, n) = (1280, 720, 120);
+    let tolerance = CLOUD_TOLERANCE_PX * h as f32 / CLOUD_TOLERANCE_LINES;
+    let (mut spent, mut borrowed, mut waited) = (0u64, 0u64, 0);
+    for i in 0..n {
+        let (eye, look) = show.path(i, n);
+        let cam = showcase::camera(eye, look, w, h);
+        let lighting = show.scene.lighting.clone();
+        let before = cloud_refreshes(&show);
+        show.ibr
+            .impostors
+            .update(&FrameView::still(&cam, w, h, &lighting));
+        let imps = &show.ibr.impostors;
+        let clouds = imps.clouds.clouds.iter();
+        for ((imp, cloud), b) in imps.cloud_set.impostors.iter().zip(clouds).zip(&before) {
+            if imp.refreshes == *b {
+                continue;
+            }
+            let side = u64::from(imp.capture().expect("refreshed, so captured").side);
+            let s = cloud.bounds();
+            // Within the band of every-frame refreshes (`impostor::Config::transition`).
+            if eye.distance(s.center) < s.radius * imps.cloud_set.config.transition {
+                borrowed += side * side;
+            }
+            spent += side * side;
+        }
+        let r = imps.readout().clouds;
+        waited += (r.refreshes == 0 && r.stale > 0) as usize;
+        assert!(
+            spent <= (i as u64 + 1) * CLOUD_TEXELS + borrowed,
+            "frame {i}: {spent} texels captured, {borrowed} of them near"
+        );
+        for imp in imps.cloud_set.impostors.iter() {
+            if imp.mode == Mode::Image {
+                assert!(imp.predicted.pixels <= tolerance, "frame {i}");
+            }
+        }
+    }
+    assert!(
+        spent > 0 && waited > 0,
+        "{spent} texels, {waited} frames waited"
+    );
+}

@@ -12,7 +12,8 @@
 //!
 //! An impostor whose error reaches its tolerance is invalid. Invalid impostors are
 //! re-rendered largest error first within a per-frame budget (a count, and optionally
-//! milliseconds: the count the measured cost of recent refreshes fits in), the frame's
+//! milliseconds: the count the measured cost of recent refreshes fits in; optionally a
+//! credit of texels each frame earns, [`ImpostorSet::texel_budget`]), the frame's
 //! refreshes rendered side by side on the thread pool; subjects just outside the view
 //! (within [`Config::prewarm`]) are refreshed after them when the budget has room, so they
 //! come into view with a fresh image. The others keep drawing their (stale) image, but
@@ -261,6 +262,11 @@ pub struct Report {
     pub prewarmed: usize,
     /// Triangles rendered by the refreshes.
     pub capture_triangles: u64,
+    /// Texels the refreshes rendered (their images' areas, summed): a capture's cost is
+    /// its fill, so this is what [`ImpostorSet::texel_budget`] bounds.
+    pub capture_texels: u64,
+    /// Fragments the refreshes shaded.
+    pub capture_fragments: u64,
     /// Pool textures in use.
     pub pool_used: usize,
     /// Textures the pool holds, in use or free.
@@ -298,6 +304,15 @@ pub struct ImpostorSet {
     /// default: the power of two at or above the subject's disc). At 2 a cutout's
     /// silhouette, halfway between texel centres, is half as far from the geometry's.
     pub density: f32,
+    /// Texels the refreshes of one [`ImpostorSet::update`] may render together, besides
+    /// the count of [`Config::budget`] (`None`, the default: no bound). The first refresh
+    /// of a frame is always allowed; the next ones, in their rank order, only while their
+    /// images' areas summed stay within it, the others left for later frames. A capture's
+    /// cost is its fill, so this keeps a frame's refresh work bounded by a counter, the
+    /// same at any thread count and machine load (a time budget is not).
+    pub texel_budget: Option<u64>,
+    /// Texels the refreshes may still render ([`ImpostorSet::texel_budget`]).
+    texel_credit: i64,
 }
 
 impl ImpostorSet {
@@ -317,6 +332,8 @@ impl ImpostorSet {
             plan_tint: None,
             cutout: None,
             density: 1.0,
+            texel_budget: None,
+            texel_credit: 0,
         }
     }
 
@@ -390,15 +407,32 @@ impl ImpostorSet {
         let mut report = Report::default();
         let budget = self.scheduler.rank(&cfg.budget);
         self.jobs.clear();
+        if let Some(t) = self.texel_budget {
+            // Unspent credit is kept up to one largest capture (or a frame's budget).
+            let cap = (u64::from(cfg.max_side).pow(2)).max(t) as i64;
+            self.texel_credit = (self.texel_credit + t as i64).min(cap);
+        }
         for k in 0..self.scheduler.ranked().len() {
             let c = self.scheduler.ranked()[k];
             let (visible, i) = (c.visible, c.index);
-            if self.jobs.len() >= budget || i >= n {
+            let side = self.impostors.get(i).map_or(0, |m| m.predicted.needed_side);
+            let area = i64::from(side).pow(2);
+            // The every-frame refreshes near a subject ([`Config::transition`], ranked at
+            // `f32::MAX`) go ahead on credit; the others, never-captured ones (ranked at
+            // infinity) included, wait until the credit pays for them.
+            let near = c.priority == f32::MAX;
+            let over = self.texel_budget.is_some() && !near && area > self.texel_credit;
+            if self.jobs.len() >= budget || i >= n || over {
                 report.stale += visible as usize;
                 continue;
             }
             match self.begin_refresh(i, &subjects[i], eye) {
                 Some(job) => {
+                    let area = u64::from(job.capture.side).pow(2);
+                    report.capture_texels += area;
+                    if self.texel_budget.is_some() {
+                        self.texel_credit -= area as i64;
+                    }
                     self.jobs.push(job);
                     report.prewarmed += !visible as usize;
                 }
@@ -412,6 +446,7 @@ impl ImpostorSet {
         for k in 0..self.jobs.len() {
             let job = self.jobs[k];
             report.capture_triangles += self.workers[k].stats.triangles_set_up;
+            report.capture_fragments += self.workers[k].stats.fragments_shaded;
             self.finish_refresh(job, k);
         }
         let mut ratio_sum = 0.0;

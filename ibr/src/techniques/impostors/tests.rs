@@ -487,3 +487,58 @@ fn a_refresh_measures_its_image_as_the_definitions_say() {
     assert!((got.gradient as f64 - sum / n).abs() < 1e-4 * (sum / n));
     assert!((got.depth_gradient as f64 - weighted / n).abs() < 1e-4 * (weighted / n).max(1e-3));
 }
+
+#[test]
+fn a_texel_budget_spreads_refreshes_over_frames_by_their_area() {
+    let mut subjects = row();
+    let mut imps = set(5, 5);
+    let look = Vec3::new(0.0, 0.0, -4.0);
+    // Each frame the eye jumps a unit sideways: every image is invalid every frame.
+    let eye = |k: usize| Vec3::new((k % 2) as f32 * 1.5, 1.0, 6.0);
+    imps.update(&mut subjects, &camera(eye(1), look), H, &lighting());
+    let sides: Vec<u64> = imps
+        .impostors
+        .iter()
+        .map(|i| u64::from(i.predicted.needed_side))
+        .collect();
+    let largest = sides.iter().max().copied().unwrap_or(0);
+    let budget = largest * largest / 2;
+    imps.texel_budget = Some(budget);
+    let (mut spent, mut refreshes, mut idle) = (0u64, 0usize, 0usize);
+    for k in 0..12 {
+        let before: Vec<u64> = imps.impostors.iter().map(|i| i.refreshes).collect();
+        let r = imps.update(&mut subjects, &camera(eye(k), look), H, &lighting());
+        // What the report counts is the areas of the images taken this frame.
+        let areas: u64 = imps
+            .impostors
+            .iter()
+            .zip(&before)
+            .filter(|(i, &b)| i.refreshes > b)
+            .filter_map(|(i, _)| i.capture())
+            .map(|c| u64::from(c.side).pow(2))
+            .sum();
+        assert_eq!(r.capture_texels, areas, "frame {k}");
+        spent += r.capture_texels;
+        refreshes += r.refreshes;
+        idle += (r.refreshes == 0) as usize;
+        // Never more than the frames so far have earned (no subject is near enough for the
+        // every-frame refreshes, which may borrow).
+        assert!(
+            spent <= budget * (k as u64 + 1),
+            "frame {k}: {spent} > {budget} x {}",
+            k + 1
+        );
+        assert_eq!(r.images + r.geometry, 5, "every subject drawn somehow");
+    }
+    // The budget is spent, not hoarded: within a capture of what 12 frames earned, and
+    // frames without a refresh between those with one.
+    assert!(
+        spent + largest * largest > budget * 12,
+        "{spent} of {}",
+        budget * 12
+    );
+    assert!(
+        refreshes >= 6 && idle >= 2,
+        "{refreshes} refreshes, {idle} idle frames"
+    );
+}
