@@ -11,6 +11,7 @@ use crate::stereo::{Disparity, Rectified};
 use engine::color::Premul;
 use engine::Camera;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// Disparities within this many pixels are one surface.
 const SAME: f32 = 1.0;
@@ -144,20 +145,27 @@ impl Made {
 
 /// The parallel in-between view a fraction `s` from the left view of `pair` to its right,
 /// seen by `camera` (its depth from the disparities), and what each pixel is made of
-/// ([`Made`]).
+/// ([`Made`]) when `labels` is set (counting is a figure: showing the view skips it): the
+/// rows in `rows` only (each row is morphed on its own), the others left empty.
 pub(super) fn morph(
     pair: &Rectified,
     left: &Disparity,
     right: &Disparity,
     s: f32,
     camera: Camera,
-) -> (DepthImage, DepthImage) {
+    rows: Range<usize>,
+    labels: bool,
+) -> (DepthImage, Option<DepthImage>) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
     let mut out = DepthImage::new(w as u32, h as u32, camera);
-    let mut made = DepthImage::new(w as u32, h as u32, camera);
+    let mut made = labels.then(|| DepthImage::new(w as u32, h as u32, camera));
     if w == 0 || h == 0 {
         return (out, made);
     }
+    let mut made_rows: Vec<Option<&mut [Premul]>> = match made.as_mut() {
+        Some(m) => m.color.chunks_mut(w).map(Some).collect(),
+        None => (0..h).map(|_| None).collect(),
+    };
     // Disparity to depth: d = f b / z for the pair's baseline.
     let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let depth_of = |d: f32| focal * pair.baseline / d;
@@ -165,9 +173,12 @@ pub(super) fn morph(
     out.color
         .par_chunks_mut(w)
         .zip(out.depth.par_chunks_mut(w))
-        .zip(made.color.par_chunks_mut(w))
+        .zip(made_rows.par_iter_mut())
         .enumerate()
         .for_each(|(y, ((color, depth), made))| {
+            if !rows.contains(&y) {
+                return;
+            }
             let span = y * w..(y + 1) * w;
             let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
             let (lrow, rrow) = (&lc[span.clone()], &rc[span]);
@@ -197,22 +208,27 @@ pub(super) fn morph(
                 weight: s,
             }
             .map(&mut row, false);
-            for (t, &d) in row.disparity.iter().enumerate() {
-                if d >= 0.0 {
-                    made[t] = if row.from_right[t] {
-                        Made::RIGHT
-                    } else {
-                        Made::LEFT
-                    };
+            if let Some(made) = made.as_deref_mut() {
+                for (t, &d) in row.disparity.iter().enumerate() {
+                    if d >= 0.0 {
+                        made[t] = if row.from_right[t] {
+                            Made::RIGHT
+                        } else {
+                            Made::LEFT
+                        };
+                    }
                 }
             }
             fill_from_farther(&mut row);
-            for (t, &d) in row.disparity.iter().enumerate() {
-                if d >= 0.0 && made[t].a <= 0.0 {
-                    made[t] = Made::FILLED;
+            if let Some(made) = made.as_deref_mut() {
+                for (t, &d) in row.disparity.iter().enumerate() {
+                    if d >= 0.0 && made[t].a <= 0.0 {
+                        made[t] = Made::FILLED;
+                    }
+                    // As opaque as the pixel, so the postwarp covers the same pixels with
+                    // both.
+                    made[t] = scaled(made[t], row.color[t].a);
                 }
-                // As opaque as the pixel, so the postwarp covers the same pixels with both.
-                made[t] = scaled(made[t], row.color[t].a);
             }
             for (z, &d) in depth.iter_mut().zip(&row.disparity) {
                 if d > 0.0 {

@@ -36,6 +36,7 @@ use crate::stereo::{luminance, Disparity, Rectified, RectifyError, Sgm};
 use engine::color::Premul;
 use engine::Camera;
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use std::ops::Range;
 
 /// Where the morph's dense correspondences come from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -194,14 +195,32 @@ impl ViewMorph {
     /// The in-between view a fraction `s` of the way, and what it is made of. (From point
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
-        let (view, labels) = self.view(s);
-        (view, self.stats(&labels))
+        let (image, made) = self.parallel(s, true);
+        let view = self.postwarp(&image, s);
+        let made = made.expect("labels asked for");
+        (view, forward::Made::count(&self.postwarp(&made, s)))
     }
 
-    /// The in-between view a fraction `s` of the way, and the labels of what each pixel of
-    /// it is made of, for [`ViewMorph::stats`]. Showing the view needs only the first:
-    /// counting takes a second postwarp of the labels.
+    /// The in-between view a fraction `s` of the way, and what [`ViewMorph::stats`] needs
+    /// to count what it is made of. Showing the view needs only the first: the labels are
+    /// made (a second morph of the pair) and postwarped when counted.
     pub fn view(&self, s: f32) -> (DepthImage, Labels) {
+        let s = s.clamp(0.0, 1.0);
+        let (image, _) = self.parallel(s, false);
+        (self.postwarp(&image, s), Labels { s })
+    }
+
+    /// What the view of `labels` is made of: the labels morphed and carried by the same
+    /// postwarp as the view, then counted.
+    pub fn stats(&self, labels: &Labels) -> MorphStats {
+        let (_, made) = self.parallel(labels.s, true);
+        let made = made.expect("labels asked for");
+        forward::Made::count(&self.postwarp(&made, labels.s))
+    }
+
+    /// The parallel in-between view a fraction `s` of the way (the rows the postwarp
+    /// reads), with its labels when `labels` is set.
+    fn parallel(&self, s: f32, labels: bool) -> (DepthImage, Option<DepthImage>) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
         let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
@@ -209,14 +228,44 @@ impl ViewMorph {
             view: moved_view(&p.left.camera, eye),
             projection: p.left.camera.projection,
         };
-        let (image, made) = forward::morph(p, &self.left, &self.right, s, parallel);
-        (self.postwarp(&image, s), Labels { parallel: made, s })
+        let rows = self.rows_seen(&parallel, s);
+        forward::morph(p, &self.left, &self.right, s, parallel, rows, labels)
     }
 
-    /// What the view of `labels` is made of: the labels carried by the same postwarp as
-    /// the view, then counted.
-    pub fn stats(&self, labels: &Labels) -> MorphStats {
-        forward::Made::count(&self.postwarp(&labels.parallel, labels.s))
+    /// The rows of the parallel in-between view (seen by `parallel`) that the postwarp to
+    /// the in-between camera reads: the prewarped pair is half again as large as the view,
+    /// and the turned view reads a band of its rows, so the rows outside it are not morphed
+    /// (the view is the same pixel for pixel; each row is morphed on its own). The band is
+    /// the span of the view's four corners seen by `parallel` (a turn about the eye maps
+    /// the view's rectangle to a quadrilateral, whose rows lie between its corners'), with
+    /// two rows to spare for the bilinear lookup. Every row when a corner lies behind
+    /// `parallel` or the postwarp is not a turn (a morph from point pairs).
+    fn rows_seen(&self, parallel: &Camera, s: f32) -> Range<usize> {
+        let ph = self.pair.left.height() as usize;
+        if self.postwarp.is_some() {
+            return 0..ph;
+        }
+        let to_world = self.camera_at(s).gl_view_proj().inverse();
+        let to_parallel = parallel.gl_view_proj();
+        let eye = parallel.eye();
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for (x, y) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+            let far = to_world * Vec4::new(x, y, 1.0, 1.0);
+            let dir = far.truncate() / far.w - eye;
+            let c = to_parallel * dir.extend(0.0);
+            if !(far.w.is_finite() && far.w != 0.0 && c.w > 0.0) {
+                return 0..ph;
+            }
+            // Pixel rows, centres at integers, as the postwarp's lookup counts them.
+            let v = (1.0 - c.y / c.w) * 0.5 * ph as f32 - 0.5;
+            (lo, hi) = (lo.min(v), hi.max(v));
+        }
+        if !(lo.is_finite() && hi.is_finite()) {
+            return 0..ph;
+        }
+        let lo = (lo.floor() - 2.0).clamp(0.0, ph as f32) as usize;
+        let hi = (hi.ceil() + 3.0).clamp(0.0, ph as f32) as usize;
+        lo..hi.max(lo)
     }
 
     /// The parallel in-between `image` (a fraction `s` of the way) turned to the
@@ -231,11 +280,10 @@ impl ViewMorph {
     }
 }
 
-/// What each pixel of a parallel in-between view is made of (from the left view, the
-/// right, or filled), as [`ViewMorph::view`] made them, for [`ViewMorph::stats`].
+/// Which in-between view [`ViewMorph::view`] made, for [`ViewMorph::stats`] to count what
+/// each of its pixels is made of (from the left view, the right, or filled).
 #[derive(Clone, Debug)]
 pub struct Labels {
-    parallel: DepthImage,
     s: f32,
 }
 

@@ -385,3 +385,33 @@ fn silhouettes_against_the_sky_move_with_their_surface_not_smeared_along_rows() 
         );
     }
 }
+
+#[test]
+fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
+    let (a, b) = verged();
+    let v = views(&[a, b]);
+    let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
+    let rows = morph.prewarped().left.height() as usize;
+    for s in [0.0, 0.3, 0.5, 1.0] {
+        let (view, labels) = morph.view(s);
+        // The reference: every row of the parallel view morphed, with its labels, then
+        // turned.
+        let parallel = morph.parallel(s, false).0.camera;
+        let (all, made) = forward::morph(
+            &morph.pair,
+            &morph.left,
+            &morph.right,
+            s,
+            parallel,
+            0..rows,
+            true,
+        );
+        assert_eq!(view, morph.postwarp(&all, s), "s {s}");
+        let counted = forward::Made::count(&morph.postwarp(&made.expect("labels"), s));
+        assert_eq!(morph.stats(&labels), counted, "s {s}");
+        assert_eq!(morph.frame(s), (view, counted), "s {s}");
+        // The pair is half again as tall as the view: a band of its rows is read.
+        let band = morph.rows_seen(&parallel, s);
+        assert!(band.len() < rows * 9 / 10, "s {s}: rows {band:?} of {rows}");
+    }
+}
