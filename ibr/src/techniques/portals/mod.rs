@@ -89,9 +89,10 @@ pub struct PortalConfig {
     pub fill: Fill,
     /// How the images are warped into the openings.
     pub options: WarpOptions,
-    /// Parts of the rooms with levels of detail ([`Part::with_lods`](crate::core::Part::with_lods)) are drawn as
-    /// geometry and captured with the coarsest level whose deviation projects within this
-    /// many pixels of the frame (of the build's view for captures); 0 draws the full meshes.
+    /// Parts of the rooms with levels of detail
+    /// ([`Part::with_lods`](crate::core::Part::with_lods)) are drawn as geometry and
+    /// captured with the coarsest level whose deviation projects within this many pixels
+    /// of the frame (of the build's view for captures); 0 draws the full meshes.
     pub lod_px: f32,
 }
 
