@@ -7,10 +7,10 @@
 //! [-6, 0]; y up; the doorways are 1.2 wide and 2.1 high, centred at x = -4, 0 and 4.
 
 use engine::procedural::{self, XorShift};
-use engine::{Light, Lighting, Material, Rgba};
+use engine::{Light, Lighting, Material, Mesh, Rgba};
 use glam::{Mat4, Vec3};
 use ibr::portal::{Opening, Portal};
-use ibr::subject::MeshGroup;
+use ibr::subject::{MeshGroup, Part};
 use std::sync::Arc;
 
 /// Doorway centres along x.
@@ -164,6 +164,27 @@ impl Building {
     }
 }
 
+/// Triangles of the statue rings' levels of detail, finest first (those under the ring's
+/// own count are used): each halves the one before, so the level chosen by screen size
+/// (the portals' [`ibr::portal::PortalConfig::lod_px`]) is never more than twice the
+/// triangles the deviation allows.
+pub const RING_LODS: [u32; 8] = [32_000, 16_000, 8_000, 4_000, 2_000, 1_000, 500, 250];
+
+/// The levels of detail of a ring of `n` triangles ([`RING_LODS`] coarser than it), each
+/// with its deviation from the full ring: both tori's bounds from the true torus summed
+/// ([`procedural::torus_deviation`]).
+pub fn ring_lods(n: u32) -> Vec<(Arc<Mesh>, f32)> {
+    let full = procedural::torus_deviation(n);
+    RING_LODS
+        .iter()
+        .filter(|&&k| k < n)
+        .map(|&k| {
+            let mesh = Arc::new(procedural::torus_with_triangles(k));
+            (mesh, procedural::torus_deviation(k) + full)
+        })
+        .collect()
+}
+
 /// The room behind the doorway at `x`: floor, ceiling, three walls (its own colour), a
 /// table with chairs, shelves with boxes, and a statue carrying most of `triangles`.
 fn room(x: f32, k: usize, triangles: u32, rng: &mut XorShift) -> MeshGroup {
@@ -242,14 +263,14 @@ fn room(x: f32, k: usize, triangles: u32, rng: &mut XorShift) -> MeshGroup {
     let statue = lit(0.85, 0.8, 0.7);
     let rings = 3u32;
     let per = (triangles / rings).max(64);
+    let ring = Arc::new(procedural::torus_with_triangles(per));
+    let lods = ring_lods(per);
     for i in 0..rings {
         let tilt = Mat4::from_rotation_y(i as f32 * 1.05) * Mat4::from_rotation_x(1.2);
         let at = Vec3::new(x + 1.2, 1.2, -4.0);
-        m = m.with(
-            Arc::new(procedural::torus_with_triangles(per)),
-            statue.clone(),
-            Mat4::from_translation(at) * tilt * Mat4::from_scale(Vec3::splat(0.45)),
-        );
+        let place = Mat4::from_translation(at) * tilt * Mat4::from_scale(Vec3::splat(0.45));
+        let part = Part::new(ring.clone(), statue.clone(), place).with_lods(lods.clone());
+        m.parts.push(part);
     }
     m = block(
         m,

@@ -89,6 +89,11 @@ pub struct PortalConfig {
     pub fill: Fill,
     /// How the images are warped into the openings.
     pub options: WarpOptions,
+    /// Parts of the rooms with levels of detail
+    /// ([`Part::with_lods`](crate::core::Part::with_lods)) are drawn as geometry and
+    /// captured with the coarsest level whose deviation projects within this many pixels
+    /// of the frame (of the build's view for captures); 0 draws the full meshes.
+    pub lod_px: f32,
 }
 
 impl Default for PortalConfig {
@@ -103,6 +108,7 @@ impl Default for PortalConfig {
             views_per_frame: 1,
             fill: Fill::PullPush,
             options: WarpOptions::default(),
+            lod_px: 0.5,
         }
     }
 }
@@ -147,6 +153,9 @@ pub struct Portal {
     /// Which of `behind`'s parts are drawn when the portal shows its geometry: from an
     /// eye in front of the opening, only those it can see through it ([`Opening::sees`]).
     shown: Vec<bool>,
+    /// The eye, pixels per radian and pixel tolerance the shown parts' levels of detail
+    /// are chosen for ([`Part::mesh_seen`](crate::core::Part::mesh_seen)).
+    seen: (Vec3, f32, f32),
 }
 
 impl Portal {
@@ -167,6 +176,7 @@ impl Portal {
             mode: PortalMode::Culled,
             rebuilds: 0,
             shown: Vec::new(),
+            seen: (Vec3::ZERO, 0.0, 0.0),
         }
     }
 
@@ -209,18 +219,21 @@ impl Portal {
     }
 
     /// Marks the parts of `behind` the portal draws as geometry from `eye`: those it can
-    /// see through the opening (all of them from inside the room); returns their
-    /// triangles and the parts left out.
-    fn show_from(&mut self, eye: Vec3) -> (u64, u64) {
+    /// see through the opening (all of them from inside the room), each at its coarsest
+    /// level of detail within `lod_px` at `px_per_radian`; returns their triangles and
+    /// the parts left out.
+    fn show_from(&mut self, eye: Vec3, px_per_radian: f32, lod_px: f32) -> (u64, u64) {
         let opening = self.opening;
         self.shown.clear();
+        self.seen = (eye, px_per_radian, lod_px);
         let (mut triangles, mut hidden) = (0, 0);
         for part in &self.behind.parts {
             let s = part.bounds();
             let seen = opening.sees(eye, s.center, s.radius);
             self.shown.push(seen);
             if seen {
-                triangles += (part.mesh.indices.len() / 3) as u64;
+                let mesh = part.mesh_seen(eye, px_per_radian, lod_px);
+                triangles += (mesh.indices.len() / 3) as u64;
             } else {
                 hidden += 1;
             }
@@ -269,7 +282,6 @@ impl Portal {
         };
         let mut captured = 0;
         let mut draws = Vec::new();
-        self.behind.draws(&mut draws);
         // The eye's image plane is parallel to the opening: for a flat image the opening's
         // plane is at one depth along the axis for every pixel.
         let plane = self.opening.side(b.eye);
@@ -277,6 +289,11 @@ impl Portal {
             let camera = b.cameras[b.landing.images()];
             let mut image = DepthImage::new(0, 0, camera);
             let (w, h) = b.size;
+            // Each view with the levels of detail its own eye and pixels need.
+            draws.clear();
+            let ppr = px_per_radian(&camera, h);
+            let behind = &self.behind;
+            behind.draws_seen(camera.eye(), ppr, config.lod_px, &mut draws);
             capturer.capture(draws.iter().copied(), &camera, lighting, w, h, &mut image);
             if config.image == PortalImage::Flat {
                 for d in image.depth.iter_mut().filter(|d| d.is_finite()) {
@@ -499,12 +516,13 @@ impl Portals {
         self.composite.reset(camera, width, height);
         self.covered = None;
         let mut budget = cfg.views_per_frame;
+        let ppr = px_per_radian(camera, height);
         for p in &mut self.portals {
             let side = p.opening.side(eye);
             if p.eye_inside(eye, cfg.through) || (side <= cfg.through && p.opening.over(eye)) {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
-                frame.show(p.show_from(eye));
+                frame.show(p.show_from(eye, ppr, cfg.lod_px));
                 continue;
             }
             // Past the plane but not in the room (come in through another door): the
@@ -548,7 +566,7 @@ impl Portals {
             if p.ldi.is_none() {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
-                frame.show(p.show_from(eye));
+                frame.show(p.show_from(eye, ppr, cfg.lod_px));
                 continue;
             }
             // Warped into the outline's rectangle only (a crop of the frame's camera), so
@@ -568,7 +586,7 @@ impl Portals {
                 p.mode = PortalMode::Geometry;
                 frame.geometry += 1;
                 frame.gaping += 1;
-                frame.show(p.show_from(eye));
+                frame.show(p.show_from(eye, ppr, cfg.lod_px));
                 continue;
             }
             p.mode = PortalMode::Warped;
@@ -584,6 +602,15 @@ impl Portals {
         }
         self.last = frame;
     }
+}
+
+/// Pixels per unit of tangent at the centre of `camera`'s image, `height` pixels tall
+/// (its focal length in pixels: a small length across the view at distance `d` covers
+/// its length times this over `d` pixels there).
+fn px_per_radian(camera: &Camera, height: u32) -> f32 {
+    let [_, _, bottom, top] = camera.projection.extents();
+    let near = camera.near_far().0;
+    height as f32 * near / (top - bottom).max(1e-9)
 }
 
 /// The share of an opening's pixels an LDI's warp may leave as holes: past it, the eye
@@ -653,9 +680,10 @@ impl Technique for Portals {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         for p in &self.portals {
             if p.mode == PortalMode::Geometry {
+                let (eye, ppr, lod_px) = p.seen;
                 let parts = p.behind.parts.iter().zip(&p.shown);
                 out.extend(parts.filter(|(_, &s)| s).map(|(part, _)| Draw {
-                    mesh: &part.mesh,
+                    mesh: part.mesh_seen(eye, ppr, lod_px),
                     material: &part.material,
                     transform: part.transform,
                 }));
