@@ -10,8 +10,9 @@
 //! static lights (the sun and the ambient term), so the orbiting lamp does not light it,
 //! and its geometry, when drawn, is lit the same way.
 
+use super::ibr_layer::bake_lighting;
 use engine::procedural;
-use engine::{Camera, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading};
+use engine::{Camera, FrameOptions, Lighting, Material, Mesh, Renderer, Rgba, Shading};
 use engine::{Draw, Target};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::lightfield::{LightField, LightFieldObject, Showing, Slab, TileShape, VqSettings};
@@ -125,15 +126,8 @@ impl Statue {
             iterations,
             supersample,
         } = settings;
-        let lighting = Lighting {
-            ambient: lighting.ambient,
-            lights: lighting
-                .lights
-                .iter()
-                .filter(|l| matches!(l, Light::Directional { .. }))
-                .cloned()
-                .collect(),
-        };
+        // Captured once, so under the lights that do not move, as the forest's views are.
+        let lighting = bake_lighting(lighting);
         let geometry = urn(STATUE_AT);
         let bounds = geometry.bounds();
         let start = Instant::now();
