@@ -405,40 +405,7 @@ impl ImpostorSet {
             }
         }
         let mut report = Report::default();
-        let budget = self.scheduler.rank(&cfg.budget);
-        self.jobs.clear();
-        if let Some(t) = self.texel_budget {
-            // Unspent credit is kept up to one largest capture (or a frame's budget).
-            let cap = (u64::from(cfg.max_side).pow(2)).max(t) as i64;
-            self.texel_credit = (self.texel_credit + t as i64).min(cap);
-        }
-        for k in 0..self.scheduler.ranked().len() {
-            let c = self.scheduler.ranked()[k];
-            let (visible, i) = (c.visible, c.index);
-            let side = self.impostors.get(i).map_or(0, |m| m.predicted.needed_side);
-            let area = i64::from(side).pow(2);
-            // The every-frame refreshes near a subject ([`Config::transition`], ranked at
-            // `f32::MAX`) go ahead on credit; the others, never-captured ones (ranked at
-            // infinity) included, wait until the credit pays for them.
-            let near = c.priority == f32::MAX;
-            let over = self.texel_budget.is_some() && !near && area > self.texel_credit;
-            if self.jobs.len() >= budget || i >= n || over {
-                report.stale += visible as usize;
-                continue;
-            }
-            match self.begin_refresh(i, &subjects[i], eye) {
-                Some(job) => {
-                    let area = u64::from(job.capture.side).pow(2);
-                    report.capture_texels += area;
-                    if self.texel_budget.is_some() {
-                        self.texel_credit -= area as i64;
-                    }
-                    self.jobs.push(job);
-                    report.prewarmed += !visible as usize;
-                }
-                None => report.stale += visible as usize,
-            }
-        }
+        self.begin_refreshes(subjects, eye, n, &mut report);
         report.refreshes = self.jobs.len();
         let start = Instant::now();
         self.render_jobs(subjects, lighting);
@@ -480,6 +447,51 @@ impl ImpostorSet {
         report.mean_ratio = ratio_sum / report.images.max(1) as f32;
         (report.pool_used, report.pool_size) = self.pool.usage();
         report
+    }
+
+    /// Ranks the refreshes this frame wants and begins those the refresh budget and the
+    /// texel credit pay for (the first `n` subjects only); the rest are counted stale.
+    fn begin_refreshes<S: Subject>(
+        &mut self,
+        subjects: &[S],
+        eye: Vec3,
+        n: usize,
+        report: &mut Report,
+    ) {
+        let budget = self.scheduler.rank(&self.config.budget);
+        self.jobs.clear();
+        if let Some(t) = self.texel_budget {
+            // Unspent credit is kept up to one largest capture (or a frame's budget).
+            let cap = (u64::from(self.config.max_side).pow(2)).max(t) as i64;
+            self.texel_credit = (self.texel_credit + t as i64).min(cap);
+        }
+        for k in 0..self.scheduler.ranked().len() {
+            let c = self.scheduler.ranked()[k];
+            let (visible, i) = (c.visible, c.index);
+            let side = self.impostors.get(i).map_or(0, |m| m.predicted.needed_side);
+            let area = i64::from(side).pow(2);
+            // The every-frame refreshes near a subject ([`Config::transition`], ranked at
+            // `f32::MAX`) go ahead on credit; the others, never-captured ones (ranked at
+            // infinity) included, wait until the credit pays for them.
+            let near = c.priority == f32::MAX;
+            let over = self.texel_budget.is_some() && !near && area > self.texel_credit;
+            if self.jobs.len() >= budget || i >= n || over {
+                report.stale += visible as usize;
+                continue;
+            }
+            match self.begin_refresh(i, &subjects[i], eye) {
+                Some(job) => {
+                    let area = u64::from(job.capture.side).pow(2);
+                    report.capture_texels += area;
+                    if self.texel_budget.is_some() {
+                        self.texel_credit -= area as i64;
+                    }
+                    self.jobs.push(job);
+                    report.prewarmed += !visible as usize;
+                }
+                None => report.stale += visible as usize,
+            }
+        }
     }
 
     /// Appends this frame's draws: images as quads, the rest as their subjects' geometry.
