@@ -70,3 +70,26 @@ fn same_bytes_at_1_2_and_8_threads() {
 fn same_bytes_at_1_2_and_8_threads_unorm() {
     check_thread_counts(Encoding::Unorm);
 }
+
+/// The visibility pre-pass (`Renderer::set_visibility_prepass`) on the busy scene (opaque,
+/// alpha-tested, blended and additive draws, textures, lights): the same colour and depth
+/// bytes as the one-pass path on 1 and 2 threads, the same blended shading, and no more
+/// opaque shading than one pass.
+#[test]
+fn the_prepass_gives_the_one_pass_pixels_and_shades_less() {
+    let (colour, depth, one) = frame(&mut Renderer::new(), 1, Encoding::Srgb);
+    for threads in [1, 2] {
+        let mut renderer = Renderer::new();
+        renderer.set_visibility_prepass(true);
+        let (c, d, pre) = frame(&mut renderer, threads, Encoding::Srgb);
+        assert!(c == colour, "colour differs on {threads} threads");
+        assert!(d == depth, "depth differs on {threads} threads");
+        assert_eq!(pre.fragments_shaded_blended, one.fragments_shaded_blended);
+        assert!(
+            pre.fragments_shaded < one.fragments_shaded,
+            "{threads} threads: {pre:?} against {one:?}"
+        );
+        assert!(pre.fragments_written <= one.fragments_written);
+        assert_eq!(pre.triangles_set_up, one.triangles_set_up);
+    }
+}
