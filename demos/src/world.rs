@@ -8,7 +8,7 @@
 //! Used by `bench` and `showcase` alike; it builds only on [`crate::city`] (a leaf), so
 //! neither imports the other through it.
 
-use crate::city::{building, daylight, ground};
+use crate::city::{building, daylight};
 use engine::procedural::{self, TreeKind, XorShift};
 use engine::{Camera, Lighting, Material, Mesh, Rgba, Shading};
 use glam::{Mat4, Vec3};
@@ -99,7 +99,10 @@ impl World {
         }
         World {
             objects,
-            ground: ground(half_extent * 2.2, Rgba::from_srgb8(92, 104, 84)),
+            ground: {
+                let colour = Rgba::from_srgb8(92, 104, 84);
+                tiled_ground(half_extent * 2.2, colour, GROUND_TILES)
+            },
             lighting: daylight(),
             half_extent,
         }
@@ -123,6 +126,55 @@ impl World {
     }
 }
 
+/// The ground's pieces a side ([`tiled_ground`]): cut in 32 x 32, the world's ground
+/// shaded 24% fewer fragments a frame at 640x360 (298,000 against 393,000; at 1280x720
+/// 1.17 M against 1.55 M; BENCHMARKS.md, issue 41, session 11).
+pub const GROUND_TILES: u32 = 32;
+
+/// The ground plate of [`crate::city::ground`] (`side` a side, lit in `color`) cut into
+/// `n` x `n` square draws of two triangles each, sharing their edges' vertices exactly (one
+/// lattice, split by cell). The renderer draws opaque draws near to far by the nearest
+/// point of their boxes: one plate's nearest point is under the eye, so it was drawn
+/// first and everything standing on it shaded over it; cut, each piece goes after the
+/// nearer objects that hide it, and its hidden pixels are rejected before they are shaded.
+pub fn tiled_ground(side: f32, color: Rgba, n: u32) -> MeshGroup {
+    let n = n.max(1);
+    let mut plate = procedural::plane(side, side, n, n);
+    plate.colors.clear();
+    let material = Arc::new(Material::lit(color));
+    // The cell a triangle's centre lies in (the plate spans [-side/2, side/2] in x and z).
+    let cell = |p: Vec3| {
+        ((p / side + 0.5) * n as f32)
+            .floor()
+            .clamp(Vec3::ZERO, Vec3::splat(n as f32 - 1.0))
+    };
+    let mut pieces: Vec<Mesh> = vec![Mesh::default(); (n * n) as usize];
+    for t in plate.indices.chunks_exact(3) {
+        let centre = t.iter().map(|&v| plate.positions[v as usize]).sum::<Vec3>() / 3.0;
+        let c = cell(centre);
+        let piece = &mut pieces[(c.z as u32 * n + c.x as u32) as usize];
+        for &v in t {
+            let v = v as usize;
+            let at = piece
+                .positions
+                .iter()
+                .position(|&p| p == plate.positions[v]);
+            let k = at.unwrap_or_else(|| {
+                piece.positions.push(plate.positions[v]);
+                piece.normals.push(plate.normals[v]);
+                piece.uvs.push(plate.uvs[v]);
+                piece.positions.len() - 1
+            });
+            piece.indices.push(k as u32);
+        }
+    }
+    let mut group = MeshGroup::new();
+    for piece in pieces.into_iter().filter(|p| !p.indices.is_empty()) {
+        group = group.with(Arc::new(piece), material.clone(), Mat4::IDENTITY);
+    }
+    group
+}
+
 /// Triangles of the world's torus statue, and of its coarser levels of detail, finest
 /// first: the statues are 15% of the objects and over half the triangles, so the near
 /// ones drawn as geometry and the far field's captures take the coarsest level whose
@@ -144,26 +196,54 @@ pub fn statue_lods() -> Vec<(Arc<Mesh>, f32)> {
         .collect()
 }
 
-/// The largest cluster image, texels a side: a node wider than that on screen is opened
-/// (the cut's clusters stay small on screen, so each is cheap to retake and slow to go
-/// stale as the eye moves).
-pub const TREE_SIDE: u32 = 64;
+/// The largest cluster image at 640x360, texels a side: a node wider than that on screen
+/// is opened (the cut's clusters stay small on screen, so each is cheap to retake and slow
+/// to go stale as the eye moves). 72, not 64: the measured mean error's headroom spent on
+/// fewer near objects as geometry (`bench budget --scene world`, 640x360: 283 objects as
+/// geometry and 0.91 levels at 72, 345 and 0.72 at 64, 243 and 1.06, over the goal of 1.0,
+/// at 80; BENCHMARKS.md, issue 41, session 11).
+pub const TREE_SIDE: u32 = 72;
+
+/// The largest cluster image for a `height`-pixel target: [`TREE_SIDE`] scaled
+/// ([`tree_scale`]).
+pub fn tree_side(height: u32) -> u32 {
+    (TREE_SIDE as f32 * tree_scale(height)).round() as u32
+}
+
+/// The target height, pixels, at which the world's pixel settings hold as given
+/// ([`TREE_SIDE`], the geometry's and the far field's level-of-detail tolerance, the far
+/// field's parallax); a taller target scales them with its height ([`tree_scale`]).
+pub const TREE_HEIGHT: u32 = 360;
+
+/// How much a `height`-pixel target scales the world's pixel settings: its height over
+/// [`TREE_HEIGHT`], never below 1. At twice the pixels a node's image has twice the
+/// texels a side and the geometry's levels of detail twice the pixels of deviation, so the
+/// cut stands at the same angular error and opens the same nodes as at 640x360 (with the
+/// 64-texel cap at 1280x720 it opened twice as deep: 1,072 objects as geometry against
+/// 345). Below [`TREE_HEIGHT`] the settings stay as given.
+pub fn tree_scale(height: u32) -> f32 {
+    (height as f32 / TREE_HEIGHT as f32).max(1.0)
+}
 
 /// The hierarchy planner's predicted milliseconds of rebuilds (cluster images) per frame:
 /// the share of a 60 Hz frame left to captures (measured at budget 16 in the world, 24
 /// frames: 40 to 60 ms a frame, its prepare, the captures, 15 to 25 ms of it).
 pub const TREE_REBUILD_MS: f32 = 8.0;
 
-/// The world's far field: everything beyond [`FAR_DISTANCE`] of the eye as one image mesh
-/// with depth, captured in 8 x 8 tiles (split where one is over the budget) within 150,000
-/// triangles a frame (4 M while loading), re-captured when the eye's move makes 24 pixels
-/// of parallax at that distance.
-pub fn far_config() -> FarConfig {
+/// The world's far field for a `height`-pixel target: everything beyond [`FAR_DISTANCE`]
+/// of the eye as one image mesh with depth, captured in 8 x 8 tiles (split where one is
+/// over the budget) within 150,000 triangles a frame (4 M while loading), re-captured when
+/// the eye's move makes 24 pixels of parallax at that distance at 640x360 (scaled with the
+/// height, [`tree_scale`], as its captures' level-of-detail tolerance).
+pub fn far_config(height: u32) -> FarConfig {
+    let scale = tree_scale(height);
+    let far = FarConfig::default();
     FarConfig {
         distance: FAR_DISTANCE,
         triangles: 150_000,
-        parallax: 24.0,
-        ..FarConfig::default()
+        parallax: 24.0 * scale,
+        lod_px: far.lod_px * scale,
+        ..far
     }
 }
 
@@ -183,22 +263,26 @@ pub struct TreePlan {
     /// The first `.0` frames take images within `.1` predicted milliseconds of rebuilds
     /// (a game loading a level), the later ones within [`TREE_REBUILD_MS`].
     pub loading: (u32, f32),
+    /// The target's height, pixels: the pixel settings scale with it ([`tree_scale`]).
+    pub height: u32,
 }
 
 /// The per-node planner over a hierarchy of `objects`, each node drawn as one runtime
-/// impostor of all its objects (at most [`TREE_SIDE`] texels a side) when its predicted
-/// error is within the budget, else its children considered.
+/// impostor of all its objects (at most [`TREE_SIDE`] texels a side at 640x360, scaled
+/// with the target's height, [`tree_scale`]) when its predicted error is within the
+/// budget, else its children considered.
 pub fn tree_planner(objects: Vec<MeshGroup>, plan: TreePlan) -> Hierarchy<MeshGroup> {
     let config = TreeConfig {
         budget: plan.budget,
         rebuilds: plan.rebuilds,
         rebuild_ms: TREE_REBUILD_MS,
         loading: plan.loading,
-        far: Some(far_config()),
+        far: Some(far_config(plan.height)),
+        lod_px: TreeConfig::default().lod_px * tree_scale(plan.height),
         ..TreeConfig::default()
     };
     let images = impostor::Config {
-        max_side: TREE_SIDE,
+        max_side: tree_side(plan.height),
         ..image_config(plan.budget, plan.rebuilds)
     };
     Hierarchy::new(config, objects, |nodes| {

@@ -516,6 +516,7 @@ fn hierarchy(scene: &Scene, settings: &Settings, budget: f32) -> Hierarchy<MeshG
         rebuilds: rebuilds(scene, settings),
         // The warm-up's frames, at the other planners' rebuild budget.
         loading: (settings.warmup as u32, REBUILD_MS),
+        height: settings.size.1,
     };
     crate::world::tree_planner(scene.objects.clone(), plan)
 }

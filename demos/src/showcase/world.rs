@@ -15,7 +15,7 @@
 
 use super::moment::MomentFrame;
 use crate::font;
-use crate::world::{tree_planner, TreePlan, World};
+use crate::world::{tree_planner, tree_scale, TreePlan, World, TREE_HEIGHT};
 use engine::{Camera, Draw, FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::impostor::Frustum;
 use ibr::metrics::{self, Options};
@@ -49,6 +49,8 @@ pub const READOUT_ROWS: u32 = 4 + 10 * 2 + font::GLYPH_H as u32 + 3;
 pub struct WorldTour {
     pub world: World,
     pub planner: Hierarchy<MeshGroup>,
+    /// How the planner was made (its target height is the last frame's, [`tree_scale`]).
+    plan: TreePlan,
     frame: MomentFrame,
     /// The last frame's time (plan, captures and render).
     pub last_time: Duration,
@@ -95,11 +97,13 @@ impl WorldTour {
             budget: BUDGET,
             rebuilds: (world.objects.len() / 16).max(16),
             loading: (LOADING, LOADING_MS),
+            height: TREE_HEIGHT,
         };
         let planner = tree_planner(world.objects.clone(), plan);
         WorldTour {
             world,
             planner,
+            plan,
             frame: MomentFrame::default(),
             last_time: Duration::ZERO,
             measured: None,
@@ -120,7 +124,10 @@ impl WorldTour {
     }
 
     /// Renders the ground as geometry and the objects through the planner; returns the
-    /// frame's counters (the planner's are in [`WorldTour::report`]).
+    /// frame's counters (the planner's are in [`WorldTour::report`]). A target whose
+    /// height scales the world's pixel settings otherwise than the planner's
+    /// ([`tree_scale`]: the first frame taller than 360 pixels, a resized window) makes a
+    /// new planner for it first, which loads as the first one did.
     pub fn render(
         &mut self,
         renderer: &mut Renderer,
@@ -128,6 +135,10 @@ impl WorldTour {
         target: &mut Target,
     ) -> FrameStats {
         let start = Instant::now();
+        if tree_scale(target.height()) != tree_scale(self.plan.height) {
+            self.plan.height = target.height();
+            self.planner = tree_planner(self.world.objects.clone(), self.plan);
+        }
         let view = FrameView::still(
             camera,
             target.width(),

@@ -1,0 +1,106 @@
+//! The world of `bench budget --scene world` at two target sizes and with its ground cut in
+//! pieces (issue 41): the per-node planner's pixel settings scale with the target's height,
+//! so 1280x720 cuts the hierarchy as 640x360 does instead of opening it deeper; and the
+//! cut ground draws the same pixels as one plate while shading fewer fragments, the
+//! objects standing on it hiding it before it is shaded. Counters from the planner's cut
+//! and the renderer, against the unscaled planner and the single plate.
+
+use demos::city::ground;
+use demos::world::{
+    tiled_ground, tree_planner, tree_side, TreePlan, World, GROUND_TILES, TREE_SIDE,
+};
+use engine::{FrameOptions, FrameStats, Renderer, Rgba, Target};
+use ibr::metrics::{self, Options};
+use ibr::plan::tree::TreeReport;
+use ibr::subject::{MeshGroup, Subject};
+use ibr::technique::FrameView;
+
+/// The planner made for a `planned`-pixel-high target, its cut of the world seen by a
+/// `size` target after 5 frames (the loading frames, which take the images), the eye a
+/// tenth into the fly-over.
+fn cut(world: &World, size: (u32, u32), planned: u32) -> TreeReport {
+    let plan = TreePlan {
+        budget: 16.0,
+        rebuilds: (world.objects.len() / 16).max(16),
+        loading: (4, 40.0),
+        height: planned,
+    };
+    let mut planner = tree_planner(world.objects.clone(), plan);
+    let camera = world.camera(0.1, size);
+    for _ in 0..5 {
+        planner.plan(&FrameView::still(&camera, size.0, size.1, &world.lighting));
+    }
+    planner.report
+}
+
+/// At 1280x720 the planner made for it draws about as many objects as geometry, and as
+/// many images, as at 640x360 (the same nodes, each image twice the texels a side); the
+/// planner made for 640x360 opens the hierarchy deeper there (every node twice as wide on
+/// screen against the same texel cap) and draws more objects as geometry.
+#[test]
+fn a_taller_target_cuts_the_world_as_640x360() {
+    assert_eq!(tree_side(96), TREE_SIDE, "never below the cap as given");
+    assert_eq!(tree_side(720), 2 * TREE_SIDE);
+    let world = World::new(32, 11);
+    let small = cut(&world, (640, 360), 360);
+    let large = cut(&world, (1280, 720), 720);
+    let unscaled = cut(&world, (1280, 720), 360);
+    assert!(small.images > 0 && small.geometry > 0, "{small:?}");
+    let near = |a: usize, b: usize| a.abs_diff(b) as f32 <= 0.1 * b as f32 + 4.0;
+    assert!(near(large.geometry, small.geometry), "{large:?}\n{small:?}");
+    assert!(near(large.images, small.images), "{large:?}\n{small:?}");
+    assert!(
+        unscaled.geometry as f32 > 1.3 * large.geometry as f32,
+        "unscaled {unscaled:?}\nscaled {large:?}"
+    );
+}
+
+/// The world's objects on `ground`, rendered at 320 x 180 from the fly-over a tenth in.
+fn render(world: &World, ground: &MeshGroup) -> (Target, FrameStats) {
+    let (w, h) = (320, 180);
+    let camera = world.camera(0.1, (w, h));
+    let mut draws = Vec::new();
+    ground.draws(&mut draws);
+    world.objects.iter().for_each(|o| o.draws(&mut draws));
+    let mut target = Target::new(w, h);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..FrameOptions::default()
+    };
+    let stats = Renderer::new().render(draws, &camera, &world.lighting, &mut target, &opts);
+    (target, stats)
+}
+
+/// The world's ground, [`GROUND_TILES`] x [`GROUND_TILES`] pieces of two triangles, draws
+/// the pixels of the single plate of the same side and colour: no crack between pieces
+/// (the sky's pixels are the same), the frames within a fraction of a level; and shades
+/// at least a tenth fewer fragments, what stands on the ground hiding it first.
+#[test]
+fn the_cut_ground_draws_the_plate_and_shades_less() {
+    let world = World::new(16, 11);
+    assert_eq!(
+        world.ground.parts.len(),
+        (GROUND_TILES * GROUND_TILES) as usize
+    );
+    assert!(world
+        .ground
+        .parts
+        .iter()
+        .all(|p| p.mesh.triangle_count() == 2));
+    let side = world.half_extent * 2.2;
+    let plate = ground(side, Rgba::from_srgb8(92, 104, 84));
+    let (one, one_stats) = render(&world, &plate);
+    let (cut, cut_stats) = render(&world, &world.ground);
+    let sky = |t: &Target| {
+        let rgba = t.to_rgba8();
+        let first = one.to_rgba8()[..4].to_vec();
+        rgba.chunks_exact(4).filter(|p| *p == &first[..]).count()
+    };
+    assert_eq!(sky(&cut), sky(&one), "the pieces leave no crack");
+    let e = metrics::compare(&one, &cut, &Options::default()).expect("same size");
+    assert!(e.mean_abs < 0.05, "{e:?}");
+    let again = tiled_ground(side, Rgba::from_srgb8(92, 104, 84), GROUND_TILES);
+    assert_eq!(render(&world, &again).1, cut_stats, "deterministic");
+    let (a, b) = (one_stats.fragments_shaded, cut_stats.fragments_shaded);
+    assert!(b * 10 < a * 9, "plate {a}, pieces {b}");
+}
