@@ -72,6 +72,7 @@
 mod plan;
 mod predict;
 mod refresh;
+mod relief;
 mod technique;
 
 pub use technique::Impostored;
@@ -300,6 +301,12 @@ pub struct ImpostorSet {
     /// image's silhouette matches its geometry's instead of a half-texel blended fringe
     /// around it (`None`, the default: blended).
     pub cutout: Option<f32>,
+    /// Draw each image on its relief instead of a flat quad (`false`, the default): a grid
+    /// whose nodes stand on the subject's captured surface ([`relief`]), so images and
+    /// geometry occlude one another per pixel at their subjects' depths, and the images are
+    /// drawn where they are (not pulled to the subject's nearest corner). For opaque
+    /// subjects (their captures write depth), drawn as cutouts.
+    pub relief: bool,
     /// Texels per screen pixel the planner's images are taken at, at least (1, the
     /// default: the power of two at or above the subject's disc). At 2 a cutout's
     /// silhouette, halfway between texel centres, is half as far from the geometry's.
@@ -331,6 +338,7 @@ impl ImpostorSet {
             prior: plan::GradientPrior::default(),
             plan_tint: None,
             cutout: None,
+            relief: false,
             density: 1.0,
             texel_budget: None,
             texel_credit: 0,
@@ -510,7 +518,7 @@ impl ImpostorSet {
     /// ([`Subject::corners`]) along the line of sight: a quad through the centre of a
     /// building standing on the ground would have the ground in front of its walls hide
     /// the bottom of its image; pulled to the nearest corner, nothing in front of the
-    /// subject's box hides it.
+    /// subject's box hides it. A relief ([`ImpostorSet::relief`]) is drawn where it is.
     pub fn draws_near<'a, S: Subject>(
         &'a self,
         subjects: &'a [S],
@@ -520,7 +528,9 @@ impl ImpostorSet {
         for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
             match imp.mode {
                 Mode::Image => out.extend(self.image_draw(i).map(|mut d| {
-                    d.transform = pull_near(s, eye);
+                    if !self.relief {
+                        d.transform = pull_near(s, eye);
+                    }
                     d
                 })),
                 Mode::Geometry(_) => s.draws(out),

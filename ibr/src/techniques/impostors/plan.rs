@@ -170,10 +170,12 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         }
     }
 
-    /// The image's quad, pulled to the object's nearest corner.
+    /// The image's quad, pulled to the object's nearest corner; a relief where it is.
     fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>) {
         if let Some(mut d) = self.quad_draw(i) {
-            d.transform = pull_near(subject, eye);
+            if !self.relief {
+                d.transform = pull_near(subject, eye);
+            }
             out.push(d);
         }
     }
