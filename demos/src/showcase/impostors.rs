@@ -37,7 +37,7 @@ use engine::procedural::{Terrain, XorShift};
 use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Report, Tolerance};
+use ibr::impostor::{Budget, Config, ImpostorSet, Report, Shape, Tolerance};
 use ibr::layers::{self, LayerSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
@@ -91,7 +91,7 @@ const CITY_DENSITY: f32 = 2.0;
 fn city_impostors(config: Config, n: usize) -> ImpostorSet {
     let mut set = ImpostorSet::new(config, n);
     set.cutout = Some(CITY_CUTOUT);
-    set.relief = true;
+    set.shape = Shape::Box;
     set.density = CITY_DENSITY;
     set
 }

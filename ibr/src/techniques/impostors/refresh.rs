@@ -5,7 +5,7 @@
 //! the texture is then swapped into the pool and the quad trimmed to the covered part, or
 //! the relief built over it.
 
-use super::{relief, Capture, ImpostorSet, Mode};
+use super::{relief, Capture, ImpostorSet, Mode, Shape};
 use crate::core::Rect;
 use crate::core::Subject;
 use crate::core::{push_quad, UvRect};
@@ -21,8 +21,11 @@ pub(super) struct Worker {
     pub(super) stats: FrameStats,
     measured: Measured,
     rows: Rows,
-    /// The relief's depth grid ([`ImpostorSet::relief`]).
+    /// The relief's depth grid ([`Shape::Relief`]).
     grid: relief::Grid,
+    /// The box's subject corners ([`Shape::Box`]), and the spread image with its scratch.
+    corners: Option<[Vec3; 8]>,
+    spread: [Vec<u32>; 2],
 }
 
 /// One refresh of a frame: which impostor, from where, into which texture.
@@ -71,7 +74,7 @@ impl ImpostorSet {
         if self.jobs.is_empty() {
             return;
         }
-        let with_relief = self.relief;
+        let shape = self.shape;
         let (jobs, workers) = (&mut self.jobs, &mut self.workers);
         refresh_side_by_side(
             jobs,
@@ -85,9 +88,22 @@ impl ImpostorSet {
                 let target = w.refresher.target();
                 w.measured = measure(target, &job.capture, &mut w.rows);
                 w.grid.rect = None;
-                if let (true, Some(r)) = (with_relief, w.measured.covered) {
-                    let r = r.grow(1, side, side);
-                    relief::grid(target, &job.capture, r, &mut w.grid);
+                w.corners = None;
+                match (shape, w.measured.covered) {
+                    (Shape::Relief, Some(r)) => {
+                        let r = r.grow(1, side, side);
+                        relief::grid(target, &job.capture, r, &mut w.grid);
+                    }
+                    (Shape::Box, Some(r)) => {
+                        let [out, scratch] = &mut w.spread;
+                        relief::dilate(target, r, out, scratch);
+                        let enc = target.encoding();
+                        if let Some(tex) = w.refresher.texture.as_mut() {
+                            tex.refill(side, side, enc, true, |t| t.copy_from_slice(out));
+                        }
+                        w.corners = Some(subject.corners());
+                    }
+                    _ => {}
                 }
             },
         );
@@ -120,7 +136,9 @@ impl ImpostorSet {
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
         // empty texel on screen would still be shaded and blended. A relief is built over
         // the same part.
-        if w.grid.rect.is_some() {
+        if let Some(corners) = &w.corners {
+            imp.coverage = relief::write_box(&capture, corners, m);
+        } else if w.grid.rect.is_some() {
             imp.coverage = relief::write(&capture, &w.grid, m);
         } else if let Some(r) = covered {
             let r = r.grow(1, side, side);

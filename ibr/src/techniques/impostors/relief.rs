@@ -10,11 +10,21 @@
 //! a node outside the silhouette, the nearest covered texel within a cell of it (so a
 //! cell on the outline is not stretched to the background); a node with none within a
 //! cell borders only empty cells and stays on the quad's plane.
+//!
+//! For a subject that fills its box ([`Subject::corners`]: a building), the image is
+//! instead projected onto that box ([`write_box`]; view-dependent texture mapping onto a
+//! proxy after Debevec et al. 1996): each face split into cells, each vertex taking the
+//! texel position it projects to from the capture eye. The outline and depth are then the
+//! box's, exact from any eye, instead of a cutout of filtered coverage half a texel off;
+//! the image's covered texels are spread two texels outward ([`dilate`]), so samples on
+//! the outline read the wall's colour, not the transparent background's.
+//!
+//! [`Subject::corners`]: crate::core::Subject::corners
 
 use super::Capture;
 use crate::core::Rect;
 use engine::{Camera, Mesh, Target};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 /// Texels a side of one cell, about (8 texels: 4 screen pixels at the city's 2 texels a
 /// pixel); no more than [`MAX_CELLS`] a side.
@@ -124,4 +134,108 @@ pub(super) fn write(c: &Capture, g: &Grid, m: &mut Mesh) -> f32 {
         }
     }
     (rect.width as f32 / side) * (rect.height as f32 / side)
+}
+
+/// Cells a side of a box face at most; fewer when the face spans fewer texels
+/// ([`BOX_CELL_TEXELS`] a cell). Texture coordinates interpolate linearly over a cell, while
+/// the capture's projection of a receding face is not linear: small cells keep the
+/// difference under a texel.
+const BOX_MAX_CELLS: u32 = 8;
+/// Texels a box cell spans along its longer edge, at most (unless [`BOX_MAX_CELLS`]).
+const BOX_CELL_TEXELS: f32 = 24.0;
+
+/// Where world point `p` lands in capture `c`'s image, in texels (continuous).
+fn texel_of(c: &Capture, p: Vec3) -> Vec2 {
+    let [bl, _, tr, tl] = c.corners;
+    let axis = (c.center - c.eye).normalize_or_zero();
+    let plane = c.eye.distance(c.center);
+    let along = (p - c.eye).dot(axis).max(1e-6);
+    let q = c.eye + (p - c.eye) * (plane / along);
+    let (across, down) = (tr - tl, bl - tl);
+    let uv = Vec2::new(
+        (q - tl).dot(across) / across.length_squared().max(1e-12),
+        (q - tl).dot(down) / down.length_squared().max(1e-12),
+    );
+    uv * c.side as f32
+}
+
+/// Writes the box `corners` (as [`crate::core::box_corners`] orders them) into `m`
+/// (cleared), its six faces split into cells, each vertex's texture coordinates where the
+/// capture `c` saw it. Returns the share of the capture's square the box covers in it
+/// (its projected bounds, clipped).
+pub(super) fn write_box(c: &Capture, corners: &[Vec3; 8], m: &mut Mesh) -> f32 {
+    m.clear();
+    let side = c.side as f32;
+    let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+    for face in 0..6 {
+        let (axis, s) = (face / 2, face % 2);
+        let (b, cc) = ((axis + 1) % 3, (axis + 2) % 3);
+        let at = |kb: usize, kc: usize| corners[(s << axis) | (kb << b) | (kc << cc)];
+        let quad = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
+        let t: Vec<Vec2> = quad.iter().map(|&p| texel_of(c, p)).collect();
+        let longest = (0..4)
+            .map(|k| t[k].distance(t[(k + 1) % 4]))
+            .fold(0.0, f32::max);
+        let n = ((longest / BOX_CELL_TEXELS).ceil() as u32).clamp(1, BOX_MAX_CELLS);
+        let base = m.positions.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+                let p = quad[0].lerp(quad[1], x).lerp(quad[3].lerp(quad[2], x), y);
+                let texel = texel_of(c, p);
+                (lo, hi) = (lo.min(texel), hi.max(texel));
+                m.positions.push(p);
+                m.uvs.push(texel / side);
+            }
+        }
+        let at = |i: u32, j: u32| base + j * (n + 1) + i;
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                m.indices.extend_from_slice(&[a, b, c, a, c, d]);
+            }
+        }
+    }
+    let (lo, hi) = (
+        lo.clamp(Vec2::ZERO, Vec2::splat(side)),
+        hi.clamp(Vec2::ZERO, Vec2::splat(side)),
+    );
+    let size = (hi - lo) / side;
+    size.x * size.y
+}
+
+/// Copies `t`'s image into `out` (row-major), each empty texel within two texels of the
+/// covered ones (4-neighbours, one ring at a time) taking a covered neighbour's texel:
+/// the first of left, right, above, below. Only `rect` grown by two is looked at.
+pub(super) fn dilate(t: &Target, rect: Rect, out: &mut Vec<u32>, scratch: &mut Vec<u32>) {
+    let (w, h) = (t.width(), t.height());
+    out.clear();
+    out.resize(w as usize * h as usize, 0);
+    let mut depth = Vec::new();
+    for y in 0..h {
+        t.read_row(y, scratch, &mut depth);
+        let at = y as usize * w as usize;
+        out[at..at + w as usize].copy_from_slice(scratch);
+    }
+    let r = rect.grow(2, w, h);
+    for _ in 0..2 {
+        scratch.clone_from(out);
+        for y in r.y..r.y + r.height {
+            for x in r.x..r.x + r.width {
+                let i = (y * w + x) as usize;
+                if scratch[i] >> 24 != 0 {
+                    continue;
+                }
+                let near = [
+                    (x > 0).then(|| i - 1),
+                    (x + 1 < w).then_some(i + 1),
+                    (y > 0).then(|| i - w as usize),
+                    (y + 1 < h).then_some(i + w as usize),
+                ];
+                if let Some(k) = near.into_iter().flatten().find(|&k| scratch[k] >> 24 != 0) {
+                    out[i] = scratch[k];
+                }
+            }
+        }
+    }
 }
