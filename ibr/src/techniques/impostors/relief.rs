@@ -227,9 +227,9 @@ pub(super) fn dilate(t: &Target, rect: Rect, out: &mut Vec<u32>, scratch: &mut V
                     continue;
                 }
                 let near = [
-                    (x > 0).then(|| i - 1),
+                    (x > 0).then_some(i.wrapping_sub(1)),
                     (x + 1 < w).then_some(i + 1),
-                    (y > 0).then(|| i - w as usize),
+                    (y > 0).then_some(i.wrapping_sub(w as usize)),
                     (y + 1 < h).then_some(i + w as usize),
                 ];
                 if let Some(k) = near.into_iter().flatten().find(|&k| scratch[k] >> 24 != 0) {
