@@ -154,7 +154,7 @@ pub mod impostor {
     pub use crate::core::{image_material, screen_rect, Budget, Frustum, Pool};
     pub use crate::techniques::impostors::{
         error_color, Config, Fallback, Impostor, ImpostorSet, Impostored, Mode, Predicted, Report,
-        Tolerance,
+        Shape, Tolerance,
     };
 }
 

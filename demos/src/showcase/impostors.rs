@@ -37,7 +37,7 @@ use engine::procedural::{Terrain, XorShift};
 use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Report, Tolerance};
+use ibr::impostor::{Budget, Config, ImpostorSet, Report, Shape, Tolerance};
 use ibr::layers::{self, LayerSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
@@ -83,10 +83,15 @@ const CITY_MAX_SIDE: u32 = 512;
 /// Texels per screen pixel of the city's images, at least ([`ImpostorSet::density`]).
 const CITY_DENSITY: f32 = 2.0;
 
-/// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`].
+/// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`], each
+/// on its relief ([`ImpostorSet::relief`]): drawn on a quad at its building's nearest
+/// corner, an image covered the geometry of the buildings between that corner and its far
+/// walls, the tour's worst frames (a sliver of a building peeking between two drawn as
+/// geometry).
 fn city_impostors(config: Config, n: usize) -> ImpostorSet {
     let mut set = ImpostorSet::new(config, n);
     set.cutout = Some(CITY_CUTOUT);
+    set.shape = Shape::Box;
     set.density = CITY_DENSITY;
     set
 }

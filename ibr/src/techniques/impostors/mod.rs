@@ -72,6 +72,7 @@
 mod plan;
 mod predict;
 mod refresh;
+mod relief;
 mod technique;
 
 pub use technique::Impostored;
@@ -160,6 +161,23 @@ impl Default for Config {
             prewarm: 0.25,
         }
     }
+}
+
+/// What an impostor's image is drawn on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shape {
+    /// A quad through the subject's centre facing the capture eye.
+    #[default]
+    Quad,
+    /// A grid whose nodes stand on the subject's captured surface ([`relief`]): images and
+    /// geometry occlude one another per pixel at their subjects' depths. For opaque
+    /// subjects (their captures write depth), drawn as cutouts.
+    Relief,
+    /// The subject's box ([`Subject::corners`]) with the image projected onto it from the
+    /// capture eye ([`relief`]): the box's own outline and depth. For subjects that fill
+    /// their box (buildings): the image's coverage is spread two texels beyond the
+    /// outline, so only the box's faces bound what is drawn.
+    Box,
 }
 
 /// The predicted error of one impostor this frame.
@@ -300,6 +318,8 @@ pub struct ImpostorSet {
     /// image's silhouette matches its geometry's instead of a half-texel blended fringe
     /// around it (`None`, the default: blended).
     pub cutout: Option<f32>,
+    /// What each image is drawn on ([`Shape::Quad`], the default).
+    pub shape: Shape,
     /// Texels per screen pixel the planner's images are taken at, at least (1, the
     /// default: the power of two at or above the subject's disc). At 2 a cutout's
     /// silhouette, halfway between texel centres, is half as far from the geometry's.
@@ -331,6 +351,7 @@ impl ImpostorSet {
             prior: plan::GradientPrior::default(),
             plan_tint: None,
             cutout: None,
+            shape: Shape::Quad,
             density: 1.0,
             texel_budget: None,
             texel_credit: 0,
@@ -510,7 +531,8 @@ impl ImpostorSet {
     /// ([`Subject::corners`]) along the line of sight: a quad through the centre of a
     /// building standing on the ground would have the ground in front of its walls hide
     /// the bottom of its image; pulled to the nearest corner, nothing in front of the
-    /// subject's box hides it.
+    /// subject's box hides it. Other shapes ([`ImpostorSet::shape`]) are drawn where they
+    /// are.
     pub fn draws_near<'a, S: Subject>(
         &'a self,
         subjects: &'a [S],
@@ -520,7 +542,9 @@ impl ImpostorSet {
         for (i, (imp, s)) in self.impostors.iter().zip(subjects).enumerate() {
             match imp.mode {
                 Mode::Image => out.extend(self.image_draw(i).map(|mut d| {
-                    d.transform = pull_near(s, eye);
+                    if self.shape == Shape::Quad {
+                        d.transform = pull_near(s, eye);
+                    }
                     d
                 })),
                 Mode::Geometry(_) => s.draws(out),

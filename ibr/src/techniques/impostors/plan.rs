@@ -3,7 +3,7 @@
 //! the planner asks.
 
 use super::predict::RESAMPLING;
-use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, ImpostorSet};
+use super::{image_error, needed_side, pixels_per_radian, predict, pull_near, ImpostorSet, Shape};
 use crate::core::FrameView;
 use crate::core::Subject;
 use crate::core::PRIOR_GRADIENT;
@@ -170,10 +170,12 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         }
     }
 
-    /// The image's quad, pulled to the object's nearest corner.
+    /// The image's quad, pulled to the object's nearest corner; other shapes where they are.
     fn draw<'a>(&'a self, i: usize, subject: &'a S, eye: Vec3, out: &mut Vec<Draw<'a>>) {
         if let Some(mut d) = self.quad_draw(i) {
-            d.transform = pull_near(subject, eye);
+            if self.shape == Shape::Quad {
+                d.transform = pull_near(subject, eye);
+            }
             out.push(d);
         }
     }

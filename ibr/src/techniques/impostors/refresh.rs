@@ -1,10 +1,11 @@
 //! Refreshing impostor images: a texture and a capture per refresh. The frame's refreshes
 //! run side by side on the thread pool, each on a worker of its own (one [`Capturer`]): it
 //! captures, copies the image into its texture (with mipmaps), and measures what the
-//! image covers and its gradients; the texture is then swapped into the pool and the
-//! quad trimmed to the covered part.
+//! image covers and its gradients (and, for a relief, its depth grid, [`super::relief`]);
+//! the texture is then swapped into the pool and the quad trimmed to the covered part, or
+//! the relief built over it.
 
-use super::{Capture, ImpostorSet, Mode};
+use super::{relief, Capture, ImpostorSet, Mode, Shape};
 use crate::core::Rect;
 use crate::core::Subject;
 use crate::core::{push_quad, UvRect};
@@ -20,6 +21,11 @@ pub(super) struct Worker {
     pub(super) stats: FrameStats,
     measured: Measured,
     rows: Rows,
+    /// The relief's depth grid ([`Shape::Relief`]).
+    grid: relief::Grid,
+    /// The box's subject corners ([`Shape::Box`]), and the spread image with its scratch.
+    corners: Option<[Vec3; 8]>,
+    spread: [Vec<u32>; 2],
 }
 
 /// One refresh of a frame: which impostor, from where, into which texture.
@@ -68,6 +74,7 @@ impl ImpostorSet {
         if self.jobs.is_empty() {
             return;
         }
+        let shape = self.shape;
         let (jobs, workers) = (&mut self.jobs, &mut self.workers);
         refresh_side_by_side(
             jobs,
@@ -80,6 +87,24 @@ impl ImpostorSet {
                 w.stats = w.refresher.render(subject, &camera, lighting, (side, side));
                 let target = w.refresher.target();
                 w.measured = measure(target, &job.capture, &mut w.rows);
+                w.grid.rect = None;
+                w.corners = None;
+                match (shape, w.measured.covered) {
+                    (Shape::Relief, Some(r)) => {
+                        let r = r.grow(1, side, side);
+                        relief::grid(target, &job.capture, r, &mut w.grid);
+                    }
+                    (Shape::Box, Some(r)) => {
+                        let [out, scratch] = &mut w.spread;
+                        relief::dilate(target, r, out, scratch);
+                        let enc = target.encoding();
+                        if let Some(tex) = w.refresher.texture.as_mut() {
+                            tex.refill(side, side, enc, true, |t| t.copy_from_slice(out));
+                        }
+                        w.corners = Some(subject.corners());
+                    }
+                    _ => {}
+                }
             },
         );
     }
@@ -109,8 +134,13 @@ impl ImpostorSet {
         imp.coverage = 0.0;
         // Trim the quad to the covered part of the image (one texel of margin for the
         // bilinear fringe): tall or flat subjects leave much of the square empty, and every
-        // empty texel on screen would still be shaded and blended.
-        if let Some(r) = covered {
+        // empty texel on screen would still be shaded and blended. A relief is built over
+        // the same part.
+        if let Some(corners) = &w.corners {
+            imp.coverage = relief::write_box(&capture, corners, m);
+        } else if w.grid.rect.is_some() {
+            imp.coverage = relief::write(&capture, &w.grid, m);
+        } else if let Some(r) = covered {
             let r = r.grow(1, side, side);
             let f = |p: u32| p as f32 / side as f32;
             let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));

@@ -542,3 +542,5 @@ fn a_texel_budget_spreads_refreshes_over_frames_by_their_area() {
         "{refreshes} refreshes, {idle} idle frames"
     );
 }
+
+mod shape;
