@@ -34,6 +34,7 @@ use ibr::images::DepthImage;
 use ibr::metrics::ImageError;
 use layers::LayersPart;
 use morph::MorphPart;
+use rayon::prelude::*;
 use sky::SkyPart;
 
 /// PSNR figures are capped here (a view identical to its geometry has an infinite one).
@@ -373,20 +374,28 @@ fn db(e: Option<ImageError>) -> String {
     }
 }
 
-/// `image` over the showcase's sky colour, as opaque sRGB RGBA8 bytes into `out`.
+/// `image` over the showcase's sky colour, as opaque sRGB RGBA8 bytes into `out`. In
+/// chunks on the pool (each pixel its own: the same bytes on any number of threads): one
+/// thread took 9 to 14 ms of the morph's frame at 1280x720.
 fn over_sky(image: &DepthImage, out: &mut Vec<u8>) {
+    const CHUNK: usize = 4096;
     let sky = SKY.premultiply();
     out.clear();
-    out.extend(image.color.iter().flat_map(|&c| {
-        let k = 1.0 - c.a.clamp(0.0, 1.0);
-        let Premul { r, g, b, .. } = c;
-        [
-            encode_srgb8(r + sky.r * k),
-            encode_srgb8(g + sky.g * k),
-            encode_srgb8(b + sky.b * k),
-            255,
-        ]
-    }));
+    out.resize(image.color.len() * 4, 0);
+    out.par_chunks_mut(CHUNK * 4)
+        .zip(image.color.par_chunks(CHUNK))
+        .for_each(|(bytes, colors)| {
+            for (p, &c) in bytes.chunks_exact_mut(4).zip(colors) {
+                let k = 1.0 - c.a.clamp(0.0, 1.0);
+                let Premul { r, g, b, .. } = c;
+                p.copy_from_slice(&[
+                    encode_srgb8(r + sky.r * k),
+                    encode_srgb8(g + sky.g * k),
+                    encode_srgb8(b + sky.b * k),
+                    255,
+                ]);
+            }
+        });
 }
 
 #[cfg(test)]

@@ -18,6 +18,16 @@ use std::time::Instant;
 pub const MORPH_EYES: [Vec3; 2] = [Vec3::new(-2.0, 3.0, 12.0), Vec3::new(2.0, 3.0, 12.0)];
 pub const MORPH_TARGET: Vec3 = Vec3::new(0.0, 1.0, 0.0);
 
+/// The morphed views are captured this much wider than the frame (a strip of a sixth of
+/// the frame's width beyond each side): the in-between views turn between the two, and a
+/// frame captured only as wide left a strip at the frame's edge that neither view saw
+/// (beside the house, at s 0.33 and 0.67), filled along its rows from whatever each row's
+/// first mapped pixel showed: grey and green streaks (issue 39).
+pub const WIDER: f32 = 1.3;
+/// The prewarped pair's size against the wide views' (at their focal length): as tall as
+/// that, about twice the frame's width (the frame's 1.5 without the wider views).
+const FRAMING: f32 = 1.3;
+
 /// What the morph part showed in one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MorphFrame {
@@ -80,8 +90,14 @@ impl MorphPart {
     ) -> Result<MorphPart, String> {
         let cameras = MORPH_EYES.map(|eye| showcase::camera(eye, MORPH_TARGET, w, h));
         let views = capture_batch(draws, &cameras, lighting, w, h);
-        let morph = ViewMorph::new(&views[0], &views[1], Correspondence::Depth)
-            .map_err(|e| format!("the views moment's morph at {w}x{h}: {e}"))?;
+        // The morphed views, wider than the frame at its focal length (the same vertical
+        // field of view): the turned in-between views' corners lie within what they saw.
+        let wide_w = (w as f32 * WIDER).round() as u32;
+        let wide = MORPH_EYES.map(|eye| showcase::camera(eye, MORPH_TARGET, wide_w, h));
+        let wide = capture_batch(draws, &wide, lighting, wide_w, h);
+        let morph = ViewMorph::framed(&wide[0], &wide[1], Correspondence::Depth, FRAMING)
+            .map_err(|e| format!("the views moment's morph at {w}x{h}: {e}"))?
+            .shown_as(cameras[0].projection, w, h);
         let truth = DepthImage::new(0, 0, cameras[0]);
         Ok(MorphPart {
             views,

@@ -34,7 +34,7 @@ use crate::stereo::rectify::{pixel_ray, resample};
 use crate::stereo::rectify::{rectify_with, Framing};
 use crate::stereo::{luminance, Disparity, Rectified, RectifyError, Sgm};
 use engine::color::Premul;
-use engine::Camera;
+use engine::{Camera, Projection};
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 use std::ops::Range;
 
@@ -126,13 +126,25 @@ pub struct ViewMorph {
 
 impl ViewMorph {
     /// Prewarps `a` and `b` (one size, cameras apart across the view) and finds their
-    /// correspondences.
+    /// correspondences. The prewarped pair is half again as large as the views: a view
+    /// turned to it keeps most of what it sees.
     pub fn new(a: &DepthImage, b: &DepthImage, how: Correspondence) -> Result<Self, MorphError> {
-        // Halfway between the views' directions, half again as large: a view turned to it
-        // keeps most of what it sees.
+        Self::framed(a, b, how, 1.5)
+    }
+
+    /// [`ViewMorph::new`] with the prewarped pair `scale` times the views' size (at their
+    /// focal length, clamped to 1 to 4): views captured wider than the in-between views
+    /// shown ([`ViewMorph::shown_as`]) need less.
+    pub fn framed(
+        a: &DepthImage,
+        b: &DepthImage,
+        how: Correspondence,
+        scale: f32,
+    ) -> Result<Self, MorphError> {
+        // Halfway between the views' directions.
         let framing = Framing {
             between: true,
-            scale: 1.5,
+            scale,
         };
         let pair = rectify_with(a, b, &framing)?;
         let (w, h) = (pair.left.width(), pair.left.height());
@@ -176,6 +188,19 @@ impl ViewMorph {
             right,
             postwarp: None,
         })
+    }
+
+    /// The same morph showing its in-between views through `projection` at `width` x
+    /// `height` instead of the first view's projection and size (eyes and turns as before).
+    /// Views captured wider than the views shown (same focal length, centred) leave no
+    /// corner of a turned in-between view that neither saw: beside the frame's edge, a
+    /// surface beyond both views' frames was filled along its row from whatever the row's
+    /// first mapped pixel showed (a rock, a house's side), a streak (issue 39).
+    pub fn shown_as(mut self, projection: Projection, width: u32, height: u32) -> Self {
+        self.from.projection = projection;
+        self.to.projection = projection;
+        (self.width, self.height) = (width, height);
+        self
     }
 
     /// The prewarped pair. (From point pairs its cameras are the first image's, standing
