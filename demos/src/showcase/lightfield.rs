@@ -92,6 +92,8 @@ pub struct StatueSettings {
     /// not (the codewords blur the coverage: with 1024 codewords 21.2 / 18.6 at 4 x 4,
     /// 21.1 / 18.7 without): 1.
     pub supersample: u32,
+    /// The outline from geometry ([`LightFieldObject::proxy_outline`]).
+    pub outline: bool,
 }
 
 impl Default for StatueSettings {
@@ -104,6 +106,7 @@ impl Default for StatueSettings {
             training_tiles: TRAINING_TILES,
             iterations: 4,
             supersample: 1,
+            outline: true,
         }
     }
 }
@@ -125,6 +128,7 @@ impl Statue {
             training_tiles,
             iterations,
             supersample,
+            outline,
         } = settings;
         // Captured once, so under the lights that do not move, as the forest's views are.
         let lighting = bake_lighting(lighting);
@@ -168,6 +172,7 @@ impl Statue {
         object.fill_cracks = true;
         object.hard_edges = supersample > 1;
         object.min_px = MIN_PX;
+        object.proxy_outline = outline;
         Statue {
             object,
             lighting,
@@ -437,8 +442,17 @@ mod tests {
     /// worst PSNR and the flicker (mean absolute frame-to-frame change of its image over
     /// the same of its geometry, over consecutive frames both drawn from the light field).
     pub(crate) fn tour_error(w: u32, h: u32, n: usize) -> (f64, f64, f64, usize) {
+        tour_error_with(StatueSettings::default(), w, h, n)
+    }
+
+    fn tour_error_with(
+        settings: StatueSettings,
+        w: u32,
+        h: u32,
+        n: usize,
+    ) -> (f64, f64, f64, usize) {
         let show = Showcase::new();
-        let mut statue = Statue::new(&show.scene.lighting);
+        let mut statue = Statue::with_settings(&show.scene.lighting, settings);
         let (mut psnr, mut worst, mut frames) = (0.0, f64::INFINITY, 0);
         let (mut moved, mut moved_truth) = (0u64, 0u64);
         let mut last: Option<[Vec<u8>; 2]> = None;
@@ -462,6 +476,31 @@ mod tests {
         }
         let flicker = moved as f64 / moved_truth.max(1) as f64;
         (psnr / frames.max(1) as f64, worst, flicker, frames)
+    }
+
+    #[test]
+    fn experiment() {
+        let Ok(exp) = std::env::var("EXP") else { return };
+        for case in exp.split(';') {
+            let mut s = StatueSettings::default();
+            let mut size = (640, 360);
+            for kv in case.split(',') {
+                let (k, v) = kv.split_once('=').unwrap();
+                let v: u32 = v.parse().unwrap();
+                match k {
+                    "uv" => s.uv = v,
+                    "st" => s.st = v,
+                    "cw" => s.codewords = (v > 0).then_some(v),
+                    "tt" => s.training_tiles = 1 << v,
+                    "ol" => s.outline = v > 0,
+                    "w" => size = (v, v * 9 / 16),
+                    _ => panic!("{k}"),
+                }
+            }
+            let t = Instant::now();
+            let (mean, worst, flicker, frames) = tour_error_with(s, size.0, size.1, 120);
+            eprintln!("EXP {case}: {frames} frames, {mean:.2} / {worst:.2} dB, flicker {flicker:.2}, {:.1} s", t.elapsed().as_secs_f64());
+        }
     }
 
     /// Over the tour at 320 x 180, the statue drawn from its light field is close to its

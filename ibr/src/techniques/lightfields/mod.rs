@@ -58,6 +58,7 @@
 mod field;
 pub mod file;
 pub(crate) mod object;
+mod outline;
 pub(crate) mod plan;
 pub mod rebin;
 pub mod render;
