@@ -533,6 +533,8 @@ impl Slab {
 #[cfg(test)]
 mod infinity_tests;
 #[cfg(test)]
+mod outline_tests;
+#[cfg(test)]
 mod rebin_tests;
 #[cfg(test)]
 mod stability_tests;

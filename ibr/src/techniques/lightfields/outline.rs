@@ -263,7 +263,10 @@ mod tests {
         let (c, _, n) = check(&[half, faint], &[0.5, 0.5], &[0.5, 0.5], 2);
         let q = unpack(ENCODING, c[0]);
         assert_eq!(c[0] >> 24, 255);
-        assert!((q.r - 0.8).abs() < 0.02 && (q.g - 0.4).abs() < 0.02, "{q:?}");
+        assert!(
+            (q.r - 0.8).abs() < 0.02 && (q.g - 0.4).abs() < 0.02,
+            "{q:?}"
+        );
         assert_eq!((c[1], n), (c[0], 1));
     }
 
