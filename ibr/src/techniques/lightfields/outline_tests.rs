@@ -3,7 +3,7 @@
 
 use super::tests::{camera, slab, H, W};
 use super::*;
-use crate::core::{FrameLoop, FrameView, MeshGroup, Technique};
+use crate::core::{FrameLoop, FrameView, MeshGroup, Subject, Technique};
 use engine::{procedural, FrameOptions, Material, Renderer, Rgba, Target};
 use std::sync::Arc;
 
