@@ -396,15 +396,13 @@ fn print_statue(show: &Showcase, n: usize) {
     let slabs = &s.object.slabs;
     let [nu, nv, ns, nt] = slabs.first().map_or([0; 4], |f| f.slab.counts());
     println!(
-        "light-field statue: {} slabs of {nu}x{nv}x{ns}x{nt}, captured in {:.2} s and \
-         vector-quantised ({} codewords) in {:.2} s",
+        "light-field statue: {} slabs of {nu}x{nv}x{ns}x{nt}, captured in {:.2} s and {}",
         slabs.len(),
         s.capture.as_secs_f64(),
-        showcase::lightfield::CODEWORDS,
-        s.quantise.as_secs_f64()
+        s.storage()
     );
     println!(
-        "  memory {:.2} MB held (codebooks and indices), {:.1} MB raw: {:.0}:1",
+        "  memory {:.2} MB held, {:.1} MB raw: {:.0}:1",
         s.bytes() as f64 / 1e6,
         s.raw_bytes as f64 / 1e6,
         s.ratio()

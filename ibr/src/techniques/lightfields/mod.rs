@@ -58,6 +58,7 @@
 mod field;
 pub mod file;
 pub(crate) mod object;
+mod outline;
 pub(crate) mod plan;
 pub mod rebin;
 pub mod render;
@@ -531,6 +532,8 @@ impl Slab {
 
 #[cfg(test)]
 mod infinity_tests;
+#[cfg(test)]
+mod outline_tests;
 #[cfg(test)]
 mod rebin_tests;
 #[cfg(test)]

@@ -8,6 +8,7 @@
 //! is inside the sphere) the object falls back to its geometry, if kept, and says so
 //! ([`LightFieldObject::showing`], the `geometry` counter).
 
+use super::outline::Outline;
 use super::render::{render, LightFieldFrame, Lookup};
 use super::{LightField, Slab};
 use crate::core::{Counters, FrameView, Technique};
@@ -67,7 +68,13 @@ pub struct LightFieldObject {
     /// most of the object, while the geometry is a few pixels' worth of triangles. 0 (the
     /// default): a slab at any distance.
     pub min_px: f32,
+    /// The outline from geometry ([`super::outline`]): with [`Self::reference`] kept, each
+    /// image is made to agree with the geometry's coverage and depth seen through the
+    /// same camera, the light field giving only the colour inside (`hard_edges` and
+    /// `fill_cracks` then have nothing left to do).
+    pub proxy_outline: bool,
     image: Composite,
+    outline: Outline,
     showing: Showing,
 }
 
@@ -106,7 +113,9 @@ impl LightFieldObject {
             fill_cracks: false,
             hard_edges: false,
             min_px: 0.0,
+            proxy_outline: false,
             image: Composite::new(camera),
+            outline: Outline::default(),
             showing: Showing::Nothing,
         }
     }
@@ -195,6 +204,12 @@ impl Technique for LightFieldObject {
         match self.showing {
             Showing::Slab(k) => {
                 self.image.render(&self.slabs[k], view, self.lookup, None);
+                if let (true, Some(g), Some(_)) =
+                    (self.proxy_outline, &self.reference, self.image.rect)
+                {
+                    self.outline.apply(g, &mut self.image.image);
+                    return;
+                }
                 if self.hard_edges {
                     self.image.harden();
                 }

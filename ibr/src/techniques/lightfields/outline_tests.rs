@@ -1,0 +1,126 @@
+//! The outline from geometry ([`LightFieldObject::proxy_outline`]) in a frame, against a
+//! render of the geometry itself from the same eye.
+
+use super::tests::{camera, slab, H, W};
+use super::*;
+use crate::core::{FrameLoop, FrameView, MeshGroup, Subject, Technique};
+use engine::{procedural, FrameOptions, Material, Renderer, Rgba, Target};
+use std::sync::Arc;
+
+/// A lit sphere in front of the focal plane (off it, so its outline moves between
+/// cameras) and a box behind it, partly hidden by it.
+fn subject() -> MeshGroup {
+    let lit = |c: Rgba| Arc::new(Material::lit(c));
+    MeshGroup::new()
+        .with(
+            Arc::new(procedural::uv_sphere(0.55, 24, 32)),
+            lit(Rgba::new(0.8, 0.5, 0.2, 1.0)),
+            Mat4::from_translation(Vec3::new(-0.1, 0.1, 0.4)),
+        )
+        .with(
+            Arc::new(procedural::cuboid(Vec3::new(0.8, 0.8, 0.4))),
+            lit(Rgba::new(0.3, 0.6, 0.7, 1.0)),
+            Mat4::from_translation(Vec3::new(0.35, -0.3, -0.4)),
+        )
+}
+
+/// The object alone and its geometry alone from `eye`, each as 8-bit RGBA and the
+/// target (for depth).
+fn frames(object: &mut LightFieldObject, eye: Vec3) -> [(Vec<u8>, Target); 2] {
+    let cam = camera(eye);
+    let lighting = Lighting::default();
+    let view = FrameView::still(&cam, W, H, &lighting);
+    let opts = FrameOptions {
+        clear: Some(Rgba::TRANSPARENT),
+        ..Default::default()
+    };
+    let (mut renderer, mut frames) = (Renderer::new(), FrameLoop::new());
+    let (mut image, mut truth) = (Target::new(W, H), Target::new(W, H));
+    let mut list: [&mut dyn Technique; 1] = [object];
+    frames.render(&mut renderer, [], &mut list, &view, &mut image, &opts);
+    let mut draws = Vec::new();
+    object.reference(&mut draws);
+    frames.render(&mut renderer, draws, &mut [], &view, &mut truth, &opts);
+    [(image.to_rgba8(), image), (truth.to_rgba8(), truth)]
+}
+
+/// Pixels covered by one image only, of them those not on the geometry's outline (its
+/// coverage differs from one of their eight neighbours'), and the mean absolute colour
+/// difference (8-bit levels) over the pixels both cover.
+fn outline_and_colour(a: &[u8], b: &[u8]) -> (usize, usize, f64) {
+    let covered = |x: i64, y: i64| {
+        (0..W as i64).contains(&x)
+            && (0..H as i64).contains(&y)
+            && b[4 * (y * W as i64 + x) as usize + 3] > 0
+    };
+    let (mut one, mut off, mut sum, mut n) = (0, 0, 0u64, 0u64);
+    for (i, (p, q)) in a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate() {
+        let (x, y) = ((i % W as usize) as i64, (i / W as usize) as i64);
+        match (p[3] > 0, q[3] > 0) {
+            (true, true) => {
+                sum += (0..3).map(|k| u64::from(p[k].abs_diff(q[k]))).sum::<u64>();
+                n += 3;
+            }
+            (false, false) => {}
+            _ => {
+                one += 1;
+                let c = covered(x, y);
+                let edge = (-1..=1).any(|dy| (-1..=1).any(|dx| covered(x + dx, y + dy) != c));
+                off += usize::from(!edge);
+            }
+        }
+    }
+    (one, off, sum as f64 / n.max(1) as f64)
+}
+
+/// From eyes between the cameras, the light field's outline is the geometry's within a
+/// pixel (rasterised through a crop of the eye's camera, a pixel on the outline may fall
+/// the other way) and off in half as many pixels or fewer than without, its depth the
+/// geometry's, and its colour inside close to the geometry's.
+#[test]
+fn the_outline_is_the_geometrys_and_the_colour_the_light_fields() {
+    let group = subject();
+    let mut draws = Vec::new();
+    group.draws(&mut draws);
+    let field = LightField::capture(&draws, &Lighting::default(), slab(8, 64));
+    let mut object = LightFieldObject::new("sphere and box", field);
+    object.reference = Some(group);
+    for eye in [Vec3::new(0.13, -0.21, 4.3), Vec3::new(-0.55, 0.37, 4.6)] {
+        object.proxy_outline = false;
+        let [(plain, _), _] = frames(&mut object, eye);
+        object.proxy_outline = true;
+        let [(image, got), (truth, want)] = frames(&mut object, eye);
+        assert!(matches!(object.showing(), Showing::Slab(0)));
+        let (before, _, _) = outline_and_colour(&plain, &truth);
+        let (one, off, colour) = outline_and_colour(&image, &truth);
+        eprintln!("from {eye}: {before} outline pixels off without, {one} with ({off} off the outline), colour {colour:.2} levels");
+        assert!(
+            before >= 5,
+            "{before} outline pixels off without the geometry"
+        );
+        assert_eq!(
+            off, 0,
+            "pixels covered by one image only off the outline, from {eye}"
+        );
+        assert!(
+            2 * one <= before,
+            "{one} pixels covered by one image only, from {eye}"
+        );
+        assert!(colour < 4.0, "{colour:.2} levels off inside, from {eye}");
+        let cam = camera(eye);
+        for (x, y) in (0..H).flat_map(|y| (0..W).map(move |x| (x, y))) {
+            let (g, t) = (got.depth_reversed(x, y), want.depth_reversed(x, y));
+            let (g, t) = (g.unwrap_or(0.0), t.unwrap_or(0.0));
+            if t > 0.0 && g > 0.0 {
+                let (g, t) = (
+                    cam.view_depth_from_reversed(g),
+                    cam.view_depth_from_reversed(t),
+                );
+                assert!(
+                    (g - t).abs() < 1e-3 * t,
+                    "depth {g} against {t} at ({x}, {y})"
+                );
+            }
+        }
+    }
+}
