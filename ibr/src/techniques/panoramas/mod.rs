@@ -26,7 +26,7 @@ const FACES: [(Vec3, Vec3); 6] = [
 
 /// The six 90-degree cameras of a cube map at `centre` seeing from `near` to `far` along
 /// each face's axis, in [`CubeMap`]'s face order (+x, -x, +y, -y, +z, -z).
-pub fn face_cameras(centre: Vec3, near: f32, far: f32) -> [Camera; 6] {
+fn face_cameras(centre: Vec3, near: f32, far: f32) -> [Camera; 6] {
     FACES.map(|(dir, up)| {
         Camera::look_at(centre, centre + dir, up, std::f32::consts::FRAC_PI_2, 1.0)
             .with_depth_range(near.max(1e-4), far.max(near * 2.0))
