@@ -54,7 +54,7 @@ fn the_sky_fills_what_the_near_scene_leaves_and_its_error_is_measured() {
             e.psnr_db.is_finite() && e.psnr_db > 10.0,
             "frame {k}: {e:?}"
         );
-        // The far land's band along the horizon. (Measured: FARSHARE.)
+        // The far land's band along the horizon.
         assert!(f.far_share > 0.02 && f.far_share < 0.3, "frame {k}: {f:?}");
     }
 }
