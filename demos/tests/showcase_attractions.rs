@@ -175,15 +175,18 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(39.0),
         flicker: None,
     },
-    // Measured 24.6 / 24.6 dB (22.6 before the near scene was trimmed to the panorama's
-    // cube, so the fence is no longer drawn and also seen through its holes in the
-    // panorama): 5.4 dB and 0.4 dB short; flicker not measured.
+    // Measured 28.6 / 28.6 dB (release binary of the same source, these arguments), since
+    // session 11 the panorama carrying the far land (a ring of mountains 650 to 1,200 units
+    // away) and the plaza's scene drawn in front; 24.6 before, holding the trees and hills
+    // 60 units away. At 640x360 and 1280x720 31.9 / 30.3 and 34.6 / 32.6 dB (BENCHMARKS.md);
+    // here, at 240x136, the ridges' outlines are a larger share of its few pixels (3% of
+    // the frame): 1.4 dB short of the mean, the worst meets its goal; flicker not measured.
     Bound {
         name: "sky",
         technique: "panorama",
         part: "views",
-        mean: Some(23.0),
-        worst: Some(23.0),
+        mean: Some(27.5),
+        worst: Some(27.5),
         flicker: None,
     },
     // Measured 25.9 / 25.9 dB: mean 4.1 dB short, worst meets its goal;

@@ -5,10 +5,11 @@
 //!   layers warped by the perspective map fitted to their corners and re-rendered past a
 //!   pixel of error within a per-frame budget ([`ibr::layers`]), as the eye strolls across
 //!   the plaza and turns;
-//! - [`Part::Sky`]: the scene beyond [`SPLIT`] units captured from above the plaza into a
-//!   cube-map panorama ([`ibr::panorama::Sky`]) and drawn behind the near scene as the eye
-//!   walks away from where it was captured; captured again where the predicted parallax
-//!   passes [`SKY_TOLERANCE_PX`];
+//! - [`Part::Sky`]: a far land (a ring of mountains beyond [`SPLIT`] units, what a
+//!   panorama carries) captured from above the plaza into a cube-map panorama
+//!   ([`ibr::panorama::Sky`]) and drawn behind the plaza's scene, which is drawn as
+//!   geometry, as the eye walks away from where it was captured; captured again, a few
+//!   faces a frame, ahead of where the predicted parallax passes [`SKY_TOLERANCE_PX`];
 //! - [`Part::Morph`]: two views of the plaza morphed into each other (view morphing with
 //!   correspondences from depth, [`ibr::morph::ViewMorph`]), beside the plain morph without
 //!   prewarp, which is not shape preserving.

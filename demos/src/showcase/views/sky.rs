@@ -1,37 +1,149 @@
-//! The views moment's panorama sky: the showcase's scene beyond [`SPLIT`] units captured
-//! from above the plaza into a cube map ([`ibr::panorama::Sky`]) and drawn behind the near
-//! scene (drawn as geometry) while the eye walks away from the capture point; captured
-//! again at the eye when the predicted parallax passes [`SKY_TOLERANCE_PX`]. Each frame is
-//! measured against the whole geometry from the same eye, over the pixels the panorama
-//! fills.
+//! The views moment's panorama sky: what a panorama carries, the land far beyond the
+//! plaza's scene (a ring of mountains 650 to 1,200 units away, [`FarLand`], where the
+//! scene's own terrain, trees and hills end at about 85), captured from above the plaza
+//! into a cube map ([`ibr::panorama::Sky`]) and drawn behind the near scene (the whole of
+//! the plaza's scene, drawn as geometry) while the eye walks away from the capture point.
+//! A re-capture is spread two faces a frame, started where the eye will be when the held
+//! panorama's predicted parallax passes [`SKY_TOLERANCE_PX`], and swapped in whole then.
+//! Each frame is measured against the whole geometry (scene and far land) from the same
+//! eye, over the pixels the panorama fills.
+//!
+//! (Until session 11 the panorama held the scene beyond 10 units, the trees and hills 60
+//! units away with sharp outlines against the sky: 23.5 / 20.6 dB mean / worst at 640x360,
+//! resampling and parallax at their outlines. A panorama is a skybox: what is truly far.)
 
 use super::{db, over_sky, Frame};
-use crate::showcase::{self, attractions, FAR};
-use engine::{Camera, Draw, Lighting};
-use glam::{Quat, Vec3};
+use crate::showcase::{self, attractions, SKY};
+use engine::procedural::value_noise;
+use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba, Shading};
+use glam::{Mat4, Quat, Vec3};
 use ibr::capture::Capturer;
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Image, ImageError, Options, Region};
-use ibr::panorama::{trim_beyond, Sky};
+use ibr::panorama::Sky;
 use std::time::Instant;
 
 /// The panorama holds what lies farther than this from where it was captured (along each
-/// cube face's axis); nearer geometry is drawn.
-pub const SPLIT: f32 = 10.0;
-/// The panorama also holds the last this many units inside [`SPLIT`], drawn over by the
-/// near scene where it is there: as the eye moves, a ray the near scene leaves empty just
-/// past the split finds the panorama's copy instead of a hole.
-const SEAM: f32 = 1.0;
+/// cube face's axis): the far land, beyond the plaza's scene and its cameras' far plane.
+pub const SPLIT: f32 = 300.0;
+/// The far end of the panorama's captures and of the geometry it is measured against.
+const LAND_FAR: f32 = 2000.0;
 /// Where the first panorama is captured: above the plaza's southern edge, looking north
-/// over it (from its centre the eye would be inside the torus).
+/// over it.
 pub const SKY_CENTRE: Vec3 = Vec3::new(0.0, 3.0, 7.0);
 /// The panorama is captured again when its predicted parallax passes this many pixels.
-pub const SKY_TOLERANCE_PX: f32 = 6.0;
+pub const SKY_TOLERANCE_PX: f32 = 3.0;
+/// Faces of a re-capture taken a frame: three frames for the six, which the headless run's
+/// four sky frames leave room for.
+const FACES_PER_FRAME: usize = 2;
 /// The eye's walk: as far as would make the first panorama this many tolerances wrong, so
-/// every image size sees the same re-captures. Short enough that a step of the headless
-/// run's few sky frames (four at 120 frames) stays under the tolerance: a re-capture
-/// every other frame at most, not one every frame.
-const SKY_WALK_TOLERANCES: f32 = 2.5;
+/// every image size sees the same re-capture: at the walk's end, where the held
+/// panorama's parallax passes the tolerance, begun two frames before where the headless
+/// run's four sky frames step a third of the walk each.
+const SKY_WALK_TOLERANCES: f32 = 1.25;
+
+/// The far land: a ring of mountains round the plaza, far beyond its scene, one mesh.
+#[derive(Debug)]
+pub(super) struct FarLand {
+    mesh: Mesh,
+    material: Material,
+}
+
+impl FarLand {
+    /// Azimuth steps round the ring and rows from each mountain's foot to its ridge.
+    const STEPS: u32 = 256;
+    const ROWS: u32 = 6;
+
+    /// The ring: ridges 650 to 1,200 units away and 25 to 135 high, feet 60 below the
+    /// ground's level 200 units nearer, coloured hazy green to blue-grey by height (the
+    /// haze of the air between), snow on the highest. Deterministic.
+    pub(super) fn new() -> FarLand {
+        let ring = |theta: f32, scale: f32, seed: u64| {
+            let (x, z) = (theta.cos() * scale, theta.sin() * scale);
+            let mut sum = 0.0;
+            let (mut amp, mut f, mut norm) = (1.0, 1.0, 0.0);
+            for octave in 0..4u64 {
+                sum += amp * value_noise(x * f + 50.0, z * f + 50.0, seed + octave * 31);
+                norm += amp;
+                amp *= 0.5;
+                f *= 2.0;
+            }
+            sum / norm
+        };
+        let haze = |c: Rgba, k: f32| {
+            Rgba::new(
+                c.r + (SKY.r - c.r) * k,
+                c.g + (SKY.g - c.g) * k,
+                c.b + (SKY.b - c.b) * k,
+                1.0,
+            )
+        };
+        let (low, high, snow) = (
+            Rgba::from_srgb8(70, 104, 70),
+            Rgba::from_srgb8(108, 112, 128),
+            Rgba::from_srgb8(236, 240, 246),
+        );
+        let mut mesh = Mesh::default();
+        let (n, rows) = (Self::STEPS, Self::ROWS);
+        for i in 0..n {
+            let theta = i as f32 / n as f32 * std::f32::consts::TAU;
+            let ridge_r = 650.0 + 550.0 * ring(theta, 2.0, 11);
+            let height = 25.0 + 110.0 * ring(theta, 5.0, 23).powf(1.5);
+            let (foot_r, foot_y) = (ridge_r - 200.0, -60.0);
+            for j in 0..=rows {
+                let s = j as f32 / rows as f32;
+                let r = foot_r + (ridge_r - foot_r) * s;
+                let y = foot_y + (height - foot_y) * (1.0 - (1.0 - s) * (1.0 - s));
+                mesh.positions
+                    .push(Vec3::new(theta.sin() * r, y, -theta.cos() * r));
+                let up = ((y + 20.0) / 130.0).clamp(0.0, 1.0);
+                let mut c = Rgba::new(
+                    low.r + (high.r - low.r) * up,
+                    low.g + (high.g - low.g) * up,
+                    low.b + (high.b - low.b) * up,
+                    1.0,
+                );
+                if y > 95.0 {
+                    let k = ((y - 95.0) / 20.0).clamp(0.0, 1.0);
+                    c = Rgba::new(
+                        c.r + (snow.r - c.r) * k,
+                        c.g + (snow.g - c.g) * k,
+                        c.b + (snow.b - c.b) * k,
+                        1.0,
+                    );
+                }
+                mesh.colors.push(haze(c, 0.35 + 0.15 * (r - 450.0) / 750.0));
+            }
+        }
+        let stride = rows + 1;
+        for i in 0..n {
+            let (a, b) = (i * stride, (i + 1) % n * stride);
+            for j in 0..rows {
+                // Facing the centre (counter-clockwise seen from inside the ring).
+                mesh.indices
+                    .extend([a + j, b + j, a + j + 1, b + j, b + j + 1, a + j + 1]);
+            }
+        }
+        mesh.compute_normals();
+        let material = Material {
+            shading: Shading::Lit {
+                specular: 0.0,
+                shininess: 8.0,
+            },
+            ..Material::lit(Rgba::WHITE)
+        };
+        FarLand { mesh, material }
+    }
+
+    /// The ring as a draw.
+    pub(super) fn draw(&self) -> Draw<'_> {
+        Draw {
+            mesh: &self.mesh,
+            material: &self.material,
+            transform: Mat4::IDENTITY,
+        }
+    }
+}
 
 /// What the sky part showed in one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -40,7 +152,10 @@ pub struct SkyFrame {
     pub predicted_px: f32,
     /// The prediction for the panorama held before the frame, which decided re-capturing.
     pub before_px: f32,
+    /// Whether a re-capture was completed and swapped in this frame.
     pub recaptured: bool,
+    /// Faces of a re-capture taken this frame.
+    pub faces: usize,
     /// Captures so far (the first included).
     pub captures: u32,
     /// The share of the frame's pixels the panorama fills: what the near scene leaves and
@@ -69,6 +184,8 @@ impl SkyFrame {
             f.captures,
             if f.recaptured {
                 format!("  RE-CAPTURED, NOW {:.1} PX", f.predicted_px)
+            } else if f.faces > 0 {
+                format!("  CAPTURING AHEAD, {} FACES", f.faces)
             } else {
                 String::new()
             }
@@ -85,14 +202,16 @@ fn focal_px(camera: &Camera, width: u32) -> f32 {
 #[derive(Debug)]
 pub(super) struct SkyPart {
     pub(super) sky: Sky,
+    land: FarLand,
     width: u32,
     height: u32,
     focal: f32,
     /// Length of the eye's walk from the first capture point.
     walk: f32,
+    /// The walk's fraction at the last frame: the step to the next is taken as the last.
+    last_t: Option<f32>,
     capturer: Capturer,
-    /// The near scene, it with the panorama behind, and the whole geometry.
-    near: DepthImage,
+    /// The near scene with the panorama behind, and the whole geometry.
     image: DepthImage,
     truth: DepthImage,
     truth_rgba: Vec<u8>,
@@ -100,37 +219,50 @@ pub(super) struct SkyPart {
 }
 
 impl SkyPart {
-    pub(super) fn new(draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
+    /// The part for `w` x `h` frames; the panorama holds the far land, not `_draws` (the
+    /// plaza's scene, drawn as geometry).
+    pub(super) fn new(_draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
+        SkyPart::with_tolerance(lighting, w, h, SKY_TOLERANCE_PX)
+    }
+
+    /// With a tolerance other than [`SKY_TOLERANCE_PX`] (the tests' small images walk as
+    /// far as the showcase's at the same tolerances).
+    pub(super) fn with_tolerance(
+        lighting: &Lighting,
+        w: u32,
+        h: u32,
+        tolerance_px: f32,
+    ) -> SkyPart {
         let focal = focal_px(&showcase::camera(SKY_CENTRE, Vec3::NEG_Z, w, h), w);
-        // Faces about as sharp as the view: half a face spans the focal length. (Twice as
-        // sharp, up to 1024 texels, measured 24.1 / 19.9 dB mean / worst at 640x360
-        // against 22.8 / 20.2, for four times the capture: the worst frames are the
-        // parallax's, 5 px from the capture point, not the faces'.)
-        let size = ((2.0 * focal) as u32).clamp(64, 512);
+        // At least a texel per pixel of the view: half a face spans the focal length.
+        // (512 at most until session 11: 0.4 texels per pixel at 1280x720.)
+        let size = ((2.0 * focal).ceil() as u32).clamp(64, 1536);
+        let land = FarLand::new();
         let sky = Sky::new(
-            draws,
+            &[land.draw()],
             lighting,
             SKY_CENTRE,
             size,
-            (SPLIT - SEAM, FAR),
-            SKY_TOLERANCE_PX,
-        );
-        // The walk is set by the split (where the drawn geometry ends), not by the seam's
-        // nearer points, which the near scene covers where they show.
-        let walk = if sky.map.nearest().is_finite() {
-            SKY_WALK_TOLERANCES * SKY_TOLERANCE_PX * SPLIT / focal.max(1.0)
+            (SPLIT, LAND_FAR),
+            tolerance_px,
+        )
+        .spread(FACES_PER_FRAME);
+        let nearest = sky.map.nearest();
+        let walk = if nearest.is_finite() {
+            SKY_WALK_TOLERANCES * tolerance_px * nearest / focal.max(1.0)
         } else {
             1.0
         };
         let empty = DepthImage::new(0, 0, showcase::camera(SKY_CENTRE, Vec3::NEG_Z, w, h));
         SkyPart {
             sky,
+            land,
             width: w,
             height: h,
             focal,
-            walk: walk.clamp(0.1, 5.0),
+            walk: walk.clamp(0.1, 8.0),
+            last_t: None,
             capturer: Capturer::new(),
-            near: empty.clone(),
             image: empty.clone(),
             truth: empty,
             truth_rgba: Vec::new(),
@@ -138,22 +270,23 @@ impl SkyPart {
         }
     }
 
-    /// The eye and the point it looks at, a fraction `t` along the walk: sideways from the
-    /// capture point, looking out over the plaza and turning a little.
+    /// The eye and the point it looks at, a fraction `t` along the walk (past 1 for where
+    /// it would go on): sideways from the capture point, looking out over the plaza and
+    /// turning a little.
     fn pose(&self, t: f32) -> (Vec3, Vec3) {
         let eye = SKY_CENTRE + Vec3::X * (self.walk * t);
         let dir = Quat::from_rotation_y(0.15 - 0.3 * t) * Vec3::new(0.3, -0.1, -1.0);
         (eye, eye + dir)
     }
 
-    /// The near scene drawn, the panorama behind it (captured again first if needed), and
-    /// the whole geometry from the same eye to measure it against.
-    /// The last frame's geometry as RGBA8 over the sky, and the far scene's pixels it is
-    /// measured over (for its flicker).
+    /// The last frame's geometry as RGBA8 over the sky, and the far pixels it is measured
+    /// over (for its flicker).
     pub(super) fn truth_and_mask(&self) -> (Vec<u8>, Vec<bool>) {
         (self.truth_rgba.clone(), self.mask.clone())
     }
 
+    /// The near scene drawn, the panorama behind it (its re-capture's next faces taken
+    /// first), and the whole geometry from the same eye to measure it against.
     pub(super) fn frame(
         &mut self,
         draws: &[Draw<'_>],
@@ -163,44 +296,47 @@ impl SkyPart {
     ) -> SkyFrame {
         let (w, h) = (self.width, self.height);
         let (eye, at) = self.pose(t);
-        let camera = showcase::camera(eye, at, w, h);
+        // Where the eye will be when a re-capture started now is complete.
+        let step = self.last_t.map_or(0.0, |last| (t - last).max(0.0));
+        self.last_t = Some(t);
+        let ahead = self.pose(t + step * self.sky.lead() as f32).0;
         let before_px = self.sky.map.predicted_px(eye, self.focal);
-        let recaptured = self.sky.update(draws, lighting, &camera, self.focal);
-        // Everything in the panorama's cube (half side SPLIT round its centre) is nearer
-        // than this: drawn, so nothing falls between the geometry and the panorama; what
-        // is drawn outside the cube is cleared, the panorama's (each point drawn once: the
-        // fence's copy in the panorama no longer shows through its drawn lattice's holes).
-        let reach = SPLIT * 3f32.sqrt() + (eye - self.sky.map.centre()).length();
-        let near = camera.with_depth_range(0.1, reach);
+        let land = [self.land.draw()];
+        let update = self.sky.update(&land, lighting, eye, ahead, self.focal);
+        let camera = showcase::camera(eye, at, w, h);
         let cap = &mut self.capturer;
-        cap.capture(draws.iter().copied(), &near, lighting, w, h, &mut self.near);
-        trim_beyond(&mut self.near, self.sky.map.centre(), SPLIT);
-        let measure = Instant::now();
         cap.capture(
             draws.iter().copied(),
             &camera,
             lighting,
             w,
             h,
-            &mut self.truth,
+            &mut self.image,
         );
-        let truth = measure.elapsed();
-        self.image.clone_from(&self.near);
-        self.sky.map.behind(&mut self.image);
+        // The far pixels: what the near scene leaves (before the panorama fills it) and
+        // the panorama or the geometry covers.
+        let measure = Instant::now();
+        let whole = camera.with_depth_range(0.1, LAND_FAR);
+        let all = draws.iter().copied().chain(land);
+        cap.capture(all, &whole, lighting, w, h, &mut self.truth);
         self.mask.clear();
+        self.mask
+            .extend(self.image.color.iter().map(|c| c.a <= 0.0));
+        let mut truth = measure.elapsed();
+        self.sky.map.behind(&mut self.image);
+        let measure = Instant::now();
         let (mut far, mut unfilled) = (0usize, 0u64);
-        for ((n, f), g) in self
-            .near
-            .color
-            .iter()
+        for ((m, f), g) in self
+            .mask
+            .iter_mut()
             .zip(&self.image.color)
             .zip(&self.truth.color)
         {
-            let sky = n.a <= 0.0 && (f.a > 0.0 || g.a > 0.0);
-            far += sky as usize;
+            *m = *m && (f.a > 0.0 || g.a > 0.0);
+            far += *m as usize;
             unfilled += (g.a > 0.0 && f.a <= 0.0) as u64;
-            self.mask.push(sky);
         }
+        truth += measure.elapsed();
         over_sky(&self.image, &mut out.rgba);
         let measure = Instant::now();
         over_sky(&self.truth, &mut self.truth_rgba);
@@ -215,7 +351,8 @@ impl SkyPart {
         SkyFrame {
             predicted_px: self.sky.map.predicted_px(eye, self.focal),
             before_px,
-            recaptured,
+            recaptured: update.swapped,
+            faces: update.faces,
             captures: self.sky.captures,
             far_share: far as f64 / (w as f64 * h as f64),
             error,

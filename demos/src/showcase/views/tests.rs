@@ -43,31 +43,6 @@ fn sky_walk(n: usize) -> Vec<(SkyFrame, bool)> {
 }
 
 #[test]
-fn the_sky_is_captured_again_past_its_tolerance_and_its_error_drops_after() {
-    let frames = sky_walk(8);
-    let mut last = frames[0].0;
-    for (k, &(f, _)) in frames.iter().enumerate() {
-        eprintln!("{k}: {f:?}");
-        assert_eq!(f.recaptured, f.before_px > SKY_TOLERANCE_PX, "frame {k}");
-        assert!(f.predicted_px <= SKY_TOLERANCE_PX, "frame {k}: {f:?}");
-        if f.recaptured {
-            // Captured at the eye: no parallax, and fewer wrong pixels than the frame
-            // before. (Measured: 60% and 58% wrong before the two re-captures, 31% after.)
-            assert!(f.predicted_px < 1e-3 && f.predicted_px < last.predicted_px);
-            let wrong = |f: SkyFrame| f.error.expect("measured").frac_over;
-            assert!(wrong(f) < wrong(last), "frame {k}: {f:?} after {last:?}");
-        } else if k > 0 {
-            assert!(
-                f.predicted_px > last.predicted_px,
-                "frame {k}: the eye moves on"
-            );
-        }
-        last = f;
-    }
-    assert!(last.captures >= 3, "{last:?}");
-}
-
-#[test]
 fn the_sky_fills_what_the_near_scene_leaves_and_its_error_is_measured() {
     for (k, (f, opaque)) in sky_walk(4).into_iter().enumerate() {
         assert!(opaque, "frame {k} has empty pixels");
@@ -79,7 +54,8 @@ fn the_sky_fills_what_the_near_scene_leaves_and_its_error_is_measured() {
             e.psnr_db.is_finite() && e.psnr_db > 10.0,
             "frame {k}: {e:?}"
         );
-        assert!(f.far_share > 0.1 && f.far_share < 0.5, "frame {k}: {f:?}");
+        // The far land's band along the horizon.
+        assert!(f.far_share > 0.02 && f.far_share < 0.3, "frame {k}: {f:?}");
     }
 }
 
@@ -251,23 +227,6 @@ fn the_layered_background_is_within_its_tolerance_at_the_headless_runs_steps() {
     }
 }
 
-#[test]
-fn the_sky_at_the_headless_runs_steps_recaptures_only_past_its_tolerance_and_says_so() {
-    let frames = sky_walk(4);
-    let recaptures = frames.iter().filter(|(f, _)| f.recaptured).count();
-    // Not every frame: the parallax grows past the tolerance once along the walk.
-    assert!((1..=2).contains(&recaptures), "{frames:?}");
-    for (k, (f, _)) in frames.iter().enumerate() {
-        assert_eq!(f.recaptured, f.before_px > SKY_TOLERANCE_PX, "frame {k}");
-        // The readout shows the parallax the decision acted on, not the 0 after it.
-        let shown = format!("PARALLAX {:.1} PX", f.before_px);
-        assert!(f.line().contains(&shown), "frame {k}: {}", f.line());
-        if k > 0 {
-            assert!(f.before_px > 0.5, "frame {k}: the eye moved: {f:?}");
-        }
-    }
-}
-
 /// Building the parts ahead ([`ViewsTour::prepare`]) changes nothing a frame shows, makes
 /// the panorama's first capture before any frame, and a second call builds nothing more.
 #[test]
@@ -336,4 +295,85 @@ fn the_morphs_left_edge_shows_what_the_geometry_shows() {
             "s {s:.2}: {now:?} against {then:?}"
         );
     }
+}
+
+/// The sky part alone at `w` x `h` with tolerance `tolerance_px`, its `n` frames along the
+/// walk.
+fn sky_part_walk(w: u32, h: u32, tolerance_px: f32, n: usize) -> Vec<SkyFrame> {
+    let scene = scene();
+    let draws: Vec<Draw<'_>> = scene.draws().collect();
+    let mut part = SkyPart::with_tolerance(&scene.lighting, w, h, tolerance_px);
+    let mut frame = Frame::default();
+    (0..n)
+        .map(|k| {
+            part.frame(
+                &draws,
+                &scene.lighting,
+                k as f32 / (n - 1) as f32,
+                &mut frame,
+            )
+        })
+        .collect()
+}
+
+/// Along eight frames of the walk (a tenth of a pixel's tolerance at this size walks as far
+/// as 3 px at 640x360): the re-capture begins two frames before the held panorama passes
+/// its tolerance, takes two faces a frame and no more, and is swapped in whole at the
+/// frame where it passes, the only frame the readout says so; never drawn past it.
+#[test]
+fn the_sky_re_captures_two_faces_a_frame_and_swaps_where_it_passes_its_tolerance() {
+    let tolerance = 0.3;
+    let frames = sky_part_walk(W, H, tolerance, 8);
+    let faces: Vec<usize> = frames.iter().map(|f| f.faces).collect();
+    for (k, f) in frames.iter().enumerate() {
+        eprintln!("{k}: {f:?}");
+        assert!(f.faces <= 2, "frame {k}: {f:?}");
+        assert_eq!(f.recaptured, f.before_px > tolerance, "frame {k}: {f:?}");
+        assert!(f.predicted_px <= tolerance, "frame {k}: {f:?}");
+        assert_eq!(
+            f.line().contains("RE-CAPTURED"),
+            f.recaptured,
+            "{}",
+            f.line()
+        );
+        let shown = format!("PARALLAX {:.1} PX", f.before_px);
+        assert!(f.line().contains(&shown), "frame {k}: {}", f.line());
+    }
+    // The eye moves on at an even pace: 1.25 tolerances over the walk, past it at 7/8.
+    assert_eq!(faces, [0, 0, 0, 0, 2, 2, 2, 0], "{frames:?}");
+    assert!(frames[6].recaptured && frames[6].predicted_px < 1e-2);
+    assert_eq!(frames[7].captures, 2);
+}
+
+/// The headless run's four sky frames: the re-capture spread over the last three, swapped
+/// at the last, where the held panorama passes its tolerance; no frame takes more than
+/// two faces.
+#[test]
+fn the_sky_at_the_headless_runs_steps_spreads_its_re_capture() {
+    let frames = sky_part_walk(W, H, 0.3, 4);
+    let faces: Vec<usize> = frames.iter().map(|f| f.faces).collect();
+    assert_eq!(faces, [0, 2, 2, 2], "{frames:?}");
+    let swaps: Vec<bool> = frames.iter().map(|f| f.recaptured).collect();
+    assert_eq!(swaps, [false, false, false, true], "{frames:?}");
+    assert!(
+        frames[3].before_px > 0.3 && frames[2].before_px <= 0.3,
+        "{frames:?}"
+    );
+}
+
+/// The panorama of the far land right where it was captured, at 320x180, against the
+/// whole geometry drawn from the same eye (an independent render: the ring's triangles
+/// rasterized in the view, not resampled from the cube's faces), over the pixels it
+/// fills: near the attraction's goals. (Measured: 29.6 dB over 1,316 pixels; what is left
+/// is on the ridges' outlines against the sky, resampled from a face of about a texel
+/// per pixel.)
+#[test]
+fn the_sky_fresh_from_its_capture_is_within_the_goals_against_the_geometry() {
+    let frames = sky_part_walk(320, 180, SKY_TOLERANCE_PX, 2);
+    let e = frames[0].error.expect("the far land is in view");
+    assert!(
+        frames[0].before_px < 1e-3 && frames[0].far_share > 0.02,
+        "{frames:?}"
+    );
+    assert!(e.psnr_db > 28.0, "{e:?}");
 }

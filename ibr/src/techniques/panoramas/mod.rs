@@ -24,6 +24,15 @@ const FACES: [(Vec3, Vec3); 6] = [
     (Vec3::NEG_Z, Vec3::Y),
 ];
 
+/// The six 90-degree cameras of a cube map at `centre` seeing from `near` to `far` along
+/// each face's axis, in [`CubeMap`]'s face order (+x, -x, +y, -y, +z, -z).
+fn face_cameras(centre: Vec3, near: f32, far: f32) -> [Camera; 6] {
+    FACES.map(|(dir, up)| {
+        Camera::look_at(centre, centre + dir, up, std::f32::consts::FRAC_PI_2, 1.0)
+            .with_depth_range(near.max(1e-4), far.max(near * 2.0))
+    })
+}
+
 /// A cube map: six square views from one centre, with depth (for the error prediction).
 #[derive(Clone, Debug)]
 pub struct CubeMap {
@@ -49,14 +58,25 @@ impl CubeMap {
         near: f32,
         far: f32,
     ) -> CubeMap {
-        let cameras: Vec<Camera> = FACES
-            .iter()
-            .map(|&(dir, up)| {
-                Camera::look_at(centre, centre + dir, up, std::f32::consts::FRAC_PI_2, 1.0)
-                    .with_depth_range(near.max(1e-4), far.max(near * 2.0))
-            })
-            .collect();
-        let faces = capture_batch(draws, &cameras, lighting, size, size);
+        let faces = capture_batch(
+            draws,
+            &face_cameras(centre, near, far),
+            lighting,
+            size,
+            size,
+        );
+        CubeMap::assemble(centre, faces)
+    }
+
+    /// The cube map of six faces captured from `centre` with [`face_cameras`] (in their
+    /// order), perhaps a few at a time ([`Sky`] spreads a re-capture over frames).
+    /// `None` unless there are six.
+    pub fn from_faces(centre: Vec3, faces: Vec<DepthImage>) -> Option<CubeMap> {
+        (faces.len() == FACES.len()).then(|| CubeMap::assemble(centre, faces))
+    }
+
+    /// The cube map of six faces (not checked).
+    fn assemble(centre: Vec3, faces: Vec<DepthImage>) -> CubeMap {
         let nearest = faces
             .iter()
             .flat_map(|f| f.depth.iter())
@@ -296,62 +316,8 @@ impl Cylinder {
     }
 }
 
-/// A panorama sky with a re-capture policy: drawn from where it was captured until the
-/// predicted error passes the tolerance, then captured again at the eye.
-#[derive(Clone, Debug)]
-pub struct Sky {
-    /// The cube map drawn, captured at its [`CubeMap::centre`].
-    pub map: CubeMap,
-    /// Re-capture past this many pixels of predicted error.
-    pub tolerance_px: f32,
-    /// Side of each cube face of a capture, pixels.
-    pub size: u32,
-    /// Near distance of a capture, world units.
-    pub near: f32,
-    /// Far distance of a capture, world units.
-    pub far: f32,
-    /// Captures made (the first included).
-    pub captures: u32,
-}
-
-impl Sky {
-    /// Captures the first panorama at `eye`.
-    pub fn new(
-        draws: &[Draw<'_>],
-        lighting: &Lighting,
-        eye: Vec3,
-        size: u32,
-        (near, far): (f32, f32),
-        tolerance_px: f32,
-    ) -> Sky {
-        Sky {
-            map: CubeMap::capture(draws, lighting, eye, size, near, far),
-            tolerance_px,
-            size,
-            near,
-            far,
-            captures: 1,
-        }
-    }
-
-    /// Before drawing from `camera` (`focal_px` pixels per unit of tangent): re-captures at
-    /// its eye when the predicted error there passes the tolerance. Returns whether it did.
-    pub fn update(
-        &mut self,
-        draws: &[Draw<'_>],
-        lighting: &Lighting,
-        camera: &Camera,
-        focal_px: f32,
-    ) -> bool {
-        let eye = camera.eye();
-        if self.map.predicted_px(eye, focal_px) <= self.tolerance_px {
-            return false;
-        }
-        self.map = CubeMap::capture(draws, lighting, eye, self.size, self.near, self.far);
-        self.captures += 1;
-        true
-    }
-}
+mod sky;
+pub use sky::{Sky, SkyStep};
 
 #[cfg(test)]
 mod tests;

@@ -75,10 +75,16 @@ fn the_sky_is_captured_again_when_the_predicted_error_passes_the_tolerance() {
         let lighting = Lighting::default();
         let mut sky = Sky::new(draws, &lighting, CENTRE, 64, (0.1, 50.0), 4.0);
         let near = looking(CENTRE + Vec3::new(0.01, 0.0, 0.0), Vec3::NEG_Z);
-        assert!(!sky.update(draws, &lighting, &near, focal()));
+        assert!(
+            !sky.update(draws, &lighting, near.eye(), near.eye(), focal())
+                .swapped
+        );
         let far = looking(CENTRE + Vec3::new(0.8, 0.0, 0.0), Vec3::NEG_Z);
         assert!(sky.map.predicted_px(far.eye(), focal()) > 4.0);
-        assert!(sky.update(draws, &lighting, &far, focal()));
+        assert!(
+            sky.update(draws, &lighting, far.eye(), far.eye(), focal())
+                .swapped
+        );
         assert_eq!(sky.captures, 2);
         assert!((sky.map.centre() - far.eye()).length() < 1e-5);
         assert_eq!(sky.map.predicted_px(far.eye(), focal()), 0.0);
@@ -99,7 +105,10 @@ fn moves_smaller_than_the_tolerance_never_capture_again() {
             let eye = CENTRE + Vec3::new(0.9 * allowed * k as f32 / 20.0, 0.0, 0.0);
             let predicted = sky.map.predicted_px(eye, focal());
             assert!(predicted > last && predicted < 4.0, "step {k}: {predicted}");
-            assert!(!sky.update(draws, &lighting, &looking(eye, Vec3::NEG_Z), focal()));
+            assert_eq!(
+                sky.update(draws, &lighting, eye, eye, focal()),
+                SkyStep::default()
+            );
             last = predicted;
         }
         assert_eq!(sky.captures, 1);
@@ -192,7 +201,8 @@ fn after_a_large_translation_the_error_is_reported_not_garbage() {
         // A sky with a tolerance captures again rather than show that.
         let mut sky = Sky::new(draws, &Lighting::default(), CENTRE, 64, (0.1, 50.0), 4.0);
         let far = looking(CENTRE + Vec3::new(12.0, 3.0, 0.0), Vec3::NEG_Z);
-        assert!(sky.update(draws, &Lighting::default(), &far, focal()));
+        let step = sky.update(draws, &Lighting::default(), far.eye(), far.eye(), focal());
+        assert!(step.swapped && step.faces == 6, "{step:?}");
         assert_eq!(sky.captures, 2);
     });
 }
@@ -233,5 +243,71 @@ fn trimming_keeps_exactly_the_points_inside_the_cube() {
         }
         assert_eq!(gone, cleared);
         assert!(kept > 100 && gone > 100, "{kept} kept, {gone} cleared");
+    });
+}
+
+/// A re-capture spread two faces an update: started where the eye will be when the held
+/// panorama's parallax there passes the tolerance, two faces each update and never more,
+/// the held panorama drawn until all six are there, then swapped whole; the faces equal
+/// those of a capture made at once from the same point.
+#[test]
+fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
+    with_draws(|draws| {
+        let lighting = Lighting::default();
+        let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(2);
+        assert_eq!(sky.lead(), 2);
+        // Steps of a third of the tolerance (and a little): the eye `lead` steps ahead
+        // passes it first at step 1, the eye itself at step 3.
+        let step = sky.tolerance_px / 3.0 * sky.map.nearest() / focal();
+        let at = |k: usize| CENTRE + Vec3::new(step * k as f32 * 1.01, 0.0, 0.0);
+        let mut steps = Vec::new();
+        let mut first = None;
+        for k in 0..8 {
+            let (before, pending) = (sky.map.centre(), sky.pending_faces());
+            let s = sky.update(draws, &lighting, at(k), at(k + sky.lead()), focal());
+            assert!(s.faces <= 2, "step {k}: {s:?}");
+            if s.swapped {
+                assert_eq!(pending, Some(4), "step {k}");
+                assert!(sky.pending_faces().is_none());
+                assert!(sky.map.predicted_px(at(k), focal()) < 1e-3, "step {k}");
+                first.get_or_insert_with(|| sky.map.clone());
+            } else {
+                assert_eq!(sky.map.centre(), before, "step {k}: drawn before complete");
+            }
+            steps.push(s);
+        }
+        let faces: Vec<usize> = steps.iter().map(|s| s.faces).collect();
+        let swaps: Vec<usize> = (0..8).filter(|&k| steps[k].swapped).collect();
+        // Every three steps, swapped where the held panorama passes the tolerance.
+        assert_eq!(faces, [0, 2, 2, 2, 2, 2, 2, 2], "{steps:?}");
+        assert_eq!(swaps, [3, 6], "{steps:?}");
+        assert_eq!(sky.captures, 3);
+        // The faces spread over three updates are those of one capture from there.
+        let at_once = CubeMap::capture(draws, &lighting, at(3), 32, 0.1, 50.0);
+        let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
+        let spread = first.expect("swapped").view(&camera, W, H);
+        assert_eq!(spread.color, at_once.view(&camera, W, H).color);
+    });
+}
+
+/// An eye outrunning the spread (past the tolerance at once) has all the faces left
+/// captured in that update rather than be drawn past its tolerance.
+#[test]
+fn an_eye_outrunning_the_spread_captures_what_is_left_at_once() {
+    with_draws(|draws| {
+        let lighting = Lighting::default();
+        let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(1);
+        let allowed = sky.tolerance_px * sky.map.nearest() / focal();
+        let near = CENTRE + Vec3::X * (0.5 * allowed);
+        let ahead = CENTRE + Vec3::X * (1.5 * allowed);
+        let s = sky.update(draws, &lighting, near, ahead, focal());
+        assert_eq!(
+            (s.faces, s.swapped, sky.pending_faces()),
+            (1, false, Some(1))
+        );
+        let s = sky.update(draws, &lighting, ahead, ahead, focal());
+        assert_eq!((s.faces, s.swapped), (5, true), "{s:?}");
+        assert!(sky.map.predicted_px(ahead, focal()) < 1e-3);
+        assert_eq!(sky.captures, 2);
     });
 }

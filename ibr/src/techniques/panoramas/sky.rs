@@ -1,0 +1,164 @@
+//! The panorama sky's re-capture policy: a [`CubeMap`] drawn from where it was captured
+//! until its predicted parallax passes a tolerance, and captured again where the eye will
+//! be, a few faces a frame, started ahead of the tolerance so that the new panorama is
+//! complete, and swapped in whole, when the old one's parallax passes it. Only when the
+//! eye outruns the spread (its parallax past the tolerance with faces still to capture)
+//! are the faces left captured at once. A panorama is never drawn with faces from two
+//! centres.
+
+use super::{face_cameras, CubeMap};
+use crate::core::{capture_batch, DepthImage};
+use engine::{Draw, Lighting};
+use glam::Vec3;
+
+/// Faces in a cube map.
+const FACES: usize = 6;
+
+/// What one [`Sky::update`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SkyStep {
+    /// Faces captured in this update (0 to 6).
+    pub faces: usize,
+    /// Whether a re-capture was completed in this update and is drawn from now on.
+    pub swapped: bool,
+}
+
+/// A re-capture under way: where from, and the faces captured so far (in face order).
+#[derive(Clone, Debug)]
+struct Pending {
+    centre: Vec3,
+    faces: Vec<DepthImage>,
+}
+
+/// A panorama sky with a re-capture policy (module docs).
+#[derive(Clone, Debug)]
+pub struct Sky {
+    /// The cube map drawn, captured at its [`CubeMap::centre`].
+    pub map: CubeMap,
+    /// Re-capture past this many pixels of predicted error.
+    pub tolerance_px: f32,
+    /// Side of each cube face of a capture, pixels.
+    pub size: u32,
+    /// Near distance of a capture, world units.
+    pub near: f32,
+    /// Far distance of a capture, world units.
+    pub far: f32,
+    /// Captures completed (the first included).
+    pub captures: u32,
+    /// Faces a re-capture takes an update while it is spread (1 to 6; 6 is all at once).
+    faces_per_update: usize,
+    pending: Option<Pending>,
+}
+
+impl Sky {
+    /// Captures the first panorama at `eye`; re-captures take all six faces at once until
+    /// [`Sky::spread`] says otherwise.
+    pub fn new(
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        eye: Vec3,
+        size: u32,
+        (near, far): (f32, f32),
+        tolerance_px: f32,
+    ) -> Sky {
+        Sky {
+            map: CubeMap::capture(draws, lighting, eye, size, near, far),
+            tolerance_px,
+            size,
+            near,
+            far,
+            captures: 1,
+            faces_per_update: FACES,
+            pending: None,
+        }
+    }
+
+    /// Spreads re-captures over updates, `faces` faces each (clamped to 1 to 6).
+    pub fn spread(mut self, faces: usize) -> Sky {
+        self.faces_per_update = faces.clamp(1, FACES);
+        self
+    }
+
+    /// Updates a re-capture started now takes after this one to complete: how far ahead
+    /// the `ahead` eye of [`Sky::update`] should be.
+    pub fn lead(&self) -> usize {
+        FACES.div_ceil(self.faces_per_update) - 1
+    }
+
+    /// Faces of the re-capture under way captured so far; `None` when there is none.
+    pub fn pending_faces(&self) -> Option<usize> {
+        self.pending.as_ref().map(|p| p.faces.len())
+    }
+
+    /// Before drawing from `eye` (`focal_px` pixels per unit of tangent), with the eye
+    /// expected at `ahead` [`Sky::lead`] updates later. Starts a re-capture at `ahead` when
+    /// the held panorama's predicted parallax there passes the tolerance (at `eye` when it
+    /// already does there), captures the next faces of one under way, all that are left
+    /// when the parallax at `eye` passes the tolerance, and swaps the new panorama in when
+    /// its six faces are there.
+    pub fn update(
+        &mut self,
+        draws: &[Draw<'_>],
+        lighting: &Lighting,
+        eye: Vec3,
+        ahead: Vec3,
+        focal_px: f32,
+    ) -> SkyStep {
+        let tolerance = self.tolerance_px;
+        let over = self.map.predicted_px(eye, focal_px) > tolerance;
+        // A re-capture under way from where the eye no longer is (it turned back) would be
+        // as wrong as the held one: started again at the eye.
+        let stale = self.pending.as_ref().is_some_and(|p| {
+            let nearest = self.map.nearest();
+            over && nearest.is_finite()
+                && focal_px * (eye - p.centre).length() / nearest > tolerance
+        });
+        if stale {
+            self.pending = None;
+        }
+        if self.pending.is_none() {
+            let centre = if over {
+                eye
+            } else if self.map.predicted_px(ahead, focal_px) > tolerance {
+                ahead
+            } else {
+                return SkyStep::default();
+            };
+            self.pending = Some(Pending {
+                centre,
+                faces: Vec::with_capacity(FACES),
+            });
+        }
+        let Some(pending) = self.pending.as_mut() else {
+            return SkyStep::default();
+        };
+        let from = pending.faces.len();
+        let to = if over {
+            FACES
+        } else {
+            (from + self.faces_per_update).min(FACES)
+        };
+        let cameras = face_cameras(pending.centre, self.near, self.far);
+        let faces = capture_batch(draws, &cameras[from..to], lighting, self.size, self.size);
+        pending.faces.extend(faces);
+        let step = SkyStep {
+            faces: to - from,
+            swapped: false,
+        };
+        if pending.faces.len() < FACES {
+            return step;
+        }
+        let Some(Pending { centre, faces }) = self.pending.take() else {
+            return step;
+        };
+        let Some(map) = CubeMap::from_faces(centre, faces) else {
+            return step;
+        };
+        self.map = map;
+        self.captures += 1;
+        SkyStep {
+            swapped: true,
+            ..step
+        }
+    }
+}
