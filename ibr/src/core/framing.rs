@@ -124,3 +124,18 @@ pub(crate) fn pull_near<S: Subject>(s: &S, eye: Vec3) -> Mat4 {
     let k = (nearest / dist).clamp(0.05, 1.0);
     Mat4::from_translation(eye) * Mat4::from_scale(Vec3::splat(k)) * Mat4::from_translation(-eye)
 }
+
+/// Appends to `out` the triangles of a grid of `cols` x `rows` cells whose vertices are
+/// laid out row by row from `base` (`cols + 1` to a row, rows growing downward as image
+/// rows do): each cell as bottom-left, bottom-right, top-right and bottom-left, top-right,
+/// top-left, counter-clockwise as seen. Relief images and billboard sprites stand on such
+/// grids.
+pub(crate) fn grid_triangles(cols: u32, rows: u32, base: u32, out: &mut Vec<u32>) {
+    let at = |x: u32, y: u32| base + y * (cols + 1) + x;
+    for y in 0..rows {
+        for x in 0..cols {
+            let (a, b, c, d) = (at(x, y + 1), at(x + 1, y + 1), at(x + 1, y), at(x, y));
+            out.extend_from_slice(&[a, b, c, a, c, d]);
+        }
+    }
+}

@@ -223,18 +223,8 @@ impl ViewAtlas {
                     mesh.colors.push(b.tint);
                 }
             }
-            for gy in 0..RELIEF as u32 - 1 {
-                for gx in 0..RELIEF as u32 - 1 {
-                    let at = |x: u32, y: u32| base + y * RELIEF as u32 + x;
-                    let (a, b, c, d) = (
-                        at(gx, gy + 1),
-                        at(gx + 1, gy + 1),
-                        at(gx + 1, gy),
-                        at(gx, gy),
-                    );
-                    mesh.indices.extend_from_slice(&[a, b, c, a, c, d]);
-                }
-            }
+            let cells = RELIEF as u32 - 1;
+            crate::core::grid_triangles(cells, cells, base, &mut mesh.indices);
             n += 1;
         }
         n

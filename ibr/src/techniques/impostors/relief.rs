@@ -120,19 +120,7 @@ pub(super) fn write(c: &Capture, g: &Grid, m: &mut Mesh) -> f32 {
             m.uvs.push(uv);
         }
     }
-    let at = |x: u32, y: u32| y * (nx + 1) + x;
-    for gy in 0..ny {
-        for gx in 0..nx {
-            // Bottom-left, bottom-right, top-right, top-left as seen (v grows downward).
-            let (a, b, c, d) = (
-                at(gx, gy + 1),
-                at(gx + 1, gy + 1),
-                at(gx + 1, gy),
-                at(gx, gy),
-            );
-            m.indices.extend_from_slice(&[a, b, c, a, c, d]);
-        }
-    }
+    crate::core::grid_triangles(nx, ny, 0, &mut m.indices);
     (rect.width as f32 / side) * (rect.height as f32 / side)
 }
 

@@ -46,6 +46,33 @@ fn wrong_pixels(image: &Target, truth: &Target) -> usize {
         .count()
 }
 
+/// `subject` captured from `capture` as one impostor drawn on `shape` (alpha cut at 0.5),
+/// then drawn from `cam` with `beside` as geometry: the frame and its depth image.
+fn shape_frame(
+    subject: &[MeshGroup],
+    shape: Shape,
+    capture: &Camera,
+    cam: &Camera,
+    beside: Option<&MeshGroup>,
+    size: (u32, u32),
+) -> (Target, Vec<f32>) {
+    let mut subjects = subject.to_vec();
+    let mut imps = set(1, 1);
+    imps.shape = shape;
+    imps.density = 2.0;
+    imps.update(&mut subjects, capture, size.1, &lighting());
+    let slot = imps.impostors[0].slot.expect("captured");
+    imps.pool
+        .set_alpha(slot, engine::AlphaMode::Mask { cutoff: 0.5 });
+    let mut draws = Vec::new();
+    imps.draws_near(&subjects, cam.eye(), &mut draws);
+    assert_eq!(draws.len(), 1, "drawn as its image");
+    if let Some(g) = beside {
+        g.draws(&mut draws);
+    }
+    frame(draws, cam, size)
+}
+
 #[test]
 fn reliefs_and_boxes_stand_at_their_subjects_depth_and_let_nearer_geometry_show() {
     // A box turned 45 degrees, one vertical edge toward the eye, and a pole in front of
@@ -74,19 +101,8 @@ fn reliefs_and_boxes_stand_at_their_subjects_depth_and_let_nearer_geometry_show(
     let (truth, truth_depth) = frame(truth_draws, &cam, size);
     let mut shown = Vec::new();
     for shape in [Shape::Quad, Shape::Relief] {
-        let mut subjects = subject.clone();
-        let mut imps = set(1, 1);
-        imps.shape = shape;
-        imps.density = 2.0;
-        imps.update(&mut subjects, &cam_at(capture_eye), size.1, &lighting());
-        let slot = imps.impostors[0].slot.expect("captured");
-        imps.pool
-            .set_alpha(slot, engine::AlphaMode::Mask { cutoff: 0.5 });
-        let mut draws = Vec::new();
-        imps.draws_near(&subjects, cam.eye(), &mut draws);
-        assert_eq!(draws.len(), 1, "drawn as its image");
-        pole.draws(&mut draws);
-        let (image, depth) = frame(draws, &cam, size);
+        let capture = cam_at(capture_eye);
+        let (image, depth) = shape_frame(&subject, shape, &capture, &cam, Some(&pole), size);
         // Mean depth error over the subject's pixels both draw (the pole's excluded: it is
         // geometry in both).
         let (mut sum, mut n) = (0.0f64, 0usize);
@@ -133,18 +149,9 @@ fn box_against_relief(capture_eye: Vec3, eye: Vec3) -> (usize, usize, usize) {
     let covered = wrong_pixels(&truth, &frame(Vec::new(), &cam, size).0);
     let mut wrong = [0; 2];
     for (k, shape) in [Shape::Relief, Shape::Box].into_iter().enumerate() {
-        let mut subjects = subject.clone();
-        let mut imps = set(1, 1);
-        imps.shape = shape;
-        imps.density = 2.0;
-        imps.update(&mut subjects, &cam_at(capture_eye), size.1, &lighting());
-        let slot = imps.impostors[0].slot.expect("captured");
-        imps.pool
-            .set_alpha(slot, engine::AlphaMode::Mask { cutoff: 0.5 });
-        let mut draws = Vec::new();
-        imps.draws_near(&subjects, cam.eye(), &mut draws);
-        assert_eq!(draws.len(), 1, "drawn as its image");
-        wrong[k] = wrong_pixels(&frame(draws, &cam, size).0, &truth);
+        let capture = cam_at(capture_eye);
+        let image = shape_frame(&subject, shape, &capture, &cam, None, size).0;
+        wrong[k] = wrong_pixels(&image, &truth);
     }
     (covered, wrong[0], wrong[1])
 }
