@@ -29,7 +29,6 @@ fn quad() -> Mesh {
 /// Renders the walls `(distance, material)` in the order given on `threads` threads.
 fn check(walls: &[(f32, &Material)], threads: usize) -> (Target, FrameStats) {
     let mesh = quad();
-    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
     let draws: Vec<Draw<'_>> = walls
         .iter()
         .map(|&(d, material)| Draw {
@@ -38,15 +37,25 @@ fn check(walls: &[(f32, &Material)], threads: usize) -> (Target, FrameStats) {
             transform: wall(d),
         })
         .collect();
+    render_with(&mut Renderer::new(), draws, threads)
+}
+
+/// Renders `draws` with `renderer` on `threads` threads into a `SIZE` square, seen from 5
+/// units along +z looking at the origin (the walls' camera; the pre-pass tests' too).
+pub(super) fn render_with(
+    renderer: &mut Renderer,
+    draws: Vec<Draw<'_>>,
+    threads: usize,
+) -> (Target, FrameStats) {
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("pool");
     let mut target = Target::new(SIZE, SIZE);
     let opts = FrameOptions::default();
-    let stats = pool.install(|| {
-        Renderer::new().render(draws, &camera, &Lighting::default(), &mut target, &opts)
-    });
+    let stats =
+        pool.install(|| renderer.render(draws, &camera, &Lighting::default(), &mut target, &opts));
     (target, stats)
 }
 

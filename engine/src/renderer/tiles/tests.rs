@@ -2,10 +2,7 @@
 //! behind, blended draws over the same opaque result, and the pixels, depths and written
 //! counts of the one-pass path at any thread count.
 
-use crate::{
-    AlphaMode, Camera, Draw, FrameOptions, FrameStats, Lighting, Material, Mesh, Renderer, Rgba,
-    Target, Texture,
-};
+use crate::{AlphaMode, Draw, FrameStats, Material, Mesh, Renderer, Rgba, Target, Texture};
 use glam::{Mat4, Vec2, Vec3};
 use std::sync::Arc;
 
@@ -36,27 +33,12 @@ fn stack(n: usize) -> Mesh {
     m
 }
 
-/// Renders `draws` with the pre-pass on or off, on `threads` threads.
+/// Renders `draws` with the pre-pass on or off, on `threads` threads (the renderer tests'
+/// camera and target).
 fn render(draws: &[Draw<'_>], prepass: bool, threads: usize) -> (Target, FrameStats) {
-    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
-    let mut target = Target::new(SIZE, SIZE);
-    let opts = FrameOptions::default();
     let mut renderer = Renderer::new();
     renderer.set_visibility_prepass(prepass);
-    let stats = pool.install(|| {
-        renderer.render(
-            draws.iter().cloned(),
-            &camera,
-            &Lighting::default(),
-            &mut target,
-            &opts,
-        )
-    });
-    (target, stats)
+    crate::renderer::tests::render_with(&mut renderer, draws.to_vec(), threads)
 }
 
 /// The pre-pass against the one-pass reference: same colours and depths on 1 and 2 threads;
