@@ -72,6 +72,6 @@ pub use pass::{
 };
 pub use renderer::{Cull, FrameOptions, Renderer, StageTimes};
 pub use scene::{Draw, Instance, Scene};
-pub use stats::FrameStats;
+pub use stats::{DrawCost, FrameStats};
 pub use target::Target;
 pub use texture::{Filter, Sampler, Texture, Wrap};

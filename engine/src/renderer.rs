@@ -21,7 +21,7 @@ use crate::scene::{Draw, Scene};
 use crate::shade::{ColorShader, ConstShader};
 use crate::space::Viewport;
 use crate::state::{DrawInfo, Kind, PixelMode};
-use crate::stats::FrameStats;
+use crate::stats::{DrawCost, FrameStats};
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::tile::TileBuf;
 use crate::vertex::{self, Layout, VertexPos};
@@ -29,15 +29,15 @@ use glam::{BVec3, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-use tiles::{prepass_allowed, TileFrame};
+use tiles::{prepass_allowed, Counters, TileFrame};
 
-/// One worker thread's tile memory and counters, on cache lines of its own: the raster
+/// One worker thread's tile memory and counters (each draw's cost too, when counted), on cache lines of its own: the raster
 /// stage updates them for every triangle and row, and a neighbour on the same line would
 /// make the other core's reads of its own fields miss. (Counters are integer sums, so
 /// which worker counted a tile does not change the frame's totals.)
 #[derive(Debug, Default)]
 #[repr(align(128))]
-struct Worker(Mutex<(TileBuf, FrameStats, StageTimes)>);
+struct Worker(Mutex<(TileBuf, FrameStats, StageTimes, Vec<DrawCost>)>);
 
 /// Where the last frame's time went, stage by stage: wall-clock time of the vertex and
 /// front-end (clip, set up, bin) stages and of the whole tile stage, and, within the tile
@@ -151,6 +151,10 @@ pub struct Renderer {
     times: StageTimes,
     /// Draw tiles with the visibility pre-pass (see [`Renderer::set_visibility_prepass`]).
     prepass: bool,
+    /// Count each draw's cost (see [`Renderer::set_draw_costs`]).
+    count_costs: bool,
+    /// The last frame's cost of each draw, in submission order (empty when not counted).
+    costs: Vec<DrawCost>,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -211,6 +215,20 @@ impl Renderer {
     /// Where the last frame's time went, stage by stage (for profiling).
     pub fn stage_times(&self) -> StageTimes {
         self.times
+    }
+
+    /// Counts what each draw costs in the tile stage from the next frame on (off by
+    /// default: two clock reads per triangle and tile). Read with
+    /// [`Renderer::draw_costs`]; pixels never depend on it.
+    pub fn set_draw_costs(&mut self, on: bool) {
+        self.count_costs = on;
+    }
+
+    /// The last frame's cost of each draw, in the order the draws were submitted (empty
+    /// unless [`Renderer::set_draw_costs`] turned the counting on). The fragment and row
+    /// counts sum to the frame's [`FrameStats`] and are the same at any thread count.
+    pub fn draw_costs(&self) -> &[DrawCost] {
+        &self.costs
     }
 
     /// Renders every instance of `scene` with its own lighting.
@@ -357,11 +375,12 @@ impl Renderer {
             ..Default::default()
         };
         for w in &mut self.workers {
-            let (_, stats, t) = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
+            let (_, stats, t, _) = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
             total += *stats;
             times.raster += t.raster;
             times.resolve += t.resolve;
         }
+        self.gather_costs(infos.len());
         self.infos = recycle(infos);
         self.last = total;
         self.times = times;
@@ -442,6 +461,10 @@ impl Renderer {
         for w in &mut self.workers {
             let state = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
             (state.1, state.2) = Default::default();
+            state.3.clear();
+            if self.count_costs {
+                state.3.resize(frame.infos.len(), DrawCost::default());
+            }
         }
         let tiles_x = target.tiles_x() as usize;
         let encoder = Encoder::new(target.encoding());
@@ -456,6 +479,7 @@ impl Renderer {
             eye: frame.camera.eye(),
             soft: &soft,
             prepass: self.prepass && frame.peel.is_none() && prepass_allowed(frame.infos),
+            costs: self.count_costs,
         };
         let (workers, peel) = (&self.workers[..], frame.peel);
         let (colors, depths) = target.storage_mut();
@@ -471,7 +495,7 @@ impl Renderer {
             .for_each(|(tile, (color, depth))| {
                 let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
                 let mut state = workers[w].0.lock().unwrap_or_else(|e| e.into_inner());
-                let (buf, stats, times) = &mut *state;
+                let (buf, stats, times, costs) = &mut *state;
                 let start = Instant::now();
                 match clear {
                     Some(c) => buf.clear(c),
@@ -491,12 +515,33 @@ impl Renderer {
                 }
                 let ox = ((tile % tiles_x) * TILE) as i32;
                 let oy = ((tile / tiles_x) * TILE) as i32;
-                tiles.raster(buf, tile, ox, oy, stats);
+                let mut counters = Counters { stats, costs };
+                tiles.raster(buf, tile, ox, oy, &mut counters);
                 let rastered = Instant::now();
                 buf.resolve(color, depth, &encoder);
                 times.raster += rastered - start;
                 times.resolve += rastered.elapsed();
             });
+    }
+
+    /// Sums the workers' per-draw costs, in worker order, into `self.costs`, back in
+    /// submission order (`order_draws` left the frame's order in `sort_keys`).
+    fn gather_costs(&mut self, n: usize) {
+        self.costs.clear();
+        if !self.count_costs {
+            return;
+        }
+        self.costs.resize(n, DrawCost::default());
+        for w in &mut self.workers {
+            let (_, _, _, costs) = w.0.get_mut().unwrap_or_else(|e| e.into_inner());
+            for (k, c) in costs.iter().enumerate() {
+                if let Some(&(_, _, submitted)) = self.sort_keys.get(k) {
+                    if let Some(slot) = self.costs.get_mut(submitted as usize) {
+                        *slot += *c;
+                    }
+                }
+            }
+        }
     }
 
     /// Opaque and alpha-tested draws first, near to far by the nearest view depth of their

@@ -3,6 +3,7 @@
 //! any thread count.
 
 use std::ops::AddAssign;
+use std::time::Duration;
 
 /// What one frame did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -66,5 +67,31 @@ impl AddAssign for FrameStats {
         self.blocks_full += o.blocks_full;
         self.blocks_partial += o.blocks_partial;
         self.blocks_hiz_rejected += o.blocks_hiz_rejected;
+    }
+}
+
+/// What one draw cost in the tile stage, read with [`crate::Renderer::draw_costs`] after
+/// [`crate::Renderer::set_draw_costs`] turned the counting on: which draws of a frame shade
+/// the most fragments, and how long their triangles took. The counts are integer sums, the
+/// same at any thread count; `raster` is wall-clock time summed over the workers (for
+/// profiling only, and itself slowed by the two clock reads per triangle and tile).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DrawCost {
+    /// Covered pixels of the draw that reached the per-pixel depth test.
+    pub fragments_tested: u64,
+    /// Fragments of the draw that passed the depth test and were shaded.
+    pub fragments_shaded: u64,
+    /// Rows of 8 lanes the draw's shader ran on.
+    pub rows_shaded: u64,
+    /// Time in the raster and shade of the draw's triangles, summed over the workers.
+    pub raster: Duration,
+}
+
+impl AddAssign for DrawCost {
+    fn add_assign(&mut self, o: Self) {
+        self.fragments_tested += o.fragments_tested;
+        self.fragments_shaded += o.fragments_shaded;
+        self.rows_shaded += o.rows_shaded;
+        self.raster += o.raster;
     }
 }

@@ -123,3 +123,54 @@ fn blended_draws_still_go_after_the_opaque_ones_far_to_near() {
     assert_eq!(s.fragments_shaded_blended, pixels, "{s:?}");
     assert_eq!(s.fragments_shaded, 2 * pixels, "{s:?}");
 }
+
+/// Each draw's cost, when counted: a wall shifted so that its corner sits on the view's
+/// centre covers one quarter of the target (32 x 32 pixels), and the full wall behind it,
+/// submitted first, shades the other three quarters; the costs come back in submission
+/// order, sum to the frame's totals, and are the same on 1 and 2 threads.
+#[test]
+fn draw_costs_count_each_draw_in_submission_order() {
+    let (far, near) = (colour(1), colour(2));
+    let mesh = quad();
+    let quarter = Mat4::from_translation(Vec3::new(4.0, 4.0, 0.0)) * wall(4.0);
+    let draws = || {
+        vec![
+            Draw {
+                mesh: &mesh,
+                material: &far,
+                transform: wall(6.0),
+            },
+            Draw {
+                mesh: &mesh,
+                material: &near,
+                transform: quarter,
+            },
+        ]
+    };
+    let pixels = (SIZE * SIZE) as u64;
+    let mut seen = Vec::new();
+    for threads in [1, 2] {
+        let mut renderer = Renderer::new();
+        render_with(&mut renderer, draws(), threads);
+        assert!(renderer.draw_costs().is_empty(), "not counted unless asked");
+        renderer.set_draw_costs(true);
+        let (_, stats) = render_with(&mut renderer, draws(), threads);
+        let costs = renderer.draw_costs().to_vec();
+        let shaded: Vec<u64> = costs.iter().map(|c| c.fragments_shaded).collect();
+        assert_eq!(shaded, [pixels * 3 / 4, pixels / 4], "{costs:?}");
+        let sum = |f: fn(&DrawCost) -> u64| costs.iter().map(f).sum::<u64>();
+        assert_eq!(sum(|c| c.fragments_shaded), stats.fragments_shaded);
+        assert_eq!(sum(|c| c.fragments_tested), stats.fragments_tested);
+        assert_eq!(sum(|c| c.rows_shaded), stats.rows_shaded);
+        seen.push(
+            costs
+                .iter()
+                .map(|c| DrawCost {
+                    raster: Duration::ZERO,
+                    ..*c
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    assert_eq!(seen[0], seen[1], "the same counts on 1 and 2 threads");
+}

@@ -26,9 +26,10 @@ use crate::raster::{raster_tri, DepthToView, Pass};
 use crate::setup::{Tri, CLIPPED};
 use crate::shade::GeneralShader;
 use crate::state::DrawInfo;
-use crate::stats::FrameStats;
+use crate::stats::{DrawCost, FrameStats};
 use crate::tile::TileBuf;
 use glam::Vec3;
+use std::time::Instant;
 
 /// How many triangles ahead the tile loop prefetches vertex varyings.
 const PREFETCH_AHEAD: usize = 4;
@@ -43,6 +44,15 @@ pub(super) struct TileFrame<'f, 'a> {
     pub(super) soft: &'f DepthToView,
     /// Whether tiles draw with the visibility pre-pass (see the module doc).
     pub(super) prepass: bool,
+    /// Whether each draw's cost is counted (`Renderer::set_draw_costs`).
+    pub(super) costs: bool,
+}
+
+/// A worker's counters for one tile: the frame's totals, and each draw's cost when
+/// counted (indexed by the draw's place in the frame's order).
+pub(super) struct Counters<'c> {
+    pub(super) stats: &'c mut FrameStats,
+    pub(super) costs: &'c mut [DrawCost],
 }
 
 /// Whether a frame's draws, in drawing order, allow the visibility pre-pass: every opaque
@@ -79,11 +89,11 @@ impl TileFrame<'_, '_> {
         tile: usize,
         ox: i32,
         oy: i32,
-        stats: &mut FrameStats,
+        counters: &mut Counters<'_>,
     ) {
         if !self.prepass {
             self.each(tile, |chunk, tri, _| {
-                self.draw(buf, ox, oy, chunk, tri, Pass::Full, stats);
+                self.draw(buf, ox, oy, chunk, tri, Pass::Full, counters);
             });
             return;
         }
@@ -94,7 +104,7 @@ impl TileFrame<'_, '_> {
                 AlphaMode::Blend => return,
                 AlphaMode::Mask { .. } | AlphaMode::Dither => Pass::Masked(id),
             };
-            self.draw(buf, ox, oy, chunk, tri, pass, stats);
+            self.draw(buf, ox, oy, chunk, tri, pass, counters);
         });
         self.each(tile, |chunk, tri, id| {
             let pass = match self.infos[tri.draw() as usize].mode.alpha {
@@ -102,7 +112,7 @@ impl TileFrame<'_, '_> {
                 AlphaMode::Blend => Pass::Full,
                 AlphaMode::Mask { .. } | AlphaMode::Dither => return,
             };
-            self.draw(buf, ox, oy, chunk, tri, pass, stats);
+            self.draw(buf, ox, oy, chunk, tri, pass, counters);
         });
     }
 
@@ -139,7 +149,7 @@ impl TileFrame<'_, '_> {
     }
 
     /// Draws one triangle into the tile in `pass`, with its draw's shader, and counts its
-    /// shaded fragments by kind.
+    /// shaded fragments by kind (and by draw, when counted).
     #[allow(clippy::too_many_arguments)] // reason: the tile's state and the triangle
     #[inline(always)]
     fn draw(
@@ -150,11 +160,13 @@ impl TileFrame<'_, '_> {
         chunk: &Chunk,
         tri: &Tri,
         pass: Pass,
-        stats: &mut FrameStats,
+        counters: &mut Counters<'_>,
     ) {
         let src = self.varyings(chunk, tri);
         let info = &self.infos[tri.draw() as usize];
         let (mode, soft) = (&info.mode, self.soft);
+        let stats = &mut *counters.stats;
+        let before = self.costs.then(|| (*stats, Instant::now()));
         let shaded = stats.fragments_shaded;
         match &info.kind {
             Kind::Const(s) => raster_tri(buf, ox, oy, tri, s, src, mode, soft, stats, pass),
@@ -174,6 +186,16 @@ impl TileFrame<'_, '_> {
         }
         if matches!(info.kind, Kind::General) {
             stats.fragments_shaded_general += shaded;
+        }
+        if let Some((b, start)) = before {
+            if let Some(c) = counters.costs.get_mut(tri.draw() as usize) {
+                *c += DrawCost {
+                    fragments_tested: stats.fragments_tested - b.fragments_tested,
+                    fragments_shaded: shaded,
+                    rows_shaded: stats.rows_shaded - b.rows_shaded,
+                    raster: start.elapsed(),
+                };
+            }
         }
     }
 }
