@@ -23,7 +23,7 @@ fn main() -> Result<(), String> {
             (x * 7) as u8,
             (x * 13) as u8,
             (s >> 24) as u8,
-            if x % 3 == 0 { 0 } else { 255 },
+            if x.is_multiple_of(3) { 0 } else { 255 },
         ]);
     }
     let tex = Texture::from_rgba8(w, h, &rgba, Encoding::Srgb).ok_or("texture size")?;
