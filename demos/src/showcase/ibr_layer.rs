@@ -29,14 +29,22 @@ pub const FOREST_TREES: usize = 2400;
 /// Side of each of a tree's baked views, texels (framing its bounding sphere).
 pub const SPRITE_PX: u32 = 256;
 /// Directions about the vertical each tree is baked from, evenly around it, at each of
-/// [`SPRITE_ELEVATIONS`]: a tree shows the side it is seen from (lit or in shade, and its
-/// own outline), the bake nearest the eye's direction (a single side bake showed its sunlit
-/// side from everywhere and lay down when seen from above: 14.6 dB against the meshes).
-pub const SPRITE_AZIMUTHS: usize = 12;
-/// Elevations (degrees) each tree is baked from, 10 apart: a view shown at most 5 degrees
-/// of elevation off (20 apart: 23.9 / 17.0 dB on the 640 x 360 tour, 10: 24.1 / 18.2, for
-/// about 100 MB more resident).
-pub const SPRITE_ELEVATIONS: [f32; 9] = [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0];
+/// [`SPRITE_ELEVATIONS`]: a tree shows the side it is seen from (lit or in shade), the bake
+/// nearest the eye's direction (a single side bake showed its sunlit side from everywhere
+/// and lay down when seen from above: 14.6 dB against the meshes). The trees are turned
+/// about the vertical ([`lathe`]), so the azimuth changes only their shading, never their
+/// outline: 8 azimuths (45 degrees apart) with elevations every 5 degrees measured 24.6 /
+/// 19.5 dB on the 640 x 360 tour, 12 every 10 degrees 24.8 / 18.2 (the trees at 32
+/// segments), for about the same memory (session 12).
+pub const SPRITE_AZIMUTHS: usize = 8;
+/// Elevations (degrees) each tree is baked from, 5 apart: a view shown at most 2.5 degrees
+/// of elevation off, where the turned crowns' outlines still change (10 apart: 24.8 / 18.2
+/// dB on the 640 x 360 tour with 12 azimuths; 5 apart with 12 azimuths 25.0 / 20.0 for
+/// 220 MB more resident).
+pub const SPRITE_ELEVATIONS: [f32; 18] = [
+    0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0,
+    80.0, 85.0,
+];
 /// A tree nearer the eye than this many of its quad's sides is drawn as its mesh: up
 /// close the quad through its centre no longer covers what the tree does in perspective
 /// (its near side reaches out toward the eye), and at 1280 x 720 and the showcase's field of
@@ -421,7 +429,8 @@ fn sphere_around(mesh: &Mesh) -> engine::Sphere {
     engine::Sphere { center, radius }
 }
 
-/// The billboard forest: a pine and a broadleaf tree, each baked from
+/// The billboard forest: a pine and a broadleaf tree, turned about the vertical
+/// ([`lathe::tree`]: alike from every side, the subject billboards suit), each baked from
 /// [`SPRITE_AZIMUTHS`] x [`SPRITE_ELEVATIONS`] directions under the scene's lighting
 /// ([`ViewAtlas`]), drawn on quads facing the eye through each tree's centre, showing the
 /// view baked nearest the eye's direction (set each frame in [`IbrLayer::render`]);
@@ -436,8 +445,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
     let mut trees = ForestGeometry::default();
     let elevations = SPRITE_ELEVATIONS.map(f32::to_radians);
     for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
-        let mut mesh: Mesh = procedural::tree(kind, 1.0, seed);
-        smooth_crown(&mut mesh);
+        let mesh = lathe::tree(kind, seed);
         let bounds = sphere_around(&mesh);
         let white = foliage(Rgba::WHITE);
         let lighting = bake_lighting(&scene.lighting);
@@ -533,52 +541,6 @@ pub fn bake_lighting(lighting: &Lighting) -> Lighting {
     }
 }
 
-/// Normals turned more than this (cosine) from a vertex's own are a crease: not averaged.
-const CREASE_COS: f32 = 0.5;
-
-/// Makes a faceted tree's crown a smooth-shaded mass, the game-art way: each vertex's
-/// normal the mean of the normals at its position within [`CREASE_COS`] of its own (a
-/// cone's base stays flat, its side round), and every leaf vertex (green over red) the
-/// crown's mean colour (no per-facet shade). Per-facet lighting is detail a sprite a few
-/// texels across cannot carry: mip-filtered in the bake and aliased in the mesh, the two
-/// never match (issue 39: most of the forest's error was inside the crowns). Bark keeps
-/// its colour; positions are untouched, so the outline is the same tree's.
-fn smooth_crown(mesh: &mut Mesh) {
-    let n = mesh.positions.len();
-    if mesh.normals.len() == n {
-        let key = |p: Vec3| (p * 1.0e4).round().to_array().map(|c| c as i64);
-        let mut at: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
-        for (i, p) in mesh.positions.iter().enumerate() {
-            at.entry(key(*p)).or_default().push(i);
-        }
-        let flat = mesh.normals.clone();
-        for (i, p) in mesh.positions.iter().enumerate() {
-            let own = flat[i];
-            let sum: Vec3 = at[&key(*p)]
-                .iter()
-                .map(|&j| flat[j])
-                .filter(|m| m.dot(own) >= CREASE_COS)
-                .sum();
-            mesh.normals[i] = sum.try_normalize().unwrap_or(own);
-        }
-    }
-    let leaf = |c: &Rgba| c.g > c.r;
-    let (sum, count) = mesh
-        .colors
-        .iter()
-        .filter(|c| leaf(c))
-        .fold(([0.0f32; 4], 0u32), |(s, k), c| {
-            ([s[0] + c.r, s[1] + c.g, s[2] + c.b, s[3] + c.a], k + 1)
-        });
-    if count > 0 {
-        let m = sum.map(|v| v / count as f32);
-        let mean = Rgba::new(m[0], m[1], m[2], m[3]);
-        for c in mesh.colors.iter_mut().filter(|c| leaf(c)) {
-            *c = mean;
-        }
-    }
-}
-
 /// The height of `mesh`'s finite vertices (at least 1e-3).
 fn mesh_height(mesh: &Mesh) -> f32 {
     let ys = mesh.positions.iter().filter(|p| p.is_finite()).map(|p| p.y);
@@ -586,5 +548,6 @@ fn mesh_height(mesh: &Mesh) -> f32 {
     (hi - lo).max(1e-3)
 }
 
+mod lathe;
 #[cfg(test)]
 mod tests;
