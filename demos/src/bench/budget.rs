@@ -249,6 +249,13 @@ fn scenes(settings: &Settings) -> Vec<Scene> {
 
 /// The world of `side` x `side` lots and its fly-over.
 fn world_scene(side: u32) -> Scene {
+    world_scene_flown(side, |w, f, n, size| {
+        w.camera(f as f32 / n.max(2) as f32 * 0.25, size)
+    })
+}
+
+/// The world of `side` x `side` lots flown by `camera` (the world, frame, frames, size).
+fn world_scene_flown(side: u32, camera: WorldFlight) -> Scene {
     let world = World::new(side, 11);
     let (objects, ground, lighting) = (
         world.objects.clone(),
@@ -260,18 +267,21 @@ fn world_scene(side: u32) -> Scene {
         objects,
         ground,
         lighting,
-        camera: Box::new(move |f, n, size| world.camera(f as f32 / n.max(2) as f32 * 0.25, size)),
+        camera: Box::new(move |f, n, size| camera(&world, f, n, size)),
     }
 }
+
+/// A flight over a [`World`]: its camera at frame `f` of `n` for a target of `size`.
+pub type WorldFlight = fn(&World, usize, usize, (u32, u32)) -> Camera;
 
 /// `bench objects`: per number of objects in `counts` (the world of the nearest square
 /// number of lots, the same mix of objects, so the same triangles per object on average),
 /// the geometry (up to `geometry_up_to` objects) and the per-node planner at each of
-/// `settings.budgets`, flown and measured as the budget sweep's runs.
+/// `settings.budgets`, flown by `flight` and measured as the budget sweep's runs.
 pub fn by_count(
     settings: &Settings,
-    counts: &[usize],
-    geometry_up_to: usize,
+    (counts, geometry_up_to): (&[usize], usize),
+    flight: WorldFlight,
     progress: &mut dyn FnMut(usize, usize, &str),
 ) -> Vec<Row> {
     let runs = counts
@@ -282,7 +292,7 @@ pub fn by_count(
     let mut rows = Vec::new();
     for &n in counts {
         let side = ((n as f64).sqrt().round() as u32).max(1);
-        let scene = world_scene(side);
+        let scene = world_scene_flown(side, flight);
         if n <= geometry_up_to {
             tick(format!("{n} objects: geometry"));
             let mut geometry = planner(&scene, settings, 0.0, false);

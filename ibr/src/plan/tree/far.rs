@@ -85,6 +85,10 @@ pub struct FarReport {
     pub mesh_triangles: usize,
     /// Tiles of the field being captured still to take.
     pub pending: usize,
+    /// Pixels of parallax at the shown field's distance as the eye moved from its eye
+    /// (0 with none shown): a re-capture starts only past [`FarConfig::parallax`] (or when
+    /// the view leaves the field).
+    pub parallax: f32,
 }
 
 /// One tile of a field: its pixel rectangle of the field's image and that as a mesh.
@@ -340,10 +344,15 @@ impl FarField {
             swaps: self.report.swaps,
             ..FarReport::default()
         };
-        let stale = self.shown.as_ref().is_none_or(|f| {
+        let parallax = self.shown.as_ref().map_or(0.0, |f| {
             let px_per_unit = px_per_radian(camera, size.1) / f.distance.max(1e-3);
-            f.eye.distance(camera.eye()) * px_per_unit > cfg.parallax || !f.covers(camera, size)
+            f.eye.distance(camera.eye()) * px_per_unit
         });
+        report.parallax = parallax;
+        let stale = self
+            .shown
+            .as_ref()
+            .is_none_or(|f| parallax > cfg.parallax || !f.covers(camera, size));
         if self.building.is_none() && stale {
             let field = Field::new(camera, size, &cfg);
             self.building = field.covers(camera, size).then_some(field);

@@ -118,3 +118,112 @@ fn the_split_sides_agree_with_their_objects() {
     assert_eq!(split.side(behind.0, behind.1), Side::Near);
     assert!(!split.is_far(behind));
 }
+
+/// `side` x `side` cubes of 12 triangles a unit apart on the ground, centred on the origin.
+fn cubes(side: usize) -> Vec<crate::core::MeshGroup> {
+    use crate::core::{MeshGroup, Part};
+    use std::sync::Arc;
+    let mesh = Arc::new(engine::procedural::cuboid(Vec3::splat(0.5)));
+    let material = Arc::new(engine::Material::default());
+    let h = side as f32 * 0.5;
+    (0..side * side)
+        .map(|k| {
+            let at = Vec3::new((k % side) as f32 - h, 0.25, (k / side) as f32 - h);
+            let place = glam::Mat4::from_translation(at);
+            MeshGroup {
+                parts: vec![Part::new(mesh.clone(), material.clone(), place)],
+                version: 0,
+            }
+        })
+        .collect()
+}
+
+/// The far field's pixels of parallax a unit of the eye's sideways move makes at its
+/// distance, for the tests' 320 x 180 frames (`plan`): from the camera's vertical field.
+fn px_per_unit(cam: &engine::Camera, distance: f32) -> f32 {
+    let [_, _, b, t] = cam.projection.extents();
+    let half = ((t - b) * 0.5 / cam.near_far().0).atan();
+    180.0 * 0.5 / half / distance
+}
+
+#[test]
+fn a_held_field_is_kept_within_its_parallax_and_its_recapture_completes_within_the_cap() {
+    use crate::core::{FrameView, MeshGroup, Representation};
+    // 2,304 cubes of 12 triangles; the far ones (a field of about 12,000 triangles) taken
+    // at most 1,500 triangles a frame, 1,500 while loading too, so every capture spans
+    // several frames.
+    let cap = 1_500;
+    let far = FarConfig {
+        triangles: cap,
+        loading_triangles: cap,
+        lod_px: 0.0,
+        ..far()
+    };
+    let config = TreeConfig {
+        far: Some(far),
+        ..TreeConfig::default()
+    };
+    let mut h = Hierarchy::new(config, cubes(48), |_| {
+        Vec::<Box<dyn Representation<Cluster<MeshGroup>>>>::new()
+    });
+    let mut x = -6.0;
+    let (mut first, mut started, mut done) = (None, None, None);
+    let mut held_frames = 0;
+    for f in 0..200 {
+        let cam = camera(Vec3::new(x, 12.0, 30.0), 48);
+        let lighting = engine::Lighting::default();
+        let r = h.plan(&FrameView::still(&cam, 320, 180, &lighting)).far;
+        // Every frame's capture within the cap (or one tile alone over it).
+        assert!(r.triangles <= cap || r.tiles == 1, "frame {f}: {r:?}");
+        // The parallax counted is the eye's move from the shown field's eye, in pixels
+        // (on a frame without captures, so without a swap since it was counted).
+        if let Some(split) = h.far().and_then(FarField::split).filter(|_| r.tiles == 0) {
+            let expect = split.eye.distance(cam.eye()) * px_per_unit(&cam, far.distance);
+            assert!(
+                (r.parallax - expect).abs() <= 1e-3 * expect.max(1.0),
+                "{f}: {r:?}"
+            );
+        }
+        match (first, started) {
+            // Loading: the first field, in several frames.
+            (None, _) if r.swaps == 1 => first = Some(f),
+            (None, _) => assert!(r.tiles > 0 && !r.shown, "frame {f}: {r:?}"),
+            (Some(_), None) if r.tiles == 0 => {
+                // Held, untouched, while within the parallax: no capture at all.
+                assert!(r.parallax <= far.parallax, "frame {f}: {r:?}");
+                assert_eq!((r.pending, r.swaps), (0, 1), "frame {f}");
+                held_frames += 1;
+            }
+            (Some(_), None) => {
+                // A re-capture starts only past the parallax.
+                assert!(r.parallax > far.parallax, "frame {f}: {r:?}");
+                started = Some(f);
+            }
+            (Some(_), Some(_)) if done.is_none() && r.swaps == 2 => done = Some(f),
+            _ => {}
+        }
+        if done.is_some() {
+            break;
+        }
+        // Slow, then past the parallax: a quarter of a pixel a frame until 40 frames after
+        // the first field (16 pixels from its eye at most), then two pixels a frame.
+        let step = if first.is_none_or(|s| f < s + 40) {
+            0.25
+        } else {
+            2.0
+        };
+        x += step / px_per_unit(&cam, far.distance);
+    }
+    let (first, started, done) = (
+        first.expect("a first field"),
+        started.expect("a re-capture"),
+        done.expect("the re-capture completed"),
+    );
+    assert!(first >= 3, "the first field in several frames: {first}");
+    assert!(held_frames >= 35, "{held_frames}");
+    // Completed within half as many frames again as the first field took, and a few.
+    assert!(
+        done - started <= first * 3 / 2 + 4,
+        "{first} {started} {done}"
+    );
+}
