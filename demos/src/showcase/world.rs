@@ -178,6 +178,14 @@ impl WorldTour {
         frames
     }
 
+    /// The world of [`SIDE`] x [`SIDE`] lots loaded for `width` x `height` frames
+    /// ([`WorldTour::load`]).
+    pub fn loaded(renderer: &mut Renderer, width: u32, height: u32) -> Self {
+        let mut tour = Self::new();
+        tour.load(renderer, width, height);
+        tour
+    }
+
     /// What the planner's last cut did.
     pub fn report(&self) -> &TreeReport {
         &self.planner.report
