@@ -249,10 +249,11 @@ pub fn far_config(height: u32) -> FarConfig {
 
 /// Triangles the far field's re-capture draws a frame after loading. A re-capture of the
 /// world's field is millions of triangles, a background task over many frames: at 150,000
-/// a frame it took 9 to 13 ms of a 640x360 frame's prepare (median, load 6 to 7; 1.4 to 2.1 ms at
-/// 50,000) and never completed in `bench budget`'s 24 frames either way, so the frame
-/// pays a third as much for a refresh that completes three times later (about 55 tiles
-/// pending at 50,000, one a frame; BENCHMARKS.md, issue 41, session 12).
+/// a frame it took 6.3 to 12.9 ms of a 640x360 frame's prepare (medians of runs at load 6
+/// to 10; 1.3 to 2.1 ms at 50,000) and never completed in `bench budget`'s 24 frames
+/// either way, so the frame pays a third as much for a refresh that completes about three
+/// times later (55 tiles pending at 50,000, one a frame; BENCHMARKS.md, issue 41, session
+/// 12).
 pub const FAR_TRIANGLES: u64 = 50_000;
 
 /// The far field's distance, world units (about 40 lots): nearer, the field's parallax
