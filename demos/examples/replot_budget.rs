@@ -45,6 +45,10 @@ fn parse(text: &str) -> Result<Vec<Row>, String> {
                 .parse::<f64>()
                 .map_err(|e| format!("row {}: column {k}: {e}", n + 2))
         };
+        let later = |k: &str| match cells.contains_key(k) {
+            true => num(k),
+            false => Ok(0.0),
+        };
         // The chart code keys series by these names; the CSV holds few distinct ones.
         let leak = |s: &str| -> &'static str { Box::leak(s.to_string().into_boxed_str()) };
         rows.push(Row {
@@ -77,6 +81,10 @@ fn parse(text: &str) -> Result<Vec<Row>, String> {
             rebuilds_per_frame: num("rebuilds_per_frame")?,
             memory_mb: num("memory_mb")?,
             planning_ms: num("planning_ms")?,
+            // Columns added in session 12: 0 in older files.
+            planning_p99_ms: later("planning_p99_ms")?,
+            planning_max_ms: later("planning_max_ms")?,
+            planning_within: later("planning_within")?,
         });
     }
     Ok(rows)

@@ -232,7 +232,7 @@ pub const TREE_REBUILD_MS: f32 = 8.0;
 
 /// The world's far field for a `height`-pixel target: everything beyond [`FAR_DISTANCE`]
 /// of the eye as one image mesh with depth, captured in 8 x 8 tiles (split where one is
-/// over the budget) within 150,000 triangles a frame (4 M while loading), re-captured when
+/// over the budget) within [`FAR_TRIANGLES`] a frame (4 M while loading), re-captured when
 /// the eye's move makes 24 pixels of parallax at that distance at 640x360 (scaled with the
 /// height, [`tree_scale`], as its captures' level-of-detail tolerance).
 pub fn far_config(height: u32) -> FarConfig {
@@ -240,12 +240,21 @@ pub fn far_config(height: u32) -> FarConfig {
     let far = FarConfig::default();
     FarConfig {
         distance: FAR_DISTANCE,
-        triangles: 150_000,
+        triangles: FAR_TRIANGLES,
         parallax: 24.0 * scale,
         lod_px: far.lod_px * scale,
         ..far
     }
 }
+
+/// Triangles the far field's re-capture draws a frame after loading. A re-capture of the
+/// world's field is millions of triangles, a background task over many frames: at 150,000
+/// a frame it took 6.3 to 12.9 ms of a 640x360 frame's prepare (medians of runs at load 6
+/// to 10; 1.3 to 2.1 ms at 50,000) and never completed in `bench budget`'s 24 frames
+/// either way, so the frame pays a third as much for a refresh that completes about three
+/// times later (55 tiles pending at 50,000, one a frame; BENCHMARKS.md, issue 41, session
+/// 12).
+pub const FAR_TRIANGLES: u64 = 50_000;
 
 /// The far field's distance, world units (about 40 lots): nearer, the field's parallax
 /// as the eye moves before its re-capture completes made the measured error pass 1 level
@@ -272,6 +281,16 @@ pub struct TreePlan {
 /// with the target's height, [`tree_scale`]) when its predicted error is within the
 /// budget, else its children considered.
 pub fn tree_planner(objects: Vec<MeshGroup>, plan: TreePlan) -> Hierarchy<MeshGroup> {
+    tree_planner_drawing(objects, plan, Some(TREE_CUTOUT))
+}
+
+/// [`tree_planner`] with its node images drawn as cutouts at `cutout` coverage, or blended
+/// (`None`).
+pub fn tree_planner_drawing(
+    objects: Vec<MeshGroup>,
+    plan: TreePlan,
+    cutout: Option<f32>,
+) -> Hierarchy<MeshGroup> {
     let config = TreeConfig {
         budget: plan.budget,
         rebuilds: plan.rebuilds,
@@ -286,10 +305,20 @@ pub fn tree_planner(objects: Vec<MeshGroup>, plan: TreePlan) -> Hierarchy<MeshGr
         ..image_config(plan.budget, plan.rebuilds)
     };
     Hierarchy::new(config, objects, |nodes| {
-        vec![Box::new(ImpostorSet::new(images, nodes))
-            as Box<dyn Representation<Cluster<MeshGroup>>>]
+        let mut set = ImpostorSet::new(images, nodes);
+        set.cutout = cutout;
+        vec![Box::new(set) as Box<dyn Representation<Cluster<MeshGroup>>>]
     })
 }
+
+/// The node images are drawn as cutouts: a texel at least this covered is opaque, the
+/// others dropped ([`ImpostorSet::cutout`]). Opaque, the images write depth and are drawn
+/// near to far with the geometry, so the ground and farther images behind them are
+/// rejected before they are shaded; blended, every image fragment was shaded over what was
+/// behind it. `bench budget --scene world` at 640x360 (a temporary per-stage print, load
+/// 6 to 7): fragments shaded 322,161 to 261,054 a frame (-19%, none blended against
+/// 76,504), measured mean error 0.911 to 0.913 levels (BENCHMARKS.md, issue 41, session 12).
+pub const TREE_CUTOUT: f32 = 0.5;
 
 /// Runtime impostor settings: refreshed past `levels` of predicted staleness, `rebuilds`
 /// a frame, enough textures for every object.

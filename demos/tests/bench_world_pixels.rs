@@ -2,18 +2,21 @@
 //! pieces (issue 41): the per-node planner's pixel settings scale with the target's height,
 //! so 1280x720 cuts the hierarchy as 640x360 does instead of opening it deeper; and the
 //! cut ground draws the same pixels as one plate while shading fewer fragments, the
-//! objects standing on it hiding it before it is shaded. Counters from the planner's cut
-//! and the renderer, against the unscaled planner and the single plate.
+//! objects standing on it hiding it before it is shaded; the node images drawn as cutouts
+//! shade fewer fragments than blended ones, none blended, at the same error against all
+//! the geometry. Counters from the planner's cut and the renderer, against the unscaled
+//! planner, the single plate and the blended images.
 
 use demos::city::ground;
 use demos::world::{
-    tiled_ground, tree_planner, tree_side, TreePlan, World, GROUND_TILES, TREE_SIDE,
+    tiled_ground, tree_planner, tree_planner_drawing, tree_side, TreePlan, World, GROUND_TILES,
+    TREE_CUTOUT, TREE_SIDE,
 };
 use engine::{FrameOptions, FrameStats, Renderer, Rgba, Target};
 use ibr::metrics::{self, Options};
 use ibr::plan::tree::TreeReport;
 use ibr::subject::{MeshGroup, Subject};
-use ibr::technique::FrameView;
+use ibr::technique::{FrameLoop, FrameView, Technique};
 
 /// The planner made for a `planned`-pixel-high target, its cut of the world seen by a
 /// `size` target after 5 frames (the loading frames, which take the images), the eye a
@@ -103,4 +106,55 @@ fn the_cut_ground_draws_the_plate_and_shades_less() {
     assert_eq!(render(&world, &again).1, cut_stats, "deterministic");
     let (a, b) = (one_stats.fragments_shaded, cut_stats.fragments_shaded);
     assert!(b * 10 < a * 9, "plate {a}, pieces {b}");
+}
+
+/// The world seen by the planner drawing its node images as cutouts at `cutout` (or
+/// blended) at 320 x 180 after its 4 loading frames and one more, and the frame's mean
+/// absolute difference from all the geometry, levels.
+fn planned_frame(world: &World, cutout: Option<f32>) -> (FrameStats, f64) {
+    let (w, h) = (320, 180);
+    let plan = TreePlan {
+        budget: 16.0,
+        rebuilds: (world.objects.len() / 16).max(16),
+        loading: (4, 40.0),
+        height: h,
+    };
+    let mut planner = tree_planner_drawing(world.objects.clone(), plan, cutout);
+    let camera = world.camera(0.1, (w, h));
+    let view = FrameView::still(&camera, w, h, &world.lighting);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+        ..FrameOptions::default()
+    };
+    let mut ground = Vec::new();
+    world.ground.draws(&mut ground);
+    let (mut renderer, mut frames) = (Renderer::new(), FrameLoop::new());
+    let (mut target, mut stats) = (Target::new(w, h), FrameStats::default());
+    for _ in 0..5 {
+        let techniques: &mut [&mut dyn Technique] = &mut [&mut planner];
+        let (g, r) = (ground.iter().copied(), &mut renderer);
+        stats = frames.render(r, g, techniques, &view, &mut target, &opts);
+    }
+    let (truth, _) = render(world, &world.ground);
+    let e = metrics::compare(&truth, &target, &Options::default()).expect("same size");
+    (stats, e.mean_abs)
+}
+
+/// The node images as cutouts ([`TREE_CUTOUT`]): none of the frame's fragments is
+/// blended, fewer are shaded than with the images blended (the ground and farther images
+/// behind an opaque image are rejected first), and the frame is as near all the geometry
+/// as the blended one (within a tenth of a level).
+#[test]
+fn cutout_node_images_shade_fewer_fragments_at_the_same_error() {
+    let world = World::new(32, 11);
+    let (cut, cut_error) = planned_frame(&world, Some(TREE_CUTOUT));
+    let (blended, blended_error) = planned_frame(&world, None);
+    assert!(blended.fragments_shaded_blended > 0, "{blended:?}");
+    assert_eq!(cut.fragments_shaded_blended, 0, "{cut:?}");
+    let (a, b) = (blended.fragments_shaded, cut.fragments_shaded);
+    assert!(b < a, "blended {a}, cutouts {b}");
+    assert!(
+        cut_error <= blended_error + 0.1,
+        "{cut_error} {blended_error}"
+    );
 }

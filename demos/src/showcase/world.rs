@@ -34,6 +34,9 @@ pub const LOADING: u32 = 4;
 /// Predicted milliseconds of captures a loading frame (the other planners' rebuild budget
 /// in `bench budget`).
 pub const LOADING_MS: f32 = 40.0;
+/// Frames [`WorldTour::load`] plans at most (the far field's first capture takes one or
+/// two at its loading budget).
+pub const LOAD_FRAMES: u32 = 16;
 /// The fly-over's part a frame: `bench budget`'s pace (a quarter of it in 24 frames),
 /// about 2.4 units a frame in the default world.
 pub const STEP: f32 = 0.01;
@@ -155,6 +158,32 @@ impl WorldTour {
         );
         self.last_time = start.elapsed();
         stats
+    }
+
+    /// Loads the world for `width` x `height` frames before the fly-over, as a game loads
+    /// a level: the planner made for that height ([`tree_scale`]) plans its [`LOADING`]
+    /// frames (more captures each) from the fly-over's first eye into a scratch target, and
+    /// more while its far field is not yet shown (up to [`LOAD_FRAMES`]), so the first
+    /// frame shown is an ordinary one (at 1280x720 the first frame, the load, took 205 to
+    /// 217 ms). Returns the frames planned.
+    pub fn load(&mut self, renderer: &mut Renderer, width: u32, height: u32) -> u32 {
+        let mut target = Target::new(width, height);
+        let camera = self.camera(0, width, height);
+        let mut frames = 0;
+        let far_pending = |t: &Self| t.planner.far().is_some_and(|f| f.split().is_none());
+        while frames < LOADING || (far_pending(self) && frames < LOAD_FRAMES) {
+            self.render(renderer, &camera, &mut target);
+            frames += 1;
+        }
+        frames
+    }
+
+    /// The world of [`SIDE`] x [`SIDE`] lots loaded for `width` x `height` frames
+    /// ([`WorldTour::load`]).
+    pub fn loaded(renderer: &mut Renderer, width: u32, height: u32) -> Self {
+        let mut tour = Self::new();
+        tour.load(renderer, width, height);
+        tour
     }
 
     /// What the planner's last cut did.
@@ -320,6 +349,7 @@ impl Default for WorldTour {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::world::TREE_REBUILD_MS;
 
     /// A small world flown over at low resolution: the cut opens nodes, draws images and
     /// geometry, and every object in view once (an image's objects are under its node,
@@ -340,6 +370,28 @@ mod tests {
             assert!(r.images + r.geometry > 0);
         }
         assert!(tour.report().images > 0, "after loading, images drawn");
+    }
+
+    /// Loaded ahead, the first frame shown takes only an ordinary frame's captures (within
+    /// [`crate::world::TREE_REBUILD_MS`] predicted), its far field already shown; without
+    /// the load the first frame took the loading frames' captures.
+    #[test]
+    fn a_loaded_tour_starts_with_an_ordinary_frame() {
+        let (w, h) = (160, 96);
+        let (mut renderer, mut target) = (Renderer::new(), Target::new(w, h));
+        let mut cold = WorldTour::with_side(24);
+        cold.render(&mut renderer, &cold.camera(0, w, h), &mut target);
+        let first = *cold.report();
+        assert!(first.rebuild_ms > TREE_REBUILD_MS, "{first:?}");
+        let mut tour = WorldTour::with_side(24);
+        let frames = tour.load(&mut renderer, w, h);
+        assert!((LOADING..=LOAD_FRAMES).contains(&frames), "{frames}");
+        tour.render(&mut renderer, &tour.camera(0, w, h), &mut target);
+        let r = *tour.report();
+        assert!(r.rebuild_ms <= TREE_REBUILD_MS, "{r:?}");
+        assert!(r.far.shown && r.images > 0, "{r:?}");
+        let c = tour.coverage(&tour.camera(0, w, h));
+        assert_eq!((c.missing, c.twice), (0, 0), "{c:?}");
     }
 
     /// A frame at `budget` after the loading frames, 160 x 96, and its measured error.

@@ -2,7 +2,7 @@
 //! frame timed and measured against the geometry ([`measure`]), and what the run's frames
 //! add up to ([`Flight`]).
 
-use super::{Row, Scene, Settings, REPRESENTATIONS};
+use super::{Row, Scene, Settings, PLANNING_MS, REPRESENTATIONS};
 use crate::timing::Summary;
 use engine::{Camera, Draw, FrameOptions, Renderer, Rgba, Target};
 use ibr::impostor::{self, Frustum, Impostored};
@@ -196,6 +196,12 @@ pub(super) fn fly_with<T: Probe>(
         }
         out.times.push(frame_loop.times.total);
         out.probes.push(t.probe());
+        if std::env::var_os("TEMPSTAGE").is_some() {
+            let (ft, st, fs) = (frame_loop.times, renderer.stage_times(), renderer.stats());
+            let ms = |d: Duration| d.as_secs_f64() * 1e3;
+            eprintln!("TEMPSTAGE {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {}",
+                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended);
+        }
         let mut all: Vec<Draw<'_>> = ground.clone();
         scene.objects.iter().for_each(|o| o.draws(&mut all));
         renderer.render(all, &camera, &scene.lighting, &mut truth, &opts);
@@ -299,12 +305,13 @@ impl Flight {
         settings: &Settings,
     ) -> Row {
         let n = self.frame_errors.len().max(1) as f64;
-        let mut sorted = self.frame_errors.clone();
-        sorted.sort_by(f64::total_cmp);
-        let p99 = sorted
-            .get(((sorted.len() as f64 * 0.99).ceil() as usize).saturating_sub(1))
-            .copied()
-            .unwrap_or(0.0);
+        let p99 = percentile(&self.frame_errors, 0.99);
+        let planning: Vec<f64> = self
+            .probes
+            .iter()
+            .map(|p| f64::from(p.planning_ms))
+            .collect();
+        let planned_within = planning.iter().filter(|&&t| t <= PLANNING_MS).count();
         let within = self
             .frame_errors
             .iter()
@@ -349,8 +356,19 @@ impl Flight {
             rebuilds_per_frame: mean(&|p| p.rebuilds as f64),
             memory_mb: mean(&|p| p.memory as f64) / (1 << 20) as f64,
             planning_ms: mean(&|p| f64::from(p.planning_ms)),
+            planning_p99_ms: percentile(&planning, 0.99),
+            planning_max_ms: planning.iter().copied().fold(0.0, f64::max),
+            planning_within: planned_within as f64 / planning.len().max(1) as f64,
         }
     }
+}
+
+/// The `q` quantile of `values` (the nearest rank at or above it; 0 when empty).
+pub(super) fn percentile(values: &[f64], q: f64) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let rank = (sorted.len() as f64 * q).ceil() as usize;
+    sorted.get(rank.saturating_sub(1)).copied().unwrap_or(0.0)
 }
 
 /// The least [`plan::Config::spread`] whose bound would have held on 99% of the frames:
@@ -374,7 +392,19 @@ pub(super) fn spread_fit(probes: &[Sample], measured: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{MIX, REPRESENTATIONS};
+    use super::{percentile, MIX, REPRESENTATIONS};
+
+    /// The nearest rank at or above the quantile: of 1..=100, the 99th percentile is 99
+    /// and the median 50; one value is every percentile; none is 0.
+    #[test]
+    fn percentiles_are_nearest_ranks() {
+        let hundred: Vec<f64> = (1..=100).rev().map(f64::from).collect();
+        assert_eq!(percentile(&hundred, 0.99), 99.0);
+        assert_eq!(percentile(&hundred, 0.5), 50.0);
+        assert_eq!(percentile(&hundred, 1.0), 100.0);
+        assert_eq!(percentile(&[2.5], 0.99), 2.5);
+        assert_eq!(percentile(&[], 0.99), 0.0);
+    }
 
     #[test]
     fn the_sweep_takes_every_catalogued_representation_and_they_fit_the_counters() {

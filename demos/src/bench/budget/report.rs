@@ -156,7 +156,7 @@ impl Sweep for BudgetSweep {
     fn report(&self, rows: &[Row]) {
         for r in rows {
             println!(
-                "{:<8} {:<13} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3} bound {:>6.3} (spread fit {:>5.2})  geometry {:>7.1} images {:>7.1} [{}] switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms",
+                "{:<8} {:<13} {:>5} {}x{} {:>6} objects {:>9} tris  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3}, within {:>5.1}%, objects over {:>5.2}%)  predicted {:>6.3} max {:>7.3} bound {:>6.3} (spread fit {:>5.2})  geometry {:>7.1} images {:>7.1} [{}] switches {:>6.2} rebuilds {:>6.2}  {:>7.1} MB  planning {:>6.2} ms (p99 {:>5.2}, max {:>5.2}, within 2 ms {:>5.1}%)",
                 r.scene,
                 r.method,
                 r.budget,
@@ -180,6 +180,9 @@ impl Sweep for BudgetSweep {
                 r.rebuilds_per_frame,
                 r.memory_mb,
                 r.planning_ms,
+                r.planning_p99_ms,
+                r.planning_max_ms,
+                r.planning_within * 100.0,
             );
         }
     }

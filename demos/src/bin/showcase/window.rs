@@ -242,7 +242,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             (title, readout, help) = views_frame(tour, start, (ww, wh), &mut pixels, &mut recent);
             meter.views_tour(tour);
         } else if moment == Moment::World {
-            let tour = world.get_or_insert_with(WorldTour::new);
+            let tour = world.get_or_insert_with(|| WorldTour::loaded(&mut renderer, ww, wh));
             (title, _, help) = world_frame(tour, &mut renderer, &mut target, start);
             [readout, city, statue] = tour.readout_lines();
             recent.push(tour.last_time);
