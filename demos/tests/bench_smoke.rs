@@ -314,7 +314,10 @@ fn impostors_sweep_writes_csv_and_png_charts() {
     for p in ["runtime_relief", "runtime_box"] {
         let r = exact(p).unwrap_or_else(|| panic!("{p} row: {csv}"));
         assert_eq!(r[3], quad[3], "the same tolerance first: {r:?}");
-        assert!(num(r, "median_ms") > 0.0 && num(r, "mae_mean") > 0.0, "{r:?}");
+        assert!(
+            num(r, "median_ms") > 0.0 && num(r, "mae_mean") > 0.0,
+            "{r:?}"
+        );
     }
     let boxed = exact("runtime_box").unwrap();
     assert!(
