@@ -412,9 +412,6 @@ impl ImpostorSet {
             let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
             let now = (b, s.version());
             imp.predicted = predict(imp.capture.as_ref(), now, eye, needed, px_per_radian, &cfg);
-            if self.shape == Shape::Box && stretched(imp.capture.as_ref(), s, eye, px_per_radian) {
-                imp.predicted.ratio = f32::INFINITY;
-            }
             if visible {
                 imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
                     Mode::Image
@@ -624,16 +621,6 @@ impl ImpostorSet {
         };
         metrics::compare(&truth, &image, &opts).ok()
     }
-}
-
-/// Whether a box impostor's image `capture` of `subject` shows some face of its box,
-/// seen from `eye`, with less than a texel a pixel across ([`relief::face_stretch`]): a
-/// face the capture eye saw edge-on or from behind, seen at an angle now. Such an image is
-/// invalid, whatever its parallax.
-fn stretched<S: Subject>(capture: Option<&Capture>, subject: &S, eye: Vec3, ppr: f32) -> bool {
-    capture.is_some_and(|c| {
-        relief::face_stretch(c, &subject.corners(), eye, ppr) > relief::MAX_STRETCH
-    })
 }
 
 #[cfg(test)]

@@ -64,9 +64,7 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     /// the subject's disc on screen is wider than [`super::Config::max_side`] texels (less
     /// than a texel per pixel). An image
     /// whose subject changed, moved, or needs a larger texture than it has by
-    /// [`super::Tolerance::octaves`], or (a [`Shape::Box`]) shows a face of its box with
-    /// less than a texel a pixel across ([`super::relief::face_stretch`]), has infinite
-    /// error.
+    /// [`super::Tolerance::octaves`] has infinite error.
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         let imp = self.impostors.get(i)?;
         let cfg = &self.config;
@@ -104,10 +102,7 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
                 let now = (b, subject.version());
                 let p = predict(Some(c), now, sight.eye, needed, ppr, cfg);
                 let coarse = needed > c.side && p.octaves >= cfg.tolerance.octaves;
-                // A box face the capture eye saw edge-on, seen at an angle now: invalid.
-                let stretched =
-                    self.shape == Shape::Box && super::stretched(held, subject, sight.eye, ppr);
-                let error = if p.ratio.is_finite() && !coarse && !stretched {
+                let error = if p.ratio.is_finite() && !coarse {
                     p.levels
                 } else {
                     f32::INFINITY
