@@ -307,6 +307,23 @@ fn impostors_sweep_writes_csv_and_png_charts() {
         assert!(num(r, "median_ms") > 0.0, "{r:?}");
     }
     assert!(num(policy("octahedral_").unwrap(), "setup_ms") > 0.0);
+    // The shapes on the same frames: the buildings are boxes, so the image projected onto
+    // the box is nearer its geometry than on a quad through the centre.
+    let exact = |p: &str| methods.iter().find(|r| r[2] == p).copied();
+    let quad = exact("runtime").expect("quad row");
+    for p in ["runtime_relief", "runtime_box"] {
+        let r = exact(p).unwrap_or_else(|| panic!("{p} row: {csv}"));
+        assert_eq!(r[3], quad[3], "the same tolerance first: {r:?}");
+        assert!(
+            num(r, "median_ms") > 0.0 && num(r, "mae_mean") > 0.0,
+            "{r:?}"
+        );
+    }
+    let boxed = exact("runtime_box").unwrap();
+    assert!(
+        num(boxed, "mae_mean") < num(quad, "mae_mean"),
+        "{boxed:?} {quad:?}"
+    );
 
     assert_charts(
         &dir,

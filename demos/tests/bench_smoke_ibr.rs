@@ -132,6 +132,16 @@ fn lightfield_sweep_writes_csv_and_png_charts() {
             assert!(t.num(r, "rays") > 0.0 && t.num(r, "pixels") > 0.0, "{r:?}");
         }
     }
+    // The outline from geometry, at every eye on the raw base slab, beside the same
+    // lookup without it.
+    for method in ["quadrilinear-dc", "dc+outline"] {
+        let rows = t.of("outline", method);
+        assert_eq!(rows.len(), 6, "{method}: {csv}");
+        for r in rows {
+            let psnr = t.num(r, "psnr_db");
+            assert!(psnr > 10.0 && psnr.is_finite(), "{method}: {r:?}");
+        }
+    }
     // Quantised rows: smaller than raw in memory and on disk.
     for r in t.of("codebook", "quadrilinear-dc") {
         assert!(t.num(r, "bytes") < t.num(r, "raw_bytes"), "{r:?}");

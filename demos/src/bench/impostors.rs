@@ -62,7 +62,9 @@
 //!   (`predicted_deg_mean`, `predicted_px_mean`) and its own measured error (`frame`,
 //!   `impostor` say which).
 //! - `method`: runtime impostors against baked octahedral impostors
-//!   ([`ibr::octahedral`], [`Layout::Hemi`]) against geometry on the `orbit` span. Frame
+//!   ([`ibr::octahedral`], [`Layout::Hemi`]) against geometry on the `orbit` span, the
+//!   runtime images drawn on each [`ibr::impostor::Shape`] (a quad, a relief, the
+//!   building's box; relief and box as cutouts) on the same frames. Frame
 //!   time as above (for octahedral impostors the per-frame [`OctahedralImpostor::update`],
 //!   which recomposes each image from three baked views on the CPU, is the update part,
 //!   and `refreshes` counts recomposed images); memory is texel bytes held (the runtime
@@ -174,7 +176,7 @@ impl Settings {
             + self.tolerances.len()
             + 1
             + 1
-            + self.method_tolerances.len()
+            + self.method_tolerances.len() * methods::SHAPES.len()
             + self.octahedral.len()
     }
 }

@@ -14,6 +14,9 @@
 //!   quadrilinear and depth-corrected from its codes: error, frame time, training time,
 //!   compression in memory and in the file (zstd after VQ);
 //! - `tile`: tile shapes at one codebook size, the same measures;
+//! - `outline`: the raw base slab, depth-corrected, without and with the outline from
+//!   geometry ([`LightFieldObject::proxy_outline`]: coverage and depth rasterised from the
+//!   torus through the frame's camera, the light field giving the colour inside);
 //! - `sparse`: scattered photographs with depth maps (a hand-held-like wander near the
 //!   camera plane) rebinned depth-corrected ([`ibr::lightfield::rebin`]), against the
 //!   dense capture of the same slab: error, coverage IoU against the geometry and the
@@ -26,7 +29,7 @@ mod report;
 mod series;
 
 pub use report::{charts, LightfieldSweep};
-pub use series::run;
+pub use series::{run, NO_OUTLINE, OUTLINE};
 
 use crate::bench::sweep::{CsvRow, Timing as Frames};
 use crate::timing::Summary;

@@ -3,19 +3,29 @@
 
 use super::row::{geometry_row, impostor_row, mean_ms, Errors, Row};
 use super::scene::{
-    fly, frame_camera, frame_options, frame_view, measure_draws, run_geometry, Policy,
+    fly_shape, frame_camera, frame_options, frame_view, measure_draws, run_geometry, Policy,
 };
 use super::Settings;
 use crate::city::{City, Path as CityPath};
 use crate::timing::Summary;
 use engine::{Renderer, Target};
+use ibr::impostor::Shape;
 use ibr::octahedral::{Layout, OctahedralImpostor};
 use ibr::subject::Subject;
 use ibr::technique::FrameLoop;
 use std::time::Instant;
 
-/// The `method` rows: geometry, runtime impostors at each of
-/// [`Settings::method_tolerances`], and each octahedral configuration of [`Settings::octahedral`].
+/// What runtime impostors' images are drawn on in the `method` series, and their rows'
+/// policy: a quad through the centre, a relief on the captured depths, the building's box.
+pub const SHAPES: [(Shape, &str); 3] = [
+    (Shape::Quad, "runtime"),
+    (Shape::Relief, "runtime_relief"),
+    (Shape::Box, "runtime_box"),
+];
+
+/// The `method` rows: geometry, runtime impostors on each of [`SHAPES`] at each of
+/// [`Settings::method_tolerances`] (the same frames), and each octahedral configuration of
+/// [`Settings::octahedral`].
 pub(super) fn methods(
     settings: &Settings,
     city: &mut City,
@@ -67,17 +77,19 @@ pub(super) fn methods(
     row.errors = Some(Errors::of_frames(&frames));
     rows.push(row);
     for &tol in &settings.method_tolerances {
-        tick(format!("method runtime {tol} deg"));
-        let out = fly(settings, city, path, Policy::Error(tol));
-        rows.push(impostor_row(
-            "method",
-            path,
-            "runtime".into(),
-            Some(tol),
-            settings,
-            n,
-            &out,
-        ));
+        for (shape, policy) in SHAPES {
+            tick(format!("method {} {tol} deg", policy.replace('_', " ")));
+            let out = fly_shape(settings, city, path, Policy::Error(tol), shape);
+            rows.push(impostor_row(
+                "method",
+                path,
+                policy.into(),
+                Some(tol),
+                settings,
+                n,
+                &out,
+            ));
+        }
     }
     octahedral_methods(settings, city, tick, rows);
 }
@@ -176,7 +188,9 @@ fn octahedral_methods(
 pub fn method_label(r: &Row) -> String {
     match (r.octahedral, r.tolerance_deg) {
         (Some((grid, px)), _) => format!("octahedral {grid}x{grid}x{px}px"),
-        (None, Some(t)) if r.policy == "runtime" => format!("runtime {t} deg"),
+        (None, Some(t)) if r.policy.starts_with("runtime") => {
+            format!("{} {t} deg", r.policy.replace('_', " "))
+        }
         (None, _) => r.policy.replace('_', " "),
     }
 }
@@ -196,6 +210,11 @@ mod tests {
             ..base.clone()
         };
         assert_eq!(method_label(&runtime), "runtime 0.125 deg");
+        let boxed = Row {
+            policy: "runtime_box".into(),
+            ..runtime.clone()
+        };
+        assert_eq!(method_label(&boxed), "runtime box 0.125 deg");
         // The parameters, not the policy's spelling, make the label.
         let octahedral = Row {
             policy: "anything".into(),

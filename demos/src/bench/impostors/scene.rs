@@ -4,7 +4,7 @@
 use super::Settings;
 use crate::city::{City, Path as CityPath};
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Sphere, Target};
-use ibr::impostor::{self, Budget, Config, Impostored, Mode, Predicted, Tolerance};
+use ibr::impostor::{self, Budget, Config, Impostored, Mode, Predicted, Shape, Tolerance};
 use ibr::metrics::{self, ImageError, Options, Region};
 use ibr::subject::Subject;
 use ibr::technique::{FrameLoop, FrameView};
@@ -121,15 +121,31 @@ pub(super) struct RunOut {
 
 /// Flies the settings' run of runtime impostors along `path` (see [`run_impostors`]).
 pub(super) fn fly(settings: &Settings, city: &City, path: CityPath, policy: Policy) -> RunOut {
+    fly_shape(settings, city, path, policy, Shape::Quad)
+}
+
+/// As [`fly`], the images drawn on `shape` ([`Shape`]): a relief or a box as cutouts at
+/// [`SHAPE_CUTOUT`] (as the showcase's city draws them), a quad blended.
+pub(super) fn fly_shape(
+    settings: &Settings,
+    city: &City,
+    path: CityPath,
+    policy: Policy,
+    shape: Shape,
+) -> RunOut {
     run_impostors(
         city,
         path,
         settings.span(path),
         settings.frames,
         settings.size,
-        policy,
+        (policy, shape),
     )
 }
+
+/// The coverage from which a relief's or a box's pixel is drawn (opaque), as the
+/// showcase's city.
+pub(super) const SHAPE_CUTOUT: f32 = 0.5;
 
 /// The frame's view of `camera` for a `size` image (a static scene: no time).
 pub(super) fn frame_view<'a>(
@@ -147,16 +163,16 @@ pub(super) fn frame_view<'a>(
     }
 }
 
-/// Flies `frames` frames of runtime impostors along the first `span` of `path`: the
-/// ground as scene geometry and the buildings behind one [`Impostored`] technique, through
-/// the [`FrameLoop`].
+/// Flies `frames` frames of runtime impostors along the first `span` of `path`, their
+/// images drawn on `shape`: the ground as scene geometry and the buildings behind one
+/// [`Impostored`] technique, through the [`FrameLoop`].
 pub(super) fn run_impostors(
     city: &City,
     path: CityPath,
     span: f32,
     frames: usize,
     size: (u32, u32),
-    policy: Policy,
+    (policy, shape): (Policy, Shape),
 ) -> RunOut {
     let n = city.buildings.len();
     let cfg = match policy {
@@ -166,6 +182,10 @@ pub(super) fn run_impostors(
     };
     // The subjects are shared meshes, so the copy is cheap; versions bumped here stay here.
     let mut imp = Impostored::new("runtime impostors", cfg, city.buildings.clone());
+    imp.set.shape = shape;
+    if shape != Shape::Quad {
+        imp.set.cutout = Some(SHAPE_CUTOUT);
+    }
     let mut ground = Vec::new();
     city.ground.draws(&mut ground);
     let (mut renderer, mut frame_loop) = (Renderer::new(), FrameLoop::new());

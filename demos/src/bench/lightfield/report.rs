@@ -1,9 +1,10 @@
 //! The light-field sweep as the CLI runs it ([`LightfieldSweep`]: its rows printed) and its
 //! charts: error against `uv` density and `st` resolution per lookup, error against
-//! compression, error against frame time beside the geometry, and frame time against
+//! compression, error against frame time beside the geometry (the outline from geometry
+//! with and without), and frame time against
 //! resolution and against the object's triangles.
 
-use super::{Row, LOOKUPS};
+use super::{Row, LOOKUPS, NO_OUTLINE, OUTLINE};
 use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
 use ibr::metrics::ImageError;
@@ -128,6 +129,26 @@ fn scatter(rows: &[Row]) -> Vec<Line> {
             })
             .collect(),
     ));
+    for (method, name) in [
+        (NO_OUTLINE, "raw base slab, quadrilinear-dc, no outline"),
+        (
+            OUTLINE,
+            "raw base slab, quadrilinear-dc, outline from geometry",
+        ),
+    ] {
+        let of: Vec<&Row> = of(rows, "outline").filter(|r| r.method == method).collect();
+        scatter.push(Line::new(
+            name,
+            (of.iter())
+                .map(|r| {
+                    (
+                        r.time.median_ms,
+                        r.error.map_or(f64::NAN, |e| e.psnr_capped(99.0)),
+                    )
+                })
+                .collect(),
+        ));
+    }
     scatter.push(Line::new(
         "geometry (the reference)",
         of(rows, "geometry")

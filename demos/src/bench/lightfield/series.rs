@@ -1,12 +1,14 @@
 //! The light-field sweep's series, in the order it runs them: sampling (geometry, `uv`
-//! density, `st` resolution), compression, sparse capture, frame time against resolution
-//! and against triangles.
+//! density, `st` resolution), compression, the outline from geometry, sparse capture, frame
+//! time against resolution and against triangles.
 
 use super::{capture, file_size, slab, wander, Bench, Object, Row, Setting, Settings, EYES};
 use crate::bench::sweep::ticker;
 use engine::{Camera, Renderer};
 use ibr::lightfield::{LightField, LightFieldObject, Lookup, TileShape, VqSettings};
+use ibr::subject::MeshGroup;
 use ibr::technique::FrameLoop;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Runs the sweep at these settings; `progress(step, total, what)` before each point.
@@ -18,7 +20,7 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
         + settings.resolutions.len()
         + settings.triangles.len()
         + settings.photographs.len()
-        + 3;
+        + 4;
     let mut tick = ticker(total, progress);
     let mut bench = Bench {
         settings,
@@ -29,6 +31,7 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
     let object = Object::torus(settings.object_triangles);
     sampling(&mut bench, &object, &mut tick, &mut rows);
     let (lf, raw) = compression(&mut bench, &object, &mut tick, &mut rows);
+    outline(&mut bench, &object, &lf, &raw, &mut tick, &mut rows);
     sparse(&mut bench, &object, &mut tick, &mut rows);
     resolution(&mut bench, &object, lf, &raw, &mut tick, &mut rows);
     triangles(&mut bench, &mut tick, &mut rows);
@@ -122,6 +125,40 @@ fn compression(
     }
     (lf, raw)
 }
+
+/// The raw base slab at every eye, depth-corrected, without and with the outline from
+/// geometry ([`LightFieldObject::proxy_outline`]: the torus kept as its reference; methods
+/// [`NO_OUTLINE`] and [`OUTLINE`]), on the same frames as the geometry's points.
+fn outline(
+    bench: &mut Bench,
+    object: &Object,
+    lf: &LightField,
+    raw: &Setting,
+    tick: &mut dyn FnMut(String),
+    rows: &mut Vec<Row>,
+) {
+    tick("outline from geometry".into());
+    let reference = MeshGroup::new().with(
+        Arc::new(object.mesh.clone()),
+        Arc::new(object.material.clone()),
+        object.draw().transform,
+    );
+    for (method, on) in [(NO_OUTLINE, false), (OUTLINE, true)] {
+        let mut o = LightFieldObject::new("torus", lf.clone());
+        o.lookup = Lookup::default();
+        o.reference = Some(reference.clone());
+        o.proxy_outline = on;
+        for k in 0..EYES.len() {
+            let size = bench.settings.size;
+            rows.push(bench.point("outline", object, Some((method, &mut o)), k, size, raw));
+        }
+    }
+}
+
+/// The `outline` series' methods: the depth-corrected lookup alone, and with the outline
+/// from geometry.
+pub const NO_OUTLINE: &str = "quadrilinear-dc";
+pub const OUTLINE: &str = "dc+outline";
 
 /// Sparse against dense capture of one slab.
 fn sparse(bench: &mut Bench, object: &Object, tick: &mut dyn FnMut(String), rows: &mut Vec<Row>) {
