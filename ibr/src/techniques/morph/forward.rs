@@ -291,3 +291,23 @@ fn fill_from_farther(row: &mut Row) {
         }
     }
 }
+
+/// The images a morph shown frame after frame keeps ([`ViewMorph::view_into`]): the
+/// parallel in-between canvas and the view turned from it.
+#[derive(Clone, Debug)]
+pub struct MorphScratch {
+    pub(super) parallel: DepthImage,
+    /// The last in-between view made.
+    pub view: DepthImage,
+}
+
+impl Default for MorphScratch {
+    fn default() -> Self {
+        let camera = Camera::look_at(glam::Vec3::ZERO, glam::Vec3::NEG_Z, glam::Vec3::Y, 1.0, 1.0);
+        let empty = DepthImage::new(0, 0, camera);
+        MorphScratch {
+            parallel: empty.clone(),
+            view: empty,
+        }
+    }
+}

@@ -26,6 +26,7 @@
 //! views are not parallel; it is here to be measured against.
 
 mod forward;
+pub use forward::MorphScratch;
 pub mod fundamental;
 pub mod uncalibrated;
 
@@ -323,26 +324,6 @@ impl ViewMorph {
         match &self.postwarp {
             Some(postwarp) => postwarp.apply(image, s, camera, w, h),
             None => resample(image, &camera, w, h),
-        }
-    }
-}
-
-/// The images a morph shown frame after frame keeps ([`ViewMorph::view_into`]): the
-/// parallel in-between canvas and the view turned from it.
-#[derive(Clone, Debug)]
-pub struct MorphScratch {
-    parallel: DepthImage,
-    /// The last in-between view made.
-    pub view: DepthImage,
-}
-
-impl Default for MorphScratch {
-    fn default() -> Self {
-        let camera = Camera::look_at(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 1.0, 1.0);
-        let empty = DepthImage::new(0, 0, camera);
-        MorphScratch {
-            parallel: empty.clone(),
-            view: empty,
         }
     }
 }
