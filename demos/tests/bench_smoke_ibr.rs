@@ -269,7 +269,16 @@ fn panorama_sweep_writes_csv_and_png_charts() {
     assert_eq!(t.num(at, "predicted_px"), 0.0);
     assert!(t.num(away, "predicted_px") > 0.0);
     assert!(t.num(away, "frac_over") > t.num(at, "frac_over"), "{csv}");
-    assert_charts(&dir, &["panorama_distance.png", "panorama_predicted.png"]);
+    // The spread sky at the same eyes: fresh at the capture point (its error the held
+    // panorama's there), and a frame time for each eye.
+    assert_eq!(t.num(at, "spread_psnr_db"), t.num(at, "psnr_db"), "{csv}");
+    assert!(t.rows.iter().all(|r| t.num(r, "spread_ms") > 0.0), "{csv}");
+    let charts = [
+        "panorama_time.png",
+        "panorama_distance.png",
+        "panorama_predicted.png",
+    ];
+    assert_charts(&dir, &charts);
 }
 
 #[test]

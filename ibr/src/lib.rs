@@ -205,6 +205,6 @@ pub mod panorama {
 pub mod morph {
     pub use crate::techniques::morph::{
         between, fundamental, plain_morph, uncalibrated, Correspondence, Labels, MorphError,
-        MorphStats, ViewMorph,
+        MorphScratch, MorphStats, ViewMorph,
     };
 }

@@ -1,6 +1,10 @@
 //! The `bench panorama` sweep: the showcase's far scene as a cube-map sky, seen from eyes
 //! moved away from where it was captured, against the geometry from there: measured error
 //! and the predicted parallax, where the method fails; and time against rendering it.
+//! Beside the panorama held from the capture point, the same eyes walked in order as the
+//! frames of a [`Sky`] that re-captures, two faces a frame ([`Sky::spread`]), ahead of
+//! where its predicted parallax passes [`SPREAD_TOLERANCE_PX`]: its frame time (its faces'
+//! renders included) and error against the geometry's, one chart of error against time.
 
 use crate::bench::sweep::{self, CsvRow, Timing};
 use crate::bench::{Progress, RunFlags, Sweep};
@@ -10,8 +14,13 @@ use engine::Draw;
 use glam::Vec3;
 use ibr::capture::capture_batch;
 use ibr::metrics::{compare_seen, ImageError};
-use ibr::panorama::CubeMap;
+use ibr::panorama::{CubeMap, Sky};
 use std::time::Instant;
+
+/// The spread sky re-captures past this much predicted parallax (the showcase's sky's).
+pub const SPREAD_TOLERANCE_PX: f32 = 3.0;
+/// Faces of a re-capture the spread sky renders a frame.
+pub const SPREAD_FACES: usize = 2;
 
 /// What a sweep measures.
 #[derive(Clone, Debug)]
@@ -68,15 +77,22 @@ pub struct Row {
     pub geometry: Summary,
     pub error: ImageError,
     pub predicted_px: f32,
+    /// The spread sky's frame at this eye (the eyes walked in order): its time (update,
+    /// faces rendered and view; one run, the update changes it), its error against the
+    /// geometry and the faces it rendered.
+    pub spread_ms: f64,
+    pub spread_error: ImageError,
+    pub spread_faces: usize,
 }
 
 impl CsvRow for Row {
     const HEADER: &'static str =
-        "moved,width,height,panorama_ms,geometry_ms,psnr_db,mean_abs,frac_over,predicted_px";
+        "moved,width,height,panorama_ms,geometry_ms,psnr_db,mean_abs,frac_over,predicted_px,\
+         spread_ms,spread_psnr_db,spread_faces";
 
     fn csv(&self) -> String {
         format!(
-            "{:.3},{},{},{:.3},{:.3},{:.3},{:.3},{:.5},{:.3}",
+            "{:.3},{},{},{:.3},{:.3},{:.3},{:.3},{:.5},{:.3},{:.3},{:.3},{}",
             self.moved,
             self.width,
             self.height,
@@ -86,6 +102,9 @@ impl CsvRow for Row {
             self.error.mean_abs,
             self.error.frac_over,
             self.predicted_px,
+            self.spread_ms,
+            self.spread_error.psnr_capped(99.0),
+            self.spread_faces,
         )
     }
 }
@@ -100,9 +119,19 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
     let centre = Vec3::new(0.0, 3.0, 0.0);
     let (w, h) = (settings.width, settings.height);
     let map = CubeMap::capture(&draws, lighting, centre, settings.face, 10.0, 400.0);
+    let range = (10.0, 400.0);
+    let mut sky = Sky::new(
+        &draws,
+        lighting,
+        centre,
+        settings.face,
+        range,
+        SPREAD_TOLERANCE_PX,
+    )
+    .spread(SPREAD_FACES);
     let mut tick = sweep::ticker(settings.moves.len(), progress);
     let mut rows = Vec::new();
-    for &moved in &settings.moves {
+    for (k, &moved) in settings.moves.iter().enumerate() {
         tick(format!("moved {moved}"));
         let eye = centre + Vec3::new(moved, 0.0, 0.0);
         let camera = showcase::camera(eye, eye + Vec3::new(0.3, -0.1, -1.0), w, h)
@@ -120,8 +149,19 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
             truth = Some(capture_batch(&draws, &[camera], lighting, w, h).remove(0));
             t.elapsed()
         });
+        // The spread sky's frame: where the eye will be `lead` frames on is the walk's
+        // eye as many moves on (the path is known), or its last.
+        let ahead = settings.moves[(k + sky.lead()).min(settings.moves.len() - 1)];
+        let ahead = centre + Vec3::new(ahead, 0.0, 0.0);
+        let t = Instant::now();
+        let step = sky.update(&draws, lighting, eye, ahead, focal);
+        let spread_view = sky.map.view(&camera, w, h);
+        let spread_ms = t.elapsed().as_secs_f64() * 1e3;
         let (view, truth) = (view.expect("a frame"), truth.expect("a frame"));
         let Ok((error, _)) = compare_seen(&view, &truth) else {
+            continue;
+        };
+        let Ok((spread_error, _)) = compare_seen(&spread_view, &truth) else {
             continue;
         };
         rows.push(Row {
@@ -132,6 +172,9 @@ pub fn run(settings: &Settings, progress: &mut dyn FnMut(usize, usize, &str)) ->
             geometry: Summary::of(&geometry),
             error,
             predicted_px: map.predicted_px(eye, focal),
+            spread_ms,
+            spread_error,
+            spread_faces: step.faces,
         });
     }
     rows
@@ -148,7 +191,30 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, crate::chart::Chart)> {
         .iter()
         .map(|r| (f64::from(r.predicted_px), 100.0 * r.error.frac_over))
         .collect();
+    let held = rows
+        .iter()
+        .map(|r| (r.panorama.median_ms, r.error.psnr_capped(50.0)))
+        .collect();
+    let spread = rows
+        .iter()
+        .map(|r| (r.spread_ms, r.spread_error.psnr_capped(50.0)))
+        .collect();
+    // The geometry is the reference: its error is none (the cap).
+    let geometry = rows.iter().map(|r| (r.geometry.median_ms, 50.0)).collect();
     vec![
+        (
+            "panorama_time.png",
+            Chart::Scatter(Lines::new(
+                "Error against frame time: the panorama held, re-captured spread, the geometry",
+                "frame time (ms)",
+                "PSNR against the geometry (dB, capped at 50)",
+                vec![
+                    Line::new("panorama held from the capture point", held),
+                    Line::new("sky re-captured, 2 faces a frame (Sky::spread)", spread),
+                    Line::new("geometry (the reference)", geometry),
+                ],
+            )),
+        ),
         (
             "panorama_distance.png",
             Chart::Lines(Lines::new(
@@ -196,7 +262,7 @@ impl Sweep for PanoramaSweep {
 
     fn line(&self, r: &Row) -> Option<String> {
         Some(format!(
-            "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px",
+            "moved {:>5.2} {}x{}  panorama {:>7.2} ms  geometry {:>7.2} ms  PSNR {:>6.2} dB  off {:>5.1}%  predicted {:>6.1} px  spread sky {:>7.2} ms {:>6.2} dB {} faces",
             r.moved,
             r.width,
             r.height,
@@ -205,6 +271,9 @@ impl Sweep for PanoramaSweep {
             r.error.psnr_capped(99.0),
             100.0 * r.error.frac_over,
             r.predicted_px,
+            r.spread_ms,
+            r.spread_error.psnr_capped(99.0),
+            r.spread_faces,
         ))
     }
 

@@ -6,7 +6,7 @@
 //! The rectified left camera is a real camera: a disparity map of the rectified pair makes
 //! a depth image with it ([`Disparity::to_depth_image`](super::Disparity::to_depth_image)).
 
-use crate::core::DepthImage;
+use crate::core::{DepthImage, EMPTY};
 use engine::color::Premul;
 use engine::Camera;
 use glam::{Mat4, Vec3, Vec4};
@@ -157,6 +157,15 @@ fn wider(camera: &Camera, h: u32, h2: u32, w2: u32) -> engine::Projection {
 /// [`crate::core::EMPTY`]. Shared by the view morph's postwarp.
 pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> DepthImage {
     let mut out = DepthImage::new(w, h, *camera);
+    resample_into(image, camera, &mut out);
+    out
+}
+
+/// [`resample`] into `out` (its size, its camera set to `camera`; every pixel written):
+/// no image allocated a frame where `out` is kept (the view morph's postwarp).
+pub(crate) fn resample_into(image: &DepthImage, camera: &Camera, out: &mut DepthImage) {
+    out.camera = *camera;
+    let (w, h) = (out.width(), out.height());
     let (iw, ih) = (image.width(), image.height());
     let to_world = camera.gl_view_proj().inverse();
     let to_old = image.camera.gl_view_proj();
@@ -170,6 +179,7 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
         .enumerate()
         .for_each(|(y, (colors, depths))| {
             for (x, (color, depth)) in colors.iter_mut().zip(depths).enumerate() {
+                (*color, *depth) = (Premul::TRANSPARENT, EMPTY);
                 let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
                 let Some((u, v)) = source(&to_old, dir, (iw, ih)) else {
                     continue;
@@ -190,7 +200,6 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
                 }
             }
         });
-    out
 }
 
 /// Which pixels of a `w` x `h` view by `camera` (at `original`'s eye, as `resample`

@@ -10,7 +10,7 @@ use glam::Vec3;
 use ibr::capture::{capture_batch, Capturer};
 use ibr::images::DepthImage;
 use ibr::metrics::{compare_rgba8, compare_seen, Image, ImageError, Options, Region};
-use ibr::morph::{plain_morph, Correspondence, MorphStats, ViewMorph};
+use ibr::morph::{plain_morph, Correspondence, MorphScratch, MorphStats, ViewMorph};
 use std::time::Instant;
 
 /// The morphed views' eyes, both looking at [`MORPH_TARGET`] (the "near" pair of
@@ -79,6 +79,8 @@ pub(super) struct MorphPart {
     morph: ViewMorph,
     capturer: Capturer,
     truth: DepthImage,
+    /// The morph's canvas and view, kept from frame to frame.
+    scratch: MorphScratch,
 }
 
 impl MorphPart {
@@ -104,6 +106,7 @@ impl MorphPart {
             morph,
             capturer: Capturer::new(),
             truth,
+            scratch: MorphScratch::default(),
         })
     }
 
@@ -123,7 +126,10 @@ impl MorphPart {
         s: f32,
         out: &mut Frame,
     ) -> MorphFrame {
-        let (view, labels) = self.morph.view(s);
+        let labels = self.morph.view_into(s, &mut self.scratch);
+        let view = &self.scratch.view;
+        // Shown: the view over the sky.
+        over_sky(view, &mut out.rgba);
         let camera = self.morph.camera_at(s);
         let (w, h) = (view.width(), view.height());
         let measure = Instant::now();
@@ -140,11 +146,10 @@ impl MorphPart {
         // The plain cross-dissolve is only a figure to compare with: measuring too.
         let plain = plain_morph(&self.views[0], &self.views[1], s);
         let (error, plain) = (
-            compare_seen(&view, &self.truth).ok(),
+            compare_seen(view, &self.truth).ok(),
             compare_seen(&plain, &self.truth).ok(),
         );
-        over_sky(&view, &mut out.rgba);
-        let (full, sky_on_ground) = against_all(&view, &out.rgba, &self.truth);
+        let (full, sky_on_ground) = against_all(view, &out.rgba, &self.truth);
         out.measure = measure.elapsed();
         (out.width, out.height) = (w, h);
         MorphFrame {

@@ -5,6 +5,8 @@
 //! the plaza's scene, drawn as geometry) while the eye walks away from the capture point.
 //! A re-capture is spread two faces a frame, started where the eye will be when the held
 //! panorama's predicted parallax passes [`SKY_TOLERANCE_PX`], and swapped in whole then.
+//! The ring lies within about 12 degrees of the horizon: the cube's top and bottom faces
+//! can show none of it and are not rendered (session 12), four faces a capture.
 //! Each frame is measured against the whole geometry (scene and far land) from the same
 //! eye, over the pixels the panorama fills.
 //!
@@ -33,12 +35,12 @@ const LAND_FAR: f32 = 2000.0;
 pub const SKY_CENTRE: Vec3 = Vec3::new(0.0, 3.0, 7.0);
 /// The panorama is captured again when its predicted parallax passes this many pixels.
 pub const SKY_TOLERANCE_PX: f32 = 3.0;
-/// Faces of a re-capture taken a frame: three frames for the six, which the headless run's
-/// four sky frames leave room for.
+/// Faces of a re-capture taken a frame: two frames for the four that show the far land,
+/// which the headless run's four sky frames leave room for.
 const FACES_PER_FRAME: usize = 2;
 /// The eye's walk: as far as would make the first panorama this many tolerances wrong, so
 /// every image size sees the same re-capture: at the walk's end, where the held
-/// panorama's parallax passes the tolerance, begun two frames before where the headless
+/// panorama's parallax passes the tolerance, begun a frame before where the headless
 /// run's four sky frames step a third of the walk each.
 const SKY_WALK_TOLERANCES: f32 = 1.25;
 

@@ -6,7 +6,7 @@
 //! beside it).
 
 use super::{scaled, sum, MorphStats};
-use crate::core::DepthImage;
+use crate::core::{DepthImage, EMPTY};
 use crate::stereo::{Disparity, Rectified};
 use engine::color::Premul;
 use engine::Camera;
@@ -146,7 +146,10 @@ impl Made {
 /// The parallel in-between view a fraction `s` from the left view of `pair` to its right,
 /// seen by `camera` (its depth from the disparities), and what each pixel is made of
 /// ([`Made`]) when `labels` is set (counting is a figure: showing the view skips it): the
-/// rows in `rows` only (each row is morphed on its own), the others left empty.
+/// rows in `rows` only (each row is morphed on its own), the others left empty. Into
+/// `out`, kept from frame to frame (made the pair's size when it is not; every pixel
+/// written): the canvas, twice the frame's pixels, is not allocated again each frame.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn morph(
     pair: &Rectified,
     left: &Disparity,
@@ -155,12 +158,16 @@ pub(super) fn morph(
     camera: Camera,
     rows: Range<usize>,
     labels: bool,
-) -> (DepthImage, Option<DepthImage>) {
+    out: &mut DepthImage,
+) -> Option<DepthImage> {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
-    let mut out = DepthImage::new(w as u32, h as u32, camera);
+    if (out.width() as usize, out.height() as usize) != (w, h) {
+        *out = DepthImage::new(w as u32, h as u32, camera);
+    }
+    out.camera = camera;
     let mut made = labels.then(|| DepthImage::new(w as u32, h as u32, camera));
     if w == 0 || h == 0 {
-        return (out, made);
+        return made;
     }
     let mut made_rows: Vec<Option<&mut [Premul]>> = match made.as_mut() {
         Some(m) => m.color.chunks_mut(w).map(Some).collect(),
@@ -176,6 +183,8 @@ pub(super) fn morph(
         .zip(made_rows.par_iter_mut())
         .enumerate()
         .for_each(|(y, ((color, depth), made))| {
+            color.fill(Premul::TRANSPARENT);
+            depth.fill(EMPTY);
             if !rows.contains(&y) {
                 return;
             }
@@ -236,7 +245,7 @@ pub(super) fn morph(
                 }
             }
         });
-    (out, made)
+    made
 }
 
 /// Fills each run of empty pixels of `row` between two mapped ones from the farther
@@ -279,6 +288,26 @@ fn fill_from_farther(row: &mut Row) {
         for t in start..x {
             row.color[t] = c;
             row.disparity[t] = d;
+        }
+    }
+}
+
+/// The images a morph shown frame after frame keeps ([`ViewMorph::view_into`]): the
+/// parallel in-between canvas and the view turned from it.
+#[derive(Clone, Debug)]
+pub struct MorphScratch {
+    pub(super) parallel: DepthImage,
+    /// The last in-between view made.
+    pub view: DepthImage,
+}
+
+impl Default for MorphScratch {
+    fn default() -> Self {
+        let camera = Camera::look_at(glam::Vec3::ZERO, glam::Vec3::NEG_Z, glam::Vec3::Y, 1.0, 1.0);
+        let empty = DepthImage::new(0, 0, camera);
+        MorphScratch {
+            parallel: empty.clone(),
+            view: empty,
         }
     }
 }

@@ -396,8 +396,10 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         let (view, labels) = morph.view(s);
         // The reference: every row of the parallel view morphed, with its labels, then
         // turned.
-        let parallel = morph.parallel(s, false).0.camera;
-        let (all, made) = forward::morph(
+        let mut all = DepthImage::new(0, 0, a);
+        morph.parallel(s, false, &mut all);
+        let parallel = all.camera;
+        let made = forward::morph(
             &morph.pair,
             &morph.left,
             &morph.right,
@@ -405,6 +407,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
             parallel,
             0..rows,
             true,
+            &mut all,
         );
         assert_eq!(view, morph.postwarp(&all, s), "s {s}");
         let counted = forward::Made::count(&morph.postwarp(&made.expect("labels"), s));
@@ -447,5 +450,22 @@ fn views_captured_wider_leave_no_edge_of_the_in_between_view_unseen() {
         eprintln!("s {s}: as wide {pb:.1} dB over {cb:.4}, wider {pa:.1} dB over {ca:.4}");
         assert!(ca > 0.99 && cb > 0.99, "s {s}: {ca} against {cb}");
         assert!(pa >= pb - 0.5, "s {s}: {pa:.1} dB against {pb:.1}");
+    }
+}
+
+#[test]
+fn a_kept_canvas_makes_the_same_views_as_fresh_images_in_any_order() {
+    // The scratch kept from frame to frame (the showcase's morph) holds the last frame's
+    // canvas and view: every pixel of the next must be written again, whichever rows the
+    // last frame's band covered (s out of order, back and forth).
+    let (a, b) = verged();
+    let v = views(&[a, b]);
+    let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
+    let mut scratch = MorphScratch::default();
+    for s in [0.5, 0.0, 1.0, 0.3, 0.3, 0.9, 0.1] {
+        let labels = morph.view_into(s, &mut scratch);
+        let (fresh, fresh_labels) = morph.view(s);
+        assert_eq!(scratch.view, fresh, "s {s}");
+        assert_eq!(morph.stats(&labels), morph.stats(&fresh_labels), "s {s}");
     }
 }

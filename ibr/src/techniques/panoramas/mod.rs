@@ -33,11 +33,90 @@ fn face_cameras(centre: Vec3, near: f32, far: f32) -> [Camera; 6] {
     })
 }
 
+/// Which faces of a cube map at `centre` seeing from `near` to `far` (in [`FACES`]'
+/// order) may show a triangle of `draws`. A face sees the pyramid round its axis `a`
+/// (up `u`, side `v`): `a.p >= |u.p|`, `a.p >= |v.p|` and `near <= a.p <= far` for `p`
+/// from the centre; a triangle with its three corners outside one of those six planes
+/// lies wholly outside (it is their hull), and a face none of whose triangles is inside
+/// shows nothing: it need not be rendered (a ring of far land leaves the top and the
+/// bottom faces empty). Conservative: a face is kept at the least doubt.
+fn faces_shown(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32) -> [bool; 6] {
+    let planes = FACES.map(|(a, u)| {
+        let v = a.cross(u);
+        [a - u, a + u, a - v, a + v]
+    });
+    let mut shown = [false; 6];
+    let mut world = Vec::new();
+    for draw in draws {
+        world.clear();
+        world.extend(
+            (draw.mesh.positions.iter()).map(|&p| draw.transform.transform_point3(p) - centre),
+        );
+        for t in draw.mesh.indices.chunks_exact(3) {
+            let Some(corners) = t
+                .iter()
+                .map(|&i| world.get(i as usize).copied())
+                .collect::<Option<Vec<Vec3>>>()
+            else {
+                continue;
+            };
+            for (f, (a, _)) in FACES.iter().enumerate() {
+                if shown[f] {
+                    continue;
+                }
+                // A little slack for the pixels on the face's edge.
+                let out =
+                    |k: &dyn Fn(Vec3) -> f32| corners.iter().all(|&p| k(p) < -1e-3 * p.length());
+                let outside = planes[f].iter().any(|n| out(&|p| n.dot(p)))
+                    || out(&|p| a.dot(p) - near)
+                    || out(&|p| far - a.dot(p));
+                shown[f] = !outside;
+            }
+            if shown.iter().all(|&s| s) {
+                return shown;
+            }
+        }
+    }
+    shown
+}
+
+/// The faces of `cameras` (a cube map's, in order): those `shown` rendered, in one batch,
+/// the others left empty (transparent, depth [`crate::core::EMPTY`]), taken from `spare`
+/// (empty faces of an earlier cube map, never drawn into) before new ones are made.
+fn capture_faces(
+    draws: &[Draw<'_>],
+    cameras: &[Camera],
+    shown: &[bool],
+    lighting: &Lighting,
+    size: u32,
+    spare: &mut Vec<DepthImage>,
+) -> Vec<DepthImage> {
+    let drawn: Vec<Camera> = (cameras.iter().zip(shown))
+        .filter(|(_, &s)| s)
+        .map(|(c, _)| *c)
+        .collect();
+    let mut drawn = capture_batch(draws, &drawn, lighting, size, size).into_iter();
+    (cameras.iter().zip(shown))
+        .map(|(camera, &s)| {
+            let face = if s { drawn.next() } else { None };
+            face.unwrap_or_else(|| {
+                let mut blank = (spare.pop())
+                    .filter(|b| (b.width(), b.height()) == (size, size))
+                    .unwrap_or_else(|| DepthImage::new(size, size, *camera));
+                blank.camera = *camera;
+                blank
+            })
+        })
+        .collect()
+}
+
 /// A cube map: six square views from one centre, with depth (for the error prediction).
 #[derive(Clone, Debug)]
 pub struct CubeMap {
     centre: Vec3,
     faces: Vec<DepthImage>,
+    /// The faces left empty, not rendered: they could show nothing ([`faces_shown`]).
+    blank: [bool; 6],
     /// Each face's world-to-clip matrix, made once: a lookup per pixel of every frame.
     to_clip: Vec<Mat4>,
     /// The nearest point's distance ([`CubeMap::nearest`]), found once at the capture.
@@ -58,28 +137,24 @@ impl CubeMap {
         near: f32,
         far: f32,
     ) -> CubeMap {
-        let faces = capture_batch(
-            draws,
-            &face_cameras(centre, near, far),
-            lighting,
-            size,
-            size,
-        );
-        CubeMap::assemble(centre, faces)
+        let shown = faces_shown(draws, centre, near, far);
+        let cameras = face_cameras(centre, near, far);
+        let faces = capture_faces(draws, &cameras, &shown, lighting, size, &mut Vec::new());
+        CubeMap::assemble(centre, faces, shown.map(|s| !s))
     }
 
     /// The cube map of six faces captured from `centre` with [`face_cameras`] (in their
     /// order), perhaps a few at a time ([`Sky`] spreads a re-capture over frames).
     /// `None` unless there are six.
     pub fn from_faces(centre: Vec3, faces: Vec<DepthImage>) -> Option<CubeMap> {
-        (faces.len() == FACES.len()).then(|| CubeMap::assemble(centre, faces))
+        (faces.len() == FACES.len()).then(|| CubeMap::assemble(centre, faces, [false; 6]))
     }
 
-    /// The cube map of six faces (not checked).
-    fn assemble(centre: Vec3, faces: Vec<DepthImage>) -> CubeMap {
-        let nearest = faces
-            .iter()
-            .flat_map(|f| f.depth.iter())
+    /// The cube map of six faces (not checked), those of `blank` left empty.
+    fn assemble(centre: Vec3, faces: Vec<DepthImage>, blank: [bool; 6]) -> CubeMap {
+        let nearest = (faces.iter().zip(blank))
+            .filter(|(_, b)| !b)
+            .flat_map(|(f, _)| f.depth.iter())
             .copied()
             .filter(|d| d.is_finite())
             .fold(f32::INFINITY, f32::min);
@@ -87,8 +162,14 @@ impl CubeMap {
             centre,
             to_clip: faces.iter().map(|f| f.camera.gl_view_proj()).collect(),
             faces,
+            blank,
             nearest,
         }
+    }
+
+    /// How many faces were rendered (the others could show nothing and were left empty).
+    pub fn faces_rendered(&self) -> usize {
+        self.blank.iter().filter(|&&b| !b).count()
     }
 
     /// Where it was captured.

@@ -6,8 +6,8 @@
 //! are the faces left captured at once. A panorama is never drawn with faces from two
 //! centres.
 
-use super::{face_cameras, CubeMap};
-use crate::core::{capture_batch, DepthImage};
+use super::{capture_faces, face_cameras, faces_shown, CubeMap};
+use crate::core::DepthImage;
 use engine::{Draw, Lighting};
 use glam::Vec3;
 
@@ -17,16 +17,19 @@ const FACES: usize = 6;
 /// What one [`Sky::update`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SkyStep {
-    /// Faces captured in this update (0 to 6).
+    /// Faces rendered in this update (0 to 6; faces that can show nothing are left empty
+    /// and not counted).
     pub faces: usize,
     /// Whether a re-capture was completed in this update and is drawn from now on.
     pub swapped: bool,
 }
 
-/// A re-capture under way: where from, and the faces captured so far (in face order).
+/// A re-capture under way: where from, the faces that can show something from there, and
+/// the faces captured so far (in face order).
 #[derive(Clone, Debug)]
 struct Pending {
     centre: Vec3,
+    shown: [bool; FACES],
     faces: Vec<DepthImage>,
 }
 
@@ -48,6 +51,8 @@ pub struct Sky {
     /// Faces a re-capture takes an update while it is spread (1 to 6; 6 is all at once).
     faces_per_update: usize,
     pending: Option<Pending>,
+    /// Empty faces of the cube maps swapped out, for the next re-capture's empty faces.
+    pub(super) spare: Vec<DepthImage>,
 }
 
 impl Sky {
@@ -70,6 +75,7 @@ impl Sky {
             captures: 1,
             faces_per_update: FACES,
             pending: None,
+            spare: Vec::new(),
         }
     }
 
@@ -80,9 +86,12 @@ impl Sky {
     }
 
     /// Updates a re-capture started now takes after this one to complete: how far ahead
-    /// the `ahead` eye of [`Sky::update`] should be.
+    /// the `ahead` eye of [`Sky::update`] should be. Faces that can show nothing are not
+    /// rendered ([`CubeMap::faces_rendered`]): the held panorama's count of rendered faces
+    /// stands for the next's.
     pub fn lead(&self) -> usize {
-        FACES.div_ceil(self.faces_per_update) - 1
+        let rendered = self.map.faces_rendered().max(1);
+        rendered.div_ceil(self.faces_per_update) - 1
     }
 
     /// Faces of the re-capture under way captured so far; `None` when there is none.
@@ -126,35 +135,55 @@ impl Sky {
             };
             self.pending = Some(Pending {
                 centre,
+                shown: faces_shown(draws, centre, self.near, self.far),
                 faces: Vec::with_capacity(FACES),
             });
         }
         let Some(pending) = self.pending.as_mut() else {
             return SkyStep::default();
         };
+        // The next faces to render (all that are left when the eye is past the
+        // tolerance), and the empty ones among and after them, which cost no render.
+        let budget = if over { FACES } else { self.faces_per_update };
         let from = pending.faces.len();
-        let to = if over {
-            FACES
-        } else {
-            (from + self.faces_per_update).min(FACES)
-        };
+        let (mut to, mut rendered) = (from, 0);
+        while to < FACES && (rendered < budget || !pending.shown[to]) {
+            rendered += pending.shown[to] as usize;
+            to += 1;
+        }
         let cameras = face_cameras(pending.centre, self.near, self.far);
-        let faces = capture_batch(draws, &cameras[from..to], lighting, self.size, self.size);
+        let shown = &pending.shown[from..to];
+        let (size, spare) = (self.size, &mut self.spare);
+        let faces = capture_faces(draws, &cameras[from..to], shown, lighting, size, spare);
         pending.faces.extend(faces);
         let step = SkyStep {
-            faces: to - from,
+            faces: rendered,
             swapped: false,
         };
         if pending.faces.len() < FACES {
             return step;
         }
-        let Some(Pending { centre, faces }) = self.pending.take() else {
+        let Some(Pending {
+            centre,
+            faces,
+            shown,
+        }) = self.pending.take()
+        else {
             return step;
         };
-        let Some(map) = CubeMap::from_faces(centre, faces) else {
+        if faces.len() != FACES {
             return step;
-        };
-        self.map = map;
+        }
+        let old = std::mem::replace(
+            &mut self.map,
+            CubeMap::assemble(centre, faces, shown.map(|s| !s)),
+        );
+        let blank = old.blank;
+        self.spare.extend(
+            (old.faces.into_iter().zip(blank))
+                .filter(|(_, b)| *b)
+                .map(|(f, _)| f),
+        );
         self.captures += 1;
         SkyStep {
             swapped: true,

@@ -202,7 +202,9 @@ fn after_a_large_translation_the_error_is_reported_not_garbage() {
         let mut sky = Sky::new(draws, &Lighting::default(), CENTRE, 64, (0.1, 50.0), 4.0);
         let far = looking(CENTRE + Vec3::new(12.0, 3.0, 0.0), Vec3::NEG_Z);
         let step = sky.update(draws, &Lighting::default(), far.eye(), far.eye(), focal());
-        assert!(step.swapped && step.faces == 6, "{step:?}");
+        let shown = faces_shown(draws, far.eye(), 0.1, 50.0);
+        let rendered = shown.iter().filter(|&&s| s).count();
+        assert!(step.swapped && step.faces == rendered, "{step:?}");
         assert_eq!(sky.captures, 2);
     });
 }
@@ -253,40 +255,42 @@ fn trimming_keeps_exactly_the_points_inside_the_cube() {
 #[test]
 fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
     with_draws(|draws| {
-        let lighting = Lighting::default();
-        let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(2);
-        assert_eq!(sky.lead(), 2);
-        // Steps of a third of the tolerance (and a little): the eye `lead` steps ahead
-        // passes it first at step 1, the eye itself at step 3.
-        let step = sky.tolerance_px / 3.0 * sky.map.nearest() / focal();
-        let at = |k: usize| CENTRE + Vec3::new(step * k as f32 * 1.01, 0.0, 0.0);
-        let mut steps = Vec::new();
-        let mut first = None;
-        for k in 0..8 {
-            let (before, pending) = (sky.map.centre(), sky.pending_faces());
-            let s = sky.update(draws, &lighting, at(k), at(k + sky.lead()), focal());
-            assert!(s.faces <= 2, "step {k}: {s:?}");
-            if s.swapped {
-                assert_eq!(pending, Some(4), "step {k}");
-                assert!(sky.pending_faces().is_none());
-                assert!(sky.map.predicted_px(at(k), focal()) < 1e-3, "step {k}");
-                first.get_or_insert_with(|| sky.map.clone());
-            } else {
-                assert_eq!(sky.map.centre(), before, "step {k}: drawn before complete");
+        with_all_faces(draws, |draws| {
+            let lighting = Lighting::default();
+            let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(2);
+            assert_eq!(sky.lead(), 2);
+            // Steps of a third of the tolerance (and a little): the eye `lead` steps ahead
+            // passes it first at step 1, the eye itself at step 3.
+            let step = sky.tolerance_px / 3.0 * sky.map.nearest() / focal();
+            let at = |k: usize| CENTRE + Vec3::new(step * k as f32 * 1.01, 0.0, 0.0);
+            let mut steps = Vec::new();
+            let mut first = None;
+            for k in 0..8 {
+                let (before, pending) = (sky.map.centre(), sky.pending_faces());
+                let s = sky.update(draws, &lighting, at(k), at(k + sky.lead()), focal());
+                assert!(s.faces <= 2, "step {k}: {s:?}");
+                if s.swapped {
+                    assert_eq!(pending, Some(4), "step {k}");
+                    assert!(sky.pending_faces().is_none());
+                    assert!(sky.map.predicted_px(at(k), focal()) < 1e-3, "step {k}");
+                    first.get_or_insert_with(|| sky.map.clone());
+                } else {
+                    assert_eq!(sky.map.centre(), before, "step {k}: drawn before complete");
+                }
+                steps.push(s);
             }
-            steps.push(s);
-        }
-        let faces: Vec<usize> = steps.iter().map(|s| s.faces).collect();
-        let swaps: Vec<usize> = (0..8).filter(|&k| steps[k].swapped).collect();
-        // Every three steps, swapped where the held panorama passes the tolerance.
-        assert_eq!(faces, [0, 2, 2, 2, 2, 2, 2, 2], "{steps:?}");
-        assert_eq!(swaps, [3, 6], "{steps:?}");
-        assert_eq!(sky.captures, 3);
-        // The faces spread over three updates are those of one capture from there.
-        let at_once = CubeMap::capture(draws, &lighting, at(3), 32, 0.1, 50.0);
-        let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
-        let spread = first.expect("swapped").view(&camera, W, H);
-        assert_eq!(spread.color, at_once.view(&camera, W, H).color);
+            let faces: Vec<usize> = steps.iter().map(|s| s.faces).collect();
+            let swaps: Vec<usize> = (0..8).filter(|&k| steps[k].swapped).collect();
+            // Every three steps, swapped where the held panorama passes the tolerance.
+            assert_eq!(faces, [0, 2, 2, 2, 2, 2, 2, 2], "{steps:?}");
+            assert_eq!(swaps, [3, 6], "{steps:?}");
+            assert_eq!(sky.captures, 3);
+            // The faces spread over three updates are those of one capture from there.
+            let at_once = CubeMap::capture(draws, &lighting, at(3), 32, 0.1, 50.0);
+            let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
+            let spread = first.expect("swapped").view(&camera, W, H);
+            assert_eq!(spread.color, at_once.view(&camera, W, H).color);
+        })
     });
 }
 
@@ -295,19 +299,128 @@ fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
 #[test]
 fn an_eye_outrunning_the_spread_captures_what_is_left_at_once() {
     with_draws(|draws| {
-        let lighting = Lighting::default();
-        let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(1);
-        let allowed = sky.tolerance_px * sky.map.nearest() / focal();
-        let near = CENTRE + Vec3::X * (0.5 * allowed);
-        let ahead = CENTRE + Vec3::X * (1.5 * allowed);
-        let s = sky.update(draws, &lighting, near, ahead, focal());
-        assert_eq!(
-            (s.faces, s.swapped, sky.pending_faces()),
-            (1, false, Some(1))
-        );
-        let s = sky.update(draws, &lighting, ahead, ahead, focal());
-        assert_eq!((s.faces, s.swapped), (5, true), "{s:?}");
-        assert!(sky.map.predicted_px(ahead, focal()) < 1e-3);
-        assert_eq!(sky.captures, 2);
+        with_all_faces(draws, |draws| {
+            let lighting = Lighting::default();
+            let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(1);
+            let allowed = sky.tolerance_px * sky.map.nearest() / focal();
+            let near = CENTRE + Vec3::X * (0.5 * allowed);
+            let ahead = CENTRE + Vec3::X * (1.5 * allowed);
+            let s = sky.update(draws, &lighting, near, ahead, focal());
+            assert_eq!(
+                (s.faces, s.swapped, sky.pending_faces()),
+                (1, false, Some(1))
+            );
+            let s = sky.update(draws, &lighting, ahead, ahead, focal());
+            assert_eq!((s.faces, s.swapped), (5, true), "{s:?}");
+            assert!(sky.map.predicted_px(ahead, focal()) < 1e-3);
+            assert_eq!(sky.captures, 2);
+        })
     });
+}
+
+/// A band round `CENTRE` on the horizon (20 units away, 2 up and down), facing it: what
+/// a cube map's four side faces see, its top and bottom faces not.
+fn horizon_band() -> (engine::Mesh, engine::Material) {
+    let mut mesh = engine::Mesh::default();
+    let steps = 64u32;
+    for i in 0..steps {
+        let t = i as f32 / steps as f32 * std::f32::consts::TAU;
+        let at = CENTRE + Vec3::new(t.sin() * 20.0, 0.0, -t.cos() * 20.0);
+        mesh.positions
+            .extend([at - Vec3::Y * 2.0, at + Vec3::Y * 2.0]);
+        let c = engine::Rgba::new(0.2 + 0.6 * (i % 7) as f32 / 7.0, 0.5, 0.3, 1.0);
+        mesh.colors.extend([c, c]);
+    }
+    for i in 0..steps {
+        let (a, b) = (2 * i, 2 * ((i + 1) % steps));
+        mesh.indices.extend([a, b, a + 1, b, b + 1, a + 1]);
+    }
+    mesh.compute_normals();
+    (mesh, engine::Material::lit(engine::Rgba::WHITE))
+}
+
+/// `draws` with the horizon band round them, and copies of it 30 units above and below:
+/// something in every face of a cube map at `CENTRE`, so all six are rendered (the policy
+/// tests count six faces).
+fn with_all_faces(draws: &[Draw<'_>], test: impl FnOnce(&[Draw<'_>])) {
+    let (mesh, material) = horizon_band();
+    let band = |y: f32| Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::from_translation(Vec3::Y * y),
+    };
+    let mut all = draws.to_vec();
+    all.extend([band(0.0), band(30.0), band(-30.0)]);
+    assert_eq!(faces_shown(&all, CENTRE, 0.1, 50.0), [true; 6]);
+    test(&all)
+}
+
+#[test]
+fn faces_that_can_show_nothing_are_left_empty_and_the_map_is_the_same() {
+    let (mesh, material) = horizon_band();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    }];
+    let lighting = Lighting::default();
+    // Order +x, -x, +y, -y, +z, -z: the band is beside the centre, not above or below.
+    let shown = faces_shown(&draws, CENTRE, 0.1, 50.0);
+    assert_eq!(shown, [true, true, false, false, true, true]);
+    let map = CubeMap::capture(&draws, &lighting, CENTRE, 48, 0.1, 50.0);
+    assert_eq!(map.faces_rendered(), 4);
+    // The reference: all six faces rendered.
+    let all = capture_batch(&draws, &face_cameras(CENTRE, 0.1, 50.0), &lighting, 48, 48);
+    assert!(all[2].covered() == 0 && all[3].covered() == 0);
+    assert_eq!(map.faces, all);
+    assert_eq!(
+        map.nearest(),
+        CubeMap::from_faces(CENTRE, all).expect("six").nearest()
+    );
+    // Something above and below: every face is rendered.
+    let up = Mat4::from_translation(Vec3::Y * 30.0);
+    let tilted = [
+        draws[0],
+        Draw {
+            transform: up,
+            ..draws[0]
+        },
+    ];
+    let below = Mat4::from_translation(Vec3::NEG_Y * 30.0);
+    let tilted = [
+        tilted[0],
+        tilted[1],
+        Draw {
+            transform: below,
+            ..draws[0]
+        },
+    ];
+    assert_eq!(faces_shown(&tilted, CENTRE, 0.1, 50.0), [true; 6]);
+}
+
+#[test]
+fn a_spread_re_capture_renders_only_the_faces_that_show_something() {
+    let (mesh, material) = horizon_band();
+    let draws = [Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    }];
+    let lighting = Lighting::default();
+    let mut sky = Sky::new(&draws, &lighting, CENTRE, 48, (0.1, 50.0), 1.0).spread(2);
+    // Four faces to render, two an update: one update after the one that starts it.
+    assert_eq!(sky.lead(), 1);
+    let ahead = CENTRE + Vec3::X * 5.0;
+    let eye = CENTRE + Vec3::X * 0.01;
+    assert!(sky.map.predicted_px(eye, 40.0) < 1.0 && sky.map.predicted_px(ahead, 40.0) > 1.0);
+    let first = sky.update(&draws, &lighting, eye, ahead, 40.0);
+    assert_eq!((first.faces, first.swapped), (2, false));
+    let second = sky.update(&draws, &lighting, eye, ahead, 40.0);
+    assert_eq!((second.faces, second.swapped), (2, true));
+    assert_eq!(sky.captures, 2);
+    // The same panorama as one captured there at once, all six faces rendered.
+    let all = capture_batch(&draws, &face_cameras(ahead, 0.1, 50.0), &lighting, 48, 48);
+    assert_eq!(sky.map.faces, all);
+    // The empty faces of the map swapped out are kept for the next re-capture's.
+    assert_eq!(sky.spare.len(), 2);
 }
