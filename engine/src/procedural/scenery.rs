@@ -167,7 +167,7 @@ pub fn tree(kind: TreeKind, height: f32, seed: u64) -> Mesh {
     let mut rng = XorShift::new(seed);
     let mut b = Builder::default();
     let bark = Rgba::from_srgb8(96, 64, 40);
-    let trunk_h = height * if kind == TreeKind::Pine { 0.3 } else { 0.45 };
+    let trunk_h = trunk_height(kind, height);
     let trunk_r = height * 0.05;
     add_cylinder(
         &mut b,
@@ -178,21 +178,15 @@ pub fn tree(kind: TreeKind, height: f32, seed: u64) -> Mesh {
         8,
         bark,
     );
-    let hue = rng.range(-0.08, 0.08);
-    let leaf = Rgba::new((0.07 + hue).max(0.0), 0.32 + hue * 0.5, 0.06, 1.0);
+    let leaf = leaf_color(kind, &mut rng);
     match kind {
         TreeKind::Pine => {
-            let layers = 3;
-            let crown_h = height - trunk_h;
-            for k in 0..layers {
-                let f = k as f32 / layers as f32;
-                let y = trunk_h + crown_h * f * 0.62;
-                let r = height * 0.28 * (1.0 - f * 0.55);
+            for (y, r, h) in pine_cones(height) {
                 add_cone(
                     &mut b,
                     Vec3::new(0.0, y, 0.0),
                     r,
-                    crown_h * (1.0 - f * 0.62),
+                    h,
                     9,
                     leaf,
                     Some(&mut rng),
@@ -201,7 +195,6 @@ pub fn tree(kind: TreeKind, height: f32, seed: u64) -> Mesh {
         }
         TreeKind::Broadleaf => {
             let r = height * 0.3;
-            let leaf = Rgba::new(leaf.r * 1.3, leaf.g * 1.25, leaf.b, 1.0);
             add_blob(
                 &mut b,
                 Vec3::new(0.0, height - r, 0.0),
@@ -215,6 +208,35 @@ pub fn tree(kind: TreeKind, height: f32, seed: u64) -> Mesh {
         }
     }
     b.finish()
+}
+
+/// The trunk's height of a [`tree`] of `kind`, `height` tall (the crown stands on it).
+pub fn trunk_height(kind: TreeKind, height: f32) -> f32 {
+    height * if kind == TreeKind::Pine { 0.3 } else { 0.45 }
+}
+
+/// The leaf green of a [`tree`] of `kind`, its hue drawn from `rng` (one draw, the first
+/// [`tree`] makes): a broadleaf's lighter than a pine's.
+pub fn leaf_color(kind: TreeKind, rng: &mut XorShift) -> Rgba {
+    let hue = rng.range(-0.08, 0.08);
+    let leaf = Rgba::new((0.07 + hue).max(0.0), 0.32 + hue * 0.5, 0.06, 1.0);
+    match kind {
+        TreeKind::Pine => leaf,
+        TreeKind::Broadleaf => Rgba::new(leaf.r * 1.3, leaf.g * 1.25, leaf.b, 1.0),
+    }
+}
+
+/// The stacked cones of a pine [`tree`] `height` tall, lowest first: each cone's base
+/// height, base radius and height (apex above its base).
+pub fn pine_cones(height: f32) -> [(f32, f32, f32); 3] {
+    let trunk_h = trunk_height(TreeKind::Pine, height);
+    let crown_h = height - trunk_h;
+    std::array::from_fn(|k| {
+        let f = k as f32 / 3.0;
+        let y = trunk_h + crown_h * f * 0.62;
+        let r = height * 0.28 * (1.0 - f * 0.55);
+        (y, r, crown_h * (1.0 - f * 0.62))
+    })
 }
 
 /// A faceted grey rock of about `radius` centred on the origin (80 triangles).

@@ -9,7 +9,7 @@
 //! mesh's, and that outline error was most of the forest's error. A crown turned about the
 //! vertical has one outline at every azimuth; only its shading turns with the eye.
 
-use engine::procedural::{TreeKind, XorShift};
+use engine::procedural::{self, TreeKind, XorShift};
 use engine::{Mesh, Rgba};
 use glam::{Vec2, Vec3};
 use std::f32::consts::TAU;
@@ -37,7 +37,7 @@ pub fn tree(kind: TreeKind, seed: u64) -> Mesh {
     let mut rng = XorShift::new(seed);
     let mut mesh = Mesh::default();
     let bark = Rgba::from_srgb8(96, 64, 40);
-    let trunk_h = height * if kind == TreeKind::Pine { 0.3 } else { 0.45 };
+    let trunk_h = procedural::trunk_height(kind, height);
     let (r0, r1) = (height * 0.05, height * 0.035);
     let top = trunk_h + height * 0.05;
     let side = Vec2::new(top, r0 - r1).normalize();
@@ -57,23 +57,15 @@ pub fn tree(kind: TreeKind, seed: u64) -> Mesh {
         ],
         bark,
     );
-    let hue = rng.range(-0.08, 0.08);
-    let leaf = Rgba::new((0.07 + hue).max(0.0), 0.32 + hue * 0.5, 0.06, 1.0);
+    let leaf = procedural::leaf_color(kind, &mut rng);
     match kind {
         TreeKind::Pine => {
-            let layers = 3;
-            let crown_h = height - trunk_h;
-            for k in 0..layers {
-                let f = k as f32 / layers as f32;
-                let y = trunk_h + crown_h * f * 0.62;
-                let r = height * 0.28 * (1.0 - f * 0.55);
-                let h = crown_h * (1.0 - f * 0.62);
+            for (y, r, h) in procedural::pine_cones(height) {
                 cone(&mut mesh, y, r, h, leaf);
             }
         }
         TreeKind::Broadleaf => {
             let r = height * 0.3;
-            let leaf = Rgba::new(leaf.r * 1.3, leaf.g * 1.25, leaf.b, 1.0);
             ball(&mut mesh, height - r, r, 0.9, leaf);
         }
     }
@@ -193,7 +185,7 @@ mod tests {
                 }
             }
             // The old jittered tree's outline changes by far more than that.
-            let old = engine::procedural::tree(kind, 1.0, 3);
+            let old = procedural::tree(kind, 1.0, 3);
             let reference = widths(&old, Vec3::X, &heights);
             let worst = (1..24)
                 .flat_map(|k| {
@@ -304,7 +296,7 @@ mod tests {
     fn a_turned_tree_sprite_seen_between_two_bakes_has_the_mesh_outline() {
         for kind in [TreeKind::Pine, TreeKind::Broadleaf] {
             let (both, one) = outline_off(&tree(kind, 3), 14.0);
-            let (old_both, old_one) = outline_off(&engine::procedural::tree(kind, 1.0, 3), 14.0);
+            let (old_both, old_one) = outline_off(&procedural::tree(kind, 1.0, 3), 14.0);
             eprintln!("{kind:?}: turned off on {one} of {both}, jittered {old_one} of {old_both}");
             assert!(both > 1500, "{kind:?}: {both} pixels");
             assert!(one * 100 < both * 4, "{kind:?}: off on {one} of {both}");

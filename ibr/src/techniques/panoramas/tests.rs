@@ -355,72 +355,73 @@ fn with_all_faces(draws: &[Draw<'_>], test: impl FnOnce(&[Draw<'_>])) {
     test(&all)
 }
 
-#[test]
-fn faces_that_can_show_nothing_are_left_empty_and_the_map_is_the_same() {
+/// [`horizon_band`]'s one draw and the default lighting, handed to `test`.
+fn with_band(test: impl FnOnce(&[Draw<'_>], &Lighting)) {
     let (mesh, material) = horizon_band();
     let draws = [Draw {
         mesh: &mesh,
         material: &material,
         transform: Mat4::IDENTITY,
     }];
-    let lighting = Lighting::default();
-    // Order +x, -x, +y, -y, +z, -z: the band is beside the centre, not above or below.
-    let shown = faces_shown(&draws, CENTRE, 0.1, 50.0);
-    assert_eq!(shown, [true, true, false, false, true, true]);
-    let map = CubeMap::capture(&draws, &lighting, CENTRE, 48, 0.1, 50.0);
-    assert_eq!(map.faces_rendered(), 4);
-    // The reference: all six faces rendered.
-    let all = capture_batch(&draws, &face_cameras(CENTRE, 0.1, 50.0), &lighting, 48, 48);
-    assert!(all[2].covered() == 0 && all[3].covered() == 0);
-    assert_eq!(map.faces, all);
-    assert_eq!(
-        map.nearest(),
-        CubeMap::from_faces(CENTRE, all).expect("six").nearest()
-    );
-    // Something above and below: every face is rendered.
-    let up = Mat4::from_translation(Vec3::Y * 30.0);
-    let tilted = [
-        draws[0],
-        Draw {
-            transform: up,
-            ..draws[0]
-        },
-    ];
-    let below = Mat4::from_translation(Vec3::NEG_Y * 30.0);
-    let tilted = [
-        tilted[0],
-        tilted[1],
-        Draw {
-            transform: below,
-            ..draws[0]
-        },
-    ];
-    assert_eq!(faces_shown(&tilted, CENTRE, 0.1, 50.0), [true; 6]);
+    test(&draws, &Lighting::default());
+}
+
+#[test]
+fn faces_that_can_show_nothing_are_left_empty_and_the_map_is_the_same() {
+    with_band(|draws, lighting| {
+        // Order +x, -x, +y, -y, +z, -z: the band is beside the centre, not above or below.
+        let shown = faces_shown(draws, CENTRE, 0.1, 50.0);
+        assert_eq!(shown, [true, true, false, false, true, true]);
+        let map = CubeMap::capture(draws, lighting, CENTRE, 48, 0.1, 50.0);
+        assert_eq!(map.faces_rendered(), 4);
+        // The reference: all six faces rendered.
+        let all = capture_batch(draws, &face_cameras(CENTRE, 0.1, 50.0), lighting, 48, 48);
+        assert!(all[2].covered() == 0 && all[3].covered() == 0);
+        assert_eq!(map.faces, all);
+        assert_eq!(
+            map.nearest(),
+            CubeMap::from_faces(CENTRE, all).expect("six").nearest()
+        );
+        // Something above and below: every face is rendered.
+        let up = Mat4::from_translation(Vec3::Y * 30.0);
+        let tilted = [
+            draws[0],
+            Draw {
+                transform: up,
+                ..draws[0]
+            },
+        ];
+        let below = Mat4::from_translation(Vec3::NEG_Y * 30.0);
+        let tilted = [
+            tilted[0],
+            tilted[1],
+            Draw {
+                transform: below,
+                ..draws[0]
+            },
+        ];
+        assert_eq!(faces_shown(&tilted, CENTRE, 0.1, 50.0), [true; 6]);
+    });
 }
 
 #[test]
 fn a_spread_re_capture_renders_only_the_faces_that_show_something() {
-    let (mesh, material) = horizon_band();
-    let draws = [Draw {
-        mesh: &mesh,
-        material: &material,
-        transform: Mat4::IDENTITY,
-    }];
-    let lighting = Lighting::default();
-    let mut sky = Sky::new(&draws, &lighting, CENTRE, 48, (0.1, 50.0), 1.0).spread(2);
-    // Four faces to render, two an update: one update after the one that starts it.
-    assert_eq!(sky.lead(), 1);
-    let ahead = CENTRE + Vec3::X * 5.0;
-    let eye = CENTRE + Vec3::X * 0.01;
-    assert!(sky.map.predicted_px(eye, 40.0) < 1.0 && sky.map.predicted_px(ahead, 40.0) > 1.0);
-    let first = sky.update(&draws, &lighting, eye, ahead, 40.0);
-    assert_eq!((first.faces, first.swapped), (2, false));
-    let second = sky.update(&draws, &lighting, eye, ahead, 40.0);
-    assert_eq!((second.faces, second.swapped), (2, true));
-    assert_eq!(sky.captures, 2);
-    // The same panorama as one captured there at once, all six faces rendered.
-    let all = capture_batch(&draws, &face_cameras(ahead, 0.1, 50.0), &lighting, 48, 48);
-    assert_eq!(sky.map.faces, all);
-    // The empty faces of the map swapped out are kept for the next re-capture's.
-    assert_eq!(sky.spare.len(), 2);
+    with_band(|draws, lighting| {
+        let mut sky = Sky::new(draws, lighting, CENTRE, 48, (0.1, 50.0), 1.0).spread(2);
+        // Four faces to render, two an update: one update after the one that starts it.
+        assert_eq!(sky.lead(), 1);
+        let ahead = CENTRE + Vec3::X * 5.0;
+        let eye = CENTRE + Vec3::X * 0.01;
+        assert!(sky.map.predicted_px(eye, 40.0) < 1.0 && sky.map.predicted_px(ahead, 40.0) > 1.0);
+        let first = sky.update(draws, lighting, eye, ahead, 40.0);
+        assert_eq!((first.faces, first.swapped), (2, false));
+        let second = sky.update(draws, lighting, eye, ahead, 40.0);
+        assert_eq!((second.faces, second.swapped), (2, true));
+        assert_eq!(sky.captures, 2);
+        // The same panorama as one captured there at once, all six faces rendered.
+        let all = capture_batch(draws, &face_cameras(ahead, 0.1, 50.0), lighting, 48, 48);
+        assert_eq!(sky.map.faces, all);
+        // The empty faces of the map swapped out are kept for the next re-capture's.
+        assert_eq!(sky.spare.len(), 2);
+    });
 }
