@@ -248,49 +248,57 @@ fn trimming_keeps_exactly_the_points_inside_the_cube() {
     });
 }
 
+/// A [`Sky`] of the test scene and the bands round it (every face shown), capturing
+/// `faces` faces an update, handed to `test` with its draws and lighting.
+fn with_spread_sky(faces: usize, test: impl FnOnce(Sky, &[Draw<'_>], &Lighting)) {
+    with_draws(|draws| {
+        with_all_faces(draws, |draws| {
+            let lighting = Lighting::default();
+            let sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(faces);
+            test(sky, draws, &lighting)
+        })
+    })
+}
+
 /// A re-capture spread two faces an update: started where the eye will be when the held
 /// panorama's parallax there passes the tolerance, two faces each update and never more,
 /// the held panorama drawn until all six are there, then swapped whole; the faces equal
 /// those of a capture made at once from the same point.
 #[test]
 fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
-    with_draws(|draws| {
-        with_all_faces(draws, |draws| {
-            let lighting = Lighting::default();
-            let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(2);
-            assert_eq!(sky.lead(), 2);
-            // Steps of a third of the tolerance (and a little): the eye `lead` steps ahead
-            // passes it first at step 1, the eye itself at step 3.
-            let step = sky.tolerance_px / 3.0 * sky.map.nearest() / focal();
-            let at = |k: usize| CENTRE + Vec3::new(step * k as f32 * 1.01, 0.0, 0.0);
-            let mut steps = Vec::new();
-            let mut first = None;
-            for k in 0..8 {
-                let (before, pending) = (sky.map.centre(), sky.pending_faces());
-                let s = sky.update(draws, &lighting, at(k), at(k + sky.lead()), focal());
-                assert!(s.faces <= 2, "step {k}: {s:?}");
-                if s.swapped {
-                    assert_eq!(pending, Some(4), "step {k}");
-                    assert!(sky.pending_faces().is_none());
-                    assert!(sky.map.predicted_px(at(k), focal()) < 1e-3, "step {k}");
-                    first.get_or_insert_with(|| sky.map.clone());
-                } else {
-                    assert_eq!(sky.map.centre(), before, "step {k}: drawn before complete");
-                }
-                steps.push(s);
+    with_spread_sky(2, |mut sky, draws, lighting| {
+        assert_eq!(sky.lead(), 2);
+        // Steps of a third of the tolerance (and a little): the eye `lead` steps ahead
+        // passes it first at step 1, the eye itself at step 3.
+        let step = sky.tolerance_px / 3.0 * sky.map.nearest() / focal();
+        let at = |k: usize| CENTRE + Vec3::new(step * k as f32 * 1.01, 0.0, 0.0);
+        let mut steps = Vec::new();
+        let mut first = None;
+        for k in 0..8 {
+            let (before, pending) = (sky.map.centre(), sky.pending_faces());
+            let s = sky.update(draws, lighting, at(k), at(k + sky.lead()), focal());
+            assert!(s.faces <= 2, "step {k}: {s:?}");
+            if s.swapped {
+                assert_eq!(pending, Some(4), "step {k}");
+                assert!(sky.pending_faces().is_none());
+                assert!(sky.map.predicted_px(at(k), focal()) < 1e-3, "step {k}");
+                first.get_or_insert_with(|| sky.map.clone());
+            } else {
+                assert_eq!(sky.map.centre(), before, "step {k}: drawn before complete");
             }
-            let faces: Vec<usize> = steps.iter().map(|s| s.faces).collect();
-            let swaps: Vec<usize> = (0..8).filter(|&k| steps[k].swapped).collect();
-            // Every three steps, swapped where the held panorama passes the tolerance.
-            assert_eq!(faces, [0, 2, 2, 2, 2, 2, 2, 2], "{steps:?}");
-            assert_eq!(swaps, [3, 6], "{steps:?}");
-            assert_eq!(sky.captures, 3);
-            // The faces spread over three updates are those of one capture from there.
-            let at_once = CubeMap::capture(draws, &lighting, at(3), 32, 0.1, 50.0);
-            let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
-            let spread = first.expect("swapped").view(&camera, W, H);
-            assert_eq!(spread.color, at_once.view(&camera, W, H).color);
-        })
+            steps.push(s);
+        }
+        let faces: Vec<usize> = steps.iter().map(|s| s.faces).collect();
+        let swaps: Vec<usize> = (0..8).filter(|&k| steps[k].swapped).collect();
+        // Every three steps, swapped where the held panorama passes the tolerance.
+        assert_eq!(faces, [0, 2, 2, 2, 2, 2, 2, 2], "{steps:?}");
+        assert_eq!(swaps, [3, 6], "{steps:?}");
+        assert_eq!(sky.captures, 3);
+        // The faces spread over three updates are those of one capture from there.
+        let at_once = CubeMap::capture(draws, lighting, at(3), 32, 0.1, 50.0);
+        let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
+        let spread = first.expect("swapped").view(&camera, W, H);
+        assert_eq!(spread.color, at_once.view(&camera, W, H).color);
     });
 }
 
@@ -298,23 +306,19 @@ fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
 /// captured in that update rather than be drawn past its tolerance.
 #[test]
 fn an_eye_outrunning_the_spread_captures_what_is_left_at_once() {
-    with_draws(|draws| {
-        with_all_faces(draws, |draws| {
-            let lighting = Lighting::default();
-            let mut sky = Sky::new(draws, &lighting, CENTRE, 32, (0.1, 50.0), 4.0).spread(1);
-            let allowed = sky.tolerance_px * sky.map.nearest() / focal();
-            let near = CENTRE + Vec3::X * (0.5 * allowed);
-            let ahead = CENTRE + Vec3::X * (1.5 * allowed);
-            let s = sky.update(draws, &lighting, near, ahead, focal());
-            assert_eq!(
-                (s.faces, s.swapped, sky.pending_faces()),
-                (1, false, Some(1))
-            );
-            let s = sky.update(draws, &lighting, ahead, ahead, focal());
-            assert_eq!((s.faces, s.swapped), (5, true), "{s:?}");
-            assert!(sky.map.predicted_px(ahead, focal()) < 1e-3);
-            assert_eq!(sky.captures, 2);
-        })
+    with_spread_sky(1, |mut sky, draws, lighting| {
+        let allowed = sky.tolerance_px * sky.map.nearest() / focal();
+        let near = CENTRE + Vec3::X * (0.5 * allowed);
+        let ahead = CENTRE + Vec3::X * (1.5 * allowed);
+        let s = sky.update(draws, lighting, near, ahead, focal());
+        assert_eq!(
+            (s.faces, s.swapped, sky.pending_faces()),
+            (1, false, Some(1))
+        );
+        let s = sky.update(draws, lighting, ahead, ahead, focal());
+        assert_eq!((s.faces, s.swapped), (5, true), "{s:?}");
+        assert!(sky.map.predicted_px(ahead, focal()) < 1e-3);
+        assert_eq!(sky.captures, 2);
     });
 }
 
