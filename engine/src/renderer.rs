@@ -155,6 +155,8 @@ pub struct Renderer {
     count_costs: bool,
     /// The last frame's cost of each draw, in submission order (empty when not counted).
     costs: Vec<DrawCost>,
+    /// The frame's directional lights' unit vectors (`shade::light_dirs`).
+    light_dirs: Vec<Vec3>,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -471,11 +473,13 @@ impl Renderer {
         let clear = frame.opts.clear.map(|c| c.premultiply());
         let encoding = target.encoding();
         let soft = DepthToView::new(*frame.camera);
+        crate::shade::light_dirs(frame.lighting, &mut self.light_dirs);
         let tiles = TileFrame {
             chunks: &self.chunks[..n_chunks],
             infos: frame.infos,
             vary: &self.vary[..],
             lighting: frame.lighting,
+            light_dirs: &self.light_dirs,
             eye: frame.camera.eye(),
             soft: &soft,
             prepass: self.prepass && frame.peel.is_none() && prepass_allowed(frame.infos),

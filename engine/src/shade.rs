@@ -125,7 +125,19 @@ impl FragShader for ColorShader {
 pub struct GeneralShader<'a> {
     pub material: &'a Material,
     pub lighting: &'a Lighting,
+    /// [`light_dirs`] of `lighting`, worked out once a frame.
+    pub light_dirs: &'a [Vec3],
     pub eye: Vec3,
+}
+
+/// Towards each directional light of `lighting`, unit length (zero for point lights), in
+/// `out`: the vector [`GeneralShader`]'s lighting would otherwise normalise on every row.
+pub fn light_dirs(lighting: &Lighting, out: &mut Vec<Vec3>) {
+    out.clear();
+    out.extend(lighting.lights.iter().map(|l| match *l {
+        Light::Directional { direction, .. } => -direction.normalize_or_zero(),
+        Light::Point { .. } => Vec3::ZERO,
+    }));
 }
 
 /// Per-triangle data of [`GeneralShader`].
@@ -142,6 +154,9 @@ pub struct GeneralTri {
     /// 63 on). A point light whose range ends before the triangle's nearest point adds
     /// exactly nothing there, so the shader skips it.
     reach: u64,
+    /// Whether the lanes need the interpolated position: only highlights and the point
+    /// lights in `reach` read it (worked out once here rather than on every row).
+    needs_pos: bool,
 }
 
 /// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
@@ -206,18 +221,25 @@ impl FragShader for GeneralShader<'_> {
         // Setup made the winding positive on a y-down screen (clockwise as seen), so this
         // order of the cross product points towards the viewer.
         let n = (p(2) - p(0)).cross(p(1) - p(0)).normalize_or_zero();
-        let lit = matches!(self.material.shading, Shading::Lit { .. });
         let front = tri.flags() & FRONT != 0;
+        let (reach, needs_pos) = match self.material.shading {
+            Shading::Lit { specular, .. } => {
+                let bits = reach(self.lighting, [p(0), p(1), p(2)]);
+                let point = |(i, l): (usize, &Light)| {
+                    matches!(l, Light::Point { .. }) && bits & light_bit(i) != 0
+                };
+                let any_point = self.lighting.lights.iter().enumerate().any(point);
+                (bits, specular != 0.0 || any_point)
+            }
+            _ => (0, false),
+        };
         GeneralTri {
             attr,
             face_normal: n,
             front,
             flat_normal: flat_normal(&attr, n, front),
-            reach: if lit {
-                reach(self.lighting, [p(0), p(1), p(2)])
-            } else {
-                0
-            },
+            reach,
+            needs_pos,
         }
     }
 
@@ -262,13 +284,8 @@ impl FragShader for GeneralShader<'_> {
                 let dvdy = a1y.mul_add(dv1, a2y * dv2) * th;
                 let rho2 = dudx
                     .mul_add(dudx, dvdx * dvdx)
-                    .max(dudy.mul_add(dudy, dvdy * dvdy))
-                    .to_array();
-                let widest = (0..LANES)
-                    .filter(|l| row.covered >> l & 1 != 0)
-                    .map(|l| rho2[l])
-                    .fold(0.0f32, f32::max);
-                0.5 * fast_log2(widest)
+                    .max(dudy.mul_add(dudy, dvdy * dvdy));
+                0.5 * fast_log2(widest(rho2, row.covered))
             } else {
                 0.0
             };
@@ -296,11 +313,7 @@ impl FragShader for GeneralShader<'_> {
             shininess,
         } = m.shading
         {
-            // Only highlights and point lights read the position.
-            let point = |(i, l): (usize, &Light)| {
-                matches!(l, Light::Point { .. }) && p.reach & light_bit(i) != 0
-            };
-            let pos = if specular != 0.0 || self.lighting.lights.iter().enumerate().any(point) {
+            let pos = if p.needs_pos {
                 V3::new(at(POS), at(POS + 1), at(POS + 2))
             } else {
                 V3::splat(Vec3::ZERO)
@@ -311,6 +324,7 @@ impl FragShader for GeneralShader<'_> {
             };
             let lit = light8(
                 self.lighting,
+                self.light_dirs,
                 p.reach,
                 self.eye,
                 &pos,
@@ -351,6 +365,23 @@ impl GeneralShader<'_> {
             has.select(n.z * inv_len, F8::splat(f.z)),
         )
     }
+}
+
+/// The largest of the lanes of `rho2` set in `covered`, NaN lanes left out, and at least 0:
+/// the same value as folding `f32::max` from 0 over those lanes (the squared footprints are
+/// `>= 0` or NaN, and a zero's sign is lost in [`fast_log2`]), by a tree of maxima
+/// without a branch per lane.
+#[inline(always)]
+fn widest(rho2: F8, covered: u32) -> f32 {
+    let zero = F8::splat(0.0);
+    // `>= 0` is false for NaN, so those lanes become 0 as the skipped lanes do.
+    let keep = crate::simd::M8::from_bits(covered).and(rho2.ge(zero));
+    let m = keep.select(rho2, zero).to_array();
+    // No NaN is left: a plain comparison is the maximum, in two independent halves.
+    let max = |a: f32, b: f32| if b > a { b } else { a };
+    let lo = max(max(m[0], m[1]), max(m[2], m[3]));
+    let hi = max(max(m[4], m[5]), max(m[6], m[7]));
+    max(lo, hi)
 }
 
 /// `log2` from the float's bits, exact at powers of two and within 0.09 between: plenty for
@@ -405,8 +436,10 @@ impl V3 {
 /// Blinn-Phong, with Schlick's rational stand-in for `pow(n.h, shininess)`
 /// (`t / (s - s t + t)`), which needs no transcendental per lane. Lights whose bit is clear
 /// in `reach` are skipped (they add exactly zero there).
+#[allow(clippy::too_many_arguments)] // reason: the frame's lights and the lanes' surface
 fn light8(
     lighting: &Lighting,
+    dirs: &[Vec3],
     reach: u64,
     eye: Vec3,
     pos: &V3,
@@ -433,7 +466,11 @@ fn light8(
         }
         let (l, color, att) = match *light {
             Light::Directional { direction, color } => (
-                V3::splat(-direction.normalize_or_zero()),
+                V3::splat(
+                    dirs.get(i)
+                        .copied()
+                        .unwrap_or_else(|| -direction.normalize_or_zero()),
+                ),
                 color,
                 F8::splat(1.0),
             ),
@@ -604,6 +641,42 @@ mod tests {
             dropped > 100 && kept > 100,
             "{dropped} dropped, {kept} kept"
         );
+    }
+
+    /// The row's widest footprint is the covered lanes' maximum, NaN lanes left out, at
+    /// least 0: the same level of detail as the per-lane fold it replaced, over random
+    /// squared footprints (zeros, NaN and infinity among them) and every lane mask.
+    #[test]
+    fn widest_footprint_is_the_fold_over_covered_lanes() {
+        use crate::simd::F8;
+        let mut rng = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        for _ in 0..2000 {
+            let lanes: [f32; 8] = std::array::from_fn(|_| match next() % 8 {
+                0 => 0.0,
+                1 => f32::NAN,
+                2 => f32::INFINITY,
+                3 => 1e-30,
+                _ => (next() >> 40) as f32 / 4096.0,
+            });
+            for covered in 0..=255u32 {
+                let want = (0..8)
+                    .filter(|l| covered >> l & 1 != 0)
+                    .map(|l| lanes[l])
+                    .fold(0.0f32, f32::max);
+                let got = super::widest(F8::from_array(lanes), covered);
+                assert_eq!(got, want, "{lanes:?} covered {covered:#x}");
+                assert_eq!(
+                    super::fast_log2(got).to_bits(),
+                    super::fast_log2(want).to_bits()
+                );
+            }
+        }
     }
 
     /// Flat faces: one normal per triangle, normalised and flipped for back faces; zero

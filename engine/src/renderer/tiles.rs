@@ -40,6 +40,8 @@ pub(super) struct TileFrame<'f, 'a> {
     pub(super) infos: &'f [DrawInfo<'a>],
     pub(super) vary: &'f [f32],
     pub(super) lighting: &'f Lighting,
+    /// `shade::light_dirs` of `lighting`.
+    pub(super) light_dirs: &'f [Vec3],
     pub(super) eye: Vec3,
     pub(super) soft: &'f DepthToView,
     /// Whether tiles draw with the visibility pre-pass (see the module doc).
@@ -175,6 +177,7 @@ impl TileFrame<'_, '_> {
                 let s = GeneralShader {
                     material: info.material,
                     lighting: self.lighting,
+                    light_dirs: self.light_dirs,
                     eye: self.eye,
                 };
                 raster_tri(buf, ox, oy, tri, &s, src, mode, soft, stats, pass);
