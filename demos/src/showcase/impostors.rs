@@ -80,8 +80,11 @@ const CITY_BUDGET: usize = 6;
 /// at 256 it does not.
 const CLOUD_MAX_SIDE: u32 = 256;
 const CITY_MAX_SIDE: u32 = 512;
-/// Texels per screen pixel of the city's images, at least ([`ImpostorSet::density`]).
-const CITY_DENSITY: f32 = 2.0;
+/// Texels per screen pixel of the city's images, at least ([`ImpostorSet::density`]). At
+/// 2 the tour's worst frame at 640x360 was 24.9 dB (a two-pixel sliver of a building
+/// between two others, its lit windows resampled), at 3 26.8 (mean 41.9 to 45.3 dB); 4
+/// gained nothing more (BENCHMARKS.md, session 12).
+const CITY_DENSITY: f32 = 3.0;
 
 /// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`], each
 /// on its relief ([`ImpostorSet::relief`]): drawn on a quad at its building's nearest

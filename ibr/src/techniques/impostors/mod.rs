@@ -412,6 +412,12 @@ impl ImpostorSet {
             let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
             let now = (b, s.version());
             imp.predicted = predict(imp.capture.as_ref(), now, eye, needed, px_per_radian, &cfg);
+            // Its own refreshes take `needed` texels a side.
+            if self.shape == Shape::Box
+                && stretched(imp.capture.as_ref(), s, eye, px_per_radian, needed)
+            {
+                imp.predicted.ratio = f32::INFINITY;
+            }
             if visible {
                 imp.mode = if imp.slot.is_some() && imp.capture.is_some() {
                     Mode::Image
@@ -622,6 +628,36 @@ impl ImpostorSet {
         metrics::compare(&truth, &image, &opts).ok()
     }
 }
+
+/// Whether a box impostor's image `capture` of `subject` shows some face of its box,
+/// seen from `eye`, with less than a texel a pixel across ([`relief::face_stretch`]) and
+/// more stretched than an image taken from `eye` at `fresh_side` texels would be: a face
+/// the capture eye saw edge-on or from behind, seen at an angle now. Such an image is
+/// invalid, whatever its parallax. An image just taken passes from its own eye, even where
+/// the largest side gives under a texel a pixel (a subject near the eye, its faces seen
+/// at a slant): a rebuild would not do better.
+fn stretched<S: Subject>(
+    capture: Option<&Capture>,
+    subject: &S,
+    eye: Vec3,
+    ppr: f32,
+    fresh_side: u32,
+) -> bool {
+    let Some(c) = capture else { return false };
+    let corners = subject.corners();
+    let held = relief::face_stretch(c, &corners, eye, ppr);
+    if held <= relief::MAX_STRETCH {
+        return false;
+    }
+    let b = subject.bounds();
+    let fresh = Capture::new(eye, b.center, b.radius, fresh_side, c.version)
+        .map_or(0.0, |f| relief::face_stretch(&f, &corners, eye, ppr));
+    held > fresh * STRETCH_GAIN
+}
+
+/// How much more stretched than a fresh image's ([`stretched`]) a held image's faces must
+/// be before it is invalid: a rebuild must gain something clear of rounding.
+const STRETCH_GAIN: f32 = 1.01;
 
 #[cfg(test)]
 mod tests;

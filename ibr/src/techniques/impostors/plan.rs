@@ -64,7 +64,9 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     /// the subject's disc on screen is wider than [`super::Config::max_side`] texels (less
     /// than a texel per pixel). An image
     /// whose subject changed, moved, or needs a larger texture than it has by
-    /// [`super::Tolerance::octaves`] has infinite error.
+    /// [`super::Tolerance::octaves`], or (a [`Shape::Box`]) shows a face of its box with
+    /// less than a texel a pixel across ([`super::relief::face_stretch`]), has infinite
+    /// error.
     fn estimate(&self, i: usize, subject: &S, sight: &Sight<'_>) -> Option<Estimate> {
         let imp = self.impostors.get(i)?;
         let cfg = &self.config;
@@ -90,24 +92,40 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         };
         let (error, rebuilt) = match held {
             Some(c) => {
-                // Predicted as the image a texel per pixel would be: taken denser, its
-                // texels are that much smaller and their differences that much larger.
+                // Its resolution judged as the image a texel per pixel would be: taken
+                // denser, it is that much larger than the side a texel a pixel needs.
                 let d = (c.side as f32 / needed.max(1) as f32).clamp(1.0, self.density.max(1.0));
-                let c = &super::Capture {
-                    side: (c.side as f32 / d).round().max(1.0) as u32,
-                    gradient: c.gradient * d,
-                    depth_gradient: c.depth_gradient * d,
-                    ..*c
-                };
+                let side = c.side as f32 / d;
+                let octaves = (needed as f32 / side).log2();
+                let coarse = needed as f32 > side && octaves >= cfg.tolerance.octaves;
+                // Its error per screen pixel: `image_error` scales the gradient per texel by
+                // texels per screen pixel, so the density it was taken at cancels out.
                 let now = (b, subject.version());
                 let p = predict(Some(c), now, sight.eye, needed, ppr, cfg);
-                let coarse = needed > c.side && p.octaves >= cfg.tolerance.octaves;
-                let error = if p.ratio.is_finite() && !coarse {
+                // A box face the capture eye saw edge-on, seen at an angle now: invalid.
+                let side = self.fresh_side(b, sight.distance, ppr);
+                let stretched = self.shape == Shape::Box
+                    && super::stretched(held, subject, sight.eye, ppr, side);
+                let error = if p.ratio.is_finite() && !coarse && !stretched {
                     p.levels
                 } else {
                     f32::INFINITY
                 };
-                let fresh = super::Capture { side: needed, ..*c };
+                // A rebuild predicted as the image a texel a pixel would be, its texels as
+                // much smaller than the held image's as that is larger than `needed`: from
+                // the capture eye, `rebuilt` is `error` without parallax, and a still
+                // camera never rebuilds. (Until session 13 that factor was `d`, capped at
+                // `density`: when the power of two taken at `density` texels a pixel was
+                // more than `density` times `needed`, 4 at 2.5 or 3, `rebuilt` came out
+                // lower than `error` from the capture eye and the planner rebuilt the
+                // same image every frame.)
+                let e = (c.side as f32 / needed.max(1) as f32).max(1.0);
+                let fresh = super::Capture {
+                    side: needed,
+                    gradient: c.gradient * e,
+                    depth_gradient: c.depth_gradient * e,
+                    ..*c
+                };
                 (error, image_error(&fresh, sight.distance, 0.0, ppr))
             }
             None => {
@@ -128,15 +146,14 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
     fn rebuild(&mut self, objects: &[usize], subjects: &mut [S], view: &FrameView<'_>) -> Work {
         let eye = view.camera.eye();
         // Taken at `density` texels per pixel, as far as the largest side allows.
-        let ppr = pixels_per_radian(view.camera, view.height) * self.density.max(1.0);
-        let (lo, hi) = (self.config.min_side, self.config.max_side);
+        let ppr = pixels_per_radian(view.camera, view.height);
         self.jobs.clear();
         for &i in objects {
             let (Some(s), true) = (subjects.get(i), i < self.impostors.len()) else {
                 continue;
             };
             let b = s.bounds();
-            let side = needed_side(b.radius, eye.distance(b.center), ppr, lo, hi);
+            let side = self.fresh_side(b, eye.distance(b.center), ppr);
             self.impostors[i].predicted.needed_side = side;
             if let Some(job) = self.begin_refresh(i, s, eye) {
                 self.jobs.push(job);
@@ -202,5 +219,15 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
         held.filter_map(|imp| imp.capture.as_ref())
             .map(|c| image_bytes(c.side, c.side))
             .sum()
+    }
+}
+
+impl ImpostorSet {
+    /// The side [`Representation::rebuild`] takes an image of a subject with bounds `b` at
+    /// `dist` from the eye at: [`ImpostorSet::density`] texels a pixel, within the sides the
+    /// config allows.
+    fn fresh_side(&self, b: engine::Sphere, dist: f32, ppr: f32) -> u32 {
+        let (lo, hi) = (self.config.min_side, self.config.max_side);
+        needed_side(b.radius, dist, ppr * self.density.max(1.0), lo, hi)
     }
 }

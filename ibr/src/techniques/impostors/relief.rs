@@ -17,7 +17,9 @@
 //! texel position it projects to from the capture eye. The outline and depth are then the
 //! box's, exact from any eye, instead of a cutout of filtered coverage half a texel off;
 //! the image's covered texels are spread two texels outward ([`dilate`]), so samples on
-//! the outline read the wall's colour, not the transparent background's.
+//! the outline read the wall's colour, not the transparent background's. A face the
+//! capture eye saw edge-on or from behind has no texels across it: once it shows at an
+//! angle ([`face_stretch`] over [`MAX_STRETCH`]) the image is invalid and taken again.
 //!
 //! [`Subject::corners`]: crate::core::Subject::corners
 
@@ -191,6 +193,61 @@ pub(super) fn write_box(c: &Capture, corners: &[Vec3; 8], m: &mut Mesh) -> f32 {
     let size = (hi - lo) / side;
     size.x * size.y
 }
+
+/// Screen pixels a capture texel spans across a box face, at most over the faces of the
+/// box `corners` that face `eye` and are at least [`STRETCH_MIN_PX`] wide there:
+/// `px_per_radian` on screen against the capture's texels per radian, times how much
+/// nearer and less foreshortened the face is now than from the capture eye. A face seen
+/// edge-on from the capture eye holds no texels across (the image has one column of it,
+/// or none): seen at an angle now, that column is stretched over its width (infinite when
+/// the capture eye saw the face's back). A fresh image, taken `density` texels a pixel,
+/// gives `1 / density` on every face.
+pub(super) fn face_stretch(c: &Capture, corners: &[Vec3; 8], eye: Vec3, px_per_radian: f32) -> f32 {
+    let texels_per_radian = c.side as f32 / (2.0 * c.half_fov.tan()).max(1e-6);
+    let middle = corners.iter().copied().sum::<Vec3>() / 8.0;
+    let mut worst = 0.0f32;
+    for face in 0..6 {
+        let (axis, s) = (face / 2, face % 2);
+        let (b, cc) = ((axis + 1) % 3, (axis + 2) % 3);
+        let at = |kb: usize, kc: usize| corners[(s << axis) | (kb << b) | (kc << cc)];
+        let (o, u, v) = (at(0, 0), at(1, 0) - at(0, 0), at(0, 1) - at(0, 0));
+        let centre = o + 0.5 * (u + v);
+        let normal = u.cross(v);
+        let area = normal.length();
+        let long = u.length().max(v.length());
+        if !(area > 0.0 && long > 0.0) {
+            continue;
+        }
+        let outward = (centre - middle).dot(normal).signum();
+        let normal = normal / area * if outward == 0.0 { 1.0 } else { outward };
+        // The face's width across (its area seen from `from` over its longer edge), radians.
+        let across = |from: Vec3| {
+            let to = from - centre;
+            let d = to.length().max(1e-6);
+            area * normal.dot(to / d) / (d * long)
+        };
+        let px = across(eye) * px_per_radian;
+        if px < STRETCH_MIN_PX {
+            continue;
+        }
+        let texels = across(c.eye) * texels_per_radian;
+        let stretch = if texels > 1e-6 {
+            px / texels
+        } else {
+            f32::INFINITY
+        };
+        worst = worst.max(stretch);
+    }
+    worst
+}
+
+/// Faces narrower than this on screen, pixels, are not judged by [`face_stretch`]: a
+/// face seen edge-on from the eye too shows at most a stray pixel's column.
+pub(super) const STRETCH_MIN_PX: f32 = 1.0;
+
+/// The most screen pixels a capture texel may span across a box face before the image is
+/// invalid ([`face_stretch`]): one texel a pixel, as the city's texel density goal.
+pub(super) const MAX_STRETCH: f32 = 1.0;
 
 /// Copies `t`'s image into `out` (row-major), each empty texel within two texels of the
 /// covered ones (4-neighbours, one ring at a time) taking a covered neighbour's texel:

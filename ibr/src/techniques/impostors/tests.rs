@@ -543,4 +543,5 @@ fn a_texel_budget_spreads_refreshes_over_frames_by_their_area() {
     );
 }
 
+mod density;
 mod shape;

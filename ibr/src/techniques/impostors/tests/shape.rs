@@ -4,7 +4,7 @@
 use super::*;
 
 /// A box of `size` centred at `at`, turned `yaw` about the vertical, lit in `color`.
-fn block(size: Vec3, at: Vec3, yaw: f32, color: Rgba) -> MeshGroup {
+pub(super) fn block(size: Vec3, at: Vec3, yaw: f32, color: Rgba) -> MeshGroup {
     MeshGroup::new().with(
         Arc::new(procedural::cuboid(size)),
         Arc::new(Material::lit(color)),
@@ -176,5 +176,69 @@ fn a_box_shows_its_subjects_outline_where_a_cutout_misses_pixels_along_it() {
     assert!(
         relief >= 10 && boxed * 5 <= relief,
         "box {boxed} relief {relief}"
+    );
+}
+
+/// Pixels of `image` more than 8 levels off `truth`'s colour in some channel.
+fn off_pixels(image: &Target, truth: &Target) -> usize {
+    let (w, h) = (image.width(), image.height());
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let (p, q) = (image.pixel(x, y).unwrap(), truth.pixel(x, y).unwrap());
+            let (p, q) = (p.to_le_bytes(), q.to_le_bytes());
+            (0..4).any(|k| p[k].abs_diff(q[k]) > 8)
+        })
+        .count()
+}
+
+#[test]
+fn a_box_face_the_capture_eye_saw_edge_on_is_taken_again_once_seen_at_an_angle() {
+    // A box captured square-on to its front face, level with its centre: its sides and
+    // top edge-on, no texel across them. The level tolerance is out of reach, so only the
+    // faces' texels can invalidate the image.
+    let color = Rgba::new(0.8, 0.5, 0.2, 1.0);
+    let mut subjects = [block(Vec3::new(2.0, 3.0, 1.5), Vec3::ZERO, 0.0, color)];
+    let size = (192, 144);
+    let cam_at = |eye: Vec3| {
+        Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.5, 4.0 / 3.0).with_depth_range(0.1, 100.0)
+    };
+    let mut imps = set(1, 1);
+    imps.config.tolerance.levels = Some(f32::MAX);
+    imps.config.fallback_ratio = f32::INFINITY;
+    imps.shape = Shape::Box;
+    imps.density = 2.0;
+    let front = Vec3::new(0.0, 0.0, 10.0);
+    imps.update(&mut subjects, &cam_at(front), size.1, &lighting());
+    assert_eq!(imps.impostors[0].refreshes, 1);
+    // Nearer along the same line: no face turns toward the eye; the image is kept.
+    let nearer = cam_at(Vec3::new(0.0, 0.0, 9.0));
+    let r = imps.update(&mut subjects, &nearer, size.1, &lighting());
+    assert_eq!(r.refreshes, 0);
+    // Twenty degrees round: the right face shows about 0.34 of its width (0.5 units, some
+    // 14 pixels) where the image has no texel of it. Drawn stale, those pixels repeat the
+    // front face's edge; the image is taken again, and then matches the geometry.
+    let side = cam_at(Vec3::new(3.42, 0.0, 9.4));
+    let mut truth_draws = Vec::new();
+    subjects[0].draws(&mut truth_draws);
+    let truth = frame(truth_draws, &side, size).0;
+    // Drawn as a cutout, as the city draws its boxes.
+    let drawn = |imps: &mut ImpostorSet, subjects: &[MeshGroup]| {
+        let slot = imps.impostors[0].slot.expect("captured");
+        imps.pool
+            .set_alpha(slot, engine::AlphaMode::Mask { cutoff: 0.5 });
+        let mut draws = Vec::new();
+        imps.draws_near(subjects, side.eye(), &mut draws);
+        assert_eq!(draws.len(), 1, "drawn as its image");
+        frame(draws, &side, size).0
+    };
+    let stale = off_pixels(&drawn(&mut imps, &subjects), &truth);
+    let r = imps.update(&mut subjects, &side, size.1, &lighting());
+    assert_eq!(r.refreshes, 1, "the edge-on face invalidates the image");
+    assert_eq!(imps.impostors[0].mode, Mode::Image);
+    let fresh = off_pixels(&drawn(&mut imps, &subjects), &truth);
+    assert!(
+        stale >= 100 && fresh * 4 <= stale,
+        "stale {stale} fresh {fresh}"
     );
 }
