@@ -291,7 +291,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 continue;
             }
             if let Some(split) = &split {
-                if self.far_side(k, &node, split, &frustum, &mut report) {
+                if self.far_side(&node, split, &mut report) {
                     continue;
                 }
             }
@@ -433,18 +433,11 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         start.elapsed().as_secs_f32() * 1e3
     }
 
-    /// The cut at node `k` against the far field's `split`: a node wholly the field's is
+    /// The cut at `node` against the far field's `split`: a node wholly the field's is
     /// left to it (true: done), one with none of its objects is the cut's (false), one
-    /// across is opened, or for a leaf its objects not the field's drawn as geometry
-    /// (true), never drawn as one image.
-    fn far_side(
-        &mut self,
-        k: u32,
-        node: &Node,
-        split: &Split,
-        frustum: &Frustum,
-        report: &mut TreeReport,
-    ) -> bool {
+    /// across is opened (true), but a leaf across is the cut's whole (false: drawn as one
+    /// image, or its objects as geometry, as any node of the cut).
+    fn far_side(&mut self, node: &Node, split: &Split, report: &mut TreeReport) -> bool {
         match split.side(node.lo, node.hi) {
             Side::Near => return false,
             Side::Far => {
@@ -454,19 +447,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             Side::Across => {}
         }
         if node.is_leaf() {
-            for &i in self.tree.objects_of(k as usize) {
-                let b = self.objects[i as usize].bounds();
-                if self
-                    .tree
-                    .box_of(i as usize)
-                    .is_some_and(|x| split.is_far(x))
-                {
-                    report.far_objects += 1;
-                } else if frustum.sees(b.center, b.radius) {
-                    self.geometry.push(i);
-                }
-            }
-            return true;
+            return false;
         }
         report.opened += 1;
         self.queue.extend(node.children);

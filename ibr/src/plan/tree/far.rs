@@ -1,4 +1,4 @@
-//! The far field: every object whose centre lies beyond a distance from an eye, drawn as
+//! The far field: every leaf of objects lying beyond a distance from an eye, drawn as
 //! one image mesh with depth (Sillion, Drettakis and Bodelet 97; Shade et al. 96's far
 //! nodes as a few cached images). The image is captured from the field's eye through a
 //! frustum a margin wider than the view's, in tiles (crops of it, a tile over the budget
@@ -15,9 +15,10 @@
 //! field's distance passes [`FarConfig::parallax`] pixels, or when the view leaves the
 //! shown field's frustum; the shown field stays (stale but whole) until every tile of the
 //! new one is taken, then they swap. Each object is in exactly one of the shown field or
-//! the cut: [`Split`] is the rule both follow (an object is the field's when its box's
-//! centre is beyond the distance from the field's eye and its whole box inside the
-//! field's frustum), so a view that turns past the field sees the rest drawn by the cut.
+//! the cut: [`Split`] is the rule both follow (an object is the field's when the box of its
+//! leaf of the hierarchy lies wholly beyond the distance from the field's eye and inside the
+//! field's frustum), so a view that turns past the field sees the rest drawn by the cut. A
+//! leaf across the distance is the cut's whole, so the cut may draw it as one image.
 
 use super::bvh::Tree;
 use super::far_mesh::span_mesh;
@@ -30,7 +31,7 @@ use rayon::prelude::*;
 /// Settings of a [`FarField`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FarConfig {
-    /// Objects whose centre is farther than this from the field's eye are the far field's.
+    /// Leaves of objects wholly farther than this from the field's eye are the far field's.
     pub distance: f32,
     /// The capture frustum's half-extents over the view's (>= 1: room to turn and move).
     pub margin: f32,
@@ -258,9 +259,9 @@ pub struct FarField {
 pub struct Split {
     /// The eye the field was captured from,
     pub eye: Vec3,
-    /// the distance beyond which (of a box's centre) objects are its,
+    /// the distance beyond which (the whole box of their leaf) objects are its,
     pub distance: f32,
-    /// and the frustum it was captured through (an object's whole box inside).
+    /// and the frustum it was captured through (the leaf's whole box inside).
     pub frustum: Frustum,
 }
 
@@ -276,15 +277,8 @@ pub enum Side {
 }
 
 impl Split {
-    /// Whether the object of box `lo..hi` is the far field's.
-    pub fn is_far(&self, (lo, hi): (Vec3, Vec3)) -> bool {
-        (lo + hi).distance(self.eye * 2.0) > 2.0 * self.distance
-            && crate::core::box_corners(lo, hi)
-                .iter()
-                .all(|&c| self.frustum.contains(c))
-    }
-
-    /// Where the node box `lo..hi` lies (its objects' boxes inside it).
+    /// Where the node box `lo..hi` lies (its objects' boxes inside it). A leaf's objects
+    /// are the far field's when it is [`Side::Far`], else the cut's (a leaf is never split).
     pub fn side(&self, lo: Vec3, hi: Vec3) -> Side {
         let (near, far) = box_range(self.eye, lo, hi);
         let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
@@ -508,10 +502,12 @@ pub(super) fn far_objects<S: Subject>(
             continue;
         }
         if node.is_leaf() {
+            if split.side(node.lo, node.hi) != Side::Far {
+                continue;
+            }
             for &i in tree.objects_of(k as usize) {
                 let b = objects[i as usize].bounds();
-                let far = tree.box_of(i as usize).is_some_and(|x| split.is_far(x));
-                if far && frustum.sees(b.center, b.radius) {
+                if frustum.sees(b.center, b.radius) {
                     out.push(i);
                 }
             }

@@ -1,6 +1,6 @@
 //! The far field against the cut: every object in view drawn exactly once, by one or the
-//! other, the field's objects those beyond its distance, and its per-frame capture budget
-//! (counters, not time).
+//! other, the field's objects those beyond its distance, a leaf across the distance the
+//! cut's whole, and its per-frame capture budget (counters, not time).
 
 use super::tests::{camera, drawn, hierarchy, plan};
 use super::*;
@@ -108,15 +108,56 @@ fn the_split_sides_agree_with_their_objects() {
     let near = unit(Vec3::new(0.0, 0.5, 40.0));
     let far = unit(Vec3::new(0.0, 0.5, -10.0));
     assert_eq!(split.side(near.0, near.1), Side::Near);
-    assert!(!split.is_far(near));
     assert_eq!(split.side(far.0, far.1), Side::Far);
-    assert!(split.is_far(far));
     let across = (Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 40.0));
     assert_eq!(split.side(across.0, across.1), Side::Across);
     // Behind the eye, however far: not the field's (outside its frustum).
     let behind = unit(Vec3::new(0.0, 0.5, 200.0));
     assert_eq!(split.side(behind.0, behind.1), Side::Near);
-    assert!(!split.is_far(behind));
+}
+
+#[test]
+fn a_leaf_across_the_far_distance_is_the_cuts_whole_and_drawn_as_one_image() {
+    let mut h = hierarchy(96, config());
+    let (mut imaged, mut geometry, mut frames) = (0, 0, 0);
+    for f in 0..80 {
+        let cam = camera(eye(f), 96);
+        plan(&mut h, &cam);
+        let far = h.far().expect("configured");
+        let Some(split) = far.split() else {
+            continue;
+        };
+        frames += 1;
+        let mut captured = vec![false; h.objects().len()];
+        far.captured().for_each(|i| captured[i as usize] = true);
+        let nodes = h.tree().nodes();
+        // Per object, whether its leaf lies across the field's distance.
+        let mut across = vec![false; h.objects().len()];
+        for (k, n) in nodes.iter().enumerate() {
+            if n.is_leaf() && split.side(n.lo, n.hi) == Side::Across {
+                for &i in h.tree().objects_of(k) {
+                    // The field takes none of a leaf across: the cut has it whole.
+                    assert!(!captured[i as usize], "object {i} at frame {f}");
+                    across[i as usize] = true;
+                }
+            }
+        }
+        imaged += h
+            .images()
+            .iter()
+            .filter(|x| {
+                let n = nodes[x.0 as usize];
+                n.is_leaf() && split.side(n.lo, n.hi) == Side::Across
+            })
+            .count();
+        geometry += h.geometry().iter().filter(|&&i| across[i as usize]).count();
+    }
+    // Leaves across the distance are drawn as one image each when one is within the
+    // budget (before, never: the field took part of such a leaf, the rest was geometry).
+    // At this commit: 80 frames with a field, 1,803 such images, 3,779 such objects as
+    // geometry (their images stale past the budget as the eye glides, or not yet taken).
+    assert!(frames > 40, "{frames}");
+    assert!(imaged > 10 * frames, "{imaged} {geometry}");
 }
 
 /// `side` x `side` cubes of 12 triangles a unit apart on the ground, centred on the origin.
