@@ -519,13 +519,18 @@ fn views_headless(
         let start = Instant::now();
         let frame = tour.render(i, n)?;
         // The geometry each frame is measured against is not part of showing it.
-        times.push(start.elapsed().saturating_sub(frame.measure));
+        let time = start.elapsed().saturating_sub(frame.measure);
+        times.push(time);
         if !args.no_save {
             let path = dir.join(format!("views_{i:04}.png"));
             save_png(&path, &frame.rgba, (frame.width, frame.height))?;
         }
         meter.views_tour(&tour);
-        println!("  {i:4}: {}", tour.readout());
+        println!(
+            "  {i:4}: {:6.1} ms  {}",
+            time.as_secs_f64() * 1e3,
+            tour.readout()
+        );
     }
     let summary = Summary::of(&times);
     println!(

@@ -6,7 +6,9 @@
 //! A re-capture is spread two faces a frame, started where the eye will be when the held
 //! panorama's predicted parallax passes [`SKY_TOLERANCE_PX`], and swapped in whole then.
 //! The ring lies within about 12 degrees of the horizon: the cube's top and bottom faces
-//! can show none of it and are not rendered (session 12), four faces a capture.
+//! can show none of it and are not rendered (session 12), four faces a capture, and of
+//! those only the rows round the horizon the ring can cover (session 13: 0.45 of 3.1
+//! million pixels a frame at 1280x720), into faces whose storage is made at loading.
 //! Each frame is measured against the whole geometry (scene and far land) from the same
 //! eye, over the pixels the panorama fills.
 //!
@@ -156,8 +158,10 @@ pub struct SkyFrame {
     pub before_px: f32,
     /// Whether a re-capture was completed and swapped in this frame.
     pub recaptured: bool,
-    /// Faces of a re-capture taken this frame.
+    /// Faces of a re-capture taken this frame, and their pixels rendered (the rows of each
+    /// that can show the far land).
     pub faces: usize,
+    pub face_px: u64,
     /// Captures so far (the first included).
     pub captures: u32,
     /// The share of the frame's pixels the panorama fills: what the near scene leaves and
@@ -187,7 +191,11 @@ impl SkyFrame {
             if f.recaptured {
                 format!("  RE-CAPTURED, NOW {:.1} PX", f.predicted_px)
             } else if f.faces > 0 {
-                format!("  CAPTURING AHEAD, {} FACES", f.faces)
+                format!(
+                    "  CAPTURING AHEAD, {} FACES ({:.2} MPX)",
+                    f.faces,
+                    f.face_px as f64 * 1e-6
+                )
             } else {
                 String::new()
             }
@@ -221,10 +229,24 @@ pub(super) struct SkyPart {
 }
 
 impl SkyPart {
-    /// The part for `w` x `h` frames; the panorama holds the far land, not `_draws` (the
-    /// plaza's scene, drawn as geometry).
-    pub(super) fn new(_draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
-        SkyPart::with_tolerance(lighting, w, h, SKY_TOLERANCE_PX)
+    /// The part for `w` x `h` frames; the panorama holds the far land, not `draws` (the
+    /// plaza's scene, drawn as geometry). The near scene is captured once from the walk's
+    /// first eye, so that the capturer's target and the frame's image are made at loading,
+    /// not in the first frame (a fifth of its time, in page faults).
+    pub(super) fn new(draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
+        let mut part = SkyPart::with_tolerance(lighting, w, h, SKY_TOLERANCE_PX);
+        let (eye, at) = part.pose(0.0);
+        let camera = showcase::camera(eye, at, w, h);
+        let cap = &mut part.capturer;
+        cap.capture(
+            draws.iter().copied(),
+            &camera,
+            lighting,
+            w,
+            h,
+            &mut part.image,
+        );
+        part
     }
 
     /// With a tolerance other than [`SKY_TOLERANCE_PX`] (the tests' small images walk as
@@ -240,7 +262,7 @@ impl SkyPart {
         // (512 at most until session 11: 0.4 texels per pixel at 1280x720.)
         let size = ((2.0 * focal).ceil() as u32).clamp(64, 1536);
         let land = FarLand::new();
-        let sky = Sky::new(
+        let mut sky = Sky::new(
             &[land.draw()],
             lighting,
             SKY_CENTRE,
@@ -249,6 +271,8 @@ impl SkyPart {
             tolerance_px,
         )
         .spread(FACES_PER_FRAME);
+        // The re-capture's faces' storage made now, at loading, not in a frame.
+        sky.reserve();
         let nearest = sky.map.nearest();
         let walk = if nearest.is_finite() {
             SKY_WALK_TOLERANCES * tolerance_px * nearest / focal.max(1.0)
@@ -355,6 +379,7 @@ impl SkyPart {
             before_px,
             recaptured: update.swapped,
             faces: update.faces,
+            face_px: update.pixels,
             captures: self.sky.captures,
             far_share: far as f64 / (w as f64 * h as f64),
             error,

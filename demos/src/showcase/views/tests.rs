@@ -349,12 +349,25 @@ fn the_sky_re_captures_two_faces_a_frame_and_swaps_where_it_passes_its_tolerance
 /// The headless run's four sky frames: the re-capture's four faces (the far land's; the
 /// top and bottom faces hold none) spread over the last two, swapped at the last, where
 /// the held panorama passes its tolerance; no frame takes more than two faces, and the
-/// first two sky frames render none.
+/// first two sky frames render none. Of each face only the rows round the horizon that
+/// the far land can cover are rendered: under a third of the two faces' pixels a frame.
 #[test]
 fn the_sky_at_the_headless_runs_steps_spreads_its_re_capture() {
     let frames = sky_part_walk(W, H, 0.3, 4);
     let faces: Vec<usize> = frames.iter().map(|f| f.faces).collect();
     assert_eq!(faces, [0, 0, 2, 2], "{frames:?}");
+    let side = SkyPart::with_tolerance(&scene().lighting, W, H, 0.3)
+        .sky
+        .size as u64;
+    let pixels: Vec<u64> = frames.iter().map(|f| f.face_px).collect();
+    assert!(pixels[..2] == [0, 0], "{pixels:?}");
+    for p in &pixels[2..] {
+        assert!(
+            *p > 0 && 3 * p < 2 * side * side,
+            "{pixels:?} of faces {side} px"
+        );
+    }
+    assert!(frames[2].line().contains("MPX"), "{}", frames[2].line());
     let swaps: Vec<bool> = frames.iter().map(|f| f.recaptured).collect();
     assert_eq!(swaps, [false, false, false, true], "{frames:?}");
     assert!(

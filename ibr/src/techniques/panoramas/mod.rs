@@ -7,12 +7,12 @@
 //! that passes a tolerance. A [`Cylinder`] is the cube unrolled around the vertical, the
 //! QuickTime VR panorama: turn in place and look around, within its band of heights.
 
-use crate::core::capture_batch;
-use crate::core::DepthImage;
+use crate::core::{Capturer, DepthImage};
 use crate::stereo::rectify::{bilinear, pixel_ray};
 use engine::{Camera, Draw, Lighting, Premul};
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// The six faces' view directions and up vectors: +x, -x, +y, -y, +z, -z.
 const FACES: [(Vec3, Vec3); 6] = [
@@ -34,18 +34,30 @@ fn face_cameras(centre: Vec3, near: f32, far: f32) -> [Camera; 6] {
 }
 
 /// Which faces of a cube map at `centre` seeing from `near` to `far` (in [`FACES`]'
-/// order) may show a triangle of `draws`. A face sees the pyramid round its axis `a`
-/// (up `u`, side `v`): `a.p >= |u.p|`, `a.p >= |v.p|` and `near <= a.p <= far` for `p`
-/// from the centre; a triangle with its three corners outside one of those six planes
-/// lies wholly outside (it is their hull), and a face none of whose triangles is inside
-/// shows nothing: it need not be rendered (a ring of far land leaves the top and the
-/// bottom faces empty). Conservative: a face is kept at the least doubt.
+/// order) may show a triangle of `draws`: those whose [`face_bands`] hold a row.
+#[cfg(test)]
 fn faces_shown(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32) -> [bool; 6] {
+    face_bands(draws, centre, near, far, 64).map(|rows| !rows.is_empty())
+}
+
+/// The rows of each `size`-pixel face of a cube map at `centre` seeing from `near` to `far`
+/// (in [`FACES`]' order) that a triangle of `draws` may cover; empty for a face that can
+/// show nothing. A face sees the pyramid round its axis `a` (up `u`, side `v`): `a.p >=
+/// |u.p|`, `a.p >= |v.p|` and `near <= a.p <= far` for `p` from the centre; a triangle
+/// with its three corners outside one of those six planes lies wholly outside (it is
+/// their hull), and one inside covers no row beyond its corners' (a triangle in front of
+/// the eye projects to the triangle of its projected corners), two rows spare each side.
+/// A ring of far land leaves the top and the bottom faces empty and covers a band of
+/// rows round the horizon of the four others: only that band is rendered
+/// ([`capture_faces`]). Conservative: a face's rows are all kept at the least doubt (a
+/// corner level with the eye or behind it).
+fn face_bands(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32, size: u32) -> [Range<u32>; 6] {
     let planes = FACES.map(|(a, u)| {
         let v = a.cross(u);
         [a - u, a + u, a - v, a + v]
     });
-    let mut shown = [false; 6];
+    let rows = size as f32;
+    let (mut lo, mut hi) = ([f32::INFINITY; 6], [f32::NEG_INFINITY; 6]);
     let mut world = Vec::new();
     for draw in draws {
         world.clear();
@@ -53,15 +65,13 @@ fn faces_shown(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32) -> [bool; 
             (draw.mesh.positions.iter()).map(|&p| draw.transform.transform_point3(p) - centre),
         );
         for t in draw.mesh.indices.chunks_exact(3) {
-            let Some(corners) = t
-                .iter()
-                .map(|&i| world.get(i as usize).copied())
-                .collect::<Option<Vec<Vec3>>>()
-            else {
+            let corner = |k: usize| world.get(t[k] as usize).copied();
+            let (Some(p0), Some(p1), Some(p2)) = (corner(0), corner(1), corner(2)) else {
                 continue;
             };
-            for (f, (a, _)) in FACES.iter().enumerate() {
-                if shown[f] {
+            let corners = [p0, p1, p2];
+            for (f, (a, u)) in FACES.iter().enumerate() {
+                if lo[f] <= 0.0 && hi[f] >= rows {
                     continue;
                 }
                 // A little slack for the pixels on the face's edge.
@@ -70,44 +80,111 @@ fn faces_shown(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32) -> [bool; 
                 let outside = planes[f].iter().any(|n| out(&|p| n.dot(p)))
                     || out(&|p| a.dot(p) - near)
                     || out(&|p| far - a.dot(p));
-                shown[f] = !outside;
-            }
-            if shown.iter().all(|&s| s) {
-                return shown;
+                if outside {
+                    continue;
+                }
+                for p in corners {
+                    let along = a.dot(p);
+                    if along <= 1e-3 * p.length() {
+                        (lo[f], hi[f]) = (f32::NEG_INFINITY, f32::INFINITY);
+                        break;
+                    }
+                    // The image row (0 at the top edge, `size` at the bottom).
+                    let row = (1.0 - u.dot(p) / along) * 0.5 * rows;
+                    (lo[f], hi[f]) = (lo[f].min(row), hi[f].max(row));
+                }
             }
         }
     }
-    shown
+    std::array::from_fn(|f| {
+        if lo[f] > hi[f] {
+            return 0..0;
+        }
+        let from = (lo[f].floor() - 2.0).clamp(0.0, rows) as u32;
+        let to = (hi[f].ceil() + 2.0).clamp(0.0, rows) as u32;
+        if to > from {
+            from..to
+        } else {
+            0..size
+        }
+    })
 }
 
-/// The faces of `cameras` (a cube map's, in order): those `shown` rendered, in one batch,
-/// the others left empty (transparent, depth [`crate::core::EMPTY`]), taken from `spare`
-/// (empty faces of an earlier cube map, never drawn into) before new ones are made.
+/// The faces of `cameras` (a cube map's, in order), each rendered over its rows of
+/// `bands` only (a crop of its camera, [`Camera::crop`], the face's image rows exactly),
+/// the faces on the thread pool, one of `capturers` each (kept from capture to capture);
+/// the rows outside left empty (transparent, depth [`crate::core::EMPTY`]). A face's
+/// storage is taken from `spare` (faces of an earlier cube map with the rows they may
+/// hold) before new ones are made, and only the rows it held are cleared. Returns the
+/// faces and the pixels rendered.
 fn capture_faces(
     draws: &[Draw<'_>],
     cameras: &[Camera],
-    shown: &[bool],
+    bands: &[Range<u32>],
     lighting: &Lighting,
     size: u32,
-    spare: &mut Vec<DepthImage>,
-) -> Vec<DepthImage> {
-    let drawn: Vec<Camera> = (cameras.iter().zip(shown))
-        .filter(|(_, &s)| s)
-        .map(|(c, _)| *c)
-        .collect();
-    let mut drawn = capture_batch(draws, &drawn, lighting, size, size).into_iter();
-    (cameras.iter().zip(shown))
-        .map(|(camera, &s)| {
-            let face = if s { drawn.next() } else { None };
-            face.unwrap_or_else(|| {
-                let mut blank = (spare.pop())
-                    .filter(|b| (b.width(), b.height()) == (size, size))
-                    .unwrap_or_else(|| DepthImage::new(size, size, *camera));
-                blank.camera = *camera;
-                blank
-            })
+    spare: &mut Vec<(DepthImage, Range<u32>)>,
+    capturers: &mut Vec<Capturer>,
+) -> (Vec<DepthImage>, u64) {
+    let crops: Vec<(Camera, u32)> = (cameras.iter().zip(bands))
+        .filter(|(_, rows)| !rows.is_empty())
+        .map(|(c, rows)| {
+            let (top, bottom) = (rows.start as f32, rows.end as f32);
+            let crop = c.crop(
+                Vec2::new(0.0, top),
+                Vec2::new(size as f32, bottom),
+                size,
+                size,
+            );
+            (crop, rows.len() as u32)
         })
-        .collect()
+        .collect();
+    if capturers.len() < crops.len() {
+        capturers.resize_with(crops.len(), Capturer::new);
+    }
+    let rendered: Vec<DepthImage> = (crops.par_iter().zip(capturers.par_iter_mut()))
+        .map(|((camera, rows), cap)| {
+            let mut out = DepthImage::new(0, 0, *camera);
+            cap.capture(
+                draws.iter().copied(),
+                camera,
+                lighting,
+                size,
+                *rows,
+                &mut out,
+            );
+            out
+        })
+        .collect();
+    let pixels = crops.iter().map(|(_, rows)| *rows as u64).sum::<u64>() * size as u64;
+    let mut rendered = rendered.into_iter();
+    let row = size as usize;
+    let faces = (cameras.iter().zip(bands))
+        .map(|(camera, rows)| {
+            let (mut face, held) = (spare.pop())
+                .filter(|(b, _)| (b.width(), b.height()) == (size, size))
+                .unwrap_or_else(|| (DepthImage::new(size, size, *camera), 0..0));
+            face.camera = *camera;
+            let (from, to) = (rows.start as usize * row, rows.end as usize * row);
+            for (i, (c, d)) in (face.color.iter_mut().zip(face.depth.iter_mut()))
+                .enumerate()
+                .take(held.end as usize * row)
+                .skip(held.start as usize * row)
+            {
+                if !(from..to).contains(&i) {
+                    (*c, *d) = (Premul::TRANSPARENT, crate::core::EMPTY);
+                }
+            }
+            if !rows.is_empty() {
+                if let Some(band) = rendered.next() {
+                    face.color[from..to].copy_from_slice(&band.color);
+                    face.depth[from..to].copy_from_slice(&band.depth);
+                }
+            }
+            face
+        })
+        .collect();
+    (faces, pixels)
 }
 
 /// A cube map: six square views from one centre, with depth (for the error prediction).
@@ -115,8 +192,9 @@ fn capture_faces(
 pub struct CubeMap {
     centre: Vec3,
     faces: Vec<DepthImage>,
-    /// The faces left empty, not rendered: they could show nothing ([`faces_shown`]).
-    blank: [bool; 6],
+    /// The rows of each face that may hold something ([`face_bands`]): the others are
+    /// empty. Empty for a face left empty, not rendered: it could show nothing.
+    bands: [Range<u32>; 6],
     /// Each face's world-to-clip matrix, made once: a lookup per pixel of every frame.
     to_clip: Vec<Mat4>,
     /// The nearest point's distance ([`CubeMap::nearest`]), found once at the capture.
@@ -137,24 +215,31 @@ impl CubeMap {
         near: f32,
         far: f32,
     ) -> CubeMap {
-        let shown = faces_shown(draws, centre, near, far);
+        let bands = face_bands(draws, centre, near, far, size);
         let cameras = face_cameras(centre, near, far);
-        let faces = capture_faces(draws, &cameras, &shown, lighting, size, &mut Vec::new());
-        CubeMap::assemble(centre, faces, shown.map(|s| !s))
+        let (spare, capturers) = (&mut Vec::new(), &mut Vec::new());
+        let (faces, _) = capture_faces(draws, &cameras, &bands, lighting, size, spare, capturers);
+        CubeMap::assemble(centre, faces, bands)
     }
 
     /// The cube map of six faces captured from `centre` with [`face_cameras`] (in their
     /// order), perhaps a few at a time ([`Sky`] spreads a re-capture over frames).
     /// `None` unless there are six.
     pub fn from_faces(centre: Vec3, faces: Vec<DepthImage>) -> Option<CubeMap> {
-        (faces.len() == FACES.len()).then(|| CubeMap::assemble(centre, faces, [false; 6]))
+        (faces.len() == FACES.len()).then(|| {
+            let bands = std::array::from_fn(|f| 0..faces[f].height());
+            CubeMap::assemble(centre, faces, bands)
+        })
     }
 
-    /// The cube map of six faces (not checked), those of `blank` left empty.
-    fn assemble(centre: Vec3, faces: Vec<DepthImage>, blank: [bool; 6]) -> CubeMap {
-        let nearest = (faces.iter().zip(blank))
-            .filter(|(_, b)| !b)
-            .flat_map(|(f, _)| f.depth.iter())
+    /// The cube map of six faces (not checked), empty outside their rows of `bands`.
+    fn assemble(centre: Vec3, faces: Vec<DepthImage>, bands: [Range<u32>; 6]) -> CubeMap {
+        let nearest = (faces.iter().zip(&bands))
+            .flat_map(|(f, rows)| {
+                let row = f.width() as usize;
+                let held = rows.start as usize * row..rows.end as usize * row;
+                f.depth.get(held).unwrap_or(&[]).iter()
+            })
             .copied()
             .filter(|d| d.is_finite())
             .fold(f32::INFINITY, f32::min);
@@ -162,14 +247,20 @@ impl CubeMap {
             centre,
             to_clip: faces.iter().map(|f| f.camera.gl_view_proj()).collect(),
             faces,
-            blank,
+            bands,
             nearest,
         }
     }
 
     /// How many faces were rendered (the others could show nothing and were left empty).
     pub fn faces_rendered(&self) -> usize {
-        self.blank.iter().filter(|&&b| !b).count()
+        self.bands.iter().filter(|rows| !rows.is_empty()).count()
+    }
+
+    /// The rows of face `f` (in +x, -x, +y, -y, +z, -z order) that were rendered and may
+    /// hold something; the others are empty.
+    pub fn face_rows(&self, f: usize) -> Range<u32> {
+        self.bands.get(f).cloned().unwrap_or(0..0)
     }
 
     /// Where it was captured.
@@ -299,6 +390,13 @@ impl CubeMap {
             (c.x / c.w + 1.0) * 0.5 * w - 0.5,
             (1.0 - c.y / c.w) * 0.5 * h - 0.5,
         );
+        // Both rows the lookup reads outside the face's band: empty, as the lookup would
+        // find them (most of the sky, without reading the face).
+        let rows = &self.bands[face];
+        let top = v.clamp(0.0, h - 1.0).floor();
+        if top + 1.0 < rows.start as f32 || top >= rows.end as f32 {
+            return (!u.is_nan()).then_some(Premul::TRANSPARENT);
+        }
         bilinear(f, u.clamp(-0.5, w - 0.5), v.clamp(-0.5, h - 0.5))
     }
 }

@@ -6,10 +6,11 @@
 //! are the faces left captured at once. A panorama is never drawn with faces from two
 //! centres.
 
-use super::{capture_faces, face_cameras, faces_shown, CubeMap};
-use crate::core::DepthImage;
+use super::{capture_faces, face_bands, face_cameras, CubeMap};
+use crate::core::{Capturer, DepthImage};
 use engine::{Draw, Lighting};
 use glam::Vec3;
+use std::ops::Range;
 
 /// Faces in a cube map.
 const FACES: usize = 6;
@@ -20,16 +21,19 @@ pub struct SkyStep {
     /// Faces rendered in this update (0 to 6; faces that can show nothing are left empty
     /// and not counted).
     pub faces: usize,
+    /// Pixels of those faces rendered: only the rows of each that can show something.
+    pub pixels: u64,
     /// Whether a re-capture was completed in this update and is drawn from now on.
     pub swapped: bool,
 }
 
-/// A re-capture under way: where from, the faces that can show something from there, and
-/// the faces captured so far (in face order).
+/// A re-capture under way: where from, the rows of each face that can show something
+/// from there (none for a face that can show nothing), and the faces captured so far (in
+/// face order).
 #[derive(Clone, Debug)]
 struct Pending {
     centre: Vec3,
-    shown: [bool; FACES],
+    bands: [Range<u32>; FACES],
     faces: Vec<DepthImage>,
 }
 
@@ -51,8 +55,12 @@ pub struct Sky {
     /// Faces a re-capture takes an update while it is spread (1 to 6; 6 is all at once).
     faces_per_update: usize,
     pending: Option<Pending>,
-    /// Empty faces of the cube maps swapped out, for the next re-capture's empty faces.
-    pub(super) spare: Vec<DepthImage>,
+    /// The faces of the cube maps swapped out with the rows they may hold, the storage of
+    /// the next re-capture's faces (at 1280x720 a face is 31 MB: allocating two a frame
+    /// was a third of a re-capture frame's time, in page faults).
+    pub(super) spare: Vec<(DepthImage, Range<u32>)>,
+    /// A renderer and target per face rendered in an update, kept between re-captures.
+    capturers: Vec<Capturer>,
 }
 
 impl Sky {
@@ -76,6 +84,20 @@ impl Sky {
             faces_per_update: FACES,
             pending: None,
             spare: Vec::new(),
+            capturers: Vec::new(),
+        }
+    }
+
+    /// Makes the storage of a re-capture's six faces now (empty faces, as spares), so that
+    /// no update allocates one: at 1280x720 a face is 31 MB, and two fresh ones an update
+    /// were page faults worth more than their render (issue 39, session 13). Done at
+    /// loading, as the first capture is.
+    pub fn reserve(&mut self) {
+        let cameras = face_cameras(self.map.centre(), self.near, self.far);
+        while self.spare.len() < FACES {
+            let camera = cameras[self.spare.len()];
+            let face = DepthImage::new(self.size, self.size, camera);
+            self.spare.push((face, 0..0));
         }
     }
 
@@ -135,7 +157,7 @@ impl Sky {
             };
             self.pending = Some(Pending {
                 centre,
-                shown: faces_shown(draws, centre, self.near, self.far),
+                bands: face_bands(draws, centre, self.near, self.far, self.size),
                 faces: Vec::with_capacity(FACES),
             });
         }
@@ -147,17 +169,21 @@ impl Sky {
         let budget = if over { FACES } else { self.faces_per_update };
         let from = pending.faces.len();
         let (mut to, mut rendered) = (from, 0);
-        while to < FACES && (rendered < budget || !pending.shown[to]) {
-            rendered += pending.shown[to] as usize;
+        let shown = |f: usize| !pending.bands[f].is_empty();
+        while to < FACES && (rendered < budget || !shown(to)) {
+            rendered += shown(to) as usize;
             to += 1;
         }
         let cameras = face_cameras(pending.centre, self.near, self.far);
-        let shown = &pending.shown[from..to];
-        let (size, spare) = (self.size, &mut self.spare);
-        let faces = capture_faces(draws, &cameras[from..to], shown, lighting, size, spare);
+        let bands = &pending.bands[from..to];
+        let (size, spare, capturers) = (self.size, &mut self.spare, &mut self.capturers);
+        let cameras = &cameras[from..to];
+        let (faces, pixels) =
+            capture_faces(draws, cameras, bands, lighting, size, spare, capturers);
         pending.faces.extend(faces);
         let step = SkyStep {
             faces: rendered,
+            pixels,
             swapped: false,
         };
         if pending.faces.len() < FACES {
@@ -166,7 +192,7 @@ impl Sky {
         let Some(Pending {
             centre,
             faces,
-            shown,
+            bands,
         }) = self.pending.take()
         else {
             return step;
@@ -174,16 +200,8 @@ impl Sky {
         if faces.len() != FACES {
             return step;
         }
-        let old = std::mem::replace(
-            &mut self.map,
-            CubeMap::assemble(centre, faces, shown.map(|s| !s)),
-        );
-        let blank = old.blank;
-        self.spare.extend(
-            (old.faces.into_iter().zip(blank))
-                .filter(|(_, b)| *b)
-                .map(|(f, _)| f),
-        );
+        let old = std::mem::replace(&mut self.map, CubeMap::assemble(centre, faces, bands));
+        self.spare.extend(old.faces.into_iter().zip(old.bands));
         self.captures += 1;
         SkyStep {
             swapped: true,

@@ -2,6 +2,7 @@
 //! capture point, wrong by parallax away from it, as predicted.
 
 use super::*;
+use crate::core::capture_batch;
 use crate::metrics::compare_seen;
 use crate::stereo::scenes::{with_scene_draws as with_draws, H, W};
 
@@ -299,6 +300,10 @@ fn a_spread_re_capture_takes_two_faces_an_update_and_swaps_when_complete() {
         let camera = looking(at(3), Vec3::new(0.3, 0.2, -1.0));
         let spread = first.expect("swapped").view(&camera, W, H);
         assert_eq!(spread.color, at_once.view(&camera, W, H).color);
+        // The second re-capture drew into the first map's faces (kept as spares): the same
+        // faces as fresh ones.
+        let at_once = CubeMap::capture(draws, lighting, at(6), 32, 0.1, 50.0);
+        assert_eq!(sky.map.faces, at_once.faces);
     });
 }
 
@@ -412,6 +417,9 @@ fn faces_that_can_show_nothing_are_left_empty_and_the_map_is_the_same() {
 fn a_spread_re_capture_renders_only_the_faces_that_show_something() {
     with_band(|draws, lighting| {
         let mut sky = Sky::new(draws, lighting, CENTRE, 48, (0.1, 50.0), 1.0).spread(2);
+        // The re-capture's storage made ahead: no update allocates a face.
+        sky.reserve();
+        assert_eq!(sky.spare.len(), 6);
         // Four faces to render, two an update: one update after the one that starts it.
         assert_eq!(sky.lead(), 1);
         let ahead = CENTRE + Vec3::X * 5.0;
@@ -422,10 +430,19 @@ fn a_spread_re_capture_renders_only_the_faces_that_show_something() {
         let second = sky.update(draws, lighting, eye, ahead, 40.0);
         assert_eq!((second.faces, second.swapped), (2, true));
         assert_eq!(sky.captures, 2);
-        // The same panorama as one captured there at once, all six faces rendered.
+        // The same panorama as one captured there at once, all six faces rendered in full.
         let all = capture_batch(draws, &face_cameras(ahead, 0.1, 50.0), lighting, 48, 48);
         assert_eq!(sky.map.faces, all);
-        // The empty faces of the map swapped out are kept for the next re-capture's.
-        assert_eq!(sky.spare.len(), 2);
+        // Only the band of rows round the horizon of each side face was rendered: the
+        // band (2 units up and down, 20 away) spans a tenth of a face's height at its
+        // centre, a seventh at its edges, and two rows spare each side.
+        let rows: Vec<u32> = (0..6).map(|f| sky.map.face_rows(f).len() as u32).collect();
+        assert!(rows[2] == 0 && rows[3] == 0, "{rows:?}");
+        assert!(rows.iter().all(|&r| r <= 48 / 3), "{rows:?}");
+        let rendered: u64 = rows.iter().map(|&r| r as u64 * 48).sum();
+        assert_eq!(first.pixels + second.pixels, rendered);
+        assert!(rendered * 3 < 4 * 48 * 48, "{rendered} of {}", 4 * 48 * 48);
+        // Every face of the map swapped out is kept, the storage of the next re-capture's.
+        assert_eq!(sky.spare.len(), 6);
     });
 }
