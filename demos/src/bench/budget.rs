@@ -90,6 +90,9 @@ pub struct Settings {
     pub methods: Vec<String>,
     /// The planners' [`plan::Config::spread`] (`None`: the default, [`plan::SPREAD`]).
     pub spread: Option<f32>,
+    /// Print each measured frame's stage times and work counters to stderr (one line a
+    /// frame, starting `stages`): where a world frame's time goes.
+    pub stages: bool,
 }
 
 impl Settings {
@@ -109,6 +112,7 @@ impl Settings {
             only: None,
             methods: Vec::new(),
             spread: None,
+            stages: false,
         }
     }
 
@@ -136,6 +140,7 @@ impl Settings {
             only: None,
             methods: Vec::new(),
             spread: None,
+            stages: false,
         }
     }
 }

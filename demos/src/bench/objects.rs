@@ -27,6 +27,10 @@ pub struct ObjectsFlags {
     /// number of lots); default: the sweep's.
     #[arg(long, value_name = "N")]
     pub objects: Vec<usize>,
+    /// Print each measured frame's stage times (ms) and work counters to stderr, one line
+    /// a frame starting `stages`.
+    #[arg(long)]
+    pub stages: bool,
 }
 
 impl AsRef<RunFlags> for ObjectsFlags {
@@ -123,6 +127,7 @@ impl Sweep for ObjectsSweep {
         if !flags.objects.is_empty() {
             c.counts.clone_from(&flags.objects);
         }
+        c.run.stages = flags.stages;
         Ok(c)
     }
 

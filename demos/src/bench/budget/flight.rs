@@ -196,10 +196,10 @@ pub(super) fn fly_with<T: Probe>(
         }
         out.times.push(frame_loop.times.total);
         out.probes.push(t.probe());
-        if std::env::var_os("TEMPSTAGE").is_some() {
+        if settings.stages {
             let (ft, st, fs) = (frame_loop.times, renderer.stage_times(), renderer.stats());
             let ms = |d: Duration| d.as_secs_f64() * 1e3;
-            eprintln!("TEMPSTAGE {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {}",
+            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {}",
                 ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended);
         }
         let mut all: Vec<Draw<'_>> = ground.clone();

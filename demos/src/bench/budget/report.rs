@@ -45,6 +45,10 @@ pub struct BudgetFlags {
     /// Only these error budgets, levels (repeat the option; default: the sweep's own).
     #[arg(long)]
     pub budget: Vec<f32>,
+    /// Print each measured frame's stage times (ms) and work counters to stderr, one line
+    /// a frame starting `stages`.
+    #[arg(long)]
+    pub stages: bool,
 }
 
 /// `WIDTHxHEIGHT`, each from 1 to 8192.
@@ -79,6 +83,7 @@ impl BudgetFlags {
             only: self.scene.clone(),
             methods: self.method.clone(),
             spread: self.spread,
+            stages: self.stages,
             size: self.size.first().copied().unwrap_or(base.size),
             budgets: budgets(base.budgets.clone()),
             frame_budgets: if self.budget.is_empty() {
