@@ -112,7 +112,7 @@ pub mod billboard {
         Facing, Size, UvRect, View, HANDOVER,
     };
     pub use crate::techniques::billboards::{
-        BillboardSet, Profile, ViewAtlas, AZIMUTHS, ELEVATIONS, MAX_ELEVATION,
+        BillboardSet, Profile, Trim, ViewAtlas, AZIMUTHS, ELEVATIONS, MAX_ELEVATION,
     };
 }
 

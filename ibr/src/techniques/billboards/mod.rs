@@ -6,8 +6,10 @@
 mod bake;
 pub(crate) mod plan;
 mod technique;
+mod trim;
 mod views;
 
 pub use bake::{Profile, AZIMUTHS, ELEVATIONS};
 pub use plan::{BillboardSet, MAX_ELEVATION};
+pub use trim::Trim;
 pub use views::ViewAtlas;
