@@ -204,11 +204,16 @@ impl<S: FragShader> Rows<'_, S> {
                     buf.touch(block);
                     self.stats.blocks_partial += 1;
                     let mut wrote = false;
+                    let mut held = None;
                     while m != 0 {
                         let j = m.trailing_zeros() / SMALL as u32;
                         let bits = (m >> (SMALL as u32 * j)) as u32 & ((1 << SMALL) - 1);
                         m &= !(((1u64 << SMALL) - 1) << (SMALL as u32 * j));
-                        wrote |= self.row(buf, block, bx, j as i32, bits, &mut prepared);
+                        let r = (j as i32, bits);
+                        wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
+                    }
+                    if let Some((j, c, _)) = held {
+                        wrote |= self.row(buf, block, bx, j, c, &mut prepared);
                     }
                     if wrote && self.mode.writes_depth() {
                         buf.mark_far_stale(block);
@@ -314,6 +319,7 @@ impl<S: FragShader> Rows<'_, S> {
                 }
                 let range = I8::lane_range(lx0, lx1);
                 let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
+                let mut held = None;
                 for y in rows.0..=rows.1 {
                     let j = y - by;
                     let cov: M8 = if full {
@@ -323,7 +329,11 @@ impl<S: FragShader> Rows<'_, S> {
                             |i: usize| ea_l[i].add(I8::splat(j * eb[i] - thr[i])).non_negative();
                         range.and(inside(0)).and(inside(1)).and(inside(2))
                     };
-                    wrote |= self.row(buf, block, bx, j, cov.bits(), &mut prepared);
+                    let r = (j, cov.bits());
+                    wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
+                }
+                if let Some((j, c, _)) = held {
+                    wrote |= self.row(buf, block, bx, j, c, &mut prepared);
                 }
                 if wrote && self.mode.writes_depth() {
                     buf.update_block_far(block);
@@ -332,6 +342,64 @@ impl<S: FragShader> Rows<'_, S> {
             }
             by += BLOCK;
         }
+    }
+
+    /// Takes row `j` of the block at `(bx, _)` with covered lanes `cov`: a narrow row (its
+    /// lanes within 4 neighbours) is held until the next row of the block, and two narrow
+    /// rows are shaded together in one vector (a 4 x 2 block, [`Rows::pair`]); other rows
+    /// are drawn alone. Which rows pair depends on coverage only, never on depth. The caller
+    /// draws a row still `held` at the block's end. Returns whether depth may have changed.
+    #[inline(always)]
+    fn feed(
+        &mut self,
+        buf: &mut TileBuf,
+        block: usize,
+        bx: i32,
+        (j, cov): (i32, u32),
+        held: &mut Option<(i32, u32, u32)>,
+        prepared: &mut Option<S::Prepared>,
+    ) -> bool {
+        if cov == 0 {
+            return false;
+        }
+        let (lo, hi) = (cov.trailing_zeros(), 31 - cov.leading_zeros());
+        // The pre-pass's depth part shades nothing: pairing would save nothing there.
+        if hi - lo >= PAIR_WIDTH || matches!(self.pass, Pass::Depth(_)) {
+            let mut wrote = false;
+            if let Some((j0, c0, _)) = held.take() {
+                wrote = self.row(buf, block, bx, j0, c0, prepared);
+            }
+            return wrote | self.row(buf, block, bx, j, cov, prepared);
+        }
+        let s = lo.min(LANES as u32 - PAIR_WIDTH);
+        match held.take() {
+            Some(a) => self.pair(buf, block, bx, a, (j, cov, s), prepared),
+            None => {
+                *held = Some((j, cov, s));
+                false
+            }
+        }
+    }
+
+    /// The depth (or pre-pass id) test of row `j`'s covered lanes `cov`, plane depth `z`:
+    /// the lanes that pass.
+    #[inline(always)]
+    fn test(&mut self, buf: &TileBuf, base: usize, z: &Lane, cov: M8) -> M8 {
+        if let Pass::Visible(id) = self.pass {
+            // Tested in the pre-pass already: the pixels that kept this triangle's id.
+            return cov.and(I8::load_u32(&buf.vis[base..]).eq(I8::splat(id as i32)));
+        }
+        self.stats.fragments_tested += cov.bits().count_ones() as u64;
+        let mut m = if self.mode.depth_test {
+            cov.and(z.gt(F8::load(&buf.depth[base..])))
+        } else {
+            cov
+        };
+        if self.mode.peel {
+            // Reversed depth: strictly behind is strictly smaller.
+            m = m.and(F8::load(&buf.peel[base..]).gt(*z));
+        }
+        m
     }
 
     /// Depth-tests, shades and writes the covered lanes `cov` of row `j` of the block at
@@ -356,29 +424,10 @@ impl<S: FragShader> Rows<'_, S> {
         let tri = self.tri;
         let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
         let by = (block / BLOCKS * LANES) as i32 + self.oy;
-        let row = Row {
-            fx: (bx - rx) as f32,
-            fy: (by + j - ry) as f32,
-            covered: cov.bits(),
-        };
+        let row = Row::whole((bx - rx) as f32, (by + j - ry) as f32, cov.bits());
         let base = block * BLOCK_PIXELS + j as usize * LANES;
         let z = eval(&tri.z, &row);
-        let m = if let Pass::Visible(id) = self.pass {
-            // Tested in the pre-pass already: the pixels that kept this triangle's id.
-            cov.and(I8::load_u32(&buf.vis[base..]).eq(I8::splat(id as i32)))
-        } else {
-            self.stats.fragments_tested += covered as u64;
-            let mut m = if self.mode.depth_test {
-                cov.and(z.gt(F8::load(&buf.depth[base..])))
-            } else {
-                cov
-            };
-            if self.mode.peel {
-                // Reversed depth: strictly behind is strictly smaller.
-                m = m.and(F8::load(&buf.peel[base..]).gt(z));
-            }
-            m
-        };
+        let m = self.test(buf, base, &z, cov);
         let passed = m.bits().count_ones();
         if passed == 0 {
             return false;
@@ -394,7 +443,85 @@ impl<S: FragShader> Rows<'_, S> {
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
         shader.shade(prepared, tri, &row, m.bits(), &mut out);
-        let written = write_row(buf, base, m, &z, &out, self.mode, self.soft);
+        self.write(buf, base, m, &z, &out)
+    }
+
+    /// Two narrow rows `(j, covered lanes, first lane s)` of the block at `(bx, _)`, each
+    /// within lanes `s..s + 4`: depth-tested row by row as [`Rows::row`] does, then shaded
+    /// in one vector (lanes 0-3 the first row's `s..s + 4`, lanes 4-7 the second's), the
+    /// texture level of detail shared by the pair's covered lanes (GPUs share one per 2 x 2
+    /// quad), and written row by row. Every other input of a lane is the same as alone.
+    #[inline(never)]
+    fn pair(
+        &mut self,
+        buf: &mut TileBuf,
+        block: usize,
+        bx: i32,
+        (ja, ca, sa): (i32, u32, u32),
+        (jb, cb, sb): (i32, u32, u32),
+        prepared: &mut Option<S::Prepared>,
+    ) -> bool {
+        let tri = self.tri;
+        let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
+        let by = (block / BLOCKS * LANES) as i32 + self.oy;
+        let fx = (bx - rx) as f32;
+        let (fya, fyb) = ((by + ja - ry) as f32, (by + jb - ry) as f32);
+        let (base_a, base_b) = (
+            block * BLOCK_PIXELS + ja as usize * LANES,
+            block * BLOCK_PIXELS + jb as usize * LANES,
+        );
+        let za = eval(&tri.z, &Row::whole(fx, fya, ca));
+        let zb = eval(&tri.z, &Row::whole(fx, fyb, cb));
+        let ma = self.test(buf, base_a, &za, M8::from_bits(ca));
+        let mb = self.test(buf, base_b, &zb, M8::from_bits(cb));
+        let passed = ma.bits().count_ones() + mb.bits().count_ones();
+        if passed == 0 {
+            return false;
+        }
+        self.stats.fragments_shaded += passed as u64;
+        self.stats.rows_shaded += 1;
+        self.stats.rows_paired += 1;
+        let half = |bits: u32, s: u32| bits >> s & 0xf;
+        let row = Row {
+            fx,
+            fy: fya,
+            fy2: fyb,
+            xs: F8::from_array(std::array::from_fn(|l| {
+                (if l < 4 {
+                    sa as usize + l
+                } else {
+                    sb as usize + l - 4
+                }) as f32
+            })),
+            second: M8::from_bits(0xf0),
+            covered: half(ca, sa) | half(cb, sb) << 4,
+        };
+        let (shader, vary) = (self.shader, self.vary);
+        let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
+        let mut out = [F8::splat(0.0); 4];
+        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
+        shader.shade(prepared, tri, &row, mask, &mut out);
+        // Lane `l` of a row is the pair's lane `l - s` (+ 4 for the second row); the lanes
+        // outside the row's 4 take any lane, as they are not written.
+        let back = |s: u32, from: u32| -> [u32; LANES] {
+            std::array::from_fn(|l| (l as u32 + LANES as u32 + from - s) % LANES as u32)
+        };
+        let (ia, ib) = (back(sa, 0), back(sb, 4));
+        let mut wrote = false;
+        if ma.bits() != 0 {
+            wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
+        }
+        if mb.bits() != 0 {
+            wrote |= self.write(buf, base_b, mb, &zb, &out.map(|c| c.permute(ib)));
+        }
+        wrote
+    }
+
+    /// Writes the shaded lanes `m` of the row at `base` as the pass says; whether depth
+    /// may have changed.
+    #[inline(always)]
+    fn write(&mut self, buf: &mut TileBuf, base: usize, m: M8, z: &Lane, out: &[Lane; 4]) -> bool {
+        let written = write_row(buf, base, m, z, out, self.mode, self.soft);
         self.stats.fragments_written += written.bits().count_ones() as u64;
         match self.pass {
             Pass::Masked(id) => set_ids(&mut buf.vis[base..base + LANES], written.bits(), id),
@@ -405,6 +532,9 @@ impl<S: FragShader> Rows<'_, S> {
         true
     }
 }
+
+/// The widest span of lanes a row may cover to be shaded in a pair (half a vector).
+const PAIR_WIDTH: u32 = LANES as u32 / 2;
 
 /// Sets the ids of the lanes in `bits` of one row.
 #[inline(always)]

@@ -16,29 +16,56 @@ use crate::vertex::{COL, NRM, POS, UV};
 use glam::{Vec3, Vec4};
 use std::ops::{Div, Mul};
 
-use crate::simd::F8;
 pub use crate::simd::LANES;
+use crate::simd::{F8, M8};
 
 /// 8 lanes of one channel.
 pub type Lane = F8;
 
-/// Where a row of lanes sits: pixel `x0 + lane`, row `y`, relative to the plane reference.
+/// Where a row of lanes sits: pixel `x0 + lane`, row `y`, relative to the plane reference;
+/// or, for a pair of narrow rows shaded together (a 4 x 2 block, see `raster`), lanes 0-3
+/// in one row and lanes 4-7 in another, each at its own 4 pixels of the block.
 #[derive(Clone, Copy, Debug)]
 pub struct Row {
-    /// `x - rx` of lane 0.
+    /// `x - rx` of the block's first pixel.
     pub fx: f32,
-    /// `y - ry`.
+    /// `y - ry` of the lanes outside `second`.
     pub fy: f32,
+    /// `y - ry` of the lanes in `second` (a pair's other row).
+    pub fy2: f32,
+    /// Each lane's pixel within the block's row: `F8::ramp()` for a whole row.
+    pub xs: F8,
+    /// The lanes from the pair's other row (none for a whole row).
+    pub second: M8,
     /// The lanes the triangle covers in this row (bit `l` for lane `l`), whether or not they
     /// pass the depth test: their footprints choose the row's level of detail, so a pixel's
     /// texture level does not depend on what was drawn before it (nor on the pre-pass).
     pub covered: u32,
 }
 
+impl Row {
+    /// The 8 pixels of row `fy` from the block's first pixel `fx`.
+    #[inline(always)]
+    pub fn whole(fx: f32, fy: f32, covered: u32) -> Self {
+        Row {
+            fx,
+            fy,
+            fy2: fy,
+            xs: F8::ramp(),
+            second: M8::from_bits(0),
+            covered,
+        }
+    }
+}
+
+/// A plane at the lanes of `row`. Each lane's value is the one a whole row through its pixel
+/// gives (the same operations in the same order), so pairing rows changes no lane's value.
 #[inline(always)]
 pub fn eval(p: &Plane, row: &Row) -> Lane {
     let base = p.c + p.dx * row.fx + p.dy * row.fy;
-    F8::splat(p.dx).mul_add(F8::ramp(), F8::splat(base))
+    let base2 = p.c + p.dx * row.fx + p.dy * row.fy2;
+    let base = row.second.select(F8::splat(base2), F8::splat(base));
+    F8::splat(p.dx).mul_add(row.xs, base)
 }
 
 /// Perspective-correct barycentrics of vertices 1 and 2, and `w`, for 8 lanes.
@@ -289,7 +316,7 @@ impl FragShader for GeneralShader<'_> {
             } else {
                 0.0
             };
-            let keep = crate::simd::M8::from_bits(mask);
+            let keep = M8::from_bits(mask);
             let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
@@ -375,7 +402,7 @@ impl GeneralShader<'_> {
 fn widest(rho2: F8, covered: u32) -> f32 {
     let zero = F8::splat(0.0);
     // `>= 0` is false for NaN, so those lanes become 0 as the skipped lanes do.
-    let keep = crate::simd::M8::from_bits(covered).and(rho2.ge(zero));
+    let keep = M8::from_bits(covered).and(rho2.ge(zero));
     let m = keep.select(rho2, zero).to_array();
     // No NaN is left: a plain comparison is the maximum, in two independent halves.
     let max = |a: f32, b: f32| if b > a { b } else { a };
@@ -514,6 +541,40 @@ mod tests {
     };
     use glam::{Mat4, Vec3};
     use std::sync::Arc;
+
+    proptest::proptest! {
+        /// A pair's lanes take the values their pixels have in whole rows, bit for bit: lanes
+        /// 0-3 are pixels `sa..sa + 4` of the first row, lanes 4-7 pixels `sb..sb + 4` of the
+        /// second.
+        #[test]
+        fn paired_lanes_evaluate_as_their_rows(
+            c in -1e3f32..1e3, dx in -10f32..10.0, dy in -10f32..10.0,
+            fx in -64i32..64, fy in -64i32..64, gap in 1i32..8,
+            sa in 0usize..5, sb in 0usize..5,
+        ) {
+            use super::{eval, Row};
+            use crate::simd::F8;
+            let p = crate::setup::Plane { c, dx, dy };
+            let (fx, fya, fyb) = (fx as f32, fy as f32, (fy + gap) as f32);
+            let pair = Row {
+                fx,
+                fy: fya,
+                fy2: fyb,
+                xs: F8::from_array(std::array::from_fn(|l| {
+                    (if l < 4 { sa + l } else { sb + l - 4 }) as f32
+                })),
+                second: crate::simd::M8::from_bits(0xf0),
+                covered: 0xff,
+            };
+            let got = eval(&p, &pair).to_array();
+            let a = eval(&p, &Row::whole(fx, fya, 0xff)).to_array();
+            let b = eval(&p, &Row::whole(fx, fyb, 0xff)).to_array();
+            for l in 0..4 {
+                proptest::prop_assert_eq!(got[l].to_bits(), a[sa + l].to_bits());
+                proptest::prop_assert_eq!(got[l + 4].to_bits(), b[sb + l].to_bits());
+            }
+        }
+    }
 
     /// A quad in the z = 0 plane facing +Z, seen head-on from z = 4, filling the middle of a
     /// 32 x 32 target; returns the centre pixel as linear RGB.

@@ -39,6 +39,9 @@ pub struct FrameStats {
     /// Rows of 8 lanes the shader ran on (`fragments_shaded / rows_shaded` is how full the
     /// lanes were: 8 at best; thin and small triangles leave most lanes idle).
     pub rows_shaded: u64,
+    /// Of `rows_shaded`, those that held two narrow rows of a triangle in a block, 4 lanes
+    /// each (a 4 x 2 block sharing one texture level of detail).
+    pub rows_paired: u64,
     /// Fragments written to the target (after alpha test).
     pub fragments_written: u64,
     /// 8 x 8 blocks found wholly inside a triangle (no per-pixel edge tests).
@@ -63,6 +66,7 @@ impl AddAssign for FrameStats {
         self.fragments_shaded_blended += o.fragments_shaded_blended;
         self.fragments_shaded_general += o.fragments_shaded_general;
         self.rows_shaded += o.rows_shaded;
+        self.rows_paired += o.rows_paired;
         self.fragments_written += o.fragments_written;
         self.blocks_full += o.blocks_full;
         self.blocks_partial += o.blocks_partial;

@@ -174,3 +174,88 @@ fn draw_costs_count_each_draw_in_submission_order() {
     }
     assert_eq!(seen[0], seen[1], "the same counts on 1 and 2 threads");
 }
+
+/// A square of side 4 facing the camera, cut into `n x n` cells of two triangles, its
+/// vertex colours a gradient across it.
+fn gradient_grid(n: u32) -> Mesh {
+    let mut mesh = Mesh::default();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+            mesh.positions
+                .push(Vec3::new(4.0 * u - 2.0, 4.0 * v - 2.0, 0.0));
+            mesh.colors.push(Rgba::new(u, v, 0.5, 1.0));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let k = j * (n + 1) + i;
+            mesh.indices
+                .extend_from_slice(&[k, k + 1, k + n + 2, k, k + n + 2, k + n + 1]);
+        }
+    }
+    mesh
+}
+
+/// Narrow rows of small triangles are shaded two to a vector (`raster`'s pairs), and each
+/// pixel keeps its own colour: the gradient cut into 3-pixel triangles (most rows paired)
+/// gives the pixels of the same gradient drawn as two large triangles (hardly any pairs),
+/// within a level of rounding, on 1 and 2 threads alike.
+#[test]
+fn paired_rows_give_each_pixel_its_own_colour() {
+    let material = Material {
+        vertex_colors: true,
+        ..Material::unlit(Rgba::new(1.0, 1.0, 1.0, 1.0))
+    };
+    let draw = |mesh| {
+        let (target, stats) = render_with(
+            &mut Renderer::new(),
+            vec![Draw {
+                mesh,
+                material: &material,
+                transform: Mat4::IDENTITY,
+            }],
+            1,
+        );
+        let (two, _) = render_with(
+            &mut Renderer::new(),
+            vec![Draw {
+                mesh,
+                material: &material,
+                transform: Mat4::IDENTITY,
+            }],
+            2,
+        );
+        let px = |t: &Target| -> Vec<u32> {
+            (0..SIZE * SIZE)
+                .map(|i| t.pixel(i % SIZE, i / SIZE).expect("inside"))
+                .collect()
+        };
+        assert_eq!(px(&target), px(&two), "the same pixels on 1 and 2 threads");
+        (px(&target), stats)
+    };
+    let (coarse_mesh, fine_mesh) = (gradient_grid(1), gradient_grid(16));
+    let (coarse, coarse_stats) = draw(&coarse_mesh);
+    let (fine, fine_stats) = draw(&fine_mesh);
+    assert_eq!(coarse_stats.fragments_shaded, fine_stats.fragments_shaded);
+    assert!(
+        fine_stats.rows_paired * 4 > fine_stats.rows_shaded,
+        "small triangles pair most narrow rows: {fine_stats:?}"
+    );
+    assert!(
+        coarse_stats.rows_paired * 10 < coarse_stats.rows_shaded,
+        "{coarse_stats:?}"
+    );
+    let mut compared = 0;
+    for (i, (&a, &b)) in coarse.iter().zip(&fine).enumerate() {
+        if a >> 24 == 0 || b >> 24 == 0 {
+            continue;
+        }
+        compared += 1;
+        for c in 0..4 {
+            let (x, y) = ((a >> (8 * c)) & 0xff, (b >> (8 * c)) & 0xff);
+            assert!(x.abs_diff(y) <= 1, "pixel {i} channel {c}: {x} against {y}");
+        }
+    }
+    assert!(compared > 1500, "{compared} pixels compared");
+}
