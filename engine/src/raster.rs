@@ -9,6 +9,12 @@
 //! `i * A + j * B >= T` in `i32`, where the threshold `T` comes from the exact `i64` edge
 //! value at the block's first pixel, so no precision is lost.
 //!
+//! Covered rows are depth-tested 8 lanes at a time; a row whose covered lanes lie within 4
+//! neighbours is held, and two such rows of the triangle in a block are shaded in one vector
+//! (`Rows::pair`: a 4 x 2 block, lanes 0-3 one row's 4 pixels and lanes 4-7 the other's),
+//! so small triangles fill more of the shader's lanes; each lane's inputs are those of its
+//! own row, and only the texture level of detail is shared by the pair.
+//!
 //! Depth is reversed (greater is nearer) and tested before shading. The working buffers
 //! hold linear premultiplied colour in `f32`, so blending is exact and encoding to bytes
 //! happens once per pixel per frame, when the tile is resolved.

@@ -1,12 +1,13 @@
 //! Shade stage: fragment shaders, one per family of materials, each run on a row of 8
-//! pixels at a time.
+//! pixels at a time (or on two rows' 4 pixels each, a 4 x 2 block: [`Row`]).
 //!
 //! A shader first `prepare`s a triangle (fetches its three vertices' varyings once per
 //! triangle and tile), then `shade`s rows, writing straight linear RGB and alpha for all 8
 //! lanes; the rasterizer decides which lanes it keeps. Attributes are interpolated with
 //! perspective-correct barycentrics: `l1 = (l1/w) / (1/w)`, from planes set up per triangle.
 //! Texture level of detail comes from the analytic screen-space derivatives of those
-//! barycentrics, so no 2x2 quads are needed.
+//! barycentrics, so no 2x2 quads are needed; one level is taken for a row's (or a pair's)
+//! covered lanes, their widest footprint.
 
 use crate::light::{Light, Lighting};
 use crate::material::{Material, Shading};
