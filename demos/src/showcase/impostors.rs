@@ -65,14 +65,18 @@ const CLOUD_AREA: f32 = 56.0;
 /// (measured 4.4 against 1.1 ms on a loaded core), and near a cloud the every-frame
 /// refreshes come first.
 const CLOUD_BUDGET: usize = 2;
-/// Texels of cloud captures a frame earns ([`ImpostorSet::texel_budget`]): half the
-/// largest capture, so one 256² cloud every other frame. A capture's cost is its fill (200
-/// blended puffs, measured 5.3 shaded fragments a texel over the 1280x720 tour); with
-/// the camera moving, clouds wanted a refresh nearly every frame (2 a frame, the count
-/// budget, on 97 of 120 frames at 1280x720, 12 ms median), about what drawing them as
-/// their particles costs. A cloud whose image is too stale meanwhile is drawn as its
-/// particles ([`Config::fallback_ratio`]), so no image over the tolerance is shown.
-const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 2;
+/// Texels of cloud captures a frame earns ([`ImpostorSet::texel_budget`]): a quarter of
+/// the largest capture, so one 128² cloud a frame or one 256² every fourth frame. A
+/// capture's cost is its fill (200 blended puffs, measured 5.3 shaded fragments a texel
+/// over the 1280x720 tour); with the camera moving, clouds want a refresh nearly every
+/// frame whatever the budget. At half the largest capture (until session 14) the 640x360
+/// tour captured 3.15 M cloud texels in 171 refreshes on 93 of 120 frames, the largest
+/// part of the `impostors` stage's median; at a quarter 1.69 M in 94, the frame's
+/// fragments shaded 2.22 -> 2.31 a pixel from the stale clouds drawn as particles, the
+/// clouds at 61.6 / 34.1 dB against 51.4 / 36.6 (BENCHMARKS.md, session 14). A cloud
+/// whose image is too stale meanwhile is drawn as its particles
+/// ([`Config::fallback_ratio`]), so no image over the tolerance is shown.
+const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 4;
 const CITY_BUDGET: usize = 6;
 /// Largest impostor texture sides. Near a cloud its image spans a wide field of view
 /// (up to 180 degrees at the switch to particles), so its centre gets few texels: at 128
@@ -91,6 +95,15 @@ const CITY_MAX_SIDE: u32 = 256;
 /// gained nothing more (BENCHMARKS.md, session 12).
 const CITY_DENSITY: f32 = 3.0;
 
+/// Frames of the eye's present motion a city image the planner does not draw must stay
+/// within its budget after a rebuild for the rebuild to be offered
+/// ([`ImpostorSet::rebuild_life`]). Without it the moving camera's 640x360 tour rebuilt
+/// 320 images (229 of them buildings drawn as geometry turned into images the next frame
+/// would leave, the rest those images refreshed), mostly 256² captures for 64-pixel
+/// discs; with 4, 148 rebuilds, the city at 44.7 / 33.0 dB against 44.8 / 26.8
+/// (BENCHMARKS.md, session 14). Images in use are refreshed as before.
+const CITY_REBUILD_LIFE: f32 = 4.0;
+
 /// The city's impostors, drawn as cutouts ([`ImpostorSet::cutout`]) at [`CITY_CUTOUT`], each
 /// on its relief ([`ImpostorSet::relief`]): drawn on a quad at its building's nearest
 /// corner, an image covered the geometry of the buildings between that corner and its far
@@ -100,6 +113,7 @@ fn city_impostors(config: Config, n: usize) -> ImpostorSet {
     let mut set = ImpostorSet::new(config, n);
     set.cutout = Some(CITY_CUTOUT);
     set.shape = Shape::Box;
+    set.rebuild_life = Some(CITY_REBUILD_LIFE);
     set.density = CITY_DENSITY;
     set
 }

@@ -178,6 +178,30 @@ impl Refresher {
         subject: &mut S,
         camera: &Camera,
         lighting: &Lighting,
+        size: (u32, u32),
+    ) -> FrameStats {
+        let stats = self.capture(subject, camera, lighting, size);
+        self.keep();
+        stats
+    }
+
+    /// Copies the last image ([`Refresher::target`]) into [`Refresher::texture`], with
+    /// its mip chain.
+    pub fn keep(&mut self) {
+        let texture = self
+            .texture
+            .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+        self.capturer.target().copy_to_texture(texture);
+    }
+
+    /// As [`Refresher::render`] without the copy: the image stays in
+    /// [`Refresher::target`], for a caller that fills [`Refresher::texture`] itself (each
+    /// copy rebuilds the texture's mip chain).
+    pub fn capture<S: Subject>(
+        &mut self,
+        subject: &mut S,
+        camera: &Camera,
+        lighting: &Lighting,
         (width, height): (u32, u32),
     ) -> FrameStats {
         subject.prepare(camera, height);
@@ -187,10 +211,6 @@ impl Refresher {
         self.capturer
             .render(drawn, camera, lighting, width, height, enc);
         self.draws = recycle(draws);
-        let texture = self
-            .texture
-            .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
-        self.capturer.target().copy_to_texture(texture);
         self.capturer.last_stats()
     }
 

@@ -280,6 +280,10 @@ fn over_the_tour_no_building_is_missing_or_over_the_budget() {
         seen[GEOMETRY] > 0 && seen[IMPOSTORS] + seen[LAYERS] > 0,
         "{seen:?}"
     );
+    // The moving camera does not turn buildings into images it would leave within a few
+    // frames (`CITY_REBUILD_LIFE`): at most one rebuild a frame on average. Measured with
+    // the headless showcase at this size: 82 rebuilds, 292 without it.
+    assert!(run.city_rebuilds <= n, "{run:?}");
 }
 
 /// From low down among the buildings, the images agree with the buildings drawn as

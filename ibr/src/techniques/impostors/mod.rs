@@ -241,6 +241,8 @@ pub struct Impostor {
     /// The share of its capture's square that its quad, trimmed to the covered texels,
     /// covers (0 to 1): what drawing it shades, against the square.
     coverage: f32,
+    /// Drawn by the planner in its last frame ([`ImpostorSet::rebuild_life`]).
+    drawn: bool,
 }
 
 impl Impostor {
@@ -333,6 +335,17 @@ pub struct ImpostorSet {
     pub texel_budget: Option<u64>,
     /// Texels the refreshes may still render ([`ImpostorSet::texel_budget`]).
     texel_credit: i64,
+    /// Frames a planner's rebuild must stay useful (`None`, the default: judged as taken):
+    /// with `Some(k)`, the error a rebuild is predicted to have ([`Estimate::rebuilt`]) is
+    /// its error after `k` more frames of the eye's last step (the parallax the fresh image
+    /// would show from there), so an image the moving eye would leave within `k` frames is
+    /// not rebuilt: its subject stays as it is drawn (geometry) until the eye slows. A still
+    /// eye's rebuilds are judged as before.
+    ///
+    /// [`Estimate::rebuilt`]: crate::core::Estimate::rebuilt
+    pub rebuild_life: Option<f32>,
+    /// The eye of the planner's last frame ([`crate::core::Representation::prepare`]).
+    last_eye: Option<Vec3>,
 }
 
 impl ImpostorSet {
@@ -355,6 +368,8 @@ impl ImpostorSet {
             density: 1.0,
             texel_budget: None,
             texel_credit: 0,
+            rebuild_life: None,
+            last_eye: None,
         }
     }
 

@@ -126,7 +126,15 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
                     depth_gradient: c.depth_gradient * e,
                     ..*c
                 };
-                (error, image_error(&fresh, sight.distance, 0.0, ppr))
+                // An image the planner draws now is judged as taken (so it is kept fresh as
+                // before); one it does not, after the eye's present motion
+                // ([`ImpostorSet::rebuild_life`]).
+                let ahead = if imp.drawn {
+                    0.0
+                } else {
+                    self.parallax_ahead(b, sight.eye, ppr)
+                };
+                (error, image_error(&fresh, sight.distance, ahead, ppr))
             }
             None => {
                 // As `image_error` for a fresh image: texels per screen pixel times the
@@ -173,7 +181,16 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
 
     /// Tints the images of the objects drawn this frame (a texture taken from the pool since
     /// [`Representation::set_tint`] gets it here).
-    fn prepare(&mut self, objects: &[usize], _subjects: &[S], _view: &FrameView<'_>) {
+    fn prepare(&mut self, objects: &[usize], _subjects: &[S], view: &FrameView<'_>) {
+        self.last_eye = Some(view.camera.eye());
+        for imp in &mut self.impostors {
+            imp.drawn = false;
+        }
+        for &i in objects {
+            if let Some(imp) = self.impostors.get_mut(i) {
+                imp.drawn = true;
+            }
+        }
         let tint = self.plan_tint.unwrap_or(Rgba::WHITE);
         let alpha = match self.cutout {
             Some(cutoff) => AlphaMode::Mask { cutoff },
@@ -223,6 +240,33 @@ impl<S: Subject + Send + Sync> Representation<S> for ImpostorSet {
 }
 
 impl ImpostorSet {
+    /// The parallax, pixels at `ppr`, that an image of a subject with bounds `b` taken
+    /// from `eye` shows after [`ImpostorSet::rebuild_life`] more frames of the eye's last
+    /// step (from the planner's last frame to `eye`), measured as [`super::predict`] does
+    /// (the angle between the ends of the sphere's diameter along the capture ray); 0
+    /// without a life, a last frame, or a step.
+    fn parallax_ahead(&self, b: engine::Sphere, eye: Vec3, ppr: f32) -> f32 {
+        let (Some(k), Some(last)) = (self.rebuild_life, self.last_eye) else {
+            return 0.0;
+        };
+        let step = eye - last;
+        if !step.is_finite() || step == Vec3::ZERO {
+            return 0.0;
+        }
+        let dir = (b.center - eye).normalize_or_zero();
+        let later = eye + step * k.max(0.0);
+        let (a, c) = (
+            b.center - dir * b.radius - later,
+            b.center + dir * b.radius - later,
+        );
+        let radians = a.cross(c).length().atan2(a.dot(c));
+        if radians.is_finite() {
+            radians * ppr
+        } else {
+            f32::INFINITY
+        }
+    }
+
     /// The side [`Representation::rebuild`] takes an image of a subject with bounds `b` at
     /// `dist` from the eye at: [`ImpostorSet::density`] texels a pixel, within the sides the
     /// config allows.

@@ -10,7 +10,7 @@ use crate::core::Rect;
 use crate::core::Subject;
 use crate::core::{push_quad, UvRect};
 use crate::core::{refresh_side_by_side, Refresher};
-use engine::{FrameStats, Lighting, Rgba, Target};
+use engine::{FrameStats, Lighting, Rgba, Target, Texture};
 use glam::Vec3;
 
 /// A refresh's own [`Refresher`] (its image is copied into the refresher's texture, traded
@@ -84,7 +84,15 @@ impl ImpostorSet {
             |job, subject, w| {
                 let camera = job.capture.camera();
                 let side = job.capture.side;
-                w.stats = w.refresher.render(subject, &camera, lighting, (side, side));
+                // A box's image is spread before it becomes the texture: one copy (and
+                // one mip chain) instead of two.
+                let nocopy = shape == Shape::Box;
+                w.stats = if nocopy {
+                    w.refresher
+                        .capture(subject, &camera, lighting, (side, side))
+                } else {
+                    w.refresher.render(subject, &camera, lighting, (side, side))
+                };
                 let target = w.refresher.target();
                 w.measured = measure(target, &job.capture, &mut w.rows);
                 w.grid.rect = None;
@@ -98,11 +106,14 @@ impl ImpostorSet {
                         let [out, scratch] = &mut w.spread;
                         relief::dilate(target, r, out, scratch);
                         let enc = target.encoding();
-                        if let Some(tex) = w.refresher.texture.as_mut() {
-                            tex.refill(side, side, enc, true, |t| t.copy_from_slice(out));
-                        }
+                        let tex = w
+                            .refresher
+                            .texture
+                            .get_or_insert_with(|| Texture::solid(Rgba::TRANSPARENT));
+                        tex.refill(side, side, enc, true, |t| t.copy_from_slice(out));
                         w.corners = Some(subject.corners());
                     }
+                    _ if nocopy => w.refresher.keep(),
                     _ => {}
                 }
             },

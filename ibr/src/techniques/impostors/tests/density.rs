@@ -1,6 +1,7 @@
 //! Images the planner takes denser than a texel a pixel ([`ImpostorSet::density`]): an
 //! image just taken must pass its own estimate from the same eye, or a still camera
-//! rebuilds it every frame.
+//! rebuilds it every frame; and a rebuild judged after its life
+//! ([`ImpostorSet::rebuild_life`]) while the eye moves.
 
 use super::shape::block;
 use super::*;
@@ -79,4 +80,45 @@ fn an_image_at_the_largest_side_passes_its_own_face_check_near_the_eye() {
         e.error.is_finite() && (e.error - e.rebuilt).abs() <= 1e-3 * e.rebuilt,
         "{e:?}"
     );
+}
+
+/// With a rebuild life, a rebuild is judged by the parallax it would show after that many
+/// more steps of the eye's last one: from a still eye as without, from a moving eye worse
+/// than without (the image the planner does not draw would soon be left), and an image
+/// the planner draws is judged as taken (its refreshes are not held back).
+#[test]
+fn a_rebuild_is_judged_after_its_life_while_the_eye_moves() {
+    let light = lighting();
+    let mut subjects = subject();
+    let b = subjects[0].bounds();
+    let ppr = pixels_per_radian(&camera(Vec3::Z, Vec3::ZERO), H);
+    let dist = 2.0 * ppr * b.radius / 30.0;
+    let from = Vec3::new(0.3, 0.4, 1.0).normalize() * dist;
+    let still = camera(from, Vec3::ZERO);
+    // A step sideways of a hundredth of the distance: the same side needed.
+    let step = Vec3::new(1.0, 0.0, -0.3).normalize() * dist * 0.01;
+    let moved = camera(from + step, Vec3::ZERO);
+    let estimate = |life: Option<f32>, drawn: &[usize], subjects: &mut [MeshGroup]| {
+        let mut imps = dense(3.0, 512);
+        imps.rebuild_life = life;
+        let view = FrameView::still(&still, W, H, &light);
+        imps.rebuild(&[0], subjects, &view);
+        Representation::<MeshGroup>::prepare(&mut imps, drawn, subjects, &view);
+        let at = |cam: &Camera| {
+            let seen = Sight::new(cam, W, H, subjects[0].bounds());
+            imps.estimate(0, &subjects[0], &seen).expect("seen")
+        };
+        (at(&still), at(&moved))
+    };
+    let (still0, moved0) = estimate(None, &[], &mut subjects);
+    let (still4, moved4) = estimate(Some(4.0), &[], &mut subjects);
+    let (_, drawn4) = estimate(Some(4.0), &[0], &mut subjects);
+    assert!(still0.rebuilt.is_finite() && moved0.rebuilt.is_finite());
+    assert_eq!(still4.rebuilt, still0.rebuilt, "a still eye: {still4:?}");
+    assert_eq!(moved4.error, moved0.error, "the held image as before");
+    assert!(
+        moved4.rebuilt > moved0.rebuilt * 1.5,
+        "four more steps on: {moved4:?} against {moved0:?}"
+    );
+    assert_eq!(drawn4.rebuilt, moved0.rebuilt, "drawn: judged as taken");
 }
