@@ -154,8 +154,8 @@ impl Made {
 
 /// Columns morphed beyond each side of the columns asked for, a 64th of the canvas's
 /// width and two more: a run of empty pixels that reaches into the columns asked for is
-/// filled from its ends, which must lie within the columns morphed, or the whole row is
-/// morphed again ([`crosses`]). (A hole is as wide as a difference of disparities, which
+/// filled from its ends, which must lie within the columns morphed, or the row is morphed
+/// again out to its end on that side ([`crosses`]). (A hole is as wide as a difference of disparities, which
 /// grows with the canvas's width.)
 fn margin(w: usize) -> usize {
     2 + w / 64
@@ -166,7 +166,8 @@ fn margin(w: usize) -> usize {
 /// ([`Made`]) when `labels` is set (counting is a figure: showing the view skips it): the
 /// rows in `rows` only (each row is morphed on its own), the others left empty; of those
 /// rows, the pixels in `cols` as the whole row's morph makes them (the columns about
-/// them, [`margin`] to each side, morphed; the whole row where a hole runs past those),
+/// them, [`margin`] to each side, morphed; out to the row's end where a hole runs past
+/// those),
 /// the others left empty or holding what is not read (every column with `labels`). Into
 /// `out`, kept from frame to frame (made the pair's size when it is not; every pixel
 /// written): the canvas, twice the frame's pixels, is not allocated again each frame.
