@@ -46,6 +46,12 @@ pub struct MorphFrame {
     pub sky_on_ground: u64,
     /// Pixels of the frame, which the holes of `stats` are counted in.
     pub frame_px: u64,
+    /// Pixels of the parallel canvas morphed for this frame (a work counter: the band
+    /// the postwarp reads, of a canvas about twice the frame's pixels).
+    pub canvas_px: u64,
+    /// Pixels of the canvas's rows the postwarp reads, every column: what was morphed
+    /// before the columns were cut (the reference of `canvas_px`).
+    pub band_px: u64,
 }
 
 impl MorphFrame {
@@ -56,13 +62,16 @@ impl MorphFrame {
             format!("{} ({share:.0}% SEEN)", db(e.map(|e| e.0)))
         };
         format!(
-            "VIEW MORPH S {:.2}  {}  ALL {}  SKY ON GROUND {} PX  PLAIN {}  HOLES {:.0}%",
+            "VIEW MORPH S {:.2}  {}  ALL {}  SKY ON GROUND {} PX  PLAIN {}  HOLES {:.0}%  \
+             CANVAS {:.2} OF {:.2} MPX",
             self.s,
             seen(self.error),
             db(self.full),
             self.sky_on_ground,
             seen(self.plain),
-            100.0 * self.holes_share()
+            100.0 * self.holes_share(),
+            self.canvas_px as f64 * 1e-6,
+            self.band_px as f64 * 1e-6
         )
     }
 
@@ -159,6 +168,8 @@ impl MorphPart {
         MorphFrame {
             s,
             frame_px: w as u64 * h as u64,
+            canvas_px: self.scratch.canvas_px,
+            band_px: self.scratch.band_px,
             error,
             plain,
             stats,

@@ -79,6 +79,11 @@ fn the_morph_keeps_shape_where_the_plain_morph_does_not() {
     );
     assert!(f.stats.from_left > 0 && f.stats.from_right > 0, "{f:?}");
     assert!(tour.readout().starts_with("VIEW MORPH S 0.50"));
+    // Only the columns the postwarp reads (with a margin) of the rows it reads are
+    // morphed: the canvas is as wide as about 1.7 frames (the views captured 1.3 times
+    // as wide, prewarped to a pair 1.3 times that), the frame reads about one.
+    assert!(f.canvas_px >= f.frame_px / 2, "{f:?}");
+    assert!(f.canvas_px * 10 < f.band_px * 8, "{f:?}");
 }
 
 #[test]

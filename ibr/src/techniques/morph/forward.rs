@@ -40,13 +40,22 @@ struct Row<'a> {
 }
 
 impl Source<'_> {
-    /// Maps this image's row into `row`: `first` paints every pixel nearer than what is
-    /// there; the second image (`!first`) only pixels left empty or nearer by more than a
-    /// pixel of disparity.
-    fn map(&self, row: &mut Row, first: bool) {
+    /// Maps this image's row into `row`, the pixels in `window` only: `first` paints every
+    /// pixel nearer than what is there; the second image (`!first`) only pixels left empty
+    /// or nearer by more than a pixel of disparity. Each pixel of `window` is painted as
+    /// the whole row's map paints it (the same sources, in the same order); the sources
+    /// that cannot reach it are skipped (a pixel moved left by `shift <= 0` lands before
+    /// `x + 2`, one moved right at or after `x`).
+    fn map(&self, row: &mut Row, first: bool, window: Range<usize>) {
         let w = self.color.len();
         let at = |x: usize, d: f32| x as f32 + 0.5 + self.shift * d;
-        for x in 0..w {
+        let sources = if self.shift <= 0.0 {
+            window.start.saturating_sub(2)..w
+        } else {
+            0..window.end.min(w)
+        };
+        let (first_px, end_px) = (window.start as f32, window.end as f32);
+        for x in sources {
             let d = self.disparity[x];
             if !d.is_finite() {
                 continue;
@@ -59,7 +68,7 @@ impl Source<'_> {
                 }
                 _ => from.floor() + 1.0,
             };
-            let (lo, hi) = (from.floor().max(0.0), to.floor().min(w as f32));
+            let (lo, hi) = (from.floor().max(first_px), to.floor().min(end_px));
             if lo >= hi {
                 continue;
             }
@@ -143,12 +152,26 @@ impl Made {
     }
 }
 
+/// Columns morphed beyond each side of the columns asked for, a 64th of the canvas's
+/// width and two more: a run of empty pixels that reaches into the columns asked for is
+/// filled from its ends, which must lie within the columns morphed, or the row is morphed
+/// again out to its end on that side ([`crosses`]). (A hole is as wide as a difference of disparities, which
+/// grows with the canvas's width.)
+fn margin(w: usize) -> usize {
+    2 + w / 64
+}
+
 /// The parallel in-between view a fraction `s` from the left view of `pair` to its right,
 /// seen by `camera` (its depth from the disparities), and what each pixel is made of
 /// ([`Made`]) when `labels` is set (counting is a figure: showing the view skips it): the
-/// rows in `rows` only (each row is morphed on its own), the others left empty. Into
+/// rows in `rows` only (each row is morphed on its own), the others left empty; of those
+/// rows, the pixels in `cols` as the whole row's morph makes them (the columns about
+/// them, [`margin`] to each side, morphed; out to the row's end where a hole runs past
+/// those),
+/// the others left empty or holding what is not read (every column with `labels`). Into
 /// `out`, kept from frame to frame (made the pair's size when it is not; every pixel
 /// written): the canvas, twice the frame's pixels, is not allocated again each frame.
+/// Returns the labels and the canvas pixels morphed (a work counter).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn morph(
     pair: &Rectified,
@@ -156,10 +179,10 @@ pub(super) fn morph(
     right: &Disparity,
     s: f32,
     camera: Camera,
-    rows: Range<usize>,
+    (rows, cols): (Range<usize>, Range<usize>),
     labels: bool,
     out: &mut DepthImage,
-) -> Option<DepthImage> {
+) -> (Option<DepthImage>, u64) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
     if (out.width() as usize, out.height() as usize) != (w, h) {
         *out = DepthImage::new(w as u32, h as u32, camera);
@@ -167,8 +190,14 @@ pub(super) fn morph(
     out.camera = camera;
     let mut made = labels.then(|| DepthImage::new(w as u32, h as u32, camera));
     if w == 0 || h == 0 {
-        return made;
+        return (made, 0);
     }
+    let cols = if labels {
+        0..w
+    } else {
+        cols.start.min(w)..cols.end.min(w)
+    };
+    let window = cols.start.saturating_sub(margin(w))..(cols.end + margin(w)).min(w);
     let mut made_rows: Vec<Option<&mut [Premul]>> = match made.as_mut() {
         Some(m) => m.color.chunks_mut(w).map(Some).collect(),
         None => (0..h).map(|_| None).collect(),
@@ -177,16 +206,17 @@ pub(super) fn morph(
     let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let depth_of = |d: f32| focal * pair.baseline / d;
     let (lc, rc) = (&pair.left.color, &pair.right.color);
-    out.color
+    let morphed = out
+        .color
         .par_chunks_mut(w)
         .zip(out.depth.par_chunks_mut(w))
         .zip(made_rows.par_iter_mut())
         .enumerate()
-        .for_each(|(y, ((color, depth), made))| {
+        .map(|(y, ((color, depth), made))| {
             color.fill(Premul::TRANSPARENT);
             depth.fill(EMPTY);
             if !rows.contains(&y) {
-                return;
+                return 0;
             }
             let span = y * w..(y + 1) * w;
             let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
@@ -197,7 +227,7 @@ pub(super) fn morph(
                 from_right: vec![false; w],
             };
             // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
-            Source {
+            let from_left = Source {
                 color: lrow,
                 disparity: ld,
                 other: rrow,
@@ -205,9 +235,8 @@ pub(super) fn morph(
                 shift: -s,
                 other_shift: -1.0,
                 weight: 1.0 - s,
-            }
-            .map(&mut row, true);
-            Source {
+            };
+            let from_right = Source {
                 color: rrow,
                 disparity: rd,
                 other: lrow,
@@ -215,8 +244,20 @@ pub(super) fn morph(
                 shift: 1.0 - s,
                 other_shift: 1.0,
                 weight: s,
-            }
-            .map(&mut row, false);
+            };
+            from_left.map(&mut row, true, window.clone());
+            from_right.map(&mut row, false, window.clone());
+            let window = match crosses(&row.disparity, &window, &cols) {
+                Some(wider) => {
+                    row.color.fill(Premul::TRANSPARENT);
+                    row.disparity.fill(-1.0);
+                    row.from_right.fill(false);
+                    from_left.map(&mut row, true, wider.clone());
+                    from_right.map(&mut row, false, wider.clone());
+                    wider
+                }
+                None => window.clone(),
+            };
             if let Some(made) = made.as_deref_mut() {
                 for (t, &d) in row.disparity.iter().enumerate() {
                     if d >= 0.0 {
@@ -228,7 +269,7 @@ pub(super) fn morph(
                     }
                 }
             }
-            fill_from_farther(&mut row);
+            fill_from_farther(&mut row, window.clone());
             if let Some(made) = made.as_deref_mut() {
                 for (t, &d) in row.disparity.iter().enumerate() {
                     if d >= 0.0 && made[t].a <= 0.0 {
@@ -239,13 +280,48 @@ pub(super) fn morph(
                     made[t] = scaled(made[t], row.color[t].a);
                 }
             }
-            for (z, &d) in depth.iter_mut().zip(&row.disparity) {
+            for (z, &d) in depth[window.clone()]
+                .iter_mut()
+                .zip(&row.disparity[window.clone()])
+            {
                 if d > 0.0 {
                     *z = depth_of(d);
                 }
             }
-        });
-    made
+            window.len() as u64
+        })
+        .sum();
+    (made, morphed)
+}
+
+/// Whether a run of empty pixels of a row mapped over `window` (its `disparity`, negative:
+/// empty) reaches both into `cols` and to an end of `window` short of the row's end: then
+/// where it ends, which its fill is taken from, is not known within `window`. If so, the
+/// window to map instead: `window` carried to the row's end on each such side (the pixels
+/// on the other side are as before, so it needs no second look).
+fn crosses(disparity: &[f32], window: &Range<usize>, cols: &Range<usize>) -> Option<Range<usize>> {
+    let w = disparity.len();
+    let empty = |t: usize| disparity[t] < 0.0;
+    if window.is_empty() {
+        return (!cols.is_empty()).then_some(0..w);
+    }
+    let open_before = window.start > 0 && empty(window.start) && {
+        let end = window.clone().find(|&t| !empty(t)).unwrap_or(window.end);
+        end > cols.start
+    };
+    let open_after = window.end < w && empty(window.end - 1) && {
+        let start = window
+            .clone()
+            .rev()
+            .find(|&t| !empty(t))
+            .map_or(window.start, |t| t + 1);
+        start < cols.end
+    };
+    (open_before || open_after).then(|| {
+        let start = if open_before { 0 } else { window.start };
+        let end = if open_after { w } else { window.end };
+        start..end
+    })
 }
 
 /// Fills each run of empty pixels of `row` between two mapped ones from the farther
@@ -254,10 +330,10 @@ pub(super) fn morph(
 /// saw (the corners a turned in-between view shows beyond both frames), is filled from the
 /// one mapped pixel beside it when that shows a surface (the ground), so the corner is not
 /// left to the sky colour where the scene shows ground; beside the sky, or in a row with
-/// nothing mapped, it stays empty.
-fn fill_from_farther(row: &mut Row) {
-    let w = row.disparity.len();
-    let mut x = 0;
+/// nothing mapped, it stays empty. The pixels in `span` only, its ends taken as the row's.
+fn fill_from_farther(row: &mut Row, span: Range<usize>) {
+    let w = span.end.min(row.disparity.len());
+    let mut x = span.start;
     while x < w {
         if row.disparity[x] >= 0.0 {
             x += 1;
@@ -267,7 +343,10 @@ fn fill_from_farther(row: &mut Row) {
         while x < w && row.disparity[x] < 0.0 {
             x += 1;
         }
-        let f = match (start.checked_sub(1), (x < w).then_some(x)) {
+        let f = match (
+            (start > span.start).then(|| start - 1),
+            (x < w).then_some(x),
+        ) {
             (Some(a), Some(b)) => {
                 if row.disparity[a] <= row.disparity[b] {
                     a
@@ -299,6 +378,12 @@ pub struct MorphScratch {
     pub(super) parallel: DepthImage,
     /// The last in-between view made.
     pub view: DepthImage,
+    /// Pixels of the parallel canvas the last view morphed (a work counter: the rows and
+    /// columns the postwarp reads, with a margin, of a canvas about twice the view's).
+    pub canvas_px: u64,
+    /// Pixels of the canvas's rows the postwarp reads, every column (what the morph took
+    /// before it cut the columns): `canvas_px` against it is the share saved.
+    pub band_px: u64,
 }
 
 impl Default for MorphScratch {
@@ -308,6 +393,8 @@ impl Default for MorphScratch {
         MorphScratch {
             parallel: empty.clone(),
             view: empty,
+            canvas_px: 0,
+            band_px: 0,
         }
     }
 }

@@ -222,7 +222,7 @@ impl ViewMorph {
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let mut image = DepthImage::new(0, 0, self.from);
-        let made = self.parallel(s, true, &mut image);
+        let (made, _, _) = self.parallel(s, true, &mut image);
         let view = self.postwarp(&image, s);
         let made = made.expect("labels asked for");
         (view, forward::Made::count(&self.postwarp(&made, s)))
@@ -243,7 +243,7 @@ impl ViewMorph {
     /// The same pixels as [`ViewMorph::view`].
     pub fn view_into(&self, s: f32, scratch: &mut MorphScratch) -> Labels {
         let s = s.clamp(0.0, 1.0);
-        self.parallel(s, false, &mut scratch.parallel);
+        (_, scratch.canvas_px, scratch.band_px) = self.parallel(s, false, &mut scratch.parallel);
         let camera = self.camera_at(s);
         match &self.postwarp {
             Some(_) => scratch.view = self.postwarp(&scratch.parallel, s),
@@ -261,14 +261,21 @@ impl ViewMorph {
     /// postwarp as the view, then counted.
     pub fn stats(&self, labels: &Labels) -> MorphStats {
         let mut image = DepthImage::new(0, 0, self.from);
-        let made = self.parallel(labels.s, true, &mut image);
+        let (made, _, _) = self.parallel(labels.s, true, &mut image);
         let made = made.expect("labels asked for");
         forward::Made::count(&self.postwarp(&made, labels.s))
     }
 
-    /// The parallel in-between view a fraction `s` of the way (the rows the postwarp
-    /// reads) into `out`, with its labels when `labels` is set.
-    fn parallel(&self, s: f32, labels: bool, out: &mut DepthImage) -> Option<DepthImage> {
+    /// The parallel in-between view a fraction `s` of the way (the rows and columns the
+    /// postwarp reads) into `out`, with its labels when `labels` is set (every column
+    /// then), the canvas pixels morphed, and the pixels of the rows the postwarp reads
+    /// (what was morphed before the columns were cut: a work counter's reference).
+    fn parallel(
+        &self,
+        s: f32,
+        labels: bool,
+        out: &mut DepthImage,
+    ) -> (Option<DepthImage>, u64, u64) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
         let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
@@ -276,44 +283,59 @@ impl ViewMorph {
             view: moved_view(&p.left.camera, eye),
             projection: p.left.camera.projection,
         };
-        let rows = self.rows_seen(&parallel, s);
-        forward::morph(p, &self.left, &self.right, s, parallel, rows, labels, out)
+        let seen = self.seen(&parallel, s);
+        let band = (seen.0.len() * p.left.width() as usize) as u64;
+        let (made, morphed) =
+            forward::morph(p, &self.left, &self.right, s, parallel, seen, labels, out);
+        (made, morphed, band)
     }
 
-    /// The rows of the parallel in-between view (seen by `parallel`) that the postwarp to
-    /// the in-between camera reads: the prewarped pair is half again as large as the view,
-    /// and the turned view reads a band of its rows, so the rows outside it are not morphed
-    /// (the view is the same pixel for pixel; each row is morphed on its own). The band is
-    /// the span of the view's four corners seen by `parallel` (a turn about the eye maps
-    /// the view's rectangle to a quadrilateral, whose rows lie between its corners'), with
-    /// two rows to spare for the bilinear lookup. Every row when a corner lies behind
+    /// The rows and the columns of the parallel in-between view (seen by `parallel`) that
+    /// the postwarp to the in-between camera reads: the prewarped pair is larger than the
+    /// view, and the turned view reads a band of its rows and of its columns, so the
+    /// pixels outside it are not morphed (the view is the same pixel for pixel; each row is
+    /// morphed on its own, its columns as [`forward::morph`] keeps them). The band is the
+    /// span of the view's four corners seen by `parallel` (a turn about the eye maps the
+    /// view's rectangle to a quadrilateral, whose pixels lie between its corners'), with two
+    /// pixels to spare for the bilinear lookup. Every pixel when a corner lies behind
     /// `parallel` or the postwarp is not a turn (a morph from point pairs).
-    fn rows_seen(&self, parallel: &Camera, s: f32) -> Range<usize> {
-        let ph = self.pair.left.height() as usize;
+    fn seen(&self, parallel: &Camera, s: f32) -> (Range<usize>, Range<usize>) {
+        let (pw, ph) = (
+            self.pair.left.width() as usize,
+            self.pair.left.height() as usize,
+        );
+        let all = (0..ph, 0..pw);
         if self.postwarp.is_some() {
-            return 0..ph;
+            return all;
         }
         let to_world = self.camera_at(s).gl_view_proj().inverse();
         let to_parallel = parallel.gl_view_proj();
         let eye = parallel.eye();
         let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        let (mut left, mut right) = (f32::INFINITY, f32::NEG_INFINITY);
         for (x, y) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
             let far = to_world * Vec4::new(x, y, 1.0, 1.0);
             let dir = far.truncate() / far.w - eye;
             let c = to_parallel * dir.extend(0.0);
             if !(far.w.is_finite() && far.w != 0.0 && c.w > 0.0) {
-                return 0..ph;
+                return all;
             }
-            // Pixel rows, centres at integers, as the postwarp's lookup counts them.
+            // Pixel rows and columns, centres at integers, as the postwarp's lookup counts
+            // them.
             let v = (1.0 - c.y / c.w) * 0.5 * ph as f32 - 0.5;
+            let u = (c.x / c.w + 1.0) * 0.5 * pw as f32 - 0.5;
             (lo, hi) = (lo.min(v), hi.max(v));
+            (left, right) = (left.min(u), right.max(u));
         }
-        if !(lo.is_finite() && hi.is_finite()) {
-            return 0..ph;
+        if !(lo.is_finite() && hi.is_finite() && left.is_finite() && right.is_finite()) {
+            return all;
         }
-        let lo = (lo.floor() - 2.0).clamp(0.0, ph as f32) as usize;
-        let hi = (hi.ceil() + 3.0).clamp(0.0, ph as f32) as usize;
-        lo..hi.max(lo)
+        let span = |lo: f32, hi: f32, n: usize| {
+            let lo = (lo.floor() - 2.0).clamp(0.0, n as f32) as usize;
+            let hi = (hi.ceil() + 3.0).clamp(0.0, n as f32) as usize;
+            lo..hi.max(lo)
+        };
+        (span(lo, hi, ph), span(left, right, pw))
     }
 
     /// The parallel in-between `image` (a fraction `s` of the way) turned to the

@@ -399,23 +399,42 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         let mut all = DepthImage::new(0, 0, a);
         morph.parallel(s, false, &mut all);
         let parallel = all.camera;
-        let made = forward::morph(
+        let cols = morph.prewarped().left.width() as usize;
+        let (made, morphed) = forward::morph(
             &morph.pair,
             &morph.left,
             &morph.right,
             s,
             parallel,
-            0..rows,
+            (0..rows, 0..cols),
             true,
             &mut all,
+        );
+        assert_eq!(
+            morphed,
+            (rows * cols) as u64,
+            "s {s}: labels morph every pixel"
         );
         assert_eq!(view, morph.postwarp(&all, s), "s {s}");
         let counted = forward::Made::count(&morph.postwarp(&made.expect("labels"), s));
         assert_eq!(morph.stats(&labels), counted, "s {s}");
         assert_eq!(morph.frame(s), (view, counted), "s {s}");
-        // The pair is half again as tall as the view: a band of its rows is read.
-        let band = morph.rows_seen(&parallel, s);
+        // The pair is half again as large as the view: a band of its rows and of its
+        // columns is read, and only about that band is morphed (a work counter).
+        let (band, across) = morph.seen(&parallel, s);
         assert!(band.len() < rows * 9 / 10, "s {s}: rows {band:?} of {rows}");
+        let mut scratch = MorphScratch::default();
+        morph.view_into(s, &mut scratch);
+        eprintln!(
+            "s {s}: {} canvas pixels morphed, rows {band:?} columns {across:?} of {cols}",
+            scratch.canvas_px
+        );
+        assert!(scratch.canvas_px >= (band.len() * across.len()) as u64);
+        assert!(scratch.canvas_px <= (band.len() * cols) as u64);
+        assert_eq!(scratch.band_px, (band.len() * cols) as u64);
+        if s > 0.0 && s < 1.0 {
+            assert!(across.len() < cols * 9 / 10, "s {s}: {across:?} of {cols}");
+        }
     }
 }
 
