@@ -3,10 +3,11 @@
 //! nodes as a few cached images). The image is captured from the field's eye through a
 //! frustum a margin wider than the view's, in tiles (crops of it, a tile over the budget
 //! split in four) spread over frames within a per-frame budget of captured triangles, and
-//! drawn as a mesh of small quads at the pixels' depths with their colours, one per run of
-//! pixels along a row that a quad's interpolation reproduces ([`super::far_mesh`]; grown a
-//! fraction of a pixel so neighbours on a surface leave no cracks as the eye moves): opaque, depth written, seen from any nearby eye with the parallax of its
-//! depths, so near geometry and the far field occlude each other. (A mesh joining pixel
+//! drawn as a mesh of quads at the pixels' depths, one per rectangle of pixels on one plane
+//! of depth, textured with the tile's image ([`super::far_mesh`]; grown a fraction of a
+//! pixel so neighbours on a surface leave no cracks as the eye moves): cut out where
+//! uncovered, depth written, seen from any nearby eye with the parallax of its depths, so
+//! near geometry and the far field occlude each other. (A mesh joining pixel
 //! centres, [`crate::warp::mesh`], shrinks every silhouette by half a pixel and drops
 //! features a pixel wide: the far field's objects are a few pixels wide.)
 //!
@@ -21,12 +22,12 @@
 //! leaf across the distance is the cut's whole, so the cut may draw it as one image.
 
 use super::bvh::Tree;
-use super::far_mesh::span_mesh;
+use super::far_mesh::{image_texture, span_mesh, tile_material};
 use crate::core::{Capturer, DepthImage, Frustum, Subject};
-use crate::warp::mesh::depth_mesh_material;
 use engine::{Camera, Draw, Material, Mesh, Projection, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Settings of a [`FarField`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -98,6 +99,8 @@ struct Tile {
     min: (u32, u32),
     max: (u32, u32),
     mesh: Mesh,
+    /// The mesh's material, its image as a texture (`None`: empty).
+    material: Option<Material>,
     /// Bounds of the mesh's points (`None`: empty).
     sphere: Option<Sphere>,
     /// The objects captured into it.
@@ -121,6 +124,7 @@ impl Tile {
             min,
             max,
             mesh: Mesh::default(),
+            material: None,
             sphere: None,
             objects: Vec::new(),
         }
@@ -246,7 +250,6 @@ pub struct FarField {
     pub config: FarConfig,
     shown: Option<Field>,
     building: Option<Field>,
-    material: Material,
     /// What the last [`FarField::step`] did.
     pub report: FarReport,
     /// Scratch: the tiles of this frame's capture and each one's objects.
@@ -310,7 +313,6 @@ impl FarField {
             config,
             shown: None,
             building: None,
-            material: depth_mesh_material(),
             report: FarReport::default(),
             work: Vec::new(),
         }
@@ -419,11 +421,13 @@ impl FarField {
     /// The shown field's tiles seen by `frustum`, as draws (opaque, depth written).
     pub fn draws<'a>(&'a self, frustum: &Frustum, out: &mut Vec<Draw<'a>>) {
         for t in self.seen(*frustum) {
-            out.push(Draw {
-                mesh: &t.mesh,
-                material: &self.material,
-                transform: Mat4::IDENTITY,
-            });
+            if let Some(material) = &t.material {
+                out.push(Draw {
+                    mesh: &t.mesh,
+                    material,
+                    transform: Mat4::IDENTITY,
+                });
+            }
         }
     }
 
@@ -435,9 +439,13 @@ impl FarField {
                     .iter()
                     .map(|t| {
                         let m = &t.mesh;
+                        // The texture: packed bytes and the sampler's 16-bit copy, 12 a texel.
+                        let (w, h) = t.size();
+                        let texels = if t.material.is_some() { w * h } else { 0 };
                         m.positions.capacity() * 12
-                            + m.colors.capacity() * 16
+                            + m.uvs.capacity() * 8
                             + m.indices.capacity() * 4
+                            + texels as usize * 12
                     })
                     .sum()
             })
@@ -533,9 +541,16 @@ fn capture_tiles<S: Subject + Sync>(
     let (whole, size) = (field.camera, field.size);
     let tiles = &mut field.tiles[first..first + work.len()];
     tiles.par_iter_mut().zip(work.par_iter()).for_each_init(
-        || (Capturer::new(), DepthImage::new(0, 0, whole)),
-        |(cap, image), (tile, (_, members))| {
+        || {
+            (
+                Capturer::new(),
+                DepthImage::new(0, 0, whole),
+                Default::default(),
+            )
+        },
+        |(cap, image, scratch), (tile, (_, members))| {
             tile.sphere = None;
+            tile.material = None;
             tile.mesh.clear();
             tile.objects.clone_from(members);
             if members.is_empty() {
@@ -548,8 +563,11 @@ fn capture_tiles<S: Subject + Sync>(
             let camera = tile.camera(&whole, size);
             let (w, h) = tile.size();
             cap.capture(draws, &camera, lighting, w, h, image);
-            span_mesh(image, grow, &mut tile.mesh);
+            span_mesh(image, grow, &mut tile.mesh, scratch);
             tile.sphere = bounds_of(&tile.mesh.positions);
+            if tile.sphere.is_some() {
+                tile.material = image_texture(image).map(|t| tile_material(Arc::new(t)));
+            }
         },
     );
 }
