@@ -28,15 +28,32 @@ use ibr::{Billboard, Facing};
 pub const FOREST_TREES: usize = 2400;
 /// Side of each of a tree's baked views, texels (framing its bounding sphere).
 pub const SPRITE_PX: u32 = 256;
-/// Directions about the vertical each tree is baked from, evenly around it, at each of
-/// [`SPRITE_ELEVATIONS`]: a tree shows the side it is seen from (lit or in shade), the bake
-/// nearest the eye's direction (a single side bake showed its sunlit side from everywhere
-/// and lay down when seen from above: 14.6 dB against the meshes). The trees are turned
-/// about the vertical ([`lathe`]), so the azimuth changes only their shading, never their
-/// outline: 8 azimuths (45 degrees apart) with elevations every 5 degrees measured 24.6 /
-/// 19.5 dB on the 640 x 360 tour, 12 every 10 degrees 24.8 / 18.2 (the trees at 32
-/// segments), for about the same memory (session 12).
-pub const SPRITE_AZIMUTHS: usize = 8;
+/// Directions about the vertical each tree is baked from at each of [`SPRITE_ELEVATIONS`]:
+/// a tree shows the side it is seen from (lit or in shade), the bake nearest the eye's
+/// direction (a single side bake showed its sunlit side from everywhere and lay down when
+/// seen from above: 14.6 dB against the meshes). The trees are turned about the vertical
+/// ([`lathe`]) and lit by one sun, so the azimuth changes only their shading, mirrored
+/// about the sun's azimuth ([`ViewAtlas::bake_turned`]): these 12 span the half turn from
+/// the sun, 16.4 degrees apart (as 22 around), the other half their mirror images. 8
+/// around (45 degrees apart) measured 24.6 / 19.5 dB on the 640 x 360 tour; 12 over the
+/// half turn +0.4 dB mean, as 24 around, for 50 MB more resident where 24 around took
+/// 200 MB (session 14).
+pub const SPRITE_AZIMUTHS: usize = 12;
+/// Where each tree kind's views stand ([`ViewAtlas::pivot`]), in the unit-tall mesh's
+/// units above its sphere's centre: the broadleaf's through its crown's centre (0.7 up,
+/// the sphere's centre 0.485), where the crown's outline lies; the pine's a little above
+/// its centre, among its cones. Through the sphere's centre, the crowns of the trees near
+/// the eye showed a pixel low and small (session 14: 24.6 / 19.3 dB on the 640 x 360 tour,
+/// 25.3 / 21.3 with these pivots, 25.7 / 21.2 with 0.25 and 0.2).
+const CROWN_PIVOT: f32 = 0.2;
+const PINE_PIVOT: f32 = 0.1;
+/// A tree shows the view baked nearest the eye's direction from the point `AIM` times its
+/// pivot above its centre (up in the crown) rather than from the centre: from above, the
+/// crown's top is seen from lower than the centre, and its sunlit rim showed brighter than
+/// the mesh's (session 14, 640 x 360 tour: from the centre 25.31 / 21.26 dB, from one pivot
+/// up 25.42 / 21.54; with the mirrored views, one pivot up 25.84 / 21.72, two 25.89 /
+/// 21.99).
+const AIM: f32 = 2.0;
 /// Elevations (degrees) each tree is baked from, 5 apart: a view shown at most 2.5 degrees
 /// of elevation off, where the turned crowns' outlines still change (10 apart: 24.8 / 18.2
 /// dB on the 640 x 360 tour with 12 azimuths; 5 apart with 12 azimuths 25.0 / 20.0 for
@@ -251,9 +268,12 @@ impl IbrLayer {
                 } else if let ibr::billboard::Size::World(size) = b.size {
                     // Sprites out of the view make no triangles (the quad's corner
                     // distance bounds its relief's vertices).
-                    if frustum.sees(b.position, size.length() * 0.5) {
+                    if frustum.sees(b.position, batch.atlas.reach(size)) {
+                        // The view baked nearest the eye's direction from the crown's
+                        // upper part (AIM).
+                        let aim = b.position + Vec3::Y * (AIM * batch.atlas.pivot * 0.5 * size.y);
                         batch.items.push(Billboard {
-                            region: batch.atlas.region(eye - b.position),
+                            region: batch.atlas.region(eye - aim),
                             ..*b
                         });
                     }
@@ -444,7 +464,10 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
     let mut batches = Vec::new();
     let mut trees = ForestGeometry::default();
     let elevations = SPRITE_ELEVATIONS.map(f32::to_radians);
-    for (kind, seed) in [(TreeKind::Pine, 1), (TreeKind::Broadleaf, 3)] {
+    for (kind, seed, pivot) in [
+        (TreeKind::Pine, 1, PINE_PIVOT),
+        (TreeKind::Broadleaf, 3, CROWN_PIVOT),
+    ] {
         let mesh = lathe::tree(kind, seed);
         let bounds = sphere_around(&mesh);
         let white = foliage(Rgba::WHITE);
@@ -454,7 +477,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
             material: &white,
             transform: Mat4::IDENTITY,
         };
-        let atlas = ViewAtlas::bake(
+        let atlas = ViewAtlas::bake_turned(
             &[draw],
             &lighting,
             bounds,
@@ -462,6 +485,8 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
             &elevations,
             SPRITE_PX,
         );
+        let mut atlas = atlas;
+        atlas.pivot = pivot / atlas.bounds.radius;
         let height = mesh_height(&mesh);
         let k = trees.meshes.len();
         trees.bounds.push(bounds);

@@ -4,6 +4,7 @@
 //! representation ([`BillboardSet`]).
 
 mod bake;
+mod mount;
 pub(crate) mod plan;
 mod technique;
 mod trim;

@@ -17,8 +17,9 @@
 //! With depth ([`ViewAtlas::relief`], a coarse nailboard after Schaufler 97): each view
 //! also keeps the object's depth from its bake on a `RELIEF` x `RELIEF` grid of nodes over
 //! its square, and the quad is drawn as that grid with every node moved toward the eye
-//! along its own ray by the surface's offset from the centre plane (so the image does not
-//! move on screen). Sprites then hide one another, and meshes hide them, about where the
+//! along its own ray by the surface's offset from the image's plane (so the image does not
+//! move on screen; the plane faces the view's bake direction through the object's
+//! [`ViewAtlas::pivot`], [`super::mount`]). Sprites then hide one another, and meshes hide them, about where the
 //! objects' surfaces do, not at their centres' depth: two crowns overlapping on screen
 //! are ordered by their fronts, and a crown behind a near tree's mesh is cut along it.
 //!
@@ -28,11 +29,12 @@
 //! alpha-tested sprite samples and discards like any other, are not drawn.
 
 use super::bake::{bake_bounds, bake_camera};
+use super::mount::Mount;
 use super::trim::{surface, Trim};
 use crate::core::{orient, Billboard, Capturer, Facing, Size, UvRect, View};
 use engine::{AlphaMode, Draw, Encoding, Lighting, Material, Mesh, Rgba, Sphere, Texture};
 use glam::{Vec2, Vec3};
-use std::f32::consts::TAU;
+use std::f32::consts::{PI, TAU};
 use std::sync::Arc;
 
 /// Texels of transparent margin framed around the sphere in every cell, so the mipmaps
@@ -85,6 +87,17 @@ pub struct ViewAtlas {
     /// grid's nodes spread over its covered texels ([`Trim`]), not the whole square, so
     /// the clear texels around a tall tree or a round crown are neither sampled nor tested.
     pub trims: Vec<Trim>,
+    /// For an object turned about the vertical and lit by one sun
+    /// ([`ViewAtlas::bake_turned`]): the sun's azimuth (radians from +X toward +Z). The
+    /// columns then span the half turn from it (column `k` at `k / (azimuths - 1)` of
+    /// it), and the other half shows them mirrored: seen from `a` on one side of the sun
+    /// such an object shows the image of `a` on the other, left for right.
+    pub mirror: Option<f32>,
+    /// Where each view's image stands ([`Mount`], [`ViewAtlas::relief`]): on the plane
+    /// facing its bake direction through the point of the vertical axis `pivot` (in
+    /// `bounds.radius`) above the centre, where the object's outline lies (0, as baked:
+    /// through the centre).
+    pub pivot: f32,
 }
 
 impl ViewAtlas {
@@ -98,6 +111,51 @@ impl ViewAtlas {
         azimuths: usize,
         elevations: &[f32],
         px: u32,
+    ) -> ViewAtlas {
+        Self::bake_from(draws, lighting, bounds, azimuths, elevations, px, None)
+    }
+
+    /// As [`ViewAtlas::bake`], for an object turned about the vertical (alike from every
+    /// azimuth but for its light) lit by `lighting`'s first directional light (the sun)
+    /// and its ambient: `azimuths` (at least 2) columns over the half turn from the sun's
+    /// azimuth, the other half mirrored ([`ViewAtlas::mirror`]), so the views are half as
+    /// far apart as `bake`'s for the same memory. Objects not turned, or lit by more than
+    /// one direction, show the wrong side on the mirrored half.
+    pub fn bake_turned<'a>(
+        draws: &[Draw<'a>],
+        lighting: &Lighting,
+        bounds: Sphere,
+        azimuths: usize,
+        elevations: &[f32],
+        px: u32,
+    ) -> ViewAtlas {
+        let sun = lighting.lights.iter().find_map(|l| match l {
+            engine::Light::Directional { direction, .. } => Some(-*direction),
+            _ => None,
+        });
+        let sun = sun.unwrap_or(Vec3::X);
+        let mirror = sun.z.atan2(sun.x);
+        let mirror = if mirror.is_finite() { mirror } else { 0.0 };
+        let azimuths = azimuths.max(2);
+        Self::bake_from(
+            draws,
+            lighting,
+            bounds,
+            azimuths,
+            elevations,
+            px,
+            Some(mirror),
+        )
+    }
+
+    fn bake_from<'a>(
+        draws: &[Draw<'a>],
+        lighting: &Lighting,
+        bounds: Sphere,
+        azimuths: usize,
+        elevations: &[f32],
+        px: u32,
+        mirror: Option<f32>,
     ) -> ViewAtlas {
         let px = px.max(4);
         let azimuths = azimuths.max(1);
@@ -125,7 +183,9 @@ impl ViewAtlas {
         let mut alpha = vec![0u8; (px * px) as usize];
         for (j, &e) in elevations.iter().enumerate() {
             for k in 0..azimuths {
-                let camera = bake_camera(bounds, direction(azimuths, k, e));
+                let a = column_azimuth(azimuths, k, mirror);
+                let to_viewer = Vec3::new(a.cos() * e.cos(), e.sin(), a.sin() * e.cos());
+                let camera = bake_camera(bounds, to_viewer);
                 let t = capturer.render(
                     draws.iter().copied(),
                     &camera,
@@ -165,6 +225,8 @@ impl ViewAtlas {
             elevations,
             depth,
             trims,
+            mirror,
+            pivot: 0.0,
         }
     }
 
@@ -199,32 +261,42 @@ impl ViewAtlas {
     /// The cell baked from the direction nearest `to_eye` (from the object toward the eye,
     /// any length): the nearest azimuth, and the nearest elevation of the grid. A zero or
     /// non-finite direction gives the first cell.
+    /// With [`ViewAtlas::mirror`], a cell shown mirrored (left for right) has its `min.x`
+    /// and `max.x` swapped.
     pub fn region(&self, to_eye: Vec3) -> UvRect {
-        let (k, j) = self.cell(to_eye);
+        let (k, j, flip) = self.cell_mirrored(to_eye);
         let size = Vec2::new(
             1.0 / self.azimuths as f32,
             1.0 / self.elevations.len() as f32,
         );
         let min = Vec2::new(k as f32, j as f32) * size;
-        UvRect {
-            min,
-            max: min + size,
+        let max = min + size;
+        if flip {
+            UvRect {
+                min: Vec2::new(max.x, min.y),
+                max: Vec2::new(min.x, max.y),
+            }
+        } else {
+            UvRect { min, max }
         }
     }
 
     /// Writes `items` (world-facing billboards showing this atlas's views: `region` one
-    /// of [`ViewAtlas::region`]'s cells, `size` in world units) into `mesh` (cleared) as
-    /// seen from `view`, each as its view's depth grid ([`ViewAtlas::depth`]): the quad
-    /// [`crate::core::corners`] would make, trimmed to the view's covered texels
-    /// ([`ViewAtlas::trims`]) and split into `RELIEF` x `RELIEF` vertices, each
-    /// moved along its ray toward the eye until it stands the view's offset (scaled from
-    /// the atlas's radius to the quad's half width) in front of the quad's plane. On screen
-    /// it covers the quad's pixels that show covered texels, with the same texels; its
-    /// depth is the object's.
+    /// of [`ViewAtlas::region`]'s cells, `size` in world units; a mirrored cell drawn left
+    /// for right) into `mesh` (cleared) as seen from `view`, each as its view's depth grid
+    /// ([`ViewAtlas::depth`]): the view's square, as wide as the quad
+    /// [`crate::core::corners`] would make, standing on its [`Mount`] (the plane facing
+    /// the view's bake direction at the eye's azimuth through the axis point
+    /// [`ViewAtlas::pivot`]), trimmed to the view's covered texels ([`ViewAtlas::trims`])
+    /// and split into `RELIEF` x `RELIEF` vertices, each moved along its ray toward the
+    /// eye until it stands the view's offset (scaled from the atlas's radius to the quad's
+    /// half width) in front of that plane. On screen it covers the plane's pixels that
+    /// show covered texels, with the same texels; its depth is the object's.
     /// Items with a non-finite position or not world-sized are left out. Returns the
     /// sprites written.
     pub fn relief(&self, items: &[Billboard], view: &View, mesh: &mut Mesh) -> usize {
         mesh.clear();
+
         let mut n = 0;
         for b in items {
             let Size::World(size) = b.size else {
@@ -235,6 +307,12 @@ impl ViewAtlas {
             }
             let basis = orient(Facing::World { up: Vec3::Y }, view, b.position);
             let view_index = self.view_of(b.region);
+            let mount = Mount::new(
+                self.elevations[view_index / self.azimuths],
+                basis.normal,
+                basis.right,
+            );
+            let pivot = self.pivot * 0.5 * size.y;
             // The view's trim grown by TRIM_PX screen pixels at the sprite's distance.
             let pixel = view.pixel_size_at(b.position).unwrap_or(0.0);
             let by = Vec2::new(pixel / size.x, pixel / size.y) * TRIM_PX;
@@ -242,18 +320,23 @@ impl ViewAtlas {
             let offsets = &self.depth[view_index];
             let scale = 0.5 * size.x;
             let base = mesh.positions.len() as u32;
-            let span = b.region.max - b.region.min;
+            // A mirrored view: its texels drawn right to left (and its nodes taken right
+            // to left, so the triangles keep their winding).
+            let flip = b.region.max.x < b.region.min.x;
+            let lo = Vec2::new(b.region.min.x.min(b.region.max.x), b.region.min.y);
+            let span = (b.region.max - b.region.min).abs();
             for gy in 0..RELIEF {
-                for gx in 0..RELIEF {
+                for col in 0..RELIEF {
+                    let gx = if flip { RELIEF - 1 - col } else { col };
                     let t = trim.node(gx, gy);
-                    let flat = b.position
-                        + basis.right * ((t.x - 0.5) * size.x)
-                        + basis.up * ((0.5 - t.y) * size.y);
-                    let o = surface(offsets, t) * scale;
-                    let ray = (view.eye - flat).normalize_or(basis.normal);
-                    let along = ray.dot(basis.normal).max(0.2);
+                    let x = if flip { 1.0 - t.x } else { t.x };
+                    let v = (0.5 - t.y) * size.y;
+                    let (up, o) = mount.place(v, surface(offsets, t) * scale, pivot);
+                    let flat = b.position + basis.right * ((x - 0.5) * size.x) + up;
+                    let ray = (view.eye - flat).normalize_or(mount.toward);
+                    let along = ray.dot(mount.toward).max(0.2);
                     mesh.positions.push(flat + ray * (o / along));
-                    mesh.uvs.push(b.region.min + t * span);
+                    mesh.uvs.push(lo + t * span);
                     mesh.colors.push(b.tint);
                 }
             }
@@ -264,10 +347,18 @@ impl ViewAtlas {
         n
     }
 
+    /// The distance from a sprite's position (its sphere's centre) within which
+    /// [`ViewAtlas::relief`] draws a sprite of `size` (world units): its quad's corners,
+    /// moved by the [`Mount`]'s pivot (the nodes then move along their rays, not across
+    /// the screen).
+    pub fn reach(&self, size: Vec2) -> f32 {
+        0.5 * size.length() + 0.5 * size.y * self.pivot.abs()
+    }
+
     /// The index of the view shown by `region` (one of [`ViewAtlas::region`]'s) in
     /// [`ViewAtlas::depth`] and [`ViewAtlas::trims`].
     fn view_of(&self, region: UvRect) -> usize {
-        let k = (region.min.x * self.azimuths as f32).round() as usize;
+        let k = (region.min.x.min(region.max.x) * self.azimuths as f32).round() as usize;
         let j = (region.min.y * self.elevations.len() as f32).round() as usize;
         let i = j.min(self.elevations.len() - 1) * self.azimuths + k.min(self.azimuths - 1);
         i.min(self.depth.len() - 1)
@@ -275,12 +366,34 @@ impl ViewAtlas {
 
     /// The column (azimuth) and row (elevation) of [`ViewAtlas::region`].
     pub fn cell(&self, to_eye: Vec3) -> (usize, usize) {
+        let (k, j, _) = self.cell_mirrored(to_eye);
+        (k, j)
+    }
+
+    /// [`ViewAtlas::cell`], and whether it is shown mirrored ([`ViewAtlas::mirror`]).
+    fn cell_mirrored(&self, to_eye: Vec3) -> (usize, usize, bool) {
         let d = to_eye.normalize_or_zero();
         if d == Vec3::ZERO {
-            return (0, 0);
+            return (0, 0, false);
         }
-        let a = d.z.atan2(d.x).rem_euclid(TAU);
-        let k = (a / TAU * self.azimuths as f32).round() as usize % self.azimuths;
+        let a = d.z.atan2(d.x);
+        let (k, flip) = match self.mirror {
+            None => {
+                let a = a.rem_euclid(TAU);
+                let k = (a / TAU * self.azimuths as f32).round() as usize % self.azimuths;
+                (k, false)
+            }
+            Some(sun) => {
+                let off = (a - sun).rem_euclid(TAU);
+                let (off, flip) = if off > PI {
+                    (TAU - off, true)
+                } else {
+                    (off, false)
+                };
+                let k = (off / PI * (self.azimuths - 1) as f32).round() as usize;
+                (k.min(self.azimuths - 1), flip)
+            }
+        };
         let e = d.y.clamp(-1.0, 1.0).asin();
         let j = (0..self.elevations.len())
             .min_by(|&p, &q| {
@@ -289,7 +402,7 @@ impl ViewAtlas {
                     .total_cmp(&(self.elevations[q] - e).abs())
             })
             .unwrap_or(0);
-        (k, j)
+        (k, j, flip)
     }
 }
 
@@ -307,9 +420,19 @@ fn grid(offsets: &[f32], px: usize) -> [f32; RELIEF * RELIEF] {
 }
 
 /// The unit direction toward the viewer of column `k` of `azimuths` at elevation `e`.
+#[cfg(test)]
 fn direction(azimuths: usize, k: usize, e: f32) -> Vec3 {
-    let a = k as f32 * TAU / azimuths as f32;
+    let a = column_azimuth(azimuths, k, None);
     Vec3::new(a.cos() * e.cos(), e.sin(), a.sin() * e.cos())
+}
+
+/// The azimuth (radians from +X toward +Z) of column `k` of `azimuths`: evenly around, or
+/// with `mirror` (the sun's azimuth) over the half turn from it, both ends included.
+fn column_azimuth(azimuths: usize, k: usize, mirror: Option<f32>) -> f32 {
+    match mirror {
+        None => k as f32 * TAU / azimuths as f32,
+        Some(sun) => sun + k as f32 * PI / (azimuths.max(2) - 1) as f32,
+    }
 }
 
 #[cfg(test)]
