@@ -4,6 +4,8 @@
 //! representation ([`BillboardSet`]).
 
 mod bake;
+#[cfg(test)]
+mod compare;
 mod mount;
 pub(crate) mod plan;
 mod technique;

@@ -50,13 +50,10 @@ impl Mount {
 
 #[cfg(test)]
 mod tests {
+    use super::super::compare::against_mesh;
     use super::super::ViewAtlas;
-    use crate::core::{Billboard, Facing, View};
-    use engine::{
-        procedural, Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba,
-        Shading, Sphere, Target,
-    };
-    use glam::{Mat4, Vec2, Vec3};
+    use engine::{procedural, Draw, Light, Lighting, Material, Rgba, Shading, Sphere};
+    use glam::{Mat4, Vec3};
 
     /// A matte green material (no highlight: a view carries the light that left toward
     /// its bake direction).
@@ -78,58 +75,6 @@ mod tests {
                 color: Rgba::WHITE,
             }],
         }
-    }
-
-    /// `atlas`'s sprite of `draw` (framed by the atlas's sphere at the origin) and `draw`
-    /// itself, rendered from `eye` looking at the origin (160 x 120, field of view
-    /// `fov`): the pixels both cover, those one covers and the other not, and the mean
-    /// level difference (RGB) over the first.
-    fn against_mesh(atlas: &ViewAtlas, draw: Draw<'_>, eye: Vec3, fov: f32) -> (u32, u32, f32) {
-        let (w, h) = (160u32, 120u32);
-        let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, fov, w as f32 / h as f32);
-        let item = Billboard {
-            region: atlas.region(eye),
-            ..Billboard::new(
-                Vec3::ZERO,
-                Facing::World { up: Vec3::Y },
-                Vec2::splat(2.0 * atlas.bounds.radius),
-            )
-        };
-        let mut mesh = Mesh::default();
-        assert_eq!(atlas.relief(&[item], &View::new(&cam, h), &mut mesh), 1);
-        let sprite = atlas.material().double_sided(true);
-        let render = |d: Draw<'_>| {
-            let mut t = Target::new(w, h);
-            Renderer::new().render(
-                [d],
-                &cam,
-                &sun(),
-                &mut t,
-                &FrameOptions {
-                    clear: Some(Rgba::TRANSPARENT),
-                    ..FrameOptions::default()
-                },
-            );
-            t.to_rgba8_premultiplied()
-        };
-        let image = render(Draw {
-            mesh: &mesh,
-            material: &sprite,
-            transform: Mat4::IDENTITY,
-        });
-        let truth = render(draw);
-        let (mut both, mut one, mut off) = (0u32, 0u32, 0u32);
-        for (p, q) in image.chunks(4).zip(truth.chunks(4)) {
-            match (p[3] > 0, q[3] > 0) {
-                (true, true) => {
-                    both += 1;
-                    off += (0..3).map(|c| p[c].abs_diff(q[c]) as u32).sum::<u32>();
-                }
-                (false, false) => {}
-                _ => one += 1,
-            }
-        }
-        (both, one, off as f32 / (3 * both.max(1)) as f32)
     }
 
     /// A ball standing high above its sprite's centre (as a crown above a tree's), seen
@@ -159,7 +104,7 @@ mod tests {
                 let a_k = k as f32 * std::f32::consts::TAU / 8.0;
                 let e = 30f32.to_radians();
                 let dir = Vec3::new(a_k.cos() * e.cos(), e.sin(), a_k.sin() * e.cos());
-                against_mesh(a, draw, dir * 4.0, 0.45)
+                against_mesh(a, draw, &sun(), dir * 4.0, 0.45)
             })
         };
         let centre = outline(&a);
@@ -213,7 +158,7 @@ mod tests {
             // The same column from either side of the sun.
             let back = sun_azimuth - off.to_radians();
             assert_eq!(a.cell(dir), a.cell(Vec3::new(back.cos(), 0.0, back.sin())));
-            let (both, one, level) = against_mesh(&a, draw, dir * 12.0, 0.15);
+            let (both, one, level) = against_mesh(&a, draw, &lighting, dir * 12.0, 0.15);
             assert!(both > 1000, "{off}: {both}");
             assert!(
                 one * 100 < both * 4,

@@ -696,53 +696,15 @@ mod tests {
         };
         let elevations = [0.0, 0.5];
         let a = ViewAtlas::bake(&[draw], &lighting, bounds, 6, &elevations, 64);
-        let (w, h) = (160u32, 120u32);
+        let h = 120u32; // the compared renders' height
         for (k, e) in [(0, 0.0), (2, 0.0), (4, 0.5)] {
             let eye = direction(6, k, e) * 12.0;
             assert_eq!(a.cell(eye), (k, usize::from(e > 0.0)));
             // 64 texels over the quad's 2 * radius at 12 units.
             let side = 2.0 * a.bounds.radius;
             let fov = 2.0 * (0.5 * h as f32 * side / (64.0 * 12.0)).atan();
-            let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, fov, w as f32 / h as f32);
-            let item = Billboard {
-                region: a.region(eye),
-                ..Billboard::new(Vec3::ZERO, Facing::World { up: Vec3::Y }, Vec2::splat(side))
-            };
-            let mut mesh = Mesh::default();
-            a.relief(&[item], &View::new(&cam, h), &mut mesh);
-            let sprite = a.material().double_sided(true);
-            let render = |d: Draw<'_>| {
-                let mut t = Target::new(w, h);
-                Renderer::new().render(
-                    [d],
-                    &cam,
-                    &lighting,
-                    &mut t,
-                    &FrameOptions {
-                        clear: Some(Rgba::TRANSPARENT),
-                        ..FrameOptions::default()
-                    },
-                );
-                t.to_rgba8_premultiplied()
-            };
-            let image = render(Draw {
-                mesh: &mesh,
-                material: &sprite,
-                transform: Mat4::IDENTITY,
-            });
-            let truth = render(draw);
-            let (mut both, mut one, mut off) = (0u32, 0u32, 0u32);
-            for (p, q) in image.chunks(4).zip(truth.chunks(4)) {
-                match (p[3] > 0, q[3] > 0) {
-                    (true, true) => {
-                        both += 1;
-                        off += (0..3).map(|c| p[c].abs_diff(q[c]) as u32).sum::<u32>();
-                    }
-                    (false, false) => {}
-                    _ => one += 1,
-                }
-            }
-            let mean = off as f32 / (3 * both.max(1)) as f32;
+            let (both, one, mean) =
+                super::super::compare::against_mesh(&a, draw, &lighting, eye, fov);
             assert!(both > 1500, "view {k}: {both} pixels");
             assert!(
                 one * 100 < both * 4,

@@ -1,0 +1,64 @@
+//! Test support: an atlas's sprite against its mesh from one eye, counted in pixels.
+
+use super::ViewAtlas;
+use crate::core::{Billboard, Facing, View};
+use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
+use glam::{Mat4, Vec2, Vec3};
+
+/// `atlas`'s sprite of `draw` (framed by the atlas's sphere at the origin) and `draw`
+/// itself, lit by `lighting`, rendered from `eye` looking at the origin (160 x 120, field of view
+/// `fov`): the pixels both cover, those one covers and the other not, and the mean
+/// level difference (RGB) over the first.
+pub(super) fn against_mesh(
+    atlas: &ViewAtlas,
+    draw: Draw<'_>,
+    lighting: &Lighting,
+    eye: Vec3,
+    fov: f32,
+) -> (u32, u32, f32) {
+    let (w, h) = (160u32, 120u32);
+    let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, fov, w as f32 / h as f32);
+    let item = Billboard {
+        region: atlas.region(eye),
+        ..Billboard::new(
+            Vec3::ZERO,
+            Facing::World { up: Vec3::Y },
+            Vec2::splat(2.0 * atlas.bounds.radius),
+        )
+    };
+    let mut mesh = Mesh::default();
+    assert_eq!(atlas.relief(&[item], &View::new(&cam, h), &mut mesh), 1);
+    let sprite = atlas.material().double_sided(true);
+    let render = |d: Draw<'_>| {
+        let mut t = Target::new(w, h);
+        Renderer::new().render(
+            [d],
+            &cam,
+            lighting,
+            &mut t,
+            &FrameOptions {
+                clear: Some(Rgba::TRANSPARENT),
+                ..FrameOptions::default()
+            },
+        );
+        t.to_rgba8_premultiplied()
+    };
+    let image = render(Draw {
+        mesh: &mesh,
+        material: &sprite,
+        transform: Mat4::IDENTITY,
+    });
+    let truth = render(draw);
+    let (mut both, mut one, mut off) = (0u32, 0u32, 0u32);
+    for (p, q) in image.chunks(4).zip(truth.chunks(4)) {
+        match (p[3] > 0, q[3] > 0) {
+            (true, true) => {
+                both += 1;
+                off += (0..3).map(|c| p[c].abs_diff(q[c]) as u32).sum::<u32>();
+            }
+            (false, false) => {}
+            _ => one += 1,
+        }
+    }
+    (both, one, off as f32 / (3 * both.max(1)) as f32)
+}
