@@ -1,0 +1,223 @@
+//! Tests of the shading stage (`shade`): lanes, lights and texture sampling.
+
+use crate::color::{srgb_to_linear, Encoding};
+use crate::{
+    Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading, Target,
+    Texture,
+};
+use glam::{Mat4, Vec3};
+use std::sync::Arc;
+
+proptest::proptest! {
+    /// A pair's lanes take the values their pixels have in whole rows, bit for bit: lanes
+    /// 0-3 are pixels `sa..sa + 4` of the first row, lanes 4-7 pixels `sb..sb + 4` of the
+    /// second.
+    #[test]
+    fn paired_lanes_evaluate_as_their_rows(
+        c in -1e3f32..1e3, dx in -10f32..10.0, dy in -10f32..10.0,
+        fx in -64i32..64, fy in -64i32..64, gap in 1i32..8,
+        sa in 0usize..5, sb in 0usize..5,
+    ) {
+        use super::{eval, Row};
+        use crate::simd::F8;
+        let p = crate::setup::Plane { c, dx, dy };
+        let (fx, fya, fyb) = (fx as f32, fy as f32, (fy + gap) as f32);
+        let pair = Row {
+            fx,
+            fy: fya,
+            fy2: fyb,
+            xs: F8::from_array(std::array::from_fn(|l| {
+                (if l < 4 { sa + l } else { sb + l - 4 }) as f32
+            })),
+            second: crate::simd::M8::from_bits(0xf0),
+            covered: 0xff,
+        };
+        let got = eval(&p, &pair).to_array();
+        let a = eval(&p, &Row::whole(fx, fya, 0xff)).to_array();
+        let b = eval(&p, &Row::whole(fx, fyb, 0xff)).to_array();
+        for l in 0..4 {
+            proptest::prop_assert_eq!(got[l].to_bits(), a[sa + l].to_bits());
+            proptest::prop_assert_eq!(got[l + 4].to_bits(), b[sb + l].to_bits());
+        }
+    }
+}
+
+/// A quad in the z = 0 plane facing +Z, seen head-on from z = 4, filling the middle of a
+/// 32 x 32 target; returns the centre pixel as linear RGB.
+fn centre(material: &Material, lighting: &Lighting) -> [f32; 3] {
+    let quad = Mesh {
+        positions: vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        normals: vec![Vec3::Z; 4],
+        uvs: vec![glam::Vec2::ZERO; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
+    };
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 0.6, 1.0);
+    let mut target = Target::with_encoding(32, 32, Encoding::Srgb);
+    let draw = Draw {
+        mesh: &quad,
+        material,
+        transform: Mat4::IDENTITY,
+    };
+    let opts = FrameOptions::default();
+    Renderer::new().render([draw], &camera, lighting, &mut target, &opts);
+    let [r, g, b, _] = target.pixel(16, 16).expect("inside").to_le_bytes();
+    [r, g, b].map(|c| srgb_to_linear(c as f32 / 255.0))
+}
+
+/// The textured, Lambert-lit path without highlights (opaque texture: no division by
+/// alpha; specular 0: no view or half vectors) gives `base * texel * (ambient + light *
+/// n.l)`, worked out here by hand, to the byte encoding's precision.
+#[test]
+fn textured_lambert_without_highlights_is_the_formula() {
+    let texel = [200u8, 120, 40, 255];
+    let tex = Texture::from_rgba8(1, 1, &texel, Encoding::Srgb).expect("1x1");
+    assert!(tex.is_opaque());
+    let base = Rgba::new(0.9, 0.8, 0.7, 1.0);
+    let mut material = Material::lit(base).with_texture(Arc::new(tex));
+    material.shading = Shading::Lit {
+        specular: 0.0,
+        shininess: 32.0,
+    };
+    let from = Vec3::new(0.3, 0.4, 0.866).normalize();
+    let lighting = Lighting {
+        ambient: Rgba::new(0.1, 0.15, 0.2, 1.0),
+        lights: vec![Light::Directional {
+            direction: -from,
+            color: Rgba::new(0.7, 0.6, 0.5, 1.0),
+        }],
+    };
+    let got = centre(&material, &lighting);
+    let ndl = from.z; // the normal is +Z
+    let (amb, light) = ([0.1, 0.15, 0.2], [0.7, 0.6, 0.5]);
+    for c in 0..3 {
+        let t = srgb_to_linear(texel[c] as f32 / 255.0);
+        let want = base.to_array()[c] * t * (amb[c] + light[c] * ndl);
+        // One sRGB byte step near `want`, plus the 16-bit texel copy's rounding.
+        assert!(
+            (got[c] - want).abs() < 0.01 * want.max(0.05),
+            "channel {c}: {} vs {want}",
+            got[c]
+        );
+    }
+    // A texel that is not opaque keeps the division path and the same straight colour.
+    let clear =
+        Texture::from_rgba8(2, 1, &[200, 120, 40, 255, 0, 0, 0, 0], Encoding::Srgb).expect("2x1");
+    assert!(!clear.is_opaque());
+}
+
+/// A point light is dropped for a triangle only where it adds nothing: at random points
+/// of random triangles, every light whose attenuation is above zero (the shader's
+/// `1 - (d / range)^2`, worked out here in f64) has its bit set, and lights far out of
+/// range have theirs clear.
+#[test]
+fn lights_out_of_range_are_dropped_only_where_they_add_nothing() {
+    let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut v3 = |s: f32| Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * s;
+    let (mut dropped, mut kept) = (0, 0);
+    for _ in 0..2000 {
+        let tri = [v3(20.0), v3(20.0), v3(20.0)];
+        let position = v3(40.0);
+        let range = 0.5 + 15.0 * (v3(1.0).x + 0.5);
+        let lighting = Lighting {
+            ambient: Rgba::BLACK,
+            lights: vec![
+                Light::Directional {
+                    direction: Vec3::NEG_Y,
+                    color: Rgba::WHITE,
+                },
+                Light::Point {
+                    position,
+                    color: Rgba::WHITE,
+                    range,
+                },
+            ],
+        };
+        let bits = super::reach(&lighting, tri);
+        assert!(bits & 1 != 0, "directional lights always reach");
+        let reaches = bits & 2 != 0;
+        if reaches {
+            kept += 1;
+        } else {
+            dropped += 1;
+        }
+        for _ in 0..50 {
+            let (a, b) = (v3(1.0).x + 0.5, v3(1.0).x + 0.5);
+            let (a, b) = if a + b > 1.0 {
+                (1.0 - a, 1.0 - b)
+            } else {
+                (a, b)
+            };
+            let q = tri[0] + (tri[1] - tri[0]) * a + (tri[2] - tri[0]) * b;
+            let d = q.as_dvec3().distance(position.as_dvec3()) / range as f64;
+            assert!(reaches || d >= 1.0, "light at {d} of its range dropped");
+        }
+    }
+    assert!(
+        dropped > 100 && kept > 100,
+        "{dropped} dropped, {kept} kept"
+    );
+}
+
+/// The row's widest footprint is the covered lanes' maximum, NaN lanes left out, at
+/// least 0: the same level of detail as the per-lane fold it replaced, over random
+/// squared footprints (zeros, NaN and infinity among them) and every lane mask.
+#[test]
+fn widest_footprint_is_the_fold_over_covered_lanes() {
+    use crate::simd::F8;
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        rng
+    };
+    for _ in 0..2000 {
+        let lanes: [f32; 8] = std::array::from_fn(|_| match next() % 8 {
+            0 => 0.0,
+            1 => f32::NAN,
+            2 => f32::INFINITY,
+            3 => 1e-30,
+            _ => (next() >> 40) as f32 / 4096.0,
+        });
+        for covered in 0..=255u32 {
+            let want = (0..8)
+                .filter(|l| covered >> l & 1 != 0)
+                .map(|l| lanes[l])
+                .fold(0.0f32, f32::max);
+            let got = super::widest(F8::from_array(lanes), covered);
+            assert_eq!(got, want, "{lanes:?} covered {covered:#x}");
+            assert_eq!(
+                super::fast_log2(got).to_bits(),
+                super::fast_log2(want).to_bits()
+            );
+        }
+    }
+}
+
+/// Flat faces: one normal per triangle, normalised and flipped for back faces; zero
+/// normals give the face normal; normals that vary across the triangle give none.
+#[test]
+fn flat_normals_are_worked_out_once_per_triangle() {
+    use crate::vertex::NRM;
+    let mut attr = [[0.0f32; 3]; 12];
+    attr[NRM + 2] = [2.0, 0.0, 0.0];
+    let face = Vec3::new(0.0, 1.0, 0.0);
+    assert_eq!(super::flat_normal(&attr, face, true), Some(Vec3::Z));
+    assert_eq!(super::flat_normal(&attr, face, false), Some(-Vec3::Z));
+    attr[NRM + 2] = [0.0; 3];
+    assert_eq!(super::flat_normal(&attr, face, true), Some(face));
+    attr[NRM] = [0.5, 0.0, 0.25];
+    assert_eq!(super::flat_normal(&attr, face, true), None);
+}
