@@ -179,62 +179,98 @@ impl<S: FragShader> Rows<'_, S> {
 
     /// Small triangles: coverage comes from the set-up mask, moved into the frame of each
     /// block the triangle overlaps (at most 2 x 2) with a few shifts, then drawn row by
-    /// non-empty row. No edge work, no hierarchical depth test (a per-pixel test of a few
-    /// pixels costs no more); the blocks' farthest depth is marked stale instead.
+    /// non-empty row. No edge work; a block where the triangle lies wholly behind the farthest
+    /// depth stored is skipped ([`Rows::hidden_small`]); the blocks' farthest depth is marked
+    /// stale rather than recomputed after a write.
     #[inline]
     fn small(&mut self, buf: &mut TileBuf, [x0, y0, x1, y1]: [i32; 4]) {
         const _: () = assert!(SMALL == BLOCK, "a mask row is a block row");
         let (rx, ry) = (self.tri.bbox[0] as i32, self.tri.bbox[1] as i32);
         let cover = self.tri.cover();
-        // Prepared up front in one pass: a small triangle that reaches the raster stage
-        // almost always has a visible pixel, and a known `Some` keeps the row loop free of
-        // the check. The pre-pass's depth writes shade nothing, and after them a small
+        let (bx0, by0) = (x0 & !(BLOCK - 1), y0 & !(BLOCK - 1));
+        let (bx1, by1) = (x1 & !(BLOCK - 1), y1 & !(BLOCK - 1));
+        // The (at most 2 x 2) blocks the triangle overlaps, each with its pixels, emptied
+        // where the triangle lies wholly behind the block's farthest depth.
+        let mut blocks = [(0, 0, 0u64); 4];
+        let mut n = 0;
+        let (ys, xs) = ([by0, by1], [bx0, bx1]);
+        for &by in &ys[..1 + (by1 != by0) as usize] {
+            for &bx in &xs[..1 + (bx1 != bx0) as usize] {
+                let mut m = block_mask(cover, rx - bx, ry - by);
+                let block = self.block(bx, by);
+                if m != 0 && self.hidden_small(buf, block, [bx, by], [x0, y0, x1, y1]) {
+                    self.stats.blocks_hiz_rejected += 1;
+                    m = 0;
+                }
+                if m != 0 {
+                    blocks[n] = (block, bx, m);
+                    n += 1;
+                }
+            }
+        }
+        if n == 0 {
+            return;
+        }
+        // Prepared up front in one pass: a small triangle with a block left to draw almost
+        // always has a visible pixel, and a known `Some` keeps the row loop free of the
+        // check. The pre-pass's depth writes shade nothing, and after them a small
         // triangle is often hidden: there it is prepared once a pixel is shaded.
         let mut prepared = match self.pass {
             Pass::Full | Pass::Masked(_) => Some(self.shader.prepare(self.tri, self.vary)),
             Pass::Depth(_) | Pass::Visible(_) => None,
         };
-        let (bx0, by0, bx1, by1) = (
-            x0 & !(BLOCK - 1),
-            y0 & !(BLOCK - 1),
-            x1 & !(BLOCK - 1),
-            y1 & !(BLOCK - 1),
-        );
-        let mut by = by0;
-        loop {
-            let mut bx = bx0;
-            loop {
-                let mut m = block_mask(cover, rx - bx, ry - by);
-                if m != 0 {
-                    let block = self.block(bx, by);
-                    buf.touch(block);
-                    self.stats.blocks_partial += 1;
-                    let mut wrote = false;
-                    let mut held = None;
-                    while m != 0 {
-                        let j = m.trailing_zeros() / SMALL as u32;
-                        let bits = (m >> (SMALL as u32 * j)) as u32 & ((1 << SMALL) - 1);
-                        m &= !(((1u64 << SMALL) - 1) << (SMALL as u32 * j));
-                        let r = (j as i32, bits);
-                        wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
-                    }
-                    if let Some((j, c, _)) = held {
-                        wrote |= self.row(buf, block, bx, j, c, &mut prepared);
-                    }
-                    if wrote && self.mode.writes_depth() {
-                        buf.mark_far_stale(block);
-                    }
-                }
-                if bx == bx1 {
-                    break;
-                }
-                bx = bx1;
+        for &(block, bx, mut m) in &blocks[..n] {
+            buf.touch(block);
+            self.stats.blocks_partial += 1;
+            let mut wrote = false;
+            let mut held = None;
+            while m != 0 {
+                let j = m.trailing_zeros() / SMALL as u32;
+                let bits = (m >> (SMALL as u32 * j)) as u32 & ((1 << SMALL) - 1);
+                m &= !(((1u64 << SMALL) - 1) << (SMALL as u32 * j));
+                let r = (j as i32, bits);
+                wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
             }
-            if by == by1 {
-                break;
+            if let Some((j, c, _)) = held {
+                wrote |= self.row(buf, block, bx, j, c, &mut prepared);
             }
-            by = by1;
+            if wrote && self.mode.writes_depth() {
+                buf.mark_far_stale(block);
+            }
         }
+    }
+
+    /// Whether a small triangle's part in the block at `(bx, by)` (clipped to `[x0, y0, x1,
+    /// y1]`) lies wholly behind the farthest depth stored there (the walk's hierarchical
+    /// test, on the triangle's bounding box within the block): then no pixel of it could
+    /// pass the depth test, and the block's rows are neither tested nor shaded.
+    #[inline(always)]
+    fn hidden_small(
+        &self,
+        buf: &mut TileBuf,
+        block: usize,
+        [bx, by]: [i32; 2],
+        [x0, y0, x1, y1]: [i32; 4],
+    ) -> bool {
+        if !self.mode.depth_test {
+            return false;
+        }
+        let (z, rx, ry) = (
+            &self.tri.z,
+            self.tri.bbox[0] as i32,
+            self.tri.bbox[1] as i32,
+        );
+        let (xa, xb) = (
+            (x0.max(bx) - rx) as f32,
+            (x1.min(bx + BLOCK - 1) - rx) as f32,
+        );
+        let (ya, yb) = (
+            (y0.max(by) - ry) as f32,
+            (y1.min(by + BLOCK - 1) - ry) as f32,
+        );
+        let near = z.c + (z.dx * xa).max(z.dx * xb) + (z.dy * ya).max(z.dy * yb);
+        let near = near + near.abs() * 1e-5 + 1e-7;
+        near <= buf.far(block)
     }
 
     /// Other triangles: the 8 x 8 block walk with hierarchical rejection and acceptance.

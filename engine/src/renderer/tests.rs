@@ -259,3 +259,56 @@ fn paired_rows_give_each_pixel_its_own_colour() {
     }
     assert!(compared > 1500, "{compared} pixels compared");
 }
+
+/// Small triangles (set up as coverage masks) wholly behind a nearer wall are rejected by
+/// block against the farthest depth stored there: not one of their fragments is tested or
+/// shaded, the pixels are the wall's alone, the same on 1 and 2 threads. Before the small
+/// triangles had this test, each of their covered pixels was depth-tested.
+#[test]
+fn small_triangles_behind_a_wall_test_no_fragments() {
+    // A grid of quads 0.4 units wide at view distance 10: about 2.3 pixels a side.
+    let mut grid = Mesh::default();
+    for j in 0..12 {
+        for i in 0..12 {
+            let (x, y) = (-3.3 + 0.6 * i as f32, -3.3 + 0.6 * j as f32);
+            let k = grid.positions.len() as u32;
+            for (dx, dy) in [(0.0, 0.0), (0.4, 0.0), (0.4, 0.4), (0.0, 0.4)] {
+                grid.positions.push(Vec3::new(x + dx, y + dy, -5.0));
+            }
+            grid.indices.extend([k, k + 1, k + 2, k, k + 2, k + 3]);
+        }
+    }
+    let (near, specks) = (colour(3), colour(6));
+    let wall_mesh = quad();
+    let draws = || {
+        vec![
+            Draw {
+                mesh: &grid,
+                material: &specks,
+                transform: Mat4::IDENTITY,
+            },
+            Draw {
+                mesh: &wall_mesh,
+                material: &near,
+                transform: wall(3.0),
+            },
+        ]
+    };
+    let pixels = (SIZE * SIZE) as u64;
+    let (alone, wall_stats) = check(&[(3.0, &near)], 1);
+    // The grid alone is drawn, as small triangles, and tests its pixels.
+    let (_, grid_alone) = render_with(&mut Renderer::new(), draws()[..1].to_vec(), 1);
+    assert!(grid_alone.fragments_shaded > 200, "{grid_alone:?}");
+    for threads in [1, 2] {
+        let (t, s) = render_with(&mut Renderer::new(), draws(), threads);
+        assert_eq!(t.to_rgba8(), alone.to_rgba8(), "{threads} threads");
+        assert_eq!(s.fragments_tested, pixels, "{s:?}");
+        assert_eq!(s.fragments_shaded, pixels, "{s:?}");
+        // Every block a small triangle reaches is rejected (the wall, drawn first, none).
+        assert_eq!(
+            s.blocks_hiz_rejected, grid_alone.blocks_partial,
+            "{s:?} against {grid_alone:?}"
+        );
+    }
+    assert_eq!(wall_stats.blocks_hiz_rejected, 0);
+}

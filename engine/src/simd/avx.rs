@@ -315,6 +315,11 @@ impl I8 {
     pub fn shr<const N: i32>(self) -> Self {
         avx!(I8(_mm256_srli_epi32::<N>(self.0)))
     }
+    /// Logical shift right of each lane by its own count in `n` (counts over 31 give 0).
+    #[inline(always)]
+    pub fn shr_by(self, n: I8) -> Self {
+        avx!(I8(_mm256_srlv_epi32(self.0, n.0)))
+    }
     /// Lane-wise conversion to `f32`, rounded to nearest.
     #[inline(always)]
     pub fn to_f32(self) -> F8 {

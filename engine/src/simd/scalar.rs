@@ -213,6 +213,12 @@ impl I8 {
     pub fn shr<const N: i32>(self) -> Self {
         I8(std::array::from_fn(|l| ((self.0[l] as u32) >> N) as i32))
     }
+    /// Logical shift right of each lane by its own count in `n` (counts over 31 give 0).
+    pub fn shr_by(self, n: I8) -> Self {
+        I8(std::array::from_fn(|l| {
+            (self.0[l] as u32).checked_shr(n.0[l] as u32).unwrap_or(0) as i32
+        }))
+    }
     /// Lane-wise conversion to `f32`, rounded to nearest.
     pub fn to_f32(self) -> F8 {
         F8(std::array::from_fn(|l| self.0[l] as f32))
