@@ -104,8 +104,9 @@ pub struct Prepared {
 }
 
 impl Showcase {
-    /// Prepares the first frame at loading: renders the view from `camera` (the camera
-    /// path's first, known ahead) until the impostors refresh nothing more, at most
+    /// Prepares the first frame at loading: poses the scene at time 0 and renders the
+    /// view from `camera` (the camera path's first, known ahead) until the impostors
+    /// refresh nothing more, at most
     /// [`PREPARE_FRAMES`] times, its refresh budgets lifted (no frame is shown), so the
     /// clouds' and the city's first captures (and every buffer's first growth) are done
     /// before frame 0 instead of in it and the frames after it (at 640x360 frame 0's
@@ -119,6 +120,7 @@ impl Showcase {
         opts: &FrameOptions,
     ) -> Prepared {
         let mut done = Prepared::default();
+        self.animate(0.0);
         self.ibr.impostors.set_loading(true);
         while done.frames < PREPARE_FRAMES {
             self.render(renderer, camera, target, opts);

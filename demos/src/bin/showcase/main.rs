@@ -291,7 +291,6 @@ fn outdoor_headless(
         rayon::current_num_threads()
     );
     // The path is known: its first frame is prepared at loading, untimed.
-    show.animate(0.0);
     let (eye, look) = show.path(0, n);
     let first = showcase::camera(eye, look, w, h);
     let loading = Instant::now();

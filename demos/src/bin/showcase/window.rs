@@ -214,9 +214,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         clear: Some(SKY),
         ..Default::default()
     };
-    // The first view is prepared at loading (the impostors' first captures).
-    show.animate(0.0);
-    show.prepare(&mut renderer, &fly.camera(w, h), &mut target, &opts);
+    show.prepare(&mut renderer, &fly.camera(w, h), &mut target, &opts); // at loading
     let tris = show.scene.triangle_count();
     let (start, mut last) = (Instant::now(), Instant::now());
     let mut last_mouse = None;
