@@ -91,6 +91,52 @@ impl Showcase {
     }
 }
 
+/// Most frames [`Showcase::prepare`] renders at loading.
+pub const PREPARE_FRAMES: usize = 8;
+
+/// What [`Showcase::prepare`] did at loading.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Prepared {
+    /// Frames rendered (untimed, not shown).
+    pub frames: usize,
+    /// Impostor refreshes (clouds' and city's rebuilds) they did.
+    pub refreshes: usize,
+}
+
+impl Showcase {
+    /// Prepares the first frame at loading: poses the scene at time 0 and renders the
+    /// view from `camera` (the camera path's first, known ahead) until the impostors
+    /// refresh nothing more, at most
+    /// [`PREPARE_FRAMES`] times, its refresh budgets lifted (no frame is shown), so the
+    /// clouds' and the city's first captures (and every buffer's first growth) are done
+    /// before frame 0 instead of in it and the frames after it (at 640x360 frame 0's
+    /// `impostors` stage took 49 ms of its 83, issue 39). The impostors' run counters
+    /// restart after it, so they count the tour's frames.
+    pub fn prepare(
+        &mut self,
+        renderer: &mut Renderer,
+        camera: &Camera,
+        target: &mut Target,
+        opts: &FrameOptions,
+    ) -> Prepared {
+        let mut done = Prepared::default();
+        self.animate(0.0);
+        self.ibr.impostors.set_loading(true);
+        while done.frames < PREPARE_FRAMES {
+            self.render(renderer, camera, target, opts);
+            done.frames += 1;
+            let refreshes = self.ibr.impostors.readout().refreshes();
+            done.refreshes += refreshes;
+            if refreshes == 0 {
+                break;
+            }
+        }
+        self.ibr.impostors.set_loading(false);
+        self.ibr.impostors.restart_run_stats();
+        done
+    }
+}
+
 impl Default for Showcase {
     fn default() -> Self {
         Self::new()

@@ -252,6 +252,24 @@ impl Impostors {
         self.cloud_set.draws(&self.clouds.clouds, out);
     }
 
+    /// Starts [`Impostors::run_stats`] afresh (after the frames prepared at loading).
+    pub fn restart_run_stats(&mut self) {
+        self.run = RunStats::default();
+    }
+
+    /// Lifts the per-frame refresh budgets (the clouds' count and texels, the city's
+    /// rebuilds) for frames rendered at loading, which are not shown, or puts them back
+    /// (a time budget, [`Impostors::set_time_budget`], is kept either way).
+    pub fn set_loading(&mut self, loading: bool) {
+        let (clouds, texels, city) = match loading {
+            true => (self.clouds.clouds.len(), None, self.city.objects.len()),
+            false => (CLOUD_BUDGET, Some(CLOUD_TEXELS), CITY_BUDGET),
+        };
+        self.cloud_set.config.budget.refreshes = clouds;
+        self.cloud_set.texel_budget = texels;
+        self.city.config.budgets.rebuilds = city;
+    }
+
     /// Gives the clouds a time budget for their refreshes each frame, and the city's planner
     /// the same in predicted milliseconds of rebuilds (`None`: counts only).
     pub fn set_time_budget(&mut self, time: Option<std::time::Duration>) {

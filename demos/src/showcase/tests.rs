@@ -191,3 +191,37 @@ fn every_attraction_shows_a_catalogued_technique_and_every_catalogued_one_is_sho
         }
     }
 }
+
+/// The tour's first frame prepared at loading ([`Showcase::prepare`]): the clouds' and the
+/// city's first captures are done there, budgets lifted, so frame 0 itself refreshes no
+/// impostor (without it, frame 0 takes the first captures its budgets allow); the run's
+/// counters count the tour's frames only.
+#[test]
+fn the_first_frame_prepared_at_loading_leaves_frame_0_no_captures() {
+    let (w, h, n) = (320, 180, 120);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    let first = |prepare: bool| {
+        let mut show = Showcase::new();
+        let mut renderer = Renderer::new();
+        let mut target = Target::new(w, h);
+        show.animate(0.0);
+        let (eye, look) = show.path(0, n);
+        let cam = camera(eye, look, w, h);
+        let prepared = prepare.then(|| show.prepare(&mut renderer, &cam, &mut target, &opts));
+        show.render(&mut renderer, &cam, &mut target, &opts);
+        let imp = &show.ibr.impostors;
+        (prepared, imp.readout().refreshes(), imp.run_stats().frames)
+    };
+    let (none, cold, _) = first(false);
+    let (prepared, warm, frames) = first(true);
+    let prepared = prepared.expect("prepared");
+    eprintln!("frame 0: {cold} refreshes cold; prepared {prepared:?}, then {warm}");
+    assert!(none.is_none() && cold > 0);
+    assert!(prepared.refreshes >= cold, "{prepared:?}");
+    assert!(prepared.frames < PREPARE_FRAMES, "{prepared:?}");
+    assert_eq!(warm, 0);
+    assert_eq!(frames, 1, "the run counts the tour's frames only");
+}

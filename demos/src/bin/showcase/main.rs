@@ -290,10 +290,23 @@ fn outdoor_headless(
         show.ibr.impostors.triangle_count(),
         rayon::current_num_threads()
     );
+    // The path is known: its first frame is prepared at loading, untimed.
+    let (eye, look) = show.path(0, n);
+    let first = showcase::camera(eye, look, w, h);
+    let loading = Instant::now();
+    let prepared = show.prepare(&mut renderer, &first, &mut target, &opts);
+    println!(
+        "prepared at loading: {} frames from the first frame's eye, {} impostor refreshes, \
+         {:.1} ms (not in the tour's times or counts)",
+        prepared.frames,
+        prepared.refreshes,
+        loading.elapsed().as_secs_f64() * 1e3
+    );
     let mut times = Vec::with_capacity(n);
     let mut stats = FrameStats::default();
     let mut sum = FrameStats::default();
     let mut breakdown = report::Breakdown::new(&TOUR_COLUMNS);
+    let mut counters = String::from(COUNTER_COLUMNS);
     for i in 0..n {
         show.animate(i as f32 / 30.0);
         let (eye, look) = show.path(i, n);
@@ -303,6 +316,7 @@ fn outdoor_headless(
         sum += stats;
         times.push(start.elapsed());
         breakdown.push(start.elapsed(), &tour_row(show.ibr.frame_loop()));
+        counters.push_str(&counter_row(i, &show, (w, h)));
         meter.tour(&show, &camera, w, h);
         let statue = &mut show.ibr.statue;
         statue.error = meter.last_of("statue");
@@ -332,6 +346,8 @@ fn outdoor_headless(
     let csv = dir.join("tour_times.csv");
     std::fs::write(&csv, breakdown.csv())
         .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    let csv = dir.join("tour_counters.csv");
+    std::fs::write(&csv, counters).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
     print_impostors(&show, args, &times, dir);
     let last = show.ibr.impostors.readout();
     println!("  last frame: {}", last.line());
@@ -379,6 +395,31 @@ const TOUR_COLUMNS: [&str; 15] = [
     "raster_sum",
     "resolve_sum",
 ];
+
+/// The header of `DIR/tour_counters.csv`: each tour frame's work by stage, counted (the
+/// clouds' refreshes and texels captured, the city's rebuilds, the light-field statue's
+/// rays, samples read and pixels written, the flare's sprites and the pixels their
+/// squares cover on screen).
+const COUNTER_COLUMNS: &str = "frame,cloud_refreshes,cloud_texels,city_rebuilds,\
+statue_rays,statue_taps,statue_pixels,flare_sprites,flare_pixels\n";
+
+/// Frame `i`'s row of [`COUNTER_COLUMNS`].
+fn counter_row(i: usize, show: &Showcase, (w, h): (u32, u32)) -> String {
+    let imp = show.ibr.impostors.readout();
+    let lf = show.ibr.statue.object.last();
+    let flare = show.ibr.flare();
+    format!(
+        "{i},{},{},{},{},{},{},{},{}\n",
+        imp.clouds.refreshes,
+        imp.clouds.capture_texels,
+        imp.city.rebuilds,
+        lf.rays,
+        lf.taps,
+        lf.pixels,
+        flare.quad_count(),
+        flare.sprite_pixels(w, h)
+    )
+}
 
 /// One tour frame's row of [`TOUR_COLUMNS`].
 fn tour_row(f: &ibr::technique::FrameLoop) -> Vec<Duration> {

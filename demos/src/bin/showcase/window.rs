@@ -214,6 +214,7 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
         clear: Some(SKY),
         ..Default::default()
     };
+    show.prepare(&mut renderer, &fly.camera(w, h), &mut target, &opts); // at loading
     let tris = show.scene.triangle_count();
     let (start, mut last) = (Instant::now(), Instant::now());
     let mut last_mouse = None;

@@ -409,6 +409,33 @@ impl LensFlare {
         }
     }
 
+    /// The pixels of a `width` x `height` image the last update's sprites cover, summed
+    /// over the sprites (each its square clipped to the image): what drawing them blends.
+    pub fn sprite_pixels(&self, width: u32, height: u32) -> u64 {
+        let Some(light) = self.state.light else {
+            return 0;
+        };
+        if self.quad_count() == 0 {
+            return 0;
+        }
+        let (wf, hf) = (width as f32, height as f32);
+        let centre = Vec2::new(wf, hf) * 0.5;
+        let span = |lo: f32, hi: f32, n: f32| (hi.min(n) - lo.max(0.0)).max(0.0) as f64;
+        let sum: f64 = self
+            .elements
+            .iter()
+            .map(|e| {
+                let half = e.size.abs() * hf * 0.5;
+                let pos = light.pixel + (centre - light.pixel) * e.position;
+                if !(half > 0.0 && pos.is_finite()) {
+                    return 0.0;
+                }
+                span(pos.x - half, pos.x + half, wf) * span(pos.y - half, pos.y + half, hf)
+            })
+            .sum();
+        sum.round() as u64
+    }
+
     /// Quads written by the last update.
     pub fn quad_count(&self) -> usize {
         self.mesh.positions.len() / 4

@@ -11,7 +11,7 @@
 use super::outline::Outline;
 use super::render::{render, LightFieldFrame, Lookup};
 use super::{LightField, Slab};
-use crate::core::{Counters, FrameView, Technique};
+use crate::core::{Counters, FrameView, Frustum, Technique};
 use crate::core::{MeshGroup, Subject};
 use crate::warp::ImagePass;
 use crate::warp::{Warped, ENCODING, HOLE};
@@ -203,7 +203,30 @@ impl Technique for LightFieldObject {
         };
         match self.showing {
             Showing::Slab(k) => {
-                self.image.render(&self.slabs[k], view, self.lookup, None);
+                // With the outline from geometry, a pixel the geometry cannot cover is a
+                // hole whatever the light field finds there: only the rays within the
+                // geometry's sphere on screen are looked up (the focal plane's rectangle,
+                // 4.4 radii across for a cube's slab, is several times its area), and none
+                // when the sphere is out of view (the focal plane's rectangle is the whole
+                // view when one of its corners is behind the eye: every row was searched
+                // for rays that cross the slab, and none did).
+                let clip = match (self.proxy_outline, &self.reference) {
+                    (true, Some(g)) => {
+                        let b = g.bounds();
+                        if Frustum::new(view.camera.clip_from_world()).sees(b.center, b.radius) {
+                            sphere_rect(b, view.camera, view.width, view.height)
+                        } else {
+                            Some(PixelRect {
+                                x0: 0,
+                                y0: 0,
+                                x1: 0,
+                                y1: 0,
+                            })
+                        }
+                    }
+                    _ => None,
+                };
+                self.image.render(&self.slabs[k], view, self.lookup, clip);
                 if let (true, Some(g), Some(_)) =
                     (self.proxy_outline, &self.reference, self.image.rect)
                 {
@@ -344,6 +367,43 @@ fn focal_rect(slab: &Slab, camera: &Camera, width: u32, height: u32) -> Option<P
         y0: y0 as u32,
         x1: x1 as u32,
         y1: y1 as u32,
+    })
+}
+
+/// The pixels of a `width` x `height` view the sphere `s` can cover: the bounds on screen
+/// of the corners of its box, a pixel wider on every side (empty when off screen);
+/// `None` (no bound) when a corner is not in front of the eye or `s` is not finite.
+pub(crate) fn sphere_rect(
+    s: Sphere,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> Option<PixelRect> {
+    if !(s.center.is_finite() && s.radius.is_finite()) {
+        return None;
+    }
+    let m = camera.clip_from_world();
+    let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::NEG_INFINITY);
+    for k in 0..8 {
+        let sign = |bit: u32| if k & bit == 0 { -1.0 } else { 1.0 };
+        let corner = s.center + Vec3::new(sign(1), sign(2), sign(4)) * s.radius;
+        let c = m * corner.extend(1.0);
+        if c.w.is_nan() || c.w <= 1e-6 {
+            return None;
+        }
+        let px = Vec2::new(
+            (c.x / c.w + 1.0) * 0.5 * width as f32,
+            (1.0 - c.y / c.w) * 0.5 * height as f32,
+        );
+        lo = lo.min(px);
+        hi = hi.max(px);
+    }
+    let clamp = |v: f32, n: u32| v.clamp(0.0, n as f32) as u32;
+    Some(PixelRect {
+        x0: clamp(lo.x.floor() - 1.0, width),
+        y0: clamp(lo.y.floor() - 1.0, height),
+        x1: clamp(hi.x.ceil() + 1.0, width),
+        y1: clamp(hi.y.ceil() + 1.0, height),
     })
 }
 

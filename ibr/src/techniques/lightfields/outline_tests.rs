@@ -4,7 +4,7 @@
 use super::tests::{camera, slab, H, W};
 use super::*;
 use crate::core::{FrameLoop, FrameView, MeshGroup, Subject, Technique};
-use engine::{procedural, FrameOptions, Material, Renderer, Rgba, Target};
+use engine::{procedural, FrameOptions, Material, PixelRect, Renderer, Rgba, Target};
 use std::sync::Arc;
 
 /// A lit sphere in front of the focal plane (off it, so its outline moves between
@@ -123,4 +123,67 @@ fn the_outline_is_the_geometrys_and_the_colour_the_light_fields() {
             }
         }
     }
+}
+
+/// With the outline from geometry only the rays within the geometry's sphere on screen
+/// are looked up (a pixel outside it is a hole whatever the light field finds): for a
+/// small subject in the middle of the focal plane, no more rays than the pixels of the
+/// sphere's rectangle, a fraction of those the whole focal plane's rectangle asks for,
+/// and its outline still the geometry's.
+#[test]
+fn with_the_outline_the_rays_looked_up_are_bounded_by_the_geometrys_sphere() {
+    let group = MeshGroup::new().with(
+        Arc::new(procedural::uv_sphere(0.3, 16, 24)),
+        Arc::new(Material::lit(Rgba::new(0.8, 0.5, 0.2, 1.0))),
+        Mat4::from_translation(Vec3::new(0.1, -0.1, 0.2)),
+    );
+    let mut draws = Vec::new();
+    group.draws(&mut draws);
+    let bounds = group.bounds();
+    let field = LightField::capture(&draws, &Lighting::default(), slab(8, 64));
+    let mut object = LightFieldObject::new("small sphere", field);
+    object.reference = Some(group);
+    let eye = Vec3::new(0.13, -0.21, 4.3);
+    object.proxy_outline = false;
+    let [(plain, _), _] = frames(&mut object, eye);
+    let whole = object.last();
+    object.proxy_outline = true;
+    let [(image, _), (truth, _)] = frames(&mut object, eye);
+    let clipped = object.last();
+    let sphere = object::sphere_rect(bounds, &camera(eye), W, H).expect("in front of the eye");
+    let area = |r: PixelRect| u64::from(r.x1 - r.x0) * u64::from(r.y1 - r.y0);
+    let rect = object.rect().expect("an image");
+    eprintln!(
+        "rays {} (taps {}) without the outline, {} (taps {}) with it; sphere's rectangle {} pixels",
+        whole.rays,
+        whole.taps,
+        clipped.rays,
+        clipped.taps,
+        area(sphere)
+    );
+    assert!(rect.x0 >= sphere.x0 && rect.y0 >= sphere.y0);
+    assert!(rect.x1 <= sphere.x1 && rect.y1 <= sphere.y1);
+    assert!(clipped.rays <= area(sphere), "{clipped:?}");
+    assert!(
+        2 * clipped.rays <= whole.rays,
+        "{clipped:?} against {whole:?}"
+    );
+    assert!(
+        2 * clipped.taps <= whole.taps,
+        "{clipped:?} against {whole:?}"
+    );
+    let (before, _, _) = outline_and_colour(&plain, &truth);
+    let (one, off, colour) = outline_and_colour(&image, &truth);
+    assert_eq!(off, 0, "pixels covered by one image only off the outline");
+    assert!(one <= before, "{one} outline pixels off, {before} without");
+    assert!(colour < 4.0, "{colour:.2} levels off inside");
+    // From the same place looking away: the slab still sees the sphere's place, but the
+    // sphere is out of view, so nothing is looked up (the focal plane's rectangle, a
+    // corner behind the eye, was the whole view, every row of it searched).
+    let away = Camera::look_at(eye, 2.0 * eye, Vec3::Y, 0.7, W as f32 / H as f32)
+        .with_depth_range(0.1, 30.0);
+    let lighting = Lighting::default();
+    object.prepare(&FrameView::still(&away, W, H, &lighting));
+    assert!(matches!(object.showing(), Showing::Slab(0)));
+    assert_eq!((object.rect(), object.last().rays), (None, 0));
 }
