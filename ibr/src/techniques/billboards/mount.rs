@@ -167,4 +167,39 @@ mod tests {
             assert!(level < 3.0, "{off}: colour off by {level} levels");
         }
     }
+
+    /// A wide cone whose base rim lies below its sprite's centre (as a pine's lowest
+    /// cone's), seen from 75 degrees up: the rim is its outline, so the pivot lowered toward
+    /// the rim for the steep views ([`ViewAtlas::pivot_steep`]) draws the outline nearer the
+    /// mesh's than the pivot kept up among the cones.
+    #[test]
+    fn a_steep_pivot_at_the_rim_draws_a_cone_from_above_where_its_mesh_is() {
+        let mut cone = procedural::cone(0.5, 0.7, 48);
+        cone.colors.clear();
+        let material = matte();
+        let draw = Draw {
+            mesh: &cone,
+            material: &material,
+            transform: Mat4::from_translation(Vec3::new(0.0, -0.4, 0.0)),
+        };
+        let bounds = Sphere {
+            center: Vec3::ZERO,
+            radius: 0.75,
+        };
+        let elevations: Vec<f32> = (0..18).map(|k| (5.0 * k as f32).to_radians()).collect();
+        let mut a = ViewAtlas::bake(&[draw], &sun(), bounds, 8, &elevations, 128);
+        a.pivot = 0.1 / a.bounds.radius;
+        let e = 75f32.to_radians();
+        let dir = Vec3::new(e.cos(), e.sin(), 0.0);
+        let (_, fixed, _) = against_mesh(&a, draw, &sun(), dir * 4.0, 0.45);
+        a.pivot_steep = Some((-0.4 / a.bounds.radius, 30f32.to_radians()));
+        assert_eq!(a.pivot_at(20f32.to_radians()), a.pivot);
+        assert_eq!(a.pivot_at(90f32.to_radians()), -0.4 / a.bounds.radius);
+        let (both, steep, _) = against_mesh(&a, draw, &sun(), dir * 4.0, 0.45);
+        assert!(both > 1000, "{both}");
+        assert!(
+            steep < fixed,
+            "outline off on {steep} with the steep pivot, {fixed} with the fixed one"
+        );
+    }
 }

@@ -98,6 +98,11 @@ pub struct ViewAtlas {
     /// `bounds.radius`) above the centre, where the object's outline lies (0, as baked:
     /// through the centre).
     pub pivot: f32,
+    /// `(top, from)`: the pivot of the views seen from straight above (`top`, in
+    /// `bounds.radius`), reached linearly from `pivot` over the elevations above `from`
+    /// (radians), for an object whose outline from above lies lower (a pine's lowest
+    /// cone's rim); `None`: `pivot` at every elevation ([`ViewAtlas::pivot_at`]).
+    pub pivot_steep: Option<(f32, f32)>,
 }
 
 impl ViewAtlas {
@@ -227,6 +232,7 @@ impl ViewAtlas {
             trims,
             mirror,
             pivot: 0.0,
+            pivot_steep: None,
         }
     }
 
@@ -312,7 +318,7 @@ impl ViewAtlas {
                 basis.normal,
                 basis.right,
             );
-            let pivot = self.pivot * 0.5 * size.y;
+            let pivot = self.pivot_at(self.elevations[view_index / self.azimuths]) * 0.5 * size.y;
             // The view's trim grown by TRIM_PX screen pixels at the sprite's distance.
             let pixel = view.pixel_size_at(b.position).unwrap_or(0.0);
             let by = Vec2::new(pixel / size.x, pixel / size.y) * TRIM_PX;
@@ -352,7 +358,20 @@ impl ViewAtlas {
     /// moved by the [`Mount`]'s pivot (the nodes then move along their rays, not across
     /// the screen).
     pub fn reach(&self, size: Vec2) -> f32 {
-        0.5 * size.length() + 0.5 * size.y * self.pivot.abs()
+        let steep = self.pivot_steep.map_or(0.0, |(p, _)| p.abs());
+        0.5 * size.length() + 0.5 * size.y * self.pivot.abs().max(steep)
+    }
+
+    /// The pivot of the views baked at elevation `e` (radians), in `bounds.radius`
+    /// ([`ViewAtlas::pivot`], [`ViewAtlas::pivot_steep`]).
+    pub fn pivot_at(&self, e: f32) -> f32 {
+        match self.pivot_steep {
+            Some((top, from)) if e > from => {
+                let t = ((e - from) / (std::f32::consts::FRAC_PI_2 - from)).min(1.0);
+                self.pivot + (top - self.pivot) * t
+            }
+            _ => self.pivot,
+        }
     }
 
     /// The index of the view shown by `region` (one of [`ViewAtlas::region`]'s) in
