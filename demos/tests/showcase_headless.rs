@@ -74,7 +74,10 @@ fn headless_writes_frames_and_prints_statistics() {
         "frame,ms,layers,sky,morph_canvas,postwarp,over_sky,geometry_render,readout"
     );
     assert_eq!(lines.len(), 4, "{csv}");
-    assert!(lines[1..].iter().all(|l| l.split(',').count() == 9), "{csv}");
+    assert!(
+        lines[1..].iter().all(|l| l.split(',').count() == 9),
+        "{csv}"
+    );
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
     let f = &frames[0];
     let top = f.get_pixel(80, 2).0;

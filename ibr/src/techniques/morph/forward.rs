@@ -133,6 +133,30 @@ impl Made {
         a: 1.0,
     };
 
+    /// Labels the pixels of `row` mapped from an image by that image.
+    fn mapped(made: &mut [Premul], row: &Row) {
+        for (t, &d) in row.disparity.iter().enumerate() {
+            if d >= 0.0 {
+                made[t] = if row.from_right[t] {
+                    Made::RIGHT
+                } else {
+                    Made::LEFT
+                };
+            }
+        }
+    }
+
+    /// Labels the pixels of `row` filled since [`Made::mapped`] as filled, and every label
+    /// as opaque as its pixel, so the postwarp covers the same pixels with both.
+    fn filled(made: &mut [Premul], row: &Row) {
+        for (t, &d) in row.disparity.iter().enumerate() {
+            if d >= 0.0 && made[t].a <= 0.0 {
+                made[t] = Made::FILLED;
+            }
+            made[t] = scaled(made[t], row.color[t].a);
+        }
+    }
+
     /// The counts of a resampled image of these labels: each pixel at least half covered
     /// counted by its largest share. Pixels nothing reached count nowhere.
     pub(super) fn count(labels: &DepthImage) -> MorphStats {
@@ -270,26 +294,11 @@ pub(super) fn morph(
             // Each map paints within its window; the fill and the depths below too.
             *written = window.clone();
             if let Some(made) = made.as_deref_mut() {
-                for (t, &d) in row.disparity.iter().enumerate() {
-                    if d >= 0.0 {
-                        made[t] = if row.from_right[t] {
-                            Made::RIGHT
-                        } else {
-                            Made::LEFT
-                        };
-                    }
-                }
+                Made::mapped(made, &row);
             }
             fill_from_farther(&mut row, window.clone());
             if let Some(made) = made.as_deref_mut() {
-                for (t, &d) in row.disparity.iter().enumerate() {
-                    if d >= 0.0 && made[t].a <= 0.0 {
-                        made[t] = Made::FILLED;
-                    }
-                    // As opaque as the pixel, so the postwarp covers the same pixels with
-                    // both.
-                    made[t] = scaled(made[t], row.color[t].a);
-                }
+                Made::filled(made, &row);
             }
             for (z, &d) in depth[window.clone()]
                 .iter_mut()
