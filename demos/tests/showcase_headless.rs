@@ -66,6 +66,18 @@ fn headless_writes_frames_and_prints_statistics() {
     assert_eq!(views.dimensions(), (160, 90));
     assert!(dir.join("views_0002.png").exists());
     assert!(!dir.join("views_0003.png").exists());
+    // Where each views frame's time went: a row a frame, a column a stage.
+    let csv = std::fs::read_to_string(dir.join("views_times.csv")).expect("views_times.csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "frame,ms,layers,sky,morph_canvas,postwarp,over_sky,geometry_render,readout"
+    );
+    assert_eq!(lines.len(), 4, "{csv}");
+    assert!(
+        lines[1..].iter().all(|l| l.split(',').count() == 9),
+        "{csv}"
+    );
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.
     let f = &frames[0];
     let top = f.get_pixel(80, 2).0;

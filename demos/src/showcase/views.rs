@@ -29,7 +29,7 @@ pub use morph::{MorphFrame, MORPH_EYES, MORPH_TARGET};
 pub use sky::{SkyFrame, SKY_CENTRE, SKY_TOLERANCE_PX, SPLIT};
 
 use crate::showcase::SKY;
-use engine::color::encode_srgb8;
+use engine::color::{Encoder, Encoding};
 use engine::{Draw, Premul, Scene};
 use ibr::images::DepthImage;
 use ibr::metrics::ImageError;
@@ -37,6 +37,7 @@ use layers::LayersPart;
 use morph::MorphPart;
 use rayon::prelude::*;
 use sky::SkyPart;
+use std::time::Duration;
 
 /// PSNR figures are capped here (a view identical to its geometry has an infinite one).
 const PSNR_CAP: f64 = 99.0;
@@ -77,7 +78,53 @@ pub struct Frame {
     pub rgba: Vec<u8>,
     /// Time this frame spent measuring itself: rendering the geometry it is compared with
     /// and comparing. Not part of showing it: the headless frame times leave it out.
-    pub measure: std::time::Duration,
+    pub measure: Duration,
+    /// Where the time of showing it went.
+    pub stages: Stages,
+}
+
+/// Where one frame's time went, by stage (zero where its part has no such stage); with
+/// [`Frame::measure`] (the readout's reference renders and comparisons) the columns of
+/// the headless run's `views_times.csv`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stages {
+    /// The image layers' re-renders (the layers' `prepare`).
+    pub layers: Duration,
+    /// The panorama's update (its spread re-capture) and its lookup behind the scene.
+    pub sky: Duration,
+    /// The morph to the parallel in-between canvas, and its postwarp to the view.
+    pub canvas: Duration,
+    pub postwarp: Duration,
+    /// The frame made into the shown sRGB bytes (over the sky colour).
+    pub over_sky: Duration,
+    /// The engine's render of what is drawn as geometry (and, for the layers, composited).
+    pub geometry: Duration,
+}
+
+impl Stages {
+    /// The columns of [`Stages::row`] and the readout's measure, as the CSV names them.
+    pub const COLUMNS: [&'static str; 7] = [
+        "layers",
+        "sky",
+        "morph_canvas",
+        "postwarp",
+        "over_sky",
+        "geometry_render",
+        "readout",
+    ];
+
+    /// The stages in [`Stages::COLUMNS`]'s order, `measure` last.
+    pub fn row(&self, measure: Duration) -> [Duration; 7] {
+        [
+            self.layers,
+            self.sky,
+            self.canvas,
+            self.postwarp,
+            self.over_sky,
+            self.geometry,
+            measure,
+        ]
+    }
 }
 
 impl Frame {
@@ -205,7 +252,8 @@ impl ViewsTour {
         let draws: Vec<Draw<'_>> = self.scene.draws().collect();
         let lighting = &self.scene.lighting;
         let (w, h) = (self.width, self.height);
-        self.frame.measure = std::time::Duration::ZERO;
+        self.frame.measure = Duration::ZERO;
+        self.frame.stages = Stages::default();
         let t = if t.is_finite() {
             t.clamp(0.0, 1.0)
         } else {
@@ -378,9 +426,12 @@ fn db(e: Option<ImageError>) -> String {
 /// `image` over the showcase's sky colour, as opaque sRGB RGBA8 bytes into `out`. In
 /// chunks on the pool (each pixel its own: the same bytes on any number of threads): one
 /// thread took 9 to 14 ms of the morph's frame at 1280x720.
+/// The encoding table is fetched once ([`Encoder`]), not once a channel: the same bytes
+/// as [`engine::color::encode_srgb8`] a channel.
 fn over_sky(image: &DepthImage, out: &mut Vec<u8>) {
     const CHUNK: usize = 4096;
     let sky = SKY.premultiply();
+    let encoder = Encoder::new(Encoding::Srgb);
     out.clear();
     out.resize(image.color.len() * 4, 0);
     out.par_chunks_mut(CHUNK * 4)
@@ -389,12 +440,8 @@ fn over_sky(image: &DepthImage, out: &mut Vec<u8>) {
             for (p, &c) in bytes.chunks_exact_mut(4).zip(colors) {
                 let k = 1.0 - c.a.clamp(0.0, 1.0);
                 let Premul { r, g, b, .. } = c;
-                p.copy_from_slice(&[
-                    encode_srgb8(r + sky.r * k),
-                    encode_srgb8(g + sky.g * k),
-                    encode_srgb8(b + sky.b * k),
-                    255,
-                ]);
+                let packed = encoder.pack(r + sky.r * k, g + sky.g * k, b + sky.b * k, 1.0);
+                p.copy_from_slice(&packed.to_le_bytes());
             }
         });
 }

@@ -40,7 +40,7 @@ use clap::Parser;
 use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
 use demos::showcase::summary::{self as report, PartTimes};
-use demos::showcase::views::ViewsTour;
+use demos::showcase::views::{Stages, ViewsTour};
 use demos::showcase::world::WorldTour;
 use demos::showcase::{self, Showcase, SKY};
 use demos::timing::Summary;
@@ -556,12 +556,14 @@ fn views_headless(
         start.elapsed().as_secs_f64() * 1e3
     );
     let mut times = Vec::with_capacity(n);
+    let mut breakdown = report::Breakdown::new(&Stages::COLUMNS);
     for i in 0..n {
         let start = Instant::now();
         let frame = tour.render(i, n)?;
         // The geometry each frame is measured against is not part of showing it.
         let time = start.elapsed().saturating_sub(frame.measure);
         times.push(time);
+        breakdown.push(time, &frame.stages.row(frame.measure));
         if !args.no_save {
             let path = dir.join(format!("views_{i:04}.png"));
             save_png(&path, &frame.rgba, (frame.width, frame.height))?;
@@ -580,6 +582,14 @@ fn views_headless(
     for line in tour.summary() {
         println!("  {line}");
     }
+    println!("where the views' time went (readout: its reference renders, not in the frame time):");
+    for line in breakdown.lines() {
+        println!("  {line}");
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let csv = dir.join("views_times.csv");
+    std::fs::write(&csv, breakdown.csv())
+        .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
     if !args.no_save {
         println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
     }

@@ -11,7 +11,7 @@
 //! front of the trees beyond its crest; cut by depth range ([`ibr::layers::split_by_depth`])
 //! it still is. Drawn as geometry, it hides each layer exactly where it should.
 
-use super::Frame;
+use super::{Frame, Stages};
 use crate::showcase;
 use engine::{Camera, FrameOptions, Lighting, Renderer, Scene, Target};
 use glam::Vec3;
@@ -161,11 +161,21 @@ impl LayersPart {
             &opts,
         );
         let r = self.layers.report;
+        let encode = Instant::now();
+        let rgba = self.image.to_rgba8();
+        let t = self.frames.times;
+        let stages = Stages {
+            layers: t.prepare,
+            geometry: t.total.saturating_sub(t.prepare),
+            over_sky: encode.elapsed(),
+            ..Stages::default()
+        };
         *out = Frame {
             width: w,
             height: h,
-            rgba: self.image.to_rgba8(),
+            rgba,
             measure: Duration::ZERO,
+            stages,
         };
         let measure = Instant::now();
         self.renderer

@@ -3,7 +3,7 @@
 //! once) and measured, beside the plain morph without prewarp, against the geometry drawn
 //! from each in-between camera.
 
-use super::{db, over_sky, Frame};
+use super::{db, over_sky, Frame, Stages};
 use crate::showcase;
 use engine::{Draw, Lighting};
 use glam::Vec3;
@@ -142,7 +142,14 @@ impl MorphPart {
         let labels = self.morph.view_into(s, &mut self.scratch);
         let view = &self.scratch.view;
         // Shown: the view over the sky.
+        let start = Instant::now();
         over_sky(view, &mut out.rgba);
+        out.stages = Stages {
+            canvas: self.scratch.canvas_time,
+            postwarp: self.scratch.postwarp_time,
+            over_sky: start.elapsed(),
+            ..Stages::default()
+        };
         let camera = self.morph.camera_at(s);
         let (w, h) = (view.width(), view.height());
         let measure = Instant::now();

@@ -16,7 +16,7 @@
 //! units away with sharp outlines against the sky: 23.5 / 20.6 dB mean / worst at 640x360,
 //! resampling and parallax at their outlines. A panorama is a skybox: what is truly far.)
 
-use super::{db, over_sky, Frame};
+use super::{db, over_sky, Frame, Stages};
 use crate::showcase::{self, attractions, SKY};
 use engine::procedural::value_noise;
 use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba, Shading};
@@ -328,9 +328,15 @@ impl SkyPart {
         let ahead = self.pose(t + step * self.sky.lead() as f32).0;
         let before_px = self.sky.map.predicted_px(eye, self.focal);
         let land = [self.land.draw()];
+        let start = Instant::now();
         let update = self.sky.update(&land, lighting, eye, ahead, self.focal);
+        let mut stages = Stages {
+            sky: start.elapsed(),
+            ..Stages::default()
+        };
         let camera = showcase::camera(eye, at, w, h);
         let cap = &mut self.capturer;
+        let start = Instant::now();
         cap.capture(
             draws.iter().copied(),
             &camera,
@@ -339,6 +345,7 @@ impl SkyPart {
             h,
             &mut self.image,
         );
+        stages.geometry = start.elapsed();
         // The far pixels: what the near scene leaves (before the panorama fills it) and
         // the panorama or the geometry covers.
         let measure = Instant::now();
@@ -349,7 +356,9 @@ impl SkyPart {
         self.mask
             .extend(self.image.color.iter().map(|c| c.a <= 0.0));
         let mut truth = measure.elapsed();
+        let start = Instant::now();
         self.sky.map.behind(&mut self.image);
+        stages.sky += start.elapsed();
         let measure = Instant::now();
         let (mut far, mut unfilled) = (0usize, 0u64);
         for ((m, f), g) in self
@@ -363,7 +372,10 @@ impl SkyPart {
             unfilled += (g.a > 0.0 && f.a <= 0.0) as u64;
         }
         truth += measure.elapsed();
+        let start = Instant::now();
         over_sky(&self.image, &mut out.rgba);
+        stages.over_sky = start.elapsed();
+        out.stages = stages;
         let measure = Instant::now();
         over_sky(&self.truth, &mut self.truth_rgba);
         (out.width, out.height) = (w, h);

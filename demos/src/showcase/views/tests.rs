@@ -107,6 +107,25 @@ fn the_frames_are_shared_out_among_the_parts_in_order() {
     assert_eq!(Part::at(9, 3), Part::at(2, 3));
 }
 
+/// The per-stage times of `views_times.csv`: each frame fills only its own part's
+/// stages (the others zero), and its row has a value per column.
+#[test]
+fn each_frame_times_only_its_own_parts_stages() {
+    let mut tour = ViewsTour::new(scene(), 48, 32);
+    let zero = Duration::ZERO;
+    for i in 0..6 {
+        let frame = tour.render(i, 6).expect("renders");
+        let s = frame.stages;
+        let others = match Part::at(i, 6).0 {
+            Part::Layers => [s.sky, s.canvas, s.postwarp],
+            Part::Sky => [s.layers, s.canvas, s.postwarp],
+            Part::Morph => [s.layers, s.sky, s.geometry],
+        };
+        assert_eq!(others, [zero; 3], "frame {i}: {s:?}");
+        assert_eq!(s.row(frame.measure).len(), Stages::COLUMNS.len());
+    }
+}
+
 #[test]
 fn the_summary_has_a_line_per_part_shown() {
     let mut tour = ViewsTour::new(scene(), 48, 32);

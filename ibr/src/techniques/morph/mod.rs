@@ -40,6 +40,7 @@ use engine::color::Premul;
 use engine::{Camera, Projection};
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 use std::ops::Range;
+use std::time::Instant;
 
 /// Where the morph's dense correspondences come from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -224,7 +225,7 @@ impl ViewMorph {
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, _, _) = self.parallel(s, true, &mut image);
+        let (made, _, _) = self.parallel(s, true, (&mut image, &mut Vec::new()));
         let view = self.postwarp(&image, s);
         let made = made.expect("labels asked for");
         (view, forward::Made::count(&self.postwarp(&made, s)))
@@ -245,7 +246,12 @@ impl ViewMorph {
     /// The same pixels as [`ViewMorph::view`].
     pub fn view_into(&self, s: f32, scratch: &mut MorphScratch) -> Labels {
         let s = s.clamp(0.0, 1.0);
-        (_, scratch.canvas_px, scratch.band_px) = self.parallel(s, false, &mut scratch.parallel);
+        let start = Instant::now();
+        scratch.cleared_px = scratch.written.iter().map(|r| r.len() as u64).sum();
+        let canvas = (&mut scratch.parallel, &mut scratch.written);
+        (_, scratch.canvas_px, scratch.band_px) = self.parallel(s, false, canvas);
+        let postwarp = Instant::now();
+        scratch.canvas_time = postwarp - start;
         let camera = self.camera_at(s);
         match &self.postwarp {
             Some(_) => scratch.view = self.postwarp(&scratch.parallel, s),
@@ -256,6 +262,7 @@ impl ViewMorph {
                 resample_into(&scratch.parallel, &camera, &mut scratch.view);
             }
         }
+        scratch.postwarp_time = postwarp.elapsed();
         Labels { s }
     }
 
@@ -263,7 +270,7 @@ impl ViewMorph {
     /// postwarp as the view, then counted.
     pub fn stats(&self, labels: &Labels) -> MorphStats {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, _, _) = self.parallel(labels.s, true, &mut image);
+        let (made, _, _) = self.parallel(labels.s, true, (&mut image, &mut Vec::new()));
         let made = made.expect("labels asked for");
         forward::Made::count(&self.postwarp(&made, labels.s))
     }
@@ -276,7 +283,7 @@ impl ViewMorph {
         &self,
         s: f32,
         labels: bool,
-        out: &mut DepthImage,
+        out: (&mut DepthImage, &mut Vec<Range<usize>>),
     ) -> (Option<DepthImage>, u64, u64) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;

@@ -397,7 +397,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         // The reference: every row of the parallel view morphed, with its labels, then
         // turned.
         let mut all = DepthImage::new(0, 0, a);
-        morph.parallel(s, false, &mut all);
+        morph.parallel(s, false, (&mut all, &mut Vec::new()));
         let parallel = all.camera;
         let cols = morph.prewarped().left.width() as usize;
         let (made, morphed) = forward::morph(
@@ -408,7 +408,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
             parallel,
             (0..rows, 0..cols),
             true,
-            &mut all,
+            (&mut all, &mut Vec::new()),
         );
         assert_eq!(
             morphed,
@@ -481,10 +481,19 @@ fn a_kept_canvas_makes_the_same_views_as_fresh_images_in_any_order() {
     let v = views(&[a, b]);
     let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
     let mut scratch = MorphScratch::default();
+    let mut last_morphed = 0;
     for s in [0.5, 0.0, 1.0, 0.3, 0.3, 0.9, 0.1] {
         let labels = morph.view_into(s, &mut scratch);
         let (fresh, fresh_labels) = morph.view(s);
         assert_eq!(scratch.view, fresh, "s {s}");
         assert_eq!(morph.stats(&labels), morph.stats(&fresh_labels), "s {s}");
+        // Only what the last frame morphed is cleared, and the canvas is then a fresh
+        // one's, pixel for pixel, outside the columns read too.
+        assert_eq!(scratch.cleared_px, last_morphed, "s {s}");
+        last_morphed = scratch.canvas_px;
+        let mut new = MorphScratch::default();
+        morph.view_into(s, &mut new);
+        assert_eq!(new.cleared_px, 0);
+        assert_eq!(scratch.parallel, new.parallel, "s {s}");
     }
 }
