@@ -157,27 +157,31 @@ impl Tile {
 }
 
 impl Field {
-    /// A field at `camera`'s eye, its frustum `margin` times the view's, its image the
-    /// view's `width` x `height` scaled alike, cut in `n` x `n` tiles.
+    /// A field at `camera`'s eye, its frustum the view's widened on each side by a whole
+    /// number of the view's pixels (at least `margin` times the view's extents), its image
+    /// the view's `width` x `height` grown alike: seen from its own eye, the field's
+    /// pixels are the view's (a margin of half a pixel, as 1.25 x 180 rows gave, put every
+    /// texel half a pixel off the view's pixels), cut in `n` x `n` tiles.
     fn new(camera: &Camera, (width, height): (u32, u32), cfg: &FarConfig) -> Field {
         let m = cfg.margin.max(1.0);
         let [l, r, b, t] = camera.projection.extents();
         let (near, far) = camera.near_far();
+        let (width, height) = (width.max(1), height.max(1));
+        let (px, py) = ((r - l) / width as f32, (t - b) / height as f32);
+        let side = |n: u32| (n as f32 * (m - 1.0) * 0.5).ceil() as u32;
+        let (ex, ey) = (side(width), side(height));
         let whole = Camera {
             view: camera.view,
             projection: Projection::Frustum {
-                left: l * m,
-                right: r * m,
-                bottom: b * m,
-                top: t * m,
+                left: l - ex as f32 * px,
+                right: r + ex as f32 * px,
+                bottom: b - ey as f32 * py,
+                top: t + ey as f32 * py,
                 near,
                 far,
             },
         };
-        let (w, h) = (
-            (width as f32 * m).ceil().max(1.0) as u32,
-            (height as f32 * m).ceil().max(1.0) as u32,
-        );
+        let (w, h) = (width + 2 * ex, height + 2 * ey);
         let n = cfg.tiles.clamp(1, 64);
         let mut tiles = Vec::with_capacity((n * n) as usize);
         for ty in 0..n {
