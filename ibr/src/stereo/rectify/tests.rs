@@ -3,7 +3,7 @@
 use super::*;
 use crate::core::capture_batch;
 use crate::stereo::measure::measure;
-use crate::stereo::scenes::{camera, scene_draws, BASELINE, H, W};
+use crate::stereo::scenes::{camera, scene_draws, with_scene_draws, BASELINE, H, W};
 use crate::stereo::{luminance, Sgm, StereoPair};
 use engine::Lighting;
 
@@ -139,17 +139,9 @@ fn coverage_of_the_original_counts_transparent_pixels_as_inside() {
 fn the_row_stepped_resample_matches_each_pixels_own_ray() {
     let (w, h) = (W, H);
     let original = camera();
-    let (meshes, transforms) = scene_draws();
-    let draws: Vec<engine::Draw<'_>> = meshes
-        .iter()
-        .zip(&transforms)
-        .map(|((mesh, material), &transform)| engine::Draw {
-            mesh,
-            material,
-            transform,
-        })
-        .collect();
-    let image = capture_batch(&draws, &[original], &Lighting::default(), w, h).remove(0);
+    let image = with_scene_draws(|draws| {
+        capture_batch(draws, &[original], &Lighting::default(), w, h).remove(0)
+    });
     let eye = original.eye();
     for target in [
         Vec3::new(-0.6, 0.0, 0.0),
