@@ -276,6 +276,20 @@ pub struct TreePlan {
     pub height: u32,
 }
 
+impl TreePlan {
+    /// The plan the world's tests take for a `height`-pixel target: `bench budget`'s
+    /// defaults (16 levels, a sixteenth of the objects rebuilt a frame and 16 at least, 4
+    /// loading frames within 40 predicted milliseconds of rebuilds).
+    pub fn for_tests(world: &World, height: u32) -> Self {
+        TreePlan {
+            budget: 16.0,
+            rebuilds: (world.objects.len() / 16).max(16),
+            loading: (4, 40.0),
+            height,
+        }
+    }
+}
+
 /// The per-node planner over a hierarchy of `objects`, each node drawn as one runtime
 /// impostor of all its objects (at most [`TREE_SIDE`] texels a side at 640x360, scaled
 /// with the target's height, [`tree_scale`]) when its predicted error is within the

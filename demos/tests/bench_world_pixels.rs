@@ -22,12 +22,7 @@ use ibr::technique::{FrameLoop, FrameView, Technique};
 /// `size` target after 5 frames (the loading frames, which take the images), the eye a
 /// tenth into the fly-over.
 fn cut(world: &World, size: (u32, u32), planned: u32) -> TreeReport {
-    let plan = TreePlan {
-        budget: 16.0,
-        rebuilds: (world.objects.len() / 16).max(16),
-        loading: (4, 40.0),
-        height: planned,
-    };
+    let plan = TreePlan::for_tests(world, planned);
     let mut planner = tree_planner(world.objects.clone(), plan);
     let camera = world.camera(0.1, size);
     for _ in 0..5 {
@@ -113,12 +108,7 @@ fn the_cut_ground_draws_the_plate_and_shades_less() {
 /// absolute difference from all the geometry, levels.
 fn planned_frame(world: &World, cutout: Option<f32>) -> (FrameStats, f64) {
     let (w, h) = (320, 180);
-    let plan = TreePlan {
-        budget: 16.0,
-        rebuilds: (world.objects.len() / 16).max(16),
-        loading: (4, 40.0),
-        height: h,
-    };
+    let plan = TreePlan::for_tests(world, h);
     let mut planner = tree_planner_drawing(world.objects.clone(), plan, cutout);
     let camera = world.camera(0.1, (w, h));
     let view = FrameView::still(&camera, w, h, &world.lighting);

@@ -76,12 +76,7 @@ fn field_against_geometry(
 fn the_far_field_from_its_eye_matches_the_geometry_it_captured() {
     let world = World::new(96, 11);
     let (w, h) = (320, 180);
-    let plan = TreePlan {
-        budget: 16.0,
-        rebuilds: (world.objects.len() / 16).max(16),
-        loading: (4, 40.0),
-        height: h,
-    };
+    let plan = TreePlan::for_tests(&world, h);
     let mut planner = tree_planner(world.objects.clone(), plan);
     let camera = world.camera(0.1, (w, h));
     let view = FrameView::still(&camera, w, h, &world.lighting);
