@@ -22,7 +22,42 @@ pub(crate) struct Chunk {
     /// Varyings of vertices made by clipping.
     pub(crate) extra: Vec<f32>,
     pub(crate) bins: Bins,
+    /// The chunk's triangles in runs of at most [`CLUSTER`] of one draw, each with its
+    /// pixel box and nearest depth, for the tile loop's occlusion test of whole runs.
+    pub(crate) clusters: Vec<Cluster>,
     pub(crate) stats: FrameStats,
+}
+
+/// Most triangles in one [`Cluster`]: a mesh's neighbouring triangles usually lie near
+/// one another, so a short run has a tight box.
+pub(crate) const CLUSTER: u32 = 32;
+
+/// A run of consecutive set-up triangles of one draw (at most [`CLUSTER`]): the union of
+/// their pixel boxes and the nearest (largest reversed) depth any of their pixels can
+/// have, the depth planes' maximum over each triangle's box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cluster {
+    /// Index in the chunk's `tris` of the run's first triangle.
+    pub(crate) first: u32,
+    /// The draw the run's triangles belong to.
+    pub(crate) draw: u32,
+    /// Inclusive pixel box `[x0, y0, x1, y1]`.
+    pub(crate) bbox: [u16; 4],
+    /// The nearest depth over the run (no safety margin; the test adds it).
+    pub(crate) near: f32,
+}
+
+impl Cluster {
+    /// The largest depth `tri`'s plane reaches over its pixel box (at one of its corners).
+    #[inline]
+    fn near_of(tri: &Tri) -> f32 {
+        let (w, h) = (
+            tri.bbox[2].saturating_sub(tri.bbox[0]) as f32,
+            tri.bbox[3].saturating_sub(tri.bbox[1]) as f32,
+        );
+        let z = &tri.z;
+        z.c + (z.dx * w).max(0.0) + (z.dy * h).max(0.0)
+    }
 }
 
 /// The peers' flat rule: mean vertex colour times `0.25 + 0.75 |n . L|`, as unorm bytes.
@@ -51,6 +86,7 @@ pub(crate) fn front_end(
 ) {
     chunk.tris.clear();
     chunk.extra.clear();
+    chunk.clusters.clear();
     chunk.stats = FrameStats::default();
     if range.is_empty() || vp.width == 0 || vp.height == 0 {
         chunk.stats.triangles_rejected += range.len() as u64;
@@ -136,6 +172,30 @@ impl Stamp {
             tri.set_color(c);
         }
         chunk.bins.count(&tri);
+        let k = chunk.tris.len() as u32;
+        let near = Cluster::near_of(&tri);
+        match chunk.clusters.last_mut() {
+            Some(c) if c.draw == self.draw && k - c.first < CLUSTER => {
+                c.bbox = [
+                    c.bbox[0].min(tri.bbox[0]),
+                    c.bbox[1].min(tri.bbox[1]),
+                    c.bbox[2].max(tri.bbox[2]),
+                    c.bbox[3].max(tri.bbox[3]),
+                ];
+                // NaN planes never make a run hidden: `max` would drop them.
+                c.near = if near.is_nan() {
+                    f32::INFINITY
+                } else {
+                    c.near.max(near)
+                };
+            }
+            _ => chunk.clusters.push(Cluster {
+                first: k,
+                draw: self.draw,
+                bbox: tri.bbox,
+                near: if near.is_nan() { f32::INFINITY } else { near },
+            }),
+        }
         chunk.tris.push(tri);
     }
 }

@@ -153,6 +153,8 @@ pub struct Renderer {
     prepass: bool,
     /// Count each draw's cost (see [`Renderer::set_draw_costs`]).
     count_costs: bool,
+    /// Draw every cluster, hidden or not (see [`Renderer::set_cluster_occlusion`]).
+    occlusion_off: bool,
     /// The last frame's cost of each draw, in submission order (empty when not counted).
     costs: Vec<DrawCost>,
     /// The frame's directional lights' unit vectors (`shade::light_dirs`).
@@ -212,6 +214,16 @@ impl Renderer {
     /// that are shaded anyway, while the opaque triangles are rasterized twice.
     pub fn set_visibility_prepass(&mut self, on: bool) {
         self.prepass = on;
+    }
+
+    /// Whether the tile loop skips a cluster (a run of up to 32 consecutive triangles of
+    /// one draw, as the front end set them up) whose box and nearest depth lie wholly
+    /// behind the depth stored in every 8 x 8 block of a tile it overlaps (on by default;
+    /// no pixel changes, the skipped triangles could pass no depth test there). Counted in
+    /// [`FrameStats::clusters_occluded`] and [`FrameStats::triangles_occluded`]; off, those
+    /// triangles are rasterized and rejected block by block as before.
+    pub fn set_cluster_occlusion(&mut self, on: bool) {
+        self.occlusion_off = !on;
     }
 
     /// Where the last frame's time went, stage by stage (for profiling).
@@ -484,6 +496,7 @@ impl Renderer {
             soft: &soft,
             prepass: self.prepass && frame.peel.is_none() && prepass_allowed(frame.infos),
             costs: self.count_costs,
+            occlusion: !self.occlusion_off,
         };
         let (workers, peel) = (&self.workers[..], frame.peel);
         let (colors, depths) = target.storage_mut();

@@ -50,6 +50,11 @@ pub struct FrameStats {
     pub blocks_partial: u64,
     /// 8 x 8 blocks skipped because the triangle lies behind everything stored there.
     pub blocks_hiz_rejected: u64,
+    /// Clusters (runs of up to 32 consecutive triangles of one draw) skipped in a tile
+    /// because they lie wholly behind the depth stored in every block they overlap there.
+    pub clusters_occluded: u64,
+    /// (triangle, tile) pairs of those clusters: never read nor rasterized in that tile.
+    pub triangles_occluded: u64,
 }
 
 impl AddAssign for FrameStats {
@@ -71,6 +76,8 @@ impl AddAssign for FrameStats {
         self.blocks_full += o.blocks_full;
         self.blocks_partial += o.blocks_partial;
         self.blocks_hiz_rejected += o.blocks_hiz_rejected;
+        self.clusters_occluded += o.clusters_occluded;
+        self.triangles_occluded += o.triangles_occluded;
     }
 }
 

@@ -300,7 +300,11 @@ fn small_triangles_behind_a_wall_test_no_fragments() {
     let (_, grid_alone) = render_with(&mut Renderer::new(), draws()[..1].to_vec(), 1);
     assert!(grid_alone.fragments_shaded > 200, "{grid_alone:?}");
     for threads in [1, 2] {
-        let (t, s) = render_with(&mut Renderer::new(), draws(), threads);
+        // Cluster occlusion off: the grid's clusters would be skipped before their blocks
+        // are tested (`a_mesh_behind_a_wall_is_skipped_by_clusters`).
+        let mut renderer = Renderer::new();
+        renderer.set_cluster_occlusion(false);
+        let (t, s) = render_with(&mut renderer, draws(), threads);
         assert_eq!(t.to_rgba8(), alone.to_rgba8(), "{threads} threads");
         assert_eq!(s.fragments_tested, pixels, "{s:?}");
         assert_eq!(s.fragments_shaded, pixels, "{s:?}");
@@ -311,4 +315,135 @@ fn small_triangles_behind_a_wall_test_no_fragments() {
         );
     }
     assert_eq!(wall_stats.blocks_hiz_rejected, 0);
+}
+
+/// A grid of `n` x `n` quads `side` wide, spaced `step`, in the plane z = `z`, centred.
+fn grid_mesh(n: usize, side: f32, step: f32, z: f32) -> Mesh {
+    let mut grid = Mesh::default();
+    let half = step * (n as f32 - 1.0) / 2.0 + side / 2.0;
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (-half + step * i as f32, -half + step * j as f32);
+            let k = grid.positions.len() as u32;
+            for (dx, dy) in [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)] {
+                grid.positions.push(Vec3::new(x + dx, y + dy, z));
+            }
+            grid.indices.extend([k, k + 1, k + 2, k, k + 2, k + 3]);
+        }
+    }
+    grid
+}
+
+/// Renders `draws` into a 192 x 128 target (3 x 2 tiles) from the walls' camera, cluster
+/// occlusion on or off, on `threads` threads.
+fn render_wide(draws: &[Draw<'_>], occlusion: bool, threads: usize) -> (Target, FrameStats) {
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.5);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    let mut target = Target::new(192, 128);
+    let mut renderer = Renderer::new();
+    renderer.set_cluster_occlusion(occlusion);
+    let opts = FrameOptions::default();
+    let stats = pool.install(|| {
+        renderer.render(
+            draws.to_vec(),
+            &camera,
+            &Lighting::default(),
+            &mut target,
+            &opts,
+        )
+    });
+    (target, stats)
+}
+
+/// A mesh of walked and small triangles wholly behind a nearer wall: with cluster occlusion
+/// every one of its (triangle, tile) pairs is skipped, none of its blocks reaches the
+/// hierarchical test, and the pixels and depths are those of the renderer without it (where
+/// the same triangles are rasterized and rejected block by block), on 1 and 2 threads.
+#[test]
+fn a_mesh_behind_a_wall_is_skipped_by_clusters() {
+    // 400 quads of about 11 pixels and 144 of about 2, at view distance 10; the wall at 3.
+    let big = grid_mesh(20, 0.35, 0.4, -5.0);
+    let small = grid_mesh(12, 0.08, 0.6, -5.0);
+    let (near, far) = (colour(3), colour(6));
+    let wall_mesh = quad();
+    let draws = [
+        Draw {
+            mesh: &big,
+            material: &far,
+            transform: Mat4::IDENTITY,
+        },
+        Draw {
+            mesh: &small,
+            material: &far,
+            transform: Mat4::IDENTITY,
+        },
+        Draw {
+            mesh: &wall_mesh,
+            material: &near,
+            transform: wall(3.0) * Mat4::from_scale(Vec3::new(1.6, 1.0, 1.0)),
+        },
+    ];
+    let (want, off) = render_wide(&draws, false, 1);
+    let (_, wall_alone) = render_wide(&draws[2..], false, 1);
+    assert_eq!(off.clusters_occluded, 0);
+    assert!(off.blocks_hiz_rejected > 100, "{off:?}");
+    let behind = off.triangles_binned - wall_alone.triangles_binned;
+    assert!(behind > 800, "{off:?}");
+    for threads in [1, 2] {
+        let (t, s) = render_wide(&draws, true, threads);
+        assert_eq!(t.to_rgba8(), want.to_rgba8(), "{threads} threads");
+        assert_eq!(t.depth_storage(), want.depth_storage(), "{threads} threads");
+        assert_eq!(s.triangles_occluded, behind, "{s:?}");
+        assert!(s.clusters_occluded >= behind.div_ceil(32), "{s:?}");
+        assert_eq!(s.blocks_hiz_rejected, 0, "{s:?}");
+        assert_eq!(s.fragments_tested, wall_alone.fragments_tested, "{s:?}");
+        assert_eq!(s.fragments_shaded, wall_alone.fragments_shaded, "{s:?}");
+    }
+}
+
+/// Meshes partly behind, partly beside a wall covering the middle of the view, at slants
+/// (so clusters straddle tiles and blocks, some hidden, some not): the same pixels, depths
+/// and shaded counts with cluster occlusion as without, on 1 and 2 threads, with some
+/// clusters skipped.
+#[test]
+fn cluster_occlusion_keeps_the_pixels() {
+    let big = grid_mesh(40, 0.1, 0.12, 0.0);
+    let small = grid_mesh(40, 0.03, 0.12, 0.0);
+    let (a, b, c) = (colour(1), colour(5), colour(7));
+    let wall_mesh = quad();
+    let slant = |ry: f32, z: f32| {
+        Mat4::from_translation(Vec3::new(0.0, 0.0, z)) * Mat4::from_rotation_y(ry)
+    };
+    let draws = [
+        Draw {
+            mesh: &big,
+            material: &a,
+            transform: slant(0.7, -3.0),
+        },
+        Draw {
+            mesh: &small,
+            material: &b,
+            transform: slant(-0.5, -1.0),
+        },
+        Draw {
+            mesh: &wall_mesh,
+            material: &c,
+            transform: Mat4::from_translation(Vec3::new(0.3, -0.2, 1.5))
+                * Mat4::from_scale(Vec3::new(1.5, 0.9, 1.0)),
+        },
+    ];
+    let (want, off) = render_wide(&draws, false, 1);
+    assert_eq!(off.triangles_occluded, 0);
+    for threads in [1, 2] {
+        let (t, s) = render_wide(&draws, true, threads);
+        assert_eq!(t.to_rgba8(), want.to_rgba8(), "{threads} threads");
+        assert_eq!(t.depth_storage(), want.depth_storage(), "{threads} threads");
+        assert_eq!(s.fragments_shaded, off.fragments_shaded, "{s:?}");
+        assert_eq!(s.fragments_written, off.fragments_written, "{s:?}");
+        assert!(s.clusters_occluded > 0, "{s:?}");
+        assert!(s.triangles_occluded < off.triangles_binned, "{s:?}");
+    }
 }

@@ -19,7 +19,7 @@
 //! of once per nearer surface drawn after it.
 
 use super::{Kind, Layout};
-use crate::front::Chunk;
+use crate::front::{Chunk, Cluster};
 use crate::light::Lighting;
 use crate::material::AlphaMode;
 use crate::raster::{raster_tri, DepthToView, Pass};
@@ -27,7 +27,8 @@ use crate::setup::{Tri, CLIPPED};
 use crate::shade::GeneralShader;
 use crate::state::DrawInfo;
 use crate::stats::{DrawCost, FrameStats};
-use crate::tile::TileBuf;
+use crate::target::TILE;
+use crate::tile::{TileBuf, BLOCK, BLOCKS};
 use glam::Vec3;
 use std::time::Instant;
 
@@ -48,6 +49,8 @@ pub(super) struct TileFrame<'f, 'a> {
     pub(super) prepass: bool,
     /// Whether each draw's cost is counted (`Renderer::set_draw_costs`).
     pub(super) costs: bool,
+    /// Whether hidden clusters are skipped (`Renderer::set_cluster_occlusion`).
+    pub(super) occlusion: bool,
 }
 
 /// A worker's counters for one tile: the frame's totals, and each draw's cost when
@@ -84,7 +87,9 @@ impl TileFrame<'_, '_> {
     }
 
     /// Rasterizes every triangle binned to `tile` (top-left pixel `(ox, oy)`), chunk by
-    /// chunk, so in submission order.
+    /// chunk, so in submission order. Without the pre-pass (and with `occlusion` on), a
+    /// cluster of triangles lying wholly behind the depth stored in every block it
+    /// overlaps is skipped whole ([`TileFrame::hidden`]).
     pub(super) fn raster(
         &self,
         buf: &mut TileBuf,
@@ -94,13 +99,16 @@ impl TileFrame<'_, '_> {
         counters: &mut Counters<'_>,
     ) {
         if !self.prepass {
-            self.each(tile, |chunk, tri, _| {
+            let cull = self.occlusion.then_some((ox, oy));
+            let (clusters, tris) = self.each(buf, tile, cull, |buf, chunk, tri, _| {
                 self.draw(buf, ox, oy, chunk, tri, Pass::Full, counters);
             });
+            counters.stats.clusters_occluded += clusters;
+            counters.stats.triangles_occluded += tris;
             return;
         }
         buf.clear_ids();
-        self.each(tile, |chunk, tri, id| {
+        self.each(buf, tile, None, |buf, chunk, tri, id| {
             let pass = match self.infos[tri.draw() as usize].mode.alpha {
                 AlphaMode::Opaque => Pass::Depth(id),
                 AlphaMode::Blend => return,
@@ -108,7 +116,7 @@ impl TileFrame<'_, '_> {
             };
             self.draw(buf, ox, oy, chunk, tri, pass, counters);
         });
-        self.each(tile, |chunk, tri, id| {
+        self.each(buf, tile, None, |buf, chunk, tri, id| {
             let pass = match self.infos[tri.draw() as usize].mode.alpha {
                 AlphaMode::Opaque => Pass::Visible(id),
                 AlphaMode::Blend => Pass::Full,
@@ -119,35 +127,105 @@ impl TileFrame<'_, '_> {
     }
 
     /// Calls `f` with every triangle binned to `tile` and its place in the tile's list, in
-    /// order. Scattered triangles and their vertices are cache misses: two cursors run
-    /// ahead of the one handed out, asking for the triangles, then for their vertices.
+    /// order, cluster by cluster of each chunk. With `cull` (the tile's top-left pixel), a
+    /// cluster hidden in the tile is skipped, its triangles neither read nor drawn; returns
+    /// how many clusters and (triangle, tile) pairs were skipped. Scattered triangles and
+    /// their vertices are cache misses: two cursors run ahead of the one handed out, asking
+    /// for the triangles, then for their vertices.
     #[inline(always)]
-    fn each<'s>(&'s self, tile: usize, mut f: impl FnMut(&'s Chunk, &'s Tri, u32)) {
-        let binned = || {
-            self.chunks.iter().flat_map(move |chunk| {
-                let list = chunk.bins.tile(tile);
-                list.iter()
-                    .filter_map(move |&k| Some((chunk, chunk.tris.get(k as usize)?)))
-            })
-        };
-        let mut far = binned().skip(2 * PREFETCH_AHEAD);
-        let mut near = binned().skip(PREFETCH_AHEAD);
-        for (id, (chunk, tri)) in binned().enumerate() {
-            if let Some((_, t)) = far.next() {
-                crate::simd::prefetch(t);
-            }
-            if let Some((c, t)) = near.next() {
-                if self.infos[t.draw() as usize].layout != Layout::None {
-                    let src = self.varyings(c, t);
-                    for o in t.vary {
-                        if let Some(x) = src.get(o as usize) {
-                            crate::simd::prefetch(x);
-                        }
+    fn each<'s>(
+        &'s self,
+        buf: &mut TileBuf,
+        tile: usize,
+        cull: Option<(i32, i32)>,
+        mut f: impl FnMut(&mut TileBuf, &'s Chunk, &'s Tri, u32),
+    ) -> (u64, u64) {
+        let (mut id, mut skipped) = (0u32, (0u64, 0u64));
+        for chunk in self.chunks {
+            let list = chunk.bins.tile(tile);
+            let clusters = &chunk.clusters[..];
+            let (mut c, mut i) = (0usize, 0usize);
+            while i < list.len() {
+                // The part of the list in the cluster holding its next triangle.
+                while clusters.get(c + 1).is_some_and(|n| n.first <= list[i]) {
+                    c += 1;
+                }
+                let end = clusters.get(c + 1).map_or(u32::MAX, |n| n.first);
+                let j = i + list[i..].partition_point(|&k| k < end);
+                if let (Some(origin), Some(cl)) = (cull, clusters.get(c)) {
+                    if self.hidden(buf, cl, origin) {
+                        skipped.0 += 1;
+                        skipped.1 += (j - i) as u64;
+                        id += (j - i) as u32;
+                        i = j;
+                        continue;
                     }
                 }
+                for n in i..j {
+                    if let Some(t) = list.get(n + 2 * PREFETCH_AHEAD) {
+                        if let Some(t) = chunk.tris.get(*t as usize) {
+                            crate::simd::prefetch(t);
+                        }
+                    }
+                    if let Some(t) = list.get(n + PREFETCH_AHEAD) {
+                        self.prefetch_varyings(chunk, chunk.tris.get(*t as usize));
+                    }
+                    if let Some(tri) = chunk.tris.get(list[n] as usize) {
+                        f(buf, chunk, tri, id);
+                    }
+                    id += 1;
+                }
+                i = j;
             }
-            f(chunk, tri, id as u32);
         }
+        skipped
+    }
+
+    /// Asks for the vertex varyings `tri` reads.
+    #[inline(always)]
+    fn prefetch_varyings(&self, chunk: &Chunk, tri: Option<&Tri>) {
+        let Some(t) = tri else { return };
+        if self.infos[t.draw() as usize].layout != Layout::None {
+            let src = self.varyings(chunk, t);
+            for o in t.vary {
+                if let Some(x) = src.get(o as usize) {
+                    crate::simd::prefetch(x);
+                }
+            }
+        }
+    }
+
+    /// Whether cluster `cl` lies wholly behind the depth stored in the tile with top-left
+    /// pixel `(ox, oy)`: its draw tests depth, and in every 8 x 8 block its box overlaps
+    /// there, its nearest depth (with the walk's safety margin) is no nearer than the
+    /// block's farthest. Then none of its fragments could pass the (strict) depth test
+    /// there, and as stored depth only moves nearer while the cluster is drawn, skipping
+    /// it leaves every pixel as drawing it would.
+    #[inline]
+    fn hidden(&self, buf: &mut TileBuf, cl: &Cluster, (ox, oy): (i32, i32)) -> bool {
+        if !self
+            .infos
+            .get(cl.draw as usize)
+            .is_some_and(|i| i.mode.depth_test)
+        {
+            return false;
+        }
+        let x0 = (cl.bbox[0] as i32).max(ox) - ox;
+        let y0 = (cl.bbox[1] as i32).max(oy) - oy;
+        let x1 = (cl.bbox[2] as i32).min(ox + TILE as i32 - 1) - ox;
+        let y1 = (cl.bbox[3] as i32).min(oy + TILE as i32 - 1) - oy;
+        if x0 > x1 || y0 > y1 {
+            return false;
+        }
+        let near = cl.near + cl.near.abs() * 1e-5 + 1e-7;
+        for by in (y0 / BLOCK) as usize..=(y1 / BLOCK) as usize {
+            for bx in (x0 / BLOCK) as usize..=(x1 / BLOCK) as usize {
+                if !(near <= buf.far(by * BLOCKS + bx)) {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Draws one triangle into the tile in `pass`, with its draw's shader, and counts its
