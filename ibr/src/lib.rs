@@ -127,8 +127,9 @@ pub mod laser {
 pub mod flare {
     pub use crate::techniques::flare::{
         approach, atlas, measure, occlusion, occlusion_through, probe, project, region,
-        sun_elements, Flare, FlareElement, FlareShape, FlareSource, FlareState, LensFlare,
-        Projected, Seen, ATLAS_COLS, ATLAS_ROWS, CELL_PX, GUTTER, MIN_VISIBILITY,
+        sun_elements, AtlasAlpha, Flare, FlareElement, FlareShape, FlareSource, FlareState,
+        LensFlare, Placed, Projected, Reach, Seen, ATLAS_COLS, ATLAS_ROWS, CELL_PX, GUTTER,
+        MIN_VISIBILITY,
     };
 }
 

@@ -9,7 +9,9 @@
 //! 4. `t.observe(seen)`: read the finished frame (a lens flare measures its light's
 //!    visibility in it), then `t.resolve(view, value)` takes what it observed, and
 //!    `t.counters()` reports the frame's work;
-//! 5. `t.overlay(out)`: draws rendered over the finished frame (flare sprites).
+//! 5. `t.overlay(out)`: draws rendered over the finished frame (a second render pass, run
+//!    only when some technique gives draws), then `t.overlay_pass(view, target)`: image
+//!    passes over it (the flare's sprites, blended over the pixels they reach).
 //!
 //! Each technique reports its work as [`Counters`], and names the geometry it stands for
 //! ([`Technique::reference`]) so its error can be measured against a render of that geometry.
@@ -126,6 +128,10 @@ pub trait Technique {
     fn resolve(&mut self, _view: &FrameView<'_>, _observed: Option<f32>) {}
     /// Appends draws rendered over the finished frame (no clear).
     fn overlay<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
+    /// Runs its image passes over the finished frame, after the overlay draws.
+    fn overlay_pass(&self, _view: &FrameView<'_>, _target: &mut Target) -> FrameStats {
+        FrameStats::default()
+    }
     /// The work of the last frame.
     fn counters(&self) -> Counters {
         Counters::default()
@@ -154,7 +160,7 @@ pub struct FrameTimes {
     pub passes: Duration,
     /// Observing and resolving (the flare's occlusion capture).
     pub observe: Duration,
-    /// The overlay pass (flare sprites).
+    /// The overlay draws' pass and the overlay image passes (flare sprites).
     pub overlay: Duration,
     /// The whole frame, `prepare` included.
     pub total: Duration,
@@ -290,6 +296,9 @@ impl FrameLoop {
             );
         }
         self.draws = recycle(over);
+        for t in techniques.iter() {
+            stats += t.overlay_pass(view, target);
+        }
         let end = Instant::now();
         self.times = FrameTimes {
             prepare: prepared - start,
@@ -324,6 +333,13 @@ impl<T: Technique> Technique for Vec<T> {
     }
     fn overlay<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         self.iter().for_each(|t| t.overlay(out));
+    }
+    fn overlay_pass(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        let mut stats = FrameStats::default();
+        for t in self {
+            stats += t.overlay_pass(view, target);
+        }
+        stats
     }
     fn counters(&self) -> Counters {
         let mut c = Counters::default();

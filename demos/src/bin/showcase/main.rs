@@ -398,10 +398,10 @@ const TOUR_COLUMNS: [&str; 15] = [
 
 /// The header of `DIR/tour_counters.csv`: each tour frame's work by stage, counted (the
 /// clouds' refreshes and texels captured, the city's rebuilds, the light-field statue's
-/// rays, samples read and pixels written, the flare's sprites and the pixels their
-/// squares cover on screen).
+/// rays, samples read and pixels written, the flare's sprites, the pixels their squares
+/// cover on screen and the pixels within their shapes' reach, which the flare blends).
 const COUNTER_COLUMNS: &str = "frame,cloud_refreshes,cloud_texels,city_rebuilds,\
-statue_rays,statue_taps,statue_pixels,flare_sprites,flare_pixels\n";
+statue_rays,statue_taps,statue_pixels,flare_sprites,flare_pixels,flare_reach\n";
 
 /// Frame `i`'s row of [`COUNTER_COLUMNS`].
 fn counter_row(i: usize, show: &Showcase, (w, h): (u32, u32)) -> String {
@@ -409,7 +409,7 @@ fn counter_row(i: usize, show: &Showcase, (w, h): (u32, u32)) -> String {
     let lf = show.ibr.statue.object.last();
     let flare = show.ibr.flare();
     format!(
-        "{i},{},{},{},{},{},{},{},{}\n",
+        "{i},{},{},{},{},{},{},{},{},{}\n",
         imp.clouds.refreshes,
         imp.clouds.capture_texels,
         imp.city.rebuilds,
@@ -417,7 +417,8 @@ fn counter_row(i: usize, show: &Showcase, (w, h): (u32, u32)) -> String {
         lf.taps,
         lf.pixels,
         flare.quad_count(),
-        flare.sprite_pixels(w, h)
+        flare.sprite_pixels(w, h),
+        flare.reach_pixels(w, h)
     )
 }
 

@@ -3,7 +3,8 @@
 //! halo, ring, ghosts, starburst) along the line from the light through the screen centre.
 //!
 //! Frame: render the scene (clearing) -> [`LensFlare::update`] -> render
-//! [`LensFlare::draw`] with the same camera and `FrameOptions { clear: None, .. }`. The
+//! [`LensFlare::draw`] with the same camera and `FrameOptions { clear: None, .. }`, or
+//! [`LensFlare::blend`] the sprites straight into the target (only the pixels they reach). The
 //! sprites are quads unprojected from pixel positions to world space in front of the eye,
 //! so that camera puts them back exactly on those pixels. Draws that write no depth
 //! (blended impostors, clouds, glass) hide the light too through
@@ -11,7 +12,9 @@
 //! light and dims each tap by their opacity. All shapes live in one atlas
 //! generated at start-up ([`atlas`]); the mesh is rewritten in place every frame.
 
+mod blend;
 mod technique;
+pub use blend::{AtlasAlpha, Placed, Reach};
 pub use technique::Flare;
 mod occlusion;
 pub mod probe;
@@ -21,7 +24,8 @@ pub use occlusion::{measure, occlusion, occlusion_through, project, Projected, S
 use crate::core::Capturer;
 use crate::core::{push_quad, UvRect};
 use engine::{
-    BlendMode, Camera, Draw, Encoding, Lighting, Material, Mesh, Rgba, Target, Texture, Wrap,
+    BlendMode, Camera, Draw, Encoding, FrameStats, Lighting, Material, Mesh, Rgba, Target, Texture,
+    Wrap,
 };
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use std::f32::consts::TAU;
@@ -236,6 +240,10 @@ pub struct LensFlare {
     pub state: FlareState,
     material: Material,
     mesh: Mesh,
+    /// The atlas's alphas and shapes' reach, for [`LensFlare::blend`].
+    alpha: Arc<AtlasAlpha>,
+    /// The sprites as placed by the last update (the mesh's quads, in pixels).
+    placed: Vec<Placed>,
     /// Captures the blended occluders around the light.
     capturer: Capturer,
 }
@@ -256,8 +264,10 @@ impl Default for LensFlare {
 impl LensFlare {
     /// A flare of `elements` with 32 taps in a 6-pixel disc and a 0.25 s fade.
     pub fn new(elements: Vec<FlareElement>) -> Self {
+        let texture = Arc::new(atlas(CELL_PX));
+        let alpha = Arc::new(AtlasAlpha::new(&texture));
         let mut material = Material::unlit(Rgba::WHITE)
-            .with_texture(Arc::new(atlas(CELL_PX)))
+            .with_texture(texture)
             .blended(BlendMode::Additive)
             .double_sided(true);
         material.depth_test = false;
@@ -272,6 +282,8 @@ impl LensFlare {
             state: FlareState::default(),
             material,
             mesh: Mesh::default(),
+            alpha,
+            placed: Vec::new(),
             capturer: Capturer::new(),
         }
     }
@@ -377,6 +389,7 @@ impl LensFlare {
     fn build(&mut self, camera: &Camera, width: u32, height: u32) {
         let m = &mut self.mesh;
         m.clear();
+        self.placed.clear();
         let Some(light) = self.state.light else {
             return;
         };
@@ -405,6 +418,8 @@ impl LensFlare {
                 .map(|(sx, sy)| unproject(pos + Vec2::new(sx, sy) * half));
             if q.iter().all(|p| p.is_finite()) {
                 push_quad(m, q, region(e.shape, CELL_PX), e.tint, vis);
+                self.placed
+                    .push(Placed::new(e, pos, half, vis, &self.alpha));
             }
         }
     }
@@ -434,6 +449,30 @@ impl LensFlare {
             })
             .sum();
         sum.round() as u64
+    }
+
+    /// The pixels of a `width` x `height` image within the last update's sprites' reach
+    /// (each sprite's disc or ring where its shape is not zero, clipped to the image),
+    /// summed over the sprites: what [`LensFlare::blend`] looks at.
+    pub fn reach_pixels(&self, width: u32, height: u32) -> u64 {
+        self.placed
+            .iter()
+            .map(|p| p.reach_pixels(width, height))
+            .sum()
+    }
+
+    /// The sprites as the last update placed them.
+    pub fn placed(&self) -> &[Placed] {
+        &self.placed
+    }
+
+    /// Adds the last update's sprites to `target` (the size given to the update) as an
+    /// image pass over their reach only: the same light as rendering [`LensFlare::draw`]
+    /// with `clear: None` (up to the float sums' order), without loading and resolving
+    /// every tile. Keeps the target's depth and alpha.
+    pub fn blend(&self, target: &mut Target) -> FrameStats {
+        let atlas = self.material.base_texture.as_deref().expect("the atlas");
+        blend::blend(&self.placed, &self.alpha, atlas, target)
     }
 
     /// Quads written by the last update.
@@ -466,5 +505,7 @@ fn smoothstep(lo: f32, hi: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
+#[cfg(test)]
+mod blend_tests;
 #[cfg(test)]
 mod tests;

@@ -1,8 +1,8 @@
-//! The lens flare through the frame seam: visibility observed in the finished frame, sprites drawn over it.
+//! The lens flare through the frame seam: visibility observed in the finished frame, sprites blended into it.
 
 use super::{FlareSource, LensFlare, Seen};
 use crate::core::{Counters, FrameView, Observed, Technique};
-use engine::Draw;
+use engine::{Draw, FrameStats, Target};
 
 /// A lens flare following one light: its visibility is measured in the finished frame
 /// (depth taps dimmed by the blended draws in front of the light) and its sprites drawn
@@ -52,10 +52,10 @@ impl Technique for Flare {
             view.height,
         );
     }
-    fn overlay<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        if self.lens.quad_count() > 0 {
-            out.push(self.lens.draw());
-        }
+    /// The sprites blended into the finished frame over their reach only
+    /// ([`LensFlare::blend`]), not a second render pass.
+    fn overlay_pass(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
+        self.lens.blend(target)
     }
     fn counters(&self) -> Counters {
         Counters {
