@@ -217,6 +217,10 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(29.5),
         flicker: Some(1.3),
     },
+    // Measured 24.9 / 21.0 dB, flicker 1.01, since session 16: the views baked from 10
+    // degrees below the horizon (the hills' trees seen from the plaza) and each view's
+    // depth on a 5 x 5 grid (was 3 x 3: a trunk's foot stood at its crown's front, over the
+    // nearer trees); main had 24.3 / 21.0 at this size.
     // Measured 24.3 / 21.0 dB, flicker 1.01, since session 15: the pine's views stood lower
     // the higher they were baked (`ViewAtlas::pivot_steep`: from above its outline is its
     // lowest cone's rim); main had 24.2 / 21.0 at this size (the worst frame unchanged).
@@ -244,8 +248,8 @@ const BOUNDS: [Bound; 8] = [
         name: "forest",
         technique: "billboards",
         part: "tour",
-        mean: Some(24.0),
-        worst: Some(20.4),
+        mean: Some(24.6),
+        worst: Some(20.6),
         flicker: Some(1.3),
     },
     // Measured 41.5 / 26.8 dB, flicker 1.00 (against particles prepared for the frame's
