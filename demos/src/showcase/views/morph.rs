@@ -52,6 +52,9 @@ pub struct MorphFrame {
     /// Pixels of the canvas's rows the postwarp reads, every column: what was morphed
     /// before the columns were cut (the reference of `canvas_px`).
     pub band_px: u64,
+    /// Pixels of the two prewarped views the morph looked at (a work counter: those too
+    /// far along their row to move into the columns morphed are skipped).
+    pub source_px: u64,
 }
 
 impl MorphFrame {
@@ -63,7 +66,7 @@ impl MorphFrame {
         };
         format!(
             "VIEW MORPH S {:.2}  {}  ALL {}  SKY ON GROUND {} PX  PLAIN {}  HOLES {:.0}%  \
-             CANVAS {:.2} OF {:.2} MPX",
+             CANVAS {:.2} OF {:.2} MPX FROM {:.2} MPX",
             self.s,
             seen(self.error),
             db(self.full),
@@ -71,7 +74,8 @@ impl MorphFrame {
             seen(self.plain),
             100.0 * self.holes_share(),
             self.canvas_px as f64 * 1e-6,
-            self.band_px as f64 * 1e-6
+            self.band_px as f64 * 1e-6,
+            self.source_px as f64 * 1e-6
         )
     }
 
@@ -177,6 +181,7 @@ impl MorphPart {
             frame_px: w as u64 * h as u64,
             canvas_px: self.scratch.canvas_px,
             band_px: self.scratch.band_px,
+            source_px: self.scratch.source_px,
             error,
             plain,
             stats,

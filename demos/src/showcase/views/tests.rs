@@ -416,3 +416,76 @@ fn the_sky_fresh_from_its_capture_is_within_the_goals_against_the_geometry() {
     );
     assert!(e.psnr_db > 28.0, "{e:?}");
 }
+
+#[test]
+fn over_sky_packs_eight_pixels_as_it_packs_one() {
+    // Colours over the whole range and past it (negative, above 1, partly covered), in an
+    // image whose size is neither a multiple of 8 nor of the pool's chunks: the 8-lane path
+    // and the one-pixel path give the same bytes.
+    let (w, h) = (4099u32, 3u32);
+    let camera = crate::showcase::camera(glam::Vec3::ZERO, glam::Vec3::NEG_Z, w, h);
+    let mut image = DepthImage::new(w, h, camera);
+    let mut seed = 7u32;
+    let mut next = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1 << 24) as f32 * 1.4 - 0.2
+    };
+    for c in image.color.iter_mut() {
+        let a = next().clamp(0.0, 1.0);
+        *c = Premul {
+            r: next() * a,
+            g: next() * a,
+            b: next() * a,
+            a,
+        };
+    }
+    let mut out = Vec::new();
+    over_sky(&image, &mut out);
+    let (sky, encoder) = (SKY.premultiply(), Encoder::new(Encoding::Srgb));
+    let one: Vec<u8> = (image.color.iter())
+        .flat_map(|&c| over_sky_pixel(&encoder, sky, c).to_le_bytes())
+        .collect();
+    assert_eq!(out.len(), one.len());
+    let differ = out.iter().zip(&one).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} bytes differ");
+}
+
+#[test]
+fn the_draws_out_of_view_cover_no_pixel_of_it() {
+    // The sky's and the layers' near scenes draw only what their view's frustum reaches
+    // (a draw's bounding sphere): the same pixels, colour and depth, as all the draws.
+    let scene = scene();
+    let draws: Vec<Draw<'_>> = scene.draws().collect();
+    let spheres = world_spheres(&draws);
+    let mut capturer = ibr::capture::Capturer::new();
+    let look = |eye: glam::Vec3, dir: glam::Vec3| crate::showcase::camera(eye, eye + dir, W, H);
+    let cameras = [
+        look(SKY_CENTRE, glam::Vec3::new(0.3, -0.1, -1.0)),
+        look(
+            glam::Vec3::new(-3.0, 2.2, 5.0),
+            glam::Vec3::new(-0.34, -0.12, -0.94),
+        ),
+        look(
+            glam::Vec3::new(3.0, 2.6, 5.0),
+            glam::Vec3::new(0.34, -0.12, -0.94),
+        ),
+    ];
+    for camera in cameras {
+        let mut near = Vec::new();
+        in_view(&draws, &spheres, &camera, &mut near);
+        eprintln!(
+            "{} of {} draws in view, {} of {} triangles",
+            near.len(),
+            draws.len(),
+            triangles(&near),
+            triangles(&draws)
+        );
+        assert!(!near.is_empty() && near.len() * 10 < draws.len() * 9);
+        let empty = DepthImage::new(0, 0, camera);
+        let (mut all, mut seen) = (empty.clone(), empty);
+        let lighting = &scene.lighting;
+        capturer.capture(draws.iter().copied(), &camera, lighting, W, H, &mut all);
+        capturer.capture(near.iter().copied(), &camera, lighting, W, H, &mut seen);
+        assert_eq!(all, seen);
+    }
+}

@@ -46,15 +46,21 @@ impl Source<'_> {
     /// or nearer by more than a pixel of disparity. Each pixel of `window` is painted as
     /// the whole row's map paints it (the same sources, in the same order); the sources
     /// that cannot reach it are skipped (a pixel moved left by `shift <= 0` lands before
-    /// `x + 2`, one moved right at or after `x`).
-    fn map(&self, row: &mut Row, first: bool, window: Range<usize>) {
+    /// `x + 2`, one moved right at or after `x`), and so are those that would have to move
+    /// farther than the row's largest disparity `reach` takes them: a pixel moves by
+    /// `|shift| d <= |shift| reach`, and its span ends within two pixels of where it
+    /// lands. Returns the source pixels looked at (a work counter).
+    fn map(&self, row: &mut Row, first: bool, window: Range<usize>, reach: f32) -> usize {
         let w = self.color.len();
         let at = |x: usize, d: f32| x as f32 + 0.5 + self.shift * d;
+        // Three pixels to spare past the farthest move (rounding of the positions).
+        let moved = (self.shift.abs() * reach).ceil().min(w as f32) as usize + 3;
         let sources = if self.shift <= 0.0 {
-            window.start.saturating_sub(2)..w
+            window.start.saturating_sub(2)..(window.end + moved).min(w)
         } else {
-            0..window.end.min(w)
+            window.start.saturating_sub(moved)..window.end.min(w)
         };
+        let looked = sources.len();
         let (first_px, end_px) = (window.start as f32, window.end as f32);
         for x in sources {
             let d = self.disparity[x];
@@ -88,6 +94,7 @@ impl Source<'_> {
                 }
             }
         }
+        looked
     }
 
     /// Pixel `x`'s colour, dissolved with the other image's where it sees the same point.
@@ -177,6 +184,17 @@ impl Made {
     }
 }
 
+/// The largest finite disparity of each row of `d` (0 where there is none): how far a
+/// pixel of that row can move, so [`Source::map`] skips the pixels that cannot reach the
+/// columns it paints. Made once for a morph's pair, not a frame.
+pub(super) fn row_reach(d: &Disparity) -> Vec<f32> {
+    let w = d.width.max(1) as usize;
+    d.data
+        .chunks(w)
+        .map(|row| (row.iter().filter(|v| v.is_finite())).fold(0.0f32, |m, &v| m.max(v.abs())))
+        .collect()
+}
+
 /// Columns morphed beyond each side of the columns asked for, a 64th of the canvas's
 /// width and two more: a run of empty pixels that reaches into the columns asked for is
 /// filled from its ends, which must lie within the columns morphed, or the row is morphed
@@ -199,18 +217,20 @@ fn margin(w: usize) -> usize {
 /// `written` holds, per row, the columns the last morph into `out` may have written
 /// (the rest of the row is empty): only those are cleared, and it is set to this morph's
 /// (at 1280x720 about 1.1 M of the canvas's 2.0 M pixels a frame, all cleared before).
-/// Returns the labels and the canvas pixels morphed (a work counter).
+/// `reach` is [`row_reach`] of `left` and of `right`.
+/// Returns the labels, the canvas pixels morphed and the source pixels the maps looked at
+/// (work counters).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn morph(
     pair: &Rectified,
-    left: &Disparity,
-    right: &Disparity,
+    (left, right): (&Disparity, &Disparity),
+    reach: [&[f32]; 2],
     s: f32,
     camera: Camera,
     (rows, cols): (Range<usize>, Range<usize>),
     labels: bool,
     (out, written): (&mut DepthImage, &mut Vec<Range<usize>>),
-) -> (Option<DepthImage>, u64) {
+) -> (Option<DepthImage>, u64, u64) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
     if (out.width() as usize, out.height() as usize) != (w, h) || written.len() != h {
         *out = DepthImage::new(w as u32, h as u32, camera);
@@ -220,7 +240,7 @@ pub(super) fn morph(
     out.camera = camera;
     let mut made = labels.then(|| DepthImage::new(w as u32, h as u32, camera));
     if w == 0 || h == 0 {
-        return (made, 0);
+        return (made, 0, 0);
     }
     let cols = if labels {
         0..w
@@ -236,7 +256,7 @@ pub(super) fn morph(
     let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let depth_of = |d: f32| focal * pair.baseline / d;
     let (lc, rc) = (&pair.left.color, &pair.right.color);
-    let morphed = out
+    let (morphed, looked) = out
         .color
         .par_chunks_mut(w)
         .zip(out.depth.par_chunks_mut(w))
@@ -248,7 +268,7 @@ pub(super) fn morph(
             depth[written.clone()].fill(EMPTY);
             *written = 0..0;
             if !rows.contains(&y) {
-                return 0;
+                return (0, 0);
             }
             let span = y * w..(y + 1) * w;
             let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
@@ -277,16 +297,17 @@ pub(super) fn morph(
                 other_shift: 1.0,
                 weight: s,
             };
-            from_left.map(&mut row, true, window.clone());
-            from_right.map(&mut row, false, window.clone());
+            let (lr, rr) = (reach[0][y], reach[1][y]);
+            let mut looked = from_left.map(&mut row, true, window.clone(), lr)
+                + from_right.map(&mut row, false, window.clone(), rr);
             let window = match crosses(&row.disparity, &window, &cols) {
                 Some(wider) => {
                     // The whole row: what the first map wrote is cleared too.
                     row.color.fill(Premul::TRANSPARENT);
                     row.disparity.fill(-1.0);
                     row.from_right.fill(false);
-                    from_left.map(&mut row, true, wider.clone());
-                    from_right.map(&mut row, false, wider.clone());
+                    looked += from_left.map(&mut row, true, wider.clone(), lr)
+                        + from_right.map(&mut row, false, wider.clone(), rr);
                     wider
                 }
                 None => window.clone(),
@@ -308,10 +329,10 @@ pub(super) fn morph(
                     *z = depth_of(d);
                 }
             }
-            window.len() as u64
+            (window.len() as u64, looked as u64)
         })
-        .sum();
-    (made, morphed)
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    (made, morphed, looked)
 }
 
 /// Whether a run of empty pixels of a row mapped over `window` (its `disparity`, negative:
@@ -404,6 +425,9 @@ pub struct MorphScratch {
     /// Pixels of the canvas's rows the postwarp reads, every column (what the morph took
     /// before it cut the columns): `canvas_px` against it is the share saved.
     pub band_px: u64,
+    /// Pixels of the two prewarped views the morph's row maps looked at (a work counter:
+    /// those that cannot move into the columns morphed are skipped).
+    pub source_px: u64,
     /// Per row of `parallel`, the columns the last morph wrote ([`morph`]'s `written`).
     pub(super) written: Vec<Range<usize>>,
     /// Pixels of the canvas cleared for the last view (a work counter: what the view
@@ -425,6 +449,7 @@ impl Default for MorphScratch {
             view: empty,
             canvas_px: 0,
             band_px: 0,
+            source_px: 0,
             written: Vec::new(),
             cleared_px: 0,
             canvas_time: Duration::ZERO,

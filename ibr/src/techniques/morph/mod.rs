@@ -124,6 +124,8 @@ pub struct ViewMorph {
     /// The prewarped left and right views' disparities (pixels, infinity where unknown).
     left: Disparity,
     right: Disparity,
+    /// The largest disparity of each of their rows ([`forward::row_reach`]).
+    reach: [Vec<f32>; 2],
     /// For a morph from point pairs: the postwarp's two ends, in place of the cameras.
     postwarp: Option<uncalibrated::Postwarp>,
 }
@@ -188,6 +190,7 @@ impl ViewMorph {
             from: a.camera,
             to: b.camera,
             pair,
+            reach: [forward::row_reach(&left), forward::row_reach(&right)],
             left,
             right,
             postwarp: None,
@@ -225,7 +228,7 @@ impl ViewMorph {
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, _, _) = self.parallel(s, true, (&mut image, &mut Vec::new()));
+        let (made, ..) = self.parallel(s, true, (&mut image, &mut Vec::new()));
         let view = self.postwarp(&image, s);
         let made = made.expect("labels asked for");
         (view, forward::Made::count(&self.postwarp(&made, s)))
@@ -249,7 +252,8 @@ impl ViewMorph {
         let start = Instant::now();
         scratch.cleared_px = scratch.written.iter().map(|r| r.len() as u64).sum();
         let canvas = (&mut scratch.parallel, &mut scratch.written);
-        (_, scratch.canvas_px, scratch.band_px) = self.parallel(s, false, canvas);
+        (_, scratch.canvas_px, scratch.band_px, scratch.source_px) =
+            self.parallel(s, false, canvas);
         let postwarp = Instant::now();
         scratch.canvas_time = postwarp - start;
         let camera = self.camera_at(s);
@@ -270,7 +274,7 @@ impl ViewMorph {
     /// postwarp as the view, then counted.
     pub fn stats(&self, labels: &Labels) -> MorphStats {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, _, _) = self.parallel(labels.s, true, (&mut image, &mut Vec::new()));
+        let (made, ..) = self.parallel(labels.s, true, (&mut image, &mut Vec::new()));
         let made = made.expect("labels asked for");
         forward::Made::count(&self.postwarp(&made, labels.s))
     }
@@ -284,7 +288,7 @@ impl ViewMorph {
         s: f32,
         labels: bool,
         out: (&mut DepthImage, &mut Vec<Range<usize>>),
-    ) -> (Option<DepthImage>, u64, u64) {
+    ) -> (Option<DepthImage>, u64, u64, u64) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
         let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
@@ -294,9 +298,18 @@ impl ViewMorph {
         };
         let seen = self.seen(&parallel, s);
         let band = (seen.0.len() * p.left.width() as usize) as u64;
-        let (made, morphed) =
-            forward::morph(p, &self.left, &self.right, s, parallel, seen, labels, out);
-        (made, morphed, band)
+        let reach = [self.reach[0].as_slice(), self.reach[1].as_slice()];
+        let (made, morphed, looked) = forward::morph(
+            p,
+            (&self.left, &self.right),
+            reach,
+            s,
+            parallel,
+            seen,
+            labels,
+            out,
+        );
+        (made, morphed, band, looked)
     }
 
     /// The rows and the columns of the parallel in-between view (seen by `parallel`) that

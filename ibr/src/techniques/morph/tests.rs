@@ -400,10 +400,10 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         morph.parallel(s, false, (&mut all, &mut Vec::new()));
         let parallel = all.camera;
         let cols = morph.prewarped().left.width() as usize;
-        let (made, morphed) = forward::morph(
+        let (made, morphed, _) = forward::morph(
             &morph.pair,
-            &morph.left,
-            &morph.right,
+            (&morph.left, &morph.right),
+            [&morph.reach[0], &morph.reach[1]],
             s,
             parallel,
             (0..rows, 0..cols),
@@ -496,4 +496,48 @@ fn a_kept_canvas_makes_the_same_views_as_fresh_images_in_any_order() {
         assert_eq!(new.cleared_px, 0);
         assert_eq!(scratch.parallel, new.parallel, "s {s}");
     }
+}
+
+#[test]
+fn sources_beyond_a_rows_reach_are_skipped_and_the_canvas_is_the_same() {
+    // Each row's map looks only at the source pixels its largest disparity lets reach the
+    // columns morphed; with no bound (an infinite reach: every pixel from the window to
+    // the row's end, as before) the canvas is the same pixel for pixel, and no fewer
+    // source pixels are looked at (a work counter).
+    let (a, b) = verged();
+    let v = views(&[a, b]);
+    let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
+    let (w, rows) = (
+        morph.prewarped().left.width() as usize,
+        morph.prewarped().left.height() as usize,
+    );
+    let unbounded = vec![f32::INFINITY; rows];
+    let (mut bounded_px, mut unbounded_px) = (0, 0);
+    for s in [0.0, 0.3, 0.5, 1.0] {
+        let mut scratch = MorphScratch::default();
+        morph.view_into(s, &mut scratch);
+        let parallel = scratch.parallel.camera;
+        let seen = morph.seen(&parallel, s);
+        let mut all = DepthImage::new(0, 0, a);
+        let (_, morphed, looked) = forward::morph(
+            &morph.pair,
+            (&morph.left, &morph.right),
+            [&unbounded, &unbounded],
+            s,
+            parallel,
+            seen,
+            false,
+            (&mut all, &mut Vec::new()),
+        );
+        assert_eq!(all, scratch.parallel, "s {s}");
+        assert_eq!(morphed, scratch.canvas_px, "s {s}");
+        eprintln!(
+            "s {s}: {} source pixels looked at, {looked} unbounded, rows of {w}",
+            scratch.source_px
+        );
+        assert!(scratch.source_px <= looked, "s {s}");
+        (bounded_px, unbounded_px) = (bounded_px + scratch.source_px, unbounded_px + looked);
+    }
+    // This small scene's disparities span most of its rows (the showcase's skip more).
+    assert!(bounded_px < unbounded_px, "{bounded_px} of {unbounded_px}");
 }

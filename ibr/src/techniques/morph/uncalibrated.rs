@@ -16,7 +16,7 @@
 //! frames have no depth ([`crate::core::EMPTY`]) and keep the images' own cameras.
 
 use super::fundamental::{from_rows, Fundamental};
-use super::{stereo, MorphError, ViewMorph};
+use super::{forward, stereo, MorphError, ViewMorph};
 use crate::core::DepthImage;
 use crate::stereo::rectify::bilinear;
 use crate::stereo::{Rectified, RectifyError};
@@ -259,6 +259,7 @@ impl ViewMorph {
             from: a.camera,
             to: b.camera,
             pair,
+            reach: [forward::row_reach(&left), forward::row_reach(&right)],
             left,
             right,
             postwarp: Some(postwarp),
