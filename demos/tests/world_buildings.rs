@@ -1,6 +1,6 @@
 //! The world's buildings drawn as geometry through their level of detail of deviation 0
 //! ([`merged_building`], issue 41): the same pixels as the full `k` x `k` mesh from near
-//! and far, in a quarter of its triangles or fewer; and the planner's geometry in the world
+//! and far, in 24% to 41% of its triangles; and the planner's geometry in the world
 //! draws them, so its triangles fall while its frame stays that of all the geometry.
 //! Counters (triangles, pixels) against the full mesh and the full objects.
 
@@ -38,12 +38,12 @@ fn picture(mesh: &engine::Mesh, eye: Vec3, mid: Vec3) -> Vec<u8> {
     target.to_rgba8()
 }
 
-/// Each of the world's three buildings merged has 24 `k` + 2 triangles (a quarter of
-/// 10 `k`^2 or fewer) and, seen from 12 eyes around, above and close by, draws the full
+/// Each of the world's three buildings merged has 24 `k` + 2 triangles (41%, 30% and 24%
+/// of 10 `k`^2 at `k` = 6, 8, 10) and, seen from 12 eyes around, above and close by, draws the full
 /// mesh's pixels: at most 0.02 levels of mean difference and under 0.05% of the pixels
 /// over 2 levels, the building's pixels (those not the sky's) the same count within 0.05%.
 #[test]
-fn a_merged_building_draws_the_full_buildings_pixels_in_a_quarter_of_its_triangles() {
+fn a_merged_building_draws_the_full_buildings_pixels_in_fewer_triangles() {
     for (k, wall) in [
         (6, Rgba::new(0.7, 0.6, 0.5, 1.0)),
         (8, Rgba::new(0.55, 0.6, 0.68, 1.0)),
