@@ -57,7 +57,10 @@ impl World {
             (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
         ] {
             let mesh = building(Vec3::new(3.2, 7.0 + k as f32, 3.0), k, wall);
-            building_lods.push(vec![(Arc::new(merged_building(&mesh, k)), 0.0)]);
+            building_lods.push(vec![(
+                Arc::new(merged_building(&mesh, k)),
+                MERGED_DEVIATION,
+            )]);
             protos.push((Arc::new(mesh), plain.clone()));
         }
         for (kind, seed) in [(TreeKind::Pine, 3), (TreeKind::Broadleaf, 4)] {
@@ -179,8 +182,13 @@ pub fn tiled_ground(side: f32, color: Rgba, n: u32) -> MeshGroup {
     group
 }
 
+/// The deviation given the merged buildings' level of detail ([`merged_building`]), object
+/// units: the surface is the same (0), but not 0, so that a tolerance of 0 (every object at
+/// its full mesh: `TreeConfig::lod_px`, `FarConfig::lod_px`) still draws the full mesh.
+pub const MERGED_DEVIATION: f32 = 1e-6;
+
 /// The building `full` ([`building`] with `k` x `k` cells a face) in fewer triangles with
-/// the same picture, the world's buildings' level of detail of deviation 0: the objects
+/// the same picture, the world's buildings' level of detail ([`MERGED_DEVIATION`]): the objects
 /// drawn as geometry and the far field's captures draw it, the node images and the measured
 /// error's reference the full mesh. Each face's cells are merged along a row where the
 /// colour does not change across them (a run of cells whose left and right edges carry the
