@@ -249,7 +249,13 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             recent.push(tour.last_time);
             target.write_rgb_u32(&mut pixels);
         } else if moment == Moment::Building {
-            let tour = tour.get_or_insert_with(|| building_tour(args.debug_portals, ww, wh));
+            let tour = tour.get_or_insert_with(|| {
+                let mut tour = BuildingTour::new();
+                tour.portals.debug_tint = args.debug_portals;
+                // The loop's eyes are known: its LDIs are built before its first frame.
+                tour.prepare_walk(WALK_STEPS, ww, wh);
+                tour
+            });
             tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
             let camera = building_camera(start, ww, wh);
             recent.push(timed(|| tour.render(&mut renderer, &camera, &mut target)));
@@ -375,15 +381,6 @@ fn building_camera(start: Instant, ww: u32, wh: u32) -> engine::Camera {
     let t = (start.elapsed().as_secs_f32() % LOOP) / LOOP;
     let steps = 10_000;
     BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
-}
-
-/// The building tour for the window's loop: its eyes are known, so its LDIs are built
-/// before its first frame.
-fn building_tour(debug_portals: bool, ww: u32, wh: u32) -> BuildingTour {
-    let mut tour = BuildingTour::new();
-    tour.portals.debug_tint = debug_portals;
-    tour.prepare_walk(WALK_STEPS, ww, wh);
-    tour
 }
 
 /// The eyes along the loop its LDIs are built ahead for (the frames between take the
