@@ -9,7 +9,6 @@ use engine::{Camera, FrameStats, Renderer, Rgba, Target};
 use ibr::portal::{PortalConfig, PortalFrame, Portals};
 use ibr::subject::Subject;
 use ibr::technique::FrameView;
-use std::time::Duration;
 
 /// Furniture triangles per room.
 pub const ROOM_TRIANGLES: u32 = 200_000;
@@ -50,72 +49,6 @@ impl BuildingTour {
         Camera::look_at(eye, at, glam::Vec3::Y, FOV_Y, 1.0)
             .with_aspect(width, height)
             .with_depth_range(0.05, 60.0)
-    }
-
-    /// Builds at loading the LDIs the walk of `n` frames at `width` x `height` will want
-    /// ([`Portals::prepare_path`]): its frames then capture and merge nothing. Returns the
-    /// LDIs built.
-    pub fn prepare_walk(&mut self, n: usize, width: u32, height: u32) -> usize {
-        let cameras = (0..n).map(|i| Self::camera(i, n, width, height));
-        let lighting = &self.building.lighting;
-        self.portals.prepare_path(cameras, width, height, lighting)
-    }
-
-    /// The columns of [`BuildingTour::times_row`], as `building_times.csv` names them.
-    pub const TIME_COLUMNS: [&'static str; 11] = [
-        "portals",
-        "captures",
-        "merges",
-        "warps",
-        "render",
-        "passes",
-        "overlay",
-        "vertex",
-        "front",
-        "tiles",
-        "raster_sum",
-    ];
-
-    /// The last frame's times by stage ([`BuildingTour::TIME_COLUMNS`]): the portals'
-    /// whole `prepare`, of it their view captures, LDI merges and warps (clips and fills
-    /// included); the engine's render of the hall and the rooms drawn as geometry, the
-    /// image pass writing the warped pixels, the overlay; the render's engine stages
-    /// (raster summed over the workers).
-    pub fn times_row(&self) -> Vec<Duration> {
-        let f = self.frame.frame_loop();
-        let (p, t, s) = (self.last(), f.times, f.stages);
-        let prepare = f.prepares.first().copied().unwrap_or_default();
-        vec![
-            prepare, p.captures, p.merges, p.warps, t.render, t.passes, t.overlay, s.vertex,
-            s.front, s.tiles, s.raster,
-        ]
-    }
-
-    /// The header of `building_counters.csv`'s rows ([`BuildingTour::counters_row`]).
-    pub const COUNTER_HEADER: &'static str = "frame,warped,geometry,gaping,culled,ahead,\
-         views_captured,rebuilds,room_triangles,samples_warped,holes,pixels_warped,\
-         triangles_in,fragments_shaded";
-
-    /// The last frame's counters as a row of `building_counters.csv`; `stats` the frame's
-    /// renderer counters.
-    pub fn counters_row(&self, i: usize, stats: &FrameStats) -> String {
-        let p = self.last();
-        format!(
-            "{i},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            p.warped,
-            p.geometry,
-            p.gaping,
-            p.culled,
-            p.ahead,
-            p.views,
-            p.rebuilds,
-            p.triangles,
-            p.stats.samples,
-            p.holes,
-            p.pixels,
-            stats.triangles_in,
-            stats.fragments_shaded
-        )
     }
 
     /// Renders the hall and the portals (rooms as geometry where the portals say so).

@@ -42,9 +42,4 @@ impl MomentFrame {
         self.draws = ibr::technique::recycle(draws);
         stats
     }
-
-    /// The frame loop: the last frame's times by step and engine stage.
-    pub fn frame_loop(&self) -> &FrameLoop {
-        &self.frame
-    }
 }

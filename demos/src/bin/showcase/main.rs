@@ -480,27 +480,15 @@ fn building_headless(
         tour.building.rooms.len(),
         rayon::current_num_threads()
     );
-    // The walk's eyes are known: its LDIs are built at loading, not in its frames.
-    let start = Instant::now();
-    let built = tour.prepare_walk(n, w, h);
-    println!(
-        "  its {built} LDIs built ahead in {:.1} ms (not in the walk's times)",
-        start.elapsed().as_secs_f64() * 1e3
-    );
     let mut times = Vec::with_capacity(n);
-    let mut breakdown = report::Breakdown::new(&BuildingTour::TIME_COLUMNS);
-    let mut counters = format!("{}\n", BuildingTour::COUNTER_HEADER);
     let (mut warped, mut geometry, mut rebuilds, mut samples, mut holes) = (0, 0, 0, 0, 0);
     let (mut room_tris, mut hidden) = (0, 0);
     let mut sum = FrameStats::default();
     for i in 0..n {
         let camera = BuildingTour::camera(i, n, w, h);
         let start = Instant::now();
-        let stats = tour.render(&mut renderer, &camera, &mut target);
-        let time = start.elapsed();
-        times.push(time);
-        breakdown.push(time, &tour.times_row());
-        counters += &format!("{}\n", tour.counters_row(i, &stats));
+        tour.render(&mut renderer, &camera, &mut target);
+        times.push(start.elapsed());
         sum += renderer.stats();
         meter.building(&tour, &camera, w, h);
         let f = tour.last();
@@ -534,18 +522,6 @@ fn building_headless(
     );
     println!("  last frame: {}", tour.readout());
     print_fragments("the walk's last render of each frame", &sum, n, (w, h));
-    println!("where the walk's time went (the portals' prepare and of it its steps, engine stages of the render):");
-    for line in breakdown.lines() {
-        println!("  {line}");
-    }
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    for (name, text) in [
-        ("building_times.csv", breakdown.csv()),
-        ("building_counters.csv", counters),
-    ] {
-        let csv = dir.join(name);
-        std::fs::write(&csv, text).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    }
     if !args.no_save {
         println!(
             "wrote {n} frames to {}/building_0000.png ...",

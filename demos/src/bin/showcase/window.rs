@@ -252,8 +252,6 @@ pub(super) fn window(args: &Args) -> Result<(), WindowError> {
             let tour = tour.get_or_insert_with(|| {
                 let mut tour = BuildingTour::new();
                 tour.portals.debug_tint = args.debug_portals;
-                // The loop's eyes are known: its LDIs are built before its first frame.
-                tour.prepare_walk(WALK_STEPS, ww, wh);
                 tour
             });
             tour.portals.debug_tint = toggled(tour.portals.debug_tint, debug_taps);
@@ -382,10 +380,6 @@ fn building_camera(start: Instant, ww: u32, wh: u32) -> engine::Camera {
     let steps = 10_000;
     BuildingTour::camera((t * (steps - 1) as f32) as usize, steps, ww, wh)
 }
-
-/// The eyes along the loop its LDIs are built ahead for (the frames between take the
-/// nearest built that serves them, or build).
-const WALK_STEPS: usize = 300;
 
 /// How long `f` takes.
 fn timed<T>(f: impl FnOnce() -> T) -> Duration {
