@@ -56,6 +56,18 @@ impl Warped {
             .for_each(|d| d.fill(HOLE));
     }
 
+    /// Makes the pixels of `[x0, y0, x1, y1]` (clamped to the image) holes: the only ones
+    /// to clear when nothing else was written since the last clear.
+    pub fn clear_rect(&mut self, [x0, y0, x1, y1]: [u32; 4]) {
+        let w = self.width as usize;
+        let (x0, x1) = (x0.min(self.width) as usize, x1.min(self.width) as usize);
+        for y in y0.min(self.height) as usize..y1.min(self.height) as usize {
+            let row = y * w + x0..y * w + x1.max(x0);
+            self.color[row.clone()].fill(0);
+            self.disparity[row].fill(HOLE);
+        }
+    }
+
     /// Columns, pixels.
     pub fn width(&self) -> u32 {
         self.width

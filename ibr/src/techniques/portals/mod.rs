@@ -29,6 +29,8 @@
 //! the box around the room's geometry); otherwise, come in through another door, it sees
 //! the opening from behind and the portal is culled.
 
+mod ahead;
+mod clip;
 pub mod marked;
 pub mod opening;
 mod views;
@@ -42,10 +44,12 @@ use crate::warp::ldi::{LdiBuilder, LdiLanding};
 use crate::warp::predict::{depth_range, parallax_px};
 use crate::warp::ImagePass;
 use crate::warp::{Prepared, WarpOptions, WarpStats, Warped, Warper};
+use clip::{clip_into, holes_inside};
 use engine::{run_packed_pass, Camera, Draw, FrameStats, Lighting, PassMode, PixelRect, Target};
 use glam::{Vec2, Vec3};
 pub use marked::{from_scene, MarkError, Marked};
 pub use opening::{Opening, Outline};
+use std::time::{Duration, Instant};
 use views::{build_cameras, ldi_size, room_box};
 
 /// What a portal's image holds (the three representations Rafferty et al. 98 compared).
@@ -156,6 +160,8 @@ pub struct Portal {
     /// The eye, pixels per radian and pixel tolerance the shown parts' levels of detail
     /// are chosen for ([`Part::mesh_seen`](crate::core::Part::mesh_seen)).
     seen: (Vec3, f32, f32),
+    /// LDIs built at loading along a known path ([`Portals::prepare_path`]).
+    ahead: Vec<ahead::Built>,
 }
 
 impl Portal {
@@ -177,6 +183,7 @@ impl Portal {
             rebuilds: 0,
             shown: Vec::new(),
             seen: (Vec3::ZERO, 0.0, 0.0),
+            ahead: Vec::new(),
         }
     }
 
@@ -276,10 +283,12 @@ impl Portal {
         lighting: &Lighting,
         capturer: &mut Capturer,
         builder: &mut LdiBuilder,
+        frame: &mut PortalFrame,
     ) -> (usize, bool) {
         let Some(b) = self.pending.as_mut() else {
             return (0, false);
         };
+        let start = Instant::now();
         let mut captured = 0;
         let mut draws = Vec::new();
         // The eye's image plane is parallel to the opening: for a flat image the opening's
@@ -304,6 +313,8 @@ impl Portal {
             b.landing.add(&image, config.tolerance);
             captured += 1;
         }
+        let merge = Instant::now();
+        frame.captures += merge - start;
         if b.landing.images() < b.views {
             return (captured, false);
         }
@@ -316,6 +327,7 @@ impl Portal {
         self.ldi = Some(ldi);
         self.built_at = Some((b.eye, b.reach, b.screen));
         self.rebuilds += 1;
+        frame.merges += merge.elapsed();
         (captured, true)
     }
 }
@@ -366,6 +378,15 @@ pub struct PortalFrame {
     pub holes: u64,
     /// Pixels the image pass offers the frame.
     pub pixels: u64,
+    /// Portals that took an LDI built at loading ([`Portals::prepare_path`]) instead of
+    /// starting a build.
+    pub ahead: u64,
+    /// Time capturing views for builds (wall clock).
+    pub captures: Duration,
+    /// Time merging the views into LDIs and preparing them for the warp.
+    pub merges: Duration,
+    /// Time clearing the composite, warping, filling and clipping into it.
+    pub warps: Duration,
 }
 
 impl PortalFrame {
@@ -391,8 +412,8 @@ pub struct Portals {
     capturer: Capturer,
     /// The warped pixels inside the openings, at the frame's camera.
     composite: Warped,
-    /// The rectangle of the frame the openings cover.
-    covered: Option<[u32; 4]>,
+    /// The rectangles of the frame the warped openings cover, one a portal.
+    covered: Vec<[u32; 4]>,
     last: PortalFrame,
 }
 
@@ -409,7 +430,7 @@ impl Portals {
             builder: LdiBuilder::default(),
             capturer: Capturer::new(),
             composite: Warped::new(0, 0, camera),
-            covered: None,
+            covered: Vec::new(),
             last: PortalFrame::default(),
         }
     }
@@ -430,8 +451,18 @@ impl Portals {
         let eye = camera.eye();
         let cfg = self.config;
         let mut frame = PortalFrame::default();
-        self.composite.reset(camera, width, height);
-        self.covered = None;
+        let t0 = Instant::now();
+        if (self.composite.width(), self.composite.height()) == (width, height) {
+            // Only the last frame's openings hold samples.
+            for &rect in &self.covered {
+                self.composite.clear_rect(rect);
+            }
+            self.composite.camera = *camera;
+        } else {
+            self.composite.reset(camera, width, height);
+        }
+        self.covered.clear();
+        frame.warps += t0.elapsed();
         let mut budget = cfg.views_per_frame;
         let ppr = px_per_radian(camera, height);
         for p in &mut self.portals {
@@ -458,27 +489,29 @@ impl Portals {
                 (Some(ldi), Some(range)) => parallax_px(range, &ldi.camera, camera, width, height),
                 _ => 0.0,
             };
-            let fresh = p.built_at.is_some_and(|(at, reach, built)| {
-                at.distance(eye) <= reach && screen <= 2 * built.max(32)
-            }) && predicted <= cfg.tolerance_px;
-            if !fresh {
+            if !fresh(p.built_at, predicted, eye, screen, &cfg) {
                 // A build under way is finished even if the eye has left its region (it is
                 // still nearer than the old one, and restarting could starve a fast eye);
                 // the next is started from wherever the eye is then.
-                if p.pending.is_none() {
-                    p.start(eye, screen, &cfg);
+                if p.pending.is_none() && p.take_ahead(camera, (width, height), screen, &cfg) {
+                    frame.ahead += 1;
+                } else {
+                    if p.pending.is_none() {
+                        p.start(eye, screen, &cfg);
+                    }
+                    let (views, done) = p.advance(
+                        budget,
+                        &cfg,
+                        lighting,
+                        &mut self.capturer,
+                        &mut self.builder,
+                        &mut frame,
+                    );
+                    budget -= views;
+                    frame.views += views as u64;
+                    frame.rebuilds += done as u64;
+                    frame.stale += !done as u64;
                 }
-                let (views, done) = p.advance(
-                    budget,
-                    &cfg,
-                    lighting,
-                    &mut self.capturer,
-                    &mut self.builder,
-                );
-                budget -= views;
-                frame.views += views as u64;
-                frame.rebuilds += done as u64;
-                frame.stale += !done as u64;
             }
             if p.ldi.is_none() {
                 p.mode = PortalMode::Geometry;
@@ -493,6 +526,7 @@ impl Portals {
                 Vec2::new(x1 as f32, y1 as f32),
             );
             let crop = camera.crop(lo, hi, width, height);
+            let t0 = Instant::now();
             self.warper.begin(&crop, x1 - x0, y1 - y0);
             frame.stats += self.warper.add_prepared(&p.prepared, &cfg.options);
             let out = self.warper.output_mut();
@@ -504,6 +538,7 @@ impl Portals {
                 frame.geometry += 1;
                 frame.gaping += 1;
                 frame.show(p.show_from(eye, ppr, cfg.lod_px));
+                frame.warps += t0.elapsed();
                 continue;
             }
             p.mode = PortalMode::Warped;
@@ -512,13 +547,26 @@ impl Portals {
             frame.holes += holes;
             self.filler.fill(out, cfg.fill, cfg.options.edge);
             frame.pixels += clip_into(&mut self.composite, out, &outline, self.debug_tint);
-            self.covered = Some(match self.covered {
-                None => outline.bounds,
-                Some([a, b, c, d]) => [a.min(x0), b.min(y0), c.max(x1), d.max(y1)],
-            });
+            self.covered.push(outline.bounds);
+            frame.warps += t0.elapsed();
         }
         self.last = frame;
     }
+}
+
+/// Whether an LDI built at `built_at` (eye, reach, the opening's size on screen then)
+/// still serves an eye at `eye` seeing the opening `screen` pixels across, the move's
+/// predicted parallax `predicted` pixels.
+fn fresh(
+    built_at: Option<(Vec3, f32, u32)>,
+    predicted: f32,
+    eye: Vec3,
+    screen: u32,
+    cfg: &PortalConfig,
+) -> bool {
+    built_at
+        .is_some_and(|(at, reach, built)| at.distance(eye) <= reach && screen <= 2 * built.max(32))
+        && predicted <= cfg.tolerance_px
 }
 
 /// Pixels per unit of tangent at the centre of `camera`'s image, `height` pixels tall
@@ -536,54 +584,6 @@ fn px_per_radian(camera: &Camera, height: u32) -> f32 {
 /// eyes did not look leaves whole walls, which the fill smeared with the doorway's
 /// edges (the grey and orange smudges of issue 39's `building_0033` to `_0037`).
 pub(crate) const MAX_LDI_HOLES: f64 = 0.05;
-
-/// Holes of `image` (the outline's rectangle) inside `outline` (before filling), and the
-/// pixels inside it.
-fn holes_inside(image: &Warped, outline: &Outline) -> (u64, u64) {
-    let w = image.width() as usize;
-    let [x0, y0, _, y1] = outline.bounds;
-    (y0..y1)
-        .map(|y| {
-            let (a, b) = outline.span(y);
-            let row = (y - y0) as usize * w;
-            let span = row + (a - x0) as usize..row + (b - x0) as usize;
-            let n = span.len() as u64;
-            let holes = image.disparity[span]
-                .iter()
-                .filter(|&&d| d.is_nan() || d < 0.0)
-                .count() as u64;
-            (holes, n)
-        })
-        .fold((0, 0), |(h, n), (a, b)| (h + a, n + b))
-}
-
-/// Copies the pixels of `from` (the outline's rectangle) inside `outline` into `into` (the
-/// frame; tinted green if asked); returns the filled pixels copied.
-fn clip_into(into: &mut Warped, from: &Warped, outline: &Outline, tint: bool) -> u64 {
-    let (w, fw) = (into.width() as usize, from.width() as usize);
-    let [x0, y0, _, y1] = outline.bounds;
-    let mut copied = 0;
-    for y in y0..y1 {
-        let (a, b) = outline.span(y);
-        let (i0, j0) = (y as usize * w, (y - y0) as usize * fw);
-        for x in a as usize..b as usize {
-            let (i, j) = (i0 + x, j0 + x - x0 as usize);
-            if from.is_filled(j) {
-                let c = from.color[j];
-                into.color[i] = if tint { tinted(c) } else { c };
-                into.disparity[i] = from.disparity[j];
-                copied += 1;
-            }
-        }
-    }
-    copied
-}
-
-/// A packed colour pushed toward green.
-fn tinted(c: u32) -> u32 {
-    let [r, g, b, a] = c.to_le_bytes();
-    u32::from_le_bytes([r / 2, g / 2 + a / 2, b / 2, a])
-}
 
 impl Technique for Portals {
     fn name(&self) -> &str {
@@ -609,16 +609,15 @@ impl Technique for Portals {
     }
 
     fn passes(&self, _view: &FrameView<'_>, target: &mut Target) -> FrameStats {
-        let Some([x0, y0, x1, y1]) = self.covered else {
-            return FrameStats::default();
-        };
-        let rect = PixelRect { x0, y0, x1, y1 };
-        run_packed_pass(
-            target,
-            rect,
-            &ImagePass::new(&self.composite),
-            PassMode::default(),
-        )
+        // One pass a warped opening's rectangle, not over the rectangle around them all
+        // (the wall between two doorways holds no sample).
+        let pass = ImagePass::new(&self.composite);
+        let mut stats = FrameStats::default();
+        for &[x0, y0, x1, y1] in &self.covered {
+            let rect = PixelRect { x0, y0, x1, y1 };
+            stats += run_packed_pass(target, rect, &pass, PassMode::default());
+        }
+        stats
     }
 
     fn counters(&self) -> Counters {

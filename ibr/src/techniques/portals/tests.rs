@@ -634,3 +634,37 @@ fn a_room_drawn_as_geometry_from_the_hall_sets_up_only_what_the_doorway_shows() 
         .count();
     assert_eq!(differ, 0, "pixels differ from the whole room's");
 }
+
+#[test]
+fn a_path_prepared_ahead_warps_every_frame_without_capturing() {
+    let path: Vec<Camera> = (0..8)
+        .map(|i| camera(Vec3::new(-1.5 + 0.4 * i as f32, 1.5, 4.0)))
+        .collect();
+    let mut p = Portals::new(vec![Portal::new(doorway(), room(500))], config());
+    p.config.views_per_frame = 1;
+    let built = p.prepare_path(path.iter().copied(), W, H, &lighting());
+    assert!(
+        built >= 1 && p.portals[0].rebuilds() == 0,
+        "{built} built ahead"
+    );
+    // The same walk building its LDIs in its frames, each whole in the frame it starts.
+    let mut live = Portals::new(vec![Portal::new(doorway(), room(500))], config());
+    for cam in &path {
+        let (frame, _) = render(&mut p, cam, &[]);
+        let f = p.last();
+        // Each frame takes the LDI built for it: no view captured, no stale image.
+        assert_eq!(
+            (f.views, f.rebuilds, f.stale, f.warped),
+            (0, 0, 0, 1),
+            "{f:?}"
+        );
+        // And draws what the walk building that LDI in its frame draws.
+        let (want, _) = render(&mut live, cam, &[]);
+        assert!(frame == want, "{cam:?}");
+    }
+    assert_eq!(p.portals[0].built_ahead(), built);
+    assert_eq!(live.portals[0].rebuilds(), built as u64);
+    // Off the path, the portal builds as before.
+    let (_, _) = render(&mut p, &camera(Vec3::new(2.5, 0.6, 1.5)), &[]);
+    assert_eq!(p.last().views, 1);
+}
