@@ -141,6 +141,15 @@ fn main() -> ExitCode {
     }
 }
 
+/// Writes `contents` to `dir/name`, creating `dir` first; the path written, or a message
+/// naming what could not be created or written.
+fn write_into(dir: &Path, name: &str, contents: &str) -> Result<PathBuf, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let path = dir.join(name);
+    std::fs::write(&path, contents).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    Ok(path)
+}
+
 /// Renders the outdoor camera path, the building walkthrough, the views and the world
 /// moment (or, with `--building`, `--views` or `--world`, that part alone).
 fn headless(args: &Args, dir: &Path) -> Result<(), String> {
@@ -191,10 +200,7 @@ fn write_summary(
     for line in summary.lines() {
         println!("  {line}");
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let path = dir.join("summary.json");
-    std::fs::write(&path, summary.json())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let path = write_into(dir, "summary.json", &summary.json())?;
     println!("wrote {}", path.display());
     Ok(())
 }
@@ -342,12 +348,8 @@ fn outdoor_headless(
     for line in breakdown.lines() {
         println!("  {line}");
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let csv = dir.join("tour_times.csv");
-    std::fs::write(&csv, breakdown.csv())
-        .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
-    let csv = dir.join("tour_counters.csv");
-    std::fs::write(&csv, counters).map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    write_into(dir, "tour_times.csv", &breakdown.csv())?;
+    write_into(dir, "tour_counters.csv", &counters)?;
     print_impostors(&show, args, &times, dir);
     let last = show.ibr.impostors.readout();
     println!("  last frame: {}", last.line());
@@ -587,10 +589,7 @@ fn views_headless(
     for line in breakdown.lines() {
         println!("  {line}");
     }
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let csv = dir.join("views_times.csv");
-    std::fs::write(&csv, breakdown.csv())
-        .map_err(|e| format!("cannot write {}: {e}", csv.display()))?;
+    write_into(dir, "views_times.csv", &breakdown.csv())?;
     if !args.no_save {
         println!("wrote {n} frames to {}/views_0000.png ...", dir.display());
     }
