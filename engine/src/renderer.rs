@@ -1,6 +1,7 @@
 //! The renderer: runs the stages in order and owns the scratch memory they share.
 //!
-//! `vertex` (per draw, parallel over vertices) -> `clip` + `setup` + `bin` (parallel over
+//! `cull` (draws whose bounding box lies wholly outside the frustum are dropped) -> `vertex`
+//! (parallel over draws and over vertices) -> `clip` + `setup` + `bin` (parallel over
 //! fixed chunks of triangles, each chunk writing only its own buffers) -> `raster` + `shade`
 //! (parallel over tiles, each worker owning one tile's memory) -> resolve into the target.
 //! Opaque and alpha-tested draws go first, sorted near to far by their bounding boxes (so
@@ -25,7 +26,7 @@ use crate::stats::{DrawCost, FrameStats};
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::tile::TileBuf;
 use crate::vertex::{self, Layout, VertexPos};
-use glam::{BVec3, Vec3};
+use glam::Vec3;
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -159,6 +160,10 @@ pub struct Renderer {
     costs: Vec<DrawCost>,
     /// The frame's directional lights' unit vectors (`shade::light_dirs`).
     light_dirs: Vec<Vec3>,
+    /// The frame's meshes' bounding boxes (culling and draw order).
+    boxes: cull::Boxes,
+    /// Transform every draw, in view or not (see [`Renderer::set_draw_culling`]).
+    culling_off: bool,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -224,6 +229,15 @@ impl Renderer {
     /// triangles are rasterized and rejected block by block as before.
     pub fn set_cluster_occlusion(&mut self, on: bool) {
         self.occlusion_off = !on;
+    }
+
+    /// Whether a draw whose bounding box lies wholly outside one plane of the view frustum
+    /// (near, far or a side of the image) is skipped before its vertices are transformed
+    /// (on by default). No pixel changes: every triangle of such a draw would be rejected
+    /// or cover no pixel centre. Counted in [`FrameStats::draws_culled`] and
+    /// [`FrameStats::triangles_draw_culled`] (their triangles stay counted as rejected).
+    pub fn set_draw_culling(&mut self, on: bool) {
+        self.culling_off = !on;
     }
 
     /// Where the last frame's time went, stage by stage (for profiling).
@@ -356,7 +370,13 @@ impl Renderer {
         peel: Option<&[f32]>,
     ) -> FrameStats {
         let start = Instant::now();
-        self.order_draws(&mut infos, camera);
+        let submitted = infos.len();
+        let mut culled_tris = 0;
+        let kept = self.order_draws(&mut infos, camera);
+        for info in &infos[kept..] {
+            culled_tris += info.mesh.triangle_count() as u64;
+        }
+        infos.truncate(kept);
         let vp = Viewport {
             width: target.width(),
             height: target.height(),
@@ -375,8 +395,12 @@ impl Renderer {
         };
         self.tile_stage(&frame, n_chunks, target);
         let mut total = FrameStats {
-            draws: infos.len() as u64,
-            triangles_in: nt as u64,
+            draws: submitted as u64,
+            draws_culled: (submitted - kept) as u64,
+            triangles_in: nt as u64 + culled_tris,
+            triangles_draw_culled: culled_tris,
+            triangles_rejected: culled_tris,
+            vertices_transformed: self.pos.len() as u64,
             ..Default::default()
         };
         for c in &self.chunks[..n_chunks] {
@@ -394,7 +418,7 @@ impl Renderer {
             times.raster += t.raster;
             times.resolve += t.resolve;
         }
-        self.gather_costs(infos.len());
+        self.gather_costs(submitted);
         self.infos = recycle(infos);
         self.last = total;
         self.times = times;
@@ -421,19 +445,7 @@ impl Renderer {
         }
         self.pos.resize(nv, VertexPos::default());
         self.vary.resize(nf, 0.0);
-        for info in infos.iter() {
-            let n = info.mesh.positions.len();
-            let s = info.layout.stride();
-            vertex::transform(
-                info.mesh,
-                info.transform,
-                view_proj,
-                info.layout,
-                vp,
-                &mut self.pos[info.vert_base..info.vert_base + n],
-                &mut self.vary[info.vary_base..info.vary_base + n * s],
-            );
-        }
+        vertex::transform_draws(infos, view_proj, vp, &mut self.pos, &mut self.vary);
         nt
     }
 
@@ -561,7 +573,9 @@ impl Renderer {
         }
     }
 
-    /// Opaque and alpha-tested draws first, near to far by the nearest view depth of their
+    /// Draws wholly outside the frustum (see [`Renderer::set_draw_culling`]) go last, and
+    /// the count of the others is returned: the frame keeps only those. Of the others,
+    /// opaque and alpha-tested draws first, near to far by the nearest view depth of their
     /// bounding box, so the hierarchical depth test and the per-pixel test reject what lies
     /// behind before it is shaded; then blended draws, far to near by the view depth of
     /// their bounding-box centre. An opaque draw without depth test is a barrier: it keeps
@@ -569,15 +583,23 @@ impl Renderer {
     /// submission order. The depth test is strict, so the pixels are those of submission
     /// order except where two draws' fragments have exactly the same depth (there the
     /// nearer-sorted draw wins).
-    fn order_draws(&mut self, infos: &mut [DrawInfo<'_>], camera: &Camera) {
+    fn order_draws(&mut self, infos: &mut [DrawInfo<'_>], camera: &Camera) -> usize {
         self.sort_keys.clear();
+        self.boxes.clear();
+        let clip_from_world = camera.clip_from_world();
         let mut barriers = 0u32;
+        let mut kept = infos.len();
         for (i, info) in infos.iter().enumerate() {
-            let depths = draw_depths(info, camera);
-            let key = if info.mode.alpha == AlphaMode::Blend {
+            let bounds = self.boxes.of(info.mesh);
+            let outside = |b| cull::outside_frustum(b, info.transform, clip_from_world);
+            let depths = bounds.map(|b| cull::draw_depths(b, info.transform, camera));
+            let key = if !self.culling_off && bounds.is_some_and(outside) {
+                kept -= 1;
+                (u32::MAX, 0.0)
+            } else if info.mode.alpha == AlphaMode::Blend {
                 // view z is negative in front; more negative = farther = drawn first
                 let z = depths.map_or(0.0, |(_, centre)| centre);
-                (u32::MAX, if z.is_finite() { z } else { 0.0 })
+                (u32::MAX - 1, if z.is_finite() { z } else { 0.0 })
             } else if !info.mode.depth_test {
                 barriers += 1;
                 (2 * barriers - 1, 0.0)
@@ -599,37 +621,11 @@ impl Renderer {
             }
             infos.swap(i, j);
         }
+        kept
     }
 }
 
-/// A draw's bounding box seen from `camera`: the distance in front of the eye to its
-/// nearest corner (0 when a corner lies beside or behind the eye), and the view z of its
-/// centre (negative in front). `None` for a draw without a finite vertex.
-fn draw_depths(info: &DrawInfo<'_>, camera: &Camera) -> Option<(f32, f32)> {
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in info.mesh.positions.iter().filter(|p| p.is_finite()) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if lo.x > hi.x {
-        return None;
-    }
-    let to_view = |p: Vec3| {
-        camera
-            .view
-            .transform_point3(info.transform.transform_point3(p))
-            .z
-    };
-    let mut nearest = f32::MIN;
-    for k in 0..8 {
-        let corner = Vec3::select(BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), hi, lo);
-        nearest = nearest.max(to_view(corner));
-    }
-    // The centre as blended draws were always ordered by (the same arithmetic).
-    let centre = to_view((lo + hi) * 0.5);
-    Some(((-nearest).max(0.0), centre))
-}
-
+mod cull;
 mod tiles;
 
 #[cfg(test)]

@@ -10,14 +10,23 @@ use std::time::Duration;
 pub struct FrameStats {
     /// Draws submitted.
     pub draws: u64,
+    /// Draws skipped whole before their vertices were transformed: their bounding box lies
+    /// wholly outside one plane of the view frustum (see
+    /// [`crate::Renderer::set_draw_culling`]).
+    pub draws_culled: u64,
     /// Triangles submitted.
     pub triangles_in: u64,
+    /// Of `triangles_rejected`, the triangles of the culled draws (never transformed nor
+    /// set up).
+    pub triangles_draw_culled: u64,
+    /// Vertices transformed (those of the draws not culled).
+    pub vertices_transformed: u64,
     /// Triangles that crossed the near, far or guard-band planes and were clipped.
     pub triangles_clipped: u64,
     /// Triangles dropped as back-facing.
     pub triangles_culled: u64,
     /// Triangles dropped as invalid (non-finite positions, zero area, wholly outside the
-    /// frustum, or covering no pixel centre).
+    /// frustum, or covering no pixel centre), those of culled draws included.
     pub triangles_rejected: u64,
     /// Triangles set up for binning: their pixel bounding box holds a pixel centre, and
     /// when it holds at most 4, at least one of them is covered.
@@ -60,7 +69,10 @@ pub struct FrameStats {
 impl AddAssign for FrameStats {
     fn add_assign(&mut self, o: Self) {
         self.draws += o.draws;
+        self.draws_culled += o.draws_culled;
         self.triangles_in += o.triangles_in;
+        self.triangles_draw_culled += o.triangles_draw_culled;
+        self.vertices_transformed += o.vertices_transformed;
         self.triangles_clipped += o.triangles_clipped;
         self.triangles_culled += o.triangles_culled;
         self.triangles_rejected += o.triangles_rejected;
