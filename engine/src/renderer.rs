@@ -26,7 +26,7 @@ use crate::stats::{DrawCost, FrameStats};
 use crate::target::{Target, TILE, TILE_PIXELS};
 use crate::tile::TileBuf;
 use crate::vertex::{self, Layout, VertexPos};
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -445,7 +445,7 @@ impl Renderer {
         }
         self.pos.resize(nv, VertexPos::default());
         self.vary.resize(nf, 0.0);
-        vertex::transform_draws(infos, view_proj, vp, &mut self.pos, &mut self.vary);
+        transform_draws(infos, view_proj, vp, &mut self.pos, &mut self.vary);
         nt
     }
 
@@ -623,6 +623,52 @@ impl Renderer {
         }
         kept
     }
+}
+
+/// Transforms the vertices of `infos` into `pos` and `vary`, which hold exactly those
+/// draws' vertices and varyings, laid out from `infos[0].vert_base` and
+/// `infos[0].vary_base` on as the draws' bases say. The draws are split in two runs of
+/// about equal vertex counts, done in parallel, down to single draws or runs of at most
+/// one chunk of vertices (most of a scene's draws are far smaller than a chunk, and one at
+/// a time they kept one core idle).
+fn transform_draws(
+    infos: &[DrawInfo<'_>],
+    clip_from_world: Mat4,
+    vp: &Viewport,
+    pos: &mut [VertexPos],
+    vary: &mut [f32],
+) {
+    let Some(first) = infos.first() else {
+        return;
+    };
+    let (v0, f0) = (first.vert_base, first.vary_base);
+    if infos.len() == 1 || pos.len() <= vertex::CHUNK {
+        for info in infos {
+            let (p, f) = (info.vert_base - v0, info.vary_base - f0);
+            let n = info.mesh.positions.len();
+            let s = info.layout.stride();
+            vertex::transform(
+                info.mesh,
+                info.transform,
+                clip_from_world,
+                info.layout,
+                vp,
+                &mut pos[p..p + n],
+                &mut vary[f..f + n * s],
+            );
+        }
+        return;
+    }
+    let half = v0 + pos.len() / 2;
+    let m = infos
+        .partition_point(|i| i.vert_base < half)
+        .clamp(1, infos.len() - 1);
+    let (pos_a, pos_b) = pos.split_at_mut(infos[m].vert_base - v0);
+    let (vary_a, vary_b) = vary.split_at_mut(infos[m].vary_base - f0);
+    rayon::join(
+        || transform_draws(&infos[..m], clip_from_world, vp, pos_a, vary_a),
+        || transform_draws(&infos[m..], clip_from_world, vp, pos_b, vary_b),
+    );
 }
 
 mod cull;

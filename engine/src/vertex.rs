@@ -4,13 +4,12 @@
 //! the snap once per vertex, not once per triangle corner, saves most of the front end's
 //! work on shared vertices.
 //!
-//! Runs in parallel over draws (split in halves of about equal vertex counts) and over
-//! fixed-size chunks of each large draw's vertices; every output element depends only on
-//! its own vertex and draw, so the result is the same at any thread count.
+//! Runs in parallel over fixed-size chunks of vertices (and, from the renderer, over
+//! draws); every output element depends only on its own vertex and draw, so the result is
+//! the same at any thread count.
 
 use crate::mesh::Mesh;
 use crate::space::{outcode, ScreenVert, Viewport};
-use crate::state::DrawInfo;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
@@ -44,7 +43,8 @@ pub const NRM: usize = 3;
 pub const UV: usize = 6;
 pub const COL: usize = 8;
 
-const CHUNK: usize = 4096;
+/// Vertices per parallel task.
+pub(crate) const CHUNK: usize = 4096;
 
 /// Outcode bit for a vertex with a non-finite position (its triangles are rejected).
 pub const NOT_FINITE: u8 = 0x80;
@@ -65,52 +65,6 @@ impl Default for VertexPos {
             code: NOT_FINITE,
         }
     }
-}
-
-/// Transforms the vertices of `infos` into `pos` and `vary`, which hold exactly those
-/// draws' vertices and varyings, laid out from `infos[0].vert_base` and
-/// `infos[0].vary_base` on as the draws' bases say. The draws are split in two runs of
-/// about equal vertex counts, done in parallel, down to single draws or runs of at most
-/// one chunk of vertices (most of a scene's draws are far smaller than a chunk, and one at
-/// a time they kept one core idle).
-pub(crate) fn transform_draws(
-    infos: &[DrawInfo<'_>],
-    clip_from_world: Mat4,
-    vp: &Viewport,
-    pos: &mut [VertexPos],
-    vary: &mut [f32],
-) {
-    let Some(first) = infos.first() else {
-        return;
-    };
-    let (v0, f0) = (first.vert_base, first.vary_base);
-    if infos.len() == 1 || pos.len() <= CHUNK {
-        for info in infos {
-            let (p, f) = (info.vert_base - v0, info.vary_base - f0);
-            let n = info.mesh.positions.len();
-            let s = info.layout.stride();
-            transform(
-                info.mesh,
-                info.transform,
-                clip_from_world,
-                info.layout,
-                vp,
-                &mut pos[p..p + n],
-                &mut vary[f..f + n * s],
-            );
-        }
-        return;
-    }
-    let half = v0 + pos.len() / 2;
-    let m = infos
-        .partition_point(|i| i.vert_base < half)
-        .clamp(1, infos.len() - 1);
-    let (pos_a, pos_b) = pos.split_at_mut(infos[m].vert_base - v0);
-    let (vary_a, vary_b) = vary.split_at_mut(infos[m].vary_base - f0);
-    rayon::join(
-        || transform_draws(&infos[..m], clip_from_world, vp, pos_a, vary_a),
-        || transform_draws(&infos[m..], clip_from_world, vp, pos_b, vary_b),
-    );
 }
 
 /// Transforms one draw's vertices. `pos` has one entry per vertex; `vary` has
