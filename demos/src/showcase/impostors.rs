@@ -77,24 +77,12 @@ const CLOUD_BUDGET: usize = 2;
 /// fragments shaded 2.22 -> 2.31 a pixel from the stale clouds drawn as particles, the
 /// clouds at 61.6 / 34.1 dB against 51.4 / 36.6 (BENCHMARKS.md, session 14). A cloud
 /// whose image is too stale meanwhile is drawn as its particles
-/// ([`Config::fallback_ratio`]), so no image over the tolerance is shown. This is the
-/// budget at 1280x720; other sizes earn it in proportion to their pixels
-/// ([`cloud_texels`]).
+/// ([`Config::fallback_ratio`]), so no image over the tolerance is shown. The same at
+/// every size: a share of the frame's pixels instead (4,096 at 640x360) was tried in
+/// session 17 and cut the 640x360 tour's cloud texels 1.69 M -> 0.52 M, but at 240x136
+/// the clouds' worst frame fell to 23.7 dB (BENCHMARKS.md, session 17).
 pub const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 4;
 
-/// Texels of cloud captures a `width` x `height` frame earns: [`CLOUD_TEXELS`] at 1280x720
-/// (921,600 pixels), the same share of the frame's pixels at any size (4,096 at 640x360).
-/// A cloud's image side follows its disc on screen, so at 640x360 the clouds' images are a
-/// quarter of their 720p area: with the same texels a frame (until session 17) the
-/// 640x360 tour captured one 128² cloud on nearly every frame (1.69 M texels, as many as
-/// at 720p: the `impostors` stage's median 4.0 to 4.4 ms quiet against 0.4 to 0.5 at
-/// 720p, BENCHMARKS.md session 16); 16,384 texels are 7.1% of a 640x360 frame's pixels and
-/// 1.8% of a 720p frame's. The clouds' captures are now the same share of the frame at
-/// any size; a cloud left stale meanwhile is drawn as its particles, as at 720p.
-pub fn cloud_texels(width: u32, height: u32) -> u64 {
-    let pixels = u64::from(width) * u64::from(height);
-    (CLOUD_TEXELS * pixels / (1280 * 720)).max(1)
-}
 /// The city's rebuilds a frame whose clouds captured nothing ([`city_rebuilds`]); at
 /// loading, every building may rebuild.
 pub const CITY_BUDGET: usize = 2;
@@ -272,9 +260,6 @@ impl Impostors {
         // more as the image is taller.
         let lines = (view.height as f32 / CLOUD_TOLERANCE_LINES).max(1.0);
         self.cloud_set.config.tolerance.pixels = Some(CLOUD_TOLERANCE_PX * lines);
-        if !self.loading {
-            self.cloud_set.texel_budget = Some(cloud_texels(view.width, view.height));
-        }
         let clouds = self
             .cloud_set
             .update(&mut self.clouds.clouds, camera, view.height, lighting);
