@@ -47,10 +47,14 @@ use crate::showcase::views::{Shown, ViewsTour};
 use crate::showcase::Showcase;
 use engine::{Camera, Draw, FrameOptions, Lighting, Renderer, Rgba, Target};
 use ibr::cloud::Cloud;
-use ibr::metrics::{self, ImageError, Options, Region};
+use ibr::metrics::{self, Image, ImageError, Options, Region};
 use ibr::portal::PortalMode;
 use ibr::subject::Subject;
 use ibr::technique::{FrameView, Technique};
+
+mod renders;
+
+use renders::{change, px, Reader, Renders};
 
 /// PSNR figures are capped here (an image identical to its geometry has an infinite one).
 pub const PSNR_CAP: f64 = 99.0;
@@ -281,9 +285,10 @@ pub struct Track {
     image_change: f64,
     truth_change: f64,
     mask: f64,
-    /// The last measured frame's image and geometry (premultiplied RGBA8), when the
-    /// frame before this one was measured.
-    prev: Option<Renders>,
+    /// The last measured frame's image and geometry (premultiplied RGBA8); `paired`: it
+    /// is the frame before this one's. Kept when not paired, its storage reused.
+    prev: Renders,
+    paired: bool,
 }
 
 /// One attraction's result, as the summary gives it.
@@ -308,19 +313,23 @@ impl Track {
 
     /// A frame not drawn from images: the next measured frame starts a new flicker pair.
     pub fn skip(&mut self) {
-        self.prev = None;
+        self.paired = false;
     }
 
-    /// Adds a frame's renders: its PSNR over its mask and its change since the last.
-    fn add_renders(&mut self, image: &Target, truth: &Target, r: Renders) -> Option<ImageError> {
+    /// Adds a frame's renders (`w` x `h`): its PSNR over its mask and its change since the
+    /// last. Paired, the renders are kept as the last frame's and `r` is given the storage
+    /// of the one before.
+    fn add_renders(&mut self, r: &mut Renders, (w, h): (u32, u32)) -> Option<ImageError> {
         let opts = Options {
             region: Region::Mask(&r.mask),
             ..Options::default()
         };
-        let e = match metrics::compare(image, truth, &opts) {
+        let e = Image::new(w, h, &r.image)
+            .and_then(|a| metrics::compare_rgba8(a, Image::new(w, h, &r.truth)?, &opts));
+        let e = match e {
             Ok(e) if r.mask.contains(&true) => e,
             _ => {
-                self.prev = None;
+                self.paired = false;
                 return None;
             }
         };
@@ -330,15 +339,17 @@ impl Track {
     }
 
     /// Adds a measured frame's renders to the flicker: its change since the last measured
-    /// frame, if that was the frame before.
-    fn pair(&mut self, r: Renders) {
-        if let Some(p) = &self.prev {
-            let (di, dt, m) = change(p, &r);
+    /// frame, if that was the frame before. `r` is kept as the last frame's, traded for
+    /// the storage of the one before.
+    fn pair(&mut self, r: &mut Renders) {
+        if self.paired {
+            let (di, dt, m) = change(&self.prev, r);
             self.image_change += di;
             self.truth_change += dt;
             self.mask += m;
         }
-        self.prev = Some(r);
+        std::mem::swap(&mut self.prev, r);
+        self.paired = true;
     }
 
     /// The flicker ratio so far (module docs); `None` before a measured pair.
@@ -363,55 +374,9 @@ impl Track {
     }
 }
 
-/// One measured frame's image and geometry renders (premultiplied RGBA8) and its mask.
-#[derive(Clone, Debug, Default)]
-struct Renders {
-    image: Vec<u8>,
-    truth: Vec<u8>,
-    mask: Vec<bool>,
-}
-
-impl Renders {
-    /// The renders and their mask: where either is covered, or with `base` (the occluder
-    /// alone), where either differs from it.
-    fn of(image: &Target, truth: &Target, base: Option<&Target>) -> Renders {
-        let (image, truth) = (
-            image.to_rgba8_premultiplied(),
-            truth.to_rgba8_premultiplied(),
-        );
-        let mask = match base.map(Target::to_rgba8_premultiplied) {
-            Some(b) => (0..b.len() / 4)
-                .map(|i| px(&image, i) != px(&b, i) || px(&truth, i) != px(&b, i))
-                .collect(),
-            None => (0..image.len() / 4)
-                .map(|i| px(&image, i)[3] > 0 || px(&truth, i)[3] > 0)
-                .collect(),
-        };
-        Renders { image, truth, mask }
-    }
-}
-
 /// `occluder`'s draws, then `d`'s.
 fn under<'a>(occluder: &[Draw<'a>], d: Vec<Draw<'a>>) -> Vec<Draw<'a>> {
     occluder.iter().copied().chain(d).collect()
-}
-
-fn px(b: &[u8], i: usize) -> &[u8] {
-    &b[4 * i..4 * i + 4]
-}
-
-/// Summed mean-RGB absolute change of the image and of the geometry from `prev` to `now`,
-/// over the union of their masks, and that union's pixel count.
-fn change(prev: &Renders, now: &Renders) -> (f64, f64, f64) {
-    let diff = |a: &[u8], b: &[u8]| (0..3).map(|c| a[c].abs_diff(b[c]) as f64).sum::<f64>() / 3.0;
-    let (mut di, mut dt, mut m) = (0.0, 0.0, 0.0);
-    let masks = prev.mask.iter().zip(&now.mask);
-    for (i, _) in masks.enumerate().filter(|(_, (a, b))| **a || **b) {
-        di += diff(px(&prev.image, i), px(&now.image, i));
-        dt += diff(px(&prev.truth, i), px(&now.truth, i));
-        m += 1.0;
-    }
-    (di, dt, m)
 }
 
 /// Environment variable naming a folder: when set, every measured frame of every
@@ -477,6 +442,10 @@ pub struct Meter {
     truth: Target,
     base: Target,
     stand: Stand,
+    /// The frame being measured's renders (traded with the tracks' last ones) and the
+    /// rows its targets are read through: kept frame to frame.
+    scratch: Renders,
+    reader: Reader,
 }
 
 impl Default for Meter {
@@ -489,6 +458,8 @@ impl Default for Meter {
             truth: Target::new(1, 1),
             base: Target::new(1, 1),
             stand: Stand::default(),
+            scratch: Renders::default(),
+            reader: Reader::default(),
         }
     }
 }
@@ -510,7 +481,7 @@ impl Meter {
             matches!(a.probe, Probe::Views(p) if p(&shown).is_some()) && self.last[k].is_some()
         });
         if let Some(k) = shown_k {
-            self.tracks[k].pair(Renders { image, truth, mask });
+            self.tracks[k].pair(&mut Renders { image, truth, mask });
         }
     }
 
@@ -577,12 +548,16 @@ impl Meter {
         if occluded {
             r.render(under(Vec::new()), cam, l, &mut self.base, &opts);
         }
-        let renders = Renders::of(&self.image, &self.truth, occluded.then_some(&self.base));
-        self.last[k] = self.tracks[k].add_renders(&self.image, &self.truth, renders.clone());
+        let mut r = std::mem::take(&mut self.scratch);
+        let base = occluded.then_some(&self.base);
+        r.fill(&self.image, &self.truth, base, &mut self.reader);
+        self.last[k] = self.tracks[k].add_renders(&mut r, (w, h));
+        self.scratch = r;
         if let (Some(dir), Some(e)) = (std::env::var_os(DUMP), self.last[k]) {
+            // Measured, so paired: the frame's renders are its track's last.
             let n = self.tracks[k].frames - 1;
             let name = ATTRACTIONS[k].name;
-            let r = &renders;
+            let r = &self.tracks[k].prev;
             dump(
                 dir.as_ref(),
                 name,
@@ -593,6 +568,13 @@ impl Meter {
                 (w, h),
             );
         }
+    }
+
+    /// Bytes the meter's per-frame buffers hold (their capacities: the tracks' last
+    /// renders, the scratch, the rows read), for the tests that check they are kept.
+    pub fn held(&self) -> usize {
+        let tracks: usize = self.tracks.iter().map(|t| t.prev.held()).sum();
+        tracks + self.scratch.held() + self.reader.held()
     }
 
     /// The last error measured of the attraction named `name` (`None`: not drawn from

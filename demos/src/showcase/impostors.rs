@@ -29,15 +29,17 @@
 //! blue).
 
 mod chart;
+mod readout;
 
 pub use chart::tour_chart;
+pub use readout::{CityReport, Readout, RunStats, HISTORY};
 
 use crate::city;
 use engine::procedural::{Terrain, XorShift};
 use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Report, Shape, Tolerance};
+use ibr::impostor::{Budget, Config, ImpostorSet, Shape, Tolerance};
 use ibr::layers::{self, LayerSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
@@ -60,7 +62,7 @@ pub const CLOUD_PARTICLES: usize = 200;
 pub const CLOUD_BASE: f32 = 30.0;
 /// Half the side of the square the clouds are scattered over (centred on the plaza).
 const CLOUD_AREA: f32 = 56.0;
-/// Refreshes a frame may do: the clouds' and the city's rebuilds (8 in all). A cloud's
+/// Cloud refreshes a frame may do (the city's rebuilds beside them: [`city_rebuilds`]). A cloud's
 /// capture (200 blended puffs over up to 256² texels) costs about four times a building's
 /// (measured 4.4 against 1.1 ms on a loaded core), and near a cloud the every-frame
 /// refreshes come first.
@@ -75,9 +77,32 @@ const CLOUD_BUDGET: usize = 2;
 /// fragments shaded 2.22 -> 2.31 a pixel from the stale clouds drawn as particles, the
 /// clouds at 61.6 / 34.1 dB against 51.4 / 36.6 (BENCHMARKS.md, session 14). A cloud
 /// whose image is too stale meanwhile is drawn as its particles
-/// ([`Config::fallback_ratio`]), so no image over the tolerance is shown.
-const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 4;
-const CITY_BUDGET: usize = 6;
+/// ([`Config::fallback_ratio`]), so no image over the tolerance is shown. The same at
+/// every size: a share of the frame's pixels instead (4,096 at 640x360) was tried in
+/// session 17 and cut the 640x360 tour's cloud texels 1.69 M -> 0.52 M, but at 240x136
+/// the clouds' worst frame fell to 23.7 dB (BENCHMARKS.md, session 17).
+pub const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 4;
+
+/// The city's rebuilds a frame whose clouds captured nothing ([`city_rebuilds`]); at
+/// loading, every building may rebuild.
+pub const CITY_BUDGET: usize = 2;
+/// The most images each of the city's image representations rebuilds in one call.
+const CITY_CAP: usize = 6;
+/// Until session 16 the city rebuilt up to 6 images a frame whatever the clouds did: the
+/// 640x360 tour's slowest frame (61, 66 to 80 ms quiet) was six 256² city captures and a
+/// cloud's on one frame, and frames 1 and 2 took six each (BENCHMARKS.md, session 16).
+/// The clouds and the city now share one budget of captures a frame: a frame whose
+/// clouds captured an image rebuilds at most one building, others [`CITY_BUDGET`] (a
+/// building's image is up to [`CITY_MAX_SIDE`]², four times the clouds' texels a frame).
+/// A deferred rebuild leaves its building to the planner's next frame (drawn as geometry
+/// meanwhile when no image is within the error budget).
+pub fn city_rebuilds(cloud_texels: u64) -> usize {
+    if cloud_texels > 0 {
+        1
+    } else {
+        CITY_BUDGET
+    }
+}
 /// Largest impostor texture sides. Near a cloud its image spans a wide field of view
 /// (up to 180 degrees at the switch to particles), so its centre gets few texels: at 128
 /// the switch pops (the no-pop test measures a frame difference 2.5 times the typical),
@@ -147,6 +172,8 @@ pub struct Impostors {
     pub city: Planner<MeshGroup>,
     last: Readout,
     run: RunStats,
+    /// Frames rendered at loading: the refresh budgets lifted ([`Impostors::set_loading`]).
+    loading: bool,
 }
 
 impl Impostors {
@@ -181,10 +208,10 @@ impl Impostors {
         let n = buildings.len();
         let reps: Vec<Box<dyn Representation<MeshGroup>>> = vec![
             Box::new(Geometry),
-            Box::new(city_impostors(config(CITY_BUDGET, CITY_MAX_SIDE), n)),
+            Box::new(city_impostors(config(CITY_CAP, CITY_MAX_SIDE), n)),
             Box::new(LayerSet::new(
                 layers::Config {
-                    budget: Budget::count(CITY_BUDGET),
+                    budget: Budget::count(CITY_CAP),
                     ..layers::Config::default()
                 },
                 n,
@@ -216,6 +243,7 @@ impl Impostors {
             clouds,
             last: Readout::default(),
             run: RunStats::default(),
+            loading: false,
         }
     }
 
@@ -235,6 +263,9 @@ impl Impostors {
         let clouds = self
             .cloud_set
             .update(&mut self.clouds.clouds, camera, view.height, lighting);
+        if !self.loading {
+            self.city.config.budgets.rebuilds = city_rebuilds(clouds.capture_texels);
+        }
         self.city.plan(view);
         self.last = Readout {
             clouds,
@@ -268,6 +299,7 @@ impl Impostors {
         self.cloud_set.config.budget.refreshes = clouds;
         self.cloud_set.texel_budget = texels;
         self.city.config.budgets.rebuilds = city;
+        self.loading = loading;
     }
 
     /// Gives the clouds a time budget for their refreshes each frame, and the city's planner
@@ -385,147 +417,6 @@ fn buildings(terrain: &Terrain) -> Vec<MeshGroup> {
     out
 }
 
-/// What one frame's city plan did (the planner's [`plan::Report`], as the readout needs it).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CityReport {
-    /// Buildings drawn by each representation ([`CITY_REPRESENTATIONS`]).
-    pub counts: [usize; 3],
-    pub culled: usize,
-    pub rebuilds: usize,
-    /// Rebuilds wanted but left for a later frame.
-    pub deferred: usize,
-    pub switches: usize,
-    /// Buildings drawn over the error budget.
-    pub over_budget: usize,
-    /// Largest predicted error, the mean over the buildings drawn as images, and the
-    /// budget (levels).
-    pub max_error: f32,
-    pub mean_image_error: f32,
-    pub budget: f32,
-}
-
-impl CityReport {
-    /// The planner's last frame.
-    pub fn of(city: &Planner<MeshGroup>) -> Self {
-        let r = &city.report;
-        let mut counts = [0; 3];
-        for (c, &n) in counts.iter_mut().zip(&r.counts) {
-            *c = n;
-        }
-        let images = city
-            .choices()
-            .iter()
-            .filter(|c| c.rep.is_some_and(|k| k != GEOMETRY));
-        let (sum, n) = images.fold((0.0, 0), |(s, n), c| (s + c.error, n + 1));
-        CityReport {
-            counts,
-            culled: r.culled,
-            rebuilds: r.rebuilds,
-            deferred: r.deferred,
-            switches: r.switches,
-            over_budget: r.over_budget,
-            max_error: r.max_error,
-            mean_image_error: if n == 0 { 0.0 } else { sum / n as f32 },
-            budget: city.config.budgets.error,
-        }
-    }
-
-    /// Buildings drawn as images (impostors and layers).
-    pub fn images(&self) -> usize {
-        self.counts[IMPOSTORS] + self.counts[LAYERS]
-    }
-
-    /// Largest predicted error over the budget (1 is the budget).
-    pub fn max_ratio(&self) -> f32 {
-        self.max_error / self.budget.max(1e-6)
-    }
-
-    /// The on-screen line (upper case, for the bitmap font).
-    pub fn line(&self) -> String {
-        let [g, i, l] = self.counts;
-        format!(
-            "CITY geometry {g} impostors {i} layers {l} | rebuilds {} switches {} | err {:.2}/{:.1}",
-            self.rebuilds, self.switches, self.max_error, self.budget
-        )
-        .to_uppercase()
-    }
-}
-
-/// What one frame's updates did: the clouds' impostors and the city's plan. The totals add
-/// the city's buildings to the clouds' counts: an image is a cloud's or a building's
-/// (impostor or layer), a refresh a cloud's or a rebuild of either kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Readout {
-    pub clouds: Report,
-    pub city: CityReport,
-}
-
-impl Readout {
-    pub fn refreshes(&self) -> usize {
-        self.clouds.refreshes + self.city.rebuilds
-    }
-    pub fn images(&self) -> usize {
-        self.clouds.images + self.city.images()
-    }
-    pub fn geometry(&self) -> usize {
-        self.clouds.geometry + self.city.counts[GEOMETRY]
-    }
-    pub fn culled(&self) -> usize {
-        self.clouds.culled + self.city.culled
-    }
-    /// Images wanted but not made this frame: invalid cloud impostors left stale, and the
-    /// city's deferred rebuilds.
-    pub fn stale(&self) -> usize {
-        self.clouds.stale + self.city.deferred
-    }
-    /// Images drawn with a predicted error over their tolerance (the city's: objects over
-    /// its error budget).
-    pub fn over_tolerance(&self) -> usize {
-        self.clouds.over_tolerance + self.city.over_budget
-    }
-    /// Clouds drawn as geometry because their image was too stale to show.
-    pub fn stale_fallbacks(&self) -> usize {
-        self.clouds.stale_fallbacks
-    }
-    /// Refreshes of clouds about to come into view.
-    pub fn prewarmed(&self) -> usize {
-        self.clouds.prewarmed
-    }
-    /// Largest predicted error ratio over the drawn images (1 is the tolerance; the
-    /// city's error over its budget).
-    pub fn max_ratio(&self) -> f32 {
-        self.clouds.max_ratio.max(self.city.max_ratio())
-    }
-    /// Mean predicted error ratio over the drawn images.
-    pub fn mean_ratio(&self) -> f32 {
-        let (a, b) = (&self.clouds, &self.city);
-        let n = a.images + b.images();
-        let city = b.mean_image_error / b.budget.max(1e-6);
-        if n == 0 {
-            0.0
-        } else {
-            (a.mean_ratio * a.images as f32 + city * b.images() as f32) / n as f32
-        }
-    }
-
-    /// The clouds' on-screen line (upper case, for the bitmap font); the city's is
-    /// [`CityReport::line`].
-    pub fn line(&self) -> String {
-        let c = &self.clouds;
-        format!(
-            "CLOUDS {}  IMG {}  GEO {}  REFRESH {}  STALE {}  ERR MAX {:.2} MEAN {:.2}",
-            c.images + c.geometry,
-            c.images,
-            c.geometry,
-            c.refreshes,
-            c.stale,
-            c.max_ratio,
-            c.mean_ratio
-        )
-        .to_uppercase()
-    }
-}
-
 /// The impostors' tolerance: predicted mean absolute 8-bit error over the subject.
 pub const TOLERANCE_LEVELS: f32 = 1.5;
 
@@ -545,84 +436,6 @@ pub const CLOUD_TOLERANCE_LINES: f32 = 360.0;
 /// tolerance itself no fresh image of a building is predicted within the hysteresis band
 /// (1.4 to 1.8 levels against 1.125), so the planner would draw the city as geometry only.
 pub const CITY_ERROR_LEVELS: f32 = 2.0 * TOLERANCE_LEVELS;
-
-/// Frames whose per-frame figures [`RunStats::per_frame`] keeps (the first ones).
-pub const HISTORY: usize = 1 << 14;
-
-/// Statistics over a run of frames: the clouds' and the city's together (as [`Readout`]'s
-/// totals), then the city's plan.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RunStats {
-    pub frames: usize,
-    /// The city's rebuilds, switches, and building-frames drawn by each representation
-    /// ([`CITY_REPRESENTATIONS`]) and over the error budget; its largest predicted error
-    /// (levels).
-    pub city_rebuilds: usize,
-    pub city_switches: usize,
-    pub city_frames: [usize; 3],
-    pub city_over_budget: usize,
-    pub city_max_error: f32,
-    pub refreshes: usize,
-    /// Most refreshes in one frame.
-    pub peak_refreshes: usize,
-    /// Invalid impostors left stale, summed over the frames.
-    pub stale: usize,
-    /// Largest predicted error ratio of a drawn image over the run.
-    pub max_ratio: f32,
-    /// Frames that showed an image over its tolerance, and over twice it.
-    pub frames_over: usize,
-    pub frames_over_twice: usize,
-    /// Stale cloud images replaced by geometry, summed over the frames; pre-warming
-    /// refreshes.
-    pub stale_fallbacks: usize,
-    pub prewarmed: usize,
-    /// Per frame (the first [`HISTORY`]): the largest predicted error ratio shown, and the
-    /// refreshes.
-    pub per_frame: Vec<(f32, usize)>,
-    /// Sum over the frames of the mean predicted ratio, and the frames with images.
-    ratio_sum: f64,
-    ratio_frames: usize,
-}
-
-impl RunStats {
-    fn add(&mut self, r: &Readout) {
-        self.frames += 1;
-        let city = &r.city;
-        self.city_rebuilds += city.rebuilds;
-        self.city_switches += city.switches;
-        for (t, n) in self.city_frames.iter_mut().zip(city.counts) {
-            *t += n;
-        }
-        self.city_over_budget += city.over_budget;
-        self.city_max_error = self.city_max_error.max(city.max_error);
-        self.refreshes += r.refreshes();
-        self.peak_refreshes = self.peak_refreshes.max(r.refreshes());
-        self.stale += r.stale();
-        self.max_ratio = self.max_ratio.max(r.max_ratio());
-        self.frames_over += (r.max_ratio() > 1.0) as usize;
-        self.frames_over_twice += (r.max_ratio() > 2.0) as usize;
-        self.stale_fallbacks += r.stale_fallbacks();
-        self.prewarmed += r.prewarmed();
-        if self.per_frame.len() < HISTORY {
-            // Reserved once, so recording never reallocates mid-run.
-            self.per_frame.reserve_exact(HISTORY - self.per_frame.len());
-            self.per_frame.push((r.max_ratio(), r.refreshes()));
-        }
-        if r.images() > 0 {
-            self.ratio_sum += r.mean_ratio() as f64;
-            self.ratio_frames += 1;
-        }
-    }
-
-    pub fn mean_refreshes(&self) -> f64 {
-        self.refreshes as f64 / self.frames.max(1) as f64
-    }
-
-    /// The mean over the frames (with images) of the mean predicted error ratio.
-    pub fn mean_ratio(&self) -> f64 {
-        self.ratio_sum / self.ratio_frames.max(1) as f64
-    }
-}
 
 #[cfg(test)]
 mod tests;

@@ -144,13 +144,21 @@ fn the_city_is_drawn_through_the_planner_and_settles_to_images() {
     );
     show.render(&mut renderer, &camera, &mut target, &opts());
     let first = show.ibr.impostors.readout();
-    assert_eq!(first.city.rebuilds, CITY_BUDGET, "{first:?}");
-    assert_eq!(first.city.images(), CITY_BUDGET, "{first:?}");
+    // The clouds' captures and the city's rebuilds share the frame's budget.
+    let budget = city_rebuilds(first.clouds.capture_texels);
+    assert!((1..=CITY_BUDGET).contains(&budget), "{first:?}");
+    assert_eq!(first.city.rebuilds, budget, "{first:?}");
+    assert_eq!(first.city.images(), budget, "{first:?}");
     assert!(first.city.counts[GEOMETRY] > 0, "{first:?}");
     assert_city_drawn_within_budget(&show.ibr.impostors.city, 0);
-    for k in 1..9 {
+    for k in 1..20 {
         show.render(&mut renderer, &camera, &mut target, &opts());
         assert_city_drawn_within_budget(&show.ibr.impostors.city, k);
+        let r = show.ibr.impostors.readout();
+        assert!(
+            r.city.rebuilds <= city_rebuilds(r.clouds.capture_texels),
+            "{k}: {r:?}"
+        );
     }
     let settled = show.ibr.impostors.readout();
     // Measured: 24 impostors and one building as geometry.
@@ -158,11 +166,11 @@ fn the_city_is_drawn_through_the_planner_and_settles_to_images() {
     assert_eq!(settled.refreshes(), 0, "a still camera refreshes nothing");
     assert!(settled.max_ratio() <= 1.0, "{settled:?}");
     let run = show.ibr.impostors.run_stats();
-    assert_eq!(run.frames, 9);
+    assert_eq!(run.frames, 20);
     assert_eq!(run.city_over_budget, 0);
     let drawn: usize = run.city_frames.iter().sum();
     let visible = settled.city.counts.iter().sum::<usize>();
-    assert_eq!(drawn, 9 * visible, "{run:?}");
+    assert_eq!(drawn, 20 * visible, "{run:?}");
     assert!(run.city_rebuilds >= settled.city.images(), "{run:?}");
     assert!(settled.line().starts_with("CLOUDS "));
     let line = settled.city.line();
@@ -210,8 +218,8 @@ fn the_debug_view_colours_buildings_by_their_representation() {
     let whites = first.chunks_exact(4).filter(|p| white(p)).count();
     assert!(whites > 100, "{whites} white pixels");
     // Settled: most buildings images, tinted (a few boxy ones near the eye draw faster
-    // as geometry).
-    for _ in 0..8 {
+    // as geometry). Two rebuilds a frame at most ([`CITY_BUDGET`]).
+    for _ in 0..19 {
         show.render(&mut renderer, &camera, &mut target, &opts());
     }
     let tinted = target.to_rgba8();
@@ -244,8 +252,10 @@ fn the_debug_view_colours_buildings_by_their_representation() {
     // Off again: the same frame as with the debug view never on.
     show.render(&mut renderer, &camera, &mut target, &opts());
     assert_eq!(target.to_rgba8(), plain);
+    // A fresh showcase after as many frames as `show` rendered before `plain` (21: the
+    // city settles at two rebuilds a frame, [`CITY_BUDGET`]).
     let mut fresh = Showcase::new();
-    for _ in 0..10 {
+    for _ in 0..21 {
         fresh.render(&mut renderer, &camera, &mut target, &opts());
     }
     assert_eq!(target.to_rgba8(), plain);
@@ -488,8 +498,18 @@ fn cloud_refreshes(show: &Showcase) -> Vec<u64> {
 /// [`CLOUD_TOLERANCE_LINES`]).
 #[test]
 fn cloud_captures_stay_within_their_texel_budget_at_720p() {
+    let (spent, frames) = cloud_captures_within_their_texel_budget(1280, 720);
+    eprintln!("720p: {spent} cloud texels captured on {frames} frames");
+}
+
+/// Runs the tour's impostor updates at `w` x `h` (120 frames); checks each frame's texels
+/// against the budget (module docs of the test above) and returns the texels captured and
+/// the frames that captured any.
+fn cloud_captures_within_their_texel_budget(w: u32, h: u32) -> (u64, usize) {
     let mut show = Showcase::new();
-    let (w, h, n) = (1280, 720, 120);
+    let n = 120;
+    let budget = CLOUD_TEXELS;
+    let mut frames = 0;
     let tolerance = CLOUD_TOLERANCE_PX * h as f32 / CLOUD_TOLERANCE_LINES;
     let (mut spent, mut borrowed, mut waited) = (0u64, 0u64, 0);
     for i in 0..n {
@@ -516,8 +536,9 @@ fn cloud_captures_stay_within_their_texel_budget_at_720p() {
         }
         let r = imps.readout().clouds;
         waited += (r.refreshes == 0 && r.stale > 0) as usize;
+        frames += (r.capture_texels > 0) as usize;
         assert!(
-            spent <= (i as u64 + 1) * CLOUD_TEXELS + borrowed,
+            spent <= (i as u64 + 1) * budget + borrowed,
             "frame {i}: {spent} texels captured, {borrowed} of them near"
         );
         for imp in imps.cloud_set.impostors.iter() {
@@ -530,4 +551,5 @@ fn cloud_captures_stay_within_their_texel_budget_at_720p() {
         spent > 0 && waited > 0,
         "{spent} texels, {waited} frames waited"
     );
+    (spent, frames)
 }
