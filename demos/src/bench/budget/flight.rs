@@ -43,6 +43,10 @@ pub(super) struct Sample {
     scatter: f32,
     /// The planner's own time (predicting and choosing), milliseconds.
     planning_ms: f32,
+    /// The per-node planner's captures: measured milliseconds (node images and the far
+    /// field), and the node images' triangles ([`ibr::plan::tree::TreeReport::captured_triangles`]).
+    capture_ms: f32,
+    captured: usize,
 }
 
 impl Probe for Planner<MeshGroup> {
@@ -63,6 +67,7 @@ impl Probe for Planner<MeshGroup> {
             bound: r.bound,
             scatter: r.scatter,
             planning_ms: r.planning_ms,
+            ..Sample::default()
         }
     }
 }
@@ -83,6 +88,8 @@ impl Probe for Hierarchy<MeshGroup> {
             predicted_mean: r.mean_error,
             predicted_max: r.max_error,
             planning_ms: r.planning_ms,
+            capture_ms: r.capture_ms,
+            captured: r.captured_triangles,
             ..Sample::default()
         }
     }
@@ -199,8 +206,9 @@ pub(super) fn fly_with<T: Probe>(
         if settings.stages {
             let (ft, st, fs) = (frame_loop.times, renderer.stage_times(), renderer.stats());
             let ms = |d: Duration| d.as_secs_f64() * 1e3;
-            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {}",
-                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended);
+            let p = out.probes.last().copied().unwrap_or_default();
+            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {} rebuilds {} capture_ms {:.2} captured {}",
+                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended, p.rebuilds, p.capture_ms, p.captured);
         }
         let mut all: Vec<Draw<'_>> = ground.clone();
         scene.objects.iter().for_each(|o| o.draws(&mut all));

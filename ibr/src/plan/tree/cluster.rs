@@ -21,6 +21,9 @@ pub struct Cluster<S> {
     triangles: usize,
     overdraw: f32,
     version: u64,
+    /// Deviation its captures may draw, as a fraction of its bounding sphere's diameter
+    /// (0: full meshes; [`Cluster::with_capture_lod`]).
+    capture_lod: f32,
 }
 
 impl<S: Subject> Cluster<S> {
@@ -44,6 +47,7 @@ impl<S: Subject> Cluster<S> {
             triangles: 0,
             overdraw: 1.0,
             version,
+            capture_lod: 0.0,
         };
         let (mut tris, mut over) = (0, 1.0f32);
         for s in c.iter() {
@@ -52,6 +56,27 @@ impl<S: Subject> Cluster<S> {
         }
         (c.triangles, c.overdraw) = (tris, over);
         c
+    }
+
+    /// The cluster whose [`Subject::draws`] (what an image of it captures) draws each
+    /// object at its coarsest level of detail deviating within `px` texels of an image
+    /// `side` texels across its bounding sphere (an image of the node is at most that side,
+    /// so its texels are at least that large); `px` 0 draws the full meshes.
+    pub(super) fn with_capture_lod(mut self, px: f32, side: u32) -> Self {
+        self.capture_lod = if side == 0 {
+            0.0
+        } else {
+            px.max(0.0) / side as f32
+        };
+        self
+    }
+
+    /// Triangles its captures draw ([`Subject::draws`], at the levels of detail of
+    /// [`Cluster::with_capture_lod`]); `scratch` is cleared and left holding the draws.
+    pub(super) fn captured_triangles<'s>(&'s self, scratch: &mut Vec<Draw<'s>>) -> usize {
+        scratch.clear();
+        self.draws(scratch);
+        scratch.iter().map(|d| d.mesh.triangle_count()).sum()
     }
 
     /// Its objects.
@@ -92,8 +117,19 @@ impl<S: Subject> Subject for Cluster<S> {
         }
     }
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
+        let tolerance = self.capture_lod * (self.hi - self.lo).length();
+        if tolerance <= 0.0 {
+            self.iter().for_each(|s| s.draws(out));
+            return;
+        }
+        // Seen from one unit off its bounding sphere at one pixel per `tolerance` radians,
+        // an object's level of detail deviates within `tolerance` world units (one pixel
+        // there): each part's distance is measured to its own sphere, which a one-part
+        // object's is; a part inside a larger object is judged from at least as far.
         for s in self.iter() {
-            s.draws(out);
+            let b = s.bounds();
+            let eye = b.center + Vec3::Y * (b.radius + 1.0);
+            s.draws_seen(eye, 1.0 / tolerance, 1.0, out);
         }
     }
     fn version(&self) -> u64 {

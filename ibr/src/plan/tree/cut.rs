@@ -50,6 +50,10 @@ pub struct TreeConfig {
     /// Objects drawn as geometry take their coarsest level of detail whose geometric
     /// deviation projects within this many pixels ([`Subject::draws_seen`]; 0: always full).
     pub lod_px: f32,
+    /// A node image's captures draw each object at its coarsest level of detail deviating
+    /// within `.0` texels of an image `.1` texels across the node (its largest image side):
+    /// (0, 0) draws the full meshes ([`Cluster::with_capture_lod`]).
+    pub capture_lod: (f32, u32),
 }
 
 impl Default for TreeConfig {
@@ -66,6 +70,7 @@ impl Default for TreeConfig {
             cost: CostModel::default(),
             far: None,
             lod_px: 0.5,
+            capture_lod: (0.0, 0),
         }
     }
 }
@@ -92,8 +97,10 @@ pub struct TreeReport {
     /// and their predicted milliseconds,
     pub rebuild_ms: f32,
     /// and measured ones (the captures' wall time: reported only, never planned with, so
-    /// the cut does not depend on the machine's load).
+    /// the cut does not depend on the machine's load),
     pub capture_ms: f32,
+    /// and the triangles their captures drew (at [`TreeConfig::capture_lod`]).
+    pub captured_triangles: usize,
     /// Images drawn over the budget (stale, the rebuild budget spent).
     pub over: usize,
     /// Predicted error of the images, weighted by their pixels,
@@ -184,6 +191,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 let (first, count) = (n.first, n.count);
                 let b = (n.lo, n.hi);
                 Cluster::new(objects.clone(), members.clone(), first, count, b, 0)
+                    .with_capture_lod(config.capture_lod.0, config.capture_lod.1)
             })
             .collect();
         let n = tree.nodes().len();
@@ -464,6 +472,10 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 continue;
             }
             batch.sort_unstable();
+            let mut scratch = Vec::new();
+            for &k in batch.iter() {
+                report.captured_triangles += self.clusters[k].captured_triangles(&mut scratch);
+            }
             rep.rebuild(batch, &mut self.clusters, view);
             for &k in batch.iter() {
                 if !self.held.contains(&(k as u32, r as u8)) {

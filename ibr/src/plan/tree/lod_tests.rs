@@ -15,6 +15,15 @@ const DEVIATION: f32 = 0.1;
 /// Statues at `z` (one each), a full 3000-triangle torus with a 200-triangle level of
 /// detail, and the planner over them with no image representation (all geometry).
 fn statues(zs: &[f32]) -> (Hierarchy<MeshGroup>, Arc<Mesh>, Arc<Mesh>) {
+    let (objects, full, coarse) = statue_objects(zs);
+    let h = Hierarchy::new(TreeConfig::default(), objects, |_| {
+        Vec::<Box<dyn Representation<Cluster<MeshGroup>>>>::new()
+    });
+    (h, full, coarse)
+}
+
+/// The statues of [`statues`], and their full and coarse meshes.
+fn statue_objects(zs: &[f32]) -> (Vec<MeshGroup>, Arc<Mesh>, Arc<Mesh>) {
     let full = Arc::new(procedural::torus_with_triangles(3000));
     let coarse = Arc::new(procedural::torus_with_triangles(200));
     let material = Arc::new(Material::default());
@@ -30,10 +39,7 @@ fn statues(zs: &[f32]) -> (Hierarchy<MeshGroup>, Arc<Mesh>, Arc<Mesh>) {
             }
         })
         .collect();
-    let h = Hierarchy::new(TreeConfig::default(), objects, |_| {
-        Vec::<Box<dyn Representation<Cluster<MeshGroup>>>>::new()
-    });
-    (h, full, coarse)
+    (objects, full, coarse)
 }
 
 fn eye_camera() -> Camera {
@@ -102,4 +108,35 @@ fn levels_of_detail_make_the_same_pixels_at_one_and_two_threads() {
     let (one, two) = (pool(1).install(run), pool(2).install(run));
     assert!(one.iter().any(|&b| b != 0));
     assert_eq!(one, two);
+}
+
+#[test]
+fn a_node_image_captures_each_object_at_its_level_within_half_a_texel() {
+    // Two statues 40 units apart in one node: its box's diagonal is about 43 units, so at
+    // half a texel of a 72-texel image the captures may deviate by 0.3 units (over the
+    // coarse torus's 0.1: coarse); at half a texel of 1,024 texels by 0.021 (full). Two
+    // statues side by side: a 4.3-unit diagonal, 0.030 units at 72 texels (full).
+    let (objects, full, coarse) = statue_objects(&[0.0, -40.0]);
+    let objects = Arc::new(objects);
+    let members = Arc::new(vec![0u32, 1]);
+    let node = |lo: Vec3, hi: Vec3, lod: (f32, u32)| {
+        Cluster::new(objects.clone(), members.clone(), 0, 2, (lo, hi), 0)
+            .with_capture_lod(lod.0, lod.1)
+    };
+    let (lo, hi) = (Vec3::new(-1.5, -1.5, -41.5), Vec3::new(1.5, 1.5, 1.5));
+    let meshes = |c: &Cluster<MeshGroup>| {
+        let mut draws = Vec::new();
+        let n = c.captured_triangles(&mut draws);
+        let coarse_drawn = draws.iter().filter(|d| std::ptr::eq(d.mesh, &*coarse));
+        let full_drawn = draws.iter().filter(|d| std::ptr::eq(d.mesh, &*full));
+        (n, coarse_drawn.count(), full_drawn.count())
+    };
+    assert_eq!(meshes(&node(lo, hi, (0.5, 72))), (400, 2, 0));
+    assert_eq!(meshes(&node(lo, hi, (0.5, 1024))), (6000, 0, 2));
+    assert_eq!(meshes(&node(lo, hi, (0.0, 0))), (6000, 0, 2));
+    assert_eq!(meshes(&node(lo, hi, (0.5, 0))), (6000, 0, 2));
+    let near = (Vec3::new(-1.5, -1.5, -0.2), Vec3::new(1.5, 1.5, 0.2));
+    assert_eq!(meshes(&node(near.0, near.1, (0.5, 72))), (6000, 0, 2));
+    // The triangles the planner counts for it stay the full meshes' (its cost as geometry).
+    assert_eq!(node(lo, hi, (0.5, 72)).triangle_count(), 6000);
 }
