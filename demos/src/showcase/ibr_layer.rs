@@ -86,9 +86,9 @@ pub const NEAR_SIZES: f32 = 3.5;
 /// of the screen so the same trees are at any resolution. Every coarse sprite costs some
 /// of the forest's PSNR (a crown's depth across held on 3 nodes, not 5, orders
 /// overlapping trees less well; session 17, 640 x 360 tour, 22,700 forest triangles a
-/// frame and 26.85 dB with none: under 32 px 18,900 and 26.83, under 16 / 48 px 2 / 3
-/// columns 14,480 and 26.79; 2 columns cost more for fewer triangles: under 32 px 17,000
-/// and 26.71).
+/// frame and 26.85 dB with none: with this (36 px) 17,555 and 26.83, under 16 / 48 px 2 /
+/// 3 columns 14,480 and 26.79; 2 columns cost more for fewer triangles: under 32 px
+/// 17,000 and 26.71).
 const COARSE_SCREEN: f32 = 0.1;
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
