@@ -22,6 +22,8 @@
 //! [`ViewAtlas::pivot`], [`super::mount`]). Sprites then hide one another, and meshes hide them, about where the
 //! objects' surfaces do, not at their centres' depth: two crowns overlapping on screen
 //! are ordered by their fronts, and a crown behind a near tree's mesh is cut along it.
+//! A sprite small on screen ([`ViewAtlas::coarse_px`]) takes every 2nd column of the
+//! grid's nodes (16 triangles, not 32), all of its rows: its outline stays the trim's.
 //!
 //! Trimmed ([`ViewAtlas::trims`], [`Trim`]): the grid's nodes are spread over the texels a
 //! view covers (its rows, and per node row its columns, grown a screen pixel), not the
@@ -107,6 +109,11 @@ pub struct ViewAtlas {
     /// (radians), for an object whose outline from above lies lower (a pine's lowest
     /// cone's rim); `None`: `pivot` at every elevation ([`ViewAtlas::pivot_at`]).
     pub pivot_steep: Option<(f32, f32)>,
+    /// The height on screen (pixels) under which [`ViewAtlas::relief`] draws a sprite with
+    /// every 2nd column of its grid's nodes, every row kept (3 x 5 nodes, 16 triangles,
+    /// not 32; the same outline, its depth across interpolated between 3 nodes, not 5).
+    /// 0 (as baked): every sprite the whole grid.
+    pub coarse_px: f32,
 }
 
 impl ViewAtlas {
@@ -237,6 +244,7 @@ impl ViewAtlas {
             mirror,
             pivot: 0.0,
             pivot_steep: None,
+            coarse_px: 0.0,
         }
     }
 
@@ -326,6 +334,14 @@ impl ViewAtlas {
             // The view's trim grown by TRIM_PX screen pixels at the sprite's distance.
             let pixel = view.pixel_size_at(b.position).unwrap_or(0.0);
             let by = Vec2::new(pixel / size.x, pixel / size.y) * TRIM_PX;
+            // A sprite under `coarse_px` tall on screen: every 2nd column of nodes; every
+            // row (the trim's outline, and so the fragments drawn, are the whole grid's).
+            let step = if size.y < self.coarse_px * pixel {
+                2
+            } else {
+                1
+            };
+            let cols = (RELIEF - 1) / step + 1;
             let trim = self.trims[view_index].grown(by);
             let offsets = &self.depth[view_index];
             let scale = 0.5 * size.x;
@@ -336,9 +352,9 @@ impl ViewAtlas {
             let lo = Vec2::new(b.region.min.x.min(b.region.max.x), b.region.min.y);
             let span = (b.region.max - b.region.min).abs();
             for gy in 0..RELIEF {
-                for col in 0..RELIEF {
-                    let gx = if flip { RELIEF - 1 - col } else { col };
-                    let t = trim.node(gx, gy);
+                for col in 0..cols {
+                    let gx = if flip { cols - 1 - col } else { col };
+                    let t = trim.node(gx * step, gy);
                     let x = if flip { 1.0 - t.x } else { t.x };
                     let v = (0.5 - t.y) * size.y;
                     let (up, o) = mount.place(v, surface(offsets, t) * scale, pivot);
@@ -350,8 +366,8 @@ impl ViewAtlas {
                     mesh.colors.push(b.tint);
                 }
             }
-            let cells = RELIEF as u32 - 1;
-            crate::core::grid_triangles(cells, cells, base, &mut mesh.indices);
+            let (cells_x, cells_y) = (cols as u32 - 1, RELIEF as u32 - 1);
+            crate::core::grid_triangles(cells_x, cells_y, base, &mut mesh.indices);
             n += 1;
         }
         n

@@ -275,3 +275,43 @@ fn a_sprite_seen_from_its_bake_direction_reproduces_the_mesh() {
         assert!(mean < 3.0, "view {k}: colour off by {mean} levels");
     }
 }
+
+/// A sprite under [`ViewAtlas::coarse_px`] tall on screen is drawn with every 2nd column
+/// of its grid's nodes (16 triangles), a taller one with the whole grid (32), as is every
+/// one when `coarse_px` is 0; each row ends at the trim's outline.
+#[test]
+fn a_sprite_small_on_screen_is_drawn_with_fewer_triangles() {
+    let mut a = atlas(4, &[0.0, 0.6]);
+    let side = 2.0 * a.bounds.radius;
+    // 120 pixels tall at 0.6 rad: a pixel is 0.00516 units a unit away.
+    let per_px = 2.0 * 0.3f32.tan() / 120.0;
+    let triangles = |a: &ViewAtlas, px: f32| {
+        let distance = side / (px * per_px);
+        let eye = Vec3::new(distance, 0.0, 0.0);
+        let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.6, 160.0 / 120.0);
+        let view = View::new(&cam, 120);
+        let item = Billboard {
+            region: a.region(eye),
+            ..Billboard::new(Vec3::ZERO, Facing::World { up: Vec3::Y }, Vec2::splat(side))
+        };
+        let mut mesh = Mesh::default();
+        assert_eq!(a.relief(&[item], &view, &mut mesh), 1);
+        let cols = mesh.positions.len() / RELIEF;
+        assert_eq!(cols * RELIEF, mesh.positions.len());
+        assert_eq!(mesh.indices.len(), 6 * (cols - 1) * (RELIEF - 1));
+        // Each row's ends are the trim's (grown by a screen pixel), whatever the columns
+        // between; a cell is a quarter of the atlas wide.
+        let trim = a.trims[a.view_of(item.region)];
+        for row in 0..RELIEF {
+            let (l, r) = (mesh.uvs[row * cols].x, mesh.uvs[row * cols + cols - 1].x);
+            let w = 0.25 * (trim.right[row] - trim.left[row]);
+            assert!((w - 1e-5..w + 0.07).contains(&(r - l)), "{px} px row {row}");
+        }
+        mesh.indices.len() / 3
+    };
+    assert_eq!(triangles(&a, 10.0), 32);
+    a.coarse_px = 20.0;
+    assert_eq!(triangles(&a, 10.0), 16);
+    assert_eq!(triangles(&a, 19.0), 16);
+    assert_eq!(triangles(&a, 40.0), 32);
+}
