@@ -79,7 +79,9 @@ impl Source<'_> {
             if lo >= hi {
                 continue;
             }
-            let color = self.dissolved(x, d);
+            // Dissolved once, when the first pixel is painted: the second image paints
+            // only what the first left empty or hid, and most of its pixels paint none.
+            let mut color = None;
             for t in lo as usize..hi as usize {
                 let there = row.disparity[t];
                 let paint = if first {
@@ -88,7 +90,7 @@ impl Source<'_> {
                     there < 0.0 || d > there + SAME
                 };
                 if paint {
-                    row.color[t] = color;
+                    row.color[t] = *color.get_or_insert_with(|| self.dissolved(x, d));
                     row.disparity[t] = d;
                     row.from_right[t] = !first;
                 }
@@ -217,7 +219,8 @@ fn margin(w: usize) -> usize {
 /// `written` holds, per row, the columns the last morph into `out` may have written
 /// (the rest of the row is empty): only those are cleared, and it is set to this morph's
 /// (at 1280x720 about 1.1 M of the canvas's 2.0 M pixels a frame, all cleared before).
-/// `reach` is [`row_reach`] of `left` and of `right`.
+/// `reach` is [`row_reach`] of `left` and of `right`. Without `depth` the canvas's depths
+/// are left empty (its colours are the same): a view shown as colour only needs none.
 /// Returns the labels, the canvas pixels morphed and the source pixels the maps looked at
 /// (work counters).
 #[allow(clippy::too_many_arguments)]
@@ -228,7 +231,7 @@ pub(super) fn morph(
     s: f32,
     camera: Camera,
     (rows, cols): (Range<usize>, Range<usize>),
-    labels: bool,
+    (labels, with_depth): (bool, bool),
     (out, written): (&mut DepthImage, &mut Vec<Range<usize>>),
 ) -> (Option<DepthImage>, u64, u64) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
@@ -325,7 +328,7 @@ pub(super) fn morph(
                 .iter_mut()
                 .zip(&row.disparity[window.clone()])
             {
-                if d > 0.0 {
+                if with_depth && d > 0.0 {
                     *z = depth_of(d);
                 }
             }
@@ -438,6 +441,11 @@ pub struct MorphScratch {
     pub canvas_time: Duration,
     /// The last view's time in the postwarp from the canvas to the view.
     pub postwarp_time: Duration,
+    /// Whether the view (and the canvas) carry depth; `true` unless set. Without it every
+    /// depth of [`MorphScratch::view`] is [`crate::core::EMPTY`] and its colours are the
+    /// same: a view shown as colour only (the showcase's) skips a nearest-depth lookup and
+    /// two divisions a pixel.
+    pub depth: bool,
 }
 
 impl Default for MorphScratch {
@@ -454,6 +462,7 @@ impl Default for MorphScratch {
             cleared_px: 0,
             canvas_time: Duration::ZERO,
             postwarp_time: Duration::ZERO,
+            depth: true,
         }
     }
 }
