@@ -309,7 +309,7 @@ pub(super) fn morph(
                 let (lr, rr) = (reach[0][y], reach[1][y]);
                 let mut looked = from_left.map(&mut row, true, window.clone(), lr)
                     + from_right.map(&mut row, false, window.clone(), rr);
-                let window = match crosses(&row.disparity, &window, &cols) {
+                let window = match crosses(row.disparity, &window, &cols) {
                     Some(wider) => {
                         // The whole row: what the first map wrote is cleared too.
                         row.color.fill(Premul::TRANSPARENT);
