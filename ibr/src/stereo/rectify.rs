@@ -157,18 +157,26 @@ fn wider(camera: &Camera, h: u32, h2: u32, w2: u32) -> engine::Projection {
 /// [`crate::core::EMPTY`]. Shared by the view morph's postwarp.
 pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> DepthImage {
     let mut out = DepthImage::new(w, h, *camera);
-    resample_into(image, camera, &mut out);
+    resample_into(image, camera, &mut out, true);
     out
 }
 
 /// [`resample`] into `out` (its size, its camera set to `camera`; every pixel written):
-/// no image allocated a frame where `out` is kept (the view morph's postwarp).
+/// no image allocated a frame where `out` is kept (the view morph's postwarp). Without
+/// `with_depth` every depth is left [`crate::core::EMPTY`] and only the colours are looked up
+/// (the same colours): a view shown as colour only skips each pixel's nearest depth,
+/// its two rays along the axes and a division (issue 39).
 ///
 /// A pixel's ray and where it falls in the original are a homography of its column
 /// within a row ([`RowMap`]): each row sets up its linear terms once (in `f64`) and each
 /// pixel evaluates them, instead of two 4x4 products and a division to world space a pixel
 /// (at 1280x720, 0.92 M pixels a frame of the views moment's morph, issue 39).
-pub(crate) fn resample_into(image: &DepthImage, camera: &Camera, out: &mut DepthImage) {
+pub(crate) fn resample_into(
+    image: &DepthImage,
+    camera: &Camera,
+    out: &mut DepthImage,
+    with_depth: bool,
+) {
     out.camera = *camera;
     let (w, h) = (out.width(), out.height());
     let (iw, ih) = (image.width(), image.height());
@@ -189,6 +197,9 @@ pub(crate) fn resample_into(image: &DepthImage, camera: &Camera, out: &mut Depth
                 };
                 if let Some(p) = bilinear(image, u, v) {
                     *color = p;
+                    if !with_depth {
+                        continue;
+                    }
                     // Nearest: depth does not blend across edges. `z_old` along the old
                     // axis is `t dir . old_forward` for the point `eye + t dir`.
                     let nx = u.round().clamp(0.0, iw as f32 - 1.0) as u32;

@@ -33,11 +33,13 @@ struct Source<'a> {
 }
 
 /// A row of the in-between view: colour, disparity (negative: empty) and whether it came
-/// from the second image.
+/// from the second image. The last two are a worker's buffers, kept from row to row: only
+/// the columns a row's maps look at are set empty first (the maps, the fill and the depths
+/// read no others; a row mapped out to its ends is set empty whole).
 struct Row<'a> {
     color: &'a mut [Premul],
-    disparity: Vec<f32>,
-    from_right: Vec<bool>,
+    disparity: &'a mut [f32],
+    from_right: &'a mut [bool],
 }
 
 impl Source<'_> {
@@ -79,7 +81,9 @@ impl Source<'_> {
             if lo >= hi {
                 continue;
             }
-            let color = self.dissolved(x, d);
+            // Dissolved once, when the first pixel is painted: the second image paints
+            // only what the first left empty or hid, and most of its pixels paint none.
+            let mut color = None;
             for t in lo as usize..hi as usize {
                 let there = row.disparity[t];
                 let paint = if first {
@@ -88,7 +92,7 @@ impl Source<'_> {
                     there < 0.0 || d > there + SAME
                 };
                 if paint {
-                    row.color[t] = color;
+                    row.color[t] = *color.get_or_insert_with(|| self.dissolved(x, d));
                     row.disparity[t] = d;
                     row.from_right[t] = !first;
                 }
@@ -217,7 +221,8 @@ fn margin(w: usize) -> usize {
 /// `written` holds, per row, the columns the last morph into `out` may have written
 /// (the rest of the row is empty): only those are cleared, and it is set to this morph's
 /// (at 1280x720 about 1.1 M of the canvas's 2.0 M pixels a frame, all cleared before).
-/// `reach` is [`row_reach`] of `left` and of `right`.
+/// `reach` is [`row_reach`] of `left` and of `right`. Without `with_depth` the canvas's
+/// depths are left empty (its colours are the same): a view shown as colour only needs none.
 /// Returns the labels, the canvas pixels morphed and the source pixels the maps looked at
 /// (work counters).
 #[allow(clippy::too_many_arguments)]
@@ -228,7 +233,7 @@ pub(super) fn morph(
     s: f32,
     camera: Camera,
     (rows, cols): (Range<usize>, Range<usize>),
-    labels: bool,
+    (labels, with_depth): (bool, bool),
     (out, written): (&mut DepthImage, &mut Vec<Range<usize>>),
 ) -> (Option<DepthImage>, u64, u64) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
@@ -263,74 +268,79 @@ pub(super) fn morph(
         .zip(made_rows.par_iter_mut())
         .zip(written.par_iter_mut())
         .enumerate()
-        .map(|(y, (((color, depth), made), written))| {
-            color[written.clone()].fill(Premul::TRANSPARENT);
-            depth[written.clone()].fill(EMPTY);
-            *written = 0..0;
-            if !rows.contains(&y) {
-                return (0, 0);
-            }
-            let span = y * w..(y + 1) * w;
-            let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
-            let (lrow, rrow) = (&lc[span.clone()], &rc[span]);
-            let mut row = Row {
-                color,
-                disparity: vec![-1.0; w],
-                from_right: vec![false; w],
-            };
-            // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
-            let from_left = Source {
-                color: lrow,
-                disparity: ld,
-                other: rrow,
-                other_disparity: rd,
-                shift: -s,
-                other_shift: -1.0,
-                weight: 1.0 - s,
-            };
-            let from_right = Source {
-                color: rrow,
-                disparity: rd,
-                other: lrow,
-                other_disparity: ld,
-                shift: 1.0 - s,
-                other_shift: 1.0,
-                weight: s,
-            };
-            let (lr, rr) = (reach[0][y], reach[1][y]);
-            let mut looked = from_left.map(&mut row, true, window.clone(), lr)
-                + from_right.map(&mut row, false, window.clone(), rr);
-            let window = match crosses(&row.disparity, &window, &cols) {
-                Some(wider) => {
-                    // The whole row: what the first map wrote is cleared too.
-                    row.color.fill(Premul::TRANSPARENT);
-                    row.disparity.fill(-1.0);
-                    row.from_right.fill(false);
-                    looked += from_left.map(&mut row, true, wider.clone(), lr)
-                        + from_right.map(&mut row, false, wider.clone(), rr);
-                    wider
+        .map_init(
+            || (vec![-1.0f32; w], vec![false; w]),
+            |(disparity, from_right), (y, (((color, depth), made), written))| {
+                color[written.clone()].fill(Premul::TRANSPARENT);
+                depth[written.clone()].fill(EMPTY);
+                *written = 0..0;
+                if !rows.contains(&y) {
+                    return (0, 0);
                 }
-                None => window.clone(),
-            };
-            // Each map paints within its window; the fill and the depths below too.
-            *written = window.clone();
-            if let Some(made) = made.as_deref_mut() {
-                Made::mapped(made, &row);
-            }
-            fill_from_farther(&mut row, window.clone());
-            if let Some(made) = made.as_deref_mut() {
-                Made::filled(made, &row);
-            }
-            for (z, &d) in depth[window.clone()]
-                .iter_mut()
-                .zip(&row.disparity[window.clone()])
-            {
-                if d > 0.0 {
-                    *z = depth_of(d);
+                let span = y * w..(y + 1) * w;
+                let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
+                let (lrow, rrow) = (&lc[span.clone()], &rc[span]);
+                disparity[window.clone()].fill(-1.0);
+                from_right[window.clone()].fill(false);
+                let mut row = Row {
+                    color,
+                    disparity,
+                    from_right,
+                };
+                // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
+                let from_left = Source {
+                    color: lrow,
+                    disparity: ld,
+                    other: rrow,
+                    other_disparity: rd,
+                    shift: -s,
+                    other_shift: -1.0,
+                    weight: 1.0 - s,
+                };
+                let from_right = Source {
+                    color: rrow,
+                    disparity: rd,
+                    other: lrow,
+                    other_disparity: ld,
+                    shift: 1.0 - s,
+                    other_shift: 1.0,
+                    weight: s,
+                };
+                let (lr, rr) = (reach[0][y], reach[1][y]);
+                let mut looked = from_left.map(&mut row, true, window.clone(), lr)
+                    + from_right.map(&mut row, false, window.clone(), rr);
+                let window = match crosses(row.disparity, &window, &cols) {
+                    Some(wider) => {
+                        // The whole row: what the first map wrote is cleared too.
+                        row.color.fill(Premul::TRANSPARENT);
+                        row.disparity.fill(-1.0);
+                        row.from_right.fill(false);
+                        looked += from_left.map(&mut row, true, wider.clone(), lr)
+                            + from_right.map(&mut row, false, wider.clone(), rr);
+                        wider
+                    }
+                    None => window.clone(),
+                };
+                // Each map paints within its window; the fill and the depths below too.
+                *written = window.clone();
+                if let Some(made) = made.as_deref_mut() {
+                    Made::mapped(made, &row);
                 }
-            }
-            (window.len() as u64, looked as u64)
-        })
+                fill_from_farther(&mut row, window.clone());
+                if let Some(made) = made.as_deref_mut() {
+                    Made::filled(made, &row);
+                }
+                for (z, &d) in depth[window.clone()]
+                    .iter_mut()
+                    .zip(&row.disparity[window.clone()])
+                {
+                    if with_depth && d > 0.0 {
+                        *z = depth_of(d);
+                    }
+                }
+                (window.len() as u64, looked as u64)
+            },
+        )
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
     (made, morphed, looked)
 }
@@ -438,6 +448,11 @@ pub struct MorphScratch {
     pub canvas_time: Duration,
     /// The last view's time in the postwarp from the canvas to the view.
     pub postwarp_time: Duration,
+    /// Whether the view (and the canvas) carry depth; `true` unless set. Without it every
+    /// depth of [`MorphScratch::view`] is [`crate::core::EMPTY`] and its colours are the
+    /// same: a view shown as colour only (the showcase's) skips a nearest-depth lookup and
+    /// two divisions a pixel.
+    pub depth: bool,
 }
 
 impl Default for MorphScratch {
@@ -454,6 +469,7 @@ impl Default for MorphScratch {
             cleared_px: 0,
             canvas_time: Duration::ZERO,
             postwarp_time: Duration::ZERO,
+            depth: true,
         }
     }
 }

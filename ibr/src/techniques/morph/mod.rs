@@ -228,7 +228,7 @@ impl ViewMorph {
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, ..) = self.parallel(s, true, (&mut image, &mut Vec::new()));
+        let (made, ..) = self.parallel(s, (true, true), (&mut image, &mut Vec::new()));
         let view = self.postwarp(&image, s);
         let made = made.expect("labels asked for");
         (view, forward::Made::count(&self.postwarp(&made, s)))
@@ -246,14 +246,15 @@ impl ViewMorph {
     /// [`ViewMorph::view`] into `scratch` (the view in [`MorphScratch::view`]): a morph
     /// shown frame after frame keeps its canvas and its view instead of allocating them
     /// every frame (at 1280x720 a 2-million-pixel canvas, 40 MB, and the view, 18 MB).
-    /// The same pixels as [`ViewMorph::view`].
+    /// The same pixels as [`ViewMorph::view`] (its colours only, every depth empty, when
+    /// [`MorphScratch::depth`] is off).
     pub fn view_into(&self, s: f32, scratch: &mut MorphScratch) -> Labels {
         let s = s.clamp(0.0, 1.0);
         let start = Instant::now();
         scratch.cleared_px = scratch.written.iter().map(|r| r.len() as u64).sum();
         let canvas = (&mut scratch.parallel, &mut scratch.written);
         (_, scratch.canvas_px, scratch.band_px, scratch.source_px) =
-            self.parallel(s, false, canvas);
+            self.parallel(s, (false, scratch.depth), canvas);
         let postwarp = Instant::now();
         scratch.canvas_time = postwarp - start;
         let camera = self.camera_at(s);
@@ -263,7 +264,7 @@ impl ViewMorph {
                 if (scratch.view.width(), scratch.view.height()) != (self.width, self.height) {
                     scratch.view = DepthImage::new(self.width, self.height, camera);
                 }
-                resample_into(&scratch.parallel, &camera, &mut scratch.view);
+                resample_into(&scratch.parallel, &camera, &mut scratch.view, scratch.depth);
             }
         }
         scratch.postwarp_time = postwarp.elapsed();
@@ -274,19 +275,20 @@ impl ViewMorph {
     /// postwarp as the view, then counted.
     pub fn stats(&self, labels: &Labels) -> MorphStats {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, ..) = self.parallel(labels.s, true, (&mut image, &mut Vec::new()));
+        let (made, ..) = self.parallel(labels.s, (true, true), (&mut image, &mut Vec::new()));
         let made = made.expect("labels asked for");
         forward::Made::count(&self.postwarp(&made, labels.s))
     }
 
     /// The parallel in-between view a fraction `s` of the way (the rows and columns the
     /// postwarp reads) into `out`, with its labels when `labels` is set (every column
-    /// then), the canvas pixels morphed, and the pixels of the rows the postwarp reads
-    /// (what was morphed before the columns were cut: a work counter's reference).
+    /// then) and its depths when `depth` is, the canvas pixels morphed, and the pixels of
+    /// the rows the postwarp reads (what was morphed before the columns were cut: a work
+    /// counter's reference).
     fn parallel(
         &self,
         s: f32,
-        labels: bool,
+        (labels, depth): (bool, bool),
         out: (&mut DepthImage, &mut Vec<Range<usize>>),
     ) -> (Option<DepthImage>, u64, u64, u64) {
         let s = s.clamp(0.0, 1.0);
@@ -306,7 +308,7 @@ impl ViewMorph {
             s,
             parallel,
             seen,
-            labels,
+            (labels, depth),
             out,
         );
         (made, morphed, band, looked)

@@ -397,7 +397,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         // The reference: every row of the parallel view morphed, with its labels, then
         // turned.
         let mut all = DepthImage::new(0, 0, a);
-        morph.parallel(s, false, (&mut all, &mut Vec::new()));
+        morph.parallel(s, (false, true), (&mut all, &mut Vec::new()));
         let parallel = all.camera;
         let cols = morph.prewarped().left.width() as usize;
         let (made, morphed, _) = forward::morph(
@@ -407,7 +407,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
             s,
             parallel,
             (0..rows, 0..cols),
-            true,
+            (true, true),
             (&mut all, &mut Vec::new()),
         );
         assert_eq!(
@@ -526,7 +526,7 @@ fn sources_beyond_a_rows_reach_are_skipped_and_the_canvas_is_the_same() {
             s,
             parallel,
             seen,
-            false,
+            (false, true),
             (&mut all, &mut Vec::new()),
         );
         assert_eq!(all, scratch.parallel, "s {s}");
@@ -540,4 +540,38 @@ fn sources_beyond_a_rows_reach_are_skipped_and_the_canvas_is_the_same() {
     }
     // This small scene's disparities span most of its rows (the showcase's skip more).
     assert!(bounded_px < unbounded_px, "{bounded_px} of {unbounded_px}");
+}
+
+#[test]
+fn a_view_without_depth_has_the_same_colours_and_no_depth() {
+    // The showcase shows the view's colours only: without depth the canvas and the
+    // postwarp skip it, and the colours are the same pixel for pixel (the kept canvas
+    // too, with and without depth in turn), every depth empty.
+    let (a, b) = verged();
+    let v = views(&[a, b]);
+    let morph = ViewMorph::new(&v[0], &v[1], Correspondence::Depth).expect("morphable");
+    let mut colour = MorphScratch {
+        depth: false,
+        ..MorphScratch::default()
+    };
+    let mut both = MorphScratch::default();
+    for (k, s) in [0.0, 0.3, 0.7, 1.0, 0.5].into_iter().enumerate() {
+        morph.view_into(s, &mut colour);
+        morph.view_into(s, &mut both);
+        assert_eq!(colour.view.color, both.view.color, "s {s}");
+        assert_eq!(colour.parallel.color, both.parallel.color, "s {s}");
+        assert!(
+            colour.view.depth.iter().all(|&z| z == crate::core::EMPTY),
+            "s {s}"
+        );
+        assert!(both.view.depth.iter().any(|z| z.is_finite()), "s {s}");
+        assert_eq!(colour.canvas_px, both.canvas_px, "s {s}");
+        // Depth on again for a frame: the kept canvas's depths are a fresh one's.
+        if k == 2 {
+            colour.depth = true;
+            morph.view_into(s, &mut colour);
+            assert_eq!(colour.view, both.view, "s {s}");
+            colour.depth = false;
+        }
+    }
 }

@@ -10,7 +10,7 @@
 use crate::core::{Capturer, DepthImage};
 use crate::stereo::rectify::{bilinear, pixel_ray};
 use engine::{Camera, Draw, Lighting, Premul};
-use glam::{Mat4, Vec2, Vec3};
+use glam::{DVec3, DVec4, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 use std::ops::Range;
 
@@ -295,23 +295,25 @@ impl CubeMap {
         out
     }
 
-    /// Fills the pixels of `frame` that show nothing with the panorama, as its sky.
+    /// Fills the pixels of `frame` that show nothing with the panorama, as its sky. Each
+    /// row's rays are linear in the column ([`RowRays`]): a pixel's direction is two
+    /// multiply-adds a component, not a 4x4 product and a division (the lookup is the same
+    /// up to rounding: it depends on the direction, not its length).
     pub fn behind(&self, frame: &mut DepthImage) {
         let (w, h) = (frame.width(), frame.height());
-        let to_world = frame.camera.gl_view_proj().inverse();
-        let eye = frame.camera.eye();
-        // Only the empty pixels are looked up (the same colour `view` gives them).
+        let rays = RowRays::new(&frame.camera, (w, h));
+        // Only the empty pixels are looked up.
         frame
             .color
             .par_chunks_mut(w.max(1) as usize)
             .enumerate()
             .for_each(|(y, row)| {
+                let ray = rays.row(y as u32);
                 for (x, c) in row.iter_mut().enumerate() {
                     if c.a > 0.0 {
                         continue;
                     }
-                    let dir = pixel_ray(&to_world, eye, (x as u32, y as u32), (w, h));
-                    *c = self.sample(dir).unwrap_or(Premul::TRANSPARENT);
+                    *c = self.sample(ray.at(x)).unwrap_or(Premul::TRANSPARENT);
                 }
             });
     }
@@ -326,6 +328,60 @@ impl CubeMap {
             return 0.0;
         }
         focal_px * (eye - self.centre).length() / nearest
+    }
+}
+
+/// The rays through the pixel centres of a `w` x `h` view by a camera, a row at a time:
+/// [`pixel_ray`] is `far / far.w - eye` for the pixel's far-plane point `far`, which is
+/// linear in the column; times `far.w` (its sign kept) the ray is linear too.
+struct RowRays {
+    /// The clip-to-world matrix's columns for x and for y, and the sum of its columns for
+    /// z and w (the far plane, `w = 1`).
+    col_x: DVec4,
+    col_y: DVec4,
+    rest: DVec4,
+    eye: DVec3,
+    size: (f64, f64),
+}
+
+/// One row's rays, `a + b x` times the sign of `far.w` (likewise linear).
+struct RowRay {
+    ray: (DVec3, DVec3),
+    far_w: (f64, f64),
+}
+
+impl RowRays {
+    fn new(camera: &Camera, (w, h): (u32, u32)) -> RowRays {
+        let to_world = camera.gl_view_proj().as_dmat4().inverse();
+        RowRays {
+            col_x: to_world.x_axis,
+            col_y: to_world.y_axis,
+            rest: to_world.z_axis + to_world.w_axis,
+            eye: camera.eye().as_dvec3(),
+            size: (w.max(1) as f64, h.max(1) as f64),
+        }
+    }
+
+    fn row(&self, y: u32) -> RowRay {
+        let (w, h) = self.size;
+        let ndc_y = 1.0 - 2.0 * (y as f64 + 0.5) / h;
+        let far_a = self.col_x * (1.0 / w - 1.0) + self.col_y * ndc_y + self.rest;
+        let far_b = self.col_x * (2.0 / w);
+        let ray = |f: DVec4| f.truncate() - self.eye * f.w;
+        RowRay {
+            ray: (ray(far_a), ray(far_b)),
+            far_w: (far_a.w, far_b.w),
+        }
+    }
+}
+
+impl RowRay {
+    /// Column `x`'s ray (as [`pixel_ray`]'s, times a positive factor).
+    #[inline]
+    fn at(&self, x: usize) -> Vec3 {
+        let x = x as f64;
+        let sign = (self.far_w.0 + self.far_w.1 * x).signum();
+        ((self.ray.0 + self.ray.1 * x) * sign).as_vec3()
     }
 }
 

@@ -137,6 +137,46 @@ fn the_panorama_fills_only_what_the_frame_left_empty() {
 }
 
 #[test]
+fn the_row_stepped_rays_fill_what_each_pixels_own_ray_shows() {
+    // `behind` steps each row's rays along the row; `view` takes each pixel's own ray
+    // (a 4x4 product and a division): the same colours but for rounding, looking at the
+    // cards and turned and tilted across the seams of the faces beside them.
+    with_draws(|draws| {
+        let map = CubeMap::capture(draws, &Lighting::default(), CENTRE, 64, 0.1, 50.0);
+        for dir in [
+            Vec3::NEG_Z,
+            Vec3::new(0.5, 0.2, -1.0),
+            Vec3::new(-0.6, -0.3, -1.0),
+        ] {
+            let camera = looking(CENTRE, dir);
+            let mut frame = DepthImage::new(W, H, camera);
+            map.behind(&mut frame);
+            let view = map.view(&camera, W, H);
+            let diffs: Vec<f32> = (frame.color.iter().zip(&view.color))
+                .map(|(a, b)| {
+                    (a.r - b.r)
+                        .abs()
+                        .max((a.g - b.g).abs())
+                        .max((a.b - b.b).abs())
+                        .max((a.a - b.a).abs())
+                })
+                .collect();
+            let worst = diffs.iter().copied().fold(0.0f32, f32::max);
+            let off = diffs.iter().filter(|&&d| d > 1e-3).count();
+            let seen = view.color.iter().filter(|c| c.a > 0.0).count();
+            assert!(seen * 4 > diffs.len(), "{dir}: {seen} pixels see the scene");
+            eprintln!(
+                "{dir}: worst {worst}, {off} of {} pixels past 1e-3",
+                diffs.len()
+            );
+            // A ray on a seam between faces may round onto the other face: a few pixels.
+            assert!(off * 1000 <= diffs.len(), "{dir}: {off} pixels past 1e-3");
+            assert!(worst < 0.05, "{dir}: {worst}");
+        }
+    });
+}
+
+#[test]
 fn a_cylinder_turns_in_place_all_the_way_round_within_its_band() {
     with_draws(|draws| {
         let map = CubeMap::capture(draws, &Lighting::default(), CENTRE, 256, 0.1, 50.0);
