@@ -13,7 +13,8 @@ fn wall(d: f32) -> Mat4 {
     Mat4::from_translation(Vec3::new(0.0, 0.0, 5.0 - d)) * Mat4::from_scale(Vec3::splat(d))
 }
 
-fn quad() -> Mesh {
+/// A unit quad facing +z (the camera sits at z = 5 looking down -z).
+pub(super) fn quad() -> Mesh {
     Mesh {
         positions: vec![
             Vec3::new(-1.0, -1.0, 0.0),

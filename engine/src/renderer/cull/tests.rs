@@ -2,26 +2,11 @@
 //! reach into the view are kept, and the pixels are those of a frame without culling at
 //! any thread count.
 
-use super::super::tests::render_with;
+use super::super::tests::{quad, render_with};
 use crate::material::Material;
-use crate::mesh::Mesh;
 use crate::scene::Draw;
 use crate::{Renderer, Rgba};
 use glam::{Mat4, Vec3};
-
-/// A unit quad facing +z (the camera sits at z = 5 looking down -z).
-fn quad() -> Mesh {
-    Mesh {
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        indices: vec![0, 1, 2, 0, 2, 3],
-        ..Default::default()
-    }
-}
 
 fn at(x: f32, y: f32, z: f32) -> Mat4 {
     Mat4::from_translation(Vec3::new(x, y, z))
