@@ -126,7 +126,7 @@ impl TourLod {
             return;
         }
         let p = self.plan.clone();
-        let whole = scene.instances[p.terrain_instance].clone();
+        let whole = scene.instances[p.terrain_instance];
         let patches = terrain_patches(&scene.meshes[whole.mesh], p.cells);
         for (k, levels) in patches.into_iter().enumerate() {
             let bounds = levels[0].0.bounding_box().unwrap_or_default();
@@ -137,7 +137,7 @@ impl TourLod {
             let instance = if k == 0 {
                 p.terrain_instance
             } else {
-                scene.instances.push(whole.clone());
+                scene.instances.push(whole);
                 scene.instances.len() - 1
             };
             self.chains.push(Chain {
@@ -244,7 +244,7 @@ fn terrain_patches(whole: &Mesh, cells: u32) -> Vec<Vec<(Mesh, f32)>> {
         for pj in 0..PATCHES {
             let levels = TERRAIN_STEPS
                 .iter()
-                .filter(|&&s| side % s == 0 && (s == 1 || s % 2 == 0))
+                .filter(|&&s| side.is_multiple_of(s) && (s == 1 || s.is_multiple_of(2)))
                 .map(|&s| patch(whole, cells, (pi * side, pj * side), side, s))
                 .collect();
             out.push(levels);
