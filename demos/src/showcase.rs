@@ -52,8 +52,8 @@ pub struct Showcase {
     pub terrain: Terrain,
     /// Billboards, lasers, effects and the lens flare.
     pub ibr: IbrLayer,
-    /// The tour's levels of detail (terrain patches, torus, spheres), installed by the
-    /// first [`Showcase::render`].
+    /// The tour's levels of detail (terrain patches, torus, spheres), applied for the span
+    /// of each [`Showcase::render`].
     pub lod: TourLod,
     torus: usize,
     lamp: usize,
@@ -84,8 +84,8 @@ impl Showcase {
 
 impl Showcase {
     /// Renders the scene and its image-based layer for `camera` (two passes: the scene
-    /// with billboards, lasers and effects, then the lens flare), each level of detail
-    /// picked for this view first ([`TourLod::select`]).
+    /// with billboards, lasers and effects, then the lens flare), with the levels of
+    /// detail picked for this view ([`TourLod::apply`]) and put back after it.
     pub fn render(
         &mut self,
         renderer: &mut Renderer,
@@ -93,8 +93,10 @@ impl Showcase {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
-        self.lod.select(&mut self.scene, camera, target.height());
-        self.ibr.render(&self.scene, renderer, camera, target, opts)
+        self.lod.apply(&mut self.scene, camera, target.height());
+        let stats = self.ibr.render(&self.scene, renderer, camera, target, opts);
+        self.lod.restore(&mut self.scene);
+        stats
     }
 }
 

@@ -1,9 +1,9 @@
 //! The tour's levels of detail: the terrain cut into patch draws (the renderer's cull pass
 //! skips those outside the view) and, each frame, every patch, the torus and the spheres
 //! pointed at the coarsest of their meshes whose silhouette error stays under
-//! [`MAX_ERROR_PX`] at their distance. Installed on the tour's first frame, so the scene
-//! [`Showcase::new`](super::Showcase::new) returns (the one the views moment takes) keeps
-//! its one-draw terrain and full meshes.
+//! [`MAX_ERROR_PX`] at their distance. Applied for the span of one render and restored
+//! after it, so between frames the scene is the one [`Showcase::new`](super::Showcase::new)
+//! built (one-draw terrain, full meshes), as the views moment takes it.
 
 use engine::procedural;
 use engine::{Camera, Mesh, Scene};
@@ -65,10 +65,14 @@ struct Plan {
 pub struct TourLod {
     plan: Plan,
     chains: Vec<Chain>,
-    /// The level each chain drew last ([`TourLod::select`]), finest = 0.
+    /// The level each chain drew last ([`TourLod::apply`]), finest = 0.
     picked: Vec<usize>,
     /// Patches' chains are `chains[..patches]`.
     patches: usize,
+    /// The scene's instance count without the patches (those past it are patches 1 on).
+    base: usize,
+    /// The one-draw terrain's mesh.
+    whole_mesh: usize,
     max_error_px: f32,
 }
 
@@ -93,6 +97,8 @@ impl TourLod {
             chains: Vec::new(),
             picked: Vec::new(),
             patches: 0,
+            base: 0,
+            whole_mesh: 0,
             max_error_px: MAX_ERROR_PX,
         }
     }
@@ -117,16 +123,18 @@ impl TourLod {
         &self.picked
     }
 
-    /// Adds the patches and the coarser meshes to `scene` (once): the terrain's instance
-    /// becomes the first patch and the other patches are appended, so every other
-    /// instance keeps its index. The full-resolution patches hold the one-draw terrain's
-    /// triangles, in its order, with its vertices' attributes.
+    /// Adds the patches' and the coarser meshes to `scene` (once; no instance yet: see
+    /// [`TourLod::apply`]). The full-resolution patches hold the one-draw terrain's
+    /// triangles, in its order, with its vertices' attributes; each object's finest level
+    /// is its own mesh.
     pub fn install(&mut self, scene: &mut Scene) {
         if self.installed() {
             return;
         }
         let p = self.plan.clone();
         let whole = scene.instances[p.terrain_instance];
+        self.whole_mesh = whole.mesh;
+        self.base = scene.instances.len();
         let patches = terrain_patches(&scene.meshes[whole.mesh], p.cells);
         for (k, levels) in patches.into_iter().enumerate() {
             let bounds = levels[0].0.bounding_box().unwrap_or_default();
@@ -137,8 +145,7 @@ impl TourLod {
             let instance = if k == 0 {
                 p.terrain_instance
             } else {
-                scene.instances.push(whole);
-                scene.instances.len() - 1
+                self.base + k - 1
             };
             self.chains.push(Chain {
                 instance,
@@ -174,7 +181,24 @@ impl TourLod {
                 bounds,
             });
         }
+        for c in &mut self.chains[self.patches..] {
+            c.levels[0].0 = scene.instances[c.instance].mesh;
+        }
         self.picked = vec![0; self.chains.len()];
+    }
+
+    /// Puts back what [`TourLod::apply`] changed: the patches' instances taken off (the
+    /// terrain's own instance drawing the one-draw terrain again) and every object at its
+    /// finest mesh.
+    pub fn restore(&self, scene: &mut Scene) {
+        if !self.installed() {
+            return;
+        }
+        scene.instances.truncate(self.base);
+        scene.instances[self.plan.terrain_instance].mesh = self.whole_mesh;
+        for c in &self.chains[self.patches..] {
+            scene.instances[c.instance].mesh = c.levels[0].0;
+        }
     }
 
     /// A chain of freshly made `levels` (finest first) for `instance`.
@@ -191,13 +215,19 @@ impl TourLod {
         });
     }
 
-    /// Points every chain's instance at its coarsest mesh whose error, seen from `camera`
-    /// on an image `height` pixels tall, is under the largest error (installing first).
+    /// Draws the terrain as its patches (the terrain's instance the first, the others
+    /// appended, so every other instance keeps its index) and points every chain's
+    /// instance at its coarsest mesh whose error, seen from `camera` on an image `height`
+    /// pixels tall, is under the largest error (installing first); undone by
+    /// [`TourLod::restore`].
     /// The distance is the eye's to the finest mesh's box in object space, which for the
     /// tour's transforms (rotations, uniform scales, translations) is the world distance
     /// over the scale, as the error is: their ratio is the same in both spaces.
-    pub fn select(&mut self, scene: &mut Scene, camera: &Camera, height: u32) {
+    pub fn apply(&mut self, scene: &mut Scene, camera: &Camera, height: u32) {
         self.install(scene);
+        self.restore(scene);
+        let template = scene.instances[self.plan.terrain_instance];
+        scene.instances.extend((1..self.patches).map(|_| template));
         let focal = 0.5 * height as f32 * camera.projection.reversed_z_matrix().y_axis.y;
         let eye = camera.eye();
         for (c, picked) in self.chains.iter().zip(&mut self.picked) {

@@ -107,7 +107,7 @@ fn patches_outside_the_view_are_culled_and_the_picture_is_the_same() {
     let mut scene = show.scene.clone();
     let mut lod = show.lod.clone();
     lod.set_max_error_px(0.0);
-    lod.select(&mut scene, &camera(eye, at, 192, 108), 108);
+    lod.apply(&mut scene, &camera(eye, at, 192, 108), 108);
     assert_eq!(lod.patch_count(), (PATCHES * PATCHES) as usize);
     assert!(lod.picked().iter().all(|&k| k == 0));
     let (new, new_stats) = render(&scene, eye, at);
@@ -126,6 +126,25 @@ fn patches_outside_the_view_are_culled_and_the_picture_is_the_same() {
 }
 
 #[test]
+fn after_a_render_the_scene_is_the_one_draw_scene_again() {
+    let mut show = Showcase::new();
+    let before = show.scene.clone();
+    let cam = camera(Vec3::new(60.0, 30.0, 0.0), Vec3::ZERO, 160, 90);
+    let mut target = Target::new(160, 90);
+    let opts = FrameOptions::default();
+    show.render(&mut Renderer::new(), &cam, &mut target, &opts);
+    assert!(show.lod.installed());
+    assert!(
+        show.lod.picked()[show.lod.patch_count()] > 0,
+        "the far torus coarse"
+    );
+    assert_eq!(show.scene.instances, before.instances);
+    assert_eq!(show.scene.lighting, before.lighting);
+    let meshes = |s: &Scene| s.draws().map(|d| d.mesh.clone()).collect::<Vec<_>>();
+    assert_eq!(meshes(&show.scene), meshes(&before));
+}
+
+#[test]
 fn far_meshes_are_coarser_within_half_a_pixel() {
     let show = Showcase::new();
     let mut scene = show.scene.clone();
@@ -135,7 +154,7 @@ fn far_meshes_are_coarser_within_half_a_pixel() {
     for d in [4.0, 17.0, 60.0, 200.0] {
         let eye = Vec3::new(d, 3.0, 0.0);
         let cam = camera(eye, look, 640, 360);
-        lod.select(&mut scene, &cam, 360);
+        lod.apply(&mut scene, &cam, 360);
         let torus = lod.picked()[lod.patch_count()];
         assert!(torus >= last, "{d}: level {torus} after {last}");
         last = torus;
@@ -150,7 +169,7 @@ fn far_meshes_are_coarser_within_half_a_pixel() {
     assert_eq!(lod.picked()[lod.patch_count()], last);
     assert!(last >= 4, "the torus 200 units away at level {last}");
     let near = camera(Vec3::new(3.0, 2.0, 0.0), look, 640, 360);
-    lod.select(&mut scene, &near, 360);
+    lod.apply(&mut scene, &near, 360);
     assert!(lod.picked()[lod.patch_count()] <= 2);
 }
 
@@ -160,15 +179,16 @@ fn along_the_tour_far_patches_are_coarser() {
     let mut scene = show.scene.clone();
     let mut lod = show.lod.clone();
     let n = 120;
-    let (mut levels, mut tris) = ([0usize; 3], [0usize; 2]);
+    let (mut levels, mut tris, mut torus) = ([0usize; 3], [0usize; 2], [0usize; 7]);
     for i in (0..n).step_by(10) {
         let (eye, at) = show.path(i, n);
-        lod.select(&mut scene, &camera(eye, at, 640, 360), 360);
+        lod.apply(&mut scene, &camera(eye, at, 640, 360), 360);
         for (c, &k) in lod.chains[..lod.patch_count()].iter().zip(lod.picked()) {
             levels[k] += 1;
             tris[0] += scene.meshes[c.levels[0].0].triangle_count();
             tris[1] += scene.meshes[c.levels[k].0].triangle_count();
         }
+        torus[lod.picked()[lod.patch_count()]] += 1;
     }
     eprintln!(
         "patches at each level along the tour: {levels:?}; triangles full {} picked {}",
