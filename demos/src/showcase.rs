@@ -18,6 +18,7 @@ pub mod building;
 pub mod ibr_layer;
 pub mod impostors;
 pub mod lightfield;
+pub mod lod;
 pub mod moment;
 pub mod summary;
 pub mod views;
@@ -32,6 +33,7 @@ pub use fly::{toggled, FlyCamera, FlyInput, TapCounter};
 pub use textures::{crate_texture, lattice_texture};
 
 use crate::showcase::ibr_layer::IbrLayer;
+use crate::showcase::lod::TourLod;
 use engine::procedural::Terrain;
 use engine::{Camera, FrameOptions, FrameStats, Light, Mesh, Renderer, Rgba, Scene, Target};
 use glam::{Mat4, Vec3};
@@ -50,6 +52,9 @@ pub struct Showcase {
     pub terrain: Terrain,
     /// Billboards, lasers, effects and the lens flare.
     pub ibr: IbrLayer,
+    /// The tour's levels of detail (terrain patches, torus, spheres), applied for the span
+    /// of each [`Showcase::render`].
+    pub lod: TourLod,
     torus: usize,
     lamp: usize,
     lamp_light: usize,
@@ -79,7 +84,8 @@ impl Showcase {
 
 impl Showcase {
     /// Renders the scene and its image-based layer for `camera` (two passes: the scene
-    /// with billboards, lasers and effects, then the lens flare).
+    /// with billboards, lasers and effects, then the lens flare), with the levels of
+    /// detail picked for this view ([`TourLod::apply`]) and put back after it.
     pub fn render(
         &mut self,
         renderer: &mut Renderer,
@@ -87,7 +93,10 @@ impl Showcase {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
-        self.ibr.render(&self.scene, renderer, camera, target, opts)
+        self.lod.apply(&mut self.scene, camera, target.height());
+        let stats = self.ibr.render(&self.scene, renderer, camera, target, opts);
+        self.lod.restore(&mut self.scene);
+        stats
     }
 }
 

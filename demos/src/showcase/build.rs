@@ -1,6 +1,7 @@
 //! Construction of the showcase scene: terrain and plaza, props, house, vegetation, the
 //! lights, and the image-based layer on top.
 
+use super::lod::TourLod;
 use super::textures::{crate_texture, lattice_texture};
 use super::{lamp_position, Showcase};
 use crate::showcase::ibr_layer::IbrLayer;
@@ -55,22 +56,24 @@ pub(super) fn build() -> Showcase {
         flat_radius: 12.0,
         seed: 7,
     };
-    ground(&mut s, &terrain);
+    let ground_at = ground(&mut s, &terrain);
     let torus = centre_piece(&mut s);
     let sphere = procedural::uv_sphere(1.0, 24, 48);
-    spheres(&mut s, &sphere);
+    let mut balls = spheres(&mut s, &sphere);
     crates(&mut s);
     fence(&mut s);
-    glass(&mut s, &sphere);
+    balls.push(glass(&mut s, &sphere));
     let lamp = lamp(&mut s);
     let house_at = house(&mut s);
     vegetation(&mut s, &terrain);
     s.lighting = lighting(house_at);
     let ibr = IbrLayer::new(&mut s, &terrain);
+    let lod = TourLod::new(terrain.cells, ground_at, (torus, TORUS.0, TORUS.1), balls);
     let mut show = Showcase {
         scene: s,
         terrain,
         ibr,
+        lod,
         torus,
         lamp,
         lamp_light: 1,
@@ -79,9 +82,12 @@ pub(super) fn build() -> Showcase {
     show
 }
 
-/// Ground: vertex-coloured terrain and a checker-textured plaza.
-fn ground(s: &mut Scene, terrain: &Terrain) {
-    s.add(terrain.mesh(), matte(Rgba::WHITE), Mat4::IDENTITY);
+/// The torus's major and minor radii.
+const TORUS: (f32, f32) = (1.1, 0.38);
+
+/// Ground: vertex-coloured terrain and a checker-textured plaza; the terrain's instance.
+fn ground(s: &mut Scene, terrain: &Terrain) -> usize {
+    let at = s.add(terrain.mesh(), matte(Rgba::WHITE), Mat4::IDENTITY);
     let stone = Texture::checker(
         256,
         8,
@@ -95,6 +101,7 @@ fn ground(s: &mut Scene, terrain: &Terrain) {
         matte(Rgba::WHITE).with_texture(Arc::new(stone)),
         Mat4::from_translation(Vec3::new(0.0, 0.02, 0.0)),
     );
+    at
 }
 
 /// Centre piece: a vertex-coloured torus over a stone pedestal; the torus's instance.
@@ -107,14 +114,15 @@ fn centre_piece(s: &mut Scene) -> usize {
         Mat4::IDENTITY,
     );
     s.add(
-        procedural::torus(1.1, 0.38, 96, 48),
+        procedural::torus(TORUS.0, TORUS.1, 96, 48),
         lit(Rgba::WHITE, 0.5, 48.0),
         Mat4::IDENTITY,
     )
 }
 
-/// Lit spheres: red plastic, gold, chalk (one mesh, three materials).
-fn spheres(s: &mut Scene, sphere: &Mesh) {
+/// Lit spheres: red plastic, gold, chalk (one mesh, three materials); their instances.
+fn spheres(s: &mut Scene, sphere: &Mesh) -> Vec<usize> {
+    let mut placed = Vec::new();
     let mut plain_sphere = sphere.clone();
     plain_sphere.colors.clear();
     let (sphere_m, _) = push(s, plain_sphere, Material::default());
@@ -144,8 +152,9 @@ fn spheres(s: &mut Scene, sphere: &Mesh) {
         s.materials.push(lit(color, spec, shin));
         let m = s.materials.len() - 1;
         let xf = Mat4::from_scale_rotation_translation(Vec3::splat(scale), Quat::IDENTITY, at);
-        instance(s, sphere_m, m, xf);
+        placed.push(instance(s, sphere_m, m, xf));
     }
+    placed
 }
 
 /// Crates with a generated wood texture.
@@ -210,8 +219,9 @@ fn fence(s: &mut Scene) {
     }
 }
 
-/// Blended glass: a tinted cube by the fence and a sphere in front of the plaza.
-fn glass(s: &mut Scene, sphere: &Mesh) {
+/// Blended glass: a tinted cube by the fence and a sphere in front of the plaza; the
+/// sphere's instance.
+fn glass(s: &mut Scene, sphere: &Mesh) -> usize {
     let glass = |tint: Rgba| Material {
         alpha_mode: AlphaMode::Blend,
         ..lit(tint, 1.2, 96.0)
@@ -237,7 +247,7 @@ fn glass(s: &mut Scene, sphere: &Mesh) {
             Quat::IDENTITY,
             Vec3::new(1.6, 0.92, 4.2),
         ),
-    );
+    )
 }
 
 /// The lamp: an emissive ball marking the orbiting point light; its instance.
