@@ -217,6 +217,9 @@ const BOUNDS: [Bound; 8] = [
         worst: Some(29.5),
         flicker: Some(1.3),
     },
+    // Measured 25.05 / 20.96 dB, flicker 1.01, since session 18: each sprite drawn over
+    // its view's trim as baked, not grown a screen pixel (24.91 / 20.96 before; the mean
+    // bound raised 24.6 -> 24.8).
     // Measured 24.9 / 21.0 dB, flicker 1.01, since session 16: the views baked from 10
     // degrees below the horizon (the hills' trees seen from the plaza) and each view's
     // depth on a 5 x 5 grid (was 3 x 3: a trunk's foot stood at its crown's front, over the
@@ -248,7 +251,7 @@ const BOUNDS: [Bound; 8] = [
         name: "forest",
         technique: "billboards",
         part: "tour",
-        mean: Some(24.6),
+        mean: Some(24.8),
         worst: Some(20.6),
         flicker: Some(1.3),
     },

@@ -10,6 +10,7 @@
 
 use crate::showcase::impostors::{self, Impostors};
 use crate::showcase::lightfield::Statue;
+use bands::{bands, forest_draws, Forest};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     Camera, Draw, FrameOptions, FrameStats, Light, Lighting, Material, Mesh, Renderer, Rgba, Scene,
@@ -108,6 +109,8 @@ pub struct IbrLayer {
     billboards: Vec<Vec<Billboard>>,
     /// The trees drawn as meshes in the last frame (indices into the forest's geometry).
     near: Vec<usize>,
+    /// The squared distances of the frame's sprites, both kinds (scratch, reused).
+    distances: Vec<f32>,
     /// The tree meshes the forest's sprites were baked from, where its billboards stand
     /// (what the forest is measured against, never drawn in the tour).
     trees: ForestGeometry,
@@ -144,6 +147,7 @@ impl IbrLayer {
             forest,
             billboards,
             near: Vec::new(),
+            distances: Vec::new(),
             trees,
             lasers: LaserBatch::new(),
             effects: Effects::new(77),
@@ -182,7 +186,8 @@ impl IbrLayer {
     /// The forest's sprites and the triangles of their reliefs in the last frame.
     pub fn forest_work(&self) -> (usize, usize) {
         let sprites = self.forest.iter().map(|f| f.items.len()).sum();
-        let triangles = self.forest.iter().map(|f| f.mesh.indices.len() / 3).sum();
+        let meshes = self.forest.iter().flat_map(|f| &f.meshes);
+        let triangles = meshes.map(|m| m.indices.len() / 3).sum();
         (sprites, triangles)
     }
 
@@ -193,7 +198,7 @@ impl IbrLayer {
 
     /// Appends the forest's billboards alone, as the last frame prepared them.
     pub fn forest_sprites<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.forest.draws(out);
+        forest_draws(&self.forest, out);
     }
 
     /// Appends the meshes of the trees the last frame drew as meshes (the near ones).
@@ -311,12 +316,14 @@ impl IbrLayer {
             ViewAtlas::order(&mut batch.items, eye);
             first += all.len();
         }
+        bands(&mut self.forest, eye, &mut self.distances);
         let trees = &self.trees;
         let near_trees = self.near.iter().map(|&i| trees.draw(i));
         // Blended impostors, clouds and smoke write no depth: the flare captures them once
         // more around the sun to see how much light they let through.
+        let mut forest = Forest(&mut self.forest);
         let mut techniques: [&mut dyn Technique; 6] = [
-            &mut self.forest,
+            &mut forest,
             &mut self.lasers,
             &mut self.effects,
             &mut self.impostors,
@@ -362,37 +369,29 @@ impl IbrLayer {
 }
 
 /// One tree kind's billboards: its views, the sprites shown this frame (set in
-/// [`IbrLayer::render`], near to far) and the mesh they make, each its view's depth grid
-/// ([`ViewAtlas::relief`]) so sprites and meshes hide one another about where the trees'
-/// surfaces do.
+/// [`IbrLayer::render`], near to far), where each of the frame's [`bands`] ends among them,
+/// and the mesh each band makes, each sprite its view's depth grid ([`ViewAtlas::relief`])
+/// so sprites and meshes hide one another about where the trees' surfaces do.
 #[derive(Debug)]
 struct TreeSprites {
     atlas: ViewAtlas,
     material: Material,
     items: Vec<Billboard>,
-    mesh: Mesh,
+    ends: Vec<usize>,
+    meshes: Vec<Mesh>,
 }
 
-impl Technique for TreeSprites {
-    fn name(&self) -> &str {
-        "billboards"
-    }
+impl TreeSprites {
+    /// This kind's sprites as their bands' meshes, the sprites smaller on screen than
+    /// [`COARSE_SCREEN`] of `view`'s height coarser.
     fn prepare(&mut self, view: &FrameView<'_>) {
         self.atlas.coarse_px = COARSE_SCREEN * view.height as f32;
-        self.atlas
-            .relief(&self.items, &view.billboard_view(), &mut self.mesh);
-    }
-    fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        out.push(Draw {
-            mesh: &self.mesh,
-            material: &self.material,
-            transform: Mat4::IDENTITY,
-        });
-    }
-    fn counters(&self) -> Counters {
-        Counters {
-            quads: self.items.len() as u64,
-            ..Counters::default()
+        self.meshes.resize_with(self.ends.len(), Mesh::default);
+        let seen = view.billboard_view();
+        let mut start = 0;
+        for (mesh, &end) in self.meshes.iter_mut().zip(&self.ends) {
+            self.atlas.relief(&self.items[start..end], &seen, mesh);
+            start = end;
         }
     }
 }
@@ -531,7 +530,8 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
             material: atlas.material().double_sided(true),
             atlas,
             items: Vec::new(),
-            mesh: Mesh::default(),
+            ends: Vec::new(),
+            meshes: Vec::new(),
         };
         let atlas = &batch.atlas;
         while batch.items.len() < FOREST_TREES / 2 {
@@ -609,6 +609,7 @@ fn mesh_height(mesh: &Mesh) -> f32 {
     (hi - lo).max(1e-3)
 }
 
+mod bands;
 mod lathe;
 #[cfg(test)]
 mod tests;

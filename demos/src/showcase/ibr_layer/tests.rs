@@ -204,3 +204,59 @@ fn no_point_light_reaches_the_forest() {
     }
     assert!(points > 0, "the showcase has its lamp");
 }
+
+/// The forest's bands split both tree kinds at the same distances from the eye: each
+/// sprite in one band, every sprite of band `b` of either kind no farther than every
+/// sprite of band `b + 1` of either, the bands about equal shares of all the sprites.
+#[test]
+fn the_forests_bands_split_both_kinds_at_the_same_distances() {
+    use super::bands::split;
+    use engine::procedural::XorShift;
+    use glam::Vec2;
+    use ibr::billboard::ViewAtlas;
+    use ibr::{Billboard, Facing};
+    let eye = Vec3::new(1.0, 2.0, 3.0);
+    let mut rng = XorShift::new(7);
+    let kinds: Vec<Vec<Billboard>> = [300, 200]
+        .map(|n| {
+            let mut items: Vec<Billboard> = (0..n)
+                .map(|_| {
+                    let at = Vec3::new(rng.range(-50.0, 50.0), 0.0, rng.range(-50.0, 50.0));
+                    Billboard::new(at, Facing::World { up: Vec3::Y }, Vec2::ONE)
+                })
+                .collect();
+            ViewAtlas::order(&mut items, eye);
+            items
+        })
+        .into();
+    let d = |b: &Billboard| b.position.distance_squared(eye);
+    let mut all: Vec<f32> = kinds.iter().flatten().map(d).collect();
+    all.sort_unstable_by(f32::total_cmp);
+    let n = 8;
+    let ends: Vec<Vec<usize>> = kinds
+        .iter()
+        .map(|k| {
+            let mut e = vec![99];
+            split(k, eye, &all, n, &mut e);
+            e
+        })
+        .collect();
+    for (k, e) in kinds.iter().zip(&ends) {
+        assert_eq!(e.len(), n);
+        assert!(e.windows(2).all(|w| w[0] <= w[1]), "{e:?}");
+        assert_eq!(e[n - 1], k.len());
+    }
+    let band = |k: usize, b: usize| {
+        let start = if b == 0 { 0 } else { ends[k][b - 1] };
+        &kinds[k][start..ends[k][b]]
+    };
+    for b in 0..n {
+        let sprites = band(0, b).len() + band(1, b).len();
+        assert!(sprites.abs_diff(500 / n) <= 1, "band {b}: {sprites}");
+        if b + 1 < n {
+            let far = (0..2).flat_map(|k| band(k, b)).map(d).fold(0.0, f32::max);
+            let near = (0..2).flat_map(|k| band(k, b + 1)).map(d);
+            assert!(near.fold(f32::MAX, f32::min) >= far, "band {b}");
+        }
+    }
+}

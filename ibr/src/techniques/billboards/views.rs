@@ -57,13 +57,6 @@ const CUTOFF: f32 = 0.5;
 /// 5 x 5 26.85 / 23.88 dB and 2.63 (session 9: 4 x 4 0.2 dB more than 3 x 3).
 pub(crate) const RELIEF: usize = 5;
 
-/// Screen pixels a sprite's trim ([`ViewAtlas::trims`]) is grown by: the texels covered
-/// in the bake, filtered down to the level a pixel samples, reach about a pixel beyond
-/// them, and the mesh in perspective shows a little more than its orthographic bake (the
-/// trim as baked, a texel beyond the covered ones, lost the last pixel of crown outlines
-/// the whole quad drew: 24.8 / 19.1 dB on the 640 x 360 tour against 24.6 / 19.5).
-const TRIM_PX: f32 = 1.0;
-
 /// An object's images from `azimuths` evenly spaced directions about +Y (the first along
 /// +X, then toward +Z) at each of `elevations` (radians above the horizon), in one atlas:
 /// row `j` holds elevation `j`, column `k` azimuth `k`.
@@ -331,9 +324,7 @@ impl ViewAtlas {
                 basis.right,
             );
             let pivot = self.pivot_at(self.elevations[view_index / self.azimuths]) * 0.5 * size.y;
-            // The view's trim grown by TRIM_PX screen pixels at the sprite's distance.
             let pixel = view.pixel_size_at(b.position).unwrap_or(0.0);
-            let by = Vec2::new(pixel / size.x, pixel / size.y) * TRIM_PX;
             // A sprite under `coarse_px` tall on screen: every 2nd column of nodes; every
             // row (the trim's outline, and so the fragments drawn, are the whole grid's).
             let step = if size.y < self.coarse_px * pixel {
@@ -342,7 +333,16 @@ impl ViewAtlas {
                 1
             };
             let cols = (RELIEF - 1) / step + 1;
-            let trim = self.trims[view_index].grown(by);
+            // The view's trim as baked (a texel beyond the covered ones), not grown on
+            // screen. Session 13 grew it by a screen pixel (the covered texels, filtered
+            // down to the level a pixel samples, reach about a pixel beyond them, and the
+            // trim as baked lost crown outline pixels the whole quad drew). With the 5 x 5
+            // grid, the pivots and the rows below the horizon since, the growth only drew
+            // more (session 18, 640 x 360 tour, the forest's fragments shaded a frame and
+            // PSNR mean / worst dB: grown a pixel 95,885, 26.83 / 23.88; half a pixel
+            // 89,630, 26.88 / 23.90; as baked 83,218, 26.92 / 23.91; shrunk half a pixel
+            // 77,378, 25.97 / 21.67).
+            let trim = self.trims[view_index];
             let offsets = &self.depth[view_index];
             let scale = 0.5 * size.x;
             let base = mesh.positions.len() as u32;

@@ -299,7 +299,7 @@ fn a_sprite_small_on_screen_is_drawn_with_fewer_triangles() {
         let cols = mesh.positions.len() / RELIEF;
         assert_eq!(cols * RELIEF, mesh.positions.len());
         assert_eq!(mesh.indices.len(), 6 * (cols - 1) * (RELIEF - 1));
-        // Each row's ends are the trim's (grown by a screen pixel), whatever the columns
+        // Each row's ends are the trim's (as baked), whatever the columns
         // between; a cell is a quarter of the atlas wide.
         let trim = a.trims[a.view_of(item.region)];
         for row in 0..RELIEF {
