@@ -311,10 +311,23 @@ pub fn tree_scale(height: u32) -> f32 {
     (height as f32 / TREE_HEIGHT as f32).max(1.0)
 }
 
-/// The hierarchy planner's predicted milliseconds of rebuilds (cluster images) per frame:
-/// the share of a 60 Hz frame left to captures (measured at budget 16 in the world, 24
-/// frames: 40 to 60 ms a frame, its prepare, the captures, 15 to 25 ms of it).
-pub const TREE_REBUILD_MS: f32 = 8.0;
+/// The hierarchy planner's predicted milliseconds of captures per frame after loading:
+/// node images' rebuilds (each charged [`TREE_CAPTURE_MS`] besides the cost model) and
+/// the shown far field's re-capture (its triangles and [`TREE_CAPTURE_MS`] a tile) share
+/// it ([`TreeConfig::capture_ms`]). Until session 18 it was 8 ms of node rebuilds alone,
+/// priced at the cost model's tenth of a millisecond each, and never bound; the frames
+/// of `bench budget --scene world` paid 1 to 12 node captures and a 50,000-triangle far
+/// tile besides (BENCHMARKS.md, issue 41, session 18).
+pub const TREE_REBUILD_MS: f32 = 4.0;
+
+/// What one node image's capture costs besides the cost model's price of its triangles
+/// and texels, milliseconds: `bench budget --scene world --stages` at 640x360, the 8
+/// frames before the far field's re-capture, node captures alone: a median of 0.61 ms
+/// a capture for main's build at load 2 to 3 (0.38 to 0.78), the cost model predicting
+/// 0.04 to 0.25. Set below that median, as this build no longer builds a pool texture
+/// for each new slot; at load 8 its captures measured 0.31 to 2.87 ms, too loaded to fit,
+/// so 0.4 is a judgement, not a fit (BENCHMARKS.md, issue 41, session 18).
+pub const TREE_CAPTURE_MS: f32 = 0.4;
 
 /// The world's far field for a `height`-pixel target: everything beyond [`FAR_DISTANCE`]
 /// of the eye as one image mesh with depth, captured in 8 x 8 tiles (split where one is
@@ -395,6 +408,7 @@ pub fn tree_planner_drawing(
         budget: plan.budget,
         rebuilds: plan.rebuilds,
         rebuild_ms: TREE_REBUILD_MS,
+        capture_ms: TREE_CAPTURE_MS,
         loading: plan.loading,
         far: Some(far_config(plan.height)),
         lod_px: TreeConfig::default().lod_px * tree_scale(plan.height),

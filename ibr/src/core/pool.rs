@@ -31,9 +31,10 @@ impl Pool {
         }
     }
 
-    /// A free texture of `side` x `side`: a free one of that size, else a new one while the
-    /// pool has room, else a free one of another size (resized on its next refill). `None`
-    /// when every texture is in use and the pool is full.
+    /// A free texture for a `side` x `side` image: a free one of that size, else a new one
+    /// (a placeholder until its refresh swaps the image in) while the pool has room, else a
+    /// free one of another size (resized on its next refill). `None` when every texture is
+    /// in use and the pool is full.
     pub fn acquire(&mut self, side: u32) -> Option<usize> {
         let free = |s: &Slot| !s.in_use;
         let pick = self
@@ -42,9 +43,15 @@ impl Pool {
             .position(|s| free(s) && s.side == side)
             .or_else(|| {
                 (self.slots.len() < self.max_slots).then(|| {
+                    // A 1 x 1 placeholder: every refresh swaps its own texture in
+                    // ([`Pool::swap_texture`]) before the slot is drawn, so a transparent
+                    // `side` x `side` texture built here (its mips and linear copy) was
+                    // built only to be traded away; in the world's fly-over, where nearly
+                    // every node capture took a new slot, that was a fifth of a capture's
+                    // time (`perf record`, session 18).
                     self.slots.push(Slot {
                         side,
-                        material: image_material(side, side, "impostor"),
+                        material: image_material(1, 1, "impostor"),
                         in_use: false,
                     });
                     self.slots.len() - 1

@@ -44,6 +44,13 @@ pub struct TreeConfig {
     pub release_after: u32,
     /// Predicted milliseconds of work.
     pub cost: CostModel,
+    /// Measured milliseconds one capture costs besides what [`TreeConfig::cost`] prices
+    /// (the capture's renderer, target and texture set up for a small image: about half a
+    /// millisecond in the world against the model's tenth), charged against
+    /// [`TreeConfig::rebuild_ms`] for each node image rebuilt and each far-field tile
+    /// captured (with the tiles' triangles): the budget then holds the frame's captures,
+    /// node images and far field together, after loading. 0: as the cost model alone.
+    pub capture_ms: f32,
     /// The far field: everything beyond a distance as one image mesh with depth, the cut
     /// stopping at its boundary (`None`: the cut covers the whole world).
     pub far: Option<FarConfig>,
@@ -68,6 +75,7 @@ impl Default for TreeConfig {
             payback: 4.0,
             release_after: 60,
             cost: CostModel::default(),
+            capture_ms: 0.0,
             far: None,
             lod_px: 0.5,
             capture_lod: (0.0, 0),
@@ -94,7 +102,7 @@ pub struct TreeReport {
     pub imaged_objects: usize,
     /// Images rebuilt,
     pub rebuilds: usize,
-    /// and their predicted milliseconds,
+    /// and their predicted milliseconds (with [`TreeConfig::capture_ms`] each),
     pub rebuild_ms: f32,
     /// and measured ones (the captures' wall time: reported only, never planned with, so
     /// the cut does not depend on the machine's load),
@@ -285,11 +293,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         self.px_per_radian = base.px_per_radian;
         let (mut report, frustum, split) = self.begin(camera, far_ms);
         let (mut weighted, mut weight) = (0.0f64, 0.0f64);
-        let rebuild_ms = if self.frame <= cfg.loading.0 {
-            cfg.loading.1.max(cfg.rebuild_ms)
-        } else {
-            cfg.rebuild_ms
-        };
+        let rebuild_ms = self.rebuild_budget(&report.far);
         while let Some(k) = self.queue.pop_front() {
             report.visited += 1;
             let node = self.tree.nodes()[k as usize];
@@ -332,13 +336,14 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 }
             }
             let room = |f: &(usize, f32, f32, f32)| {
-                report.rebuilds < cfg.rebuilds && report.rebuild_ms + f.3 <= rebuild_ms
+                let ms = report.rebuild_ms + f.3 + cfg.capture_ms;
+                report.rebuilds < cfg.rebuilds && ms <= rebuild_ms
             };
             let take = match (as_is, fresh) {
                 (Some(a), _) => Some(a),
                 (None, Some(f)) if room(&f) => {
                     report.rebuilds += 1;
-                    report.rebuild_ms += f.3;
+                    report.rebuild_ms += f.3 + cfg.capture_ms;
                     self.batch[f.0].push(k as usize);
                     Some(f)
                 }
@@ -385,6 +390,25 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         report.planning_ms = planned.as_secs_f32() * 1e3;
         self.report = report;
         &self.report
+    }
+
+    /// The frame's predicted milliseconds for node images' rebuilds: the loading
+    /// allowance during the loading frames, else [`TreeConfig::rebuild_ms`] less what the
+    /// shown far field's re-capture `far` took this frame (its triangles and
+    /// [`TreeConfig::capture_ms`] a tile; its first field is a level's load, as the
+    /// loading frames are, and is not charged).
+    fn rebuild_budget(&self, far: &FarReport) -> f32 {
+        let cfg = &self.config;
+        if self.frame <= cfg.loading.0 {
+            return cfg.loading.1.max(cfg.rebuild_ms);
+        }
+        let far_ms = if far.shown && far.tiles > 0 {
+            far.triangles as f32 * cfg.cost.ns_per_triangle * 1e-6
+                + far.tiles as f32 * cfg.capture_ms
+        } else {
+            0.0
+        };
+        cfg.rebuild_ms - far_ms.min(cfg.rebuild_ms)
     }
 
     /// Starts a frame's cut seen by `camera`: the report (with the far field's), the

@@ -22,7 +22,8 @@
 //! leaf across the distance is the cut's whole, so the cut may draw it as one image.
 
 use super::bvh::Tree;
-use super::far_mesh::{image_texture, span_mesh, tile_material};
+use super::far_mesh::{image_texture, span_mesh, tile_material, Rect};
+use crate::core::frame::recycle;
 use crate::core::{Capturer, DepthImage, Frustum, Subject};
 use engine::{Camera, Draw, Material, Mesh, Projection, Sphere};
 use glam::{Mat4, Vec2, Vec3};
@@ -258,6 +259,20 @@ pub struct FarField {
     pub report: FarReport,
     /// Scratch: the tiles of this frame's capture and each one's objects.
     work: Vec<(usize, Vec<u32>)>,
+    /// What the captures render with, kept frame to frame ([`capture_tiles`]).
+    workers: Vec<Worker>,
+}
+
+/// One capturer of tiles and its scratch, reused frame to frame: a capturer made for each
+/// frame's tile allocated its renderer's vertex buffers, targets and tile memory afresh,
+/// and the fresh pages' faults and clearing were a third of the far field's capture time
+/// (`perf record --call-graph dwarf` of `bench budget --scene world`, session 18).
+#[derive(Debug, Default)]
+struct Worker {
+    capturer: Capturer,
+    image: Option<DepthImage>,
+    scratch: (Vec<bool>, Vec<Rect>),
+    draws: Vec<Draw<'static>>,
 }
 
 /// Which objects a shown field stands for (module docs): the field's eye, distance and
@@ -319,6 +334,7 @@ impl FarField {
             building: None,
             report: FarReport::default(),
             work: Vec::new(),
+            workers: Vec::new(),
         }
     }
 
@@ -387,7 +403,15 @@ impl FarField {
                 report.objects += members.len();
                 self.work.push((k, members));
             }
-            capture_tiles(field, &self.work, (objects, seen), lighting, cfg.grow);
+            let workers = &mut self.workers;
+            capture_tiles(
+                field,
+                &self.work,
+                workers,
+                (objects, seen),
+                lighting,
+                cfg.grow,
+            );
             field.taken += self.work.len();
             report.tiles = self.work.len();
             report.triangles = spent;
@@ -531,10 +555,13 @@ pub(super) fn far_objects<S: Subject>(
 }
 
 /// Captures the tiles `work` (tile, its objects) of `field` side by side on the pool, each
-/// as a mesh of quads (same meshes at any thread count: each tile is its own capture).
+/// as a mesh of quads (same meshes at any thread count: each tile is its own capture), in
+/// one run of consecutive tiles per worker of `workers` (as many as the pool has threads,
+/// kept frame to frame).
 fn capture_tiles<S: Subject + Sync>(
     field: &mut Field,
     work: &[(usize, Vec<u32>)],
+    workers: &mut Vec<Worker>,
     (objects, seen): (&[S], Seen),
     lighting: &engine::Lighting,
     grow: f32,
@@ -544,36 +571,42 @@ fn capture_tiles<S: Subject + Sync>(
     };
     let (whole, size) = (field.camera, field.size);
     let tiles = &mut field.tiles[first..first + work.len()];
-    tiles.par_iter_mut().zip(work.par_iter()).for_each_init(
-        || {
-            (
-                Capturer::new(),
-                DepthImage::new(0, 0, whole),
-                Default::default(),
-            )
-        },
-        |(cap, image, scratch), (tile, (_, members))| {
-            tile.sphere = None;
-            tile.material = None;
-            tile.mesh.clear();
-            tile.objects.clone_from(members);
-            if members.is_empty() {
-                return;
+    let n = rayon::current_num_threads().clamp(1, work.len());
+    if workers.len() < n {
+        workers.resize_with(n, Worker::default);
+    }
+    let run = work.len().div_ceil(n);
+    tiles
+        .par_chunks_mut(run)
+        .zip(work.par_chunks(run))
+        .zip(workers.par_iter_mut())
+        .with_max_len(1)
+        .for_each(|((tiles, work), w)| {
+            let image = w.image.get_or_insert_with(|| DepthImage::new(0, 0, whole));
+            for (tile, (_, members)) in tiles.iter_mut().zip(work) {
+                tile.sphere = None;
+                tile.material = None;
+                tile.mesh.clear();
+                tile.objects.clone_from(members);
+                if members.is_empty() {
+                    continue;
+                }
+                let mut draws = recycle(std::mem::take(&mut w.draws));
+                for &i in members {
+                    seen.draws(&objects[i as usize], &mut draws);
+                }
+                let camera = tile.camera(&whole, size);
+                let (tw, th) = tile.size();
+                w.capturer
+                    .capture(draws.iter().copied(), &camera, lighting, tw, th, image);
+                w.draws = recycle(draws);
+                span_mesh(image, grow, &mut tile.mesh, &mut w.scratch);
+                tile.sphere = bounds_of(&tile.mesh.positions);
+                if tile.sphere.is_some() {
+                    tile.material = image_texture(image).map(|t| tile_material(Arc::new(t)));
+                }
             }
-            let mut draws = Vec::new();
-            for &i in members {
-                seen.draws(&objects[i as usize], &mut draws);
-            }
-            let camera = tile.camera(&whole, size);
-            let (w, h) = tile.size();
-            cap.capture(draws, &camera, lighting, w, h, image);
-            span_mesh(image, grow, &mut tile.mesh, scratch);
-            tile.sphere = bounds_of(&tile.mesh.positions);
-            if tile.sphere.is_some() {
-                tile.material = image_texture(image).map(|t| tile_material(Arc::new(t)));
-            }
-        },
-    );
+        });
 }
 
 /// A sphere around `points` (their box's), `None` when there are none.

@@ -268,3 +268,56 @@ fn a_held_field_is_kept_within_its_parallax_and_its_recapture_completes_within_t
         "{first} {started} {done}"
     );
 }
+
+#[test]
+fn the_far_fields_meshes_are_the_same_at_any_thread_count() {
+    use crate::core::{FrameView, MeshGroup, Representation};
+    // Several tiles a frame (at most 3,000 of the field's 12,000 triangles), taken in runs
+    // by the capturers kept frame to frame, one per thread: each tile is its own capture.
+    let far = FarConfig {
+        triangles: 3_000,
+        loading_triangles: 3_000,
+        lod_px: 0.0,
+        ..far()
+    };
+    let config = TreeConfig {
+        far: Some(far),
+        ..TreeConfig::default()
+    };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        pool.install(|| {
+            let mut h = Hierarchy::new(config, cubes(48), |_| {
+                Vec::<Box<dyn Representation<Cluster<MeshGroup>>>>::new()
+            });
+            let lighting = engine::Lighting::default();
+            let (mut tiles, mut meshes) = (0, Vec::new());
+            for f in 0..12 {
+                let cam = camera(Vec3::new(f as f32 * 0.5 - 6.0, 12.0, 30.0), 48);
+                tiles += h
+                    .plan(&FrameView::still(&cam, 320, 180, &lighting))
+                    .far
+                    .tiles;
+                let frustum = Frustum::new(cam.clip_from_world());
+                let mut draws = Vec::new();
+                if let Some(field) = h.far() {
+                    field.draws(&frustum, &mut draws);
+                }
+                let frame: Vec<_> = draws
+                    .iter()
+                    .map(|d| (d.mesh.positions.clone(), d.mesh.indices.clone()))
+                    .collect();
+                meshes.push(frame);
+            }
+            (tiles, meshes)
+        })
+    };
+    let (one, two, three) = (run(1), run(2), run(3));
+    assert!(one.0 > 4, "several tiles: {}", one.0);
+    assert!(one.1.iter().any(|m| !m.is_empty()), "a field shown");
+    assert!(one == two, "1 and 2 threads differ");
+    assert!(one == three, "1 and 3 threads differ");
+}

@@ -369,6 +369,42 @@ fn the_rebuild_budget_holds_every_frame() {
     assert!(asked > 0);
 }
 
+#[test]
+fn a_capture_cost_caps_the_rebuilds_a_frame() {
+    // The same moving eye as above, the count not binding: uncharged, frames after
+    // loading rebuild two node images (each within ten objects' triangles of the model);
+    // charged a measured cost per capture besides the model's (`TreeConfig::capture_ms`,
+    // twenty objects' triangles), the 40 objects' budget holds one a frame. Counters
+    // only: the budget is predicted milliseconds, not a clock.
+    let one = CostModel::default().ms(Work {
+        triangles: 500,
+        ..Work::default()
+    });
+    let run = |capture_ms: f32| {
+        let config = TreeConfig {
+            rebuilds: 1_000,
+            rebuild_ms: 40.0 * one,
+            loading: (2, 200.0 * one),
+            capture_ms,
+            ..TreeConfig::default()
+        };
+        let mut h = hierarchy(64, config);
+        let mut most = 0;
+        for f in 0..10 {
+            let cam = camera(Vec3::new(f as f32 * 2.0 - 10.0, 10.0, 40.0), 64);
+            let r = plan(&mut h, &cam);
+            if f >= 2 {
+                assert!(r.rebuild_ms <= 40.0 * one * 1.0001, "frame {f}: {r:?}");
+                most = most.max(r.rebuilds);
+            }
+        }
+        most
+    };
+    let (charged, free) = (run(20.0 * one), run(0.0));
+    assert_eq!(charged, 1, "at most one a frame, and one taken");
+    assert!(free >= 2, "uncharged {free}");
+}
+
 /// How many node images the test representation has rebuilt so far.
 fn rebuilt(h: &Hierarchy<Ball>) -> usize {
     h.report.memory

@@ -49,16 +49,13 @@ impl ImpostorSet {
         let imp = &mut self.impostors[i];
         let side = imp.predicted.needed_side.max(1);
         let capture = Capture::new(eye, b.center, b.radius, side, subject.version())?;
-        // Keep the current texture when it has the right size; else trade it in.
+        // Keep the current slot, whatever its side: the refresh swaps its texture in
+        // ([`crate::core::Pool::swap_texture`], resized as it is refilled), so trading the slot
+        // for a free one of the new side only churned the pool (a new slot for nearly
+        // every node capture of the world's fly-over).
         let slot = match imp.slot {
-            Some(s) if imp.capture.as_ref().is_some_and(|c| c.side == side) => s,
-            old => {
-                let new = self.pool.acquire(side)?;
-                if let Some(old) = old {
-                    self.pool.release(old);
-                }
-                new
-            }
+            Some(s) => s,
+            None => self.pool.acquire(side)?,
         };
         imp.slot = Some(slot);
         Some(Job { i, capture, slot })
