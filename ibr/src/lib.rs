@@ -199,7 +199,9 @@ pub mod portal {
 
 /// Panoramas: cube maps and cylinders as the far scene's sky.
 pub mod panorama {
-    pub use crate::techniques::panoramas::{trim_beyond, CubeMap, Cylinder, Sky, SkyStep};
+    pub use crate::techniques::panoramas::{
+        trim_beyond, Behind, BehindRow, CubeMap, Cylinder, Sky, SkyStep,
+    };
 }
 
 /// View morphing (Seitz and Dyer), calibrated or from point pairs.

@@ -91,12 +91,15 @@ pub struct Frame {
 pub struct Stages {
     /// The image layers' re-renders (the layers' `prepare`).
     pub layers: Duration,
-    /// The panorama's update (its spread re-capture) and its lookup behind the scene.
+    /// The panorama's update (its spread re-capture).
     pub sky: Duration,
     /// The morph to the parallel in-between canvas, and its postwarp to the view.
     pub canvas: Duration,
     pub postwarp: Duration,
-    /// The frame made into the shown sRGB bytes (over the sky colour).
+    /// The frame made into the shown sRGB bytes (over the sky colour); for the sky part,
+    /// with the panorama looked up behind the near scene in the same pass (session 18:
+    /// until then its lookup was in `sky`, and the near scene's read-back to floats in
+    /// `geometry`).
     pub over_sky: Duration,
     /// The engine's render of what is drawn as geometry (and, for the layers, composited).
     pub geometry: Duration,

@@ -16,15 +16,17 @@
 //! units away with sharp outlines against the sky: 23.5 / 20.6 dB mean / worst at 640x360,
 //! resampling and parallax at their outlines. A panorama is a skybox: what is truly far.)
 
-use super::{db, in_view, over_sky, triangles, world_spheres, Frame, Stages};
+use super::{db, in_view, over_sky, over_sky_pixel, triangles, world_spheres, Frame, Stages};
 use crate::showcase::{self, attractions, SKY};
+use engine::color::{unpack, Encoder, Encoding};
 use engine::procedural::value_noise;
-use engine::{Camera, Draw, Lighting, Material, Mesh, Rgba, Shading, Sphere};
+use engine::{Camera, Draw, Lighting, Material, Mesh, Premul, Rgba, Shading, Sphere, Target};
 use glam::{Mat4, Quat, Vec3};
 use ibr::capture::Capturer;
 use ibr::images::DepthImage;
 use ibr::metrics::{self, Image, ImageError, Options, Region};
-use ibr::panorama::Sky;
+use ibr::panorama::{Behind, Sky};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// The panorama holds what lies farther than this from where it was captured (along each
@@ -175,6 +177,11 @@ pub struct SkyFrame {
     /// reaches), of all of its triangles (a work counter).
     pub near_triangles: usize,
     pub triangles: usize,
+    /// The panorama's lookups made behind the near scene, of the pixels it left empty
+    /// (work counters: those past the elevations the panorama holds anything at are not
+    /// looked up; all were until session 18).
+    pub lookups: u64,
+    pub empty: u64,
 }
 
 impl SkyFrame {
@@ -185,7 +192,7 @@ impl SkyFrame {
         let f = self;
         format!(
             "PANORAMA SKY  PARALLAX {:.1} PX (TOL {:.0})  FAR {:.0}% OF FRAME: {}, {:.0}% WRONG  \
-             NEAR {:.1}K OF {:.1}K TRIANGLES  CAPTURES {}{}",
+             NEAR {:.1}K OF {:.1}K TRIANGLES  LOOKUPS {:.2} OF {:.2} MPX  CAPTURES {}{}",
             f.before_px,
             SKY_TOLERANCE_PX,
             100.0 * f.far_share,
@@ -193,6 +200,8 @@ impl SkyFrame {
             100.0 * f.error.map_or(0.0, |e| e.frac_over),
             f.near_triangles as f64 * 1e-3,
             f.triangles as f64 * 1e-3,
+            f.lookups as f64 * 1e-6,
+            f.empty as f64 * 1e-6,
             f.captures,
             if f.recaptured {
                 format!("  RE-CAPTURED, NOW {:.1} PX", f.predicted_px)
@@ -229,8 +238,9 @@ pub(super) struct SkyPart {
     capturer: Capturer,
     /// The near scene's draws' bounding spheres ([`world_spheres`]), made once.
     spheres: Vec<Sphere>,
-    /// The near scene with the panorama behind, and the whole geometry.
-    image: DepthImage,
+    /// What each pixel of the last frame shows ([`NEAR`], [`FAR`] or [`NOTHING`]).
+    kinds: Vec<u8>,
+    /// The whole geometry from the frame's eye.
     truth: DepthImage,
     truth_rgba: Vec<u8>,
     mask: Vec<bool>,
@@ -238,22 +248,22 @@ pub(super) struct SkyPart {
 
 impl SkyPart {
     /// The part for `w` x `h` frames; the panorama holds the far land, not `draws` (the
-    /// plaza's scene, drawn as geometry). The near scene is captured once from the walk's
-    /// first eye, so that the capturer's target and the frame's image are made at loading,
-    /// not in the first frame (a fifth of its time, in page faults).
+    /// plaza's scene, drawn as geometry). The near scene is rendered once from the walk's
+    /// first eye, so that the capturer's target is made at loading, not in the first
+    /// frame (a fifth of its time, in page faults).
     pub(super) fn new(draws: &[Draw<'_>], lighting: &Lighting, w: u32, h: u32) -> SkyPart {
         let mut part = SkyPart::with_tolerance(lighting, w, h, SKY_TOLERANCE_PX);
         part.spheres = world_spheres(draws);
         let (eye, at) = part.pose(0.0);
         let camera = showcase::camera(eye, at, w, h);
         let cap = &mut part.capturer;
-        cap.capture(
+        cap.render(
             draws.iter().copied(),
             &camera,
             lighting,
             w,
             h,
-            &mut part.image,
+            Encoding::Srgb,
         );
         part
     }
@@ -299,7 +309,7 @@ impl SkyPart {
             last_t: None,
             capturer: Capturer::new(),
             spheres: Vec::new(),
-            image: empty.clone(),
+            kinds: Vec::new(),
             truth: empty,
             truth_rgba: Vec::new(),
             mask: Vec::new(),
@@ -309,7 +319,7 @@ impl SkyPart {
     /// The eye and the point it looks at, a fraction `t` along the walk (past 1 for where
     /// it would go on): sideways from the capture point, looking out over the plaza and
     /// turning a little.
-    fn pose(&self, t: f32) -> (Vec3, Vec3) {
+    pub(super) fn pose(&self, t: f32) -> (Vec3, Vec3) {
         let eye = SKY_CENTRE + Vec3::X * (self.walk * t);
         let dir = Quat::from_rotation_y(0.15 - 0.3 * t) * Vec3::new(0.3, -0.1, -1.0);
         (eye, eye + dir)
@@ -353,46 +363,38 @@ impl SkyPart {
         // Only the draws the view reaches: the same pixels, fewer triangles set up.
         let mut near = Vec::with_capacity(draws.len());
         in_view(draws, &self.spheres, &camera, &mut near);
-        cap.capture(
+        let target = cap.render(
             near.iter().copied(),
             &camera,
             lighting,
             w,
             h,
-            &mut self.image,
+            Encoding::Srgb,
         );
         stages.geometry = start.elapsed();
-        // The far pixels: what the near scene leaves (before the panorama fills it) and
-        // the panorama or the geometry covers.
+        // The near scene's bytes as they are where it covers, the panorama behind where it
+        // leaves the view empty: no float image of the near scene (session 18).
+        let start = Instant::now();
+        let behind = self.sky.map.behind_view(&camera, (w, h));
+        let lookups = over_panorama(target, &behind, &mut out.rgba, &mut self.kinds);
+        stages.over_sky = start.elapsed();
+        out.stages = stages;
+        // The far pixels: what the near scene leaves and the panorama or the geometry
+        // covers.
         let measure = Instant::now();
         let whole = camera.with_depth_range(0.1, LAND_FAR);
         let all = draws.iter().copied().chain(land);
         cap.capture(all, &whole, lighting, w, h, &mut self.truth);
+        let (mut far, mut unfilled, mut empty) = (0usize, 0u64, 0u64);
         self.mask.clear();
         self.mask
-            .extend(self.image.color.iter().map(|c| c.a <= 0.0));
-        let mut truth = measure.elapsed();
-        let start = Instant::now();
-        self.sky.map.behind(&mut self.image);
-        stages.sky += start.elapsed();
-        let measure = Instant::now();
-        let (mut far, mut unfilled) = (0usize, 0u64);
-        for ((m, f), g) in self
-            .mask
-            .iter_mut()
-            .zip(&self.image.color)
-            .zip(&self.truth.color)
-        {
-            *m = *m && (f.a > 0.0 || g.a > 0.0);
-            far += *m as usize;
-            unfilled += (g.a > 0.0 && f.a <= 0.0) as u64;
-        }
-        truth += measure.elapsed();
-        let start = Instant::now();
-        over_sky(&self.image, &mut out.rgba);
-        stages.over_sky = start.elapsed();
-        out.stages = stages;
-        let measure = Instant::now();
+            .extend((self.kinds.iter().zip(&self.truth.color)).map(|(&k, g)| {
+                let m = k != NEAR && (k == FAR || g.a > 0.0);
+                far += m as usize;
+                unfilled += (g.a > 0.0 && k == NOTHING) as u64;
+                empty += (k != NEAR) as u64;
+                m
+            }));
         over_sky(&self.truth, &mut self.truth_rgba);
         (out.width, out.height) = (w, h);
         let error = compare_masked(&out.rgba, &self.truth_rgba, (w, h), &self.mask);
@@ -401,7 +403,7 @@ impl SkyPart {
             let both = [out.rgba.as_slice(), self.truth_rgba.as_slice()];
             attractions::dump(dir.as_ref(), "sky", n, e, both, &self.mask, (w, h));
         }
-        out.measure = truth + measure.elapsed();
+        out.measure = measure.elapsed();
         SkyFrame {
             predicted_px: self.sky.map.predicted_px(eye, self.focal),
             before_px,
@@ -414,6 +416,8 @@ impl SkyPart {
             unfilled,
             near_triangles: triangles(&near),
             triangles: triangles(draws),
+            lookups,
+            empty,
         }
     }
 }
@@ -431,4 +435,76 @@ fn compare_masked(a: &[u8], b: &[u8], (w, h): (u32, u32), mask: &[bool]) -> Opti
         &options,
     )
     .ok()
+}
+
+/// What a pixel of the sky part's frame shows ([`over_panorama`]): the near scene (drawn
+/// as geometry, any coverage), the panorama where the near scene leaves it empty, or
+/// neither (the sky colour).
+pub(super) const NEAR: u8 = 0;
+pub(super) const FAR: u8 = 1;
+pub(super) const NOTHING: u8 = 2;
+
+/// The near scene's render `target` (sRGB, cleared transparent) with the panorama behind
+/// it (`behind`, looked up where the near scene leaves a pixel empty) and both over the
+/// showcase's sky colour, as opaque sRGB RGBA8 into `out`; what each pixel shows into
+/// `kinds`. The same bytes as reading the target into linear floats, filling its empty
+/// pixels with [`ibr::panorama::CubeMap::behind`] and [`over_sky`] (the test
+/// `the_panorama_pass_makes_the_float_paths_bytes`): a pixel the near scene covers whole
+/// is its stored bytes (every sRGB byte decodes and encodes to itself), the others go
+/// through the float path. Rows on the pool, each pixel its own (the same bytes on any
+/// number of threads). Until session 18 the near scene was read back to a float image
+/// (colour and depth, 20 bytes a pixel) and encoded again, and every empty pixel was
+/// looked up. Returns the panorama's lookups made (a work counter: the empty pixels past
+/// the elevations it holds anything at are not looked up, [`ibr::panorama::BehindRow`]).
+pub(super) fn over_panorama(
+    target: &Target,
+    behind: &Behind<'_>,
+    out: &mut Vec<u8>,
+    kinds: &mut Vec<u8>,
+) -> u64 {
+    let (w, h) = (target.width() as usize, target.height() as usize);
+    let (sky, encoder) = (SKY.premultiply(), Encoder::new(Encoding::Srgb));
+    let encoding = target.encoding();
+    let open = over_sky_pixel(&encoder, sky, Premul::TRANSPARENT).to_le_bytes();
+    out.clear();
+    out.resize(w * h * 4, 0);
+    kinds.clear();
+    kinds.resize(w * h, NOTHING);
+    if w == 0 {
+        return 0;
+    }
+    out.par_chunks_mut(w * 4)
+        .zip(kinds.par_chunks_mut(w))
+        .enumerate()
+        .map_init(
+            || (Vec::with_capacity(w), Vec::with_capacity(w)),
+            |(colors, depths), (y, (bytes, kinds))| {
+                target.read_row(y as u32, colors, depths);
+                let row = behind.row(y as u32);
+                let mut lookups = 0;
+                let pixels = colors.iter().zip(bytes.chunks_exact_mut(4));
+                for (x, ((p, px), kind)) in pixels.zip(kinds.iter_mut()).enumerate() {
+                    if p >> 24 == 0xff && encoding == Encoding::Srgb {
+                        px.copy_from_slice(&p.to_le_bytes());
+                        *kind = NEAR;
+                        continue;
+                    }
+                    let mut c = unpack(encoding, *p);
+                    if c.a > 0.0 {
+                        *kind = NEAR;
+                    } else if row.is_open_sky() {
+                        px.copy_from_slice(&open);
+                        continue;
+                    } else {
+                        let looked;
+                        (c, looked) = row.at(x);
+                        lookups += looked as u64;
+                        *kind = if c.a > 0.0 { FAR } else { NOTHING };
+                    }
+                    px.copy_from_slice(&over_sky_pixel(&encoder, sky, c).to_le_bytes());
+                }
+                lookups
+            },
+        )
+        .sum()
 }

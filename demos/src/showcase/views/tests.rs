@@ -489,3 +489,65 @@ fn the_draws_out_of_view_cover_no_pixel_of_it() {
         assert_eq!(all, seen);
     }
 }
+
+/// The sky frame's one pass over the engine's bytes ([`sky::over_panorama`]) makes the
+/// bytes of the float path it replaced (the near scene read back to linear floats, the
+/// panorama behind its empty pixels, [`over_sky`]) at three eyes along the walk, on one
+/// thread and on the pool; and it tells the near scene, the panorama and neither apart.
+#[test]
+fn the_panorama_pass_makes_the_float_paths_bytes() {
+    let scene = scene();
+    let draws: Vec<Draw<'_>> = scene.draws().collect();
+    let part = SkyPart::with_tolerance(&scene.lighting, W, H, SKY_TOLERANCE_PX);
+    let mut capturer = ibr::capture::Capturer::new();
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread");
+    for t in [0.0, 0.5, 1.0] {
+        let (eye, at) = part.pose(t);
+        let camera = crate::showcase::camera(eye, at, W, H);
+        let target = capturer.render(
+            draws.iter().copied(),
+            &camera,
+            &scene.lighting,
+            W,
+            H,
+            Encoding::Srgb,
+        );
+        let mut image = DepthImage::from_target(target, &camera);
+        part.sky.map.behind(&mut image);
+        let mut floats = Vec::new();
+        over_sky(&image, &mut floats);
+        let pass = || {
+            let (mut out, mut kinds) = (Vec::new(), Vec::new());
+            let behind = part.sky.map.behind_view(&camera, (W, H));
+            let lookups = sky::over_panorama(target, &behind, &mut out, &mut kinds);
+            (out, kinds, lookups)
+        };
+        let (out, kinds, lookups) = pass();
+        assert_eq!(
+            one.install(pass),
+            (out.clone(), kinds.clone(), lookups),
+            "t {t}"
+        );
+        let differ = out.iter().zip(&floats).filter(|(a, b)| a != b).count();
+        assert!(
+            out.len() == floats.len() && differ == 0,
+            "t {t}: {differ} bytes differ"
+        );
+        let count = |k: u8| kinds.iter().filter(|&&x| x == k).count();
+        let (near, far, nothing) = (count(sky::NEAR), count(sky::FAR), count(sky::NOTHING));
+        eprintln!("t {t}: near {near}, far {far}, nothing {nothing} px, {lookups} looked up");
+        assert!(near > 0 && far > 0 && nothing > 0, "t {t}");
+        // Every pixel the panorama fills was looked up; not every empty one.
+        assert!(
+            lookups >= far as u64 && lookups < (far + nothing) as u64,
+            "t {t}"
+        );
+        // The float path's image after the panorama: empty exactly where neither shows.
+        for (k, c) in kinds.iter().zip(&image.color) {
+            assert_eq!(*k == sky::NOTHING, c.a <= 0.0, "t {t}");
+        }
+    }
+}

@@ -199,6 +199,9 @@ pub struct CubeMap {
     to_clip: Vec<Mat4>,
     /// The nearest point's distance ([`CubeMap::nearest`]), found once at the capture.
     nearest: f32,
+    /// The squared tangents of elevation past which (above, below) a lookup finds nothing
+    /// ([`open_sky`]), `None` where that is not known: [`BehindRow`] skips those lookups.
+    open: Option<(f32, f32)>,
 }
 
 impl CubeMap {
@@ -246,6 +249,7 @@ impl CubeMap {
         CubeMap {
             centre,
             to_clip: faces.iter().map(|f| f.camera.gl_view_proj()).collect(),
+            open: open_sky(&bands, faces.first().map_or(0, |f| f.height())),
             faces,
             bands,
             nearest,
@@ -301,21 +305,31 @@ impl CubeMap {
     /// up to rounding: it depends on the direction, not its length).
     pub fn behind(&self, frame: &mut DepthImage) {
         let (w, h) = (frame.width(), frame.height());
-        let rays = RowRays::new(&frame.camera, (w, h));
+        let behind = self.behind_view(&frame.camera, (w, h));
         // Only the empty pixels are looked up.
         frame
             .color
             .par_chunks_mut(w.max(1) as usize)
             .enumerate()
             .for_each(|(y, row)| {
-                let ray = rays.row(y as u32);
+                let row_behind = behind.row(y as u32);
                 for (x, c) in row.iter_mut().enumerate() {
                     if c.a > 0.0 {
                         continue;
                     }
-                    *c = self.sample(ray.at(x)).unwrap_or(Premul::TRANSPARENT);
+                    *c = row_behind.at(x).0;
                 }
             });
+    }
+
+    /// [`CubeMap::behind`]'s lookups for a `w` x `h` view by `camera`, a row at a time and
+    /// a pixel at a time, for a caller that holds its frame in another form (the views
+    /// moment's near scene as the engine's sRGB bytes, looked up where they are empty).
+    pub fn behind_view(&self, camera: &Camera, (w, h): (u32, u32)) -> Behind<'_> {
+        Behind {
+            map: self,
+            rays: RowRays::new(camera, (w, h)),
+        }
     }
 
     /// The predicted error of drawing this from `eye`: how far (in pixels, at `focal_px`
@@ -331,9 +345,111 @@ impl CubeMap {
     }
 }
 
+/// The elevations past which a cube map of `size`-pixel faces holding `bands` finds
+/// nothing, as squared tangents `(above, below)` (each 0 at least), when its top and bottom
+/// faces are empty (a ring of far land round the horizon): a ray `d` that lands on a side
+/// face (axis `a`, up `+y`) lands at `v = d.y / a`, and `|v| >= |d.y| / |d.xz|` (the side
+/// face's axis is at most the horizontal length), on the same side of the horizon; so a
+/// ray whose tangent of elevation is past a side face's band's top (or bottom) row, with
+/// two rows to spare for the bilinear lookup's second row and rounding, lands outside
+/// every band or on an empty face: [`CubeMap::sample`] finds it transparent.
+fn open_sky(bands: &[Range<u32>; 6], size: u32) -> Option<(f32, f32)> {
+    let (top, bottom) = (&bands[2], &bands[3]);
+    if !top.is_empty() || !bottom.is_empty() || size == 0 {
+        return None;
+    }
+    // Face row r's tangent up at the face's centre column (row 0 at the top).
+    let v = |r: f32| 1.0 - 2.0 * (r + 0.5) / size as f32;
+    let sides = [0, 1, 4, 5].map(|f| &bands[f]);
+    let (mut above, mut below) = (0.0f32, 0.0f32);
+    for rows in sides.iter().filter(|rows| !rows.is_empty()) {
+        above = above.max(v(rows.start as f32 - 3.0));
+        below = below.min(v(rows.end as f32 + 2.0));
+    }
+    Some((above * above, below * below))
+}
+
+/// Whether `d` lies past the elevations `open` ([`open_sky`]): a lookup finds nothing.
+#[inline]
+fn in_open_sky(d: Vec3, (above, below): (f32, f32)) -> bool {
+    let (level, y2) = (d.x * d.x + d.z * d.z, d.y * d.y);
+    (d.y > 0.0 && y2 > above * level) || (d.y < 0.0 && y2 > below * level)
+}
+
+/// A panorama's colours behind a view ([`CubeMap::behind_view`]), a row at a time.
+#[derive(Debug)]
+pub struct Behind<'a> {
+    map: &'a CubeMap,
+    rays: RowRays,
+}
+
+/// One row of [`Behind`].
+#[derive(Debug)]
+pub struct BehindRow<'a> {
+    map: &'a CubeMap,
+    ray: RowRay,
+    open: Option<(f32, f32)>,
+    /// The whole row lies past those elevations ([`BehindRow::is_open_sky`]).
+    shut: bool,
+}
+
+impl Behind<'_> {
+    /// Row `y`'s lookups (its rays set up once).
+    pub fn row(&self, y: u32) -> BehindRow<'_> {
+        let ray = self.rays.row(y);
+        // The rays along a row are a segment (times a sign, the same at both ends: then
+        // along it); past an elevation is a convex cone: with both ends in it, so is the
+        // whole row. Tightened by a ten-thousandth against rounding the rays between.
+        let w = self.rays.size.0 as usize;
+        let open = self.map.open;
+        let shut = open.is_some_and(|(above, below)| {
+            let tight = (above * 1.0002 + 1e-4, below * 1.0002 + 1e-4);
+            let (first, last) = (ray.at(0), ray.at(w.saturating_sub(1)));
+            let same_sign = ray.far_w.0.signum()
+                == (ray.far_w.0 + ray.far_w.1 * (w.max(1) - 1) as f64).signum();
+            same_sign
+                && ((in_open_sky(first, (tight.0, f32::INFINITY))
+                    && in_open_sky(last, (tight.0, f32::INFINITY)))
+                    || (in_open_sky(first, (f32::INFINITY, tight.1))
+                        && in_open_sky(last, (f32::INFINITY, tight.1))))
+        });
+        BehindRow {
+            map: self.map,
+            ray,
+            open,
+            shut,
+        }
+    }
+}
+
+impl BehindRow<'_> {
+    /// Whether the whole row lies past the elevations the panorama holds anything at:
+    /// every [`BehindRow::at`] of it is transparent (the caller may skip them).
+    pub fn is_open_sky(&self) -> bool {
+        self.shut
+    }
+
+    /// The panorama behind pixel `x` of the row, as [`CubeMap::behind`] fills an empty
+    /// pixel (transparent where it holds nothing), and whether it was looked up (`false`
+    /// for a ray past the elevations it holds anything at: [`CubeMap::sample`] would
+    /// find it transparent, session 18).
+    #[inline]
+    pub fn at(&self, x: usize) -> (Premul, bool) {
+        if self.shut {
+            return (Premul::TRANSPARENT, false);
+        }
+        let d = self.ray.at(x);
+        if self.open.is_some_and(|open| in_open_sky(d, open)) {
+            return (Premul::TRANSPARENT, false);
+        }
+        (self.map.sample(d).unwrap_or(Premul::TRANSPARENT), true)
+    }
+}
+
 /// The rays through the pixel centres of a `w` x `h` view by a camera, a row at a time:
 /// [`pixel_ray`] is `far / far.w - eye` for the pixel's far-plane point `far`, which is
 /// linear in the column; times `far.w` (its sign kept) the ray is linear too.
+#[derive(Debug)]
 struct RowRays {
     /// The clip-to-world matrix's columns for x and for y, and the sum of its columns for
     /// z and w (the far plane, `w = 1`).
@@ -345,6 +461,7 @@ struct RowRays {
 }
 
 /// One row's rays, `a + b x` times the sign of `far.w` (likewise linear).
+#[derive(Debug)]
 struct RowRay {
     ray: (DVec3, DVec3),
     far_w: (f64, f64),

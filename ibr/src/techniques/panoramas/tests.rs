@@ -486,3 +486,46 @@ fn a_spread_re_capture_renders_only_the_faces_that_show_something() {
         assert_eq!(sky.spare.len(), 6);
     });
 }
+
+#[test]
+fn lookups_past_the_bands_elevations_are_skipped_and_find_what_they_would() {
+    // The horizon band leaves the top and bottom faces empty: a ray past the side faces'
+    // bands' elevations finds nothing. Skipped (whole rows, or a pixel's ray), each gives
+    // what the lookup gives, looking level, up, down, turned across the seams and rolled.
+    with_band(|draws, lighting| {
+        let map = CubeMap::capture(draws, lighting, CENTRE, 96, 0.1, 50.0);
+        assert!(map.open.is_some());
+        let (mut skipped, mut rows_shut, mut seen) = (0, 0, 0);
+        let rolled = Camera::look_at(
+            CENTRE,
+            CENTRE + Vec3::NEG_Z,
+            Vec3::new(0.6, 1.0, 0.0),
+            0.8,
+            1.5,
+        );
+        let cameras = [
+            looking(CENTRE, Vec3::NEG_Z),
+            looking(CENTRE, Vec3::new(0.7, 0.15, -1.0)),
+            looking(CENTRE, Vec3::new(-1.0, -0.2, 0.9)),
+            looking(CENTRE, Vec3::new(0.1, 1.0, -0.4)),
+            looking(CENTRE, Vec3::new(1.0, -0.6, 1.0)),
+            rolled,
+        ];
+        for camera in cameras {
+            let behind = map.behind_view(&camera, (W, H));
+            for y in 0..H {
+                let row = behind.row(y);
+                rows_shut += row.is_open_sky() as usize;
+                for x in 0..W as usize {
+                    let (c, looked) = row.at(x);
+                    let truth = map.sample(row.ray.at(x)).unwrap_or(Premul::TRANSPARENT);
+                    assert_eq!(c, truth, "{camera:?} ({x}, {y})");
+                    skipped += !looked as usize;
+                    seen += (truth.a > 0.0) as usize;
+                }
+            }
+        }
+        eprintln!("{skipped} lookups skipped ({rows_shut} rows whole), {seen} pixels see the band");
+        assert!(rows_shut > 0 && skipped > 0 && seen > 0);
+    });
+}
