@@ -67,10 +67,10 @@ const CLOUD_AREA: f32 = 56.0;
 /// (measured 4.4 against 1.1 ms on a loaded core), and near a cloud the every-frame
 /// refreshes come first.
 const CLOUD_BUDGET: usize = 2;
-/// Texels of cloud captures a frame earns ([`ImpostorSet::texel_budget`]): a quarter of
-/// the largest capture, so one 128² cloud a frame or one 256² every fourth frame. A
-/// capture's cost is its fill (200 blended puffs, measured 5.3 shaded fragments a texel
-/// over the 1280x720 tour); with the camera moving, clouds want a refresh nearly every
+/// Texels of cloud captures a frame earns ([`ImpostorSet::texel_budget`]): an eighth of
+/// the largest capture, so about one 90² cloud a frame at 640x360 or one 256² every eighth
+/// frame. A capture's cost is its fill (200 blended puffs, measured 5.3 shaded fragments a
+/// texel over the 1280x720 tour); with the camera moving, clouds want a refresh nearly every
 /// frame whatever the budget. At half the largest capture (until session 14) the 640x360
 /// tour captured 3.15 M cloud texels in 171 refreshes on 93 of 120 frames, the largest
 /// part of the `impostors` stage's median; at a quarter 1.69 M in 94, the frame's
@@ -80,8 +80,19 @@ const CLOUD_BUDGET: usize = 2;
 /// ([`Config::fallback_ratio`]), so no image over the tolerance is shown. The same at
 /// every size: a share of the frame's pixels instead (4,096 at 640x360) was tried in
 /// session 17 and cut the 640x360 tour's cloud texels 1.69 M -> 0.52 M, but at 240x136
-/// the clouds' worst frame fell to 23.7 dB (BENCHMARKS.md, session 17).
-pub const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 4;
+/// the clouds' worst frame fell to 23.7 dB (BENCHMARKS.md, session 17). Since session 19
+/// the images are sized to their discs ([`CLOUD_SIDE_STEP`]), about half the texels of
+/// the power of two: at an eighth the 640x360 tour captures 0.89 M texels in 85 refreshes
+/// (a quarter with powers of two: 1.69 M in 94), the clouds at 55.3 / 32.7 dB
+/// (BENCHMARKS.md, session 19).
+pub const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 8;
+
+/// A cloud image's side is its disc on screen rounded up to a multiple of this
+/// ([`ImpostorSet::side_step`]): a texel a screen pixel or more, refreshed once the disc
+/// outgrows it. The power of two at or above the disc (until session 19) took 1 to 4
+/// texels a pixel, and the fill is what a capture costs. 32 took as many texels in fewer
+/// refreshes (72 against 85 over the 640x360 tour, BENCHMARKS.md, session 19).
+pub const CLOUD_SIDE_STEP: u32 = 16;
 
 /// The city's rebuilds a frame whose clouds captured nothing ([`city_rebuilds`]); at
 /// loading, every building may rebuild.
@@ -237,6 +248,7 @@ impl Impostors {
         };
         let mut cloud_set = ImpostorSet::new(cloud_config, clouds.clouds.len());
         cloud_set.texel_budget = Some(CLOUD_TEXELS);
+        cloud_set.side_step = Some(CLOUD_SIDE_STEP);
         Impostors {
             cloud_set,
             city: Planner::new(city, buildings, reps),

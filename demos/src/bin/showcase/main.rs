@@ -399,11 +399,11 @@ const TOUR_COLUMNS: [&str; 15] = [
 ];
 
 /// The header of `DIR/tour_counters.csv`: each tour frame's work by stage, counted (the
-/// clouds' refreshes and texels captured, the city's rebuilds, the light-field statue's
+/// clouds' refreshes, texels captured and fragments their captures shaded, the city's rebuilds, the light-field statue's
 /// rays, samples read and pixels written, the flare's sprites, the pixels their squares
 /// cover on screen and the pixels within their shapes' reach, which the flare blends; the
 /// forest's sprites and the triangles of their reliefs).
-const COUNTER_COLUMNS: &str = "frame,cloud_refreshes,cloud_texels,city_rebuilds,\
+const COUNTER_COLUMNS: &str = "frame,cloud_refreshes,cloud_texels,cloud_fragments,city_rebuilds,\
 statue_rays,statue_taps,statue_pixels,flare_sprites,flare_pixels,flare_reach,\
 forest_sprites,forest_triangles\n";
 
@@ -414,9 +414,10 @@ fn counter_row(i: usize, show: &Showcase, (w, h): (u32, u32)) -> String {
     let flare = show.ibr.flare();
     let (sprites, triangles) = show.ibr.forest_work();
     format!(
-        "{i},{},{},{},{},{},{},{},{},{},{sprites},{triangles}\n",
+        "{i},{},{},{},{},{},{},{},{},{},{},{sprites},{triangles}\n",
         imp.clouds.refreshes,
         imp.clouds.capture_texels,
+        imp.clouds.capture_fragments,
         imp.city.rebuilds,
         lf.rays,
         lf.taps,

@@ -553,3 +553,46 @@ fn cloud_captures_within_their_texel_budget(w: u32, h: u32) -> (u64, usize) {
     );
     (spent, frames)
 }
+
+/// Over the 640x360 tour every cloud drawn from its image holds at least a texel per screen
+/// pixel (unless its image is at the largest side, [`CLOUD_MAX_SIDE`]), and its image is
+/// sized to its disc ([`CLOUD_SIDE_STEP`]) rather than the power of two above it: the disc
+/// taken from the camera's own field of view, independently of the impostors' sizing.
+#[test]
+fn cloud_images_hold_a_texel_per_screen_pixel_at_their_discs_side() {
+    let mut show = Showcase::new();
+    let (w, h, n) = (640, 360, 120);
+    let (mut shown, mut under_pow2) = (0, 0);
+    for i in 0..n {
+        let (eye, look) = show.path(i, n);
+        let cam = showcase::camera(eye, look, w, h);
+        let engine::Projection::Perspective { fov_y, .. } = cam.projection else {
+            panic!("the tour's camera is a perspective one");
+        };
+        let px_per_radian = h as f32 * 0.5 / (fov_y * 0.5).tan();
+        let lighting = show.scene.lighting.clone();
+        show.ibr
+            .impostors
+            .update(&FrameView::still(&cam, w, h, &lighting));
+        let imps = &show.ibr.impostors;
+        let clouds = imps.clouds.clouds.iter();
+        for (k, (imp, cloud)) in imps.cloud_set.impostors.iter().zip(clouds).enumerate() {
+            if imp.mode != Mode::Image {
+                continue;
+            }
+            let b = cloud.bounds();
+            let disc = 2.0 * (b.radius / b.center.distance(eye)).min(1.0).asin() * px_per_radian;
+            let side = imp.capture().expect("drawn, so captured").side;
+            shown += 1;
+            assert_eq!(side % CLOUD_SIDE_STEP, 0, "frame {i}: cloud {k}");
+            assert!(
+                side == CLOUD_MAX_SIDE || disc <= side as f32,
+                "frame {i}: cloud {k} shown from a {side}-texel image over {disc:.0} px"
+            );
+            let pow2 = (disc.ceil().max(1.0) as u32).next_power_of_two();
+            under_pow2 += (side < pow2) as usize;
+        }
+    }
+    assert!(shown > 0, "no cloud shown as an image over the tour");
+    assert!(under_pow2 > 0, "every image as large as the power of two");
+}

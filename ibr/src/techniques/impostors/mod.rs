@@ -8,7 +8,8 @@
 //!   subject (the ends of its bounding sphere's diameter along the capture ray); 0 from
 //!   the capture eye, growing as the eye translates. Rotating in place changes nothing.
 //! - *resolution*: the power-of-two texture side the subject needs now against the one
-//!   its image has, in octaves.
+//!   its image has, in octaves (with [`ImpostorSet::side_step`], the side is the disc's
+//!   rounded up to the step, and an image the disc has outgrown is invalid).
 //!
 //! An impostor whose error reaches its tolerance is invalid. Invalid impostors are
 //! re-rendered largest error first within a per-frame budget (a count, and optionally
@@ -80,7 +81,7 @@ pub use technique::Impostored;
 use crate::core::pixels_per_radian;
 use crate::core::{needed_side, pull_near, screen_rect, Capture, Frustum, Pool};
 pub use predict::error_color;
-use predict::{image_error, predict};
+use predict::{image_error, outgrown, predict, stepped_side, stretched};
 use refresh::{Job, Worker};
 
 pub(crate) use crate::core::Budget;
@@ -346,6 +347,11 @@ pub struct ImpostorSet {
     pub rebuild_life: Option<f32>,
     /// The eye of the planner's last frame ([`crate::core::Representation::prepare`]).
     last_eye: Option<Vec3>,
+    /// Refreshes' texture sides: the subject's disc on screen rounded up to a multiple of
+    /// this, and an image invalid once the disc outgrows it, so a texel a screen pixel or
+    /// more at about the texels needed (`None`, the default: the power of two at or above
+    /// the disc, up to four times the texels, invalid an octave away).
+    pub side_step: Option<u32>,
 }
 
 impl ImpostorSet {
@@ -370,6 +376,7 @@ impl ImpostorSet {
             texel_credit: 0,
             rebuild_life: None,
             last_eye: None,
+            side_step: None,
         }
     }
 
@@ -424,12 +431,18 @@ impl ImpostorSet {
                 imp.predicted = Predicted::default();
                 continue;
             }
-            let needed = needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side);
+            let needed = match self.side_step {
+                Some(step) => stepped_side(b.radius, dist, px_per_radian, step, &cfg),
+                None => needed_side(b.radius, dist, px_per_radian, cfg.min_side, cfg.max_side),
+            };
             let now = (b, s.version());
-            imp.predicted = predict(imp.capture.as_ref(), now, eye, needed, px_per_radian, &cfg);
+            let held = imp.capture.as_ref();
+            imp.predicted = predict(held, now, eye, needed, px_per_radian, &cfg);
             // Its own refreshes take `needed` texels a side.
-            if self.shape == Shape::Box
-                && stretched(imp.capture.as_ref(), s, eye, px_per_radian, needed)
+            let max = cfg.max_side;
+            let outgrown = self.side_step.is_some() && outgrown(held, b, dist, px_per_radian, max);
+            if outgrown
+                || self.shape == Shape::Box && stretched(held, s, eye, px_per_radian, needed)
             {
                 imp.predicted.ratio = f32::INFINITY;
             }
@@ -643,36 +656,6 @@ impl ImpostorSet {
         metrics::compare(&truth, &image, &opts).ok()
     }
 }
-
-/// Whether a box impostor's image `capture` of `subject` shows some face of its box,
-/// seen from `eye`, with less than a texel a pixel across ([`relief::face_stretch`]) and
-/// more stretched than an image taken from `eye` at `fresh_side` texels would be: a face
-/// the capture eye saw edge-on or from behind, seen at an angle now. Such an image is
-/// invalid, whatever its parallax. An image just taken passes from its own eye, even where
-/// the largest side gives under a texel a pixel (a subject near the eye, its faces seen
-/// at a slant): a rebuild would not do better.
-fn stretched<S: Subject>(
-    capture: Option<&Capture>,
-    subject: &S,
-    eye: Vec3,
-    ppr: f32,
-    fresh_side: u32,
-) -> bool {
-    let Some(c) = capture else { return false };
-    let corners = subject.corners();
-    let held = relief::face_stretch(c, &corners, eye, ppr);
-    if held <= relief::MAX_STRETCH {
-        return false;
-    }
-    let b = subject.bounds();
-    let fresh = Capture::new(eye, b.center, b.radius, fresh_side, c.version)
-        .map_or(0.0, |f| relief::face_stretch(&f, &corners, eye, ppr));
-    held > fresh * STRETCH_GAIN
-}
-
-/// How much more stretched than a fresh image's ([`stretched`]) a held image's faces must
-/// be before it is invalid: a rebuild must gain something clear of rounding.
-const STRETCH_GAIN: f32 = 1.01;
 
 #[cfg(test)]
 mod tests;

@@ -1,6 +1,7 @@
 //! Error prediction without rendering: parallax and resolution against the tolerance.
 
-use super::{Capture, Config, Predicted};
+use super::{relief, Capture, Config, Predicted};
+use crate::core::Subject;
 use engine::{Rgba, Sphere};
 use glam::Vec3;
 
@@ -88,4 +89,60 @@ pub fn error_color(ratio: f32) -> Rgba {
     } else {
         Rgba::new(1.0, 2.0 - t, 0.1, 1.0)
     }
+}
+
+/// Whether a box impostor's image `capture` of `subject` shows some face of its box,
+/// seen from `eye`, with less than a texel a pixel across ([`relief::face_stretch`]) and
+/// more stretched than an image taken from `eye` at `fresh_side` texels would be: a face
+/// the capture eye saw edge-on or from behind, seen at an angle now. Such an image is
+/// invalid, whatever its parallax. An image just taken passes from its own eye, even where
+/// the largest side gives under a texel a pixel (a subject near the eye, its faces seen
+/// at a slant): a rebuild would not do better.
+pub(super) fn stretched<S: Subject>(
+    capture: Option<&Capture>,
+    subject: &S,
+    eye: Vec3,
+    ppr: f32,
+    fresh_side: u32,
+) -> bool {
+    let Some(c) = capture else { return false };
+    let corners = subject.corners();
+    let held = relief::face_stretch(c, &corners, eye, ppr);
+    if held <= relief::MAX_STRETCH {
+        return false;
+    }
+    let b = subject.bounds();
+    let fresh = Capture::new(eye, b.center, b.radius, fresh_side, c.version)
+        .map_or(0.0, |f| relief::face_stretch(&f, &corners, eye, ppr));
+    held > fresh * STRETCH_GAIN
+}
+
+/// How much more stretched than a fresh image's ([`stretched`]) a held image's faces must
+/// be before it is invalid: a rebuild must gain something clear of rounding.
+const STRETCH_GAIN: f32 = 1.01;
+
+/// A sphere of `radius` seen from `dist`: its disc's width on screen, pixels (the angle it
+/// subtends, not the tangent the power-of-two sizing takes, so a little wider near it).
+fn disc(radius: f32, dist: f32, ppr: f32) -> f32 {
+    2.0 * (radius / dist.max(radius * 1.0001)).asin() * ppr
+}
+
+/// The texture side for [`super::ImpostorSet::side_step`]: the disc's width rounded up to
+/// a multiple of `step`, within the config's sides.
+pub(super) fn stepped_side(radius: f32, dist: f32, ppr: f32, step: u32, cfg: &Config) -> u32 {
+    let step = step.max(1);
+    let px = disc(radius, dist, ppr);
+    let side = if px.is_finite() {
+        (px / step as f32).ceil().min(1e6) as u32 * step
+    } else {
+        cfg.max_side
+    };
+    side.clamp(cfg.min_side.max(1), cfg.max_side.max(cfg.min_side.max(1)))
+}
+
+/// Whether the image `capture` holds under a texel a screen pixel now, its subject's disc
+/// at `bounds` seen from `dist` wider than its side (an image at the largest side is not:
+/// no refresh would hold more).
+pub(super) fn outgrown(c: Option<&Capture>, b: Sphere, dist: f32, ppr: f32, max: u32) -> bool {
+    c.is_some_and(|c| c.side < max && disc(b.radius, dist, ppr) > c.side as f32)
 }

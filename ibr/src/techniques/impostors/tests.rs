@@ -143,6 +143,57 @@ fn resolution_error_counts_octaves_of_the_needed_side() {
     assert!((p.octaves - 2.0).abs() < 1e-6 && p.ratio >= 1.0);
 }
 
+/// With a side step the image is as wide as the subject's disc on screen (the angle its
+/// bounding sphere subtends, taken here from the camera's field of view) rounded up to the
+/// step, not to the power of two; coming closer along the capture ray (no parallax) until
+/// the disc is wider than the image makes it invalid, and its refresh is wider again.
+#[test]
+fn a_side_step_sizes_images_to_their_disc_and_refreshes_them_when_outgrown() {
+    let mut subjects = [torus(Vec3::ZERO)];
+    let mut imps = set(1, 1);
+    imps.side_step = Some(16);
+    let b = subjects[0].bounds();
+    let (radius, ppr) = (b.radius, H as f32 * 0.5 / 0.45f32.tan());
+    let disc = |d: f32| 2.0 * (radius / d).asin() * ppr;
+    let at = |d: f32| camera(b.center + Vec3::new(0.0, 0.0, d), b.center);
+    // Distances at which the disc is 40 and 52 px wide (images of 48 and 64 texels).
+    let (d0, d1) = (radius / (20.0 / ppr).sin(), radius / (26.0 / ppr).sin());
+    imps.update(&mut subjects, &at(d0), H, &lighting());
+    let side = imps.impostors[0].capture().unwrap().side;
+    assert_eq!(side % 16, 0);
+    assert!(
+        side as f32 >= disc(d0) && (side as f32) < disc(d0) + 16.0,
+        "{side}"
+    );
+    assert!(
+        !side.is_power_of_two() && disc(d1) > side as f32,
+        "{side} {}",
+        disc(d1)
+    );
+    // A little nearer, the disc still within the image: no refresh.
+    let r = imps.update(&mut subjects, &at(d0 * 0.98), H, &lighting());
+    assert!(disc(d0 * 0.98) <= side as f32);
+    assert_eq!(r.refreshes, 0);
+    // Nearer still the disc outgrows the image: invalid, whatever the parallax (none).
+    imps.config.budget.refreshes = 0;
+    let r = imps.update(&mut subjects, &at(d1), H, &lighting());
+    let p = imps.impostors[0].predicted;
+    assert!(p.degrees < 1e-3 && p.ratio.is_infinite(), "{p:?}");
+    assert_eq!(r.stale, 1);
+    imps.config.budget.refreshes = 1;
+    let r = imps.update(&mut subjects, &at(d1), H, &lighting());
+    assert_eq!(r.refreshes, 1);
+    let wider = imps.impostors[0].capture().unwrap().side;
+    assert!(
+        wider as f32 >= disc(d1) && wider % 16 == 0 && wider > side,
+        "{wider}"
+    );
+    // Without the step, the same subject takes the power of two at or above its disc.
+    let mut pow2 = set(1, 1);
+    pow2.update(&mut subjects, &at(d0), H, &lighting());
+    assert!(pow2.impostors[0].capture().unwrap().side.is_power_of_two());
+}
+
 /// Five subjects in a row; the eye slides sideways so parallax differs per subject.
 fn row() -> Vec<MeshGroup> {
     (0..5)
