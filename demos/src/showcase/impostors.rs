@@ -104,7 +104,7 @@ const CITY_CAP: usize = 6;
 /// cloud's on one frame, and frames 1 and 2 took six each (BENCHMARKS.md, session 16).
 /// The clouds and the city now share one budget of captures a frame: a frame whose
 /// clouds captured an image rebuilds at most one building, others [`CITY_BUDGET`] (a
-/// building's image is up to [`CITY_MAX_SIDE`]², four times the clouds' texels a frame).
+/// building's image is up to [`CITY_MAX_SIDE`]², eight times the clouds' texels a frame).
 /// A deferred rebuild leaves its building to the planner's next frame (drawn as geometry
 /// meanwhile when no image is within the error budget).
 pub fn city_rebuilds(cloud_texels: u64) -> usize {

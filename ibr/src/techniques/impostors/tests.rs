@@ -185,7 +185,7 @@ fn a_side_step_sizes_images_to_their_disc_and_refreshes_them_when_outgrown() {
     assert_eq!(r.refreshes, 1);
     let wider = imps.impostors[0].capture().unwrap().side;
     assert!(
-        wider as f32 >= disc(d1) && wider % 16 == 0 && wider > side,
+        wider as f32 >= disc(d1) && wider.is_multiple_of(16) && wider > side,
         "{wider}"
     );
     // Without the step, the same subject takes the power of two at or above its disc.
