@@ -50,12 +50,25 @@ const MARGIN: f32 = 0.04;
 const CUTOFF: f32 = 0.5;
 
 /// Nodes a side of each view's depth grid ([`ViewAtlas::relief`]): 5 x 5 vertices, 32
-/// triangles a sprite. Each node stands at the nearest surface of its share of the square,
+/// triangles a sprite. Each node stands at the nearest surface near it ([`NODE_REACH`]),
 /// so the coarser the grid the farther a trunk's foot or a crown's rim is drawn in front
 /// of where it is, over the nearer trees behind it: on the showcase's forest (640 x 360
 /// tour, session 16) 3 x 3 measured 26.17 / 22.95 dB and 2.78 fragments tested a pixel,
-/// 5 x 5 26.85 / 23.88 dB and 2.63 (session 9: 4 x 4 0.2 dB more than 3 x 3).
+/// 5 x 5 26.85 / 23.88 dB and 2.63 (session 9: 4 x 4 0.2 dB more than 3 x 3). Session 19,
+/// with the nodes' reach: 5 x 5 27.33 / 24.33 dB, 7 x 7 27.82 / 24.86 dB and the tour's
+/// fragments tested / shaded a pixel 2.30 / 1.90 -> 2.21 / 1.85, but 17,555 -> 39,498
+/// forest triangles a frame, the `forest` step 0.46 -> 0.83 ms and the whole run's CPU
+/// 3.5% more (load 14): not kept.
 pub(crate) const RELIEF: usize = 5;
+
+/// How far from a node (in node spacings, each way) the texels lie whose nearest surface
+/// is its depth ([`grid`]). Half a spacing (every texel to its nearest node, as before
+/// session 19) stood a node at a crown's front when its share only reached the crown's
+/// flank, pulling rims and trunks' feet in front of the nearer trees beside them; too
+/// little and a node misses the surface between nodes (on the 640 x 360 tour with the 5 x
+/// 5 grid, PSNR mean / worst dB: 0.5 26.92 / 23.91, 0.425 27.09 / 24.21, 0.375 27.20 /
+/// 24.46, 0.35 27.25 / 24.49, 0.3 27.33 / 24.33, 0.25 27.28 / 23.99, 0.125 26.83 / 23.14).
+const NODE_REACH: f32 = 0.3;
 
 /// An object's images from `azimuths` evenly spaced directions about +Y (the first along
 /// +X, then toward +Z) at each of `elevations` (radians above the horizon), in one atlas:
@@ -77,10 +90,10 @@ pub struct ViewAtlas {
     /// Per view (row-major as the atlas: elevation `j`, azimuth `k` at `j * azimuths +
     /// k`), the surface's offset toward the viewer from the plane through the centre, in
     /// `bounds.radius`, at each node of a `RELIEF` x `RELIEF` grid over the view's square
-    /// (row-major, top row first as the image): the nearest surface within the node's
-    /// share of the square, 0 (the centre plane, where a convex object's outline lies)
-    /// where it is empty. A trimmed sprite's nodes ([`ViewAtlas::trims`]) take this
-    /// surface where they lie ([`super::trim::surface`]).
+    /// (row-major, top row first as the image): the nearest surface among the texels
+    /// near the node ([`NODE_REACH`]), 0 (the centre plane, where a convex object's
+    /// outline lies) where they are empty. A trimmed sprite's nodes
+    /// ([`ViewAtlas::trims`]) take this surface where they lie ([`super::trim::surface`]).
     pub depth: Vec<[f32; RELIEF * RELIEF]>,
     /// Per view (in the same order), the part of its square a sprite is drawn over: the
     /// grid's nodes spread over its covered texels ([`Trim`]), not the whole square, so
@@ -447,13 +460,23 @@ impl ViewAtlas {
 
 /// A view's depth grid over its whole square from its per-texel offsets (`px` square,
 /// row-major, `-inf` where empty): at each node the largest offset (the nearest surface)
-/// among the texels nearer that node than any other, 0 where they are all empty.
+/// among the texels within [`NODE_REACH`] of a node spacing of it each way, 0 where they
+/// are all empty.
 fn grid(offsets: &[f32], px: usize) -> [f32; RELIEF * RELIEF] {
     let mut g = [f32::NEG_INFINITY; RELIEF * RELIEF];
-    let node = |x: usize| ((x as f32 + 0.5) / px as f32 * (RELIEF - 1) as f32).round() as usize;
+    let at = |x: usize| (x as f32 + 0.5) / px as f32 * (RELIEF - 1) as f32;
+    // Per texel column (and row, the same), its node and whether it lies within reach.
+    let node = |x: usize| {
+        let f = at(x);
+        let n = f.round();
+        ((f - n).abs() <= NODE_REACH).then_some(n as usize)
+    };
+    let nodes: Vec<Option<usize>> = (0..px).map(node).collect();
     for (i, &o) in offsets.iter().enumerate() {
-        let at = node(i / px) * RELIEF + node(i % px);
-        g[at] = g[at].max(o);
+        if let (Some(y), Some(x)) = (nodes[i / px], nodes[i % px]) {
+            let at = y * RELIEF + x;
+            g[at] = g[at].max(o);
+        }
     }
     g.map(|o| if o.is_finite() { o } else { 0.0 })
 }

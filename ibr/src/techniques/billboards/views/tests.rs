@@ -315,3 +315,29 @@ fn a_sprite_small_on_screen_is_drawn_with_fewer_triangles() {
     assert_eq!(triangles(&a, 19.0), 16);
     assert_eq!(triangles(&a, 40.0), 32);
 }
+
+/// A node's depth is the nearest surface near it ([`NODE_REACH`]), not one at the edge of
+/// its share of the square: a bump half way between two nodes (a crown's front its share
+/// only grazes) moves neither, where the surface at a node sets it.
+#[test]
+fn a_nodes_depth_is_the_surface_near_it() {
+    // 40 texels, 4 bands: node `n` at texel 10 n - 0.5, a node spacing 10 texels.
+    let px = 40;
+    let mut offsets = vec![f32::NEG_INFINITY; px * px];
+    // A low surface on the middle node (2, 2) and a high bump 4.5 to 5.5 texels to its
+    // left (0.45 to 0.55 of a spacing: the old share of (2, 2) and (2, 1)).
+    for y in 19..21 {
+        for x in 19..21 {
+            offsets[y * px + x] = 0.2;
+        }
+        for x in 14..16 {
+            offsets[y * px + x] = 0.9;
+        }
+    }
+    let g = grid(&offsets, px);
+    assert_eq!(g[2 * RELIEF + 2], 0.2, "{g:?}");
+    assert_eq!(g[2 * RELIEF + 1], 0.0, "{g:?}");
+    // Within reach of a node, a surface sets it.
+    offsets[20 * px + 12] = 0.7;
+    assert_eq!(grid(&offsets, px)[2 * RELIEF + 1], 0.7);
+}
