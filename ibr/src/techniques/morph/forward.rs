@@ -42,7 +42,36 @@ struct Row<'a> {
     from_right: &'a mut [bool],
 }
 
-impl Source<'_> {
+impl<'a> Source<'a> {
+    /// The left and the right image's rows (colours and disparities) as sources of the
+    /// view a fraction `s` from the left: left pixel x lands at x - s d, right pixel x at
+    /// x + (1 - s) d.
+    fn pair(
+        (lrow, ld): (&'a [Premul], &'a [f32]),
+        (rrow, rd): (&'a [Premul], &'a [f32]),
+        s: f32,
+    ) -> (Self, Self) {
+        let from_left = Source {
+            color: lrow,
+            disparity: ld,
+            other: rrow,
+            other_disparity: rd,
+            shift: -s,
+            other_shift: -1.0,
+            weight: 1.0 - s,
+        };
+        let from_right = Source {
+            color: rrow,
+            disparity: rd,
+            other: lrow,
+            other_disparity: ld,
+            shift: 1.0 - s,
+            other_shift: 1.0,
+            weight: s,
+        };
+        (from_left, from_right)
+    }
+
     /// Maps this image's row into `row`, the pixels in `window` only: `first` paints every
     /// pixel nearer than what is there; the second image (`!first`) only pixels left empty
     /// or nearer by more than a pixel of disparity. Each pixel of `window` is painted as
@@ -289,14 +318,7 @@ pub(super) fn morph(
                 } else {
                     0..0
                 };
-                let mut cleared = 0;
-                for span in outside(written, &keep) {
-                    cleared += span.len() as u64;
-                    color[span.clone()].fill(Premul::TRANSPARENT);
-                    if depths {
-                        depth[span].fill(EMPTY);
-                    }
-                }
+                let cleared = clear_outside((color, depth, depths), written, &keep);
                 *written = 0..0;
                 if !rows.contains(&y) {
                     return (0, 0, cleared);
@@ -311,25 +333,7 @@ pub(super) fn morph(
                     disparity,
                     from_right,
                 };
-                // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
-                let from_left = Source {
-                    color: lrow,
-                    disparity: ld,
-                    other: rrow,
-                    other_disparity: rd,
-                    shift: -s,
-                    other_shift: -1.0,
-                    weight: 1.0 - s,
-                };
-                let from_right = Source {
-                    color: rrow,
-                    disparity: rd,
-                    other: lrow,
-                    other_disparity: ld,
-                    shift: 1.0 - s,
-                    other_shift: 1.0,
-                    weight: s,
-                };
+                let (from_left, from_right) = Source::pair((lrow, ld), (rrow, rd), s);
                 let (lr, rr) = (reach[0][y], reach[1][y]);
                 let mut looked = from_left.map(&mut row, true, window.clone(), lr)
                     + from_right.map(&mut row, false, window.clone(), rr);
@@ -351,35 +355,59 @@ pub(super) fn morph(
                     Made::mapped(made, &row);
                 }
                 fill_from_farther(&mut row, window.clone());
-                // What neither image nor the fill reached: its colour from a frame before.
-                for (c, &d) in row.color[window.clone()]
-                    .iter_mut()
-                    .zip(&row.disparity[window.clone()])
-                {
-                    if d < 0.0 {
-                        *c = Premul::TRANSPARENT;
-                    }
-                }
+                clear_unreached(&mut row, window.clone());
                 if let Some(made) = made.as_deref_mut() {
                     Made::filled(made, &row);
                 }
                 if depths {
-                    for (z, &d) in depth[window.clone()]
-                        .iter_mut()
-                        .zip(&row.disparity[window.clone()])
-                    {
-                        *z = if with_depth && d > 0.0 {
-                            depth_of(d)
-                        } else {
-                            EMPTY
-                        };
-                    }
+                    let depth_of = |d: f32| (with_depth && d > 0.0).then(|| depth_of(d));
+                    write_depths(
+                        &mut depth[window.clone()],
+                        &row.disparity[window.clone()],
+                        depth_of,
+                    );
                 }
                 (window.len() as u64, looked as u64, cleared)
             },
         )
         .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
     (made, morphed, looked, cleared)
+}
+
+/// Clears a canvas row's pixels (`color`, and `depth` when `depths`) of the last morph's
+/// columns `written` outside `keep` (the columns this morph writes); returns how many.
+fn clear_outside(
+    (color, depth, depths): (&mut [Premul], &mut [f32], bool),
+    written: &Range<usize>,
+    keep: &Range<usize>,
+) -> u64 {
+    let mut cleared = 0;
+    for span in outside(written, keep) {
+        cleared += span.len() as u64;
+        color[span.clone()].fill(Premul::TRANSPARENT);
+        if depths {
+            depth[span].fill(EMPTY);
+        }
+    }
+    cleared
+}
+
+/// The pixels of `row` in `window` that neither image nor the fill reached made
+/// transparent: their colour is a frame before's ([`morph`] writes each pixel once).
+fn clear_unreached(row: &mut Row, window: Range<usize>) {
+    let colors = row.color[window.clone()].iter_mut();
+    for (c, &d) in colors.zip(&row.disparity[window]) {
+        if d < 0.0 {
+            *c = Premul::TRANSPARENT;
+        }
+    }
+}
+
+/// Each depth of `depth` from its pixel's disparity (`depth_of`, `None`: empty).
+fn write_depths(depth: &mut [f32], disparity: &[f32], depth_of: impl Fn(f32) -> Option<f32>) {
+    for (z, &d) in depth.iter_mut().zip(disparity) {
+        *z = depth_of(d).unwrap_or(EMPTY);
+    }
 }
 
 /// The parts of `span` outside `keep` (before it and after it).
