@@ -163,9 +163,11 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
 
 /// [`resample`] into `out` (its size, its camera set to `camera`; every pixel written):
 /// no image allocated a frame where `out` is kept (the view morph's postwarp). Without
-/// `with_depth` every depth is left [`crate::core::EMPTY`] and only the colours are looked up
-/// (the same colours): a view shown as colour only skips each pixel's nearest depth,
-/// its two rays along the axes and a division (issue 39).
+/// `with_depth` only the colours are looked up (the same colours) and no depth is written:
+/// the caller keeps them [`crate::core::EMPTY`] (a kept view made without depth the frame
+/// before already is; session 19: they were all written again); a view shown as colour
+/// only skips each pixel's nearest depth, its two rays along the axes and a division
+/// (issue 39).
 ///
 /// A pixel's ray and where it falls in the original are a homography of its column
 /// within a row ([`RowMap`]): each row sets up its linear terms once (in `f64`) and each
@@ -190,7 +192,10 @@ pub(crate) fn resample_into(
         .for_each(|(y, (colors, depths))| {
             let row = map.row(y as u32);
             for (x, (color, depth)) in colors.iter_mut().zip(depths).enumerate() {
-                (*color, *depth) = (Premul::TRANSPARENT, EMPTY);
+                *color = Premul::TRANSPARENT;
+                if with_depth {
+                    *depth = EMPTY;
+                }
                 let x = x as f64;
                 let Some((u, v)) = row.source(x) else {
                     continue;

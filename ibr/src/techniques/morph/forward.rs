@@ -42,7 +42,36 @@ struct Row<'a> {
     from_right: &'a mut [bool],
 }
 
-impl Source<'_> {
+impl<'a> Source<'a> {
+    /// The left and the right image's rows (colours and disparities) as sources of the
+    /// view a fraction `s` from the left: left pixel x lands at x - s d, right pixel x at
+    /// x + (1 - s) d.
+    fn pair(
+        (lrow, ld): (&'a [Premul], &'a [f32]),
+        (rrow, rd): (&'a [Premul], &'a [f32]),
+        s: f32,
+    ) -> (Self, Self) {
+        let from_left = Source {
+            color: lrow,
+            disparity: ld,
+            other: rrow,
+            other_disparity: rd,
+            shift: -s,
+            other_shift: -1.0,
+            weight: 1.0 - s,
+        };
+        let from_right = Source {
+            color: rrow,
+            disparity: rd,
+            other: lrow,
+            other_disparity: ld,
+            shift: 1.0 - s,
+            other_shift: 1.0,
+            weight: s,
+        };
+        (from_left, from_right)
+    }
+
     /// Maps this image's row into `row`, the pixels in `window` only: `first` paints every
     /// pixel nearer than what is there; the second image (`!first`) only pixels left empty
     /// or nearer by more than a pixel of disparity. Each pixel of `window` is painted as
@@ -223,8 +252,15 @@ fn margin(w: usize) -> usize {
 /// (at 1280x720 about 1.1 M of the canvas's 2.0 M pixels a frame, all cleared before).
 /// `reach` is [`row_reach`] of `left` and of `right`. Without `with_depth` the canvas's
 /// depths are left empty (its colours are the same): a view shown as colour only needs none.
-/// Returns the labels, the canvas pixels morphed and the source pixels the maps looked at
-/// (work counters).
+/// `depth_empty` says whether every depth of `out` is empty (made so, or by a morph without
+/// depth): then a morph without depth writes none (session 19: it cleared the last
+/// morph's columns' depths, 5.4 MB at 1280x720); it is set for the next morph.
+/// A pixel of a row's columns is written once (session 19): painted, filled, or made
+/// transparent after the fill where neither reached it; only the last morph's columns
+/// outside this one's are cleared first (until then every column the last morph wrote was
+/// cleared, then most were painted again: 22 MB a frame at 1280x720).
+/// Returns the labels, the canvas pixels morphed, the source pixels the maps looked at and
+/// the canvas pixels cleared before the maps (work counters).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn morph(
     pair: &Rectified,
@@ -234,18 +270,22 @@ pub(super) fn morph(
     camera: Camera,
     (rows, cols): (Range<usize>, Range<usize>),
     (labels, with_depth): (bool, bool),
-    (out, written): (&mut DepthImage, &mut Vec<Range<usize>>),
-) -> (Option<DepthImage>, u64, u64) {
+    (out, written, depth_empty): (&mut DepthImage, &mut Vec<Range<usize>>, &mut bool),
+) -> (Option<DepthImage>, u64, u64, u64) {
     let (w, h) = (pair.left.width() as usize, pair.left.height() as usize);
     if (out.width() as usize, out.height() as usize) != (w, h) || written.len() != h {
         *out = DepthImage::new(w as u32, h as u32, camera);
         written.clear();
         written.resize(h, 0..0);
+        *depth_empty = true;
     }
+    // Depths to clear or write: none when they are all empty and none are made.
+    let depths = with_depth || !*depth_empty;
+    *depth_empty = !with_depth;
     out.camera = camera;
     let mut made = labels.then(|| DepthImage::new(w as u32, h as u32, camera));
     if w == 0 || h == 0 {
-        return (made, 0, 0);
+        return (made, 0, 0, 0);
     }
     let cols = if labels {
         0..w
@@ -261,7 +301,7 @@ pub(super) fn morph(
     let focal = camera.projection.gl_matrix().x_axis.x * 0.5 * w as f32;
     let depth_of = |d: f32| focal * pair.baseline / d;
     let (lc, rc) = (&pair.left.color, &pair.right.color);
-    let (morphed, looked) = out
+    let (morphed, looked, cleared) = out
         .color
         .par_chunks_mut(w)
         .zip(out.depth.par_chunks_mut(w))
@@ -271,11 +311,17 @@ pub(super) fn morph(
         .map_init(
             || (vec![-1.0f32; w], vec![false; w]),
             |(disparity, from_right), (y, (((color, depth), made), written))| {
-                color[written.clone()].fill(Premul::TRANSPARENT);
-                depth[written.clone()].fill(EMPTY);
+                // The last morph's columns outside this one's window (the window's own
+                // are each written below); all of them in a row not morphed now.
+                let keep = if rows.contains(&y) {
+                    window.clone()
+                } else {
+                    0..0
+                };
+                let cleared = clear_outside((color, depth, depths), written, &keep);
                 *written = 0..0;
                 if !rows.contains(&y) {
-                    return (0, 0);
+                    return (0, 0, cleared);
                 }
                 let span = y * w..(y + 1) * w;
                 let (ld, rd) = (&left.data[span.clone()], &right.data[span.clone()]);
@@ -287,25 +333,7 @@ pub(super) fn morph(
                     disparity,
                     from_right,
                 };
-                // Left pixel x lands at x - s d, right pixel x at x + (1 - s) d.
-                let from_left = Source {
-                    color: lrow,
-                    disparity: ld,
-                    other: rrow,
-                    other_disparity: rd,
-                    shift: -s,
-                    other_shift: -1.0,
-                    weight: 1.0 - s,
-                };
-                let from_right = Source {
-                    color: rrow,
-                    disparity: rd,
-                    other: lrow,
-                    other_disparity: ld,
-                    shift: 1.0 - s,
-                    other_shift: 1.0,
-                    weight: s,
-                };
+                let (from_left, from_right) = Source::pair((lrow, ld), (rrow, rd), s);
                 let (lr, rr) = (reach[0][y], reach[1][y]);
                 let mut looked = from_left.map(&mut row, true, window.clone(), lr)
                     + from_right.map(&mut row, false, window.clone(), rr);
@@ -327,22 +355,70 @@ pub(super) fn morph(
                     Made::mapped(made, &row);
                 }
                 fill_from_farther(&mut row, window.clone());
+                clear_unreached(&mut row, window.clone());
                 if let Some(made) = made.as_deref_mut() {
                     Made::filled(made, &row);
                 }
-                for (z, &d) in depth[window.clone()]
-                    .iter_mut()
-                    .zip(&row.disparity[window.clone()])
-                {
-                    if with_depth && d > 0.0 {
-                        *z = depth_of(d);
-                    }
+                if depths {
+                    let depth_of = |d: f32| (with_depth && d > 0.0).then(|| depth_of(d));
+                    write_depths(
+                        &mut depth[window.clone()],
+                        &row.disparity[window.clone()],
+                        depth_of,
+                    );
                 }
-                (window.len() as u64, looked as u64)
+                (window.len() as u64, looked as u64, cleared)
             },
         )
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-    (made, morphed, looked)
+        .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+    (made, morphed, looked, cleared)
+}
+
+/// Clears a canvas row's pixels (`color`, and `depth` when `depths`) of the last morph's
+/// columns `written` outside `keep` (the columns this morph writes); returns how many.
+fn clear_outside(
+    (color, depth, depths): (&mut [Premul], &mut [f32], bool),
+    written: &Range<usize>,
+    keep: &Range<usize>,
+) -> u64 {
+    let mut cleared = 0;
+    for span in outside(written, keep) {
+        cleared += span.len() as u64;
+        color[span.clone()].fill(Premul::TRANSPARENT);
+        if depths {
+            depth[span].fill(EMPTY);
+        }
+    }
+    cleared
+}
+
+/// The pixels of `row` in `window` that neither image nor the fill reached made
+/// transparent: their colour is a frame before's ([`morph`] writes each pixel once).
+fn clear_unreached(row: &mut Row, window: Range<usize>) {
+    let colors = row.color[window.clone()].iter_mut();
+    for (c, &d) in colors.zip(&row.disparity[window]) {
+        if d < 0.0 {
+            *c = Premul::TRANSPARENT;
+        }
+    }
+}
+
+/// Each depth of `depth` from its pixel's disparity (`depth_of`, `None`: empty).
+fn write_depths(depth: &mut [f32], disparity: &[f32], depth_of: impl Fn(f32) -> Option<f32>) {
+    for (z, &d) in depth.iter_mut().zip(disparity) {
+        *z = depth_of(d).unwrap_or(EMPTY);
+    }
+}
+
+/// The parts of `span` outside `keep` (before it and after it).
+fn outside(span: &Range<usize>, keep: &Range<usize>) -> [Range<usize>; 2] {
+    if keep.is_empty() {
+        return [span.clone(), 0..0];
+    }
+    [
+        span.start..span.end.min(keep.start).max(span.start),
+        span.start.max(keep.end)..span.end.max(span.start.max(keep.end)),
+    ]
 }
 
 /// Whether a run of empty pixels of a row mapped over `window` (its `disparity`, negative:
@@ -440,8 +516,10 @@ pub struct MorphScratch {
     pub source_px: u64,
     /// Per row of `parallel`, the columns the last morph wrote ([`morph`]'s `written`).
     pub(super) written: Vec<Range<usize>>,
-    /// Pixels of the canvas cleared for the last view (a work counter: what the view
-    /// before it morphed, where all the canvas's pixels were cleared before).
+    /// Pixels of the canvas cleared for the last view (a work counter): what the view
+    /// before it morphed outside the columns this one morphs (which are each written once:
+    /// session 19); until session 15 all the canvas's pixels were cleared, until session 19
+    /// all those the view before morphed.
     pub cleared_px: u64,
     /// The last view's time in the morph to the parallel canvas (a figure for the
     /// showcase's per-stage times).
@@ -453,6 +531,10 @@ pub struct MorphScratch {
     /// same: a view shown as colour only (the showcase's) skips a nearest-depth lookup and
     /// two divisions a pixel.
     pub depth: bool,
+    /// Whether every depth of the canvas, and of the view, is empty (made so, or made
+    /// without depth since): then a view without depth writes none ([`morph`]).
+    pub(super) canvas_depth_empty: bool,
+    pub(super) view_depth_empty: bool,
 }
 
 impl Default for MorphScratch {
@@ -470,6 +552,8 @@ impl Default for MorphScratch {
             canvas_time: Duration::ZERO,
             postwarp_time: Duration::ZERO,
             depth: true,
+            canvas_depth_empty: true,
+            view_depth_empty: true,
         }
     }
 }

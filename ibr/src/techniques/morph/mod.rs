@@ -228,7 +228,7 @@ impl ViewMorph {
     /// pairs its depth is unknown: [`crate::core::EMPTY`].)
     pub fn frame(&self, s: f32) -> (DepthImage, MorphStats) {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, ..) = self.parallel(s, (true, true), (&mut image, &mut Vec::new()));
+        let (made, ..) = self.parallel(s, (true, true), (&mut image, &mut Vec::new(), &mut true));
         let view = self.postwarp(&image, s);
         let made = made.expect("labels asked for");
         (view, forward::Made::count(&self.postwarp(&made, s)))
@@ -251,20 +251,36 @@ impl ViewMorph {
     pub fn view_into(&self, s: f32, scratch: &mut MorphScratch) -> Labels {
         let s = s.clamp(0.0, 1.0);
         let start = Instant::now();
-        scratch.cleared_px = scratch.written.iter().map(|r| r.len() as u64).sum();
-        let canvas = (&mut scratch.parallel, &mut scratch.written);
-        (_, scratch.canvas_px, scratch.band_px, scratch.source_px) =
-            self.parallel(s, (false, scratch.depth), canvas);
+        let canvas = (
+            &mut scratch.parallel,
+            &mut scratch.written,
+            &mut scratch.canvas_depth_empty,
+        );
+        let (_, morphed, band, looked, cleared) = self.parallel(s, (false, scratch.depth), canvas);
+        (scratch.canvas_px, scratch.band_px) = (morphed, band);
+        (scratch.source_px, scratch.cleared_px) = (looked, cleared);
         let postwarp = Instant::now();
         scratch.canvas_time = postwarp - start;
         let camera = self.camera_at(s);
         match &self.postwarp {
-            Some(_) => scratch.view = self.postwarp(&scratch.parallel, s),
+            Some(_) => {
+                scratch.view = self.postwarp(&scratch.parallel, s);
+                scratch.view_depth_empty = false;
+            }
             None => {
                 if (scratch.view.width(), scratch.view.height()) != (self.width, self.height) {
                     scratch.view = DepthImage::new(self.width, self.height, camera);
+                    scratch.view_depth_empty = true;
                 }
-                resample_into(&scratch.parallel, &camera, &mut scratch.view, scratch.depth);
+                // A view made without depth writes none: the kept view's depths are made
+                // empty once, when the view before it had depths (session 19: every
+                // depth was written empty each frame, 3.7 MB at 1280x720).
+                if !scratch.depth && !scratch.view_depth_empty {
+                    scratch.view.depth.fill(crate::core::EMPTY);
+                }
+                scratch.view_depth_empty = !scratch.depth;
+                let view = &mut scratch.view;
+                resample_into(&scratch.parallel, &camera, view, scratch.depth);
             }
         }
         scratch.postwarp_time = postwarp.elapsed();
@@ -275,7 +291,8 @@ impl ViewMorph {
     /// postwarp as the view, then counted.
     pub fn stats(&self, labels: &Labels) -> MorphStats {
         let mut image = DepthImage::new(0, 0, self.from);
-        let (made, ..) = self.parallel(labels.s, (true, true), (&mut image, &mut Vec::new()));
+        let canvas = (&mut image, &mut Vec::new(), &mut true);
+        let (made, ..) = self.parallel(labels.s, (true, true), canvas);
         let made = made.expect("labels asked for");
         forward::Made::count(&self.postwarp(&made, labels.s))
     }
@@ -284,13 +301,14 @@ impl ViewMorph {
     /// postwarp reads) into `out`, with its labels when `labels` is set (every column
     /// then) and its depths when `depth` is, the canvas pixels morphed, and the pixels of
     /// the rows the postwarp reads (what was morphed before the columns were cut: a work
-    /// counter's reference).
+    /// counter's reference), the source pixels looked at and the canvas pixels cleared
+    /// ([`forward::morph`]'s counters).
     fn parallel(
         &self,
         s: f32,
         (labels, depth): (bool, bool),
-        out: (&mut DepthImage, &mut Vec<Range<usize>>),
-    ) -> (Option<DepthImage>, u64, u64, u64) {
+        out: (&mut DepthImage, &mut Vec<Range<usize>>, &mut bool),
+    ) -> (Option<DepthImage>, u64, u64, u64, u64) {
         let s = s.clamp(0.0, 1.0);
         let p = &self.pair;
         let eye = p.left.camera.eye().lerp(p.right.camera.eye(), s);
@@ -301,7 +319,7 @@ impl ViewMorph {
         let seen = self.seen(&parallel, s);
         let band = (seen.0.len() * p.left.width() as usize) as u64;
         let reach = [self.reach[0].as_slice(), self.reach[1].as_slice()];
-        let (made, morphed, looked) = forward::morph(
+        let (made, morphed, looked, cleared) = forward::morph(
             p,
             (&self.left, &self.right),
             reach,
@@ -311,7 +329,7 @@ impl ViewMorph {
             (labels, depth),
             out,
         );
-        (made, morphed, band, looked)
+        (made, morphed, band, looked, cleared)
     }
 
     /// The rows and the columns of the parallel in-between view (seen by `parallel`) that

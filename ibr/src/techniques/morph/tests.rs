@@ -397,10 +397,10 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
         // The reference: every row of the parallel view morphed, with its labels, then
         // turned.
         let mut all = DepthImage::new(0, 0, a);
-        morph.parallel(s, (false, true), (&mut all, &mut Vec::new()));
+        morph.parallel(s, (false, true), (&mut all, &mut Vec::new(), &mut true));
         let parallel = all.camera;
         let cols = morph.prewarped().left.width() as usize;
-        let (made, morphed, _) = forward::morph(
+        let (made, morphed, ..) = forward::morph(
             &morph.pair,
             (&morph.left, &morph.right),
             [&morph.reach[0], &morph.reach[1]],
@@ -408,7 +408,7 @@ fn only_the_rows_the_postwarp_reads_are_morphed_and_the_view_is_the_same() {
             parallel,
             (0..rows, 0..cols),
             (true, true),
-            (&mut all, &mut Vec::new()),
+            (&mut all, &mut Vec::new(), &mut true),
         );
         assert_eq!(
             morphed,
@@ -487,9 +487,14 @@ fn a_kept_canvas_makes_the_same_views_as_fresh_images_in_any_order() {
         let (fresh, fresh_labels) = morph.view(s);
         assert_eq!(scratch.view, fresh, "s {s}");
         assert_eq!(morph.stats(&labels), morph.stats(&fresh_labels), "s {s}");
-        // Only what the last frame morphed is cleared, and the canvas is then a fresh
-        // one's, pixel for pixel, outside the columns read too.
-        assert_eq!(scratch.cleared_px, last_morphed, "s {s}");
+        // Only what the last frame morphed outside this one's columns is cleared (session
+        // 19: the columns morphed again are each written once), and the canvas is then a
+        // fresh one's, pixel for pixel, outside the columns read too.
+        assert!(scratch.cleared_px <= last_morphed, "s {s}");
+        eprintln!(
+            "s {s}: cleared {} of the last {last_morphed} px",
+            scratch.cleared_px
+        );
         last_morphed = scratch.canvas_px;
         let mut new = MorphScratch::default();
         morph.view_into(s, &mut new);
@@ -519,7 +524,7 @@ fn sources_beyond_a_rows_reach_are_skipped_and_the_canvas_is_the_same() {
         let parallel = scratch.parallel.camera;
         let seen = morph.seen(&parallel, s);
         let mut all = DepthImage::new(0, 0, a);
-        let (_, morphed, looked) = forward::morph(
+        let (_, morphed, looked, _) = forward::morph(
             &morph.pair,
             (&morph.left, &morph.right),
             [&unbounded, &unbounded],
@@ -527,7 +532,7 @@ fn sources_beyond_a_rows_reach_are_skipped_and_the_canvas_is_the_same() {
             parallel,
             seen,
             (false, true),
-            (&mut all, &mut Vec::new()),
+            (&mut all, &mut Vec::new(), &mut true),
         );
         assert_eq!(all, scratch.parallel, "s {s}");
         assert_eq!(morphed, scratch.canvas_px, "s {s}");
@@ -562,6 +567,16 @@ fn a_view_without_depth_has_the_same_colours_and_no_depth() {
         assert_eq!(colour.parallel.color, both.parallel.color, "s {s}");
         assert!(
             colour.view.depth.iter().all(|&z| z == crate::core::EMPTY),
+            "s {s}"
+        );
+        // The canvas's too (session 19: a morph without depth after one without writes no
+        // depth at all, after one with depth clears them).
+        assert!(
+            colour
+                .parallel
+                .depth
+                .iter()
+                .all(|&z| z == crate::core::EMPTY),
             "s {s}"
         );
         assert!(both.view.depth.iter().any(|z| z.is_finite()), "s {s}");
