@@ -31,18 +31,16 @@ impl Pool {
         }
     }
 
-    /// A free texture for a `side` x `side` image: a free one of that size, else any free
-    /// one (its texture swapped for the refill's, [`Pool::swap_texture`]), else a new one
-    /// (a placeholder until its refresh swaps the image in) while the pool has room.
-    /// `None` when every texture is in use and the pool is full. The slots are at most
-    /// as many as were ever in use at once.
+    /// A free texture for a `side` x `side` image: a free one of that size, else a new one
+    /// (a placeholder until its refresh swaps the image in) while the pool has room, else a
+    /// free one of another size (resized on its next refill). `None` when every texture is
+    /// in use and the pool is full.
     pub fn acquire(&mut self, side: u32) -> Option<usize> {
         let free = |s: &Slot| !s.in_use;
         let pick = self
             .slots
             .iter()
             .position(|s| free(s) && s.side == side)
-            .or_else(|| self.slots.iter().position(free))
             .or_else(|| {
                 (self.slots.len() < self.max_slots).then(|| {
                     // A 1 x 1 placeholder: every refresh swaps its own texture in
@@ -58,21 +56,16 @@ impl Pool {
                     });
                     self.slots.len() - 1
                 })
-            })?;
+            })
+            .or_else(|| self.slots.iter().position(free))?;
         self.slots[pick].in_use = true;
         Some(pick)
     }
 
-    /// Returns `slot` to the pool, its image's memory freed (a 1 x 1 placeholder until a
-    /// refresh swaps an image in again: the pool's memory follows the images in use, not
-    /// the most ever held); unknown slots are ignored.
+    /// Returns `slot` to the pool (its texture is kept for reuse); unknown slots are ignored.
     pub fn release(&mut self, slot: usize) {
         if let Some(s) = self.slots.get_mut(slot) {
             s.in_use = false;
-            if s.side > 1 {
-                s.material.base_texture = image_material(1, 1, "impostor").base_texture;
-                s.side = 1;
-            }
         }
     }
 
@@ -158,44 +151,4 @@ pub fn image_material(width: u32, height: u32, name: &str) -> Material {
     };
     m.name = name.into();
     m
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn filled(side: u32) -> Texture {
-        let n = (side * side) as usize;
-        Texture::from_packed(side, side, vec![u32::MAX; n], Encoding::Srgb, true)
-            .expect("a square texture")
-    }
-
-    /// Released slots give their images' memory back, and the slots are reused rather than
-    /// added: the pool holds what is in use, not the most ever held.
-    #[test]
-    fn the_pool_shrinks_to_what_is_in_use() {
-        let mut pool = Pool::new(64);
-        let slots: Vec<usize> = (0..8).filter_map(|_| pool.acquire(64)).collect();
-        assert_eq!(slots.len(), 8);
-        for &s in &slots {
-            let mut tex = filled(64);
-            assert!(pool.swap_texture(s, &mut tex));
-        }
-        let full = pool.bytes();
-        assert_eq!(full, 8 * 64 * 64 * 16);
-        for &s in &slots[2..] {
-            pool.release(s);
-        }
-        assert_eq!(pool.usage(), (2, 8));
-        assert_eq!(pool.bytes(), 2 * 64 * 64 * 16 + 6 * 16, "freed");
-        // A released slot draws nothing until refilled.
-        let released = pool.material(slots[2]).and_then(|m| m.base_texture.clone());
-        assert_eq!(released.map(|t| t.width()), Some(1));
-        // New images take the freed slots, of any side, before new ones.
-        for side in [32, 128, 64] {
-            let s = pool.acquire(side).expect("a free slot");
-            assert!(slots[2..].contains(&s), "{s}");
-        }
-        assert_eq!(pool.usage(), (5, 8));
-    }
 }

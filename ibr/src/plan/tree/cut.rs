@@ -321,7 +321,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                     continue;
                 };
                 report.estimates += 1;
-                let (ms, rb) = (cfg.cost.ms(e.draw), cfg.cost.rebuild_ms(e.rebuild));
+                let (ms, rb) = (cfg.cost.ms(e.draw), cfg.cost.ms(e.rebuild));
                 let cheaper = |o: &Option<(usize, f32, f32, f32)>| o.is_none_or(|b| ms < b.2);
                 if e.error <= cfg.budget && cheaper(&as_is) {
                     as_is = Some((r, e.error, ms, rb));

@@ -29,8 +29,6 @@ impl Subject for Ball {
 pub(super) struct Snapshots {
     held: Vec<Option<(Vec3, u64)>>,
     rebuilt: Vec<usize>,
-    /// Texels a rebuild captures (its work's `pixels`; 0 in most tests).
-    texels: u64,
 }
 
 impl Representation<Cluster<Ball>> for Snapshots {
@@ -56,7 +54,6 @@ impl Representation<Cluster<Ball>> for Snapshots {
         let mut e = Estimate::image(error, 0.5, sight.pixels, s.triangle_count(), (32, 32));
         e.rebuild = Work {
             triangles: s.triangle_count() as u64,
-            pixels: self.texels,
             ..Work::default()
         };
         Some(e)
@@ -98,16 +95,10 @@ pub(super) fn field(side: usize) -> Vec<Ball> {
 }
 
 pub(super) fn hierarchy(side: usize, config: TreeConfig) -> Hierarchy<Ball> {
-    hierarchy_capturing(side, config, 0)
-}
-
-/// [`hierarchy`] whose images capture `texels` each.
-fn hierarchy_capturing(side: usize, config: TreeConfig, texels: u64) -> Hierarchy<Ball> {
     Hierarchy::new(config, field(side), |n| {
         let snaps = Snapshots {
             held: vec![None; n],
             rebuilt: Vec::new(),
-            texels,
         };
         vec![Box::new(snaps) as Box<dyn Representation<Cluster<Ball>>>]
     })
@@ -412,63 +403,6 @@ fn a_capture_cost_caps_the_rebuilds_a_frame() {
     let (charged, free) = (run(20.0 * one), run(0.0));
     assert_eq!(charged, 1, "at most one a frame, and one taken");
     assert!(free >= 2, "uncharged {free}");
-}
-
-#[test]
-fn a_rebuild_is_priced_by_its_texels_and_the_budget_holds_fewer() {
-    // The cut prices a node image's rebuild as the cost model prices a rebuild
-    // (`CostModel::rebuild_ms`: its triangles and its captured texels), so the same
-    // nodes' rebuilds cost more with larger images, by the texels' price exactly, and
-    // after loading the same budget holds fewer of them. Counters: the budget is
-    // predicted milliseconds, not a clock.
-    let cost = CostModel::default();
-    let one = cost.ms(Work {
-        triangles: 500,
-        ..Work::default()
-    });
-    let run = |texels: u64| {
-        let config = TreeConfig {
-            rebuilds: 1_000,
-            rebuild_ms: 40.0 * one,
-            loading: (1, 1e9),
-            ..TreeConfig::default()
-        };
-        let mut h = hierarchy_capturing(64, config, texels);
-        let (mut first, mut most) = ((0, 0.0), 0);
-        for f in 0..10 {
-            let cam = camera(Vec3::new(f as f32 * 2.0 - 10.0, 10.0, 40.0), 64);
-            let r = plan(&mut h, &cam);
-            if f == 0 {
-                first = (r.rebuilds, r.rebuild_ms);
-            } else {
-                assert!(r.rebuild_ms <= 40.0 * one * 1.0001, "frame {f}: {r:?}");
-                most = most.max(r.rebuilds);
-            }
-        }
-        (first, most)
-    };
-    let ((n, small_ms), small_most) = run(16 * 16);
-    let ((m, large_ms), large_most) = run(64 * 64);
-    assert!(
-        n > 0 && n == m,
-        "loading rebuilds the same nodes: {n} and {m}"
-    );
-    // The texels' price: drawn (the model's per pixel) and captured (per texel besides).
-    let texel = |t: u64| {
-        cost.rebuild_ms(Work {
-            pixels: t,
-            ..Work::default()
-        })
-    };
-    let more = (large_ms - small_ms) / n as f32;
-    let want = texel(64 * 64) - texel(16 * 16);
-    assert!(want > (64 * 64 - 16 * 16) as f32 * cost.ns_per_capture_texel * 1e-6);
-    assert!(
-        (more - want).abs() < 1e-3 * want.max(1e-6) + 1e-6,
-        "{more} against {want}"
-    );
-    assert!(large_most < small_most, "{large_most} >= {small_most}");
-    assert!(large_most >= 1, "the budget still takes rebuilds");
 }
 
 /// How many node images the test representation has rebuilt so far.
