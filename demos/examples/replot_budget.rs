@@ -85,6 +85,9 @@ fn parse(text: &str) -> Result<Vec<Row>, String> {
             planning_p99_ms: later("planning_p99_ms")?,
             planning_max_ms: later("planning_max_ms")?,
             planning_within: later("planning_within")?,
+            // Session 19: 0 in older files.
+            covered: later("covered")?,
+            sky: later("sky")?,
         });
     }
     Ok(rows)

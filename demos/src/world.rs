@@ -35,8 +35,25 @@ pub struct World {
 impl World {
     /// `side` x `side` lots (deterministic for `seed`).
     pub fn new(side: u32, seed: u64) -> World {
+        World::scaled(side, seed, 1.0)
+    }
+
+    /// `side` x `side` lots filling the square of `footprint` x `footprint` lots of
+    /// [`LOT`]: each lot, and the object on it, scaled by `footprint / side` (the objects
+    /// and their placement those of [`World::new`] for `seed`, shrunk about the centre).
+    /// The worlds of every `side` cover the same ground and are flown the same way
+    /// ([`World::camera`] depends only on the footprint): the same pixels, `side`^2
+    /// objects in them (`bench objects`).
+    pub fn in_footprint(side: u32, seed: u64, footprint: u32) -> World {
         let side = side.max(1);
-        let half_extent = side as f32 * LOT * 0.5;
+        World::scaled(side, seed, footprint.max(1) as f32 / side as f32)
+    }
+
+    /// `side` x `side` lots of `scale` [`LOT`]s, each object scaled by `scale`.
+    fn scaled(side: u32, seed: u64, scale: f32) -> World {
+        let side = side.max(1);
+        let lot = LOT * scale;
+        let half_extent = side as f32 * lot * 0.5;
         let mut rng = XorShift::new(seed);
         let lit = |specular: f32| {
             Arc::new(Material {
@@ -85,12 +102,12 @@ impl World {
                     x if x < 0.85 => 5,
                     _ => 6,
                 };
-                let x = (gx as f32 + 0.5) * LOT - half_extent + rng.range(-0.8, 0.8);
-                let z = (gz as f32 + 0.5) * LOT - half_extent + rng.range(-0.8, 0.8);
-                let lift = if p == 6 { 1.6 } else { 0.0 };
+                let x = (gx as f32 + 0.5) * lot - half_extent + rng.range(-0.8, 0.8) * scale;
+                let z = (gz as f32 + 0.5) * lot - half_extent + rng.range(-0.8, 0.8) * scale;
+                let lift = if p == 6 { 1.6 * scale } else { 0.0 };
                 let place = Mat4::from_translation(Vec3::new(x, lift, z))
                     * Mat4::from_rotation_y(rng.range(0.0, std::f32::consts::TAU))
-                    * Mat4::from_scale(Vec3::splat(rng.range(0.8, 1.2)));
+                    * Mat4::from_scale(Vec3::splat(rng.range(0.8, 1.2) * scale));
                 let (mesh, material) = protos[p].clone();
                 let mut part = Part::new(mesh, material, place);
                 if p == 6 {

@@ -186,17 +186,22 @@ pub struct Row {
     pub planning_max_ms: f64,
     /// and the fraction of frames planned within [`PLANNING_MS`].
     pub planning_within: f64,
+    /// The reference frames' pixels (all the geometry) the visible objects' screen
+    /// rectangles cover, and those nothing covers (sky), fractions of the frame (means
+    /// over the frames; 0 in older files).
+    pub covered: f64,
+    pub sky: f64,
 }
 
 /// The planner's own time a frame the world's goal allows, milliseconds (issue 41).
 pub const PLANNING_MS: f64 = 2.0;
 
 impl CsvRow for Row {
-    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,predicted_bound,spread_fit,geometry_per_frame,images_per_frame,mix,switches_per_frame,rebuilds_per_frame,memory_mb,planning_ms,planning_p99_ms,planning_max_ms,planning_within";
+    const HEADER: &'static str = "scene,method,budget,objects,triangles,width,height,frames,median_ms,mean_ms,measured_mean,measured_p99,within,objects_over,psnr_db,predicted_mean,predicted_max,predicted_bound,spread_fit,geometry_per_frame,images_per_frame,mix,switches_per_frame,rebuilds_per_frame,memory_mb,planning_ms,planning_p99_ms,planning_max_ms,planning_within,covered,sky";
 
     fn csv(&self) -> String {
         format!(
-            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{},{:.2},{:.2},{:.2},{:.3},{:.3},{:.3},{:.4}",
+            "{},{},{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4},{:.4},{:.5},{:.3},{:.4},{:.4},{:.4},{:.4},{:.1},{:.1},{},{:.2},{:.2},{:.2},{:.3},{:.3},{:.3},{:.4},{:.4},{:.4}",
             self.scene,
             self.method,
             self.budget,
@@ -226,6 +231,8 @@ impl CsvRow for Row {
             self.planning_p99_ms,
             self.planning_max_ms,
             self.planning_within,
+            self.covered,
+            self.sky,
         )
     }
 }
@@ -266,14 +273,13 @@ fn scenes(settings: &Settings) -> Vec<Scene> {
 
 /// The world of `side` x `side` lots and its fly-over.
 fn world_scene(side: u32) -> Scene {
-    world_scene_flown(side, |w, f, n, size| {
+    world_scene_flown(World::new(side, 11), |w, f, n, size| {
         w.camera(f as f32 / n.max(2) as f32 * 0.25, size)
     })
 }
 
-/// The world of `side` x `side` lots flown by `camera` (the world, frame, frames, size).
-fn world_scene_flown(side: u32, camera: WorldFlight) -> Scene {
-    let world = World::new(side, 11);
+/// `world` flown by `camera` (the world, frame, frames, size).
+fn world_scene_flown(world: World, camera: WorldFlight) -> Scene {
     let (objects, ground, lighting) = (
         world.objects.clone(),
         world.ground.clone(),
@@ -291,14 +297,14 @@ fn world_scene_flown(side: u32, camera: WorldFlight) -> Scene {
 /// A flight over a [`World`]: its camera at frame `f` of `n` for a target of `size`.
 pub type WorldFlight = fn(&World, usize, usize, (u32, u32)) -> Camera;
 
-/// `bench objects`: per number of objects in `counts` (the world of the nearest square
-/// number of lots, the same mix of objects, so the same triangles per object on average),
-/// the geometry (up to `geometry_up_to` objects) and the per-node planner at each of
-/// `settings.budgets`, flown by `flight` and measured as the budget sweep's runs.
+/// `bench objects`: per number of objects in `counts` (`world` of the nearest square
+/// number of lots a side, the same mix of objects, so the same triangles per object on
+/// average), the geometry (up to `geometry_up_to` objects) and the per-node planner at
+/// each of `settings.budgets`, flown by `flight` and measured as the budget sweep's runs.
 pub fn by_count(
     settings: &Settings,
     (counts, geometry_up_to): (&[usize], usize),
-    flight: WorldFlight,
+    (world, flight): (fn(u32) -> World, WorldFlight),
     progress: &mut dyn FnMut(usize, usize, &str),
 ) -> Vec<Row> {
     let runs = counts
@@ -309,7 +315,7 @@ pub fn by_count(
     let mut rows = Vec::new();
     for &n in counts {
         let side = ((n as f64).sqrt().round() as u32).max(1);
-        let scene = world_scene_flown(side, flight);
+        let scene = world_scene_flown(world(side), flight);
         if n <= geometry_up_to {
             tick(format!("{n} objects: geometry"));
             let mut geometry = planner(&scene, settings, 0.0, false);

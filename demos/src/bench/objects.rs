@@ -6,15 +6,20 @@
 //! all the geometry from the same eye, as `bench budget` does (`measured_mean`: the mean
 //! absolute error over the pixels the visible objects' rectangles cover).
 //!
-//! Equal pixels: every world is flown along the same eye path in world units ([`flight`]),
-//! the 1k world's fly-over held at the same distance from the near edge, so the view's
-//! near part (the cut's geometry and node images) shows comparable content at every count
-//! and only its far part fills with more objects as the world grows (the far field).
+//! Equal pixels: every world fills the same square of ground, the 1k world's
+//! ([`FOOTPRINT`] lots a side), its lots and objects shrunk to fit ([`World::in_footprint`]),
+//! and is flown along the same eye path ([`flight`]): the ground, the sky and the part of
+//! the frame the objects stand in are the same at every count (the CSV's `covered` and
+//! `sky`), and only the number of objects in them grows, with the geometry's triangles.
+//! (Until session 19 the larger worlds were larger squares of full-size lots, whose far
+//! part filled pixels that are sky in the 1k world.)
 
 use crate::bench::budget::{by_count, Row, Settings};
 use crate::bench::{Progress, RunFlags, Sweep};
 use crate::chart::{Chart, Line, Lines};
-use crate::world::{World, LOT};
+use crate::world::World;
+#[cfg(doc)]
+use crate::world::LOT;
 use clap::Args;
 use engine::Camera;
 
@@ -88,25 +93,38 @@ impl Counts {
     }
 }
 
-/// Lots a side of the world whose fly-over every larger world is flown along (32 x 32,
-/// the sweep's 1k objects).
-pub const FLIGHT_SIDE: u32 = 32;
+/// Lots of [`LOT`] a side of the ground every world of the sweep fills (32 x 32, the
+/// sweep's 1k objects at full size).
+pub const FOOTPRINT: u32 = 32;
 
-/// The sweep's flight over `world` at frame `f` of `n`: [`World::camera`]'s first quarter
-/// for a world up to [`FLIGHT_SIDE`] lots a side; a larger world is flown along that
-/// world's eye path, the same distance in from its near edge, looking the same way, its far
-/// plane past its own far edge. (Each world's own fly-over crosses a fifth of the world:
-/// 9.6 units in the 24 frames at 1k, 95 at 100k, ten times as fast, so the far field's
-/// parallax, and its re-capture, would follow the number of objects.)
-pub fn flight(world: &World, f: usize, n: usize, (w, h): (u32, u32)) -> Camera {
-    let t = f as f32 / n.max(2) as f32 * 0.25;
-    let e = world.half_extent;
-    let path = e.min(FLIGHT_SIDE as f32 * LOT * 0.5);
-    let eye = glam::Vec3::new(path * (0.4 * t - 0.2), 20.0, e - 0.1 * path);
-    let target = eye + glam::Vec3::new(0.15, -0.32, -1.0);
-    Camera::look_at(eye, target, glam::Vec3::Y, 1.0, w as f32 / h.max(1) as f32)
-        .with_depth_range(0.5, e * 2.2)
+/// The sweep's world of `side` x `side` objects: [`FOOTPRINT`]'s square of ground.
+pub fn world(side: u32) -> World {
+    World::in_footprint(side, 11, FOOTPRINT)
 }
+
+/// The sweep's flight over `world` at frame `f` of `n`: [`World::camera`]'s eye path
+/// (its first quarter, the same for every world of the sweep: they share their footprint),
+/// looking down at 41.7 degrees ([`LOOK`]), so that every corner of the frame meets the
+/// ground inside the lots: no sky in any frame, every pixel the footprint's ground or
+/// what stands on it.
+pub fn flight(world: &World, f: usize, n: usize, (w, h): (u32, u32)) -> Camera {
+    let along = world.camera(f as f32 / n.max(2) as f32 * 0.25, (w, h));
+    let eye = along.eye();
+    Camera::look_at(
+        eye,
+        eye + LOOK,
+        glam::Vec3::Y,
+        1.0,
+        w as f32 / h.max(1) as f32,
+    )
+    .with_depth_range(0.5, world.half_extent * 2.2)
+}
+
+/// The sweep's view direction ([`flight`]). The fly-over's own, 17.6 degrees down, sees
+/// past the footprint's far edge: the sky and the far objects' silhouettes against it
+/// then differ with the objects' size (a first run of this sweep at that view: sky 0.23,
+/// 0.29 and 0.31 of the frame at 1k, 4k and 16k objects).
+pub const LOOK: glam::Vec3 = glam::Vec3::new(0.15, -0.9, -1.0);
 
 /// Frame time and error against the number of objects.
 #[derive(Clone, Copy, Debug)]
@@ -135,7 +153,7 @@ impl Sweep for ObjectsSweep {
         Ok(by_count(
             &c.run,
             (&c.counts, c.geometry_up_to),
-            flight,
+            (world, flight),
             progress,
         ))
     }
@@ -143,7 +161,7 @@ impl Sweep for ObjectsSweep {
     fn report(&self, rows: &[Row]) {
         for r in rows {
             println!(
-                "{:>7} objects {:>10} tris {}x{}  {:<12} {:>4}  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3})  geometry {:>7.1} images {:>6.1}  rebuilds {:>5.1}  planning {:>5.2} ms",
+                "{:>7} objects {:>10} tris {}x{}  {:<12} {:>4}  median {:>8.2} ms  measured {:>6.3} (p99 {:>6.3})  geometry {:>7.1} images {:>6.1}  rebuilds {:>5.1}  planning {:>5.2} ms  covered {:.3} sky {:.3}",
                 r.objects,
                 r.triangles,
                 r.width,
@@ -157,6 +175,8 @@ impl Sweep for ObjectsSweep {
                 r.images_per_frame,
                 r.rebuilds_per_frame,
                 r.planning_ms,
+                r.covered,
+                r.sky,
             );
         }
     }
@@ -229,26 +249,73 @@ impl Sweep for ObjectsSweep {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use engine::{FrameOptions, Renderer, Rgba, Target};
+    use ibr::subject::Subject;
 
+    /// Every world of the sweep stands on the 1k world's ground and is flown the same way:
+    /// the same eyes, the 1k world at full size.
     #[test]
-    fn every_world_is_flown_along_the_1k_worlds_path() {
+    fn every_world_fills_the_1k_worlds_ground_and_is_flown_alike() {
         let size = (640, 360);
-        let small = World::new(FLIGHT_SIDE, 11);
-        let large = World::new(FLIGHT_SIDE * 4, 11);
+        let full = World::new(FOOTPRINT, 11);
+        let small = world(FOOTPRINT);
+        assert_eq!(small.triangle_count(), full.triangle_count());
+        let large = world(FOOTPRINT * 4);
+        assert_eq!(large.objects.len(), 16 * full.objects.len());
+        assert_eq!(large.half_extent, full.half_extent);
         for f in [0, 12, 24] {
-            // At 1k, the world's own fly-over.
-            let own = small.camera(f as f32 / 24.0 * 0.25, size);
-            let flown = flight(&small, f, 24, size);
-            assert!(own.eye().distance(flown.eye()) < 1e-3, "{f}");
-            // Larger: the same eye path, the same distance from its near edge.
-            let (a, b) = (flown.eye(), flight(&large, f, 24, size).eye());
-            assert!((a.x - b.x).abs() < 1e-3 && (a.y - b.y).abs() < 1e-3, "{f}");
-            let edge = |w: &World, z: f32| w.half_extent - z;
-            assert!((edge(&small, a.z) - edge(&large, b.z)).abs() < 1e-3, "{f}");
+            let own = full.camera(f as f32 / 24.0 * 0.25, size);
+            for w in [&small, &large] {
+                let eye = flight(w, f, 24, size).eye();
+                assert!(own.eye().distance(eye) < 1e-4, "{f}");
+            }
         }
-        // 24 frames cross the same 9.6 units in both.
-        let path = |w: &World| flight(w, 24, 24, size).eye() - flight(w, 0, 24, size).eye();
-        assert!((path(&small).length() - 9.6).abs() < 1e-3);
-        assert!((path(&large).length() - 9.6).abs() < 1e-3);
+        // Every object inside the footprint, at a sixteenth of the area each.
+        let inside = |w: &World| {
+            w.objects.iter().all(|o| {
+                let s = o.bounds();
+                s.center.x.abs() <= w.half_extent + s.radius
+                    && s.center.z.abs() <= w.half_extent + s.radius
+            })
+        };
+        assert!(inside(&small) && inside(&large));
+        let radii = |w: &World| w.objects.iter().map(|o| o.bounds().radius).sum::<f32>();
+        let ratio = radii(&large) / radii(&small);
+        assert!((ratio - 4.0).abs() < 0.6, "{ratio}");
+    }
+
+    /// Rendered at 160 x 90 along the flight, the sweep's worlds of 256 and 4,096 objects
+    /// leave no pixel to the sky (every pixel the footprint's ground or an object on it),
+    /// while the larger draws more than eight times the triangles: the sweep changes the
+    /// number of objects, not the pixels.
+    #[test]
+    fn the_sweeps_worlds_cover_the_same_pixels() {
+        let (w, h) = (160, 90);
+        let cover = |side: u32, f: usize| {
+            let world = world(side);
+            let camera = flight(&world, f, 24, (w, h));
+            let mut draws = Vec::new();
+            world.ground.draws(&mut draws);
+            world.objects.iter().for_each(|o| o.draws(&mut draws));
+            let mut target = Target::new(w, h);
+            let opts = FrameOptions {
+                clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
+                ..FrameOptions::default()
+            };
+            let stats = Renderer::new().render(draws, &camera, &world.lighting, &mut target, &opts);
+            let sky = (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .filter(|&(x, y)| target.depth_reversed(x, y) == Some(0.0))
+                .count();
+            (sky as f32 / (w * h) as f32, stats.triangles_in)
+        };
+        for f in [0, 24] {
+            let (sky_a, _) = cover(16, f);
+            let (sky_b, _) = cover(64, f);
+            assert_eq!((sky_a, sky_b), (0.0, 0.0), "frame {f}");
+        }
+        let (_, tris_a) = cover(16, 12);
+        let (_, tris_b) = cover(64, 12);
+        assert!(tris_b > 8 * tris_a, "triangles in {tris_a} -> {tris_b}");
     }
 }

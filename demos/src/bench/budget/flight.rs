@@ -163,6 +163,10 @@ pub(super) struct Flight {
     objects_over: Vec<f64>,
     psnr: Vec<f64>,
     probes: Vec<Sample>,
+    /// Per frame, the fractions of the reference's pixels the visible objects' rectangles
+    /// cover and nothing covers (sky).
+    covered: Vec<f64>,
+    sky: Vec<f64>,
     scratch: Scratch,
     /// The last frame's visible objects: index, measured error over its screen rectangle,
     /// and the rectangle.
@@ -230,6 +234,9 @@ pub(super) fn fly_with<T: Probe>(
             (&mut out.scratch, &mut out.seen),
         );
         each(t, &out.seen);
+        let pixels = f64::from(w * h).max(1.0);
+        out.covered.push(out.scratch.cover.area() as f64 / pixels);
+        out.sky.push(sky_pixels(&truth) as f64 / pixels);
         out.frame_errors.push(frame);
         out.objects_over.push(over);
         if let Ok(e) = metrics::compare(&truth, &target, &Options::default()) {
@@ -304,6 +311,15 @@ fn measure(
     (sum / area.max(1.0), over as f64 / seen.len().max(1) as f64)
 }
 
+/// Pixels of `target` nothing was drawn on (its depth the far plane's).
+fn sky_pixels(target: &Target) -> usize {
+    let (w, h) = (target.width(), target.height());
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| target.depth_reversed(x, y) == Some(0.0))
+        .count()
+}
+
 /// [`measure`]'s memory, reused frame to frame.
 #[derive(Default)]
 struct Scratch {
@@ -375,6 +391,8 @@ impl Flight {
             planning_p99_ms: percentile(&planning, 0.99),
             planning_max_ms: planning.iter().copied().fold(0.0, f64::max),
             planning_within: planned_within as f64 / planning.len().max(1) as f64,
+            covered: self.covered.iter().sum::<f64>() / n,
+            sky: self.sky.iter().sum::<f64>() / n,
         }
     }
 }
