@@ -226,8 +226,8 @@ fn flat_normals_are_worked_out_once_per_triangle() {
 /// for every row: over random triangles' planes (`1/w` from nearly constant to strongly
 /// perspective, boxes up to 64 x 64, textures 8 to 256 texels wide), wherever it answers,
 /// each 8-pixel row of the box takes a level (`row_lod`, the shader's own) within half of
-/// `LOD_SPREAD` of it, and so well within the 1/8 level allowed. Near-affine triangles (the
-/// sprites) mostly get one; strongly perspective ones do not.
+/// `LOD_SPREAD` of it (1/8 level), plus 1e-3 for rounding. Near-affine triangles (the
+/// sprites) mostly get one; strongly perspective ones mostly do not.
 #[test]
 fn one_level_per_triangle_is_within_half_the_spread_of_every_row() {
     use super::{barycentrics, row_lod, triangle_lod, Row, LOD_SPREAD};
@@ -294,6 +294,17 @@ fn one_level_per_triangle_is_within_half_the_spread_of_every_row() {
     );
     assert!(one < cases / 2, "{one} of {cases} with one level");
     assert!(worst > 0.0, "the rows' levels vary within the spread");
+    // Non-finite planes are left to the rows.
+    let mut tri = Tri::with_box([0, 0, 8, 8], 0);
+    tri.iw = Plane {
+        c: 1.0,
+        dx: f32::NAN,
+        dy: 0.0,
+    };
+    assert_eq!(
+        triangle_lod(&tri, [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], &texs[0]),
+        None
+    );
 }
 
 /// A trilinear textured quad (a sprite facing the camera, one level a triangle, and a
