@@ -221,3 +221,142 @@ fn flat_normals_are_worked_out_once_per_triangle() {
     attr[NRM] = [0.5, 0.0, 0.25];
     assert_eq!(super::flat_normal(&attr, face, true), None);
 }
+
+/// One level of detail for a whole triangle (`triangle_lod`) is taken only where it stands
+/// for every row: over random triangles' planes (`1/w` from nearly constant to strongly
+/// perspective, boxes up to 64 x 64, textures 8 to 256 texels wide), wherever it answers,
+/// each 8-pixel row of the box takes a level (`row_lod`, the shader's own) within half of
+/// `LOD_SPREAD` of it (1/8 level), plus 1e-3 for rounding. Near-affine triangles (the
+/// sprites) mostly get one; strongly perspective ones mostly do not.
+#[test]
+fn one_level_per_triangle_is_within_half_the_spread_of_every_row() {
+    use super::{barycentrics, row_lod, triangle_lod, Row, LOD_SPREAD};
+    use crate::setup::{Plane, Tri};
+    let mut rng = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let texels = vec![128u8; 256 * 256 * 4];
+    let texs: Vec<Texture> = [8, 64, 256]
+        .map(|s| Texture::from_rgba8(s, s, &texels[..(s * s * 4) as usize], Encoding::Srgb))
+        .into_iter()
+        .map(|t| t.expect("square"))
+        .collect();
+    let (mut one, mut near_affine, mut worst) = (0, 0, 0.0f32);
+    let cases = 3000;
+    for case in 0..cases {
+        let (bw, bh) = (1 + (next() * 63.0) as u16, 1 + (next() * 63.0) as u16);
+        let mut tri = Tri::with_box([10, 20, 10 + bw, 20 + bh], 0);
+        // A third of the cases nearly affine (`1/w` within 0.2% over 64 pixels), the rest up
+        // to 2% a pixel.
+        let slope = if case % 3 == 0 { 3e-5 } else { 0.02 };
+        let c = 0.05 + 4.0 * next();
+        tri.iw = Plane {
+            c,
+            dx: c * slope * (2.0 * next() - 1.0),
+            dy: c * slope * (2.0 * next() - 1.0),
+        };
+        let mut plane = || Plane {
+            c: c * next(),
+            dx: c * (2.0 * next() - 1.0) / 32.0,
+            dy: c * (2.0 * next() - 1.0) / 32.0,
+        };
+        (tri.l1, tri.l2) = (plane(), plane());
+        let mut d = || 4.0 * next() - 2.0;
+        let uv = [[0.5, d(), d()], [0.5, d(), d()]];
+        let tex = &texs[case % texs.len()];
+        let Some(lod) = triangle_lod(&tri, uv, tex) else {
+            continue;
+        };
+        one += 1;
+        near_affine += (case % 3 == 0) as usize;
+        for y in 0..=bh {
+            for x0 in (0..=bw).step_by(8) {
+                let lanes = (bw - x0 + 1).min(8);
+                let row = Row::whole(x0 as f32, y as f32, (1u32 << lanes) - 1);
+                let (l1, l2, w) = barycentrics(&tri, &row);
+                let got = row_lod(&tri, uv, tex, &row, [l1, l2, w]);
+                let off = (got - lod).abs();
+                worst = worst.max(off);
+                assert!(
+                    off <= LOD_SPREAD / 2.0 + 1e-3,
+                    "case {case}: row ({x0}, {y}) level {got}, triangle's {lod}"
+                );
+            }
+        }
+    }
+    assert!(
+        near_affine > cases / 3 / 2,
+        "{near_affine} near-affine triangles with one level"
+    );
+    assert!(one < cases / 2, "{one} of {cases} with one level");
+    assert!(worst > 0.0, "the rows' levels vary within the spread");
+    // Non-finite planes are left to the rows.
+    let mut tri = Tri::with_box([0, 0, 8, 8], 0);
+    tri.iw = Plane {
+        c: 1.0,
+        dx: f32::NAN,
+        dy: 0.0,
+    };
+    assert_eq!(
+        triangle_lod(&tri, [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], &texs[0]),
+        None
+    );
+}
+
+/// A trilinear textured quad (a sprite facing the camera, one level a triangle, and a
+/// floor in perspective, a level a row) gives the same pixels at 1 and 2 threads.
+#[test]
+fn trilinear_levels_give_the_same_pixels_at_any_thread_count() {
+    use crate::texture::Filter;
+    let (w, h) = (64u32, 64u32);
+    let texels: Vec<u8> = (0..w * h * 4).map(|i| (i * 37 % 251) as u8).collect();
+    let tex = Arc::new(Texture::from_rgba8(w, h, &texels, Encoding::Srgb).expect("64x64"));
+    let mut material = Material::lit(Rgba::WHITE).with_texture(tex);
+    material.sampler.filter = Filter::Trilinear;
+    let quad = Mesh {
+        positions: vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        normals: vec![Vec3::Z; 4],
+        uvs: vec![
+            glam::Vec2::new(0.0, 4.0),
+            glam::Vec2::new(4.0, 4.0),
+            glam::Vec2::new(4.0, 0.0),
+            glam::Vec2::new(0.0, 0.0),
+        ],
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
+    };
+    let camera = Camera::look_at(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
+    let sprite = Mat4::from_scale(Vec3::splat(0.6));
+    let floor = Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0))
+        * Mat4::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+        * Mat4::from_scale(Vec3::splat(3.0));
+    let lighting = Lighting::default();
+    let mut frames = Vec::new();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let mut target = Target::with_encoding(160, 96, Encoding::Srgb);
+        let draws = [floor, sprite].map(|transform| Draw {
+            mesh: &quad,
+            material: &material,
+            transform,
+        });
+        let opts = FrameOptions::default();
+        pool.install(|| Renderer::new().render(draws, &camera, &lighting, &mut target, &opts));
+        frames.push(target.to_rgba8());
+    }
+    assert_eq!(frames[0], frames[1]);
+    // Something was drawn: the frame is not one colour.
+    assert!(frames[0].chunks(4).any(|p| p != &frames[0][..4]));
+}
