@@ -232,13 +232,8 @@ fn flat_normals_are_worked_out_once_per_triangle() {
 fn one_level_per_triangle_is_within_half_the_spread_of_every_row() {
     use super::{barycentrics, row_lod, triangle_lod, Row, LOD_SPREAD};
     use crate::setup::{Plane, Tri};
-    let mut rng = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        rng ^= rng << 13;
-        rng ^= rng >> 7;
-        rng ^= rng << 17;
-        (rng >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut rng = crate::procedural::XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut next = move || rng.next_f32();
     let texels = vec![128u8; 256 * 256 * 4];
     let texs: Vec<Texture> = [8, 64, 256]
         .map(|s| Texture::from_rgba8(s, s, &texels[..(s * s * 4) as usize], Encoding::Srgb))

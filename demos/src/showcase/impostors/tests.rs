@@ -402,6 +402,15 @@ fn flying_into_a_cloud_does_not_pop() {
     );
 }
 
+/// Screen pixels a radian at the view's centre, from the tour camera's own field of view
+/// (independent of the impostors' sizing).
+fn px_per_radian(cam: &Camera, h: u32) -> f32 {
+    let engine::Projection::Perspective { fov_y, .. } = cam.projection else {
+        panic!("the tour's camera is a perspective one");
+    };
+    h as f32 * 0.5 / (fov_y * 0.5).tan()
+}
+
 /// At the size the tour shows them (1280 x 720), the city's impostors hold at least one
 /// texel per screen pixel: a building whose disc on screen is wider than the largest
 /// impostor texture is drawn another way (its geometry or a layer), never as a blurred
@@ -416,10 +425,7 @@ fn city_impostors_hold_a_texel_per_screen_pixel_over_the_tour() {
     for i in 0..n {
         let (eye, look) = show.path(i, n);
         let cam = showcase::camera(eye, look, w, h);
-        let engine::Projection::Perspective { fov_y, .. } = cam.projection else {
-            panic!("the tour's camera is a perspective one");
-        };
-        let px_per_radian = h as f32 * 0.5 / (fov_y * 0.5).tan();
+        let px_per_radian = px_per_radian(&cam, h);
         let lighting = show.scene.lighting.clone();
         let view = FrameView::still(&cam, w, h, &lighting);
         show.ibr.impostors.update(&view);
@@ -566,10 +572,7 @@ fn cloud_images_hold_a_texel_per_screen_pixel_at_their_discs_side() {
     for i in 0..n {
         let (eye, look) = show.path(i, n);
         let cam = showcase::camera(eye, look, w, h);
-        let engine::Projection::Perspective { fov_y, .. } = cam.projection else {
-            panic!("the tour's camera is a perspective one");
-        };
-        let px_per_radian = h as f32 * 0.5 / (fov_y * 0.5).tan();
+        let px_per_radian = px_per_radian(&cam, h);
         let lighting = show.scene.lighting.clone();
         show.ibr
             .impostors
