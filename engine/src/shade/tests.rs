@@ -42,10 +42,10 @@ proptest::proptest! {
     }
 }
 
-/// A quad in the z = 0 plane facing +Z, seen head-on from z = 4, filling the middle of a
-/// 32 x 32 target; returns the centre pixel as linear RGB.
-fn centre(material: &Material, lighting: &Lighting) -> [f32; 3] {
-    let quad = Mesh {
+/// The quad `[-1, 1]^2` in the z = 0 plane facing +Z, two triangles, with the given uvs at
+/// its corners (counter-clockwise from `(-1, -1)`).
+fn unit_quad(uvs: [glam::Vec2; 4]) -> Mesh {
+    Mesh {
         positions: vec![
             Vec3::new(-1.0, -1.0, 0.0),
             Vec3::new(1.0, -1.0, 0.0),
@@ -53,10 +53,16 @@ fn centre(material: &Material, lighting: &Lighting) -> [f32; 3] {
             Vec3::new(-1.0, 1.0, 0.0),
         ],
         normals: vec![Vec3::Z; 4],
-        uvs: vec![glam::Vec2::ZERO; 4],
+        uvs: uvs.to_vec(),
         indices: vec![0, 1, 2, 0, 2, 3],
         ..Default::default()
-    };
+    }
+}
+
+/// A quad in the z = 0 plane facing +Z, seen head-on from z = 4, filling the middle of a
+/// 32 x 32 target; returns the centre pixel as linear RGB.
+fn centre(material: &Material, lighting: &Lighting) -> [f32; 3] {
+    let quad = unit_quad([glam::Vec2::ZERO; 4]);
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 0.6, 1.0);
     let mut target = Target::with_encoding(32, 32, Encoding::Srgb);
     let draw = Draw {
@@ -312,23 +318,12 @@ fn trilinear_levels_give_the_same_pixels_at_any_thread_count() {
     let tex = Arc::new(Texture::from_rgba8(w, h, &texels, Encoding::Srgb).expect("64x64"));
     let mut material = Material::lit(Rgba::WHITE).with_texture(tex);
     material.sampler.filter = Filter::Trilinear;
-    let quad = Mesh {
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        normals: vec![Vec3::Z; 4],
-        uvs: vec![
-            glam::Vec2::new(0.0, 4.0),
-            glam::Vec2::new(4.0, 4.0),
-            glam::Vec2::new(4.0, 0.0),
-            glam::Vec2::new(0.0, 0.0),
-        ],
-        indices: vec![0, 1, 2, 0, 2, 3],
-        ..Default::default()
-    };
+    let quad = unit_quad([
+        glam::Vec2::new(0.0, 4.0),
+        glam::Vec2::new(4.0, 4.0),
+        glam::Vec2::new(4.0, 0.0),
+        glam::Vec2::new(0.0, 0.0),
+    ]);
     let camera = Camera::look_at(Vec3::new(0.0, 0.5, 3.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
     let sprite = Mat4::from_scale(Vec3::splat(0.6));
     let floor = Mat4::from_translation(Vec3::new(0.0, -0.5, 0.0))
