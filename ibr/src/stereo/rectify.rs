@@ -161,8 +161,9 @@ pub(crate) fn resample(image: &DepthImage, camera: &Camera, w: u32, h: u32) -> D
     out
 }
 
-/// [`resample`] into `out` (its size, its camera set to `camera`; every pixel written):
-/// no image allocated a frame where `out` is kept (the view morph's postwarp). Without
+/// [`resample`] into `out` (its size, its camera set to `camera`; every pixel's colour
+/// written, and its depth when `with_depth`): no image allocated a frame where `out` is
+/// kept (the view morph's postwarp). Without
 /// `with_depth` only the colours are looked up (the same colours) and no depth is written:
 /// the caller keeps them [`crate::core::EMPTY`] (a kept view made without depth the frame
 /// before already is; session 19: they were all written again); a view shown as colour
