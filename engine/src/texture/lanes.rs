@@ -8,7 +8,7 @@
 //! gather, so a bilinear tap is 4 gathers instead of 8. The 16-bit copy holds the same
 //! values (byte times 257), so the two paths agree to float rounding.
 
-use super::{Filter, Sampler, Texture, Wrap, BLOCK, BLOCK_SHIFT};
+use super::{Filter, Sampler, Texture, Wrap};
 use crate::simd::{F8, I8, M8};
 
 impl Texture {
@@ -54,7 +54,7 @@ impl Texture {
             l.height,
             s.wrap_v,
         );
-        let idx = self.row8(0, y) + self.col8(x);
+        let idx = y.mul_lo(I8::splat(l.width as i32)) + x;
         let one = F8::splat(1.0);
         self.taps(
             0,
@@ -76,8 +76,9 @@ impl Texture {
         let one = F8::splat(1.0);
         let xa = wrap8(x0, l.width, s.wrap_u);
         let xb = wrap8(x0 + one, l.width, s.wrap_u);
-        let ya = self.row8(level, wrap8(y0, l.height, s.wrap_v));
-        let yb = self.row8(level, wrap8(y0 + one, l.height, s.wrap_v));
+        let w = I8::splat(l.width as i32);
+        let ya = wrap8(y0, l.height, s.wrap_v).mul_lo(w);
+        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul_lo(w);
         let (sx, sy) = (one - tx, one - ty);
         let w = [sx * sy, tx * sy, sx * ty, tx * ty];
         if self.bytes && keep.and_not(xb.eq(xa + I8::splat(1))).bits() == 0 {
@@ -87,34 +88,7 @@ impl Texture {
             let (p2, p3) = I8::gather_u32_pairs_lanes(t, yb + xa, keep);
             return self.weigh_bytes([p0, p1, p2, p3], w, keep);
         }
-        let (xa, xb) = (self.col8(xa), self.col8(xb));
         self.taps(level, [ya + xa, ya + xb, yb + xa, yb + xb], w, keep)
-    }
-
-    /// The part of a texel's index in the table [`Texture::taps`] reads that comes from its
-    /// row `y` (in range) of `level`: `y` times the width in the stored bytes (row-major),
-    /// the block row's start plus the row within a block in the blocked 16-bit copy.
-    #[inline(always)]
-    pub(super) fn row8(&self, level: usize, y: I8) -> I8 {
-        if self.bytes {
-            return y.mul_lo(I8::splat(self.levels[level].width as i32));
-        }
-        let lin = &self.linear[level];
-        let m = I8::splat(BLOCK as i32 - 1);
-        y.shr::<BLOCK_SHIFT>()
-            .mul_lo(I8::splat(lin.block_row as i32))
-            + I8::splat(lin.base as i32)
-            + y.and(m).shl::<BLOCK_SHIFT>()
-    }
-
-    /// The part of a texel's index that comes from its column `x` (in range): `x` itself in
-    /// the stored bytes, the block's start plus the column within it in the 16-bit copy.
-    #[inline(always)]
-    pub(super) fn col8(&self, x: I8) -> I8 {
-        if self.bytes {
-            return x;
-        }
-        x.shr::<BLOCK_SHIFT>().shl::<{ 2 * BLOCK_SHIFT }>() + x.and(I8::splat(BLOCK as i32 - 1))
     }
 
     /// The weighted sum of four taps of `level` at row-major indices `idx`, for the lanes

@@ -82,51 +82,9 @@ pub struct Texture {
 /// One level as premultiplied linear colour in 16-bit channels, one `u64` a texel
 /// (`r | g << 16 | b << 32 | a << 48`): a bilinear tap is one 8-byte load per lane and a
 /// few shifts, with no table lookups. 16 bits hold every 8-bit sRGB value to within 1e-5.
-///
-/// The texels are stored in square blocks of [`BLOCK`] x [`BLOCK`] (blocks row-major, texels
-/// row-major within a block; the level padded with zeros to whole blocks), so a bilinear
-/// tap-set and its neighbours' lie in one or two 128-byte blocks instead of rows a whole
-/// texture row apart. Only the addresses differ from a row-major copy: the same texels are
-/// read and weighed, so samples are the same bit for bit.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, PartialEq, Default)]
 struct LinearLevel {
     rgba: Vec<u64>,
-    /// Texels in one row of blocks: the blocks across the level times `BLOCK * BLOCK`.
-    block_row: u32,
-    /// Where the first block starts in `rgba`: the first entry on a 64-byte boundary, so
-    /// each block (two cache lines) lies on two lines and no more.
-    base: u32,
-}
-
-/// log2 of [`BLOCK`].
-const BLOCK_SHIFT: i32 = 2;
-/// Texels a side of a [`LinearLevel`]'s blocks.
-const BLOCK: u32 = 1 << BLOCK_SHIFT;
-
-/// Equal when the same texels are stored, wherever the allocation put the first block.
-impl PartialEq for LinearLevel {
-    fn eq(&self, o: &Self) -> bool {
-        self.block_row == o.block_row && self.blocks() == o.blocks()
-    }
-}
-
-impl LinearLevel {
-    /// The blocks without the alignment padding (empty when the sampler reads bytes).
-    fn blocks(&self) -> &[u64] {
-        let n = self.rgba.len().saturating_sub(7);
-        &self.rgba[(self.base as usize).min(self.rgba.len())..][..n.min(self.rgba.len())]
-    }
-
-    /// Where texel `(x, y)` is stored in `rgba`.
-    #[inline]
-    fn index(&self, x: u32, y: u32) -> usize {
-        let m = BLOCK - 1;
-        (self.base
-            + (y >> BLOCK_SHIFT) * self.block_row
-            + ((x >> BLOCK_SHIFT) << (2 * BLOCK_SHIFT))
-            + ((y & m) << BLOCK_SHIFT)
-            + (x & m)) as usize
-    }
 }
 
 /// The largest texture side accepted; larger images are refused by the loaders.
@@ -321,24 +279,13 @@ impl Texture {
         let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u64;
         for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
             lin.rgba.clear();
-            (lin.block_row, lin.base) = (0, 0);
             if self.bytes {
                 continue;
             }
-            let blocks = |n: u32| n.div_ceil(BLOCK);
-            lin.block_row = blocks(level.width) * BLOCK * BLOCK;
-            let len = lin.block_row as usize * blocks(level.height) as usize;
-            // Up to 7 entries more, to start the blocks on a cache line (the address is
-            // only looked at, never made into a pointer).
-            lin.rgba.resize(len + 7, 0);
-            lin.base = ((64 - lin.rgba.as_ptr() as usize % 64) % 64 / 8) as u32;
-            for (y, row) in level.texels.chunks_exact(level.width as usize).enumerate() {
-                for (x, &px) in row.iter().enumerate() {
-                    let c = decode(encoding, premultiplied, px);
-                    let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
-                    let i = lin.index(x as u32, y as u32);
-                    lin.rgba[i] = r | g << 16 | b << 32 | a << 48;
-                }
+            for &px in &level.texels {
+                let c = decode(encoding, premultiplied, px);
+                let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
+                lin.rgba.push(r | g << 16 | b << 32 | a << 48);
             }
         }
     }
