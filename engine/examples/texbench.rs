@@ -1,11 +1,17 @@
 //! Times the 8-lane texture sampler alone (`Texture::sample8`, trilinear, clamped) on a
-//! 3072 x 2304 straight sRGB texture with alpha, the size and kind of the showcase's forest
-//! atlas: rows of 8 samples `STEP` texels apart (the level of detail `log2(STEP)`), either
+//! 3072 x 2304 straight sRGB texture with alpha (the size of the showcase's forest atlas;
+//! sRGB images take the sampler's 16-bit copy): rows of 8 samples `STEP` texels apart (the level of detail `log2(STEP)`), either
 //! sweeping the whole texture in order or, with a second argument, in 8 x 8 blocks at
 //! scattered places (sprites spread over an atlas, the cache- and TLB-missing case). Prints
 //! the best of 7 passes in ns a sample.
 //!
-//! `cargo run --release -p engine --example texbench -- [STEP [scattered]]`
+//! With the word `bytes`, the texture is premultiplied unorm instead, the kind of the forest's
+//! atlas (`ibr` billboards' `ViewAtlas`, read back from a render target) and, being opaque,
+//! of the peers' textured torus: the sampler then reads the stored bytes, 4 a texel, rather
+//! than the 16-bit copy.
+//!
+//! `cargo run --release -p engine --example texbench -- [STEP [scattered] [bytes]]` (any
+//! word other than `bytes` after STEP means scattered)
 use engine::simd::F8;
 use engine::{Encoding, Sampler, Texture};
 use std::time::Instant;
@@ -26,7 +32,23 @@ fn main() -> Result<(), String> {
             if x.is_multiple_of(3) { 0 } else { 255 },
         ]);
     }
-    let tex = Texture::from_rgba8(w, h, &rgba, Encoding::Srgb).ok_or("texture size")?;
+    let words: Vec<String> = std::env::args().skip(2).collect();
+    let bytes = words.iter().any(|a| a == "bytes");
+    let scattered = words.iter().any(|a| a != "bytes");
+    let tex = if bytes {
+        let premul = rgba
+            .chunks_exact(4)
+            .map(|c| {
+                let a = u32::from(c[3]);
+                let p = |x: u8| (u32::from(x) * a + 127) / 255;
+                p(c[0]) | p(c[1]) << 8 | p(c[2]) << 16 | a << 24
+            })
+            .collect();
+        Texture::from_packed(w, h, premul, Encoding::Unorm, true)
+    } else {
+        Texture::from_rgba8(w, h, &rgba, Encoding::Srgb)
+    }
+    .ok_or("texture size")?;
     let sampler = Sampler {
         wrap_u: engine::Wrap::Clamp,
         wrap_v: engine::Wrap::Clamp,
@@ -42,7 +64,6 @@ fn main() -> Result<(), String> {
     let lod = step.log2();
     let mut best = f64::MAX;
     let mut sum = 0.0f32;
-    let scattered = std::env::args().nth(2).is_some();
     for _ in 0..7 {
         let t0 = Instant::now();
         let mut n = 0usize;
@@ -81,6 +102,7 @@ fn main() -> Result<(), String> {
         let dt = t0.elapsed().as_secs_f64() * 1e9 / n as f64;
         best = best.min(dt);
     }
-    println!("step {step} lod {lod:.2}: best {best:.2} ns/sample ({sum})");
+    let kind = if bytes { "bytes" } else { "16-bit" };
+    println!("step {step} lod {lod:.2} {kind}: best {best:.2} ns/sample ({sum})");
     Ok(())
 }
