@@ -1,14 +1,14 @@
-//! The 8-lane sampler: [`Texture::sample8`] filters 8 points at once from the 16-bit
-//! linear copy of the levels, with the same filtering (and the same odd-coordinate rules) as
+//! The 8-lane sampler: [`Texture::sample8`] filters 8 points at once from the levels' blocked
+//! tables (`LinearLevel`), with the same filtering (and the same odd-coordinate rules) as
 //! the scalar [`Texture::sample`].
 //!
 //! Unorm textures whose bytes are premultiplied (or opaque) are read as the stored bytes
 //! (`Texture::bytes`): 4 bytes a texel, and where every kept lane's two texels of a row
-//! are neighbours in memory (all but the lanes at a wrapped edge) both in one 8-byte
-//! gather, so a bilinear tap is 4 gathers instead of 8. The 16-bit copy holds the same
-//! values (byte times 257), so the two paths agree to float rounding.
+//! are neighbours in the table (not at a wrapped edge nor a block's last column) both in
+//! one 8-byte gather, so a bilinear tap is 4 gathers instead of 8. The 16-bit copy holds
+//! the same values (byte times 257), so the two paths agree to float rounding.
 
-use super::{Filter, Sampler, Texture, Wrap};
+use super::{Filter, Sampler, Texture, Wrap, BLOCK, BLOCK_SHIFT};
 use crate::simd::{F8, I8, M8};
 
 impl Texture {
@@ -54,7 +54,7 @@ impl Texture {
             l.height,
             s.wrap_v,
         );
-        let idx = y.mul_lo(I8::splat(l.width as i32)) + x;
+        let idx = self.row8(0, y) + self.col8(x);
         let one = F8::splat(1.0);
         self.taps(
             0,
@@ -76,14 +76,15 @@ impl Texture {
         let one = F8::splat(1.0);
         let xa = wrap8(x0, l.width, s.wrap_u);
         let xb = wrap8(x0 + one, l.width, s.wrap_u);
-        let w = I8::splat(l.width as i32);
-        let ya = wrap8(y0, l.height, s.wrap_v).mul_lo(w);
-        let yb = wrap8(y0 + one, l.height, s.wrap_v).mul_lo(w);
+        let ya = self.row8(level, wrap8(y0, l.height, s.wrap_v));
+        let yb = self.row8(level, wrap8(y0 + one, l.height, s.wrap_v));
         let (sx, sy) = (one - tx, one - ty);
         let w = [sx * sy, tx * sy, sx * ty, tx * ty];
+        let (xa, xb) = (self.col8(xa), self.col8(xb));
         if self.bytes && keep.and_not(xb.eq(xa + I8::splat(1))).bits() == 0 {
-            // Every kept lane's right texel follows its left one in the row.
-            let t = &self.levels[level].texels;
+            // Every kept lane's right texel follows its left one in the table (the same
+            // row of the same block).
+            let t = &self.linear[level].bytes;
             let (p0, p1) = I8::gather_u32_pairs_lanes(t, ya + xa, keep);
             let (p2, p3) = I8::gather_u32_pairs_lanes(t, yb + xa, keep);
             return self.weigh_bytes([p0, p1, p2, p3], w, keep);
@@ -91,12 +92,31 @@ impl Texture {
         self.taps(level, [ya + xa, ya + xb, yb + xa, yb + xb], w, keep)
     }
 
-    /// The weighted sum of four taps of `level` at row-major indices `idx`, for the lanes
+    /// The part of a texel's index in `level`'s blocked table that comes from its row `y`
+    /// (in range): the block row's start plus the row within a block.
+    #[inline(always)]
+    pub(super) fn row8(&self, level: usize, y: I8) -> I8 {
+        let lin = &self.linear[level];
+        let m = I8::splat(BLOCK as i32 - 1);
+        y.shr::<BLOCK_SHIFT>()
+            .mul_lo(I8::splat(lin.block_row as i32))
+            + I8::splat(lin.base as i32)
+            + y.and(m).shl::<BLOCK_SHIFT>()
+    }
+
+    /// The part of a texel's index that comes from its column `x` (in range): the block's
+    /// start plus the column within it.
+    #[inline(always)]
+    pub(super) fn col8(&self, x: I8) -> I8 {
+        x.shr::<BLOCK_SHIFT>().shl::<{ 2 * BLOCK_SHIFT }>() + x.and(I8::splat(BLOCK as i32 - 1))
+    }
+
+    /// The weighted sum of four taps of `level` at (blocked) indices `idx`, for the lanes
     /// of `keep` (zeros elsewhere).
     #[inline(always)]
     fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
         if self.bytes {
-            let t = &self.levels[level].texels;
+            let t = &self.linear[level].bytes;
             let px = idx.map(|i| I8::gather_u32_lanes(t, i, keep));
             return self.weigh_bytes(px, w, keep);
         }

@@ -66,8 +66,8 @@ pub struct Texture {
     levels: Vec<MipLevel>,
     encoding: Encoding,
     premultiplied: bool,
-    /// Every level decoded for the 8-lane sampler ([`Texture::sample8`]); empty levels
-    /// when `bytes` is set.
+    /// Every level laid out for the 8-lane sampler ([`Texture::sample8`]): the 16-bit
+    /// copy, or the stored bytes when `bytes` is set, in blocks.
     linear: Vec<LinearLevel>,
     /// Every texel of level 0 has alpha 255 (so every level's does).
     opaque: bool,
@@ -79,12 +79,73 @@ pub struct Texture {
     bytes: bool,
 }
 
-/// One level as premultiplied linear colour in 16-bit channels, one `u64` a texel
-/// (`r | g << 16 | b << 32 | a << 48`): a bilinear tap is one 8-byte load per lane and a
-/// few shifts, with no table lookups. 16 bits hold every 8-bit sRGB value to within 1e-5.
-#[derive(Clone, Debug, PartialEq, Default)]
+/// One level laid out for the 8-lane sampler, in one of two tables: `rgba`, premultiplied
+/// linear colour in 16-bit channels, one `u64` a texel (`r | g << 16 | b << 32 | a << 48`;
+/// a bilinear tap is one 8-byte load per lane and a few shifts, with no table lookups; 16
+/// bits hold every 8-bit sRGB value to within 1e-5), or, for textures whose stored bytes
+/// are read (`Texture::bytes`), `bytes`: the stored texels themselves.
+///
+/// Either table holds its texels in square blocks of [`BLOCK`] x [`BLOCK`] (blocks
+/// row-major, texels row-major within a block; the level padded with zeros to whole
+/// blocks, the first block on a 64-byte boundary), so a bilinear tap-set and its
+/// neighbours' lie in one or two cache lines of a block (64 bytes of bytes, 128 of 16-bit
+/// texels) instead of on rows a whole texture row apart. Only the addresses differ from a
+/// row-major table: the same texels are read and weighed, so samples are the same bit for
+/// bit.
+#[derive(Clone, Debug, Default)]
 struct LinearLevel {
     rgba: Vec<u64>,
+    bytes: Vec<u32>,
+    /// Texels in one row of blocks: the blocks across the level times `BLOCK * BLOCK`.
+    block_row: u32,
+    /// Where the first block starts in the table: its first entry on a 64-byte boundary.
+    base: u32,
+}
+
+/// log2 of [`BLOCK`].
+const BLOCK_SHIFT: i32 = 2;
+/// Texels a side of a [`LinearLevel`]'s blocks.
+const BLOCK: u32 = 1 << BLOCK_SHIFT;
+
+/// Equal when the same texels are stored, wherever the allocation put the first block.
+impl PartialEq for LinearLevel {
+    fn eq(&self, o: &Self) -> bool {
+        self.block_row == o.block_row
+            && unpadded(&self.rgba, self.base) == unpadded(&o.rgba, o.base)
+            && unpadded(&self.bytes, self.base) == unpadded(&o.bytes, o.base)
+    }
+}
+
+/// The blocks of a table without the alignment padding (`PAD` entries, `base` before).
+fn unpadded<T>(table: &[T], base: u32) -> &[T] {
+    let n = table.len().saturating_sub(PAD);
+    &table[(base as usize).min(table.len())..][..n]
+}
+
+/// Entries added to a table so that its blocks can start on a cache line (16 of 4 bytes).
+const PAD: usize = 15;
+
+impl LinearLevel {
+    /// Where texel `(x, y)` is stored in the table.
+    #[inline]
+    fn index(&self, x: u32, y: u32) -> usize {
+        let m = BLOCK - 1;
+        (self.base
+            + (y >> BLOCK_SHIFT) * self.block_row
+            + ((x >> BLOCK_SHIFT) << (2 * BLOCK_SHIFT))
+            + ((y & m) << BLOCK_SHIFT)
+            + (x & m)) as usize
+    }
+}
+
+/// A cleared `table` of `len` entries plus [`PAD`], and the entry at which the blocks start:
+/// the first on a 64-byte boundary (the address is only looked at, never made into a
+/// pointer).
+fn aligned<T: Copy + Default>(table: &mut Vec<T>, len: usize) -> u32 {
+    table.clear();
+    table.resize(len + PAD, T::default());
+    let size = size_of::<T>();
+    ((64 - table.as_ptr() as usize % 64) % 64 / size) as u32
 }
 
 /// The largest texture side accepted; larger images are refused by the loaders.
@@ -271,21 +332,38 @@ impl Texture {
         self.build_linear();
     }
 
-    /// The 16-bit linear copy of every level (emptied levels when the sampler reads bytes).
+    /// Every level's table for the 8-lane sampler: the blocked 16-bit linear copy, or the
+    /// stored bytes blocked when the sampler reads bytes.
     fn build_linear(&mut self) {
         let (encoding, premultiplied) = (self.encoding, self.premultiplied);
         self.linear
             .resize_with(self.levels.len(), LinearLevel::default);
         let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u64;
         for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
-            lin.rgba.clear();
+            let blocks = |n: u32| n.div_ceil(BLOCK);
+            lin.block_row = blocks(level.width) * BLOCK * BLOCK;
+            let len = lin.block_row as usize * blocks(level.height) as usize;
+            let rows = level.texels.chunks_exact(level.width as usize);
             if self.bytes {
+                lin.rgba.clear();
+                lin.base = aligned(&mut lin.bytes, len);
+                for (y, row) in rows.enumerate() {
+                    for (x, &px) in row.iter().enumerate() {
+                        let i = lin.index(x as u32, y as u32);
+                        lin.bytes[i] = px;
+                    }
+                }
                 continue;
             }
-            for &px in &level.texels {
-                let c = decode(encoding, premultiplied, px);
-                let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
-                lin.rgba.push(r | g << 16 | b << 32 | a << 48);
+            lin.bytes.clear();
+            lin.base = aligned(&mut lin.rgba, len);
+            for (y, row) in rows.enumerate() {
+                for (x, &px) in row.iter().enumerate() {
+                    let c = decode(encoding, premultiplied, px);
+                    let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
+                    let i = lin.index(x as u32, y as u32);
+                    lin.rgba[i] = r | g << 16 | b << 32 | a << 48;
+                }
             }
         }
     }

@@ -303,3 +303,75 @@ fn byte_taps_match_the_16_bit_copy() {
         }
     }
 }
+
+#[test]
+fn blocked_tables_hold_every_texel_once() {
+    // Odd sizes (not whole blocks), a row, a column, a power of two; straight sRGB with
+    // alpha, premultiplied sRGB and straight unorm (the 16-bit copy), premultiplied and
+    // opaque unorm (the stored bytes).
+    let sizes = [(13, 7), (1, 9), (17, 1), (16, 16), (5, 6)];
+    for (w, h) in sizes {
+        let bytes: Vec<u8> = (0..w * h * 4)
+            .map(|i| ((i * 97 + i / 5 * 31) % 256) as u8)
+            .collect();
+        let packed: Vec<u32> = bytes
+            .chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        let textures = [
+            Texture::from_rgba8(w, h, &bytes, Encoding::Srgb).unwrap(),
+            Texture::from_packed(w, h, packed, Encoding::Srgb, true).unwrap(),
+            Texture::from_rgba8(w, h, &bytes, Encoding::Unorm).unwrap(),
+            Texture::from_packed(w, h, premultiplied_bytes(w * h), Encoding::Unorm, true).unwrap(),
+            opaque_unorm(w, h),
+        ];
+        for t in &textures {
+            let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u64;
+            for (k, (lin, l)) in t.linear.iter().zip(t.levels()).enumerate() {
+                let (first, len) = if t.bytes {
+                    assert!(lin.rgba.is_empty());
+                    (
+                        lin.bytes.as_ptr().wrapping_add(lin.base as usize) as usize,
+                        lin.bytes.len(),
+                    )
+                } else {
+                    assert!(lin.bytes.is_empty());
+                    (
+                        lin.rgba.as_ptr().wrapping_add(lin.base as usize) as usize,
+                        lin.rgba.len(),
+                    )
+                };
+                assert_eq!(first % 64, 0, "blocks start on a cache line");
+                let mut seen = vec![false; len];
+                for y in 0..l.height {
+                    for x in 0..l.width {
+                        let i = lin.index(x, y);
+                        if t.bytes {
+                            let want = l.texels[(y * l.width + x) as usize];
+                            assert_eq!(lin.bytes[i], want, "{w}x{h} level {k} ({x}, {y})");
+                        } else {
+                            let c = t.texel(k, x, y);
+                            let want = q(c.r) | q(c.g) << 16 | q(c.b) << 32 | q(c.a) << 48;
+                            assert_eq!(lin.rgba[i], want, "{w}x{h} level {k} ({x}, {y})");
+                        }
+                        assert!(!seen[i], "two texels at {i}");
+                        seen[i] = true;
+                    }
+                }
+                // The 8-lane index (what the gathers read) is the scalar one.
+                for y in 0..l.height {
+                    for x0 in (0..l.width).step_by(8) {
+                        let xs: [i32; 8] =
+                            std::array::from_fn(|j| (x0 + j as u32).min(l.width - 1) as i32);
+                        let got = (t.row8(k, crate::simd::I8::splat(y as i32))
+                            + t.col8(crate::simd::I8::from_array(xs)))
+                        .to_array();
+                        for j in 0..8 {
+                            assert_eq!(got[j] as usize, lin.index(xs[j] as u32, y));
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
