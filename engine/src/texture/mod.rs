@@ -126,8 +126,9 @@ fn unpadded<T>(table: &[T], base: u32) -> &[T] {
 const PAD: usize = 15;
 
 impl LinearLevel {
-    /// Where texel `(x, y)` is stored in the table.
-    #[inline]
+    /// Where texel `(x, y)` is stored in the table: the scalar statement of the layout
+    /// that `fill_blocks` writes and `row8` + `col8` read, held to both by the tests.
+    #[cfg(test)]
     fn index(&self, x: u32, y: u32) -> usize {
         let m = BLOCK - 1;
         (self.base
@@ -146,6 +147,26 @@ fn aligned<T: Copy + Default>(table: &mut Vec<T>, len: usize) -> u32 {
     table.resize(len + PAD, T::default());
     let size = size_of::<T>();
     ((64 - table.as_ptr() as usize % 64) % 64 / size) as u32
+}
+
+/// Writes `level`'s texels, each through `f`, into the blocks of `table` from entry `base`
+/// on, in the table's order (a block's four rows, then the next block), so the writes run
+/// in order; the padding entries are left as they are.
+fn fill_blocks<T>(table: &mut [T], base: u32, level: &MipLevel, f: impl Fn(u32) -> T) {
+    let (w, h) = (level.width, level.height);
+    let mut i = base as usize;
+    for by in 0..h.div_ceil(BLOCK) {
+        for bx in 0..w.div_ceil(BLOCK) {
+            for y in by * BLOCK..(by + 1) * BLOCK {
+                for x in bx * BLOCK..(bx + 1) * BLOCK {
+                    if x < w && y < h {
+                        table[i] = f(level.texels[(y * w + x) as usize]);
+                    }
+                    i += 1;
+                }
+            }
+        }
+    }
 }
 
 /// The largest texture side accepted; larger images are refused by the loaders.
@@ -343,28 +364,19 @@ impl Texture {
             let blocks = |n: u32| n.div_ceil(BLOCK);
             lin.block_row = blocks(level.width) * BLOCK * BLOCK;
             let len = lin.block_row as usize * blocks(level.height) as usize;
-            let rows = level.texels.chunks_exact(level.width as usize);
             if self.bytes {
                 lin.rgba.clear();
                 lin.base = aligned(&mut lin.bytes, len);
-                for (y, row) in rows.enumerate() {
-                    for (x, &px) in row.iter().enumerate() {
-                        let i = lin.index(x as u32, y as u32);
-                        lin.bytes[i] = px;
-                    }
-                }
+                fill_blocks(&mut lin.bytes, lin.base, level, |px| px);
                 continue;
             }
             lin.bytes.clear();
             lin.base = aligned(&mut lin.rgba, len);
-            for (y, row) in rows.enumerate() {
-                for (x, &px) in row.iter().enumerate() {
-                    let c = decode(encoding, premultiplied, px);
-                    let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
-                    let i = lin.index(x as u32, y as u32);
-                    lin.rgba[i] = r | g << 16 | b << 32 | a << 48;
-                }
-            }
+            fill_blocks(&mut lin.rgba, lin.base, level, |px| {
+                let c = decode(encoding, premultiplied, px);
+                let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
+                r | g << 16 | b << 32 | a << 48
+            });
         }
     }
 
