@@ -460,6 +460,8 @@ pub(super) const NOTHING: u8 = 2;
 /// (colour and depth, 20 bytes a pixel) and encoded again, and every empty pixel was
 /// looked up. Returns the panorama's lookups made (a work counter: the empty pixels past
 /// the elevations it holds anything at are not looked up, [`ibr::panorama::BehindRow`]).
+/// An empty pixel with nothing behind it is the sky colour's bytes, packed once (session
+/// 20: until then each such pixel in a row the panorama can reach was packed again).
 pub(super) fn over_panorama(
     target: &Target,
     behind: &Behind<'_>,
@@ -504,6 +506,11 @@ pub(super) fn over_panorama(
                         (c, looked) = row.at(x);
                         lookups += looked as u64;
                         *kind = if c.a > 0.0 { FAR } else { NOTHING };
+                        if c == Premul::TRANSPARENT {
+                            // Nothing behind: the sky colour's bytes, as packed once.
+                            px.copy_from_slice(&open);
+                            continue;
+                        }
                     }
                     px.copy_from_slice(&over_sky_pixel(&encoder, sky, c).to_le_bytes());
                 }
