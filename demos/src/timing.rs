@@ -2,7 +2,9 @@
 //!
 //! The binaries time `Renderer::render` with `std::time::Instant` and summarise here, so
 //! the showcase, the bench CLI and the tests agree on what "median" and "p90" mean
-//! (nearest-rank percentiles on the sorted samples).
+//! (nearest-rank percentiles on the sorted samples). [`Usage`] is what a stretch of work
+//! cost the process in CPU time and page faults: on this shared 2-core machine wall times
+//! move with the other processes' load, these much less.
 
 use std::time::Duration;
 
@@ -58,6 +60,64 @@ impl std::fmt::Display for Summary {
     }
 }
 
+/// What the process has used so far: the CPU time of all its threads (their
+/// `/proc/self/task/*/schedstat` run times, nanoseconds; idle pool workers' spinning
+/// counts), that of the calling thread alone (`/proc/thread-self/schedstat`: work it did
+/// itself, not waiting on the pool, which sleeps) and the process's minor page faults
+/// (`/proc/self/stat`). Zero where `/proc` cannot be read (not Linux). [`Usage::since`]
+/// makes it the cost of a stretch of work.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Usage {
+    pub cpu: Duration,
+    pub caller_cpu: Duration,
+    pub faults: u64,
+}
+
+/// The first number of a `schedstat` file: the time its thread ran, nanoseconds.
+fn run_ns(path: impl AsRef<std::path::Path>) -> Option<u64> {
+    let s = std::fs::read_to_string(path).ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+impl Usage {
+    /// The process's usage now.
+    pub fn now() -> Usage {
+        let tasks = std::fs::read_dir("/proc/self/task").into_iter().flatten();
+        let cpu: u64 = (tasks.flatten())
+            .filter_map(|t| run_ns(t.path().join("schedstat")))
+            .sum();
+        let caller = run_ns("/proc/thread-self/schedstat").unwrap_or(0);
+        // The fields after the command's closing parenthesis start at the third (state);
+        // minor faults are the tenth.
+        let faults = std::fs::read_to_string("/proc/self/stat")
+            .ok()
+            .and_then(|s| {
+                s.rsplit_once(')')?
+                    .1
+                    .split_whitespace()
+                    .nth(7)?
+                    .parse()
+                    .ok()
+            })
+            .unwrap_or(0);
+        Usage {
+            cpu: Duration::from_nanos(cpu),
+            caller_cpu: Duration::from_nanos(caller),
+            faults,
+        }
+    }
+
+    /// What was used from `earlier` to `self` (zero where a count went back: a thread
+    /// that ended took its CPU time with it).
+    pub fn since(self, earlier: Usage) -> Usage {
+        Usage {
+            cpu: self.cpu.saturating_sub(earlier.cpu),
+            caller_cpu: self.caller_cpu.saturating_sub(earlier.caller_cpu),
+            faults: self.faults.saturating_sub(earlier.faults),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,5 +137,25 @@ mod tests {
         assert_eq!(odd.median_ms, 2.0);
         assert_eq!(odd.p90_ms, 3.0);
         assert_eq!(Summary::of(&[]), Summary::default());
+    }
+
+    #[test]
+    fn usage_counts_cpu_and_faults_of_work() {
+        let before = Usage::now();
+        // Fresh pages touched (a page fault each), and some CPU spent on them.
+        let mut v = vec![0u8; 64 << 20];
+        for b in v.iter_mut().step_by(4096) {
+            *b = 1;
+        }
+        let sum: u64 = v.iter().map(|&b| b as u64).sum();
+        let used = Usage::now().since(before);
+        assert_eq!(sum, 64 << 8);
+        if cfg!(target_os = "linux") {
+            assert!(used.faults >= 1000, "{used:?}");
+            assert!(used.cpu > Duration::ZERO, "{used:?}");
+            // The work was this thread's own.
+            assert!(used.caller_cpu > Duration::ZERO, "{used:?}");
+        }
+        assert_eq!(before.since(Usage::now()).faults, 0);
     }
 }

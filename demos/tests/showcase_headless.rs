@@ -66,16 +66,17 @@ fn headless_writes_frames_and_prints_statistics() {
     assert_eq!(views.dimensions(), (160, 90));
     assert!(dir.join("views_0002.png").exists());
     assert!(!dir.join("views_0003.png").exists());
-    // Where each views frame's time went: a row a frame, a column a stage.
+    // Where each views frame's time went: a row a frame, a column a stage, then the CPU time
+    // of all threads showing it and of the thread that called.
     let csv = std::fs::read_to_string(dir.join("views_times.csv")).expect("views_times.csv");
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[0],
-        "frame,ms,layers,sky,morph_canvas,postwarp,over_sky,geometry_render,readout"
+        "frame,ms,layers,sky,morph_canvas,postwarp,over_sky,geometry_render,readout,cpu,cpu_caller"
     );
     assert_eq!(lines.len(), 4, "{csv}");
     assert!(
-        lines[1..].iter().all(|l| l.split(',').count() == 9),
+        lines[1..].iter().all(|l| l.split(',').count() == 11),
         "{csv}"
     );
     // Sky at the top, something else (ground, objects) at the bottom, and the camera moves.

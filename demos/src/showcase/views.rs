@@ -29,6 +29,7 @@ pub use morph::{MorphFrame, MORPH_EYES, MORPH_TARGET};
 pub use sky::{SkyFrame, SKY_CENTRE, SKY_TOLERANCE_PX, SPLIT};
 
 use crate::showcase::SKY;
+use crate::timing::Usage;
 use engine::color::{Encoder, Encoding};
 use engine::{Camera, Draw, Premul, Scene, Sphere};
 use ibr::images::DepthImage;
@@ -80,6 +81,9 @@ pub struct Frame {
     /// Time this frame spent measuring itself: rendering the geometry it is compared with
     /// and comparing. Not part of showing it: the headless frame times leave it out.
     pub measure: Duration,
+    /// What measuring cost the process ([`Usage`]: CPU time of all threads, page faults),
+    /// so that the headless run can leave it out of the frame's own.
+    pub measure_usage: Usage,
     /// Where the time of showing it went.
     pub stages: Stages,
 }
@@ -257,6 +261,7 @@ impl ViewsTour {
         let lighting = &self.scene.lighting;
         let (w, h) = (self.width, self.height);
         self.frame.measure = Duration::ZERO;
+        self.frame.measure_usage = Usage::default();
         self.frame.stages = Stages::default();
         let t = if t.is_finite() {
             t.clamp(0.0, 1.0)

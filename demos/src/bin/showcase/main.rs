@@ -43,7 +43,7 @@ use demos::showcase::summary::{self as report, PartTimes};
 use demos::showcase::views::{Stages, ViewsTour};
 use demos::showcase::world::WorldTour;
 use demos::showcase::{self, Showcase, SKY};
-use demos::timing::Summary;
+use demos::timing::{Summary, Usage};
 use engine::{FrameOptions, FrameStats, Renderer, Target};
 use ibr::subject::Subject;
 use std::path::{Path, PathBuf};
@@ -563,22 +563,38 @@ fn views_headless(
         start.elapsed().as_secs_f64() * 1e3
     );
     let mut times = Vec::with_capacity(n);
-    let mut breakdown = report::Breakdown::new(&Stages::COLUMNS);
+    // The stages, then the CPU time of all threads showing the frame and of this thread alone
+    // (what it did itself, the pool's work not: the frame's serial part), measuring left out.
+    let columns: Vec<&str> = (Stages::COLUMNS.iter().copied())
+        .chain(["cpu", "cpu_caller"])
+        .collect();
+    let mut breakdown = report::Breakdown::new(&columns);
+    let mut faults = Vec::with_capacity(n);
     for i in 0..n {
+        let used = Usage::now();
         let start = Instant::now();
         let frame = tour.render(i, n)?;
         // The geometry each frame is measured against is not part of showing it.
         let time = start.elapsed().saturating_sub(frame.measure);
+        let shown = Usage::now().since(used);
+        let cpu = shown.cpu.saturating_sub(frame.measure_usage.cpu);
+        let caller = (shown.caller_cpu).saturating_sub(frame.measure_usage.caller_cpu);
+        faults.push(shown.faults.saturating_sub(frame.measure_usage.faults));
         times.push(time);
-        breakdown.push(time, &frame.stages.row(frame.measure));
+        let mut row = frame.stages.row(frame.measure).to_vec();
+        row.extend([cpu, caller]);
+        breakdown.push(time, &row);
         if !args.no_save {
             let path = dir.join(format!("views_{i:04}.png"));
             save_png(&path, &frame.rgba, (frame.width, frame.height))?;
         }
         meter.views_tour(&tour);
         println!(
-            "  {i:4}: {:6.1} ms  {}",
+            "  {i:4}: {:6.1} ms  ({:.1} ms CPU, {:.1} on this thread, {} page faults)  {}",
             time.as_secs_f64() * 1e3,
+            cpu.as_secs_f64() * 1e3,
+            caller.as_secs_f64() * 1e3,
+            faults[i],
             tour.readout()
         );
     }
@@ -593,6 +609,11 @@ fn views_headless(
     for line in breakdown.lines() {
         println!("  {line}");
     }
+    println!(
+        "  page faults showing the frames (measuring left out): {} in all, at most {} a frame",
+        faults.iter().sum::<u64>(),
+        faults.iter().max().unwrap_or(&0)
+    );
     write_into(dir, "views_times.csv", &breakdown.csv())?;
     if !args.no_save {
         println!("wrote {n} frames to {}/views_0000.png ...", dir.display());

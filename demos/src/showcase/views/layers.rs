@@ -13,6 +13,7 @@
 
 use super::{in_view, triangles, world_spheres, Frame, Stages};
 use crate::showcase;
+use crate::timing::Usage;
 use engine::{Camera, FrameOptions, Lighting, Renderer, Scene, Sphere, Target};
 use glam::Vec3;
 use ibr::layers::{self, Layered};
@@ -199,12 +200,16 @@ impl LayersPart {
             height: h,
             rgba,
             measure: Duration::ZERO,
+            measure_usage: Usage::default(),
             stages,
         };
         let measure = Instant::now();
+        let used = Usage::now();
         self.renderer
             .render(scene.draws(), &camera, lighting, &mut self.truth, &opts);
         let error = metrics::compare(&self.truth, &self.image, &Options::default()).ok();
+        // Both reads of the usage inside the measure's time, which the frame leaves out.
+        out.measure_usage = Usage::now().since(used);
         out.measure = measure.elapsed();
         LayersFrame {
             images: r.images,

@@ -18,6 +18,7 @@
 
 use super::{db, in_view, over_sky, over_sky_pixel, triangles, world_spheres, Frame, Stages};
 use crate::showcase::{self, attractions, SKY};
+use crate::timing::Usage;
 use engine::color::{unpack, Encoder, Encoding};
 use engine::procedural::value_noise;
 use engine::{Camera, Draw, Lighting, Material, Mesh, Premul, Rgba, Shading, Sphere, Target};
@@ -382,6 +383,7 @@ impl SkyPart {
         // The far pixels: what the near scene leaves and the panorama or the geometry
         // covers.
         let measure = Instant::now();
+        let used = Usage::now();
         let whole = camera.with_depth_range(0.1, LAND_FAR);
         let all = draws.iter().copied().chain(land);
         cap.capture(all, &whole, lighting, w, h, &mut self.truth);
@@ -403,6 +405,8 @@ impl SkyPart {
             let both = [out.rgba.as_slice(), self.truth_rgba.as_slice()];
             attractions::dump(dir.as_ref(), "sky", n, e, both, &self.mask, (w, h));
         }
+        // Both reads of the usage inside the measure's time, which the frame leaves out.
+        out.measure_usage = Usage::now().since(used);
         out.measure = measure.elapsed();
         SkyFrame {
             predicted_px: self.sky.map.predicted_px(eye, self.focal),
@@ -456,6 +460,8 @@ pub(super) const NOTHING: u8 = 2;
 /// (colour and depth, 20 bytes a pixel) and encoded again, and every empty pixel was
 /// looked up. Returns the panorama's lookups made (a work counter: the empty pixels past
 /// the elevations it holds anything at are not looked up, [`ibr::panorama::BehindRow`]).
+/// An empty pixel with nothing behind it is the sky colour's bytes, packed once (session
+/// 20: until then each such pixel in a row the panorama can reach was packed again).
 pub(super) fn over_panorama(
     target: &Target,
     behind: &Behind<'_>,
@@ -500,6 +506,11 @@ pub(super) fn over_panorama(
                         (c, looked) = row.at(x);
                         lookups += looked as u64;
                         *kind = if c.a > 0.0 { FAR } else { NOTHING };
+                        if c == Premul::TRANSPARENT {
+                            // Nothing behind: the sky colour's bytes, as packed once.
+                            px.copy_from_slice(&open);
+                            continue;
+                        }
                     }
                     px.copy_from_slice(&over_sky_pixel(&encoder, sky, c).to_le_bytes());
                 }

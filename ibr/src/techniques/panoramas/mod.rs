@@ -112,11 +112,12 @@ fn face_bands(draws: &[Draw<'_>], centre: Vec3, near: f32, far: f32, size: u32) 
 
 /// The faces of `cameras` (a cube map's, in order), each rendered over its rows of
 /// `bands` only (a crop of its camera, [`Camera::crop`], the face's image rows exactly),
-/// the faces on the thread pool, one of `capturers` each (kept from capture to capture);
-/// the rows outside left empty (transparent, depth [`crate::core::EMPTY`]). A face's
-/// storage is taken from `spare` (faces of an earlier cube map with the rows they may
-/// hold) before new ones are made, and only the rows it held are cleared. Returns the
-/// faces and the pixels rendered.
+/// the faces on the thread pool, one of `capturers` each (a renderer with its target, and
+/// the image its band is read into, kept from capture to capture: until session 20 a band
+/// image was made afresh for every face of every re-capture); the rows outside left empty
+/// (transparent, depth [`crate::core::EMPTY`]). A face's storage is taken from `spare`
+/// (faces of an earlier cube map with the rows they may hold) before new ones are made,
+/// and only the rows it held are cleared. Returns the faces and the pixels rendered.
 fn capture_faces(
     draws: &[Draw<'_>],
     cameras: &[Camera],
@@ -124,7 +125,7 @@ fn capture_faces(
     lighting: &Lighting,
     size: u32,
     spare: &mut Vec<(DepthImage, Range<u32>)>,
-    capturers: &mut Vec<Capturer>,
+    capturers: &mut Vec<(Capturer, DepthImage)>,
 ) -> (Vec<DepthImage>, u64) {
     let crops: Vec<(Camera, u32)> = (cameras.iter().zip(bands))
         .filter(|(_, rows)| !rows.is_empty())
@@ -139,25 +140,15 @@ fn capture_faces(
             (crop, rows.len() as u32)
         })
         .collect();
-    if capturers.len() < crops.len() {
-        capturers.resize_with(crops.len(), Capturer::new);
+    if let (true, Some((camera, _))) = (capturers.len() < crops.len(), crops.first()) {
+        let empty = DepthImage::new(0, 0, *camera);
+        capturers.resize_with(crops.len(), || (Capturer::new(), empty.clone()));
     }
-    let rendered: Vec<DepthImage> = (crops.par_iter().zip(capturers.par_iter_mut()))
-        .map(|((camera, rows), cap)| {
-            let mut out = DepthImage::new(0, 0, *camera);
-            cap.capture(
-                draws.iter().copied(),
-                camera,
-                lighting,
-                size,
-                *rows,
-                &mut out,
-            );
-            out
-        })
-        .collect();
+    (crops.par_iter().zip(capturers.par_iter_mut())).for_each(|((camera, rows), (cap, out))| {
+        cap.capture(draws.iter().copied(), camera, lighting, size, *rows, out);
+    });
     let pixels = crops.iter().map(|(_, rows)| *rows as u64).sum::<u64>() * size as u64;
-    let mut rendered = rendered.into_iter();
+    let mut rendered = capturers.iter().map(|(_, band)| band).take(crops.len());
     let row = size as usize;
     let faces = (cameras.iter().zip(bands))
         .map(|(camera, rows)| {

@@ -59,8 +59,9 @@ pub struct Sky {
     /// the next re-capture's faces (at 1280x720 a face is 31 MB: allocating two a frame
     /// was a third of a re-capture frame's time, in page faults).
     pub(super) spare: Vec<(DepthImage, Range<u32>)>,
-    /// A renderer and target per face rendered in an update, kept between re-captures.
-    capturers: Vec<Capturer>,
+    /// A renderer and target per face rendered in an update, and the image its band is
+    /// read into, kept between re-captures.
+    capturers: Vec<(Capturer, DepthImage)>,
 }
 
 impl Sky {
