@@ -346,6 +346,11 @@ pub const TREE_REBUILD_MS: f32 = 4.0;
 /// so 0.4 is a judgement, not a fit (BENCHMARKS.md, issue 41, session 18).
 pub const TREE_CAPTURE_MS: f32 = 0.4;
 
+/// A node image's rebuild draws its children's images in place of their objects when a
+/// child's image errs within this fraction of the budget ([`TreeConfig::compose`]; Shade
+/// et al. 96's hierarchical image cache): its capture then follows texels, not objects.
+pub const TREE_COMPOSE: f32 = 0.5;
+
 /// The world's far field for a `height`-pixel target: everything beyond [`FAR_DISTANCE`]
 /// of the eye as one image mesh with depth, captured in 8 x 8 tiles (split where one is
 /// over the budget) within [`FAR_TRIANGLES`] a frame (4 M while loading), re-captured when
@@ -430,6 +435,7 @@ pub fn tree_planner_drawing(
         far: Some(far_config(plan.height)),
         lod_px: TreeConfig::default().lod_px * tree_scale(plan.height),
         capture_lod: (TREE_CAPTURE_PX, tree_side(plan.height)),
+        compose: TREE_COMPOSE,
         ..TreeConfig::default()
     };
     let images = impostor::Config {

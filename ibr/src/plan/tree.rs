@@ -55,6 +55,8 @@ impl<S: Subject + Send + Sync> Technique for Hierarchy<S> {
 }
 
 #[cfg(test)]
+mod compose_tests;
+#[cfg(test)]
 mod far_tests;
 #[cfg(test)]
 mod lod_tests;

@@ -52,6 +52,10 @@ pub(super) struct Sample {
     far_ms: f32,
     far_tiles: usize,
     rebuild_ms: f32,
+    /// Node-image rebuilds composed of their children's images, and the texels of the
+    /// images they drew ([`ibr::plan::tree::TreeReport::composed`]).
+    composed: usize,
+    composed_texels: u64,
 }
 
 impl Probe for Planner<MeshGroup> {
@@ -98,6 +102,8 @@ impl Probe for Hierarchy<MeshGroup> {
             far_ms: r.far_ms,
             far_tiles: r.far.tiles,
             rebuild_ms: r.rebuild_ms,
+            composed: r.composed,
+            composed_texels: r.composed_texels,
             ..Sample::default()
         }
     }
@@ -219,8 +225,8 @@ pub(super) fn fly_with<T: Probe>(
             let (ft, st, fs) = (frame_loop.times, renderer.stage_times(), renderer.stats());
             let ms = |d: Duration| d.as_secs_f64() * 1e3;
             let p = out.probes.last().copied().unwrap_or_default();
-            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {} rebuilds {} capture_ms {:.2} captured {} far_ms {:.2} far_tiles {} predicted_rebuild_ms {:.3}",
-                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended, p.rebuilds, p.capture_ms, p.captured, p.far_ms, p.far_tiles, p.rebuild_ms);
+            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {} rebuilds {} capture_ms {:.2} captured {} far_ms {:.2} far_tiles {} predicted_rebuild_ms {:.3} composed {} composed_texels {}",
+                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended, p.rebuilds, p.capture_ms, p.captured, p.far_ms, p.far_tiles, p.rebuild_ms, p.composed, p.composed_texels);
         }
         let mut all: Vec<Draw<'_>> = ground.clone();
         scene.objects.iter().for_each(|o| o.draws(&mut all));

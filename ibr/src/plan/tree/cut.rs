@@ -13,11 +13,14 @@
 use super::bvh::{Node, Tree};
 use super::cluster::Cluster;
 use super::far::{FarConfig, FarField, FarReport, Side, Split};
-use crate::core::{CostModel, FrameView, Frustum, Representation, Sight, Subject};
+use crate::core::{CostModel, FrameView, Frustum, Representation, Sight, Subject, Work};
 use engine::{Draw, FrameStats, Target};
 use glam::Vec3;
 use std::collections::VecDeque;
 use std::sync::Arc;
+
+mod compose;
+use compose::Choice;
 
 /// Settings of a [`Hierarchy`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,6 +64,13 @@ pub struct TreeConfig {
     /// within `.0` texels of an image `.1` texels across the node (its largest image side):
     /// (0, 0) draws the full meshes ([`Cluster::with_capture_lod`]).
     pub capture_lod: (f32, u32),
+    /// A node's image is composed of its children's images (Shade et al. 96's hierarchical
+    /// image cache) when a child holds one erring within this fraction of the budget: its
+    /// capture draws those images' quads, and the other child's objects, instead of all its
+    /// objects, so it costs texels, not objects. The composed image is one resampling
+    /// further from the geometry: it inherits the largest error of the images it drew,
+    /// added to its own prediction from then on. 0: never composed.
+    pub compose: f32,
 }
 
 impl Default for TreeConfig {
@@ -79,6 +89,7 @@ impl Default for TreeConfig {
             far: None,
             lod_px: 0.5,
             capture_lod: (0.0, 0),
+            compose: 0.0,
         }
     }
 }
@@ -131,6 +142,11 @@ pub struct TreeReport {
     pub far_triangles: usize,
     /// Triangles of the objects drawn as geometry, at the levels of detail drawn.
     pub geometry_triangles: usize,
+    /// Rebuilds composed of their children's images ([`TreeConfig::compose`]; part of
+    /// [`TreeReport::rebuilds`]),
+    pub composed: usize,
+    /// and the texels of the images they drew.
+    pub composed_texels: u64,
 }
 
 /// A hierarchy over objects and the image representations its nodes may take.
@@ -150,6 +166,10 @@ pub struct Hierarchy<S> {
     /// Per node, the frame it was last drawn as an image; the images held.
     used: Vec<u32>,
     held: Vec<(u32, u8)>,
+    /// Per node, the error its image inherited from the images it was composed of; the
+    /// frame's composed rebuilds (node, representation, which children are images).
+    inherited: Vec<f32>,
+    composing: Vec<(u32, u8, [bool; 2])>,
     frame: u32,
     eye: Vec3,
     /// The frame's pixels per radian (for the geometry's levels of detail).
@@ -207,6 +227,8 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
         Hierarchy {
             config,
             used: vec![0; n],
+            inherited: vec![0.0; n],
+            composing: Vec::new(),
             batch: vec![Vec::new(); reps.len()],
             tree,
             objects,
@@ -309,48 +331,38 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             }
             let cluster = &self.clusters[k as usize];
             let sight = base.at(sphere).with_corners(cluster.corners());
-            let geometry_ms = cfg.cost.ms(crate::core::Work {
+            let geometry_ms = cfg.cost.ms(Work {
                 triangles: cluster.triangle_count() as u64,
                 pixels: sight.pixels as u64,
                 ..Default::default()
             });
-            // (representation, error, draw ms, rebuild ms) as it is and rebuilt.
-            let (mut as_is, mut fresh, mut stale) = (None, None, None);
-            for (r, rep) in self.reps.iter().enumerate() {
-                let Some(e) = rep.estimate(k as usize, cluster, &sight) else {
-                    continue;
-                };
-                report.estimates += 1;
-                let (ms, rb) = (cfg.cost.ms(e.draw), cfg.cost.ms(e.rebuild));
-                let cheaper = |o: &Option<(usize, f32, f32, f32)>| o.is_none_or(|b| ms < b.2);
-                if e.error <= cfg.budget && cheaper(&as_is) {
-                    as_is = Some((r, e.error, ms, rb));
-                }
-                if e.error <= cfg.budget * cfg.stale && cheaper(&stale) {
-                    stale = Some((r, e.error, ms, rb));
-                }
-                let pays = rb <= geometry_ms * cfg.payback;
-                if e.rebuilt <= cfg.budget && pays && fresh.is_none_or(|b: (_, _, _, f32)| rb < b.3)
-                {
-                    fresh = Some((r, e.rebuilt, ms, rb));
-                }
-            }
-            let room = |f: &(usize, f32, f32, f32)| {
-                let ms = report.rebuild_ms + f.3 + cfg.capture_ms;
+            let [as_is, fresh, stale] = self.options(
+                k as usize,
+                &base,
+                &sight,
+                geometry_ms,
+                &mut report.estimates,
+            );
+            let room = |f: &Choice| {
+                let ms = report.rebuild_ms + f.rebuild + cfg.capture_ms;
                 report.rebuilds < cfg.rebuilds && ms <= rebuild_ms
             };
             let take = match (as_is, fresh) {
                 (Some(a), _) => Some(a),
                 (None, Some(f)) if room(&f) => {
                     report.rebuilds += 1;
-                    report.rebuild_ms += f.3 + cfg.capture_ms;
-                    self.batch[f.0].push(k as usize);
+                    report.rebuild_ms += f.rebuild + cfg.capture_ms;
+                    self.batch[f.rep].push(k as usize);
+                    self.inherited[k as usize] = f.composed.map_or(0.0, |c| c.error);
+                    if let Some(c) = f.composed {
+                        self.composing.push((k, f.rep as u8, c.images));
+                    }
                     Some(f)
                 }
                 _ => stale.inspect(|_| report.over += 1),
             };
-            if let Some((r, error, _, _)) = take {
-                self.images.push((k, r as u8, error));
+            if let Some(Choice { rep, error, .. }) = take {
+                self.images.push((k, rep as u8, error));
                 report.imaged_objects += node.count as usize;
                 let px = f64::from(sight.pixels.max(1.0));
                 weighted += f64::from(error) * px;
@@ -490,6 +502,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
     /// long unused, prepares every representation
     /// with the nodes it draws.
     fn rebuild_and_prepare(&mut self, view: &FrameView<'_>, report: &mut TreeReport) {
+        self.compose_batch(view.camera.eye(), report);
         for (r, rep) in self.reps.iter_mut().enumerate() {
             let batch = &mut self.batch[r];
             if batch.is_empty() {
@@ -502,6 +515,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             }
             rep.rebuild(batch, &mut self.clusters, view);
             for &k in batch.iter() {
+                self.clusters[k].uncompose();
                 if !self.held.contains(&(k as u32, r as u8)) {
                     self.held.push((k as u32, r as u8));
                 }

@@ -3,8 +3,9 @@
 
 use super::*;
 use crate::core::{CostModel, Estimate, Representation, Sight, Work};
-use engine::{Camera, Lighting, Sphere};
-use glam::Vec3;
+use engine::{Camera, Lighting, Material, Mesh, Sphere, Texture};
+use glam::{Mat4, Vec3};
+use std::sync::Arc;
 
 /// A ball of radius `r` at `c`, of 500 triangles, drawing nothing (the cut is what is tested).
 #[derive(Clone, Debug)]
@@ -25,10 +26,13 @@ impl Subject for Ball {
 
 /// An image per node, from the eye it was taken at: its error grows with the angle the eye
 /// moved as seen from the node (100 levels per radian), infinite once the node changed;
-/// none for a node wider than 64 pixels on screen.
+/// none for a node wider than 64 pixels on screen. A held image is drawn as one quad of a
+/// 1 x 1 texture.
 pub(super) struct Snapshots {
     held: Vec<Option<(Vec3, u64)>>,
     rebuilt: Vec<usize>,
+    quad: Mesh,
+    material: Material,
 }
 
 impl Representation<Cluster<Ball>> for Snapshots {
@@ -70,7 +74,15 @@ impl Representation<Cluster<Ball>> for Snapshots {
         }
         Work::default()
     }
-    fn draw<'a>(&'a self, _: usize, _: &'a Cluster<Ball>, _: Vec3, _: &mut Vec<Draw<'a>>) {}
+    fn draw<'a>(&'a self, i: usize, _: &'a Cluster<Ball>, _: Vec3, out: &mut Vec<Draw<'a>>) {
+        if self.held[i].is_some() {
+            out.push(Draw {
+                mesh: &self.quad,
+                material: &self.material,
+                transform: Mat4::IDENTITY,
+            });
+        }
+    }
     fn release(&mut self, i: usize) {
         self.held[i] = None;
     }
@@ -96,9 +108,21 @@ pub(super) fn field(side: usize) -> Vec<Ball> {
 
 pub(super) fn hierarchy(side: usize, config: TreeConfig) -> Hierarchy<Ball> {
     Hierarchy::new(config, field(side), |n| {
+        let mut quad = Mesh::default();
+        let corners = [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y];
+        let uv = crate::core::UvRect {
+            min: glam::Vec2::ZERO,
+            max: glam::Vec2::ONE,
+        };
+        crate::core::push_quad(&mut quad, corners, uv, engine::Rgba::WHITE, 1.0);
         let snaps = Snapshots {
             held: vec![None; n],
             rebuilt: Vec::new(),
+            quad,
+            material: Material {
+                base_texture: Some(Arc::new(Texture::solid(engine::Rgba::WHITE))),
+                ..Material::default()
+            },
         };
         vec![Box::new(snaps) as Box<dyn Representation<Cluster<Ball>>>]
     })
