@@ -68,9 +68,18 @@ fn with_fade(cloud: &mut Cloud, cam: &Camera) -> Vec<u8> {
 }
 
 /// The cloud as it was drawn before the near fade: every particle's billboard at its full
-/// opacity, no fog.
+/// opacity (its quad cut to the octagon the cloud draws), no fog.
 fn plain(cloud: &Cloud, cam: &Camera) -> Vec<u8> {
-    render(cam, vec![plain_batch(cloud, cam).draw()])
+    let batch = plain_batch(cloud, cam);
+    let mut puffs = Mesh::default();
+    crate::techniques::clouds::octagons(batch.mesh(), &mut puffs);
+    render(
+        cam,
+        vec![Draw {
+            mesh: &puffs,
+            ..batch.draw()
+        }],
+    )
 }
 
 fn plain_batch(cloud: &Cloud, cam: &Camera) -> crate::core::BillboardBatch {
