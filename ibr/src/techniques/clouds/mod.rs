@@ -81,8 +81,6 @@ pub struct Cloud {
     stale: bool,
     version: u64,
     batch: BillboardBatch,
-    /// The batch's quads cut to octagons ([`octagons`]): what is drawn.
-    puffs: Mesh,
     /// The fog seen from inside (one quad in front of the view, or nothing).
     fog: Mesh,
     fog_material: Material,
@@ -117,7 +115,6 @@ impl Cloud {
             stale: true,
             version: 0,
             batch: BillboardBatch::new(material),
-            puffs: Mesh::default(),
             fog: Mesh::default(),
             fog_material: {
                 let mut m = Material::unlit(Rgba::WHITE)
@@ -325,7 +322,6 @@ impl Subject for Cloud {
             self.batch.push(b);
         }
         self.batch.build(&view);
-        octagons(self.batch.mesh(), &mut self.puffs);
         // The fog grows from nothing on the bounding sphere to full one mean particle
         // radius inside it.
         let near = camera.near_far().0;
@@ -333,11 +329,8 @@ impl Subject for Cloud {
     }
 
     fn draws<'s>(&'s self, out: &mut Vec<Draw<'s>>) {
-        if !self.puffs.indices.is_empty() {
-            out.push(Draw {
-                mesh: &self.puffs,
-                ..self.batch.draw()
-            });
+        if !self.batch.mesh().indices.is_empty() {
+            out.push(self.batch.draw());
         }
         if !self.fog.indices.is_empty() {
             out.push(Draw {
@@ -352,9 +345,6 @@ impl Subject for Cloud {
         self.version
     }
 
-    /// Two a particle, its quad's: the cost models were calibrated on quads, and the
-    /// puffs' octagons ([`octagons`], six triangles) shade fewer fragments than the quads'
-    /// two triangles would, which the estimate keeps as an upper bound.
     fn triangle_count(&self) -> usize {
         2 * self.particles.len()
     }
@@ -369,58 +359,6 @@ impl Subject for Cloud {
         let valid = self.particles.iter().filter(|p| p.valid());
         let quads: f32 = valid.map(|p| 4.0 * p.radius * p.radius).sum();
         (quads / (std::f32::consts::PI * r * r)).max(1.0)
-    }
-}
-
-/// Where a puff's octagon cuts its quad's sides, from each corner, as a share of the side:
-/// a regular octagon whose inscribed circle is the quad's (`(1 - tan 22.5°) / 2`).
-const OCTAGON_CUT: f32 = 0.292_893_2;
-
-/// Writes `quads` (a billboard batch's mesh: four corners a quad, bottom-left first and
-/// counter-clockwise, two triangles) into `out` as octagons, six triangles each: the
-/// regular octagon around the quad's inscribed circle, its positions, texture coordinates
-/// and colours interpolated across the quad. A puff's texture is a disc inside that
-/// circle ([`puff_texture`]: zero alpha from 0.93 of the half side out), so the corners
-/// cut off (17% of each quad's area) drew fragments of zero alpha, but where a coarse mip
-/// level blurs the disc's edge into them; the pixels differ from the quads' by at most 2
-/// levels (mean 0.005 in `outside_a_cloud_looks_as_before`). The clouds' puffs are the
-/// most blended fragments of the tour's fly-through (issue 39, session 20).
-pub(crate) fn octagons(quads: &Mesh, out: &mut Mesh) {
-    out.clear();
-    let (k, j) = (OCTAGON_CUT, 1.0 - OCTAGON_CUT);
-    let at = [
-        (k, 0.0),
-        (j, 0.0),
-        (1.0, k),
-        (1.0, j),
-        (j, 1.0),
-        (k, 1.0),
-        (0.0, j),
-        (0.0, k),
-    ];
-    let n = quads.positions.len() / 4;
-    let colored = quads.colors.len() == quads.positions.len();
-    let textured = quads.uvs.len() == quads.positions.len();
-    for q in 0..n {
-        let c = 4 * q;
-        let base = out.positions.len() as u32;
-        let p = &quads.positions[c..c + 4];
-        let (ps, pt) = (p[1] - p[0], p[3] - p[0]);
-        out.positions
-            .extend(at.iter().map(|&(s, t)| p[0] + s * ps + t * pt));
-        if textured {
-            let uv = &quads.uvs[c..c + 4];
-            let (us, ut) = (uv[1] - uv[0], uv[3] - uv[0]);
-            out.uvs
-                .extend(at.iter().map(|&(s, t)| uv[0] + s * us + t * ut));
-        }
-        if colored {
-            out.colors.extend(std::iter::repeat_n(quads.colors[c], 8));
-        }
-        for i in 1..7 {
-            out.indices
-                .extend_from_slice(&[base, base + i, base + i + 1]);
-        }
     }
 }
 

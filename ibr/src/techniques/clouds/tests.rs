@@ -252,8 +252,7 @@ fn renders_a_covered_middle_on_a_clear_sky() {
     let mut draws = Vec::new();
     cloud.draws(&mut draws);
     assert_eq!(draws.len(), 1);
-    // Each puff's quad drawn as an octagon of six triangles.
-    assert_eq!(draws[0].mesh.triangle_count(), 3 * cloud.triangle_count());
+    assert_eq!(draws[0].mesh.triangle_count(), cloud.triangle_count());
     assert!(draws[0].material.is_blended() && draws[0].material.depth_test);
 }
 
@@ -420,78 +419,4 @@ fn field_scatters_disjoint_clouds_on_one_base() {
     assert!(CloudField::scatter(lo, hi, 60.0, 0, 30, 5)
         .clouds
         .is_empty());
-}
-
-/// The puffs' octagons: six triangles a quad over 82.8% of its area (2 (sqrt 2 - 1) of
-/// the side squared), their texture coordinates and colours those of the quad at the same
-/// place, and every texel of the puff texture's finest level whose centre they cut off
-/// has zero alpha (for every seed the cloud fields use), so only fragments of zero alpha
-/// are left undrawn.
-#[test]
-fn octagons_cut_only_the_puffs_empty_corners() {
-    let mut quads = Mesh::default();
-    let (a, b) = (Vec2::new(0.25, 0.5), Vec2::new(0.75, 1.0));
-    let q = [
-        Vec3::new(1.0, 2.0, 3.0),
-        Vec3::new(3.0, 2.0, 3.0),
-        Vec3::new(3.0, 4.0, 3.0),
-        Vec3::new(1.0, 4.0, 3.0),
-    ];
-    let tint = Rgba::new(0.5, 0.25, 1.0, 0.75);
-    crate::core::push_quad(
-        &mut quads,
-        q,
-        crate::core::UvRect { min: a, max: b },
-        tint,
-        1.0,
-    );
-    crate::core::push_quad(
-        &mut quads,
-        q.map(|p| p + Vec3::X * 5.0),
-        crate::core::UvRect { min: a, max: b },
-        tint,
-        0.5,
-    );
-    let mut out = Mesh::default();
-    octagons(&quads, &mut out);
-    assert_eq!((out.positions.len(), out.indices.len()), (16, 36));
-    assert_eq!((out.uvs.len(), out.colors.len()), (16, 16));
-    let area: f32 = out.indices[..18]
-        .chunks(3)
-        .map(|t| {
-            let [p, q, r] = [0, 1, 2].map(|k| out.positions[t[k] as usize]);
-            0.5 * (q - p).cross(r - p).z
-        })
-        .sum();
-    assert!(
-        (area - 4.0 * 2.0 * (2f32.sqrt() - 1.0)).abs() < 1e-4,
-        "{area}"
-    );
-    for (p, uv) in out.positions[..8].iter().zip(&out.uvs[..8]) {
-        let (s, t) = ((p.x - 1.0) / 2.0, (p.y - 2.0) / 2.0);
-        let want = Vec2::new(a.x + s * (b.x - a.x), b.y + t * (a.y - b.y));
-        assert!((*uv - want).length() < 1e-5, "{p} {uv} {want}");
-        assert!(
-            Vec2::new(s - 0.5, t - 0.5).length() >= 0.5 - 1e-5,
-            "on or out of the circle"
-        );
-    }
-    assert_eq!(out.colors[0], tint);
-    assert_eq!(out.colors[8].a, 0.375);
-    octagons(&Mesh::default(), &mut out);
-    assert!(out.positions.is_empty() && out.indices.is_empty());
-    let k = OCTAGON_CUT;
-    for seed in [0, 1, 2, 3, 7, 42, 2718] {
-        let tex = puff_texture(64, seed);
-        for y in 0..64u32 {
-            for x in 0..64u32 {
-                let (s, t) = ((x as f32 + 0.5) / 64.0, (y as f32 + 0.5) / 64.0);
-                // Outside the octagon: beyond one of its four cut edges.
-                let (ds, dt) = (s.min(1.0 - s), t.min(1.0 - t));
-                if ds + dt < k {
-                    assert_eq!(tex.texel(0, x, y).a, 0.0, "seed {seed} texel {x},{y}");
-                }
-            }
-        }
-    }
 }

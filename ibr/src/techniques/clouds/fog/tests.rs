@@ -68,18 +68,9 @@ fn with_fade(cloud: &mut Cloud, cam: &Camera) -> Vec<u8> {
 }
 
 /// The cloud as it was drawn before the near fade: every particle's billboard at its full
-/// opacity (its quad cut to the octagon the cloud draws), no fog.
+/// opacity, no fog.
 fn plain(cloud: &Cloud, cam: &Camera) -> Vec<u8> {
-    let batch = plain_batch(cloud, cam);
-    let mut puffs = Mesh::default();
-    crate::techniques::clouds::octagons(batch.mesh(), &mut puffs);
-    render(
-        cam,
-        vec![Draw {
-            mesh: &puffs,
-            ..batch.draw()
-        }],
-    )
+    render(cam, vec![plain_batch(cloud, cam).draw()])
 }
 
 fn plain_batch(cloud: &Cloud, cam: &Camera) -> crate::core::BillboardBatch {
