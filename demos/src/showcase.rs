@@ -58,6 +58,8 @@ pub struct Showcase {
     torus: usize,
     lamp: usize,
     lamp_light: usize,
+    /// The last frame's draws by group, when counted ([`Showcase::count_draws`]).
+    draws: Option<ibr_layer::DrawGroups>,
 }
 
 impl Showcase {
@@ -95,8 +97,28 @@ impl Showcase {
     ) -> FrameStats {
         self.lod.apply(&mut self.scene, camera, target.height());
         let stats = self.ibr.render(&self.scene, renderer, camera, target, opts);
+        if let Some(groups) = &mut self.draws {
+            let terrain = |k| self.lod.is_terrain(k);
+            let costs = renderer.draw_costs();
+            groups.error = self
+                .ibr
+                .draw_groups(&self.scene, terrain, costs, groups)
+                .err();
+        }
         self.lod.restore(&mut self.scene);
         stats
+    }
+
+    /// Counts each frame's draws by group from the next [`Showcase::render`] on (off by
+    /// default: the renderer reads the clock twice per triangle and tile), or stops.
+    pub fn count_draws(&mut self, renderer: &mut Renderer, on: bool) {
+        renderer.set_draw_costs(on);
+        self.draws = on.then(Default::default);
+    }
+
+    /// The last frame's draws by group (`None` unless [`Showcase::count_draws`] is on).
+    pub fn draw_groups(&self) -> Option<&ibr_layer::DrawGroups> {
+        self.draws.as_ref()
     }
 }
 

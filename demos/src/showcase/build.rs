@@ -77,6 +77,7 @@ pub(super) fn build() -> Showcase {
         torus,
         lamp,
         lamp_light: 1,
+        draws: None,
     };
     show.animate(0.0);
     show

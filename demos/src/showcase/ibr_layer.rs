@@ -11,6 +11,8 @@
 use crate::showcase::impostors::{self, Impostors};
 use crate::showcase::lightfield::Statue;
 use bands::{bands, forest_draws, Forest};
+use costs::Metered;
+pub use costs::{DrawGroups, GroupCost, GROUPS};
 use engine::procedural::{self, Terrain, TreeKind, XorShift};
 use engine::{
     Camera, Draw, FrameOptions, FrameStats, Light, Lighting, Material, Mesh, Renderer, Rgba, Scene,
@@ -129,6 +131,8 @@ pub struct IbrLayer {
     bolts_fired: u32,
     /// The frame loop's memory, reused frame to frame.
     frame: FrameLoop,
+    /// The last frame's image passes' work, per technique of the frame's list.
+    passes: [FrameStats; 6],
 }
 
 impl IbrLayer {
@@ -162,6 +166,7 @@ impl IbrLayer {
             dt: 0.0,
             bolts_fired: 0,
             frame: FrameLoop::new(),
+            passes: Default::default(),
         };
         layer
             .effects
@@ -322,22 +327,25 @@ impl IbrLayer {
         // Blended impostors, clouds and smoke write no depth: the flare captures them once
         // more around the sun to see how much light they let through.
         let mut forest = Forest(&mut self.forest);
-        let mut techniques: [&mut dyn Technique; 6] = [
-            &mut forest,
-            &mut self.lasers,
-            &mut self.effects,
-            &mut self.impostors,
-            &mut self.statue.object,
-            &mut self.flare,
+        let mut metered = [
+            Metered::new(&mut forest),
+            Metered::new(&mut self.lasers),
+            Metered::new(&mut self.effects),
+            Metered::new(&mut self.impostors),
+            Metered::new(&mut self.statue.object),
+            Metered::new(&mut self.flare),
         ];
-        self.frame.render(
+        let mut techniques = metered.each_mut().map(|m| m as &mut dyn Technique);
+        let stats = self.frame.render(
             renderer,
             scene.draws().chain(near_trees),
             &mut techniques,
             &view,
             target,
             opts,
-        )
+        );
+        self.passes = metered.map(|m| m.passes.get());
+        stats
     }
 
     /// Each technique's work in the last frame: forest, lasers, effects, impostors, the
@@ -610,6 +618,7 @@ fn mesh_height(mesh: &Mesh) -> f32 {
 }
 
 mod bands;
+mod costs;
 mod lathe;
 #[cfg(test)]
 mod tests;

@@ -118,6 +118,12 @@ impl TourLod {
         self.patches
     }
 
+    /// Whether the scene's instance `k` draws terrain while [`TourLod::apply`]'s patches
+    /// are in place (the terrain's own instance and the patches appended after it).
+    pub fn is_terrain(&self, k: usize) -> bool {
+        k == self.plan.terrain_instance || (self.patches > 1 && k >= self.base)
+    }
+
     /// The level each patch drew last, then the torus's and the spheres'.
     pub fn picked(&self) -> &[usize] {
         &self.picked

@@ -268,3 +268,55 @@ fn the_attraction_meter_keeps_its_buffers_frame_to_frame() {
         "{held:?}"
     );
 }
+
+/// `--draw-costs`: each frame's draws grouped (forest, terrain, city, statue, clouds,
+/// effects, other) account for every fragment the frame counted, tested, shaded, blended
+/// and in rows (the engine's per-draw costs plus the statue's and the flare's image
+/// passes), and counting changes no pixel.
+#[test]
+fn the_draw_groups_sum_to_the_frames_counters_and_change_no_pixel() {
+    use crate::showcase::ibr_layer::GROUPS;
+    let (w, h, n) = (160, 90, 120);
+    let opts = FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    };
+    let mut counted = (Showcase::new(), Renderer::new(), Target::new(w, h));
+    let mut plain = (Showcase::new(), Renderer::new(), Target::new(w, h));
+    counted.0.count_draws(&mut counted.1, true);
+    let mut shaded = [0u64; GROUPS.len()];
+    for i in [0, 20, 25, 40, 60, 75, 100] {
+        let (eye, look) = counted.0.path(i, n);
+        let cam = camera(eye, look, w, h);
+        let (show, renderer, target) = &mut counted;
+        show.animate(i as f32 / 30.0);
+        let stats = show.render(renderer, &cam, target, &opts);
+        let g = show.draw_groups().expect("counted");
+        assert_eq!(g.error, None, "frame {i}");
+        let t = g.total();
+        assert_eq!(t.draws as usize, renderer.draw_costs().len(), "frame {i}");
+        assert_eq!(t.fragments_tested, stats.fragments_tested, "frame {i}");
+        assert_eq!(t.fragments_shaded, stats.fragments_shaded, "frame {i}");
+        assert_eq!(
+            t.fragments_blended, stats.fragments_shaded_blended,
+            "frame {i}"
+        );
+        assert_eq!(t.rows_shaded, stats.rows_shaded, "frame {i}");
+        for (s, c) in shaded.iter_mut().zip(&g.groups) {
+            *s += c.fragments_shaded;
+        }
+        let (show, renderer, target) = &mut plain;
+        show.animate(i as f32 / 30.0);
+        show.render(renderer, &cam, target, &opts);
+        assert!(show.draw_groups().is_none() && renderer.draw_costs().is_empty());
+        assert_eq!(counted.2.to_rgba8(), target.to_rgba8(), "frame {i}");
+    }
+    eprintln!(
+        "fragments shaded by group: {:?}",
+        GROUPS.iter().zip(&shaded).collect::<Vec<_>>()
+    );
+    for g in ["forest_sprites", "terrain", "clouds", "effects", "other"] {
+        let k = GROUPS.iter().position(|&x| x == g).unwrap();
+        assert!(shaded[k] > 0, "{g}: {shaded:?}");
+    }
+}

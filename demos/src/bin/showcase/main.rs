@@ -39,6 +39,7 @@ mod window;
 use clap::Parser;
 use demos::showcase::attractions::Meter;
 use demos::showcase::building::BuildingTour;
+use demos::showcase::ibr_layer::DrawGroups;
 use demos::showcase::summary::{self as report, PartTimes};
 use demos::showcase::views::{Stages, ViewsTour};
 use demos::showcase::world::WorldTour;
@@ -107,6 +108,11 @@ struct Args {
     /// --frames, at least three; 0 skips it).
     #[arg(long, value_name = "N")]
     world_frames: Option<usize>,
+    /// Headless: count the tour's draws by group (forest, terrain, city, statue, clouds,
+    /// effects, other: fragments, rows, raster time) into `DIR/tour_draws.csv` (off by
+    /// default: the counting reads the clock twice per triangle and tile).
+    #[arg(long)]
+    draw_costs: bool,
 }
 
 fn main() -> ExitCode {
@@ -313,6 +319,8 @@ fn outdoor_headless(
     let mut sum = FrameStats::default();
     let mut breakdown = report::Breakdown::new(&TOUR_COLUMNS);
     let mut counters = String::from(COUNTER_COLUMNS);
+    show.count_draws(&mut renderer, args.draw_costs);
+    let mut draws = DrawGroups::csv_header();
     for i in 0..n {
         show.animate(i as f32 / 30.0);
         let (eye, look) = show.path(i, n);
@@ -323,6 +331,9 @@ fn outdoor_headless(
         times.push(start.elapsed());
         breakdown.push(start.elapsed(), &tour_row(show.ibr.frame_loop()));
         counters.push_str(&counter_row(i, &show, (w, h)));
+        if let Some(g) = show.draw_groups() {
+            draws.push_str(&g.csv_row(i));
+        }
         meter.tour(&show, &camera, w, h);
         let statue = &mut show.ibr.statue;
         statue.error = meter.last_of("statue");
@@ -350,6 +361,11 @@ fn outdoor_headless(
     }
     write_into(dir, "tour_times.csv", &breakdown.csv())?;
     write_into(dir, "tour_counters.csv", &counters)?;
+    if let Some(g) = show.draw_groups() {
+        println!("the tour's mean frame by group of draws (tour_draws.csv):");
+        g.lines().iter().for_each(|l| println!("  {l}"));
+        write_into(dir, "tour_draws.csv", &draws)?;
+    }
     print_impostors(&show, args, &times, dir);
     let last = show.ibr.impostors.readout();
     println!("  last frame: {}", last.line());
