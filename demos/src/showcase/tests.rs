@@ -192,6 +192,14 @@ fn every_attraction_shows_a_catalogued_technique_and_every_catalogued_one_is_sho
     }
 }
 
+/// Frame options the tour renders with: the target cleared to the sky.
+fn sky_clear() -> FrameOptions {
+    FrameOptions {
+        clear: Some(SKY),
+        ..Default::default()
+    }
+}
+
 /// The tour's first frame prepared at loading ([`Showcase::prepare`]): the clouds' and the
 /// city's first captures are done there, budgets lifted, so frame 0 itself refreshes no
 /// impostor (without it, frame 0 takes the first captures its budgets allow); the run's
@@ -199,10 +207,7 @@ fn every_attraction_shows_a_catalogued_technique_and_every_catalogued_one_is_sho
 #[test]
 fn the_first_frame_prepared_at_loading_leaves_frame_0_no_captures() {
     let (w, h, n) = (320, 180, 120);
-    let opts = FrameOptions {
-        clear: Some(SKY),
-        ..Default::default()
-    };
+    let opts = sky_clear();
     let first = |prepare: bool| {
         let mut show = Showcase::new();
         let mut renderer = Renderer::new();
@@ -236,10 +241,7 @@ fn the_first_frame_prepared_at_loading_leaves_frame_0_no_captures() {
 fn the_attraction_meter_keeps_its_buffers_frame_to_frame() {
     use crate::showcase::attractions::Meter;
     let (w, h, n) = (320, 180, 120);
-    let opts = FrameOptions {
-        clear: Some(SKY),
-        ..Default::default()
-    };
+    let opts = sky_clear();
     let mut show = Showcase::new();
     let mut renderer = Renderer::new();
     let mut target = Target::new(w, h);
@@ -277,10 +279,7 @@ fn the_attraction_meter_keeps_its_buffers_frame_to_frame() {
 fn the_draw_groups_sum_to_the_frames_counters_and_change_no_pixel() {
     use crate::showcase::ibr_layer::GROUPS;
     let (w, h, n) = (160, 90, 120);
-    let opts = FrameOptions {
-        clear: Some(SKY),
-        ..Default::default()
-    };
+    let opts = sky_clear();
     let mut counted = (Showcase::new(), Renderer::new(), Target::new(w, h));
     let mut plain = (Showcase::new(), Renderer::new(), Target::new(w, h));
     counted.0.count_draws(&mut counted.1, true);
