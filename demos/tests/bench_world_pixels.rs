@@ -56,17 +56,7 @@ fn a_taller_target_cuts_the_world_as_640x360() {
 /// The world's objects on `ground`, rendered at 320 x 180 from the fly-over a tenth in.
 fn render(world: &World, ground: &MeshGroup) -> (Target, FrameStats) {
     let (w, h) = (320, 180);
-    let camera = world.camera(0.1, (w, h));
-    let mut draws = Vec::new();
-    ground.draws(&mut draws);
-    world.objects.iter().for_each(|o| o.draws(&mut draws));
-    let mut target = Target::new(w, h);
-    let opts = FrameOptions {
-        clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
-        ..FrameOptions::default()
-    };
-    let stats = Renderer::new().render(draws, &camera, &world.lighting, &mut target, &opts);
-    (target, stats)
+    world.render_geometry(ground, &world.camera(0.1, (w, h)), (w, h))
 }
 
 /// The world's ground, [`GROUND_TILES`] x [`GROUND_TILES`] pieces of two triangles, draws

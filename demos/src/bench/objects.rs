@@ -249,7 +249,6 @@ impl Sweep for ObjectsSweep {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use engine::{FrameOptions, Renderer, Rgba, Target};
     use ibr::subject::Subject;
 
     /// Every world of the sweep stands on the 1k world's ground and is flown the same way:
@@ -294,15 +293,7 @@ mod tests {
         let cover = |side: u32, f: usize| {
             let world = world(side);
             let camera = flight(&world, f, 24, (w, h));
-            let mut draws = Vec::new();
-            world.ground.draws(&mut draws);
-            world.objects.iter().for_each(|o| o.draws(&mut draws));
-            let mut target = Target::new(w, h);
-            let opts = FrameOptions {
-                clear: Some(Rgba::new(0.55, 0.65, 0.8, 1.0)),
-                ..FrameOptions::default()
-            };
-            let stats = Renderer::new().render(draws, &camera, &world.lighting, &mut target, &opts);
+            let (target, stats) = world.render_geometry(&world.ground, &camera, (w, h));
             let sky = (0..h)
                 .flat_map(|y| (0..w).map(move |x| (x, y)))
                 .filter(|&(x, y)| target.depth_reversed(x, y) == Some(0.0))
