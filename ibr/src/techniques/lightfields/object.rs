@@ -9,7 +9,7 @@
 //! ([`LightFieldObject::showing`], the `geometry` counter).
 
 use super::outline::Outline;
-use super::render::{render, LightFieldFrame, Lookup};
+use super::render::{render, render_within, LightFieldFrame, Lookup};
 use super::{LightField, Slab};
 use crate::core::{Counters, FrameView, Frustum, Technique};
 use crate::core::{MeshGroup, Subject};
@@ -226,11 +226,16 @@ impl Technique for LightFieldObject {
                     }
                     _ => None,
                 };
-                self.image.render(&self.slabs[k], view, self.lookup, clip);
-                if let (true, Some(g), Some(_)) =
-                    (self.proxy_outline, &self.reference, self.image.rect)
-                {
-                    self.outline.apply(g, &mut self.image.image);
+                // The geometry's outline first: the rays of pixels it does not cover are
+                // not looked up, as the outline would make them holes.
+                let outline = match (self.proxy_outline, &self.reference) {
+                    (true, Some(g)) => Some((g, &mut self.outline)),
+                    _ => None,
+                };
+                let outlined = outline.is_some();
+                self.image
+                    .render(&self.slabs[k], view, self.lookup, clip, outline);
+                if outlined && self.image.rect.is_some() {
                     return;
                 }
                 if self.hard_edges {
@@ -458,13 +463,18 @@ impl Composite {
     }
 
     /// Renders `field` as `view` sees it into the pixels its focal plane covers, within
-    /// `clip` if given (nothing when off screen or the view is empty).
+    /// `clip` if given (nothing when off screen or the view is empty). With an `outline`
+    /// (the object's geometry and its [`Outline`]), the geometry's coverage is rasterised
+    /// first, only the rays of the rows' covered spans are looked up, and the image is
+    /// made to agree with the geometry ([`Outline::conform`]): the same pixels as
+    /// looking every ray up before the outline, which makes the others holes.
     pub(crate) fn render(
         &mut self,
         field: &LightField,
         view: &FrameView<'_>,
         lookup: Lookup,
         clip: Option<PixelRect>,
+        outline: Option<(&MeshGroup, &mut Outline)>,
     ) {
         self.clear();
         self.rect = drawn_rect(&field.slab, view.camera, view.width, view.height, clip);
@@ -473,7 +483,17 @@ impl Composite {
             let hi = Vec2::new(r.x1 as f32, r.y1 as f32);
             let crop = view.camera.crop(lo, hi, view.width, view.height);
             let (w, h) = (r.x1 - r.x0, r.y1 - r.y0);
-            self.last = render(field, &crop, w, h, lookup, &mut self.image);
+            let image = &mut self.image;
+            self.last = match outline {
+                Some((geometry, outline)) => {
+                    outline.cover(geometry, &crop, w, h);
+                    let spans = Some(outline.spans());
+                    let last = render_within(field, &crop, w, h, lookup, spans, image);
+                    outline.conform(image);
+                    last
+                }
+                None => render(field, &crop, w, h, lookup, image),
+            };
         }
     }
 

@@ -21,7 +21,7 @@ use crate::core::MeshGroup;
 use crate::core::Subject;
 use crate::warp::{Warped, ENCODING, HOLE};
 use engine::color::{unpack, Encoder};
-use engine::{Draw, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
+use engine::{Camera, Draw, FrameOptions, Lighting, Material, Renderer, Rgba, Target};
 
 /// Relative disparity difference within which the light field's surface is taken to be the
 /// geometry's.
@@ -35,13 +35,17 @@ pub(crate) const MIN_ALPHA: u32 = 64;
 /// stays a hole.
 const ROUNDS: usize = 16;
 
-/// What the outline keeps from frame to frame: a renderer, its target and row buffers.
+/// What the outline keeps from frame to frame: a renderer, its target and row buffers,
+/// the geometry's disparity and each row's covered span.
 #[derive(Debug)]
 pub(crate) struct Outline {
     renderer: Renderer,
     target: Target,
     material: Material,
     proxy: Vec<f32>,
+    /// Each row's pixels `x0..x1` from the first the geometry covers to the last (empty
+    /// where it covers none), for [`super::render::render_within`].
+    spans: Vec<(u32, u32)>,
     row: (Vec<u32>, Vec<f32>),
     fill: Fill,
 }
@@ -53,6 +57,7 @@ impl Default for Outline {
             target: Target::new(0, 0),
             material: Material::unlit(Rgba::WHITE),
             proxy: Vec::new(),
+            spans: Vec::new(),
             row: (Vec::new(), Vec::new()),
             fill: Fill::default(),
         }
@@ -60,10 +65,13 @@ impl Default for Outline {
 }
 
 impl Outline {
-    /// Makes `image` (a light-field render through its camera) agree with `geometry`'s
-    /// coverage and depth seen through the same camera ([`conform`]).
-    pub(crate) fn apply(&mut self, geometry: &MeshGroup, image: &mut Warped) {
-        let (w, h) = (image.width(), image.height());
+    /// Rasterises `geometry`'s coverage and disparity through `camera` into a `w` x `h`
+    /// image, and each row's covered span ([`Outline::spans`]): [`conform`] keeps the
+    /// light field's pixels only where the geometry covers, so a render need not look up
+    /// the others' rays.
+    pub(crate) fn cover(&mut self, geometry: &MeshGroup, camera: &Camera, w: u32, h: u32) {
+        self.proxy.clear();
+        self.spans.clear();
         if w == 0 || h == 0 {
             return;
         }
@@ -81,14 +89,18 @@ impl Outline {
             clear: Some(Rgba::TRANSPARENT),
             ..Default::default()
         };
-        let camera = image.camera;
         let lighting = Lighting::default();
         self.renderer
-            .render(draws, &camera, &lighting, &mut self.target, &opts);
-        self.proxy.clear();
+            .render(draws, camera, &lighting, &mut self.target, &opts);
         let (colors, depths) = &mut self.row;
         for y in 0..h {
             self.target.read_row(y, colors, depths);
+            let first = depths.iter().position(|&d| d > 0.0);
+            let last = depths.iter().rposition(|&d| d > 0.0);
+            self.spans.push(match (first, last) {
+                (Some(a), Some(b)) => (a as u32, b as u32 + 1),
+                _ => (0, 0),
+            });
             self.proxy.extend(depths.iter().map(|&d| {
                 if d > 0.0 {
                     1.0 / camera.view_depth_from_reversed(d)
@@ -97,11 +109,25 @@ impl Outline {
                 }
             }));
         }
+    }
+
+    /// The last [`Outline::cover`]'s covered span of each row.
+    pub(crate) fn spans(&self) -> &[(u32, u32)] {
+        &self.spans
+    }
+
+    /// Makes `image` agree with the last [`Outline::cover`] ([`conform`]), which must
+    /// have been of its size and camera; of another size, nothing is done.
+    pub(crate) fn conform(&mut self, image: &mut Warped) {
+        let w = image.width() as usize;
+        if w == 0 || self.proxy.len() != w * image.height() as usize {
+            return;
+        }
         conform(
             &mut image.color,
             &mut image.disparity,
             &self.proxy,
-            w as usize,
+            w,
             &mut self.fill,
         );
     }

@@ -187,3 +187,48 @@ fn with_the_outline_the_rays_looked_up_are_bounded_by_the_geometrys_sphere() {
     assert!(matches!(object.showing(), Showing::Slab(0)));
     assert_eq!((object.rect(), object.last().rays), (None, 0));
 }
+
+/// With the outline from geometry, only the rays of each row's span the geometry covers
+/// are looked up: the image is pixel for pixel the one every ray of the focal plane's
+/// rectangle and then the outline give, from fewer rays.
+#[test]
+fn rays_within_the_geometrys_spans_give_the_same_image() {
+    let group = subject();
+    let mut draws = Vec::new();
+    group.draws(&mut draws);
+    let field = LightField::capture(&draws, &Lighting::default(), slab(8, 64));
+    let lookup = Lookup::default();
+    let lighting = Lighting::default();
+    for eye in [Vec3::new(0.13, -0.21, 4.3), Vec3::new(-0.55, 0.37, 4.6)] {
+        let cam = camera(eye);
+        let view = FrameView::still(&cam, W, H, &lighting);
+        let mut every = object::Composite::new(cam);
+        every.render(&field, &view, lookup, None, None);
+        let r = every.rect.expect("the focal plane in view");
+        let mut outline = outline::Outline::default();
+        let crop = every.image.camera;
+        outline.cover(&group, &crop, r.x1 - r.x0, r.y1 - r.y0);
+        outline.conform(&mut every.image);
+        let mut spans = object::Composite::new(cam);
+        let mut own = outline::Outline::default();
+        spans.render(&field, &view, lookup, None, Some((&group, &mut own)));
+        eprintln!(
+            "from {eye}: rays {} every, {} within the spans",
+            every.last.rays, spans.last.rays
+        );
+        assert_eq!(spans.rect, every.rect);
+        assert!(
+            spans.image.color == every.image.color,
+            "colours differ from {eye}"
+        );
+        let bits = |d: &[f32]| d.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&spans.image.disparity), bits(&every.image.disparity));
+        assert!(spans.image.color.iter().any(|&c| c != 0), "something drawn");
+        assert!(
+            spans.last.rays < every.last.rays,
+            "{:?} against {:?}",
+            spans.last,
+            every.last
+        );
+    }
+}

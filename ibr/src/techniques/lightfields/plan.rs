@@ -444,7 +444,8 @@ impl<S: Subject + Send + Sync> Representation<S> for LightFieldSet {
                 continue;
             };
             let clip = sphere_rect(view.camera, b.bounds, view.width, view.height);
-            b.image.render(&b.fields[k], view, self.lookup, Some(clip));
+            b.image
+                .render(&b.fields[k], view, self.lookup, Some(clip), None);
             if let Some(tint) = self.tint {
                 b.image.tint(tint);
             }

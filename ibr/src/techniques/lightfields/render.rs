@@ -99,6 +99,22 @@ pub fn render(
     lookup: Lookup,
     out: &mut Warped,
 ) -> LightFieldFrame {
+    render_within(lf, camera, width, height, lookup, None, out)
+}
+
+/// [`render`], looking up only the rays of each row's batches that overlap its span
+/// `spans[y]` (pixels `x0..x1`; none when empty) if given: a caller that keeps only those
+/// pixels (the outline from geometry, [`super::outline`]) leaves the rest holes. The
+/// batches looked up are looked up as [`render`] does, so those pixels are the same.
+pub(crate) fn render_within(
+    lf: &LightField,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    lookup: Lookup,
+    spans: Option<&[(u32, u32)]>,
+    out: &mut Warped,
+) -> LightFieldFrame {
     let lookup = Lookup {
         depth_correction: lookup.depth_correction && lf.has_depth(),
         ..lookup
@@ -106,11 +122,11 @@ pub fn render(
     match &lf.rays {
         Rays::Raw(rays) => {
             let src = RawSource::new(&lf.slab, rays);
-            render_from(&lf.slab, &src, camera, width, height, lookup, out)
+            render_from(&lf.slab, &src, (camera, width, height), lookup, spans, out)
         }
         Rays::Quantised(q) => {
             let src = CodeSource::new(q);
-            render_from(&lf.slab, &src, camera, width, height, lookup, out)
+            render_from(&lf.slab, &src, (camera, width, height), lookup, spans, out)
         }
     }
 }
@@ -118,10 +134,9 @@ pub fn render(
 fn render_from(
     slab: &Slab,
     src: &impl Source,
-    camera: &Camera,
-    width: u32,
-    height: u32,
+    (camera, width, height): (&Camera, u32, u32),
     lookup: Lookup,
+    spans: Option<&[(u32, u32)]>,
     out: &mut Warped,
 ) -> LightFieldFrame {
     out.reset(camera, width, height);
@@ -132,18 +147,20 @@ fn render_from(
     let rays = rays::Rays::new(slab, camera, width, height, lookup.depth_correction);
     let kernel = Kernel::new(slab, src, lookup);
     match lookup.interpolation {
-        Interpolation::Nearest => render_rows::<1, 1>(&rays, &kernel, w, out),
-        Interpolation::BilinearUv => render_rows::<4, 1>(&rays, &kernel, w, out),
-        Interpolation::Quadrilinear => render_rows::<4, 4>(&rays, &kernel, w, out),
+        Interpolation::Nearest => render_rows::<1, 1>(&rays, &kernel, w, spans, out),
+        Interpolation::BilinearUv => render_rows::<4, 1>(&rays, &kernel, w, spans, out),
+        Interpolation::Quadrilinear => render_rows::<4, 4>(&rays, &kernel, w, spans, out),
     }
 }
 
 /// Renders the rows of `out` (`w` wide), blocks of them on the thread pool, each ray
-/// read from `CAMERAS` cameras, `TAPS` samples each ([`Kernel::shade`]).
+/// read from `CAMERAS` cameras, `TAPS` samples each ([`Kernel::shade`]), within each
+/// row's span if `spans` are given ([`render_within`]).
 fn render_rows<const CAMERAS: usize, const TAPS: usize>(
     rays: &rays::Rays,
     kernel: &Kernel<'_, impl Source>,
     w: usize,
+    spans: Option<&[(u32, u32)]>,
     out: &mut Warped,
 ) -> LightFieldFrame {
     let block = w * BLOCK_ROWS;
@@ -160,10 +177,16 @@ fn render_rows<const CAMERAS: usize, const TAPS: usize>(
                 .enumerate()
             {
                 let y = b * BLOCK_ROWS + r;
+                // Past the spans' end a row has none.
+                let span =
+                    spans.map(|s| s.get(y).map_or((0, 0), |&(a, b)| (a as usize, b as usize)));
+                if span.is_some_and(|(a, b)| a >= b) {
+                    continue;
+                }
                 guess = render_row::<CAMERAS, TAPS>(
                     rays,
                     kernel,
-                    y,
+                    (y, span),
                     guess,
                     colors,
                     disparities,
@@ -183,12 +206,13 @@ fn render_rows<const CAMERAS: usize, const TAPS: usize>(
 const BLOCK_ROWS: usize = 8;
 
 /// Renders row `y`, eight pixels at a time, two batches of eight at a time where it can
-/// (their depth correction's dependent reads interleave), and returns its run of batches
-/// whose rays cross the slab (`run`; `guess`, the row before's, is where it looks).
+/// (their depth correction's dependent reads interleave), only the batches overlapping
+/// `span` (pixels `x0..x1`, not empty) if given, and returns its run of batches whose
+/// rays cross the slab (`run`; `guess`, the row before's, is where it looks).
 fn render_row<const CAMERAS: usize, const TAPS: usize>(
     rays: &rays::Rays,
     kernel: &Kernel<'_, impl Source>,
-    y: usize,
+    (y, span): (usize, Option<(usize, usize)>),
     guess: Option<(usize, usize)>,
     colors: &mut [u32],
     disparities: &mut [f32],
@@ -198,9 +222,13 @@ fn render_row<const CAMERAS: usize, const TAPS: usize>(
     let w = colors.len();
     // Lanes past the row's end are not hits.
     let within = |x0: usize| (1u32 << (w - x0).min(LANES)) - 1;
-    let (lo, hi) = run(w.div_ceil(LANES), guess, |k| {
+    let found = run(w.div_ceil(LANES), guess, |k| {
         rays.hits(ends, k * LANES) & within(k * LANES)
     })?;
+    let (lo, hi) = match span {
+        Some((x0, x1)) => (found.0.max(x0 / LANES), found.1.min((x1 - 1) / LANES)),
+        None => found,
+    };
     let mut k = lo;
     while k <= hi {
         let x0 = k * LANES;
@@ -229,7 +257,7 @@ fn render_row<const CAMERAS: usize, const TAPS: usize>(
         }
         k += 1;
     }
-    Some((lo, hi))
+    Some(found)
 }
 
 /// The run `lo..=hi` of a row's `n` batches whose rays cross the slab (`hits(k)`, batch
