@@ -217,7 +217,9 @@ fn clouds<'a>(
         return None;
     }
     let mut drawn = Drawn::new(&show.scene.lighting);
-    imp.cloud_set.draws(&imp.clouds.clouds, &mut drawn.image);
+    // As the frame drew them: the particles off-screen at half size on its heaviest frames.
+    imp.cloud_draws(&mut drawn.image);
+    drawn.passes = Some(imp);
     stand.clouds.clone_from(&imp.clouds.clouds);
     for c in &mut stand.clouds {
         c.prepare(camera, height);
