@@ -32,10 +32,10 @@ use engine::{
 /// they are drawn off-screen: the composite reads and blends one screen of taps.
 pub const MIN_SCREENS: f64 = 1.0;
 
-/// Fewest estimated fragments for which the particles are drawn off-screen: below about
-/// this many (a few milliseconds of blending on one core) the full-size particles cost
-/// little and keep their edges exact. At the showcase test's 240 x 136 it is 12 screens,
-/// more than any frame there blends: that size always draws the particles in the frame.
+/// Fewest estimated fragments for which the particles are drawn off-screen: below this the
+/// full-size particles keep their edges exact. At the showcase test's 240 x 136 it is 12
+/// screens, twice the most the tour's clouds blend at any size (6.2 on frame 108): that
+/// size always draws the particles in the frame (BENCHMARKS.md, session 21).
 pub const MIN_FRAGMENTS: f64 = 400_000.0;
 
 /// The off-screen target and its scratch memory, kept frame to frame.
