@@ -145,8 +145,8 @@ pub mod effects {
 pub mod cloud {
     pub use crate::techniques::clouds::{
         coverage, cumulus, fade_scale, near_fade, puff_profile, puff_texture, screen_share, Cloud,
-        CloudField, CloudParticle, CloudShading, Offscreen, Phase, FOG_MAX, LIGHT_RES, MAX_FILL,
-        MAX_PARTICLES, MIN_FRAGMENTS, MIN_SCREENS, NEAR_FADE,
+        CloudField, CloudParticle, CloudShading, Phase, FOG_MAX, LIGHT_RES, MAX_FILL,
+        MAX_PARTICLES, NEAR_FADE,
     };
 }
 

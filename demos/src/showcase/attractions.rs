@@ -217,9 +217,7 @@ fn clouds<'a>(
         return None;
     }
     let mut drawn = Drawn::new(&show.scene.lighting);
-    // As the frame drew them: the particles off-screen at half size on its heaviest frames.
-    imp.cloud_draws(&mut drawn.image);
-    drawn.passes = Some(imp);
+    imp.cloud_set.draws(&imp.clouds.clouds, &mut drawn.image);
     stand.clouds.clone_from(&imp.clouds.clouds);
     for c in &mut stand.clouds {
         c.prepare(camera, height);

@@ -416,13 +416,6 @@ impl Technique for Impostors {
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         Impostors::draws(self, out);
     }
-    /// The clouds' particles, off-screen at half size on the frames they blend the most.
-    fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
-        self.clouds_pass(view, target)
-    }
-    fn composited<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        Impostors::composited(self, out);
-    }
     fn counters(&self) -> Counters {
         let r = self.readout();
         Counters {

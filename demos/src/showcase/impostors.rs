@@ -36,15 +36,15 @@ pub use readout::{CityReport, Readout, RunStats, HISTORY};
 
 use crate::city;
 use engine::procedural::{Terrain, XorShift};
-use engine::{Draw, FrameStats, Lighting, Material, Rgba, Shading, Sphere, Target};
+use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
-use ibr::cloud::{CloudField, Offscreen};
-use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Shape, Tolerance};
+use ibr::cloud::CloudField;
+use ibr::impostor::{Budget, Config, ImpostorSet, Shape, Tolerance};
 use ibr::layers::{self, LayerSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
 use ibr::technique::FrameView;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// Centre (XZ) of the city district.
 pub const CITY_CENTER: Vec2 = Vec2::new(-38.0, 0.0);
@@ -185,11 +185,6 @@ pub struct Impostors {
     run: RunStats,
     /// Frames rendered at loading: the refresh budgets lifted ([`Impostors::set_loading`]).
     loading: bool,
-    /// Whether this frame's clouds drawn as particles go off-screen, at half size
-    /// ([`Offscreen::worth`], decided in [`Impostors::update`]).
-    off: bool,
-    /// The off-screen target (locked only by [`Impostors::clouds_pass`]).
-    offscreen: Mutex<Offscreen>,
 }
 
 impl Impostors {
@@ -261,8 +256,6 @@ impl Impostors {
             last: Readout::default(),
             run: RunStats::default(),
             loading: false,
-            off: false,
-            offscreen: Mutex::new(Offscreen::new()),
         }
     }
 
@@ -285,9 +278,6 @@ impl Impostors {
         if !self.loading {
             self.city.config.budgets.rebuilds = city_rebuilds(clouds.capture_texels);
         }
-        let mut particles = Vec::new();
-        self.particle_draws(&mut particles);
-        self.off = Offscreen::worth(&particles, camera, view.width, view.height);
         self.city.plan(view);
         self.last = Readout {
             clouds,
@@ -300,59 +290,9 @@ impl Impostors {
     /// Appends this frame's draws (after [`Impostors::update`]): each building by its
     /// representation (an impostor's quad pulled to its building's nearest box corner),
     /// cloud images as blended quads and the rest as their particles.
-    /// The clouds' particles are left out on a frame that draws them off-screen
-    /// ([`Impostors::clouds_pass`]).
     pub fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         self.city.draws(out);
-        self.cloud_draws(out);
-    }
-
-    /// The clouds' draws in the frame's main pass: their images, and their particles
-    /// unless this frame draws them off-screen.
-    pub fn cloud_draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        let start = out.len();
         self.cloud_set.draws(&self.clouds.clouds, out);
-        if self.off {
-            let mut particles = Vec::new();
-            self.particle_draws(&mut particles);
-            let all: Vec<Draw<'a>> = out.drain(start..).collect();
-            let own = |d: &Draw<'_>| particles.iter().any(|p| std::ptr::eq(p.mesh, d.mesh));
-            out.extend(all.into_iter().filter(|d| !own(d)));
-        }
-    }
-
-    /// The draws of the clouds drawn as their particles this frame.
-    pub fn particle_draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        let clouds = self.cloud_set.impostors.iter().zip(&self.clouds.clouds);
-        for (imp, cloud) in clouds {
-            if matches!(imp.mode, Mode::Geometry(_)) {
-                cloud.draws(out);
-            }
-        }
-    }
-
-    /// The particles drawn off-screen this frame (nothing when they are in the main pass).
-    pub fn composited<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        if self.off {
-            self.particle_draws(out);
-        }
-    }
-
-    /// Whether this frame draws the clouds' particles off-screen.
-    pub fn offscreen(&self) -> bool {
-        self.off
-    }
-
-    /// On a frame that draws them off-screen, renders the clouds' particles at half size
-    /// and composites them over `target` ([`Offscreen::draw`]); its counters.
-    pub fn clouds_pass(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
-        if !self.off {
-            return FrameStats::default();
-        }
-        let mut draws = Vec::new();
-        self.particle_draws(&mut draws);
-        let mut off = self.offscreen.lock().unwrap_or_else(|e| e.into_inner());
-        off.draw(draws, view.camera, view.lighting, target)
     }
 
     /// Starts [`Impostors::run_stats`] afresh (after the frames prepared at loading).

@@ -5,9 +5,7 @@
 //! 1. `t.prepare(view)`: update for this camera and time (rebuild meshes, refresh images);
 //! 2. `t.draws(out)`: the draws it adds to the frame; the scene's and all techniques' draws
 //!    are rendered together (opaque, then blended back to front);
-//! 3. `t.passes(view, target)`: per-pixel image passes over the rendered frame (a
-//!    technique may render draws of its own there, off-screen, and composite them: it lists
-//!    them in `t.composited(out)`, which observers see among the frame's draws);
+//! 3. `t.passes(view, target)`: per-pixel image passes over the rendered frame;
 //! 4. `t.observe(seen)`: read the finished frame (a lens flare measures its light's
 //!    visibility in it), then `t.resolve(view, value)` takes what it observed, and
 //!    `t.counters()` reports the frame's work;
@@ -104,8 +102,7 @@ pub struct Observed<'s, 'a> {
     pub camera: &'s Camera,
     /// The lighting it was rendered with.
     pub lighting: &'s Lighting,
-    /// Every draw the frame rendered (the main pass's, then the techniques'
-    /// [`Technique::composited`]).
+    /// Every draw the frame rendered.
     pub draws: &'s [Draw<'a>],
     /// Offscreen captures an observer may make (the loop's own, reused).
     pub capturer: &'s mut Capturer,
@@ -123,9 +120,6 @@ pub trait Technique {
     fn passes(&self, _view: &FrameView<'_>, _target: &mut Target) -> FrameStats {
         FrameStats::default()
     }
-    /// Appends the draws its `passes` render themselves (off-screen, then composited), not
-    /// in the main pass: observers see them with the frame's draws.
-    fn composited<'a>(&'a self, _out: &mut Vec<Draw<'a>>) {}
     /// Reads the finished frame; what it returns goes to `resolve`.
     fn observe(&self, _seen: &mut Observed<'_, '_>) -> Option<f32> {
         None
@@ -265,9 +259,6 @@ impl FrameLoop {
             stats += t.passes(view, target);
         }
         let passed = Instant::now();
-        for t in techniques.iter() {
-            t.composited(&mut draws);
-        }
         self.observed.clear();
         {
             let mut seen = Observed {
@@ -339,9 +330,6 @@ impl<T: Technique> Technique for Vec<T> {
             stats += t.passes(view, target);
         }
         stats
-    }
-    fn composited<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.iter().for_each(|t| t.composited(out));
     }
     fn overlay<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         self.iter().for_each(|t| t.overlay(out));

@@ -35,9 +35,15 @@ const EFFECTS: usize = 7;
 const OTHER: usize = 8;
 
 /// The group of each technique of [`IbrLayer::render`]'s list (forest, lasers, effects,
-/// impostors, statue, flare), for its image passes' work (the impostors' pass is the
-/// clouds' particles drawn off-screen).
-const PASS_GROUPS: [usize; 6] = [FOREST_SPRITES, EFFECTS, EFFECTS, CLOUDS, STATUE, EFFECTS];
+/// impostors, statue, flare), for its image passes' work.
+const PASS_GROUPS: [usize; 6] = [
+    FOREST_SPRITES,
+    EFFECTS,
+    EFFECTS,
+    CITY_IMPOSTORS,
+    STATUE,
+    EFFECTS,
+];
 
 /// One group's cost in a frame: integer counts (the same at any thread count) and the
 /// raster and shade time of its draws summed over the workers (image passes untimed).
@@ -209,7 +215,7 @@ impl IbrLayer {
         }
         let imp = &self.impostors;
         draws.clear();
-        imp.cloud_draws(&mut draws);
+        imp.cloud_set.draws(&imp.clouds.clouds, &mut draws);
         draws.iter().for_each(|d| push(CLOUDS, d.material));
         let last: [(&dyn Technique, usize); 2] =
             [(&self.statue.object, STATUE), (&self.flare, EFFECTS)];
@@ -285,9 +291,6 @@ impl Technique for Metered<'_> {
     }
     fn passes(&self, view: &FrameView<'_>, target: &mut Target) -> FrameStats {
         self.add(self.inner.passes(view, target))
-    }
-    fn composited<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
-        self.inner.composited(out);
     }
     fn observe(&self, seen: &mut Observed<'_, '_>) -> Option<f32> {
         self.inner.observe(seen)

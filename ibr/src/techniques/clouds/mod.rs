@@ -42,13 +42,11 @@
 
 mod field;
 mod fog;
-mod offscreen;
 mod shading;
 mod shape;
 
 pub use field::CloudField;
 pub use fog::{coverage, fade_scale, near_fade, screen_share, FOG_MAX, MAX_FILL, NEAR_FADE};
-pub use offscreen::{Offscreen, MIN_FRAGMENTS, MIN_SCREENS};
 pub use shading::{CloudShading, Phase, LIGHT_RES};
 pub use shape::{cumulus, puff_profile, puff_texture, CloudParticle, MAX_PARTICLES};
 
