@@ -11,7 +11,7 @@
 //! front of the trees beyond its crest; cut by depth range ([`ibr::layers::split_by_depth`])
 //! it still is. Drawn as geometry, it hides each layer exactly where it should.
 
-use super::{in_view, triangles, world_spheres, Frame, Stages};
+use super::{in_view, target_rgba8, triangles, world_spheres, Frame, Stages};
 use crate::showcase;
 use crate::timing::Usage;
 use engine::{Camera, FrameOptions, Lighting, Renderer, Scene, Sphere, Target};
@@ -187,7 +187,7 @@ impl LayersPart {
         );
         let r = self.layers.report;
         let encode = Instant::now();
-        let rgba = self.image.to_rgba8();
+        target_rgba8(&self.image, &mut out.rgba);
         let t = self.frames.times;
         let stages = Stages {
             layers: t.prepare,
@@ -195,14 +195,9 @@ impl LayersPart {
             over_sky: encode.elapsed(),
             ..Stages::default()
         };
-        *out = Frame {
-            width: w,
-            height: h,
-            rgba,
-            measure: Duration::ZERO,
-            measure_usage: Usage::default(),
-            stages,
-        };
+        (out.width, out.height) = (w, h);
+        (out.measure, out.measure_usage) = (Duration::ZERO, Usage::default());
+        out.stages = stages;
         let measure = Instant::now();
         let used = Usage::now();
         self.renderer

@@ -551,3 +551,47 @@ fn the_panorama_pass_makes_the_float_paths_bytes() {
         }
     }
 }
+
+/// The layers frame's bytes ([`target_rgba8`]) are [`Target::to_rgba8`]'s, for opaque,
+/// empty and partly covered pixels (a half-transparent quad over the scene's edge against
+/// the empty sky), into a kept buffer of another size, on one thread and on the pool.
+#[test]
+fn target_rgba8_makes_to_rgba8s_bytes() {
+    let scene = scene();
+    let mut draws: Vec<Draw<'_>> = scene.draws().collect();
+    let quad = engine::Mesh {
+        positions: [(-1.5, 2.0), (1.5, 2.0), (1.5, 4.5), (-1.5, 4.5)]
+            .map(|(x, y)| glam::Vec3::new(x, y, 4.0))
+            .to_vec(),
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
+    };
+    let glass = engine::Material::unlit(engine::Rgba::new(0.2, 0.6, 0.9, 0.5))
+        .blended(engine::BlendMode::Alpha)
+        .double_sided(true);
+    draws.push(Draw {
+        mesh: &quad,
+        material: &glass,
+        transform: glam::Mat4::IDENTITY,
+    });
+    let camera = crate::showcase::camera(SKY_CENTRE, SKY_CENTRE + glam::Vec3::NEG_Z, W, H);
+    let mut capturer = ibr::capture::Capturer::new();
+    let lighting = &scene.lighting;
+    let target = capturer.render(draws, &camera, lighting, W, H, Encoding::Srgb);
+    let want = target.to_rgba8();
+    let count = |keep: fn(u8) -> bool| want.chunks_exact(4).filter(|p| keep(p[3])).count();
+    let (empty, opaque) = (count(|a| a == 0), count(|a| a == 255));
+    let partly = count(|a| a != 0 && a != 255);
+    eprintln!("{empty} empty, {partly} partly covered, {opaque} opaque pixels");
+    assert!(empty > 0 && partly > 0 && opaque > 0);
+    let mut out = vec![7u8; 5];
+    target_rgba8(target, &mut out);
+    assert!(out == want, "the bytes differ");
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a pool of one thread");
+    let mut again = vec![0u8; want.len() + 8];
+    one.install(|| target_rgba8(target, &mut again));
+    assert!(again == want, "the bytes differ on one thread");
+}
