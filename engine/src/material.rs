@@ -100,6 +100,32 @@ pub struct Material {
     /// opaque object sets it, so that what reads the depth after it (the planner's
     /// occlusion, soft particles, image passes) sees the object.
     pub blend_depth: Option<f32>,
+    /// A nailboard's per-texel depth (Schaufler 97), or `None`: read only with
+    /// [`AlphaMode::Mask`] and a `base_texture`. See [`DepthOffset`].
+    pub depth_offset: Option<DepthOffset>,
+}
+
+/// Per-texel depth for an alpha-tested material (a nailboard: an image of an object on
+/// one quad, each texel's surface standing behind the quad by its own distance).
+///
+/// `texture` is sampled at the base texture's uv, with the material's sampler and the
+/// base texture's level of detail (so it should have the base texture's size). Its texels
+/// are premultiplied unorm bytes: red over alpha (0 where alpha is 0) is the fraction of
+/// the largest offset; the mip levels then hold the alpha-weighted mean offset. A
+/// fragment's surface lies `scale * red / alpha * len_u` behind the triangle's plane,
+/// along its normal, where `len_u` is the triangle's world length per unit of `u` (so one
+/// material serves quads of any size showing the same texture). The shader turns that
+/// into view depth exactly for perspective cameras (`offset * w / d`, `w` the fragment's
+/// view depth and `d` the eye's distance to the triangle's plane; orthographic cameras
+/// get `offset / d`, not meaningful). The rasterizer tests the triangle's own depth
+/// before shading (so a quad drawn at its surface's nearest keeps early and hierarchical
+/// rejects conservative), then the moved depth after, and writes the moved depth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthOffset {
+    /// Premultiplied unorm texels, offset fraction in red, coverage in alpha.
+    pub texture: Arc<Texture>,
+    /// The offset of red over alpha = 1, in the triangle's world lengths per unit of `u`.
+    pub scale: f32,
 }
 
 impl Default for Material {
@@ -118,6 +144,7 @@ impl Default for Material {
             soft_distance: 0.0,
             emissive: Rgba::new(0.0, 0.0, 0.0, 0.0),
             blend_depth: None,
+            depth_offset: None,
         }
     }
 }

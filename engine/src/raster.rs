@@ -39,19 +39,52 @@ use crate::stats::FrameStats;
 use crate::target::TILE;
 use crate::tile::{TileBuf, BLOCK, BLOCKS, BLOCK_PIXELS};
 
-/// Converts reversed depth to view distance, for soft particles.
+/// Converts reversed depth to view distance, for soft particles, and moves a reversed
+/// depth back by a view distance, for nailboards ([`crate::material::DepthOffset`]).
 #[derive(Clone, Copy, Debug)]
 pub struct DepthToView {
     camera: Camera,
+    /// Perspective: `1/w = d * scale + base` for view depth `w` and reversed depth `d`
+    /// (`d = n (f - w) / (w (f - n))`, so `scale = (f - n) / (n f)`, `base = 1 / f`; an
+    /// infinite far plane gives `1 / n` and 0). Orthographic: `w = f - d (f - n)`, and
+    /// `scale = 1 / (f - n)` is the depth a view unit takes.
+    scale: f32,
+    base: f32,
+    perspective: bool,
 }
 
 impl DepthToView {
     pub fn new(camera: Camera) -> Self {
-        DepthToView { camera }
+        let (n, f) = camera.near_far();
+        let perspective = camera.projection.is_perspective();
+        let (scale, base) = match (perspective, f.is_finite()) {
+            (true, true) => ((f - n) / (n * f), 1.0 / f),
+            (true, false) => (1.0 / n, 0.0),
+            (false, _) => (1.0 / (f - n), 0.0),
+        };
+        DepthToView {
+            camera,
+            scale,
+            base,
+            perspective,
+        }
     }
     #[inline]
     fn view(&self, d: f32) -> f32 {
         self.camera.view_depth_from_reversed(d)
+    }
+
+    /// The reversed depths of the points `dw` view units (`>= 0`) behind those at
+    /// reversed depth `z`, along the same rays: `1/w' = 1 / (w + dw)`, in 8 lanes.
+    #[inline(always)]
+    pub fn behind(&self, z: Lane, dw: Lane) -> Lane {
+        if !self.perspective {
+            return z - dw * F8::splat(self.scale);
+        }
+        let (scale, base) = (F8::splat(self.scale), F8::splat(self.base));
+        let iw = z.mul_add(scale, base);
+        let moved = iw / dw.mul_add(iw, F8::splat(1.0));
+        (moved - base) / scale
     }
 }
 
@@ -484,8 +517,28 @@ impl<S: FragShader> Rows<'_, S> {
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
-        shader.shade(prepared, tri, &row, m.bits(), &mut out);
+        let mut behind = F8::splat(0.0);
+        if shader.shade_depth(prepared, tri, &row, m.bits(), &mut out, &mut behind) {
+            let (m, z) = self.retest(buf, base, m, &z, behind);
+            return self.write(buf, base, m, &z, &out);
+        }
         self.write(buf, base, m, &z, &out)
+    }
+
+    /// A nailboard's lanes `m` of the row at `base` (plane depth `z`, which passed the
+    /// test) moved `behind` view units back: tested again at their own depth (as
+    /// [`Rows::test`] does, not counted again), and that depth.
+    #[inline(always)]
+    fn retest(&self, buf: &TileBuf, base: usize, m: M8, z: &Lane, behind: Lane) -> (M8, Lane) {
+        let z = self.soft.behind(*z, behind);
+        let mut m = m;
+        if self.mode.depth_test {
+            m = m.and(z.gt(F8::load(&buf.depth[base..])));
+        }
+        if self.mode.peel {
+            m = m.and(F8::load(&buf.peel[base..]).gt(z));
+        }
+        (m, z)
     }
 
     /// Two narrow rows `(j, covered lanes, first lane s)` of the block at `(bx, _)`, each
@@ -542,13 +595,21 @@ impl<S: FragShader> Rows<'_, S> {
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
         let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
-        shader.shade(prepared, tri, &row, mask, &mut out);
+        let mut behind = F8::splat(0.0);
+        let moved = shader.shade_depth(prepared, tri, &row, mask, &mut out, &mut behind);
         // Lane `l` of a row is the pair's lane `l - s` (+ 4 for the second row); the lanes
         // outside the row's 4 take any lane, as they are not written.
         let back = |s: u32, from: u32| -> [u32; LANES] {
             std::array::from_fn(|l| (l as u32 + LANES as u32 + from - s) % LANES as u32)
         };
         let (ia, ib) = (back(sa, 0), back(sb, 4));
+        let (ma, za, mb, zb) = if moved {
+            let (ma, za) = self.retest(buf, base_a, ma, &za, behind.permute(ia));
+            let (mb, zb) = self.retest(buf, base_b, mb, &zb, behind.permute(ib));
+            (ma, za, mb, zb)
+        } else {
+            (ma, za, mb, zb)
+        };
         let mut wrote = false;
         if ma.bits() != 0 {
             wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
@@ -676,5 +737,7 @@ fn write_row(
     m
 }
 
+#[cfg(test)]
+mod nailboard_tests;
 #[cfg(test)]
 mod tests;

@@ -11,7 +11,7 @@
 //! its footprint over its box show the level spreads less than [`LOD_SPREAD`].
 
 use crate::light::{Light, Lighting};
-use crate::material::{Material, Shading};
+use crate::material::{AlphaMode, Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
 use crate::texture::{Filter, Texture};
 use crate::vertex::{COL, NRM, POS, UV};
@@ -88,6 +88,24 @@ pub trait FragShader: Sync {
     /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
     /// `mask` will be used, so a shader may skip per-lane work for the others.
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
+    /// As [`FragShader::shade`], and for a material with a
+    /// [`crate::material::DepthOffset`] each lane's view depth behind the triangle's (view
+    /// units, `>= 0`) in `behind`; returns whether it wrote it (`false`: `behind` is
+    /// untouched and the fragments' depth is the triangle's).
+    #[inline(always)]
+    fn shade_depth(
+        &self,
+        p: &Self::Prepared,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: &mut Lane,
+    ) -> bool {
+        let _ = behind;
+        self.shade(p, tri, row, mask, out);
+        false
+    }
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -190,6 +208,28 @@ pub struct GeneralTri {
     /// triangle's box is known to spread less than [`LOD_SPREAD`] levels
     /// ([`triangle_lod`]); `None` works it out row by row ([`row_lod`]).
     lod: Option<f32>,
+    /// For a material with a depth offset ([`depth_scale`]): the view depth behind the
+    /// triangle of a texel offset of 1 (red over alpha) at view depth 1; `None` without.
+    depth_scale: Option<f32>,
+}
+
+/// [`GeneralTri::depth_scale`]: `scale * len_u / d`, `len_u` the world length of a unit of
+/// `u` on the triangle (`p = [p0, p1 - p0, p2 - p0]`, `uv` its `[u0, du1, du2]` and `[v0,
+/// dv1, dv2]`), `d` the eye's distance to its plane (`n` the unit face normal). A point
+/// `o` behind the plane along its normal, seen through the plane's point at view depth
+/// `w`, lies on the same ray at view depth `w (1 + o / d)`. 0 where it is not finite (a
+/// degenerate mapping, the eye in the plane).
+fn depth_scale(scale: f32, p: [Vec3; 3], uv: [[f32; 3]; 2], n: Vec3, eye: Vec3) -> f32 {
+    let [[_, du1, du2], [_, dv1, dv2]] = uv;
+    let det = du1 * dv2 - du2 * dv1;
+    let along_u = (p[1] * dv2 - p[2] * dv1) / det;
+    let d = (eye - p[0]).dot(n).abs();
+    let k = scale * along_u.length() / d;
+    if k.is_finite() {
+        k
+    } else {
+        0.0
+    }
 }
 
 /// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
@@ -277,9 +317,23 @@ impl FragShader for GeneralShader<'_> {
             }
             _ => None,
         };
+        let depth_scale = match (&self.material.depth_offset, self.material.alpha_mode) {
+            (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
+                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
+                Some(depth_scale(
+                    d.scale,
+                    edges,
+                    [attr[UV], attr[UV + 1]],
+                    n,
+                    self.eye,
+                ))
+            }
+            _ => None,
+        };
         GeneralTri {
             attr,
             lod,
+            depth_scale,
             face_normal: n,
             front,
             flat_normal: flat_normal(&attr, n, front),
@@ -289,6 +343,36 @@ impl FragShader for GeneralShader<'_> {
     }
 
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
+        self.shade_lanes(p, tri, row, mask, out, None);
+    }
+
+    #[inline]
+    fn shade_depth(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: &mut Lane,
+    ) -> bool {
+        self.shade_lanes(p, tri, row, mask, out, Some(behind))
+    }
+}
+
+impl GeneralShader<'_> {
+    /// [`FragShader::shade`], and with `behind` [`FragShader::shade_depth`]'s depth.
+    #[inline(always)]
+    fn shade_lanes(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: Option<&mut Lane>,
+    ) -> bool {
+        let mut moved = false;
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
@@ -313,7 +397,15 @@ impl FragShader for GeneralShader<'_> {
                 _ => 0.0,
             };
             let keep = M8::from_bits(mask);
-            let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
+            let (u, v) = (at(UV), at(UV + 1));
+            let t = tex.sample8_lanes(&m.sampler, u, v, lod, keep);
+            if let (Some(behind), Some(k), Some(d)) = (behind, p.depth_scale, &m.depth_offset) {
+                let s = d.texture.sample8_lanes(&m.sampler, u, v, lod, keep);
+                let zero = F8::splat(0.0);
+                let frac = s[3].gt(zero).select(s[0] / s[3], zero);
+                *behind = frac * F8::splat(k) * w;
+                moved = true;
+            }
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {
@@ -366,10 +458,9 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         *out = rgba;
+        moved
     }
-}
 
-impl GeneralShader<'_> {
     /// The interpolated normal of 8 lanes, unit length, facing the viewer.
     #[inline(always)]
     fn normal(&self, p: &GeneralTri, at: &impl Fn(usize) -> F8) -> V3 {
