@@ -112,19 +112,21 @@ pub struct Material {
 /// base texture's level of detail (so it should have the base texture's size). Its texels
 /// are premultiplied unorm bytes: red over alpha (0 where alpha is 0) is the fraction of
 /// the largest offset; the mip levels then hold the alpha-weighted mean offset. A
-/// fragment's surface lies `scale * red / alpha * len_u` behind the triangle's plane,
-/// along its normal, where `len_u` is the triangle's world length per unit of `u` (so one
-/// material serves quads of any size showing the same texture). The shader turns that
-/// into view depth exactly for perspective cameras (`offset * w / d`, `w` the fragment's
-/// view depth and `d` the eye's distance to the triangle's plane; orthographic cameras
-/// get `offset / d`, not meaningful). The rasterizer tests the triangle's own depth
-/// before shading (so a quad drawn at its surface's nearest keeps early and hierarchical
-/// rejects conservative), then the moved depth after, and writes the moved depth.
+/// fragment's surface lies `scale * red / alpha * len` behind the triangle's plane, along
+/// its normal, where `len` is the length of the triangle's first vertex normal (1 where
+/// it is zero or missing): a material unlit (whose normals are not read otherwise) serves
+/// quads of any size, each setting its own unit in its normals' length. The shader turns
+/// that into view depth exactly for perspective cameras (`offset * w / d`, `w` the
+/// fragment's view depth and `d` the eye's distance to the triangle's plane; orthographic
+/// cameras get `offset / d`, not meaningful). The rasterizer tests the triangle's own
+/// depth before shading (so a quad drawn at its surface's nearest keeps early and
+/// hierarchical rejects conservative), then the moved depth after, and writes the moved
+/// depth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DepthOffset {
     /// Premultiplied unorm texels, offset fraction in red, coverage in alpha.
     pub texture: Arc<Texture>,
-    /// The offset of red over alpha = 1, in the triangle's world lengths per unit of `u`.
+    /// The offset of red over alpha = 1, in world units (times the normal's length).
     pub scale: f32,
 }
 

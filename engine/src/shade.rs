@@ -213,18 +213,16 @@ pub struct GeneralTri {
     depth_scale: Option<f32>,
 }
 
-/// [`GeneralTri::depth_scale`]: `scale * len_u / d`, `len_u` the world length of a unit of
-/// `u` on the triangle (`p = [p0, p1 - p0, p2 - p0]`, `uv` its `[u0, du1, du2]` and `[v0,
-/// dv1, dv2]`), `d` the eye's distance to its plane (`n` the unit face normal). A point
-/// `o` behind the plane along its normal, seen through the plane's point at view depth
-/// `w`, lies on the same ray at view depth `w (1 + o / d)`. 0 where it is not finite (a
-/// degenerate mapping, the eye in the plane).
-fn depth_scale(scale: f32, p: [Vec3; 3], uv: [[f32; 3]; 2], n: Vec3, eye: Vec3) -> f32 {
-    let [[_, du1, du2], [_, dv1, dv2]] = uv;
-    let det = du1 * dv2 - du2 * dv1;
-    let along_u = (p[1] * dv2 - p[2] * dv1) / det;
-    let d = (eye - p[0]).dot(n).abs();
-    let k = scale * along_u.length() / d;
+/// [`GeneralTri::depth_scale`]: `scale * len / d`, `len` the length of the triangle's first
+/// vertex normal `n0` (1 where it is zero: a mesh without normals), `d` the eye's distance
+/// to the triangle's plane through `p0` (`face` its unit normal). A point `o` behind the
+/// plane along its normal, seen through the plane's point at view depth `w`, lies on the
+/// same ray at view depth `w (1 + o / d)`. 0 where that is not finite (the eye in the
+/// plane).
+fn depth_scale(scale: f32, n0: Vec3, p0: Vec3, face: Vec3, eye: Vec3) -> f32 {
+    let len = n0.length();
+    let len = if len > 0.0 { len } else { 1.0 };
+    let k = scale * len / (eye - p0).dot(face).abs();
     if k.is_finite() {
         k
     } else {
@@ -319,14 +317,8 @@ impl FragShader for GeneralShader<'_> {
         };
         let depth_scale = match (&self.material.depth_offset, self.material.alpha_mode) {
             (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
-                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
-                Some(depth_scale(
-                    d.scale,
-                    edges,
-                    [attr[UV], attr[UV + 1]],
-                    n,
-                    self.eye,
-                ))
+                let n0 = Vec3::new(v(0, NRM), v(0, NRM + 1), v(0, NRM + 2));
+                Some(depth_scale(d.scale, n0, p(0), n, self.eye))
             }
             _ => None,
         };

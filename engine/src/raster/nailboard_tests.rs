@@ -25,7 +25,7 @@ fn camera() -> Camera {
 
 /// The sphere as seen through each texel of the quad: colour (white where the ray from the
 /// eye through the texel's centre hits it) and depth (the hit's distance behind the plane
-/// `z = 1`, along its normal, in units of the quad's side: the material's `scale` is 1).
+/// `z = 1`, along its normal, in units of the quad's side, the material's `scale`).
 fn images() -> (Texture, Texture) {
     let n = TEXELS as usize;
     let (mut colour, mut depth) = (vec![0u32; n * n], vec![0u32; n * n]);
@@ -63,7 +63,7 @@ fn board_material(offset: bool) -> Material {
         },
         depth_offset: offset.then(|| DepthOffset {
             texture: Arc::new(depth),
-            scale: 1.0,
+            scale: 2.0 * HALF,
         }),
         ..Material::unlit(Rgba::WHITE).with_texture(Arc::new(colour))
     }
