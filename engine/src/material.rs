@@ -112,12 +112,15 @@ pub struct Material {
 /// base texture's level of detail (so it should have the base texture's size). Its texels
 /// are premultiplied unorm bytes: red over alpha (0 where alpha is 0) is the fraction of
 /// the largest offset; the mip levels then hold the alpha-weighted mean offset. A
-/// fragment's surface lies `scale * red / alpha * len` behind the triangle's plane, along
-/// its normal, where `len` is the length of the triangle's first vertex normal (1 where
-/// it is zero or missing): a material unlit (whose normals are not read otherwise) serves
-/// quads of any size, each setting its own unit in its normals' length. The shader turns
-/// that into view depth exactly for perspective cameras (`offset * w / d`, `w` the
-/// fragment's view depth and `d` the eye's distance to the triangle's plane; orthographic
+/// fragment's surface lies `scale * red / alpha * unit` behind the triangle's plane, along
+/// its normal. `unit` is the world length per unit of `u` on the object's reference
+/// plane, of which the triangle is the image scaled about the eye to stand `lift * unit`
+/// nearer the eye (it covers the same pixels with the same texels): the shader finds it
+/// from the triangle's own length per unit of `u`, `len = s * unit`, and the eye's
+/// distance `d` to its plane, `s = 1 - lift * len / d`; so one material serves quads of
+/// any size at any distance (a unit carried in the vertices' normals was tried: the vertex
+/// stage makes them unit length). The shader turns the offset into view depth exactly for
+/// perspective cameras (`offset * w / d`, `w` the fragment's view depth; orthographic
 /// cameras get `offset / d`, not meaningful). The rasterizer tests the triangle's own
 /// depth before shading (so a quad drawn at its surface's nearest keeps early and
 /// hierarchical rejects conservative), then the moved depth after, and writes the moved
@@ -126,8 +129,10 @@ pub struct Material {
 pub struct DepthOffset {
     /// Premultiplied unorm texels, offset fraction in red, coverage in alpha.
     pub texture: Arc<Texture>,
-    /// The offset of red over alpha = 1, in world units (times the normal's length).
+    /// The offset of red over alpha = 1, in `unit`s.
     pub scale: f32,
+    /// How far the triangle stands in front of the reference plane, in `unit`s.
+    pub lift: f32,
 }
 
 impl Default for Material {

@@ -11,7 +11,7 @@
 //! its footprint over its box show the level spreads less than [`LOD_SPREAD`].
 
 use crate::light::{Light, Lighting};
-use crate::material::{AlphaMode, Material, Shading};
+use crate::material::{AlphaMode, DepthOffset, Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
 use crate::texture::{Filter, Texture};
 use crate::vertex::{COL, NRM, POS, UV};
@@ -213,17 +213,27 @@ pub struct GeneralTri {
     depth_scale: Option<f32>,
 }
 
-/// [`GeneralTri::depth_scale`]: `scale * len / d`, `len` the length of the triangle's first
-/// vertex normal `n0` (1 where it is zero: a mesh without normals), `d` the eye's distance
-/// to the triangle's plane through `p0` (`face` its unit normal). A point `o` behind the
-/// plane along its normal, seen through the plane's point at view depth `w`, lies on the
-/// same ray at view depth `w (1 + o / d)`. 0 where that is not finite (the eye in the
-/// plane).
-fn depth_scale(scale: f32, n0: Vec3, p0: Vec3, face: Vec3, eye: Vec3) -> f32 {
-    let len = n0.length();
-    let len = if len > 0.0 { len } else { 1.0 };
-    let k = scale * len / (eye - p0).dot(face).abs();
-    if k.is_finite() {
+/// [`GeneralTri::depth_scale`]: `scale * unit / d` for `offset` ([`DepthOffset`]), `d` the
+/// eye's distance to the triangle's plane (`p = [p0, p1 - p0, p2 - p0]`, `face` its unit
+/// normal, `uv` its `[u0, du1, du2]` and `[v0, dv1, dv2]`). The triangle's world length
+/// per unit of `u` is `len = s unit`, `s = 1 - lift len / d` the scaling about the eye
+/// that carried the reference plane (at `d / s`) `lift unit` nearer. A point `o` behind
+/// the plane along its normal, seen through the plane's point at view depth `w`, lies on
+/// the same ray at view depth `w (1 + o / d)`. 0 where that is not finite or `s <= 0`.
+fn depth_scale(
+    offset: &DepthOffset,
+    p: [Vec3; 3],
+    uv: [[f32; 3]; 2],
+    face: Vec3,
+    eye: Vec3,
+) -> f32 {
+    let [[_, du1, du2], [_, dv1, dv2]] = uv;
+    let det = du1 * dv2 - du2 * dv1;
+    let len = ((p[1] * dv2 - p[2] * dv1) / det).length();
+    let d = (eye - p[0]).dot(face).abs();
+    let s = 1.0 - offset.lift * len / d;
+    let k = offset.scale * len / (s * d);
+    if k.is_finite() && s > 0.0 {
         k
     } else {
         0.0
@@ -317,8 +327,9 @@ impl FragShader for GeneralShader<'_> {
         };
         let depth_scale = match (&self.material.depth_offset, self.material.alpha_mode) {
             (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
-                let n0 = Vec3::new(v(0, NRM), v(0, NRM + 1), v(0, NRM + 2));
-                Some(depth_scale(d.scale, n0, p(0), n, self.eye))
+                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
+                let uv = [attr[UV], attr[UV + 1]];
+                Some(depth_scale(d, edges, uv, n, self.eye))
             }
             _ => None,
         };

@@ -23,10 +23,11 @@ fn camera() -> Camera {
         .with_depth_range(0.5, 50.0)
 }
 
-/// The sphere as seen through each texel of the quad: colour (white where the ray from the
-/// eye through the texel's centre hits it) and depth (the hit's distance behind the plane
-/// `z = 1`, along its normal, in units of the quad's side, the material's `scale`).
-fn images() -> (Texture, Texture) {
+/// The sphere as seen through each texel of the quad in the plane `z = 1`: colour (white
+/// where the ray from the eye through the texel's centre hits it) and depth (the hit's
+/// distance behind the plane `z = front`, along its normal, in units of the quad's side,
+/// the material's `scale`).
+fn images(front: f32) -> (Texture, Texture) {
     let n = TEXELS as usize;
     let (mut colour, mut depth) = (vec![0u32; n * n], vec![0u32; n * n]);
     let eye = Vec3::new(0.0, 0.0, EYE);
@@ -42,7 +43,7 @@ fn images() -> (Texture, Texture) {
                 continue;
             }
             let hit = eye + d * (-b - disc.sqrt());
-            let behind = (1.0 - hit.z) / (2.0 * HALF);
+            let behind = (front - hit.z) / (2.0 * HALF);
             colour[j * n + i] = u32::MAX;
             depth[j * n + i] = (behind * 255.0).round() as u32 | 255 << 24;
         }
@@ -51,9 +52,10 @@ fn images() -> (Texture, Texture) {
     (tex(colour), tex(depth))
 }
 
-/// The nailboard's material (`offset`: with its depth, else a flat alpha-tested card).
-fn board_material(offset: bool) -> Material {
-    let (colour, depth) = images();
+/// The nailboard's material (`offset`: with its depth, else a flat alpha-tested card), its
+/// quad lifted to `z = front` (scaled about the eye).
+fn board_material(offset: bool, front: f32) -> Material {
+    let (colour, depth) = images(front);
     Material {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
         sampler: Sampler {
@@ -63,7 +65,8 @@ fn board_material(offset: bool) -> Material {
         },
         depth_offset: offset.then(|| DepthOffset {
             texture: Arc::new(depth),
-            scale: 2.0 * HALF,
+            scale: 1.0,
+            lift: (front - 1.0) / (2.0 * HALF),
         }),
         ..Material::unlit(Rgba::WHITE).with_texture(Arc::new(colour))
     }
@@ -106,7 +109,12 @@ struct Scene {
     red: Material,
     nailboard: Material,
     card: Material,
+    /// The nailboard lifted to `z = LIFTED`.
+    lifted: Material,
 }
+
+/// Where the lifted nailboard's quad stands: a sixth of the sphere's depth nearer.
+const LIFTED: f32 = 1.2;
 
 impl Scene {
     fn new() -> Scene {
@@ -118,8 +126,9 @@ impl Scene {
             plane: procedural::quad(6.0, 6.0),
             white: Material::unlit(Rgba::WHITE),
             red: Material::unlit(Rgba::new(1.0, 0.0, 0.0, 1.0)).double_sided(true),
-            nailboard: board_material(true),
-            card: board_material(false),
+            nailboard: board_material(true, 1.0),
+            card: board_material(false, 1.0),
+            lifted: board_material(true, LIFTED),
         }
     }
 
@@ -132,10 +141,20 @@ impl Scene {
     }
 
     fn board<'a>(&'a self, material: &'a Material) -> Draw<'a> {
+        let front = if material == &self.lifted {
+            LIFTED
+        } else {
+            1.0
+        };
+        // The quad at z = 1 scaled about the eye into the plane z = front.
+        let eye = Vec3::new(0.0, 0.0, EYE);
+        let s = (EYE - front) / (EYE - 1.0);
         Draw {
             mesh: &self.board,
             material,
-            transform: Mat4::from_translation(Vec3::Z),
+            transform: Mat4::from_translation(eye)
+                * Mat4::from_scale(Vec3::splat(s))
+                * Mat4::from_translation(Vec3::Z - eye),
         }
     }
 
@@ -153,8 +172,14 @@ impl Scene {
 #[test]
 fn a_nailboard_has_its_meshs_depth_and_outline() {
     let s = Scene::new();
+    for board in [&s.nailboard, &s.lifted] {
+        check_depth(&s, board);
+    }
+}
+
+fn check_depth(s: &Scene, board: &Material) {
     let mesh = read(&render(vec![s.sphere()], 2));
-    let board = read(&render(vec![s.board(&s.nailboard)], 2));
+    let board = read(&render(vec![s.board(board)], 2));
     let (mut both, mut one, mut far, mut worst, mut sum) = (0, 0, 0, 0.0f32, 0.0f32);
     for (&(_, m), &(_, b)) in mesh.iter().zip(&board) {
         match (m, b) {
