@@ -3,9 +3,10 @@
 //! through it, and the same pixels on 1 and 2 threads.
 
 use crate::material::{AlphaMode, DepthOffset, Material};
-use crate::renderer::{FrameOptions, Renderer};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
-use crate::{procedural, Camera, Draw, Encoding, Lighting, Mesh, Rgba, Target};
+use crate::{
+    procedural, Camera, Draw, Encoding, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target,
+};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
