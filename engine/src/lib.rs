@@ -65,7 +65,7 @@ pub use camera::{Camera, Projection};
 pub use color::{Encoding, Premul, Rgba};
 pub use light::{Light, Lighting};
 pub use load::{LoadError, Loaded};
-pub use material::{AlphaMode, BlendMode, Material, Shading};
+pub use material::{AlphaMode, BlendMode, DepthOffset, Material, Shading};
 pub use mesh::{Mesh, Sphere};
 pub use pass::{
     run_packed_pass, run_pass, Fragment, PackedFragment, PackedPass, PassMode, PixelPass, PixelRect,

@@ -100,6 +100,39 @@ pub struct Material {
     /// opaque object sets it, so that what reads the depth after it (the planner's
     /// occlusion, soft particles, image passes) sees the object.
     pub blend_depth: Option<f32>,
+    /// A nailboard's per-texel depth (Schaufler 97), or `None`: read only with
+    /// [`AlphaMode::Mask`] and a `base_texture`. See [`DepthOffset`].
+    pub depth_offset: Option<DepthOffset>,
+}
+
+/// Per-texel depth for an alpha-tested material (a nailboard: an image of an object on
+/// one quad, each texel's surface standing behind the quad by its own distance).
+///
+/// `texture` is sampled at the base texture's uv, with the material's sampler and the
+/// base texture's level of detail (so it should have the base texture's size). Its texels
+/// are premultiplied unorm bytes: red over alpha (0 where alpha is 0) is the fraction of
+/// the largest offset; the mip levels then hold the alpha-weighted mean offset. A
+/// fragment's surface lies `scale * red / alpha * unit` behind the triangle's plane, along
+/// its normal. `unit` is the world length per unit of `u` on the object's reference
+/// plane, of which the triangle is the image scaled about the eye to stand `lift * unit`
+/// nearer the eye (it covers the same pixels with the same texels): the shader finds it
+/// from the triangle's own length per unit of `u`, `len = s * unit`, and the eye's
+/// distance `d` to its plane, `s = 1 - lift * len / d`; so one material serves quads of
+/// any size at any distance (a unit carried in the vertices' normals was tried: the vertex
+/// stage makes them unit length). The shader turns the offset into view depth exactly for
+/// perspective cameras (`offset * w / d`, `w` the fragment's view depth; orthographic
+/// cameras get `offset / d`, not meaningful). The rasterizer tests the triangle's own
+/// depth before shading (so a quad drawn at its surface's nearest keeps early and
+/// hierarchical rejects conservative), then the moved depth after, and writes the moved
+/// depth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthOffset {
+    /// Premultiplied unorm texels, offset fraction in red, coverage in alpha.
+    pub texture: Arc<Texture>,
+    /// The offset of red over alpha = 1, in `unit`s.
+    pub scale: f32,
+    /// How far the triangle stands in front of the reference plane, in `unit`s.
+    pub lift: f32,
 }
 
 impl Default for Material {
@@ -118,6 +151,7 @@ impl Default for Material {
             soft_distance: 0.0,
             emissive: Rgba::new(0.0, 0.0, 0.0, 0.0),
             blend_depth: None,
+            depth_offset: None,
         }
     }
 }

@@ -26,7 +26,6 @@
 //! their id. The walk, the depth planes and the shading are the same in every pass, so a
 //! pixel comes out as the one-pass path would have made it.
 
-use crate::camera::Camera;
 use crate::material::{AlphaMode, BlendMode};
 use crate::setup::Tri;
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
@@ -39,21 +38,8 @@ use crate::stats::FrameStats;
 use crate::target::TILE;
 use crate::tile::{TileBuf, BLOCK, BLOCKS, BLOCK_PIXELS};
 
-/// Converts reversed depth to view distance, for soft particles.
-#[derive(Clone, Copy, Debug)]
-pub struct DepthToView {
-    camera: Camera,
-}
-
-impl DepthToView {
-    pub fn new(camera: Camera) -> Self {
-        DepthToView { camera }
-    }
-    #[inline]
-    fn view(&self, d: f32) -> f32 {
-        self.camera.view_depth_from_reversed(d)
-    }
-}
+mod depth;
+pub use depth::DepthToView;
 
 /// A small triangle's coverage mask ([`Tri::cover`], bit `SMALL * j + i` for pixel `(rx + i,
 /// ry + j)`) moved to the frame of the block whose corner is `(rx - sx, ry - sy)`, where
@@ -484,8 +470,28 @@ impl<S: FragShader> Rows<'_, S> {
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
-        shader.shade(prepared, tri, &row, m.bits(), &mut out);
+        let mut behind = F8::splat(0.0);
+        if shader.shade_depth(prepared, tri, &row, m.bits(), &mut out, &mut behind) {
+            let (m, z) = self.retest(buf, base, m, &z, behind);
+            return self.write(buf, base, m, &z, &out);
+        }
         self.write(buf, base, m, &z, &out)
+    }
+
+    /// A nailboard's lanes `m` of the row at `base` (plane depth `z`, which passed the
+    /// test) moved `behind` view units back: tested again at their own depth (as
+    /// [`Rows::test`] does, not counted again), and that depth.
+    #[inline(always)]
+    fn retest(&self, buf: &TileBuf, base: usize, m: M8, z: &Lane, behind: Lane) -> (M8, Lane) {
+        let z = self.soft.behind(*z, behind);
+        let mut m = m;
+        if self.mode.depth_test {
+            m = m.and(z.gt(F8::load(&buf.depth[base..])));
+        }
+        if self.mode.peel {
+            m = m.and(F8::load(&buf.peel[base..]).gt(z));
+        }
+        (m, z)
     }
 
     /// Two narrow rows `(j, covered lanes, first lane s)` of the block at `(bx, _)`, each
@@ -542,13 +548,21 @@ impl<S: FragShader> Rows<'_, S> {
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
         let mut out = [F8::splat(0.0); 4];
         let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
-        shader.shade(prepared, tri, &row, mask, &mut out);
+        let mut behind = F8::splat(0.0);
+        let moved = shader.shade_depth(prepared, tri, &row, mask, &mut out, &mut behind);
         // Lane `l` of a row is the pair's lane `l - s` (+ 4 for the second row); the lanes
         // outside the row's 4 take any lane, as they are not written.
         let back = |s: u32, from: u32| -> [u32; LANES] {
             std::array::from_fn(|l| (l as u32 + LANES as u32 + from - s) % LANES as u32)
         };
         let (ia, ib) = (back(sa, 0), back(sb, 4));
+        let (ma, za, mb, zb) = if moved {
+            let (ma, za) = self.retest(buf, base_a, ma, &za, behind.permute(ia));
+            let (mb, zb) = self.retest(buf, base_b, mb, &zb, behind.permute(ib));
+            (ma, za, mb, zb)
+        } else {
+            (ma, za, mb, zb)
+        };
         let mut wrote = false;
         if ma.bits() != 0 {
             wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
@@ -676,5 +690,7 @@ fn write_row(
     m
 }
 
+#[cfg(test)]
+mod nailboard_tests;
 #[cfg(test)]
 mod tests;

@@ -8,18 +8,21 @@
 //! Texture level of detail comes from the analytic screen-space derivatives of those
 //! barycentrics, so no 2x2 quads are needed; one level is taken for a row's (or a pair's)
 //! covered lanes, their widest footprint, or once for the whole triangle where bounds on
-//! its footprint over its box show the level spreads less than [`LOD_SPREAD`].
+//! its footprint over its box show the level spreads less than [`lod::LOD_SPREAD`].
 
 use crate::light::{Light, Lighting};
-use crate::material::{Material, Shading};
+use crate::material::{AlphaMode, DepthOffset, Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
-use crate::texture::{Filter, Texture};
+use crate::texture::Filter;
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::{Vec3, Vec4};
 use std::ops::{Div, Mul};
 
 pub use crate::simd::LANES;
 use crate::simd::{F8, M8};
+#[cfg(test)]
+use lod::{fast_log2, widest, LOD_SPREAD};
+pub use lod::{row_lod, triangle_lod};
 
 /// 8 lanes of one channel.
 pub type Lane = F8;
@@ -88,6 +91,24 @@ pub trait FragShader: Sync {
     /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
     /// `mask` will be used, so a shader may skip per-lane work for the others.
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
+    /// As [`FragShader::shade`], and for a material with a
+    /// [`crate::material::DepthOffset`] each lane's view depth behind the triangle's (view
+    /// units, `>= 0`) in `behind`; returns whether it wrote it (`false`: `behind` is
+    /// untouched and the fragments' depth is the triangle's).
+    #[inline(always)]
+    fn shade_depth(
+        &self,
+        p: &Self::Prepared,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: &mut Lane,
+    ) -> bool {
+        let _ = behind;
+        self.shade(p, tri, row, mask, out);
+        false
+    }
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -187,9 +208,39 @@ pub struct GeneralTri {
     /// lights in `reach` read it (worked out once here rather than on every row).
     needs_pos: bool,
     /// One level of detail for all the triangle's rows, when its footprint over the
-    /// triangle's box is known to spread less than [`LOD_SPREAD`] levels
+    /// triangle's box is known to spread less than [`lod::LOD_SPREAD`] levels
     /// ([`triangle_lod`]); `None` works it out row by row ([`row_lod`]).
     lod: Option<f32>,
+    /// For a material with a depth offset ([`depth_scale`]): the view depth behind the
+    /// triangle of a texel offset of 1 (red over alpha) at view depth 1; `None` without.
+    depth_scale: Option<f32>,
+}
+
+/// [`GeneralTri::depth_scale`]: `scale * unit / d` for `offset` ([`DepthOffset`]), `d` the
+/// eye's distance to the triangle's plane (`p = [p0, p1 - p0, p2 - p0]`, `face` its unit
+/// normal, `uv` its `[u0, du1, du2]` and `[v0, dv1, dv2]`). The triangle's world length
+/// per unit of `u` is `len = s unit`, `s = 1 - lift len / d` the scaling about the eye
+/// that carried the reference plane (at `d / s`) `lift unit` nearer. A point `o` behind
+/// the plane along its normal, seen through the plane's point at view depth `w`, lies on
+/// the same ray at view depth `w (1 + o / d)`. 0 where that is not finite or `s <= 0`.
+fn depth_scale(
+    offset: &DepthOffset,
+    p: [Vec3; 3],
+    uv: [[f32; 3]; 2],
+    face: Vec3,
+    eye: Vec3,
+) -> f32 {
+    let [[_, du1, du2], [_, dv1, dv2]] = uv;
+    let det = du1 * dv2 - du2 * dv1;
+    let len = ((p[1] * dv2 - p[2] * dv1) / det).length();
+    let d = (eye - p[0]).dot(face).abs();
+    let s = 1.0 - offset.lift * len / d;
+    let k = offset.scale * len / (s * d);
+    if k.is_finite() && s > 0.0 {
+        k
+    } else {
+        0.0
+    }
 }
 
 /// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
@@ -277,9 +328,18 @@ impl FragShader for GeneralShader<'_> {
             }
             _ => None,
         };
+        let depth_scale = match (&self.material.depth_offset, self.material.alpha_mode) {
+            (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
+                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
+                let uv = [attr[UV], attr[UV + 1]];
+                Some(depth_scale(d, edges, uv, n, self.eye))
+            }
+            _ => None,
+        };
         GeneralTri {
             attr,
             lod,
+            depth_scale,
             face_normal: n,
             front,
             flat_normal: flat_normal(&attr, n, front),
@@ -289,6 +349,36 @@ impl FragShader for GeneralShader<'_> {
     }
 
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
+        self.shade_lanes(p, tri, row, mask, out, None);
+    }
+
+    #[inline]
+    fn shade_depth(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: &mut Lane,
+    ) -> bool {
+        self.shade_lanes(p, tri, row, mask, out, Some(behind))
+    }
+}
+
+impl GeneralShader<'_> {
+    /// [`FragShader::shade`], and with `behind` [`FragShader::shade_depth`]'s depth.
+    #[inline(always)]
+    fn shade_lanes(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        out: &mut [Lane; 4],
+        behind: Option<&mut Lane>,
+    ) -> bool {
+        let mut moved = false;
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
@@ -313,7 +403,15 @@ impl FragShader for GeneralShader<'_> {
                 _ => 0.0,
             };
             let keep = M8::from_bits(mask);
-            let t = tex.sample8_lanes(&m.sampler, at(UV), at(UV + 1), lod, keep);
+            let (u, v) = (at(UV), at(UV + 1));
+            let t = tex.sample8_lanes(&m.sampler, u, v, lod, keep);
+            if let (Some(behind), Some(k), Some(d)) = (behind, p.depth_scale, &m.depth_offset) {
+                let s = d.texture.sample8_lanes(&m.sampler, u, v, lod, keep);
+                let zero = F8::splat(0.0);
+                let frac = s[3].gt(zero).select(s[0] / s[3], zero);
+                *behind = frac * F8::splat(k) * w;
+                moved = true;
+            }
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {
@@ -366,10 +464,9 @@ impl FragShader for GeneralShader<'_> {
             }
         }
         *out = rgba;
+        moved
     }
-}
 
-impl GeneralShader<'_> {
     /// The interpolated normal of 8 lanes, unit length, facing the viewer.
     #[inline(always)]
     fn normal(&self, p: &GeneralTri, at: &impl Fn(usize) -> F8) -> V3 {
@@ -388,135 +485,6 @@ impl GeneralShader<'_> {
             has.select(n.z * inv_len, F8::splat(f.z)),
         )
     }
-}
-
-/// The widest spread of levels of detail over a triangle's box for which one level stands
-/// for all its rows ([`triangle_lod`]): the level taken is then within half of it (1/8 of
-/// a level, at most an eighth of a trilinear blend's weight) of the one each row would take.
-/// Over the 720p tour (small triangles counted too) a quarter would take one level for 69%
-/// of the trilinear rows, 1/16 for 21%.
-pub const LOD_SPREAD: f32 = 1.0 / 4.0;
-
-/// The level of detail of `row` (its covered lanes' widest footprint, as a GPU's 2 x 2 quad
-/// shares one), texture `tex` with `uv = [[u0, u1 - u0, u2 - u0], [v0, ..]]` over the
-/// triangle and `bary` the row's [`barycentrics`]. d(l1)/dx = (d(l1/w)/dx - l1 d(1/w)/dx) w, and likewise for y and l2.
-#[inline(always)]
-pub fn row_lod(tri: &Tri, uv: [[f32; 3]; 2], tex: &Texture, row: &Row, bary: [F8; 3]) -> f32 {
-    let [l1, l2, w] = bary;
-    let [[_, du1, du2], [_, dv1, dv2]] = uv;
-    let d = |pl: &Plane, lam: F8| {
-        (
-            (F8::splat(pl.dx) - lam * F8::splat(tri.iw.dx)) * w,
-            (F8::splat(pl.dy) - lam * F8::splat(tri.iw.dy)) * w,
-        )
-    };
-    let (a1x, a1y) = d(&tri.l1, l1);
-    let (a2x, a2y) = d(&tri.l2, l2);
-    let (tw, th) = (
-        F8::splat(tex.width() as f32),
-        F8::splat(tex.height() as f32),
-    );
-    let (du1, du2) = (F8::splat(du1), F8::splat(du2));
-    let (dv1, dv2) = (F8::splat(dv1), F8::splat(dv2));
-    let dudx = a1x.mul_add(du1, a2x * du2) * tw;
-    let dvdx = a1x.mul_add(dv1, a2x * dv2) * th;
-    let dudy = a1y.mul_add(du1, a2y * du2) * tw;
-    let dvdy = a1y.mul_add(dv1, a2y * dv2) * th;
-    let rho2 = dudx
-        .mul_add(dudx, dvdx * dvdx)
-        .max(dudy.mul_add(dudy, dvdy * dvdy));
-    0.5 * fast_log2(widest(rho2, row.covered))
-}
-
-/// One level of detail for every row of the triangle, or `None` if its footprint may
-/// spread [`LOD_SPREAD`] levels or more over the triangle's bounding box.
-///
-/// The footprint's derivatives are `N / (1/w)^2` with `N` linear in one screen axis only
-/// (`d(l1)/dx = (l1.dx (1/w) - (l1/w) (1/w).dx) / (1/w)^2`, whose `x` terms cancel), and
-/// `1/w` is linear: over the box each takes its extremes at the corners, which bound the
-/// squared footprint `rho2` from below and above. The level taken is the middle of the two
-/// bounds' levels (by [`fast_log2`], monotonic, as the rows use), so it is within half the
-/// spread of every row's. Mostly met by camera-facing sprites and distant triangles.
-pub fn triangle_lod(tri: &Tri, uv: [[f32; 3]; 2], tex: &Texture) -> Option<f32> {
-    // Non-finite inputs would slip through the minima and maxima below: worked out per row.
-    let [[_, du1, du2], [_, dv1, dv2]] = uv;
-    let planes = [tri.iw, tri.l1, tri.l2].map(|p| [p.c, p.dx, p.dy]);
-    if !planes
-        .iter()
-        .flatten()
-        .chain(&[du1, du2, dv1, dv2])
-        .all(|v| v.is_finite())
-    {
-        return None;
-    }
-    let bw = tri.bbox[2].saturating_sub(tri.bbox[0]) as f32;
-    let bh = tri.bbox[3].saturating_sub(tri.bbox[1]) as f32;
-    let iw = &tri.iw;
-    let corner = |x: f32, y: f32| iw.c + iw.dx * x + iw.dy * y;
-    let c = [
-        corner(0.0, 0.0),
-        corner(bw, 0.0),
-        corner(0.0, bh),
-        corner(bw, bh),
-    ];
-    let iw_lo = c[0].min(c[1]).min(c[2].min(c[3]));
-    let iw_hi = c[0].max(c[1]).max(c[2].max(c[3]));
-    if iw_lo <= 0.0 {
-        return None;
-    }
-    let nx = |l: &Plane, y: f32| l.dx * (iw.c + iw.dy * y) - iw.dx * (l.c + l.dy * y);
-    let ny = |l: &Plane, x: f32| l.dy * (iw.c + iw.dx * x) - iw.dy * (l.c + l.dx * x);
-    let (tw, th) = (tex.width() as f32, tex.height() as f32);
-    // The magnitude's range of a linear function whose ends are `a` and `b`.
-    let range = |a: f32, b: f32| {
-        let lo = if (a >= 0.0) == (b >= 0.0) {
-            a.abs().min(b.abs())
-        } else {
-            0.0
-        };
-        (lo, a.abs().max(b.abs()))
-    };
-    let along = |n: &dyn Fn(&Plane, f32) -> f32, s: f32, d1: f32, d2: f32, size: f32| {
-        (n(&tri.l1, s) * d1 + n(&tri.l2, s) * d2) * size
-    };
-    let ux = range(along(&nx, 0.0, du1, du2, tw), along(&nx, bh, du1, du2, tw));
-    let vx = range(along(&nx, 0.0, dv1, dv2, th), along(&nx, bh, dv1, dv2, th));
-    let uy = range(along(&ny, 0.0, du1, du2, tw), along(&ny, bw, du1, du2, tw));
-    let vy = range(along(&ny, 0.0, dv1, dv2, th), along(&ny, bw, dv1, dv2, th));
-    let (lo4, hi4) = ((iw_hi * iw_hi).powi(2), (iw_lo * iw_lo).powi(2));
-    let lo = (ux.0 * ux.0 + vx.0 * vx.0).max(uy.0 * uy.0 + vy.0 * vy.0) / lo4;
-    let hi = (ux.1 * ux.1 + vx.1 * vx.1).max(uy.1 * uy.1 + vy.1 * vy.1) / hi4;
-    // Overflow (an infinite bound, or NaN from it) is worked out per row.
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let (a, b) = (0.5 * fast_log2(lo), 0.5 * fast_log2(hi));
-    (b - a < LOD_SPREAD).then_some(0.5 * (a + b))
-}
-
-/// The largest of the lanes of `rho2` set in `covered`, NaN lanes left out, and at least 0:
-/// the same value as folding `f32::max` from 0 over those lanes (the squared footprints are
-/// `>= 0` or NaN, and a zero's sign is lost in [`fast_log2`]), by a tree of maxima
-/// without a branch per lane.
-#[inline(always)]
-fn widest(rho2: F8, covered: u32) -> f32 {
-    let zero = F8::splat(0.0);
-    // `>= 0` is false for NaN, so those lanes become 0 as the skipped lanes do.
-    let keep = M8::from_bits(covered).and(rho2.ge(zero));
-    let m = keep.select(rho2, zero).to_array();
-    // No NaN is left: a plain comparison is the maximum, in two independent halves.
-    let max = |a: f32, b: f32| if b > a { b } else { a };
-    let lo = max(max(m[0], m[1]), max(m[2], m[3]));
-    let hi = max(max(m[4], m[5]), max(m[6], m[7]));
-    max(lo, hi)
-}
-
-/// `log2` from the float's bits, exact at powers of two and within 0.09 between: plenty for
-/// choosing a mip level. Tiny and non-finite inputs are clamped.
-#[inline]
-fn fast_log2(x: f32) -> f32 {
-    let x = if x.is_finite() { x.max(1e-20) } else { 1e20 };
-    x.to_bits() as f32 * (1.0 / (1u32 << 23) as f32) - 127.0
 }
 
 /// Three lanes-of-8 coordinates.
@@ -632,5 +600,6 @@ fn light8(
     [diff, sp]
 }
 
+mod lod;
 #[cfg(test)]
 mod tests;

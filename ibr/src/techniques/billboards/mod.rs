@@ -7,6 +7,7 @@ mod bake;
 #[cfg(test)]
 mod compare;
 mod mount;
+mod nailboard;
 pub(crate) mod plan;
 mod technique;
 mod trim;

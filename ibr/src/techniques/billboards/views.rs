@@ -29,12 +29,20 @@
 //! view covers (its rows, and per node row its columns, grown a screen pixel), not the
 //! whole square, so the clear texels around a tall tree or a round crown, which an
 //! alpha-tested sprite samples and discards like any other, are not drawn.
+//!
+//! As nailboards proper ([`ViewAtlas::nailboard`], [`ViewAtlas::nailboards`]): each view's
+//! depth kept per texel in an offset image beside the atlas ([`ViewAtlas::depth_texture`]),
+//! and each sprite drawn as one quad at its view's nearest surface, its fragments' depth
+//! moved back per texel by the engine ([`engine::DepthOffset`]).
 
 use super::bake::{bake_bounds, bake_camera};
 use super::mount::Mount;
+use super::nailboard::{offset_image, remeasure, DEPTH_SPAN};
 use super::trim::{surface, Trim};
 use crate::core::{orient, Billboard, Capturer, Facing, Size, UvRect, View};
-use engine::{AlphaMode, Draw, Encoding, Lighting, Material, Mesh, Rgba, Sphere, Texture};
+use engine::{
+    AlphaMode, DepthOffset, Draw, Encoding, Lighting, Material, Mesh, Rgba, Sphere, Texture,
+};
 use glam::{Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 use std::sync::Arc;
@@ -120,6 +128,18 @@ pub struct ViewAtlas {
     /// not 32; the same outline, its depth across interpolated between 3 nodes, not 5).
     /// 0 (as baked): every sprite the whole grid.
     pub coarse_px: f32,
+    /// Per view, the offset image of its surface ([`super::nailboard::offset_image`]):
+    /// premultiplied unorm bytes laid out as `texture`, red over alpha the texel's depth
+    /// behind `depth_near` over [`super::nailboard::DEPTH_SPAN`] radii.
+    pub depth_texture: Arc<Texture>,
+    /// The nearest covered surface's offset toward the viewer over every view, in
+    /// `bounds.radius`: where a nailboard's quad stands ([`ViewAtlas::nailboards`]), and
+    /// what `depth_texture`'s offsets are measured back from.
+    pub depth_near: f32,
+    /// Draw sprites as nailboards ([`ViewAtlas::nailboards`], one quad each with per-texel
+    /// depth; [`ViewAtlas::material`] then carries the offset image) instead of as depth
+    /// grids ([`ViewAtlas::relief`]). `false` as baked.
+    pub nailboard: bool,
 }
 
 impl ViewAtlas {
@@ -203,6 +223,10 @@ impl ViewAtlas {
         let mut trims = Vec::with_capacity(azimuths * elevations.len());
         let mut offsets = vec![f32::NEG_INFINITY; (px * px) as usize];
         let mut alpha = vec![0u8; (px * px) as usize];
+        let mut raw = vec![f32::NAN; (px * px) as usize];
+        let mut view_offsets = vec![0u32; (px * px) as usize];
+        let mut depth_texels = vec![0u32; w as usize * h as usize];
+        let mut nearest = Vec::with_capacity(azimuths * elevations.len());
         for (j, &e) in elevations.iter().enumerate() {
             for k in 0..azimuths {
                 let a = column_azimuth(azimuths, k, mirror);
@@ -225,6 +249,7 @@ impl ViewAtlas {
                         // - 1.5` radii from the centre) and 0 at the far one (+ 1.5): an
                         // offset toward the viewer of `3 d - 1.5` radii.
                         alpha[(y * px) as usize + x] = (c >> 24) as u8;
+                        raw[(y * px) as usize + x] = if d > 0.0 { 3.0 * d - 1.5 } else { f32::NAN };
                         let covered = (c >> 24) as f32 >= CUTOFF * 255.0;
                         offsets[(y * px) as usize + x] = if covered {
                             3.0 * d - 1.5
@@ -234,12 +259,34 @@ impl ViewAtlas {
                     }
                 }
                 let trim = Trim::of(&alpha, px as usize);
+                let covered = |i: usize| offsets[i].is_finite();
+                nearest.push(offset_image(&alpha, &raw, covered, &mut view_offsets));
+                for y in 0..px as usize {
+                    let at = (j * px as usize + y) * w as usize + k * px as usize;
+                    let row = &view_offsets[y * px as usize..(y + 1) * px as usize];
+                    depth_texels[at..at + px as usize].copy_from_slice(row);
+                }
                 depth.push(grid(&offsets, px as usize));
                 trims.push(trim);
             }
         }
         let texture =
             Texture::from_packed(w, h, texels, Encoding::Unorm, true).expect("a non-empty atlas");
+        let depth_near = nearest.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        let depth_near = if depth_near.is_finite() {
+            depth_near
+        } else {
+            0.0
+        };
+        remeasure(
+            &mut depth_texels,
+            w as usize,
+            px as usize,
+            &nearest,
+            depth_near,
+        );
+        let depth_texture = Texture::from_packed(w, h, depth_texels, Encoding::Unorm, true)
+            .expect("a non-empty atlas");
         ViewAtlas {
             texture: Arc::new(texture),
             bounds,
@@ -251,16 +298,28 @@ impl ViewAtlas {
             pivot: 0.0,
             pivot_steep: None,
             coarse_px: 0.0,
+            depth_texture: Arc::new(depth_texture),
+            depth_near,
+            nailboard: false,
         }
     }
 
     /// The material that draws the atlas's views on billboards: unlit (the views are baked
     /// lit), the billboard's tint times the texture, alpha-tested at `CUTOFF` (0.5) with depth
-    /// writes, in the opaque pass (draw the quads in [`ViewAtlas::order`]).
+    /// writes, in the opaque pass (draw the quads in [`ViewAtlas::order`]). With
+    /// [`ViewAtlas::nailboard`], its depth offset is the views' offset image, in the
+    /// quads' normals' unit ([`ViewAtlas::nailboards`]).
     pub fn material(&self) -> Material {
         Material {
             alpha_mode: AlphaMode::Mask { cutoff: CUTOFF },
             vertex_colors: true,
+            // In units of the quad's world width per unit of u: a cell (1 / azimuths of
+            // u) spans 2 radii.
+            depth_offset: self.nailboard.then(|| DepthOffset {
+                texture: self.depth_texture.clone(),
+                scale: DEPTH_SPAN * 0.5 / self.azimuths as f32,
+                lift: self.depth_near * 0.5 / self.azimuths as f32,
+            }),
             ..Material::unlit(Rgba::WHITE).with_texture(self.texture.clone())
         }
     }
@@ -317,8 +376,12 @@ impl ViewAtlas {
     /// half width) in front of that plane. On screen it covers the plane's pixels that
     /// show covered texels, with the same texels; its depth is the object's.
     /// Items with a non-finite position or not world-sized are left out. Returns the
-    /// sprites written.
+    /// sprites written. With [`ViewAtlas::nailboard`], writes [`ViewAtlas::nailboards`]
+    /// instead.
     pub fn relief(&self, items: &[Billboard], view: &View, mesh: &mut Mesh) -> usize {
+        if self.nailboard {
+            return self.nailboards(items, view, mesh);
+        }
         mesh.clear();
 
         let mut n = 0;
@@ -409,7 +472,7 @@ impl ViewAtlas {
 
     /// The index of the view shown by `region` (one of [`ViewAtlas::region`]'s) in
     /// [`ViewAtlas::depth`] and [`ViewAtlas::trims`].
-    fn view_of(&self, region: UvRect) -> usize {
+    pub(super) fn view_of(&self, region: UvRect) -> usize {
         let k = (region.min.x.min(region.max.x) * self.azimuths as f32).round() as usize;
         let j = (region.min.y * self.elevations.len() as f32).round() as usize;
         let i = j.min(self.elevations.len() - 1) * self.azimuths + k.min(self.azimuths - 1);
