@@ -3,9 +3,8 @@
 //! baked offset image beside the colour atlas ([`engine::DepthOffset`]), not from a coarse
 //! grid of moved nodes ([`ViewAtlas::relief`]).
 
-use super::mount::Mount;
-use super::views::ViewAtlas;
-use crate::core::{orient, Billboard, Facing, Size, View};
+use super::views::{Placed, ViewAtlas};
+use crate::core::{Billboard, View};
 use engine::Mesh;
 use glam::Vec2;
 
@@ -63,7 +62,7 @@ pub(crate) fn remeasure(texels: &mut [u32], w: usize, px: usize, nearest: &[f32]
 impl ViewAtlas {
     /// Writes `items` (as [`ViewAtlas::relief`] takes them) into `mesh` (cleared) as seen
     /// from `view`, each as one quad: its view's trim's bounding rectangle on its
-    /// [`Mount`]'s plane, moved toward the eye by a scaling about the eye (so it covers
+    /// [`super::mount::Mount`]'s plane, moved toward the eye by a scaling about the eye (so it covers
     /// the same pixels with the same texels) until it stands at the nearest surface of
     /// every view ([`ViewAtlas::depth_near`], less the pivot's part on the mount's plane,
     /// so the texels' surfaces stand where [`ViewAtlas::relief`] puts them). Drawn with
@@ -72,18 +71,15 @@ impl ViewAtlas {
     pub fn nailboards(&self, items: &[Billboard], view: &View, mesh: &mut Mesh) -> usize {
         mesh.clear();
         let mut n = 0;
-        for b in items {
-            let Size::World(size) = b.size else {
-                continue;
-            };
-            if !b.position.is_finite() {
-                continue;
-            }
-            let basis = orient(Facing::World { up: glam::Vec3::Y }, view, b.position);
-            let view_index = self.view_of(b.region);
-            let e = self.elevations[view_index / self.azimuths];
-            let mount = Mount::new(e, basis.normal, basis.right);
-            let pivot = self.pivot_at(e) * 0.5 * size.y;
+        for Placed {
+            b,
+            size,
+            basis,
+            view_index,
+            mount,
+            pivot,
+        } in self.placed(items, view)
+        {
             let scale = 0.5 * size.x;
             let trim = self.trims[view_index];
             let left = trim.left.iter().copied().fold(1.0f32, f32::min);

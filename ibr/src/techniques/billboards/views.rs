@@ -39,7 +39,7 @@ use super::bake::{bake_bounds, bake_camera};
 use super::mount::Mount;
 use super::nailboard::{offset_image, remeasure, DEPTH_SPAN};
 use super::trim::{surface, Trim};
-use crate::core::{orient, Billboard, Capturer, Facing, Size, UvRect, View};
+use crate::core::{orient, Basis, Billboard, Capturer, Facing, Size, UvRect, View};
 use engine::{
     AlphaMode, DepthOffset, Draw, Encoding, Lighting, Material, Mesh, Rgba, Sphere, Texture,
 };
@@ -324,6 +324,35 @@ impl ViewAtlas {
         }
     }
 
+    /// Each of `items` a sprite can show (a world size, a finite position) with where it
+    /// stands: its world-facing basis, the view shown, that view's [`Mount`] and the pivot's
+    /// height; shared by [`ViewAtlas::relief`] and [`ViewAtlas::nailboards`].
+    pub(super) fn placed<'a>(
+        &'a self,
+        items: &'a [Billboard],
+        view: &'a View,
+    ) -> impl Iterator<Item = Placed<'a>> + 'a {
+        items.iter().filter_map(move |b| {
+            let Size::World(size) = b.size else {
+                return None;
+            };
+            if !b.position.is_finite() {
+                return None;
+            }
+            let basis = orient(Facing::World { up: Vec3::Y }, view, b.position);
+            let view_index = self.view_of(b.region);
+            let e = self.elevations[view_index / self.azimuths];
+            Some(Placed {
+                b,
+                size,
+                basis,
+                view_index,
+                mount: Mount::new(e, basis.normal, basis.right),
+                pivot: self.pivot_at(e) * 0.5 * size.y,
+            })
+        })
+    }
+
     /// Puts `items` near to far from `eye` (by distance; ties by position, so the order is
     /// one at any thread count), the order in which cutouts hide the most before they are
     /// shaded: each sprite's hidden fragments then fail the depth test written by the
@@ -385,21 +414,15 @@ impl ViewAtlas {
         mesh.clear();
 
         let mut n = 0;
-        for b in items {
-            let Size::World(size) = b.size else {
-                continue;
-            };
-            if !b.position.is_finite() {
-                continue;
-            }
-            let basis = orient(Facing::World { up: Vec3::Y }, view, b.position);
-            let view_index = self.view_of(b.region);
-            let mount = Mount::new(
-                self.elevations[view_index / self.azimuths],
-                basis.normal,
-                basis.right,
-            );
-            let pivot = self.pivot_at(self.elevations[view_index / self.azimuths]) * 0.5 * size.y;
+        for Placed {
+            b,
+            size,
+            basis,
+            view_index,
+            mount,
+            pivot,
+        } in self.placed(items, view)
+        {
             let pixel = view.pixel_size_at(b.position).unwrap_or(0.0);
             // A sprite under `coarse_px` tall on screen: every 2nd column of nodes; every
             // row (the trim's outline, and so the fragments drawn, are the whole grid's).
@@ -545,6 +568,22 @@ fn grid(offsets: &[f32], px: usize) -> [f32; RELIEF * RELIEF] {
 }
 
 /// The unit direction toward the viewer of column `k` of `azimuths` at elevation `e`.
+/// One sprite placed for drawing ([`ViewAtlas::placed`]).
+pub(super) struct Placed<'a> {
+    /// The sprite.
+    pub b: &'a Billboard,
+    /// Its world size.
+    pub size: Vec2,
+    /// Its world-facing basis toward the eye.
+    pub basis: Basis,
+    /// The atlas view it shows.
+    pub view_index: usize,
+    /// Where that view's image stands.
+    pub mount: Mount,
+    /// The pivot's height above the sprite's centre (world units).
+    pub pivot: f32,
+}
+
 #[cfg(test)]
 fn direction(azimuths: usize, k: usize, e: f32) -> Vec3 {
     let a = column_azimuth(azimuths, k, None);
