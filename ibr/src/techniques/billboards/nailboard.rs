@@ -1,9 +1,9 @@
-//! A [`ViewAtlas`]'s sprites as nailboards proper (Schaufler 97): each sprite one quad (2
-//! triangles) at its view's nearest surface, its fragments' depth taken per texel from a
+//! A [`ViewAtlas`]'s sprites as nailboards proper (Schaufler 97): each sprite one flat
+//! polygon (the trim's outline, 8 triangles) at its view's nearest surface, its fragments' depth taken per texel from a
 //! baked offset image beside the colour atlas ([`engine::DepthOffset`]), not from a coarse
 //! grid of moved nodes ([`ViewAtlas::relief`]).
 
-use super::views::{Placed, ViewAtlas};
+use super::views::{Placed, ViewAtlas, RELIEF};
 use crate::core::{Billboard, View};
 use engine::Mesh;
 use glam::Vec2;
@@ -61,7 +61,8 @@ pub(crate) fn remeasure(texels: &mut [u32], w: usize, px: usize, nearest: &[f32]
 
 impl ViewAtlas {
     /// Writes `items` (as [`ViewAtlas::relief`] takes them) into `mesh` (cleared) as seen
-    /// from `view`, each as one quad: its view's trim's bounding rectangle on its
+    /// from `view`, each as one flat polygon: its view's trim's outline (the 5 node rows'
+    /// first and last columns, as [`ViewAtlas::relief`] draws it: 8 triangles) on its
     /// [`super::mount::Mount`]'s plane, moved toward the eye by a scaling about the eye (so it covers
     /// the same pixels with the same texels) until it stands at the nearest surface of
     /// every view ([`ViewAtlas::depth_near`], less the pivot's part on the mount's plane,
@@ -82,13 +83,6 @@ impl ViewAtlas {
         {
             let scale = 0.5 * size.x;
             let trim = self.trims[view_index];
-            let left = trim.left.iter().copied().fold(1.0f32, f32::min);
-            let right = trim.right.iter().copied().fold(0.0f32, f32::max);
-            let (left, right) = if left < right {
-                (left, right)
-            } else {
-                (0.0, 1.0)
-            };
             let flip = b.region.max.x < b.region.min.x;
             let lo = Vec2::new(b.region.min.x.min(b.region.max.x), b.region.min.y);
             let span = (b.region.max - b.region.min).abs();
@@ -97,14 +91,14 @@ impl ViewAtlas {
             let (_, near) = mount.place(0.0, self.depth_near * scale, pivot);
             let base = mesh.positions.len() as u32;
             let mut s = 1.0;
-            for (k, ty) in [trim.top, trim.bottom].into_iter().enumerate() {
+            for gy in 0..RELIEF {
                 for col in 0..2 {
                     let gx = if flip { 1 - col } else { col };
-                    let t = Vec2::new([left, right][gx], ty);
+                    let t = trim.node(gx * (RELIEF - 1), gy);
                     let x = if flip { 1.0 - t.x } else { t.x };
                     let (up, _) = mount.place((0.5 - t.y) * size.y, 0.0, pivot);
                     let flat = b.position + basis.right * ((x - 0.5) * size.x) + up;
-                    if k == 0 && col == 0 {
+                    if gy == 0 && col == 0 {
                         let d = (view.eye - flat).dot(mount.toward);
                         s = (1.0 - near / d).clamp(0.01, 1.0e3);
                         if !s.is_finite() {
@@ -116,7 +110,7 @@ impl ViewAtlas {
                     mesh.colors.push(b.tint);
                 }
             }
-            crate::core::grid_triangles(1, 1, base, &mut mesh.indices);
+            crate::core::grid_triangles(1, RELIEF as u32 - 1, base, &mut mesh.indices);
             n += 1;
         }
         n
@@ -154,7 +148,7 @@ mod tests {
         ViewAtlas::bake(&[draw], &Lighting::default(), bounds, 6, &[0.0, 0.5], 64)
     }
 
-    /// Seen from 3 units along the first view's direction, the ball's nailboard (2
+    /// Seen from 3 units along the first view's direction, the ball's nailboard (8
     /// triangles) and its 5 x 5 relief (32) against its mesh: the mean and largest view
     /// depth difference where both cover, and the pixels compared.
     fn depth_off(a: &ViewAtlas, mesh: &Mesh, red: &Material) -> (f32, f32, usize, usize) {
@@ -207,20 +201,20 @@ mod tests {
         (sum / n.max(1) as f32, worst, n, sprite.indices.len() / 3)
     }
 
-    /// The ball's nailboard, 2 triangles, stands about where its mesh does, and has its
+    /// The ball's nailboard, 8 triangles, stands about where its mesh does, and has its
     /// outline. Seen from 6 radii its depth is farther than the mesh's by 0.044 on average
     /// (measured; the relief's 0.022): an orthographic view's offset moved along the
     /// perspective ray misses the rim's nearer intersection (0.055 at 0.4 from the
     /// centre), where the relief's nodes, each the nearest surface near it, err toward
     /// the eye.
     #[test]
-    fn a_nailboard_has_the_balls_depth_on_one_quad() {
+    fn a_nailboard_has_the_balls_depth_on_one_flat_outline() {
         let (mesh, red) = ball();
         let mut a = atlas(&mesh, &red);
         let (relief, relief_worst, n_relief, t_relief) = depth_off(&a, &mesh, &red);
         a.nailboard = true;
         let (nail, nail_worst, n_nail, t_nail) = depth_off(&a, &mesh, &red);
-        assert_eq!((t_relief, t_nail), (32, 2));
+        assert_eq!((t_relief, t_nail), (32, 8));
         assert!(n_nail > 2000 && n_relief > 2000, "{n_nail} {n_relief}");
         assert!(
             nail < 0.06 && relief < 0.06,

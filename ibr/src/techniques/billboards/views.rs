@@ -32,8 +32,9 @@
 //!
 //! As nailboards proper ([`ViewAtlas::nailboard`], [`ViewAtlas::nailboards`]): each view's
 //! depth kept per texel in an offset image beside the atlas ([`ViewAtlas::depth_texture`]),
-//! and each sprite drawn as one quad at its view's nearest surface, its fragments' depth
-//! moved back per texel by the engine ([`engine::DepthOffset`]).
+//! and each sprite drawn flat (its trim's outline, 8 triangles) at its view's nearest
+//! surface, its fragments' depth moved back per texel by the engine
+//! ([`engine::DepthOffset`]). Off in the showcase: measured slower there (BENCHMARKS.md).
 
 use super::bake::{bake_bounds, bake_camera};
 use super::mount::Mount;
@@ -136,7 +137,7 @@ pub struct ViewAtlas {
     /// `bounds.radius`: where a nailboard's quad stands ([`ViewAtlas::nailboards`]), and
     /// what `depth_texture`'s offsets are measured back from.
     pub depth_near: f32,
-    /// Draw sprites as nailboards ([`ViewAtlas::nailboards`], one quad each with per-texel
+    /// Draw sprites as nailboards ([`ViewAtlas::nailboards`], flat, with per-texel
     /// depth; [`ViewAtlas::material`] then carries the offset image) instead of as depth
     /// grids ([`ViewAtlas::relief`]). `false` as baked.
     pub nailboard: bool,
