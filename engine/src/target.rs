@@ -212,17 +212,40 @@ impl Target {
 
     /// Row-major straight-alpha RGBA8 in the target's encoding, as image files want it.
     pub fn to_rgba8(&self) -> Vec<u8> {
-        let enc = Encoder::new(self.encoding);
-        let mut out = self.to_rgba8_premultiplied();
-        for px in out.chunks_exact_mut(4) {
-            let a = px[3];
-            if a != 0 && a != 255 {
-                let c = unpack(self.encoding, u32::from_le_bytes([px[0], px[1], px[2], a]));
-                let s = c.unpremultiply();
-                px.copy_from_slice(&enc.pack(s.r, s.g, s.b, s.a).to_le_bytes());
-            }
-        }
+        let mut out = Vec::new();
+        self.write_rgba8(&mut out);
         out
+    }
+
+    /// [`Target::to_rgba8`]'s bytes into `out` (resized; its memory kept from call to
+    /// call), rows on the pool, each pixel its own (the same bytes at any thread count): a
+    /// pixel neither empty nor opaque unpremultiplied and packed again, the others as
+    /// stored. The views moment's layers frame made a fresh 3.7 MB vector on one thread
+    /// here every frame at 1280x720 (session 21).
+    pub fn write_rgba8(&self, out: &mut Vec<u8>) {
+        use rayon::prelude::*;
+        let w = self.width as usize;
+        // Every byte is written below: no clearing.
+        out.resize(w * self.height as usize * 4, 0);
+        if w == 0 {
+            return;
+        }
+        let enc = Encoder::new(self.encoding);
+        out.par_chunks_mut(w * 4).enumerate().for_each(|(y, row)| {
+            for (x, at, n) in self.row_runs(y as u32) {
+                let bytes = row[4 * x..4 * (x + n)].chunks_exact_mut(4);
+                for (px, &p) in bytes.zip(&self.color[at..at + n]) {
+                    let a = p >> 24;
+                    let word = if a != 0 && a != 255 {
+                        let s = unpack(self.encoding, p).unpremultiply();
+                        enc.pack(s.r, s.g, s.b, s.a)
+                    } else {
+                        p
+                    };
+                    px.copy_from_slice(&word.to_le_bytes());
+                }
+            }
+        });
     }
 
     /// Writes `0x00RRGGBB` words (a window's framebuffer format), row-major.

@@ -30,8 +30,8 @@ pub use sky::{SkyFrame, SKY_CENTRE, SKY_TOLERANCE_PX, SPLIT};
 
 use crate::showcase::SKY;
 use crate::timing::Usage;
-use engine::color::{unpack, Encoder, Encoding};
-use engine::{Camera, Draw, Premul, Scene, Sphere, Target};
+use engine::color::{Encoder, Encoding};
+use engine::{Camera, Draw, Premul, Scene, Sphere};
 use ibr::images::DepthImage;
 use ibr::impostor::Frustum;
 use ibr::metrics::ImageError;
@@ -507,39 +507,6 @@ fn over_sky(image: &DepthImage, out: &mut Vec<u8>) {
                 p.copy_from_slice(&over_sky_pixel(&encoder, sky, c).to_le_bytes());
             }
         });
-}
-
-/// `target`'s pixels as straight-alpha RGBA8 in its encoding, into `out` (kept frame to
-/// frame): the bytes of [`Target::to_rgba8`] (a pixel neither empty nor opaque
-/// unpremultiplied and packed again, the others as stored), rows on the pool, each pixel
-/// its own (the same bytes on any number of threads). `to_rgba8` made a fresh 3.7 MB
-/// vector at 1280x720 every layers frame (its pages faulted in) and filled it on one
-/// thread (session 21).
-fn target_rgba8(target: &Target, out: &mut Vec<u8>) {
-    let (w, h) = (target.width() as usize, target.height() as usize);
-    let encoding = target.encoding();
-    let encoder = Encoder::new(encoding);
-    // Every byte is written below: no clearing.
-    out.resize(w * h * 4, 0);
-    if w == 0 {
-        return;
-    }
-    out.par_chunks_mut(w * 4).enumerate().for_each_init(
-        || (Vec::with_capacity(w), Vec::with_capacity(w)),
-        |(colors, depths), (y, bytes)| {
-            target.read_row(y as u32, colors, depths);
-            for (px, &p) in bytes.chunks_exact_mut(4).zip(colors.iter()) {
-                let a = p >> 24;
-                let word = if a != 0 && a != 255 {
-                    let s = unpack(encoding, p).unpremultiply();
-                    encoder.pack(s.r, s.g, s.b, s.a)
-                } else {
-                    p
-                };
-                px.copy_from_slice(&word.to_le_bytes());
-            }
-        },
-    );
 }
 
 /// One pixel of [`over_sky`]: `c` over `sky`, packed.

@@ -11,7 +11,7 @@
 //! front of the trees beyond its crest; cut by depth range ([`ibr::layers::split_by_depth`])
 //! it still is. Drawn as geometry, it hides each layer exactly where it should.
 
-use super::{in_view, target_rgba8, triangles, world_spheres, Frame, Stages};
+use super::{in_view, triangles, world_spheres, Frame, Stages};
 use crate::showcase;
 use crate::timing::Usage;
 use engine::{Camera, FrameOptions, Lighting, Renderer, Scene, Sphere, Target};
@@ -187,7 +187,7 @@ impl LayersPart {
         );
         let r = self.layers.report;
         let encode = Instant::now();
-        target_rgba8(&self.image, &mut out.rgba);
+        self.image.write_rgba8(&mut out.rgba);
         let t = self.frames.times;
         let stages = Stages {
             layers: t.prepare,

@@ -552,11 +552,12 @@ fn the_panorama_pass_makes_the_float_paths_bytes() {
     }
 }
 
-/// The layers frame's bytes ([`target_rgba8`]) are [`Target::to_rgba8`]'s, for opaque,
-/// empty and partly covered pixels (a half-transparent quad over the scene's edge against
+/// The layers frame's bytes ([`Target::write_rgba8`]) are the stored premultiplied bytes
+/// unpremultiplied one pixel at a time (the reference below), for opaque, empty and partly
+/// covered pixels (a half-transparent quad over the scene's edge against
 /// the empty sky), into a kept buffer of another size, on one thread and on the pool.
 #[test]
-fn target_rgba8_makes_to_rgba8s_bytes() {
+fn the_layers_bytes_are_each_pixels_straight_alpha_at_any_thread_count() {
     let scene = scene();
     let mut draws: Vec<Draw<'_>> = scene.draws().collect();
     let quad = engine::Mesh {
@@ -578,20 +579,33 @@ fn target_rgba8_makes_to_rgba8s_bytes() {
     let mut capturer = ibr::capture::Capturer::new();
     let lighting = &scene.lighting;
     let target = capturer.render(draws, &camera, lighting, W, H, Encoding::Srgb);
-    let want = target.to_rgba8();
+    let encoder = Encoder::new(Encoding::Srgb);
+    let want: Vec<u8> = target
+        .to_rgba8_premultiplied()
+        .chunks_exact(4)
+        .flat_map(|px| {
+            let p = u32::from_le_bytes([px[0], px[1], px[2], px[3]]);
+            if px[3] == 0 || px[3] == 255 {
+                return p.to_le_bytes();
+            }
+            let s = engine::color::unpack(Encoding::Srgb, p).unpremultiply();
+            encoder.pack(s.r, s.g, s.b, s.a).to_le_bytes()
+        })
+        .collect();
+    assert!(target.to_rgba8() == want, "to_rgba8's bytes differ");
     let count = |keep: fn(u8) -> bool| want.chunks_exact(4).filter(|p| keep(p[3])).count();
     let (empty, opaque) = (count(|a| a == 0), count(|a| a == 255));
     let partly = count(|a| a != 0 && a != 255);
     eprintln!("{empty} empty, {partly} partly covered, {opaque} opaque pixels");
     assert!(empty > 0 && partly > 0 && opaque > 0);
     let mut out = vec![7u8; 5];
-    target_rgba8(target, &mut out);
+    target.write_rgba8(&mut out);
     assert!(out == want, "the bytes differ");
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
         .expect("a pool of one thread");
     let mut again = vec![0u8; want.len() + 8];
-    one.install(|| target_rgba8(target, &mut again));
+    one.install(|| target.write_rgba8(&mut again));
     assert!(again == want, "the bytes differ on one thread");
 }
