@@ -5,6 +5,22 @@ use crate::core::{Billboard, Facing, View};
 use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
 use glam::{Mat4, Vec2, Vec3};
 
+/// The atlas's sprite ([`ViewAtlas::relief`], or its nailboard when switched on) of the
+/// object at the origin, seen by `cam` from `eye` on a target `h` pixels tall.
+pub(super) fn centred_sprite(atlas: &ViewAtlas, eye: Vec3, cam: &Camera, h: u32) -> Mesh {
+    let item = Billboard {
+        region: atlas.region(eye),
+        ..Billboard::new(
+            Vec3::ZERO,
+            Facing::World { up: Vec3::Y },
+            Vec2::splat(2.0 * atlas.bounds.radius),
+        )
+    };
+    let mut mesh = Mesh::default();
+    assert_eq!(atlas.relief(&[item], &View::new(cam, h), &mut mesh), 1);
+    mesh
+}
+
 /// `atlas`'s sprite of `draw` (framed by the atlas's sphere at the origin) and `draw`
 /// itself, lit by `lighting`, rendered from `eye` looking at the origin (160 x 120, field of view
 /// `fov`): the pixels both cover, those one covers and the other not, and the mean
@@ -18,16 +34,7 @@ pub(super) fn against_mesh(
 ) -> (u32, u32, f32) {
     let (w, h) = (160u32, 120u32);
     let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, fov, w as f32 / h as f32);
-    let item = Billboard {
-        region: atlas.region(eye),
-        ..Billboard::new(
-            Vec3::ZERO,
-            Facing::World { up: Vec3::Y },
-            Vec2::splat(2.0 * atlas.bounds.radius),
-        )
-    };
-    let mut mesh = Mesh::default();
-    assert_eq!(atlas.relief(&[item], &View::new(&cam, h), &mut mesh), 1);
+    let mesh = centred_sprite(atlas, eye, &cam, h);
     let sprite = atlas.material().double_sided(true);
     let render = |d: Draw<'_>| {
         let mut t = Target::new(w, h);

@@ -119,9 +119,8 @@ impl ViewAtlas {
 
 #[cfg(test)]
 mod tests {
-    use super::super::compare::against_mesh;
+    use super::super::compare::{against_mesh, centred_sprite};
     use super::*;
-    use crate::core::Facing;
     use engine::{
         procedural, Camera, Draw, FrameOptions, Lighting, Material, Renderer, Rgba, Sphere, Target,
     };
@@ -154,17 +153,7 @@ mod tests {
     fn depth_off(a: &ViewAtlas, mesh: &Mesh, red: &Material) -> (f32, f32, usize, usize) {
         let eye = Vec3::new(3.0, 0.0, 0.0);
         let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Y, 0.6, 160.0 / 120.0);
-        let view = View::new(&cam, 120);
-        let item = Billboard {
-            region: a.region(eye),
-            ..Billboard::new(
-                Vec3::ZERO,
-                Facing::World { up: Vec3::Y },
-                Vec2::splat(2.0 * a.bounds.radius),
-            )
-        };
-        let mut sprite = Mesh::default();
-        assert_eq!(a.relief(&[item], &view, &mut sprite), 1);
+        let sprite = centred_sprite(a, eye, &cam, 120);
         let material = a.material().double_sided(true);
         let render = |draw: Draw<'_>| {
             let mut t = Target::new(160, 120);
