@@ -60,7 +60,18 @@ pub struct Showcase {
     lamp_light: usize,
     /// The last frame's draws by group, when counted ([`Showcase::count_draws`]).
     draws: Option<ibr_layer::DrawGroups>,
+    /// How many times smaller each way the clouds (their particles, fog and images) are
+    /// shaded ([`Renderer::set_low_res_scale`], set on the renderer by each
+    /// [`Showcase::render`]): [`CLOUD_LOW_RES`] by default, 1 for full resolution.
+    pub low_res_scale: u32,
 }
+
+/// The clouds' reduced resolution: half each way, a quarter of their blended fragments.
+/// Soft subjects lose little to it (the cloud attraction's PSNR is measured on the frame
+/// as drawn, against full-resolution particles); the 1280x720 tour's cloud fly-through
+/// shaded 3.3 to 5.7 M blended cloud fragments a frame at full resolution (BENCHMARKS.md,
+/// session 23).
+pub const CLOUD_LOW_RES: u32 = 2;
 
 impl Showcase {
     /// Builds the scene (deterministic: same triangles and pixels every time).
@@ -96,6 +107,7 @@ impl Showcase {
         opts: &FrameOptions,
     ) -> FrameStats {
         self.lod.apply(&mut self.scene, camera, target.height());
+        renderer.set_low_res_scale(self.low_res_scale);
         let stats = self.ibr.render(&self.scene, renderer, camera, target, opts);
         if let Some(groups) = &mut self.draws {
             let terrain = |k| self.lod.is_terrain(k);

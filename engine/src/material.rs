@@ -103,6 +103,11 @@ pub struct Material {
     /// A nailboard's per-texel depth (Schaufler 97), or `None`: read only with
     /// [`AlphaMode::Mask`] and a `base_texture`. See [`DepthOffset`].
     pub depth_offset: Option<DepthOffset>,
+    /// Blended with [`BlendMode::Alpha`] and writing no depth only: soft enough (clouds,
+    /// fog) to be shaded at a reduced resolution and composited over the frame, when the
+    /// renderer's [`crate::Renderer::set_low_res_scale`] is above 1 (it is 1 by default,
+    /// and then this is ignored). See the renderer's `lowres` module.
+    pub low_res: bool,
 }
 
 /// Per-texel depth for an alpha-tested material (a nailboard: an image of an object on
@@ -152,6 +157,7 @@ impl Default for Material {
             emissive: Rgba::new(0.0, 0.0, 0.0, 0.0),
             blend_depth: None,
             depth_offset: None,
+            low_res: false,
         }
     }
 }

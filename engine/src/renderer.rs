@@ -164,6 +164,11 @@ pub struct Renderer {
     boxes: cull::Boxes,
     /// Transform every draw, in view or not (see [`Renderer::set_draw_culling`]).
     culling_off: bool,
+    /// How many times smaller each way low-resolution draws are shaded (see
+    /// [`Renderer::set_low_res_scale`]); 0 and 1 are full resolution.
+    low_res_scale: u32,
+    /// The low-resolution pass's scratch memory.
+    low: lowres::LowRes,
 }
 
 /// Reuses an empty vector's allocation for a type that differs only in lifetime.
@@ -280,6 +285,9 @@ impl Renderer {
         target: &mut Target,
         opts: &FrameOptions,
     ) -> FrameStats {
+        if self.low_res_scale > 1 {
+            return self.render_low_res(draws, camera, lighting, target, opts);
+        }
         self.frame(draws, camera, lighting, target, opts, None)
     }
 
@@ -511,6 +519,12 @@ impl Renderer {
             occlusion: !self.occlusion_off,
         };
         let (workers, peel) = (&self.workers[..], frame.peel);
+        let chunks = &self.chunks[..n_chunks];
+        // Drawing over the target's contents, a tile no triangle reaches keeps them: it is
+        // neither loaded nor resolved (a pass of a few draws costs their tiles only).
+        let untouched = |tile: usize| {
+            clear.is_none() && peel.is_none() && chunks.iter().all(|c| c.bins.tile(tile).is_empty())
+        };
         let (colors, depths) = target.storage_mut();
         colors
             .par_chunks_mut(TILE_PIXELS)
@@ -522,6 +536,9 @@ impl Renderer {
             // 9.4 ms).
             .with_max_len(1)
             .for_each(|(tile, (color, depth))| {
+                if untouched(tile) {
+                    return;
+                }
                 let w = rayon::current_thread_index().unwrap_or(0) % workers.len();
                 let mut state = workers[w].0.lock().unwrap_or_else(|e| e.into_inner());
                 let (buf, stats, times, costs) = &mut *state;
@@ -672,6 +689,7 @@ fn transform_draws(
 }
 
 mod cull;
+mod lowres;
 mod tiles;
 
 #[cfg(test)]

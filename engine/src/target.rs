@@ -59,6 +59,13 @@ pub struct Target {
     pub(crate) depth: Vec<f32>,
 }
 
+impl Default for Target {
+    /// A 0 x 0 target.
+    fn default() -> Self {
+        Target::new(0, 0)
+    }
+}
+
 impl Target {
     /// A cleared (transparent black, far depth) sRGB target. Sides are clamped to
     /// [`MAX_TARGET_SIZE`].
@@ -141,7 +148,7 @@ impl Target {
     }
 
     #[inline]
-    fn index(&self, x: u32, y: u32) -> usize {
+    pub(crate) fn index(&self, x: u32, y: u32) -> usize {
         let tile = (y as usize >> TILE_SHIFT) * self.tiles_x as usize + (x as usize >> TILE_SHIFT);
         tile * TILE_PIXELS + offset_in_tile(x as usize & (TILE - 1), y as usize & (TILE - 1))
     }

@@ -446,6 +446,8 @@ pub struct Meter {
     /// rows its targets are read through: kept frame to frame.
     scratch: Renders,
     reader: Reader,
+    /// The showcase's reduced resolution for soft draws, as the tour's frame used it.
+    low_res_scale: u32,
 }
 
 impl Default for Meter {
@@ -460,6 +462,7 @@ impl Default for Meter {
             stand: Stand::default(),
             scratch: Renders::default(),
             reader: Reader::default(),
+            low_res_scale: 1,
         }
     }
 }
@@ -492,6 +495,7 @@ impl Meter {
         for (k, a) in ATTRACTIONS.iter().enumerate() {
             if let Probe::Tour(probe) = a.probe {
                 let drawn = probe(show, &mut stand, camera, height);
+                self.low_res_scale = show.low_res_scale;
                 self.measure(k, drawn, camera, width, height);
             }
         }
@@ -540,7 +544,11 @@ impl Meter {
         let (r, l) = (&mut self.renderer, drawn.lighting);
         let occluded = !drawn.occluder.is_empty();
         let under = |d| under(&drawn.occluder, d);
+        // The images as the frame drew them (soft ones at its reduced resolution), the
+        // geometry at full resolution.
+        r.set_low_res_scale(self.low_res_scale);
         r.render(under(drawn.image), cam, l, &mut self.image, &opts);
+        r.set_low_res_scale(1);
         if let Some(t) = drawn.passes {
             t.passes(&view, &mut self.image);
         }

@@ -78,6 +78,7 @@ pub(super) fn build() -> Showcase {
         lamp,
         lamp_light: 1,
         draws: None,
+        low_res_scale: super::CLOUD_LOW_RES,
     };
     show.animate(0.0);
     show

@@ -39,7 +39,7 @@ use engine::procedural::{Terrain, XorShift};
 use engine::{Draw, Lighting, Material, Rgba, Shading, Sphere};
 use glam::{Mat4, Vec2, Vec3};
 use ibr::cloud::CloudField;
-use ibr::impostor::{Budget, Config, ImpostorSet, Shape, Tolerance};
+use ibr::impostor::{Budget, Config, ImpostorSet, Mode, Shape, Tolerance};
 use ibr::layers::{self, LayerSet};
 use ibr::plan::{self, Budgets, Geometry, Planner, Representation};
 use ibr::subject::{MeshGroup, Subject};
@@ -93,6 +93,20 @@ pub const CLOUD_TEXELS: u64 = (CLOUD_MAX_SIDE as u64 * CLOUD_MAX_SIDE as u64) / 
 /// texels a pixel, and the fill is what a capture costs. 32 took as many texels in fewer
 /// refreshes (72 against 85 over the 640x360 tour, BENCHMARKS.md, session 19).
 pub const CLOUD_SIDE_STEP: u32 = 16;
+
+/// Screens of cloud particles (their quads' areas summed over the clouds drawn as
+/// particles, [`Cloud::fill`](ibr::cloud::Cloud::fill)) from which a frame draws them at the renderer's
+/// reduced resolution ([`crate::showcase::CLOUD_LOW_RES`]). Below it the three-pass frame
+/// and the composite cost more than the fragments saved: composited at full screen, the
+/// small target took 4.7 ms at 1280x720 (2 threads), about what shading 0.6 screens of
+/// particles at full resolution takes (BENCHMARKS.md, session 23).
+pub const CLOUD_LOW_RES_FILL: f32 = 1.5;
+
+/// Pixels of cloud particles below which a frame draws them at full resolution whatever
+/// its size: a small frame's particles are cheap, and at half its size a puff's detail
+/// is a pixel or two (at the tests' 240 x 136, with the fill alone, the clouds measured
+/// 37.0 / 20.5 dB against 40.2 / 26.8: BENCHMARKS.md, session 23).
+pub const CLOUD_LOW_RES_PIXELS: f32 = 1_200_000.0;
 
 /// The city's rebuilds a frame whose clouds captured nothing ([`city_rebuilds`]); at
 /// loading, every building may rebuild.
@@ -185,6 +199,8 @@ pub struct Impostors {
     run: RunStats,
     /// Frames rendered at loading: the refresh budgets lifted ([`Impostors::set_loading`]).
     loading: bool,
+    /// Screens of particles the last frame drew at reduced resolution (0: none).
+    pub low_res_fill: f32,
 }
 
 impl Impostors {
@@ -256,6 +272,7 @@ impl Impostors {
             last: Readout::default(),
             run: RunStats::default(),
             loading: false,
+            low_res_fill: 0.0,
         }
     }
 
@@ -275,6 +292,7 @@ impl Impostors {
         let clouds = self
             .cloud_set
             .update(&mut self.clouds.clouds, camera, view.height, lighting);
+        self.low_res_clouds(view);
         if !self.loading {
             self.city.config.budgets.rebuilds = city_rebuilds(clouds.capture_texels);
         }
@@ -285,6 +303,28 @@ impl Impostors {
         };
         self.run.add(&self.last);
         self.last
+    }
+
+    /// Draws the clouds' particles at the renderer's reduced resolution this frame when
+    /// those drawn as particles fill [`CLOUD_LOW_RES_FILL`] screens and
+    /// [`CLOUD_LOW_RES_PIXELS`] pixels or more.
+    fn low_res_clouds(&mut self, view: &FrameView<'_>) {
+        let imps = &self.cloud_set.impostors;
+        let particles = |i: usize| {
+            imps.get(i)
+                .is_some_and(|m| matches!(m.mode, Mode::Geometry(_)))
+        };
+        let clouds = &mut self.clouds.clouds;
+        let fill: f32 = (0..clouds.len())
+            .filter(|&i| particles(i))
+            .map(|i| clouds[i].fill())
+            .sum();
+        let screen = view.width as f32 * view.height as f32;
+        let on = fill >= (CLOUD_LOW_RES_FILL * screen).max(CLOUD_LOW_RES_PIXELS);
+        for (i, c) in clouds.iter_mut().enumerate() {
+            c.set_low_res(on && particles(i));
+        }
+        self.low_res_fill = if on { fill / screen.max(1.0) } else { 0.0 };
     }
 
     /// Appends this frame's draws (after [`Impostors::update`]): each building by its

@@ -320,6 +320,11 @@ impl I8 {
     pub fn shr_by(self, n: I8) -> Self {
         avx!(I8(_mm256_srlv_epi32(self.0, n.0)))
     }
+    /// The lanes' bits as `f32`s (a reinterpretation, not a conversion).
+    #[inline(always)]
+    pub fn bits_to_f32(self) -> F8 {
+        F8(bytemuck::cast(self.0))
+    }
     /// Lane-wise conversion to `f32`, rounded to nearest.
     #[inline(always)]
     pub fn to_f32(self) -> F8 {

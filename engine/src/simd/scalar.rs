@@ -219,6 +219,10 @@ impl I8 {
             (self.0[l] as u32).checked_shr(n.0[l] as u32).unwrap_or(0) as i32
         }))
     }
+    /// The lanes' bits as `f32`s (a reinterpretation, not a conversion).
+    pub fn bits_to_f32(self) -> F8 {
+        F8(self.0.map(|x| f32::from_bits(x as u32)))
+    }
     /// Lane-wise conversion to `f32`, rounded to nearest.
     pub fn to_f32(self) -> F8 {
         F8(std::array::from_fn(|l| self.0[l] as f32))

@@ -107,3 +107,13 @@ fn lanes_behave() {
     a.store(&mut s);
     assert_eq!(F8::load(&s).to_array(), a.to_array());
 }
+
+#[test]
+fn bits_reinterpret_as_floats() {
+    let x = [0.0f32, -0.0, 1.5, -2.25, f32::INFINITY, 1e-40, 3.0e38, 0.1];
+    let bits = I8::from_array(x.map(|v| v.to_bits() as i32));
+    assert_eq!(
+        bits.bits_to_f32().to_array().map(f32::to_bits),
+        x.map(f32::to_bits)
+    );
+}

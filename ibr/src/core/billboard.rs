@@ -483,6 +483,9 @@ pub fn push_quad(m: &mut Mesh, q: [Vec3; 4], region: UvRect, tint: Rgba, fade: f
         .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
 }
 
+mod area;
+pub(crate) use area::screen_share;
+
 #[cfg(test)]
 mod fade_tests;
 #[cfg(test)]

@@ -50,6 +50,7 @@ pub use fog::{coverage, fade_scale, near_fade, screen_share, FOG_MAX, MAX_FILL, 
 pub use shading::{CloudShading, Phase, LIGHT_RES};
 pub use shape::{cumulus, puff_profile, puff_texture, CloudParticle, MAX_PARTICLES};
 
+use crate::core::billboard::{corners, screen_share as billboard_share};
 use crate::core::{enclose, Subject};
 use crate::core::{Billboard, BillboardBatch, Facing, View};
 use engine::{BlendMode, Camera, Draw, Material, Mesh, Projection, Rgba, Sphere, Texture, Wrap};
@@ -90,6 +91,8 @@ pub struct Cloud {
     near: Vec<(f32, f32)>,
     /// The fade's scale of the last prepare (1: the plain near fade).
     scale: f32,
+    /// Pixels the last prepare's quads fill ([`Cloud::fill`]).
+    fill: f32,
 }
 
 impl Cloud {
@@ -127,6 +130,7 @@ impl Cloud {
             order: Vec::new(),
             near: Vec::new(),
             scale: 1.0,
+            fill: 0.0,
         };
         cloud.light_pass();
         cloud
@@ -227,6 +231,22 @@ impl Cloud {
         Rgba::new(c.x, c.y, c.z, density)
     }
 
+    /// Pixels of the last prepared view its particle quads fill (their areas summed, each
+    /// clipped to the view; 0 for other projections than perspective): what drawing the
+    /// particles shades, about.
+    pub fn fill(&self) -> f32 {
+        self.fill
+    }
+
+    /// Draws the particles and the fog as [`engine::Material::low_res`] (`on`) or not: at
+    /// the renderer's reduced resolution, when it has one. Off by default; a caller whose
+    /// clouds fill many screens of particles turns it on (the showcase: BENCHMARKS.md,
+    /// session 23).
+    pub fn set_low_res(&mut self, on: bool) {
+        self.batch.material.low_res = on;
+        self.fog_material.low_res = on;
+    }
+
     /// The near fade's scale of the last prepare: 1 but from close by or inside, where
     /// it keeps the particles' fill within [`MAX_FILL`] screens (see `fog`).
     pub fn fade_scale(&self) -> f32 {
@@ -322,6 +342,18 @@ impl Subject for Cloud {
             self.batch.push(b);
         }
         self.batch.build(&view);
+        // The pixels the drawn quads fill, each clipped to the view (`Cloud::fill`).
+        let clip_from_world = camera.clip_from_world();
+        let share = |b: &Billboard| match corners(b, &view) {
+            Some((c, _)) => billboard_share(&c, &clip_from_world),
+            None => 0.0,
+        };
+        let screens: f32 = self.batch.items.iter().map(share).sum();
+        // The image's width over its height, from the view's extents at unit depth.
+        let [l, r, b, t] = camera.projection.extents();
+        let aspect = if t > b { (r - l) / (t - b) } else { 1.0 };
+        let h = height as f32;
+        self.fill = finite(screens * h * h * aspect, 0.0);
         // The fog grows from nothing on the bounding sphere to full one mean particle
         // radius inside it.
         let near = camera.near_far().0;

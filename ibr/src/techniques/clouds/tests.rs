@@ -420,3 +420,96 @@ fn field_scatters_disjoint_clouds_on_one_base() {
         .clouds
         .is_empty());
 }
+
+/// Renders `cloud`'s draws as prepared, at 96 x 96, with the renderer's low-resolution
+/// scale `scale`.
+fn render_scaled(cloud: &Cloud, cam: &Camera, scale: u32) -> (Target, engine::FrameStats) {
+    let mut draws = Vec::new();
+    cloud.draws(&mut draws);
+    let mut target = Target::new(96, 96);
+    let opts = FrameOptions {
+        clear: Some(Rgba::new(0.3, 0.5, 0.9, 1.0)),
+        ..FrameOptions::default()
+    };
+    let mut r = Renderer::new();
+    r.set_low_res_scale(scale);
+    let stats = r.render(draws, cam, &Lighting::default(), &mut target, &opts);
+    (target, stats)
+}
+
+#[test]
+fn fill_counts_the_pixels_the_particles_shade() {
+    let mut cloud = small_cloud();
+    let mut last = 0.0;
+    // The particles' draw alone (not the fog's quad), its fragments against the fill.
+    let particles = |cloud: &Cloud, cam: &Camera| {
+        let mut target = Target::new(96, 96);
+        let draw = cloud.batch().draw();
+        let opts = FrameOptions::default();
+        let stats = Renderer::new().render([draw], cam, &Lighting::default(), &mut target, &opts);
+        stats.fragments_tested as f32
+    };
+    for d in [30.0, 18.0, 11.0, 6.0] {
+        let cam = camera(Vec3::new(0.0, 1.0, d));
+        cloud.prepare(&cam, 96);
+        let ratio = cloud.fill() / particles(&cloud, &cam);
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "at {d}: fill {} is {ratio} of the fragments",
+            cloud.fill()
+        );
+        assert!(cloud.fill() > last, "nearer fills more");
+        last = cloud.fill();
+    }
+    // From inside, among quads beside and behind the eye: still the fragments, not a
+    // screen for every quad near the eye's plane.
+    for eye in [Vec3::new(0.0, 1.0, 2.5), Vec3::new(-3.0, 0.5, 3.0)] {
+        let cam = Camera::look_at(eye, eye + Vec3::new(0.3, 0.0, -1.0), Vec3::Y, 0.9, 1.0);
+        cloud.prepare(&cam, 96);
+        let (fill, frags) = (cloud.fill(), particles(&cloud, &cam));
+        assert!(frags > 2000.0, "inside at {eye}: {frags} fragments");
+        let ratio = fill / frags;
+        assert!(
+            (0.8..1.25).contains(&ratio),
+            "inside at {eye}: fill {fill} is {ratio} of the fragments"
+        );
+    }
+}
+
+#[test]
+fn low_res_particles_shade_a_quarter_and_look_alike() {
+    let mut cloud = small_cloud();
+    let cam = camera(Vec3::new(0.0, 1.0, 11.0));
+    cloud.prepare(&cam, 96);
+    let (full, plain) = render_scaled(&cloud, &cam, 2);
+    let low_res = |cloud: &Cloud| {
+        let mut draws = Vec::new();
+        cloud.draws(&mut draws);
+        draws.iter().map(|d| d.material.low_res).collect::<Vec<_>>()
+    };
+    assert!(low_res(&cloud).iter().all(|&l| !l), "off by default");
+    cloud.set_low_res(true);
+    assert!(low_res(&cloud).iter().all(|&l| l));
+    let (low, stats) = render_scaled(&cloud, &cam, 2);
+    let ratio = stats.fragments_shaded_blended as f64 / plain.fragments_shaded_blended as f64;
+    assert!(
+        (0.2..0.32).contains(&ratio),
+        "blended fragments {ratio} of full resolution"
+    );
+    // Soft puffs: the composite is within a fraction of a level of the full-resolution
+    // particles on average.
+    let (a, b) = (full.to_rgba8(), low.to_rgba8());
+    let diff: u64 = a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y) as u64).sum();
+    let mean = diff as f64 / a.len() as f64;
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0);
+    // Measured: mean 0.18 levels, worst 12 (a puff's edge).
+    assert!(
+        mean < 0.5 && worst < 40,
+        "mean difference {mean} levels, worst {worst}"
+    );
+}
