@@ -77,7 +77,8 @@ impl Renderer {
     /// the target's resolution each way and composites them over the frame (see the
     /// `lowres` module: a frame with such draws renders in three passes); 1 (the default)
     /// or 0 shades them as every other draw. Counted in the frame's stats like any draw
-    /// (their fragments are the small target's).
+    /// (their fragments are the small target's); [`Renderer::stage_times`] sums the three
+    /// passes', the depth reduction and the composite counted in `tiles`.
     pub fn set_low_res_scale(&mut self, scale: u32) {
         self.low_res_scale = scale;
     }
@@ -138,14 +139,18 @@ impl Renderer {
             let stats = match pass {
                 0 => self.frame(picked, camera, lighting, target, opts, None),
                 1 => {
-                    low.small.resize(sw, sh);
+                    let t0 = Instant::now();
+                    if (low.small.width(), low.small.height()) != (sw, sh) {
+                        low.small.resize(sw, sh);
+                    }
                     low.small.set_encoding(target.encoding());
                     downsample_depth(target, &mut low.small, &mut low.spans);
+                    times.tiles += t0.elapsed();
                     let small = &mut low.small;
                     let s = self.frame(picked, camera, lighting, small, &over, None);
-                    let t0 = Instant::now();
+                    let t1 = Instant::now();
                     composite::composite(low, target);
-                    times.tiles += t0.elapsed();
+                    times.tiles += t1.elapsed();
                     s
                 }
                 _ => self.frame(picked, camera, lighting, target, &over, None),
