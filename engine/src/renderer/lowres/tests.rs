@@ -18,19 +18,12 @@ use glam::{Mat4, Vec3, Vec4};
 const W: u32 = 131;
 const H: u32 = 75;
 
-/// A unit quad facing +z, its vertex colours `colors` (corners counter-clockwise from the
-/// bottom left).
+/// The renderer tests' unit quad facing +z, its vertex colours `colors` (corners
+/// counter-clockwise from the bottom left).
 fn quad(colors: [Vec4; 4]) -> Mesh {
     Mesh {
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
         colors: colors.map(|c| Rgba::new(c.x, c.y, c.z, c.w)).to_vec(),
-        indices: vec![0, 1, 2, 0, 2, 3],
-        ..Default::default()
+        ..crate::renderer::tests::quad()
     }
 }
 
