@@ -60,8 +60,8 @@ pub struct Showcase {
     lamp_light: usize,
     /// The last frame's draws by group, when counted ([`Showcase::count_draws`]).
     draws: Option<ibr_layer::DrawGroups>,
-    /// How many times smaller each way the clouds (their particles, fog and images) are
-    /// shaded ([`Renderer::set_low_res_scale`], set on the renderer by each
+    /// How many times smaller each way the clouds' particles and fog (not their images,
+    /// which write depth) are shaded, on the frames they fill the view ([`Renderer::set_low_res_scale`], set on the renderer by each
     /// [`Showcase::render`]): [`CLOUD_LOW_RES`] by default, 1 for full resolution.
     pub low_res_scale: u32,
 }

@@ -15,12 +15,18 @@
 //!    operator is associative, so the small target's one layer stands for all its draws);
 //! 3. `late`: the other blended draws (smoke, lasers, glass), over the result.
 //!
-//! So a low-resolution draw is drawn before every blended draw of the third pass, whatever
-//! their depths: a laser behind a cloud shows over it. Only alpha-blended draws that
-//! write no depth take the small target (additive ones and those writing depth stay in
-//! their full-resolution pass). The small target has the frame's encoding (8 bits a
-//! channel): the composite differs from shading the same draws at full resolution by the
-//! upsampling and that rounding.
+//! So the passes' order replaces depth order among blended draws: a low-resolution draw is
+//! drawn after every depth-writing blended draw of the first pass (an impostor's image: a
+//! cloud behind it shows over the image's fringe, where its alpha is under the depth it
+//! writes from) and before every blended draw of the third, whatever their depths (a laser
+//! behind a cloud shows over it). Only alpha-blended draws that write no depth take the
+//! small target (additive ones and those writing depth stay in their full-resolution pass).
+//! Besides the upsampling, the composite differs from shading the same draws at full
+//! resolution by the small target's rounding (the frame's encoding, 8 bits a channel) and by
+//! the small target's depth being the nearest under each of its pixels: a fragment is tested,
+//! and a soft particle fades, against that nearest surface, so beside an occluder's outline
+//! a band of one small pixel loses what lies behind the occluder's depth (the composite
+//! then takes the colour from a tap beyond, where one is alike in depth).
 //!
 //! The pixels are the same at any thread count (every pass is), and a frame without such
 //! draws, or with a scale of 1, is the single ordinary pass.
@@ -36,9 +42,11 @@ use crate::target::{offset_in_tile, Target, TILE, TILE_PIXELS};
 use rayon::prelude::*;
 use std::time::Instant;
 
-/// Two depths (reversed: proportional to the inverse of view depth for a perspective
-/// camera) are alike when they differ by at most this share of the larger: view depths
-/// within a third of each other.
+/// Two stored depths are alike when they differ by at most this share of the larger. The
+/// stored depth of a perspective camera is about its near distance over the view depth
+/// while the far plane lies well beyond (view depths within a third of each other are
+/// alike); toward the far plane, where it falls to 0, and for orthographic cameras (linear
+/// depth), the test is stricter, and more pixels take `composite`'s fallback.
 const ALIKE: f32 = 0.25;
 
 /// The scratch memory of the low-resolution pass, kept frame to frame.

@@ -232,8 +232,7 @@ impl Cloud {
     }
 
     /// Pixels of the last prepared view its particle quads fill (their areas summed, each
-    /// clipped to the view; 0 for other projections than perspective): what drawing the
-    /// particles shades, about.
+    /// clipped to the near plane and the image): what drawing the particles shades, about.
     pub fn fill(&self) -> f32 {
         self.fill
     }
