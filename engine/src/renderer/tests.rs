@@ -48,12 +48,22 @@ pub(super) fn render_with(
     draws: Vec<Draw<'_>>,
     threads: usize,
 ) -> (Target, FrameStats) {
+    render_sized(renderer, draws, threads, (SIZE, SIZE))
+}
+
+/// [`render_with`] into a target of `size`.
+pub(super) fn render_sized(
+    renderer: &mut Renderer,
+    draws: Vec<Draw<'_>>,
+    threads: usize,
+    size: (u32, u32),
+) -> (Target, FrameStats) {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("pool");
-    let mut target = Target::new(SIZE, SIZE);
+    let mut target = Target::new(size.0, size.1);
     let opts = FrameOptions::default();
     let stats =
         pool.install(|| renderer.render(draws, &camera, &Lighting::default(), &mut target, &opts));

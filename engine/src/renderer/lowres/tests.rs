@@ -95,31 +95,16 @@ impl Scene {
     }
 }
 
+/// The renderer tests' camera and pool, at low-resolution `scale`.
 fn render(
     draws: &[Draw<'_>],
     scale: u32,
     threads: usize,
     size: (u32, u32),
 ) -> (Target, FrameStats) {
-    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
     let mut renderer = Renderer::new();
     renderer.set_low_res_scale(scale);
-    let mut target = Target::new(size.0, size.1);
-    let opts = FrameOptions::default();
-    let stats = pool.install(|| {
-        renderer.render(
-            draws.iter().copied(),
-            &camera,
-            &Lighting::default(),
-            &mut target,
-            &opts,
-        )
-    });
-    (target, stats)
+    crate::renderer::tests::render_sized(&mut renderer, draws.to_vec(), threads, size)
 }
 
 /// The largest channel difference between two pixels, in levels.
