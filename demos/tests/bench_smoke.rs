@@ -204,7 +204,8 @@ fn scaling_sweep_writes_csv_and_png_charts() {
         "{geo:?}"
     );
     assert!(num(imp[0], "triangles_set_up") < num(geo[0], "triangles_set_up"));
-    // Twice the resolution each way: about 4x the impostor fragments, the same triangles.
+    // Twice the resolution each way: about 4x the impostor fragments, about the same
+    // triangles.
     let res = of("resolution", "impostors");
     let ratio = num(res[1], "fragments_shaded") / num(res[0], "fragments_shaded");
     assert!(
@@ -212,10 +213,10 @@ fn scaling_sweep_writes_csv_and_png_charts() {
         "{res:?}"
     );
     assert!((3.2..=4.8).contains(&ratio), "{ratio} {res:?}");
-    assert_eq!(
-        num(res[0], "triangles_set_up"),
-        num(res[1], "triangles_set_up")
-    );
+    // About the same triangles: each image's quad is the mesh over its covered cells of an
+    // 8 x 8 grid whatever its texels, which a finer image may trace a cell or two apart.
+    let tris = num(res[1], "triangles_set_up") / num(res[0], "triangles_set_up");
+    assert!((0.8..=1.25).contains(&tris), "{tris} {res:?}");
 
     assert_charts(
         &dir,

@@ -165,7 +165,10 @@ fn impostor_frames_cost_pixels_not_triangles() {
         for f in &cities {
             let g = f[s].geometry;
             assert_eq!(g.triangles_in, f[s].triangles as u64);
-            assert!(f[s].impostors[0].triangles_in < 2 * 64 + 4);
+            // A few triangles a building (its image's mesh over its covered cells: a band
+            // or a few) and the ground's, whatever the buildings' triangles.
+            let imp = &f[s].impostors[0];
+            assert!(imp.triangles_in < 8 * 64 + 4, "{imp:?}");
             assert!(
                 close(g.fragments_shaded, small[s].geometry.fragments_shaded, 0.01),
                 "{g:?} {:?}",
@@ -188,7 +191,7 @@ fn impostor_frames_cost_pixels_not_triangles() {
         large[last].geometry
     );
 
-    // Doubling the resolution in each axis: 4x the fragments, the same triangles.
+    // Doubling the resolution in each axis: 4x the fragments, about the same triangles.
     for city in &cities {
         for pair in city.windows(2) {
             for k in 0..2 {
@@ -197,7 +200,10 @@ fn impostor_frames_cost_pixels_not_triangles() {
                     "{} triangles, {:?} -> {:?}: {a:?} {b:?}",
                     pair[0].triangles, pair[0].size, pair[1].size
                 );
-                assert_eq!(a.triangles_set_up, b.triangles_set_up, "{what}");
+                // About the same triangles: each image's mesh over its covered cells of a
+                // coarse grid, which a finer image may trace a cell or two apart.
+                let tris = b.triangles_set_up as f64 / a.triangles_set_up.max(1) as f64;
+                assert!((0.8..=1.25).contains(&tris), "{tris}: {what}");
                 for (x, y) in [
                     (a.fragments_shaded, b.fragments_shaded),
                     (a.fragments_written, b.fragments_written),

@@ -70,6 +70,7 @@
 //! assert_ne!(target.pixel(w / 2, h / 2), target.pixel(0, 0));
 //! ```
 
+mod cells;
 mod plan;
 mod predict;
 mod refresh;

@@ -2,13 +2,13 @@
 //! run side by side on the thread pool, each on a worker of its own (one [`Capturer`]): it
 //! captures, copies the image into its texture (with mipmaps), and measures what the
 //! image covers and its gradients (and, for a relief, its depth grid, [`super::relief`]);
-//! the texture is then swapped into the pool and the quad trimmed to the covered part, or
-//! the relief built over it.
+//! the texture is then swapped into the pool and the quad trimmed to the covered cells
+//! ([`super::cells`]), or the relief built over the covered part.
 
+use super::cells::Cells;
 use super::{relief, Capture, ImpostorSet, Mode, Shape};
 use crate::core::Rect;
 use crate::core::Subject;
-use crate::core::{push_quad, UvRect};
 use crate::core::{refresh_side_by_side, Refresher};
 use engine::{FrameStats, Lighting, Rgba, Target, Texture};
 use glam::Vec3;
@@ -129,6 +129,7 @@ impl ImpostorSet {
             gradient,
             depth_gradient,
             covered,
+            ..
         } = w.measured;
         let capture = Capture {
             gradient,
@@ -140,28 +141,20 @@ impl ImpostorSet {
         let m = &mut imp.quad;
         m.clear();
         imp.coverage = 0.0;
-        // Trim the quad to the covered part of the image (one texel of margin for the
-        // bilinear fringe): tall or flat subjects leave much of the square empty, and every
-        // empty texel on screen would still be shaded and blended. A relief is built over
-        // the same part.
+        // Trim the quad to the covered cells of the image, within the covered part (one
+        // texel of margin for the bilinear fringe): tall or flat subjects and clusters of
+        // small objects leave much of the square empty, and every empty texel on screen
+        // would still be tested and shaded. A relief is built over the covered part.
         if let Some(corners) = &w.corners {
             imp.coverage = relief::write_box(&capture, corners, m);
         } else if w.grid.rect.is_some() {
             imp.coverage = relief::write(&capture, &w.grid, m);
         } else if let Some(r) = covered {
             let r = r.grow(1, side, side);
-            let f = |p: u32| p as f32 / side as f32;
-            let (u0, u1, v0, v1) = (f(r.x), f(r.x + r.width), f(r.y), f(r.y + r.height));
             let [_, _, tr, tl] = capture.corners;
             let down = capture.corners[0] - tl;
-            let at = |u: f32, v: f32| tl + (tr - tl) * u + down * v;
-            let quad = [at(u0, v1), at(u1, v1), at(u1, v0), at(u0, v0)];
-            let uv = UvRect {
-                min: glam::Vec2::new(u0, v0),
-                max: glam::Vec2::new(u1, v1),
-            };
-            push_quad(m, quad, uv, Rgba::WHITE, 1.0);
-            imp.coverage = (u1 - u0) * (v1 - v0);
+            let at = |uv: glam::Vec2| tl + (tr - tl) * uv.x + down * uv.y;
+            imp.coverage = w.measured.cells.write(r, at, m);
         }
         m.colors.clear();
         imp.capture = Some(capture);
@@ -182,6 +175,8 @@ impl ImpostorSet {
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Measured {
     pub(super) covered: Option<Rect>,
+    /// The cells of a coarse grid within a texel of a covered texel.
+    pub(super) cells: Cells,
     /// [`Capture::gradient`].
     pub(super) gradient: f32,
     /// [`Capture::depth_gradient`].
@@ -224,6 +219,7 @@ pub(super) fn measure(t: &Target, c: &Capture, rows: &mut Rows) -> Measured {
     };
     let (mut sum, mut weighted, mut n) = (0u64, 0f64, 0u64);
     let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, u32::MAX, 0, 0);
+    let mut cells = Cells::new(w as u32);
     if h > 0 {
         let [px0, px1] = &mut rows.px;
         let [off0, off1] = &mut rows.off;
@@ -237,6 +233,9 @@ pub(super) fn measure(t: &Target, c: &Capture, rows: &mut Rows) -> Measured {
                 let last = px0.iter().rposition(|p| p >> 24 != 0).unwrap_or(first);
                 (x0, x1) = (x0.min(first), x1.max(last + 1));
                 (y0, y1) = (y0.min(y), y + 1);
+                let covered = px0[first..=last].iter().enumerate();
+                let covered = covered.filter(|(_, p)| *p >> 24 != 0);
+                cells.mark_row(y, covered.map(|(x, _)| (first + x) as u32));
             }
             for x in 0..w {
                 let (p, dp) = (px0[x], off0[x]);
@@ -261,6 +260,7 @@ pub(super) fn measure(t: &Target, c: &Capture, rows: &mut Rows) -> Measured {
     let n = n.max(1);
     Measured {
         covered: (x1 > 0).then(|| Rect::new(x0 as u32, y0, (x1 - x0) as u32, y1 - y0)),
+        cells,
         gradient: sum as f32 / n as f32,
         depth_gradient: (weighted / n as f64) as f32,
     }
