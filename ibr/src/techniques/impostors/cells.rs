@@ -42,16 +42,27 @@ impl Cells {
         ((u64::from(c) * u64::from(self.side)).div_ceil(u64::from(self.n))) as u32
     }
 
-    /// Marks texel row `y`, whose texels `covered` says are covered (by column), and the
-    /// cells within one texel of each.
+    /// Marks texel row `y`, whose texels `covered` says are covered (columns ascending),
+    /// and the cells within one texel of each: a run of covered texels marks the cells
+    /// from its first texel's left neighbour to its last one's right neighbour.
     pub(super) fn mark_row(&mut self, y: u32, covered: impl Iterator<Item = u32>) {
         let last = self.side.saturating_sub(1);
-        let mut bits = 0u32;
+        let span = |(a, b): (u32, u32)| {
+            let (c0, c1) = (self.cell(a.saturating_sub(1)), self.cell((b + 1).min(last)));
+            (u32::MAX >> (31 - c1)) & (u32::MAX << c0)
+        };
+        let (mut bits, mut run) = (0u32, None);
         for x in covered {
-            bits |= 1 << self.cell(x.saturating_sub(1));
-            bits |= 1 << self.cell(x);
-            bits |= 1 << self.cell((x + 1).min(last));
+            run = match run {
+                Some((a, b)) if x == b + 1 => Some((a, x)),
+                Some(r) => {
+                    bits |= span(r);
+                    Some((x, x))
+                }
+                None => Some((x, x)),
+            };
         }
+        bits |= run.map_or(0, span);
         if bits == 0 {
             return;
         }

@@ -240,7 +240,7 @@ pub struct Impostor {
     /// Times re-rendered.
     pub refreshes: u64,
     quad: Mesh,
-    /// The share of its capture's square that its quad, trimmed to the covered texels,
+    /// The share of its capture's square that its quad, trimmed to its covered cells,
     /// covers (0 to 1): what drawing it shades, against the square.
     coverage: f32,
     /// Drawn by the planner in its last frame ([`ImpostorSet::rebuild_life`]).
