@@ -31,9 +31,12 @@ impl Cells {
         }
     }
 
-    /// The cell column (or row) of texel column (or row) `x`.
+    /// The cell column (or row) of texel column (or row) `x`; the last cell for a texel
+    /// past the side (a taller image than wide is not one of the square captures, but
+    /// marks its bottom rows in the last row of cells rather than panicking).
     fn cell(&self, x: u32) -> u32 {
-        ((u64::from(x) * u64::from(self.n)) / u64::from(self.side.max(1))) as u32
+        let c = (u64::from(x) * u64::from(self.n)) / u64::from(self.side.max(1));
+        c.min(u64::from(self.n - 1)) as u32
     }
 
     /// The first texel column (or row) of cell `c` (`side` for `c = n`): the cells are the

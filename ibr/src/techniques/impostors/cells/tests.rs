@@ -130,3 +130,12 @@ fn neighbouring_bands_meet_vertex_to_vertex() {
     check(6, &[(1, 2), (2, 0)]).unwrap();
     check(16, &[(2, 2), (12, 3), (7, 8), (1, 14), (14, 14)]).unwrap();
 }
+
+#[test]
+fn rows_past_the_side_do_not_panic() {
+    let mut cells = Cells::new(8);
+    cells.mark_row(20, [3, 30].into_iter());
+    let mut m = Mesh::default();
+    let share = cells.write(Rect::new(0, 0, 8, 8), |uv| uv.extend(0.0), &mut m);
+    assert!(share > 0.0 && share <= 1.0, "{share}");
+}
