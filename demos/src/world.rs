@@ -76,10 +76,10 @@ impl World {
             (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
         ] {
             let mesh = building(Vec3::new(3.2, 7.0 + k as f32, 3.0), k, wall);
-            building_lods.push(vec![(
-                Arc::new(merged_building(&mesh, k)),
-                MERGED_DEVIATION,
-            )]);
+            building_lods.push(vec![
+                (Arc::new(merged_building(&mesh, k)), MERGED_DEVIATION),
+                (Arc::new(boxed_building(&mesh, k)), cell_side(&mesh, k)),
+            ]);
             protos.push((Arc::new(mesh), plain.clone()));
         }
         for (kind, seed) in [(TreeKind::Pine, 3), (TreeKind::Broadleaf, 4)] {
@@ -304,12 +304,69 @@ pub fn merged_building(full: &Mesh, k: u32) -> Mesh {
     m
 }
 
+/// The building `full` ([`building`] with `k` x `k` cells a face) as its box: each face
+/// one quad (10 triangles) of the face's mean colour (its triangles' vertex colours
+/// averaged by area, as the cells are equal), the coarsest level of the world's buildings.
+/// It drops the windows, features a cell high ([`cell_side`]), so it is drawn only where a
+/// cell projects within the level-of-detail tolerance (half a pixel at 360 rows): there
+/// the windows are under a pixel, and a point-sampled pixel on the face is wall or window
+/// by where its centre falls, which the mean stands for on average. Its vertices are the
+/// faces' corners, `full`'s own positions and normals.
+pub fn boxed_building(full: &Mesh, k: u32) -> Mesh {
+    let n = k as usize + 1;
+    let faces = full.positions.len() / (n * n);
+    let per_face = 2 * (k * k) as usize;
+    let mut m = Mesh::default();
+    for f in 0..faces {
+        let at = |i: usize, j: usize| f * n * n + j * n + i;
+        let triangles = full
+            .indices
+            .chunks_exact(3)
+            .skip(f * per_face)
+            .take(per_face);
+        let mut sum = [0.0f32; 4];
+        for t in triangles {
+            for &v in t {
+                let c = full.colors.get(v as usize).copied().unwrap_or(Rgba::WHITE);
+                for (s, x) in sum.iter_mut().zip([c.r, c.g, c.b, c.a]) {
+                    *s += x;
+                }
+            }
+        }
+        let w = 1.0 / (3 * per_face.max(1)) as f32;
+        let mean = Rgba::new(sum[0] * w, sum[1] * w, sum[2] * w, sum[3] * w);
+        let base = m.positions.len() as u32;
+        for v in [at(0, 0), at(n - 1, 0), at(n - 1, n - 1), at(0, n - 1)] {
+            m.positions.push(full.positions[v]);
+            if let Some(&normal) = full.normals.get(v) {
+                m.normals.push(normal);
+            }
+            m.colors.push(mean);
+        }
+        m.indices
+            .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
+    }
+    m
+}
+
+/// The largest side of a cell of the building `full` ([`building`] with `k` x `k` cells a
+/// face), object units: the deviation given its box ([`boxed_building`]), the size of the
+/// window bands the box drops.
+pub fn cell_side(full: &Mesh, k: u32) -> f32 {
+    let side = full
+        .bounding_box()
+        .map_or(0.0, |(lo, hi)| (hi - lo).max_element());
+    side / k.max(1) as f32
+}
+
 /// Triangles of the world's torus statue, and of its coarser levels of detail, finest
 /// first: the statues are 15% of the objects and over half the triangles, so the near
 /// ones drawn as geometry and the far field's captures take the coarsest level whose
 /// deviation projects within half a pixel ([`TreeConfig::lod_px`], [`FarConfig::lod_px`]);
-/// images of clusters and the measured error's reference draw the full mesh.
-pub const STATUE: (u32, [u32; 2]) = (3000, [800, 200]);
+/// images of clusters and the measured error's reference draw the full mesh. The two
+/// coarsest (a hexagonal and an octagonal ring) are for statues a few pixels across,
+/// `bench objects`' 100k shrunk to a tenth.
+pub const STATUE: (u32, [u32; 4]) = (3000, [800, 200, 96, 48]);
 
 /// The statue's levels of detail ([`STATUE`]), each with its deviation from the full mesh:
 /// both meshes' bounds from the true torus summed ([`procedural::torus_deviation`]).

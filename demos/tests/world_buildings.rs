@@ -1,11 +1,13 @@
 //! The world's buildings drawn as geometry through their level of detail of the same surface
 //! ([`merged_building`], issue 41): the same pixels as the full `k` x `k` mesh from near
 //! and far, in 24% to 41% of its triangles; and the planner's geometry in the world
-//! draws them, so its triangles fall while its frame stays that of all the geometry.
+//! draws them, so its triangles fall while its frame stays that of all the geometry. Where
+//! a cell is under half a pixel the building is its box ([`boxed_building`], 10
+//! triangles), the same outline in the faces' mean colours.
 //! Counters (triangles, pixels) against the full mesh and the full objects.
 
 use demos::city::{building, daylight};
-use demos::world::{merged_building, tree_planner, TreePlan, World};
+use demos::world::{boxed_building, cell_side, merged_building, tree_planner, TreePlan, World};
 use engine::{Camera, Draw, FrameOptions, Material, Renderer, Rgba, Shading, Target};
 use glam::{Mat4, Vec3};
 use ibr::subject::Subject;
@@ -85,9 +87,72 @@ fn a_merged_building_draws_the_full_buildings_pixels_in_fewer_triangles() {
     }
 }
 
+/// Each of the world's three buildings as its box has 10 triangles and, seen from the
+/// same 12 eyes, covers the full mesh's pixels (the count within 0.05%), and its pixels'
+/// mean colour in linear light, from the far eyes (40 units, where the perspective
+/// weighs a face's rows about alike), is the full mesh's within 2%: its faces are the
+/// full faces' mean colours, what the windows average to where they are under a pixel. Its
+/// deviation ([`cell_side`]) is a cell's largest side.
+#[test]
+fn a_boxed_building_covers_the_full_buildings_pixels_in_their_mean_colour() {
+    for (k, wall) in [
+        (6, Rgba::new(0.7, 0.6, 0.5, 1.0)),
+        (8, Rgba::new(0.55, 0.6, 0.68, 1.0)),
+        (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
+    ] {
+        let size = Vec3::new(3.2, 7.0 + k as f32, 3.0);
+        let full = building(size, k, wall);
+        let boxed = boxed_building(&full, k);
+        assert!(boxed.validate().is_ok());
+        assert_eq!(boxed.triangle_count(), 10, "k {k}");
+        assert!((cell_side(&full, k) - size.y / k as f32).abs() < 1e-4);
+        let mid = Vec3::new(0.0, size.y * 0.5, 0.0);
+        let (mut pixels, mut drawn, mut sums) = (0usize, [0usize; 2], [[0f64; 3]; 2]);
+        let mut far = [0usize; 2];
+        let linear = |b: u8| {
+            let c = f64::from(b) / 255.0;
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        for e in 0..12 {
+            let angle = e as f32 * 0.53;
+            let distance = [6.0, 14.0, 40.0][e % 3];
+            let up = [0.3, 0.8, 1.6][e / 4];
+            let eye = mid + Vec3::new(angle.cos(), up, angle.sin()) * distance;
+            let pictures = [picture(&full, eye, mid), picture(&boxed, eye, mid)];
+            let sky = pictures[0][..4].to_vec();
+            for (m, p) in pictures.iter().enumerate() {
+                for q in p.chunks_exact(4).filter(|q| q != &&sky[..]) {
+                    drawn[m] += 1;
+                    far[m] += usize::from(e % 3 == 2);
+                    for c in (0..3).filter(|_| e % 3 == 2) {
+                        sums[m][c] += linear(q[c]);
+                    }
+                }
+            }
+            pixels += pictures[0].len() / 4;
+        }
+        assert!(drawn[0] > pixels / 20, "k {k}: the building is in view");
+        let apart = drawn[0].abs_diff(drawn[1]);
+        assert!(apart * 2000 < pixels, "k {k}: drawn {drawn:?}");
+        for c in 0..3 {
+            let mean = |m: usize| sums[m][c] / far[m] as f64;
+            let (a, b) = (mean(0), mean(1));
+            assert!(
+                (a - b).abs() < 0.02 * a,
+                "k {k} channel {c}: {a} against {b}"
+            );
+        }
+    }
+}
+
 /// In the world (32 x 32 lots) at 640x360, the planner's objects drawn as geometry after
 /// its loading frames take at most 60% of the triangles their full meshes have (the
-/// buildings merged, the statues at their levels), and their buildings are merged.
+/// buildings merged, the statues at their levels), and their buildings are merged, or
+/// boxed where a cell projects within the half-pixel tolerance.
 #[test]
 fn the_worlds_geometry_draws_the_merged_buildings() {
     let world = World::new(32, 11);
@@ -116,8 +181,20 @@ fn the_worlds_geometry_draws_the_merged_buildings() {
             continue;
         };
         draws.clear();
-        object.draws_seen(eye, 1.0, 0.5, &mut draws);
-        assert_eq!(draws[0].mesh.triangle_count(), 24 * k + 2);
+        let part = &object.parts[0];
+        let ppr = ibr::plan::Sight::new(&camera, w, h, part.bounds()).px_per_radian;
+        object.draws_seen(eye, ppr, 0.5, &mut draws);
+        let t = part.transform;
+        let scale = [t.x_axis, t.y_axis, t.z_axis].map(|a| a.truncate().length());
+        let scale = scale.into_iter().fold(0.0, f32::max);
+        let distance = part.bounds().center.distance(eye) - part.bounds().radius;
+        let cell_px = cell_side(&part.mesh, k as u32) * scale * ppr / distance;
+        let expected = if cell_px <= 0.5 { 10 } else { 24 * k + 2 };
+        assert_eq!(
+            draws[0].mesh.triangle_count(),
+            expected,
+            "cell {cell_px} px"
+        );
         draws.clear();
         object.draws_seen(eye, 1.0, 0.0, &mut draws);
         assert_eq!(
