@@ -364,8 +364,8 @@ pub fn cell_side(full: &Mesh, k: u32) -> f32 {
 /// ones drawn as geometry and the far field's captures take the coarsest level whose
 /// deviation projects within half a pixel ([`TreeConfig::lod_px`], [`FarConfig::lod_px`]);
 /// images of clusters and the measured error's reference draw the full mesh. The two
-/// coarsest (a hexagonal and an octagonal ring) are for statues a few pixels across,
-/// `bench objects`' 100k shrunk to a tenth.
+/// coarsest (12 segments around the ring by 4 around the tube, and 8 by 3) are for
+/// statues a few pixels across, `bench objects`' 100k shrunk to a tenth.
 pub const STATUE: (u32, [u32; 4]) = (3000, [800, 200, 96, 48]);
 
 /// The statue's levels of detail ([`STATUE`]), each with its deviation from the full mesh:
