@@ -40,30 +40,47 @@ fn picture(mesh: &engine::Mesh, eye: Vec3, mid: Vec3) -> Vec<u8> {
     target.to_rgba8()
 }
 
+/// The world's three buildings (`k` cells a face, their size, the full mesh), as
+/// `World` builds them.
+fn buildings() -> Vec<(u32, Vec3, engine::Mesh)> {
+    [
+        (6, Rgba::new(0.7, 0.6, 0.5, 1.0)),
+        (8, Rgba::new(0.55, 0.6, 0.68, 1.0)),
+        (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
+    ]
+    .into_iter()
+    .map(|(k, wall)| {
+        let size = Vec3::new(3.2, 7.0 + k as f32, 3.0);
+        (k, size, building(size, k, wall))
+    })
+    .collect()
+}
+
+/// 12 eyes around `mid`, above it and close by: the `e`-th at 6, 14 or 40 units (`e % 3`),
+/// three heights (`e / 4`).
+fn eyes(mid: Vec3) -> impl Iterator<Item = (usize, Vec3)> {
+    (0..12).map(move |e| {
+        let angle = e as f32 * 0.53;
+        let distance = [6.0, 14.0, 40.0][e % 3];
+        let up = [0.3, 0.8, 1.6][e / 4];
+        (e, mid + Vec3::new(angle.cos(), up, angle.sin()) * distance)
+    })
+}
+
 /// Each of the world's three buildings merged has 24 `k` + 2 triangles (41%, 30% and 24%
 /// of 10 `k`^2 at `k` = 6, 8, 10) and, seen from 12 eyes around, above and close by, draws the full
 /// mesh's pixels: at most 0.02 levels of mean difference and under 0.05% of the pixels
 /// over 2 levels, the building's pixels (those not the sky's) the same count within 0.05%.
 #[test]
 fn a_merged_building_draws_the_full_buildings_pixels_in_fewer_triangles() {
-    for (k, wall) in [
-        (6, Rgba::new(0.7, 0.6, 0.5, 1.0)),
-        (8, Rgba::new(0.55, 0.6, 0.68, 1.0)),
-        (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
-    ] {
-        let size = Vec3::new(3.2, 7.0 + k as f32, 3.0);
-        let full = building(size, k, wall);
+    for (k, size, full) in buildings() {
         let merged = merged_building(&full, k);
         assert!(merged.validate().is_ok());
         assert_eq!(merged.triangle_count(), 24 * k as usize + 2, "k {k}");
         assert_eq!(full.triangle_count(), 10 * (k * k) as usize);
         let mid = Vec3::new(0.0, size.y * 0.5, 0.0);
         let (mut sum, mut over, mut pixels, mut drawn) = (0u64, 0usize, 0usize, [0usize; 2]);
-        for e in 0..12 {
-            let angle = e as f32 * 0.53;
-            let distance = [6.0, 14.0, 40.0][e % 3];
-            let up = [0.3, 0.8, 1.6][e / 4];
-            let eye = mid + Vec3::new(angle.cos(), up, angle.sin()) * distance;
+        for (_, eye) in eyes(mid) {
             let (a, b) = (picture(&full, eye, mid), picture(&merged, eye, mid));
             let sky = &a[..4].to_vec();
             for (p, q) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
@@ -95,13 +112,7 @@ fn a_merged_building_draws_the_full_buildings_pixels_in_fewer_triangles() {
 /// deviation ([`cell_side`]) is a cell's largest side.
 #[test]
 fn a_boxed_building_covers_the_full_buildings_pixels_in_their_mean_colour() {
-    for (k, wall) in [
-        (6, Rgba::new(0.7, 0.6, 0.5, 1.0)),
-        (8, Rgba::new(0.55, 0.6, 0.68, 1.0)),
-        (10, Rgba::new(0.72, 0.52, 0.42, 1.0)),
-    ] {
-        let size = Vec3::new(3.2, 7.0 + k as f32, 3.0);
-        let full = building(size, k, wall);
+    for (k, size, full) in buildings() {
         let boxed = boxed_building(&full, k);
         assert!(boxed.validate().is_ok());
         assert_eq!(boxed.triangle_count(), 10, "k {k}");
@@ -117,11 +128,7 @@ fn a_boxed_building_covers_the_full_buildings_pixels_in_their_mean_colour() {
                 ((c + 0.055) / 1.055).powf(2.4)
             }
         };
-        for e in 0..12 {
-            let angle = e as f32 * 0.53;
-            let distance = [6.0, 14.0, 40.0][e % 3];
-            let up = [0.3, 0.8, 1.6][e / 4];
-            let eye = mid + Vec3::new(angle.cos(), up, angle.sin()) * distance;
+        for (e, eye) in eyes(mid) {
             let pictures = [picture(&full, eye, mid), picture(&boxed, eye, mid)];
             let sky = pictures[0][..4].to_vec();
             for (m, p) in pictures.iter().enumerate() {
