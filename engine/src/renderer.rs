@@ -148,6 +148,9 @@ pub struct Renderer {
     workers: Vec<Worker>,
     infos: Vec<DrawInfo<'static>>,
     sort_keys: Vec<(u32, f32, u32)>,
+    /// Which positions of the frame's draws hold their sorted draw (scratch of
+    /// [`Renderer::order_draws`]).
+    placed: Vec<bool>,
     last: FrameStats,
     times: StageTimes,
     /// Draw tiles with the visibility pre-pass (see [`Renderer::set_visibility_prepass`]).
@@ -630,15 +633,30 @@ impl Renderer {
         }
         self.sort_keys
             .sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-        // Apply the permutation in place by cycle-walking (no allocation).
-        for i in 0..infos.len() {
-            let mut j = self.sort_keys[i].2 as usize;
-            while j < i {
-                j = self.sort_keys[j].2 as usize;
-            }
-            infos.swap(i, j);
-        }
+        let keys = &self.sort_keys;
+        permute(infos, |i| keys[i].2 as usize, &mut self.placed);
         kept
+    }
+}
+
+/// Reorders `items` in place so that position `i` holds the item that was at `from(i)`
+/// (`from` a permutation of the positions), one cycle at a time: each position is visited
+/// once, so this is linear in the items (walking each position's chain back instead took
+/// quadratic time on the orders a depth sort of 100,000 draws gives). `placed` is scratch.
+fn permute<T>(items: &mut [T], from: impl Fn(usize) -> usize, placed: &mut Vec<bool>) {
+    placed.clear();
+    placed.resize(items.len(), false);
+    for start in 0..items.len() {
+        let mut at = start;
+        while !placed[at] {
+            placed[at] = true;
+            let next = from(at);
+            if next == start {
+                break;
+            }
+            items.swap(at, next);
+            at = next;
+        }
     }
 }
 

@@ -458,3 +458,36 @@ fn cluster_occlusion_keeps_the_pixels() {
         assert!(s.triangles_occluded < off.triangles_binned, "{s:?}");
     }
 }
+
+proptest::proptest! {
+    /// Applying a sort's order to the draws puts at each position the draw the order
+    /// names, for any permutation (the order a depth sort gives draws has long cycles).
+    #[test]
+    fn permute_puts_each_item_where_its_order_says(
+        keys in proptest::collection::vec(proptest::prelude::any::<u16>(), 0..400)
+    ) {
+        let mut order: Vec<usize> = (0..keys.len()).collect();
+        order.sort_by_key(|&i| (keys[i], i));
+        let mut items: Vec<usize> = (0..keys.len()).map(|i| i * 7 + 1).collect();
+        let original = items.clone();
+        let mut placed = vec![true; 3];
+        permute(&mut items, |i| order[i], &mut placed);
+        for (i, &item) in items.iter().enumerate() {
+            proptest::prop_assert_eq!(item, original[order[i]]);
+        }
+    }
+}
+
+/// A reversed order of many draws (one cycle pair after another) and a rotation (one long
+/// cycle) are applied exactly.
+#[test]
+fn permute_handles_long_cycles_and_reversals() {
+    let n = 100_000;
+    let mut placed = Vec::new();
+    let mut items: Vec<usize> = (0..n).collect();
+    permute(&mut items, |i| n - 1 - i, &mut placed);
+    assert!(items.iter().enumerate().all(|(i, &x)| x == n - 1 - i));
+    let mut items: Vec<usize> = (0..n).collect();
+    permute(&mut items, |i| (i + 1) % n, &mut placed);
+    assert!(items.iter().enumerate().all(|(i, &x)| x == (i + 1) % n));
+}
