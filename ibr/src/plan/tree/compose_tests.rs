@@ -77,3 +77,21 @@ fn a_composed_image_keeps_the_error_of_the_images_it_drew() {
     assert!(third.mean_error > plain.mean_error, "{third:?} {plain:?}");
     assert!(third.max_error <= 40.0, "{third:?}");
 }
+
+#[test]
+fn a_node_whose_childrens_images_will_do_is_opened_not_rebuilt() {
+    // Backing off closes the cut: without composing, each node of the closer cut was
+    // rebuilt from its objects (32 images, 32 rebuilds, before this rule). Where both of a
+    // node's children still show within the budget as they are, the cut now draws them and
+    // spends no rebuild on the node.
+    let (h, [first, second, third]) = back_off(0.0);
+    assert!(
+        first.images > 0 && first.rebuilds == first.images,
+        "{first:?}"
+    );
+    assert!(second.rebuilds > 0, "{second:?}");
+    assert!(second.images > second.rebuilds, "{second:?}");
+    assert!(second.max_error <= 40.0 && second.over == 0, "{second:?}");
+    assert_eq!(third.rebuilds, 0, "{third:?}");
+    assert!(drawn(&h).iter().all(|&n| n <= 1));
+}

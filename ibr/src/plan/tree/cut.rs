@@ -4,7 +4,8 @@
 //! A node off the view is skipped whole. A node in view is drawn as one image (of the
 //! image representations given, the cheapest whose predicted error, as it is or rebuilt
 //! this frame within the rebuild budget, is within [`TreeConfig::budget`]); else its
-//! children are considered; a leaf that no image will do for draws its objects' geometry
+//! children are considered (also when the node's image would have to be rebuilt but both
+//! children's images are within the budget as they are: drawing those costs no rebuild); a leaf that no image will do for draws its objects' geometry
 //! (each in view). When the rebuild budget is spent, a node whose image errs within
 //! [`TreeConfig::stale`] times the budget is drawn stale (counted in
 //! [`TreeReport::over`]) rather than opened. Planning asks estimates only of the nodes it
@@ -347,8 +348,12 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
                 let ms = report.rebuild_ms + f.rebuild + cfg.capture_ms;
                 report.rebuilds < cfg.rebuilds && ms <= rebuild_ms
             };
+            let open_instead = as_is.is_none()
+                && fresh.is_some()
+                && self.children_will_do(k as usize, &base, &mut report.estimates);
             let take = match (as_is, fresh) {
                 (Some(a), _) => Some(a),
+                (None, Some(_)) if open_instead => None,
                 (None, Some(f)) if room(&f) => {
                     report.rebuilds += 1;
                     report.rebuild_ms += f.rebuild + cfg.capture_ms;

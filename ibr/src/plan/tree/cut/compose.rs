@@ -176,3 +176,33 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             .then_some((composed, triangles))
     }
 }
+
+impl<S: Subject + Send + Sync> Hierarchy<S> {
+    /// Whether node `k` is better opened than rebuilt: every child holds an image (of some
+    /// representation) within the budget as it is, seen from `base`'s eye, so opening it
+    /// draws two images at no rebuild, where rebuilding spends the frame's rebuild budget
+    /// on what is already shown within the budget.
+    pub(super) fn children_will_do(
+        &self,
+        k: usize,
+        base: &Sight<'_>,
+        estimates: &mut usize,
+    ) -> bool {
+        let node = self.tree.nodes()[k];
+        if node.is_leaf() {
+            return false;
+        }
+        node.children.iter().all(|&child| {
+            let c = child as usize;
+            let cluster = &self.clusters[c];
+            let sight = base
+                .at(self.tree.nodes()[c].sphere())
+                .with_corners(cluster.corners());
+            self.reps.iter().any(|rep| {
+                let e = rep.estimate(c, cluster, &sight);
+                *estimates += usize::from(e.is_some());
+                e.is_some_and(|e| e.error + self.inherited[c] <= self.config.budget)
+            })
+        })
+    }
+}
