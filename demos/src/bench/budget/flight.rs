@@ -47,6 +47,7 @@ pub(super) struct Sample {
     /// field), and the node images' triangles ([`ibr::plan::tree::TreeReport::captured_triangles`]).
     capture_ms: f32,
     captured: usize,
+    captured_draws: usize,
     /// Of `capture_ms`, the far field's; its tiles captured; the node images' rebuilds'
     /// predicted milliseconds ([`ibr::plan::tree::TreeReport::rebuild_ms`]).
     far_ms: f32,
@@ -99,6 +100,7 @@ impl Probe for Hierarchy<MeshGroup> {
             planning_ms: r.planning_ms,
             capture_ms: r.capture_ms,
             captured: r.captured_triangles,
+            captured_draws: r.captured_draws,
             far_ms: r.far_ms,
             far_tiles: r.far.tiles,
             rebuild_ms: r.rebuild_ms,
@@ -225,8 +227,8 @@ pub(super) fn fly_with<T: Probe>(
             let (ft, st, fs) = (frame_loop.times, renderer.stage_times(), renderer.stats());
             let ms = |d: Duration| d.as_secs_f64() * 1e3;
             let p = out.probes.last().copied().unwrap_or_default();
-            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {} rebuilds {} capture_ms {:.2} captured {} far_ms {:.2} far_tiles {} predicted_rebuild_ms {:.3} composed {} composed_texels {}",
-                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended, p.rebuilds, p.capture_ms, p.captured, p.far_ms, p.far_tiles, p.rebuild_ms, p.composed, p.composed_texels);
+            eprintln!("stages {w}x{h} f{k} total {:.2} prepare {:.2} render {:.2} passes {:.2} vertex {:.2} front {:.2} tiles {:.2} draws {} tri_in {} setup {} frag_tested {} frag_shaded {} blended {} rebuilds {} capture_ms {:.2} captured {} captured_draws {} far_ms {:.2} far_tiles {} predicted_rebuild_ms {:.3} composed {} composed_texels {}",
+                ms(ft.total), ms(ft.prepare), ms(ft.render), ms(ft.passes), ms(st.vertex), ms(st.front), ms(st.tiles), fs.draws, fs.triangles_in, fs.triangles_set_up, fs.fragments_tested, fs.fragments_shaded, fs.fragments_shaded_blended, p.rebuilds, p.capture_ms, p.captured, p.captured_draws, p.far_ms, p.far_tiles, p.rebuild_ms, p.composed, p.composed_texels);
         }
         let mut all: Vec<Draw<'_>> = ground.clone();
         scene.objects.iter().for_each(|o| o.draws(&mut all));

@@ -119,8 +119,10 @@ pub struct TreeReport {
     /// and measured ones (the captures' wall time: reported only, never planned with, so
     /// the cut does not depend on the machine's load),
     pub capture_ms: f32,
-    /// and the triangles their captures drew (at [`TreeConfig::capture_lod`]).
+    /// and the triangles their captures drew (at [`TreeConfig::capture_lod`]),
     pub captured_triangles: usize,
+    /// in this many draws.
+    pub captured_draws: usize,
     /// Images drawn over the budget (stale, the rebuild budget spent).
     pub over: usize,
     /// Predicted error of the images, weighted by their pixels,
@@ -517,6 +519,7 @@ impl<S: Subject + Send + Sync> Hierarchy<S> {
             let mut scratch = Vec::new();
             for &k in batch.iter() {
                 report.captured_triangles += self.clusters[k].captured_triangles(&mut scratch);
+                report.captured_draws += scratch.len();
             }
             rep.rebuild(batch, &mut self.clusters, view);
             for &k in batch.iter() {
