@@ -5,8 +5,8 @@
 //! image representations given, the cheapest whose predicted error, as it is or rebuilt
 //! this frame within the rebuild budget, is within [`TreeConfig::budget`]); else its
 //! children are considered (also when the node's image would have to be rebuilt but both
-//! children's images are within the budget as they are: drawing those costs no rebuild); a leaf that no image will do for draws its objects' geometry
-//! (each in view). When the rebuild budget is spent, a node whose image errs within
+//! children's images are within the budget as they are: drawing those costs no rebuild);
+//! a leaf that no image will do for draws its objects' geometry (each in view). When the rebuild budget is spent, a node whose image errs within
 //! [`TreeConfig::stale`] times the budget is drawn stale (counted in
 //! [`TreeReport::over`]) rather than opened. Planning asks estimates only of the nodes it
 //! visits: its cost follows the nodes opened, not the objects in the world.
