@@ -2,8 +2,9 @@
 //! the pixels of submission order, and keep them at any thread count; an opaque draw
 //! without depth test keeps its place.
 
+use super::order::permute;
 use super::*;
-use crate::material::Material;
+use crate::material::{AlphaMode, Material};
 use glam::Mat4;
 
 const SIZE: u32 = 64;
