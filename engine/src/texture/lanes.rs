@@ -2,11 +2,10 @@
 //! tables (`LinearLevel`), with the same filtering (and the same odd-coordinate rules) as
 //! the scalar [`Texture::sample`].
 //!
-//! Unorm textures whose bytes are premultiplied (or opaque) are read as the stored bytes
-//! (`Texture::bytes`): 4 bytes a texel, and where every kept lane's two texels of a row
-//! are neighbours in the table (not at a wrapped edge nor a block's last column) both in
-//! one 8-byte gather, so a bilinear tap is 4 gathers instead of 8. The 16-bit copy holds
-//! the same values (byte times 257), so the two paths agree to float rounding.
+//! Every table holds 4 bytes a texel (the stored bytes, or the square roots of their linear
+//! values: `Texture::squared`), and where every kept lane's two texels of a row are
+//! neighbours in the table (not at a wrapped edge nor a block's last column) both are read
+//! in one 8-byte gather, so a bilinear tap-set is 4 gathers instead of 8.
 
 use super::{Filter, Sampler, Texture, Wrap, BLOCK, BLOCK_SHIFT};
 use crate::simd::{F8, I8, M8};
@@ -14,7 +13,8 @@ use crate::simd::{F8, I8, M8};
 impl Texture {
     /// Samples 8 points `(u, v)` with one level of detail for all of them (as GPUs share
     /// one per 2x2 quad). Returns premultiplied linear `[r, g, b, a]`; the same filtering
-    /// as [`Texture::sample`], from the 16-bit linear copy of the texels.
+    /// as [`Texture::sample`], from the blocked byte tables (within the rounding
+    /// [`Texture::squared`] states of it).
     #[inline]
     pub fn sample8(&self, s: &Sampler, u: F8, v: F8, lod: f32) -> [F8; 4] {
         self.sample8_lanes(s, u, v, lod, M8::from_bits(0xff))
@@ -81,7 +81,7 @@ impl Texture {
         let (sx, sy) = (one - tx, one - ty);
         let w = [sx * sy, tx * sy, sx * ty, tx * ty];
         let (xa, xb) = (self.col8(xa), self.col8(xb));
-        if self.bytes && keep.and_not(xb.eq(xa + I8::splat(1))).bits() == 0 {
+        if keep.and_not(xb.eq(xa + I8::splat(1))).bits() == 0 {
             // Every kept lane's right texel follows its left one in the table (the same
             // row of the same block).
             let t = &self.linear[level].bytes;
@@ -115,38 +115,34 @@ impl Texture {
     /// of `keep` (zeros elsewhere).
     #[inline(always)]
     fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
-        if self.bytes {
-            let t = &self.linear[level].bytes;
-            let px = idx.map(|i| I8::gather_u32_lanes(t, i, keep));
-            return self.weigh_bytes(px, w, keep);
-        }
-        let lin = &self.linear[level];
-        let low = I8::splat(0xffff);
-        let scale = F8::splat(1.0 / 65535.0);
-        let mut acc = [F8::splat(0.0); 4];
-        for k in 0..4 {
-            let (rg, ba) = I8::gather_pairs_lanes(&lin.rgba, idx[k], keep);
-            let wk = w[k] * scale;
-            acc[0] = rg.and(low).to_f32().mul_add(wk, acc[0]);
-            acc[1] = rg.shr::<16>().to_f32().mul_add(wk, acc[1]);
-            acc[2] = ba.and(low).to_f32().mul_add(wk, acc[2]);
-            acc[3] = ba.shr::<16>().to_f32().mul_add(wk, acc[3]);
-        }
-        acc
+        let t = &self.linear[level].bytes;
+        let px = idx.map(|i| I8::gather_u32_lanes(t, i, keep));
+        self.weigh_bytes(px, w, keep)
     }
 
-    /// The weighted sum of four taps of stored unorm bytes (premultiplied or opaque), for
-    /// the lanes of `keep` (zeros elsewhere); an opaque texture's alpha is 1.
+    /// The weighted sum of four taps of a byte table, as premultiplied linear colour (the
+    /// colour bytes squared when [`Texture::squared`]), for the lanes of `keep` (zeros
+    /// elsewhere); an opaque texture's alpha is 1.
     #[inline(always)]
     fn weigh_bytes(&self, px: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
         let byte = I8::splat(0xff);
         let scale = F8::splat(1.0 / 255.0);
+        // 1 / 255^2 itself: (1 / 255)^2 in f32 times 255^2 rounds to just above 1.
+        let scale2 = F8::splat(1.0 / 65025.0);
         let mut acc = [F8::splat(0.0); 4];
         for k in 0..4 {
             let wk = w[k] * scale;
-            acc[0] = px[k].and(byte).to_f32().mul_add(wk, acc[0]);
-            acc[1] = px[k].shr::<8>().and(byte).to_f32().mul_add(wk, acc[1]);
-            acc[2] = px[k].shr::<16>().and(byte).to_f32().mul_add(wk, acc[2]);
+            let colour = [px[k], px[k].shr::<8>(), px[k].shr::<16>()].map(|c| c.and(byte).to_f32());
+            if self.squared {
+                let wk2 = w[k] * scale2;
+                for c in 0..3 {
+                    acc[c] = (colour[c] * colour[c]).mul_add(wk2, acc[c]);
+                }
+            } else {
+                for c in 0..3 {
+                    acc[c] = colour[c].mul_add(wk, acc[c]);
+                }
+            }
             if !self.opaque {
                 acc[3] = px[k].shr::<24>().to_f32().mul_add(wk, acc[3]);
             }

@@ -66,35 +66,34 @@ pub struct Texture {
     levels: Vec<MipLevel>,
     encoding: Encoding,
     premultiplied: bool,
-    /// Every level laid out for the 8-lane sampler ([`Texture::sample8`]): the 16-bit
-    /// copy, or the stored bytes when `bytes` is set, in blocks.
+    /// Every level laid out for the 8-lane sampler ([`Texture::sample8`]), 4 bytes a texel
+    /// in blocks: the stored bytes themselves, or their square roots (`squared`).
     linear: Vec<LinearLevel>,
     /// Every texel of level 0 has alpha 255 (so every level's does).
     opaque: bool,
-    /// The 8-lane sampler reads the stored bytes themselves: unorm texels that are
-    /// premultiplied already (or opaque, where straight is premultiplied), whose linear
-    /// value is the byte over 255, so the 16-bit copy would hold the same numbers (byte
-    /// times 257) in twice the memory. Half the bytes a tap, and a row's two neighbours in
-    /// one 8-byte read.
-    bytes: bool,
+    /// How the 8-lane sampler's bytes hold premultiplied linear colour. `false`, for unorm
+    /// textures: the byte over 255, the stored bytes themselves when they are premultiplied
+    /// already (or opaque, where straight is premultiplied), else the stored colour times
+    /// alpha rounded to a byte (within half a step, as unorm bytes are). `true`, for sRGB
+    /// textures: each channel's premultiplied linear value `c` as `round(255 sqrt(c))`
+    /// (alpha as stored), squared when read. Like sRGB, the square root spends the 8 bits where the eye tells levels
+    /// apart; a sample is within `(sqrt(c) + 0.002) / 255` of the stored texels' exact
+    /// linear value (the scalar [`Texture::sample`]'s: at most 0.64 of a step of the sRGB
+    /// bytes, 0.28 on average over the 256), and a tap reads 4 bytes, a row's two
+    /// neighbours in one 8-byte read (a 16-bit linear copy read 8 bytes a texel, one
+    /// gather each).
+    squared: bool,
 }
 
-/// One level laid out for the 8-lane sampler, in one of two tables: `rgba`, premultiplied
-/// linear colour in 16-bit channels, one `u64` a texel (`r | g << 16 | b << 32 | a << 48`;
-/// a bilinear tap is one 8-byte load per lane and a few shifts, with no table lookups; 16
-/// bits hold every 8-bit sRGB value to within 1e-5), or, for textures whose stored bytes
-/// are read (`Texture::bytes`), `bytes`: the stored texels themselves.
-///
-/// Either table holds its texels in square blocks of [`BLOCK`] x [`BLOCK`] (blocks
-/// row-major, texels row-major within a block; the level padded with zeros to whole
-/// blocks, the first block on a 64-byte boundary), so a bilinear tap-set and its
-/// neighbours' lie in one or two cache lines of a block (64 bytes of bytes, 128 of 16-bit
-/// texels) instead of on rows a whole texture row apart. Only the addresses differ from a
-/// row-major table: the same texels are read and weighed, so samples are the same bit for
-/// bit.
+/// One level laid out for the 8-lane sampler: `bytes`, 4 a texel (`r | g << 8 | b << 16 |
+/// a << 24`, as [`Texture::squared`] says), in square blocks of [`BLOCK`] x [`BLOCK`]
+/// (blocks row-major, texels row-major within a block; the level padded with zeros to
+/// whole blocks, the first block on a 64-byte boundary), so a bilinear tap-set and its
+/// neighbours' lie in one or two cache lines of a block instead of on rows a whole
+/// texture row apart. Only the addresses differ from a row-major table: the same texels
+/// are read and weighed, so samples are the same bit for bit.
 #[derive(Clone, Debug, Default)]
 struct LinearLevel {
-    rgba: Vec<u64>,
     bytes: Vec<u32>,
     /// Texels in one row of blocks: the blocks across the level times `BLOCK * BLOCK`.
     block_row: u32,
@@ -111,7 +110,6 @@ const BLOCK: u32 = 1 << BLOCK_SHIFT;
 impl PartialEq for LinearLevel {
     fn eq(&self, o: &Self) -> bool {
         self.block_row == o.block_row
-            && unpadded(&self.rgba, self.base) == unpadded(&o.rgba, o.base)
             && unpadded(&self.bytes, self.base) == unpadded(&o.bytes, o.base)
     }
 }
@@ -175,6 +173,16 @@ pub const MAX_TEXTURE_SIZE: u32 = 16384;
 fn unorm_lut() -> &'static [f32; 256] {
     static LUT: OnceLock<[f32; 256]> = OnceLock::new();
     LUT.get_or_init(|| std::array::from_fn(|i| i as f32 / 255.0))
+}
+
+/// For each sRGB byte, the square root of its linear value in bytes (the 8-lane sampler's
+/// `squared` table, [`Texture::squared`]).
+fn srgb_roots() -> &'static [u8; 256] {
+    static LUT: OnceLock<[u8; 256]> = OnceLock::new();
+    LUT.get_or_init(|| {
+        let lin = srgb_to_linear_lut();
+        std::array::from_fn(|i| (lin[i].clamp(0.0, 1.0).sqrt() * 255.0).round() as u8)
+    })
 }
 
 impl Texture {
@@ -258,7 +266,7 @@ impl Texture {
             premultiplied,
             linear: Vec::new(),
             opaque: false,
-            bytes: false,
+            squared: false,
         };
         t.rebuild();
         t
@@ -292,11 +300,11 @@ impl Texture {
     }
 
     /// Recomputes the box-filtered mip chain (averaged as premultiplied linear colour) and
-    /// the 16-bit linear copy from level 0, reusing the existing levels' memory.
+    /// the 8-lane sampler's tables from level 0, reusing the existing levels' memory.
     fn rebuild(&mut self) {
         let (encoding, premultiplied) = (self.encoding, self.premultiplied);
         self.opaque = self.levels[0].texels.iter().all(|&px| px >> 24 == 0xff);
-        self.bytes = encoding == Encoding::Unorm && (premultiplied || self.opaque);
+        self.squared = encoding == Encoding::Srgb;
         let enc = crate::color::Encoder::new(encoding);
         let mut k = 1;
         loop {
@@ -353,30 +361,40 @@ impl Texture {
         self.build_linear();
     }
 
-    /// Every level's table for the 8-lane sampler: the blocked 16-bit linear copy, or the
-    /// stored bytes blocked when the sampler reads bytes.
+    /// Every level's table for the 8-lane sampler, blocked: the stored bytes, or their
+    /// square roots when `squared` (see [`Texture::squared`]).
     fn build_linear(&mut self) {
-        let (encoding, premultiplied) = (self.encoding, self.premultiplied);
+        let (encoding, premultiplied, squared) = (self.encoding, self.premultiplied, self.squared);
         self.linear
             .resize_with(self.levels.len(), LinearLevel::default);
-        let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u64;
+        let roots = srgb_roots();
         for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
             let blocks = |n: u32| n.div_ceil(BLOCK);
             lin.block_row = blocks(level.width) * BLOCK * BLOCK;
             let len = lin.block_row as usize * blocks(level.height) as usize;
-            if self.bytes {
-                lin.rgba.clear();
-                lin.base = aligned(&mut lin.bytes, len);
+            lin.base = aligned(&mut lin.bytes, len);
+            if !squared && (premultiplied || self.opaque) {
                 fill_blocks(&mut lin.bytes, lin.base, level, |px| px);
-                continue;
+            } else if !squared {
+                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                    let c = decode(encoding, premultiplied, px);
+                    let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u32;
+                    byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | px & 0xff00_0000
+                });
+            } else if premultiplied {
+                // A premultiplied sRGB byte is its channel's linear value: one table look-up.
+                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                    let [r, g, b, a] = px.to_le_bytes();
+                    let root = |c: u8| u32::from(roots[c as usize]);
+                    root(r) | root(g) << 8 | root(b) << 16 | u32::from(a) << 24
+                });
+            } else {
+                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                    let c = decode(encoding, premultiplied, px);
+                    let root = |x: f32| (x.clamp(0.0, 1.0).sqrt() * 255.0).round() as u32;
+                    root(c.r) | root(c.g) << 8 | root(c.b) << 16 | px & 0xff00_0000
+                });
             }
-            lin.bytes.clear();
-            lin.base = aligned(&mut lin.rgba, len);
-            fill_blocks(&mut lin.rgba, lin.base, level, |px| {
-                let c = decode(encoding, premultiplied, px);
-                let (r, g, b, a) = (q(c.r), q(c.g), q(c.b), q(c.a));
-                r | g << 16 | b << 32 | a << 48
-            });
         }
     }
 

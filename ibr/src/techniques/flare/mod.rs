@@ -114,12 +114,13 @@ pub const ATLAS_ROWS: u32 = 2;
 pub const GUTTER: u32 = 2;
 
 /// The flare atlas: every [`FlareShape`] in its cell, `cell_px` texels square (gutter
-/// included), white with the shape in alpha, unorm, mipmapped.
+/// included), white with the shape in alpha, unorm, premultiplied (every byte the alpha,
+/// so the renderer's sampler reads the stored bytes as they are), mipmapped.
 pub fn atlas(cell_px: u32) -> Texture {
     let cell = cell_px.max(2 * GUTTER + 4);
     let (w, h) = (cell * ATLAS_COLS, cell * ATLAS_ROWS);
     let half = (cell - 2 * GUTTER) as f32 * 0.5;
-    let mut rgba = Vec::with_capacity(w as usize * h as usize * 4);
+    let mut texels = Vec::with_capacity(w as usize * h as usize);
     for y in 0..h {
         for x in 0..w {
             let index = (y / cell) * ATLAS_COLS + x / cell;
@@ -128,10 +129,10 @@ pub fn atlas(cell_px: u32) -> Texture {
             let a = FlareShape::ALL
                 .get(index as usize)
                 .map_or(0.0, |s| s.alpha(p));
-            rgba.extend_from_slice(&[255, 255, 255, (a * 255.0).round() as u8]);
+            texels.push(u32::from((a * 255.0).round() as u8) * 0x0101_0101);
         }
     }
-    Texture::from_rgba8(w, h, &rgba, Encoding::Unorm).expect("size is valid")
+    Texture::from_packed(w, h, texels, Encoding::Unorm, true).expect("size is valid")
 }
 
 /// The atlas region of `shape` for an atlas of `cell_px` cells: its cell minus the gutter.
