@@ -235,11 +235,12 @@ fn premultiplied_bytes(n: u32) -> Vec<u32> {
 }
 
 /// How far the 8-lane sampler may be from the scalar one in channel `c` (3 is alpha) of a
-/// sample whose exact value is `want`: float rounding, and for the square-rooted tables
-/// ([`Texture::squared`]) the rounding of each root to a byte, at most `(sqrt(l) + 0.5 /
-/// 255) / 2 / 255 * 2` off a texel of value `l`, which a weighted mean of texels keeps
-/// below the same of the mean (the square root is concave).
-/// A straight unorm texture with alpha is premultiplied into bytes, within half a step.
+/// sample whose exact value is `want`: float rounding, plus, for the square-rooted tables
+/// ([`Texture::squared`]), each root's rounding to a byte: a root off by at most half a
+/// step, `0.5 / 255`, squares to at most `(sqrt(l) + 0.25 / 255) / 255` off a texel of
+/// value `l`, and a weighted mean of texels stays below the same of the mean (the square
+/// root is concave). A straight unorm texture with alpha is premultiplied into bytes,
+/// within half a step.
 fn rounding(t: &Texture, c: usize, want: f32) -> f32 {
     if t.squared && c < 3 {
         (want.max(0.0).sqrt() + 0.5 / 255.0) / 255.0 + 1e-5
