@@ -76,12 +76,12 @@ pub struct Texture {
     /// already (or opaque, where straight is premultiplied), else the stored colour times
     /// alpha rounded to a byte (within half a step, as unorm bytes are). `true`, for sRGB
     /// textures: each channel's premultiplied linear value `c` as `round(255 sqrt(c))`
-    /// (alpha as stored), squared when read. Like sRGB, the square root spends the 8 bits where the eye tells levels
-    /// apart; a sample is within `(sqrt(c) + 0.002) / 255` of the stored texels' exact
-    /// linear value (the scalar [`Texture::sample`]'s: at most 0.64 of a step of the sRGB
-    /// bytes, 0.28 on average over the 256), and a tap reads 4 bytes, a row's two
-    /// neighbours in one 8-byte read (a 16-bit linear copy read 8 bytes a texel, one
-    /// gather each).
+    /// (alpha as stored), squared when read. Like sRGB, the square root spends the 8 bits
+    /// where the eye tells levels apart; a sample is within `(sqrt(c) + 0.002) / 255` of
+    /// the stored texels' exact linear value (the scalar [`Texture::sample`]'s: at most
+    /// 0.64 of a step of the sRGB bytes, 0.28 on average over the 256), and a tap reads 4
+    /// bytes, a row's two neighbours in one 8-byte read (a 16-bit linear copy read 8 bytes
+    /// a texel, one gather each).
     squared: bool,
 }
 
