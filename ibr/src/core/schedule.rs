@@ -268,6 +268,41 @@ mod tests {
         assert!((s.refresh_ms() - 4.0).abs() < 0.01, "no refresh, no change");
     }
 
+    /// Each job meets its own subject and worker; the jobs come back largest subject
+    /// first (ties by subject), worker `k` having run job `k`; a job whose subject is out
+    /// of range is dropped.
+    #[test]
+    fn refreshes_meet_their_subjects_largest_first() {
+        use crate::core::subject::MeshGroup;
+        use engine::procedural::torus;
+        use engine::Material;
+        use glam::Mat4;
+        use std::sync::Arc;
+        let group = |u: u32| {
+            MeshGroup::new().with(
+                Arc::new(torus(1.0, 0.3, u, 4)),
+                Arc::new(Material::default()),
+                Mat4::IDENTITY,
+            )
+        };
+        let mut subjects = vec![group(3), group(8), group(5), group(8)];
+        let triangles: Vec<usize> = subjects.iter().map(Subject::triangle_count).collect();
+        let mut jobs = vec![2usize, 0, 9, 3, 1];
+        let mut workers: Vec<Vec<(usize, usize)>> = Vec::new();
+        refresh_side_by_side(
+            &mut jobs,
+            |&j| j,
+            &mut subjects,
+            &mut workers,
+            |&j, s, w| w.push((j, s.triangle_count())),
+        );
+        assert_eq!(jobs, [1, 3, 2, 0], "{triangles:?}");
+        assert_eq!(workers.len(), 4);
+        for (k, &j) in jobs.iter().enumerate() {
+            assert_eq!(workers[k], [(j, triangles[j])], "worker {k}");
+        }
+    }
+
     #[test]
     fn picks_the_wanted_items_in_order() {
         let mut v = [10, 11, 12, 13, 14];
