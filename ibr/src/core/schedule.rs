@@ -153,13 +153,15 @@ pub fn refresh_side_by_side<J, S, W>(
 {
     jobs.sort_by_key(&subject_of);
     let chosen = pick_mut(subjects, jobs.iter().map(&subject_of));
-    jobs.truncate(chosen.len());
-    let mut order: Vec<usize> = (0..chosen.len()).collect();
-    order.sort_by_key(|&k| (std::cmp::Reverse(chosen[k].triangle_count()), k));
-    let mut unplaced: Vec<Option<J>> = jobs.drain(..).map(Some).collect();
-    jobs.extend(order.iter().filter_map(|&k| unplaced[k].take()));
-    let mut unplaced: Vec<Option<&mut S>> = chosen.into_iter().map(Some).collect();
-    let mut chosen: Vec<&mut S> = order.iter().filter_map(|&k| unplaced[k].take()).collect();
+    // The jobs past the picked subjects (out of range, so sorted last) are dropped here.
+    let mut pairs: Vec<(J, &mut S)> = jobs.drain(..).zip(chosen).collect();
+    // A stable sort: equal sizes keep the subjects' order.
+    pairs.sort_by_cached_key(|(_, s)| std::cmp::Reverse(s.triangle_count()));
+    let mut chosen = Vec::with_capacity(pairs.len());
+    for (job, subject) in pairs {
+        jobs.push(job);
+        chosen.push(subject);
+    }
     if workers.len() < jobs.len() {
         workers.resize_with(jobs.len(), W::default);
     }
