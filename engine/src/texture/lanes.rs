@@ -55,13 +55,8 @@ impl Texture {
             s.wrap_v,
         );
         let idx = self.row8(0, y) + self.col8(x);
-        let one = F8::splat(1.0);
-        self.taps(
-            0,
-            [idx; 4],
-            [one, F8::splat(0.0), F8::splat(0.0), F8::splat(0.0)],
-            keep,
-        )
+        let px = I8::gather_u32_lanes(&self.linear[0].bytes, idx, keep);
+        self.weigh_bytes([px], [F8::splat(1.0)], keep)
     }
 
     #[inline]
@@ -120,17 +115,17 @@ impl Texture {
         self.weigh_bytes(px, w, keep)
     }
 
-    /// The weighted sum of four taps of a byte table, as premultiplied linear colour (the
+    /// The weighted sum of `N` taps of a byte table, as premultiplied linear colour (the
     /// colour bytes squared when [`Texture::squared`]), for the lanes of `keep` (zeros
     /// elsewhere); an opaque texture's alpha is 1.
     #[inline(always)]
-    fn weigh_bytes(&self, px: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {
+    fn weigh_bytes<const N: usize>(&self, px: [I8; N], w: [F8; N], keep: M8) -> [F8; 4] {
         let byte = I8::splat(0xff);
         let scale = F8::splat(1.0 / 255.0);
         // 1 / 255^2 itself: (1 / 255)^2 in f32 times 255^2 rounds to just above 1.
         let scale2 = F8::splat(1.0 / 65025.0);
         let mut acc = [F8::splat(0.0); 4];
-        for k in 0..4 {
+        for k in 0..N {
             let wk = w[k] * scale;
             let colour = [px[k], px[k].shr::<8>(), px[k].shr::<16>()].map(|c| c.and(byte).to_f32());
             if self.squared {
