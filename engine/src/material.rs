@@ -113,10 +113,11 @@ pub struct Material {
 /// Per-texel depth for an alpha-tested material (a nailboard: an image of an object on
 /// one quad, each texel's surface standing behind the quad by its own distance).
 ///
-/// `texture` is sampled at the base texture's uv, with the material's sampler and the
-/// base texture's level of detail (so it should have the base texture's size). Its texels
-/// are premultiplied unorm bytes: red over alpha (0 where alpha is 0) is the fraction of
-/// the largest offset; the mip levels then hold the alpha-weighted mean offset. A
+/// `texture` is read at the base texture's uv, filtered bilinearly on the mip level
+/// nearest the base texture's level of detail (so it should have the base texture's size;
+/// the material's wrap modes apply). Its texels are premultiplied unorm bytes: red over alpha
+/// is the fraction of the largest offset; the mip levels then hold the alpha-weighted mean
+/// offset; where the read's alpha is 0 there is no surface, and the fragment is dropped. A
 /// fragment's surface lies `scale * red / alpha * unit` behind the triangle's plane, along
 /// its normal. `unit` is the world length per unit of `u` on the object's reference
 /// plane, of which the triangle is the image scaled about the eye to stand `lift * unit`
@@ -127,9 +128,9 @@ pub struct Material {
 /// stage makes them unit length). The shader turns the offset into view depth exactly for
 /// perspective cameras (`offset * w / d`, `w` the fragment's view depth; orthographic
 /// cameras get `offset / d`, not meaningful). The rasterizer tests the triangle's own
-/// depth before shading (so a quad drawn at its surface's nearest keeps early and
-/// hierarchical rejects conservative), then the moved depth after, and writes the moved
-/// depth.
+/// depth first (so a quad drawn at its surface's nearest keeps early and hierarchical
+/// rejects conservative), then reads the offset and tests the moved depth, and shades and
+/// writes only the fragments that pass it, at the moved depth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DepthOffset {
     /// Premultiplied unorm texels, offset fraction in red, coverage in alpha.

@@ -26,13 +26,12 @@
 //! their id. The walk, the depth planes and the shading are the same in every pass, so a
 //! pixel comes out as the one-pass path would have made it.
 
-use crate::material::{AlphaMode, BlendMode};
 use crate::setup::Tri;
 use crate::shade::{eval, FragShader, Lane, Row, LANES};
 use crate::simd::{F8, I8, M8};
 use crate::space::{edges_of, Edge, ONE, SMALL};
 use crate::state::PixelMode;
-use std::ops::{Add, Mul, Sub};
+use std::ops::Add;
 
 use crate::stats::FrameStats;
 use crate::target::TILE;
@@ -465,16 +464,20 @@ impl<S: FragShader> Rows<'_, S> {
             set_ids(&mut buf.vis[base..base + LANES], m.bits(), id);
             return true;
         }
-        self.stats.fragments_shaded += passed as u64;
-        self.stats.rows_shaded += 1;
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        let mut out = [F8::splat(0.0); 4];
-        let mut behind = F8::splat(0.0);
-        if shader.shade_depth(prepared, tri, &row, m.bits(), &mut out, &mut behind) {
-            let (m, z) = self.retest(buf, base, m, &z, behind);
-            return self.write(buf, base, m, &z, &out);
+        let (m, z) = match shader.behind(prepared, tri, &row, m.bits()) {
+            Some((behind, keep)) => self.retest(buf, base, m.and(M8::from_bits(keep)), &z, behind),
+            None => (m, z),
+        };
+        let passed = m.bits().count_ones();
+        if passed == 0 {
+            return false;
         }
+        self.stats.fragments_shaded += passed as u64;
+        self.stats.rows_shaded += 1;
+        let mut out = [F8::splat(0.0); 4];
+        shader.shade(prepared, tri, &row, m.bits(), &mut out);
         self.write(buf, base, m, &z, &out)
     }
 
@@ -522,13 +525,9 @@ impl<S: FragShader> Rows<'_, S> {
         let zb = eval(&tri.z, &Row::whole(fx, fyb, cb));
         let ma = self.test(buf, base_a, &za, M8::from_bits(ca));
         let mb = self.test(buf, base_b, &zb, M8::from_bits(cb));
-        let passed = ma.bits().count_ones() + mb.bits().count_ones();
-        if passed == 0 {
+        if (ma.bits() | mb.bits()) == 0 {
             return false;
         }
-        self.stats.fragments_shaded += passed as u64;
-        self.stats.rows_shaded += 1;
-        self.stats.rows_paired += 1;
         let half = |bits: u32, s: u32| bits >> s & 0xf;
         let row = Row {
             fx,
@@ -546,23 +545,34 @@ impl<S: FragShader> Rows<'_, S> {
         };
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        let mut out = [F8::splat(0.0); 4];
-        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
-        let mut behind = F8::splat(0.0);
-        let moved = shader.shade_depth(prepared, tri, &row, mask, &mut out, &mut behind);
         // Lane `l` of a row is the pair's lane `l - s` (+ 4 for the second row); the lanes
         // outside the row's 4 take any lane, as they are not written.
         let back = |s: u32, from: u32| -> [u32; LANES] {
             std::array::from_fn(|l| (l as u32 + LANES as u32 + from - s) % LANES as u32)
         };
         let (ia, ib) = (back(sa, 0), back(sb, 4));
-        let (ma, za, mb, zb) = if moved {
-            let (ma, za) = self.retest(buf, base_a, ma, &za, behind.permute(ia));
-            let (mb, zb) = self.retest(buf, base_b, mb, &zb, behind.permute(ib));
-            (ma, za, mb, zb)
-        } else {
-            (ma, za, mb, zb)
+        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
+        let (ma, za, mb, zb) = match shader.behind(prepared, tri, &row, mask) {
+            Some((behind, keep)) => {
+                // The pair's lanes back in each row's frame (as `behind` is permuted).
+                let keep_a = M8::from_bits((keep & 0xf) << sa);
+                let keep_b = M8::from_bits((keep >> 4 & 0xf) << sb);
+                let (ma, za) = self.retest(buf, base_a, ma.and(keep_a), &za, behind.permute(ia));
+                let (mb, zb) = self.retest(buf, base_b, mb.and(keep_b), &zb, behind.permute(ib));
+                (ma, za, mb, zb)
+            }
+            None => (ma, za, mb, zb),
         };
+        let passed = ma.bits().count_ones() + mb.bits().count_ones();
+        if passed == 0 {
+            return false;
+        }
+        self.stats.fragments_shaded += passed as u64;
+        self.stats.rows_shaded += 1;
+        self.stats.rows_paired += 1;
+        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
+        let mut out = [F8::splat(0.0); 4];
+        shader.shade(prepared, tri, &row, mask, &mut out);
         let mut wrote = false;
         if ma.bits() != 0 {
             wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
@@ -602,93 +612,8 @@ fn set_ids(ids: &mut [u32], bits: u32, id: u32) {
     }
 }
 
-/// Thresholds of the 4 x 4 Bayer matrix, `(rank + 0.5) / 16`, one row of 8 lanes per pixel
-/// row mod 4 (the pattern repeated twice across the lanes).
-const DITHER: [[f32; LANES]; 4] = {
-    const RANK: [[u8; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
-    let mut t = [[0.0; LANES]; 4];
-    let mut y = 0;
-    while y < 4 {
-        let mut x = 0;
-        while x < LANES {
-            t[y][x] = (RANK[y][x % 4] as f32 + 0.5) / 16.0;
-            x += 1;
-        }
-        y += 1;
-    }
-    t
-};
-
-/// Writes the lanes of `m` that survive the alpha test; returns them.
-#[inline(always)]
-fn write_row(
-    buf: &mut TileBuf,
-    base: usize,
-    mut m: M8,
-    z: &Lane,
-    out: &[Lane; 4],
-    mode: &PixelMode,
-    soft: &DepthToView,
-) -> M8 {
-    let [r, g, b, a] = &mut buf.color;
-    let (r, g, b, a) = (
-        &mut r[base..],
-        &mut g[base..],
-        &mut b[base..],
-        &mut a[base..],
-    );
-    match mode.alpha {
-        AlphaMode::Opaque | AlphaMode::Mask { .. } | AlphaMode::Dither => {
-            if let AlphaMode::Mask { cutoff } = mode.alpha {
-                m = m.and(out[3].ge(F8::splat(cutoff)));
-            }
-            if mode.alpha == AlphaMode::Dither {
-                // Tiles and blocks start on multiples of 8, so the pixel's y mod 4 is the
-                // row in the block mod 4 and x mod 4 is the lane mod 4.
-                m = m.and(out[3].gt(F8::from_array(DITHER[(base / LANES) % 4])));
-            }
-            out[0].blend_into(m, r);
-            out[1].blend_into(m, g);
-            out[2].blend_into(m, b);
-            F8::splat(1.0).blend_into(m, a);
-        }
-        AlphaMode::Blend => {
-            let mut alpha = out[3].max(F8::splat(0.0)).min(F8::splat(1.0));
-            if mode.soft > 0.0 {
-                let zb = F8::load(&buf.depth[base..]).to_array();
-                let (zs, bits) = (z.to_array(), m.bits());
-                let mut fade = [1.0f32; LANES];
-                for l in 0..LANES {
-                    if bits >> l & 1 != 0 {
-                        let gap = soft.view(zb[l]) - soft.view(zs[l]);
-                        fade[l] = (gap / mode.soft).clamp(0.0, 1.0);
-                    }
-                }
-                alpha = alpha.mul(F8::from_array(fade));
-            }
-            let keep = match mode.blend {
-                BlendMode::Alpha => 1.0,
-                BlendMode::Additive => 0.0,
-            };
-            let inv = F8::splat(1.0).sub(alpha.mul(F8::splat(keep)));
-            let ia = F8::splat(1.0).sub(alpha);
-            for (dst, src) in [(&mut *r, out[0]), (&mut *g, out[1]), (&mut *b, out[2])] {
-                let d = F8::load(dst);
-                src.mul_add(alpha, d.mul(inv)).blend_into(m, dst);
-            }
-            let d = F8::load(a);
-            d.mul_add(ia, alpha).blend_into(m, a);
-            if mode.blend_depth <= 1.0 {
-                let solid = m.and(alpha.ge(F8::splat(mode.blend_depth)));
-                z.blend_into(solid, &mut buf.depth[base..]);
-            }
-        }
-    }
-    if mode.depth_write {
-        z.blend_into(m, &mut buf.depth[base..]);
-    }
-    m
-}
+mod write;
+use write::write_row;
 
 #[cfg(test)]
 mod nailboard_tests;

@@ -13,7 +13,7 @@
 use crate::light::{Light, Lighting};
 use crate::material::{AlphaMode, DepthOffset, Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
-use crate::texture::Filter;
+use crate::texture::{Filter, Texture};
 use crate::vertex::{COL, NRM, POS, UV};
 use glam::{Vec3, Vec4};
 use std::ops::{Div, Mul};
@@ -91,24 +91,28 @@ pub trait FragShader: Sync {
     /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
     /// `mask` will be used, so a shader may skip per-lane work for the others.
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
-    /// As [`FragShader::shade`], and for a material with a
-    /// [`crate::material::DepthOffset`] each lane's view depth behind the triangle's (view
-    /// units, `>= 0`) in `behind`; returns whether it wrote it (`false`: `behind` is
-    /// untouched and the fragments' depth is the triangle's).
+    /// For a material with a [`crate::material::DepthOffset`], each lane's view depth behind
+    /// the triangle's (view units, `>= 0`) for the lanes set in `mask`, and the lanes of
+    /// `mask` the offset image covers (the others hold no surface and are dropped);
+    /// `None` (the default) where the fragments' depth is the triangle's. The rasterizer
+    /// asks this before [`FragShader::shade`] and tests the moved depth first, so a
+    /// nailboard's fragments hidden at their own depth, or uncovered, are never shaded (one
+    /// offset read each, not the colour's reads and lighting).
     #[inline(always)]
-    fn shade_depth(
-        &self,
-        p: &Self::Prepared,
-        tri: &Tri,
-        row: &Row,
-        mask: u32,
-        out: &mut [Lane; 4],
-        behind: &mut Lane,
-    ) -> bool {
-        let _ = behind;
-        self.shade(p, tri, row, mask, out);
-        false
+    fn behind(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32) -> Option<(Lane, u32)> {
+        let _ = (p, tri, row, mask);
+        None
     }
+}
+
+/// The texture coordinates of a [`GeneralShader`]'s triangle at barycentrics `l1`, `l2`.
+#[inline(always)]
+fn uv_at(p: &GeneralTri, l1: Lane, l2: Lane) -> (Lane, Lane) {
+    let at = |c: usize| {
+        let [a0, d1, d2] = p.attr[c];
+        l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)))
+    };
+    (at(UV), at(UV + 1))
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -349,36 +353,39 @@ impl FragShader for GeneralShader<'_> {
     }
 
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
-        self.shade_lanes(p, tri, row, mask, out, None);
+        self.shade_lanes(p, tri, row, mask, out);
     }
 
     #[inline]
-    fn shade_depth(
-        &self,
-        p: &GeneralTri,
-        tri: &Tri,
-        row: &Row,
-        mask: u32,
-        out: &mut [Lane; 4],
-        behind: &mut Lane,
-    ) -> bool {
-        self.shade_lanes(p, tri, row, mask, out, Some(behind))
+    fn behind(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32) -> Option<(Lane, u32)> {
+        let (Some(k), Some(d), Some(tex)) = (
+            p.depth_scale,
+            &self.material.depth_offset,
+            &self.material.base_texture,
+        ) else {
+            return None;
+        };
+        let (l1, l2, w) = barycentrics(tri, row);
+        let (u, v) = uv_at(p, l1, l2);
+        let lod = self.lod(p, tri, row, tex, [l1, l2, w]);
+        // The level nearest the colour's, filtered bilinearly: half a trilinear read (which
+        // cost as much as the colour's); a nearest texel was cheaper still but stepped the
+        // depth a texel at a time (3 times the mean error against the mesh).
+        let s = d
+            .texture
+            .bilinear8_lod(&self.material.sampler, lod, u, v, M8::from_bits(mask));
+        let zero = F8::splat(0.0);
+        let frac = s[3].gt(zero).select(s[0] / s[3], zero);
+        // A texel the offset image leaves uncovered holds no surface: dropped unshaded.
+        let keep = s[3].gt(zero).bits() & mask;
+        Some((frac * F8::splat(k) * w, keep))
     }
 }
 
 impl GeneralShader<'_> {
-    /// [`FragShader::shade`], and with `behind` [`FragShader::shade_depth`]'s depth.
+    /// [`FragShader::shade`].
     #[inline(always)]
-    fn shade_lanes(
-        &self,
-        p: &GeneralTri,
-        tri: &Tri,
-        row: &Row,
-        mask: u32,
-        out: &mut [Lane; 4],
-        behind: Option<&mut Lane>,
-    ) -> bool {
-        let mut moved = false;
+    fn shade_lanes(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
@@ -393,25 +400,10 @@ impl GeneralShader<'_> {
             }
         }
         if let Some(tex) = &m.base_texture {
-            // One level of detail for the triangle where its footprint hardly varies, else
-            // one for the row: the largest footprint among the covered lanes.
-            let lod = match (m.sampler.filter, p.lod) {
-                (Filter::Trilinear, Some(lod)) => lod,
-                (Filter::Trilinear, None) => {
-                    row_lod(tri, [p.attr[UV], p.attr[UV + 1]], tex, row, [l1, l2, w])
-                }
-                _ => 0.0,
-            };
+            let lod = self.lod(p, tri, row, tex, [l1, l2, w]);
             let keep = M8::from_bits(mask);
-            let (u, v) = (at(UV), at(UV + 1));
+            let (u, v) = uv_at(p, l1, l2);
             let t = tex.sample8_lanes(&m.sampler, u, v, lod, keep);
-            if let (Some(behind), Some(k), Some(d)) = (behind, p.depth_scale, &m.depth_offset) {
-                let s = d.texture.sample8_lanes(&m.sampler, u, v, lod, keep);
-                let zero = F8::splat(0.0);
-                let frac = s[3].gt(zero).select(s[0] / s[3], zero);
-                *behind = frac * F8::splat(k) * w;
-                moved = true;
-            }
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {
@@ -464,7 +456,18 @@ impl GeneralShader<'_> {
             }
         }
         *out = rgba;
-        moved
+    }
+
+    /// The texture's level of detail for `row`: one for the triangle where its footprint
+    /// hardly varies, else one for the row (the largest footprint among the covered
+    /// lanes); 0 for samplers without mipmaps.
+    #[inline(always)]
+    fn lod(&self, p: &GeneralTri, tri: &Tri, row: &Row, tex: &Texture, lw: [Lane; 3]) -> f32 {
+        match (self.material.sampler.filter, p.lod) {
+            (Filter::Trilinear, Some(lod)) => lod,
+            (Filter::Trilinear, None) => row_lod(tri, [p.attr[UV], p.attr[UV + 1]], tex, row, lw),
+            _ => 0.0,
+        }
     }
 
     /// The interpolated normal of 8 lanes, unit length, facing the viewer.

@@ -36,7 +36,8 @@ pub struct FrameStats {
     /// Covered pixels that reached the per-pixel depth test (pixels of 8 x 8 blocks that the
     /// hierarchical depth test rejected whole are not counted here).
     pub fragments_tested: u64,
-    /// Fragments that passed the depth test and were shaded.
+    /// Fragments that passed the depth test and were shaded (a nailboard's at the depth its
+    /// offset moves them to: those hidden there read their offset only, and are not counted).
     pub fragments_shaded: u64,
     /// Of `fragments_shaded`, those of blended draws (each shades what lies behind it too:
     /// `fragments_shaded - fragments_shaded_blended` over the pixels is the opaque

@@ -75,6 +75,11 @@ fn board_material(offset: bool, front: f32) -> Material {
 
 /// Renders `draws` on `threads` threads: the target (black clear).
 fn render(draws: Vec<Draw<'_>>, threads: usize) -> Target {
+    render_counted(draws, threads).0
+}
+
+/// [`render`], and the frame's fragments tested and shaded.
+fn render_counted(draws: Vec<Draw<'_>>, threads: usize) -> (Target, [u64; 2]) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -85,8 +90,10 @@ fn render(draws: Vec<Draw<'_>>, threads: usize) -> Target {
         ..FrameOptions::default()
     };
     let cam = camera();
-    pool.install(|| Renderer::new().render(draws, &cam, &Lighting::default(), &mut target, &opts));
-    target
+    let mut r = Renderer::new();
+    pool.install(|| r.render(draws, &cam, &Lighting::default(), &mut target, &opts));
+    let st = r.stats();
+    (target, [st.fragments_tested, st.fragments_shaded])
 }
 
 /// Per pixel: its colour and its view depth (`None` where nothing was drawn).
@@ -257,4 +264,28 @@ fn a_nailboard_draws_the_same_pixels_on_one_and_two_threads() {
             );
         }
     }
+}
+
+/// The nailboard drawn after the plane cutting it: the fragments its quad's plane puts in
+/// front of the plane but whose own surface lies behind it, and those its offset image
+/// leaves uncovered (the quad's corners), are tested and dropped before any colour is read:
+/// what it shades is about what it writes.
+#[test]
+fn a_nailboard_shades_only_what_stands_in_front_at_its_own_depth() {
+    let s = Scene::new();
+    let (_, [plane_tested, plane_shaded]) = render_counted(vec![s.plane()], 2);
+    let (both, [tested, shaded]) = render_counted(vec![s.plane(), s.board(&s.nailboard)], 2);
+    let (tested, shaded) = (tested - plane_tested, shaded - plane_shaded);
+    let white = read(&both)
+        .iter()
+        .filter(|p| p.0 & 0xffffff == 0xffffff)
+        .count() as u64;
+    // Measured: 1,936 tested, 1,144 shaded, 1,140 white; shading before the moved depth's
+    // test (every fragment the quad's plane passed) shaded 1,892.
+    assert!(white > 400, "{white} white");
+    assert!(
+        shaded * 100 <= white * 105,
+        "{shaded} shaded for {white} written"
+    );
+    assert!(2 * tested > 3 * shaded, "{tested} tested, {shaded} shaded");
 }

@@ -59,6 +59,16 @@ impl Texture {
         self.weigh_bytes([px], [F8::splat(1.0)], keep)
     }
 
+    /// The bilinear filter on the mip level nearest `lod` for the lanes set in `keep` (zeros
+    /// elsewhere): half a trilinear read, where one value a texel is wanted rather than a
+    /// colour blended across levels (a nailboard's depth offset).
+    #[inline]
+    pub fn bilinear8_lod(&self, s: &Sampler, lod: f32, u: F8, v: F8, keep: M8) -> [F8; 4] {
+        let (l0, t) = self.mip_levels(lod);
+        let level = (l0 + usize::from(t > 0.5)).min(self.levels.len() - 1);
+        self.bilinear8(s, level, u, v, keep)
+    }
+
     #[inline]
     fn bilinear8(&self, s: &Sampler, level: usize, u: F8, v: F8, keep: M8) -> [F8; 4] {
         let level = level.min(self.levels.len() - 1);
