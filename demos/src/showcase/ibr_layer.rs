@@ -84,15 +84,6 @@ pub const SPRITE_ELEVATIONS: [f32; 20] = [
 /// view its sprite would be magnified (taller than [`SPRITE_PX`] on screen) off to the
 /// side of the view.
 pub const NEAR_SIZES: f32 = 3.5;
-/// A sprite shorter on screen than this share of the image's height is drawn with every
-/// 2nd column of its depth grid (16 triangles, not 32; [`ViewAtlas::coarse_px`]), a share
-/// of the screen so the same trees are at any resolution. Every coarse sprite costs some
-/// of the forest's PSNR (a crown's depth across held on 3 nodes, not 5, orders
-/// overlapping trees less well; session 17, 640 x 360 tour, 22,700 forest triangles a
-/// frame and 26.85 dB with none: with this (36 px) 17,555 and 26.83, under 16 / 48 px 2 /
-/// 3 columns 14,480 and 26.79; 2 columns cost more for fewer triangles: under 32 px
-/// 17,000 and 26.71).
-const COARSE_SCREEN: f32 = 0.1;
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
 /// Bolt speed (units per second) and length.
@@ -188,7 +179,7 @@ impl IbrLayer {
         self.trees.trees.iter().map(|(_, at)| at.w_axis.truncate())
     }
 
-    /// The forest's sprites and the triangles of their reliefs in the last frame.
+    /// The forest's sprites and the triangles of their outlines in the last frame.
     pub fn forest_work(&self) -> (usize, usize) {
         let sprites = self.forest.iter().map(|f| f.items.len()).sum();
         let meshes = self.forest.iter().flat_map(|f| &f.meshes);
@@ -378,8 +369,9 @@ impl IbrLayer {
 
 /// One tree kind's billboards: its views, the sprites shown this frame (set in
 /// [`IbrLayer::render`], near to far), where each of the frame's [`bands`] ends among them,
-/// and the mesh each band makes, each sprite its view's depth grid ([`ViewAtlas::relief`])
-/// so sprites and meshes hide one another about where the trees' surfaces do.
+/// and the mesh each band makes, each sprite its view's outline with per-texel depth
+/// ([`ViewAtlas::nailboards`]) so sprites and meshes hide one another where the trees'
+/// surfaces do.
 #[derive(Debug)]
 struct TreeSprites {
     atlas: ViewAtlas,
@@ -390,10 +382,10 @@ struct TreeSprites {
 }
 
 impl TreeSprites {
-    /// This kind's sprites as their bands' meshes, the sprites smaller on screen than
-    /// [`COARSE_SCREEN`] of `view`'s height coarser.
+    /// This kind's sprites as their bands' meshes (a nailboard's outline, 8 triangles,
+    /// whatever its size on screen: the grid of nodes that small sprites took every 2nd
+    /// column of is not drawn).
     fn prepare(&mut self, view: &FrameView<'_>) {
-        self.atlas.coarse_px = COARSE_SCREEN * view.height as f32;
         self.meshes.resize_with(self.ends.len(), Mesh::default);
         let seen = view.billboard_view();
         let mut start = 0;
@@ -530,6 +522,13 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
                 PINE_STEEP_FROM.to_radians(),
             ));
         }
+        // Each sprite one flat outline whose fragments take their texel's own depth
+        // (`ViewAtlas::nailboards`), not a 5 x 5 grid of moved nodes: crowns overlapping
+        // crowns are ordered per texel. 640 x 360 tour, 120 frames: forest PSNR mean / worst
+        // 27.34 / 24.32 dB as reliefs, 28.66 / 24.55 as nailboards; 1280 x 720: 27.57 /
+        // 24.30, 29.22 / 25.00; about a third of the reliefs' triangles, and the tour's
+        // frame no slower (BENCHMARKS.md, issue 39, session 29).
+        atlas.nailboard = true;
         let height = mesh_height(&mesh);
         let k = trees.meshes.len();
         trees.bounds.push(bounds);
