@@ -526,8 +526,8 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
         // (`ViewAtlas::nailboards`), not a 5 x 5 grid of moved nodes: crowns overlapping
         // crowns are ordered per texel. 640 x 360 tour, 120 frames: forest PSNR mean / worst
         // 27.34 / 24.32 dB as reliefs, 28.66 / 24.55 as nailboards; 1280 x 720: 27.57 /
-        // 24.30, 29.22 / 24.9992; 8 triangles a sprite where a relief drew 16 or 32, and the tour's
-        // frame no slower (BENCHMARKS.md, issue 39, session 29).
+        // 24.30, 29.22 / 24.9992; 8 triangles a sprite where a relief drew 16 or 32, and
+        // the tour's frame no slower (BENCHMARKS.md, issue 39, session 29).
         atlas.nailboard = true;
         let height = mesh_height(&mesh);
         let k = trees.meshes.len();
