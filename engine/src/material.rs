@@ -139,6 +139,20 @@ pub struct DepthOffset {
     pub scale: f32,
     /// How far the triangle stands in front of the reference plane, in `unit`s.
     pub lift: f32,
+    /// `None`: each fragment shows the texel straight behind it on the reference plane,
+    /// right for surfaces on that plane and off by their offset's parallax elsewhere (a
+    /// pine's lowest rim a third of a pixel high, seen from 40 tree heights). `Some(tol)`:
+    /// the images are an orthographic view along the triangle's normal, and each fragment
+    /// shows the texel whose surface lies on its own ray, found by a two-step search and
+    /// kept where the texel reached has the offset it was reached with, within `tol`
+    /// (fractions of `scale`), else its own texel (the search, in the shade stage's
+    /// `nailboard` module; three offset reads a fragment, not one).
+    pub parallax: Option<f32>,
+    /// The coarsest level of detail read (colour and offset); `f32::INFINITY` for none. A
+    /// nailboard stands for a mesh the rasterizer draws sharp (one sample a pixel), which a
+    /// view prefiltered over each pixel's footprint is not: reading finer levels keeps the
+    /// image's outline as sharp as the mesh's.
+    pub max_lod: f32,
 }
 
 impl Default for Material {

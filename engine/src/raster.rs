@@ -466,8 +466,9 @@ impl<S: FragShader> Rows<'_, S> {
         }
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        let (m, z) = match shader.behind(prepared, tri, &row, m.bits()) {
-            Some((behind, keep)) => self.retest(buf, base, m.and(M8::from_bits(keep)), &z, behind),
+        let behind = shader.behind(prepared, tri, &row, m.bits());
+        let (m, z) = match &behind {
+            Some(b) => self.retest(buf, base, m.and(M8::from_bits(b.keep)), &z, b.depth),
             None => (m, z),
         };
         let passed = m.bits().count_ones();
@@ -477,7 +478,10 @@ impl<S: FragShader> Rows<'_, S> {
         self.stats.fragments_shaded += passed as u64;
         self.stats.rows_shaded += 1;
         let mut out = [F8::splat(0.0); 4];
-        shader.shade(prepared, tri, &row, m.bits(), &mut out);
+        match &behind {
+            Some(b) => shader.shade_behind(prepared, tri, &row, m.bits(), b, &mut out),
+            None => shader.shade(prepared, tri, &row, m.bits(), &mut out),
+        }
         self.write(buf, base, m, &z, &out)
     }
 
@@ -552,13 +556,14 @@ impl<S: FragShader> Rows<'_, S> {
         };
         let (ia, ib) = (back(sa, 0), back(sb, 4));
         let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
-        let (ma, za, mb, zb) = match shader.behind(prepared, tri, &row, mask) {
-            Some((behind, keep)) => {
-                // The pair's lanes back in each row's frame (as `behind` is permuted).
-                let keep_a = M8::from_bits((keep & 0xf) << sa);
-                let keep_b = M8::from_bits((keep >> 4 & 0xf) << sb);
-                let (ma, za) = self.retest(buf, base_a, ma.and(keep_a), &za, behind.permute(ia));
-                let (mb, zb) = self.retest(buf, base_b, mb.and(keep_b), &zb, behind.permute(ib));
+        let behind = shader.behind(prepared, tri, &row, mask);
+        let (ma, za, mb, zb) = match &behind {
+            Some(b) => {
+                // The pair's lanes back in each row's frame (as the depth is permuted).
+                let keep_a = M8::from_bits((b.keep & 0xf) << sa);
+                let keep_b = M8::from_bits((b.keep >> 4 & 0xf) << sb);
+                let (ma, za) = self.retest(buf, base_a, ma.and(keep_a), &za, b.depth.permute(ia));
+                let (mb, zb) = self.retest(buf, base_b, mb.and(keep_b), &zb, b.depth.permute(ib));
                 (ma, za, mb, zb)
             }
             None => (ma, za, mb, zb),
@@ -572,7 +577,10 @@ impl<S: FragShader> Rows<'_, S> {
         self.stats.rows_paired += 1;
         let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
         let mut out = [F8::splat(0.0); 4];
-        shader.shade(prepared, tri, &row, mask, &mut out);
+        match &behind {
+            Some(b) => shader.shade_behind(prepared, tri, &row, mask, b, &mut out),
+            None => shader.shade(prepared, tri, &row, mask, &mut out),
+        }
         let mut wrote = false;
         if ma.bits() != 0 {
             wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
@@ -617,5 +625,7 @@ use write::write_row;
 
 #[cfg(test)]
 mod nailboard_tests;
+#[cfg(test)]
+mod parallax_tests;
 #[cfg(test)]
 mod tests;

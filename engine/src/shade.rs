@@ -23,6 +23,7 @@ use crate::simd::{F8, M8};
 #[cfg(test)]
 use lod::{fast_log2, widest, LOD_SPREAD};
 pub use lod::{row_lod, triangle_lod};
+use nailboard::Parallax;
 
 /// 8 lanes of one channel.
 pub type Lane = F8;
@@ -91,28 +92,55 @@ pub trait FragShader: Sync {
     /// Straight linear `[r, g, b, a]` for the 8 lanes of `row`; only the lanes set in
     /// `mask` will be used, so a shader may skip per-lane work for the others.
     fn shade(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]);
-    /// For a material with a [`crate::material::DepthOffset`], each lane's view depth behind
-    /// the triangle's (view units, `>= 0`) for the lanes set in `mask`, and the lanes of
-    /// `mask` the offset image covers (the others hold no surface and are dropped);
-    /// `None` (the default) where the fragments' depth is the triangle's. The rasterizer
-    /// asks this before [`FragShader::shade`] and tests the moved depth first, so a
-    /// nailboard's fragments hidden at their own depth, or uncovered, are never shaded (one
-    /// offset read each, not the colour's reads and lighting).
+    /// For a material with a [`crate::material::DepthOffset`], what lies behind the lanes
+    /// set in `mask` ([`Behind`]); `None` (the default) where the fragments' depth is the
+    /// triangle's. The rasterizer asks this before shading and tests the moved depth
+    /// first, so a nailboard's fragments hidden at their own depth, or uncovered, are never
+    /// shaded (offset reads only, not the colour's reads and lighting); it then shades the
+    /// others with [`FragShader::shade_behind`].
     #[inline(always)]
-    fn behind(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32) -> Option<(Lane, u32)> {
+    fn behind(&self, p: &Self::Prepared, tri: &Tri, row: &Row, mask: u32) -> Option<Behind> {
         let _ = (p, tri, row, mask);
         None
     }
+    /// [`FragShader::shade`] for lanes [`FragShader::behind`] found `behind`: reading the
+    /// texture where it says each lane's surface is.
+    #[inline(always)]
+    fn shade_behind(
+        &self,
+        p: &Self::Prepared,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        behind: &Behind,
+        out: &mut [Lane; 4],
+    ) {
+        let _ = behind;
+        self.shade(p, tri, row, mask, out);
+    }
+}
+
+/// What lies behind a nailboard's lanes ([`FragShader::behind`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Behind {
+    /// Each lane's view depth behind the triangle's (view units, `>= 0`).
+    pub depth: Lane,
+    /// The lanes the offset image covers (the others hold no surface and are dropped).
+    pub keep: u32,
+    /// Each lane's texture coordinates: the fragment's own, or with
+    /// [`crate::material::DepthOffset::parallax`] those of the texel whose surface lies on
+    /// its ray.
+    pub uv: [Lane; 2],
 }
 
 /// The texture coordinates of a [`GeneralShader`]'s triangle at barycentrics `l1`, `l2`.
 #[inline(always)]
-fn uv_at(p: &GeneralTri, l1: Lane, l2: Lane) -> (Lane, Lane) {
+fn uv_at(p: &GeneralTri, l1: Lane, l2: Lane) -> [Lane; 2] {
     let at = |c: usize| {
         let [a0, d1, d2] = p.attr[c];
         l1.mul_add(F8::splat(d1), l2.mul_add(F8::splat(d2), F8::splat(a0)))
     };
-    (at(UV), at(UV + 1))
+    [at(UV), at(UV + 1)]
 }
 
 /// One colour per triangle: unlit untextured materials, face ids, flat faces.
@@ -215,36 +243,13 @@ pub struct GeneralTri {
     /// triangle's box is known to spread less than [`lod::LOD_SPREAD`] levels
     /// ([`triangle_lod`]); `None` works it out row by row ([`row_lod`]).
     lod: Option<f32>,
-    /// For a material with a depth offset ([`depth_scale`]): the view depth behind the
-    /// triangle of a texel offset of 1 (red over alpha) at view depth 1; `None` without.
+    /// For a material with a depth offset ([`nailboard::depth_scale`]): the view depth
+    /// behind the triangle of a texel offset of 1 (red over alpha) at view depth 1; `None`
+    /// without.
     depth_scale: Option<f32>,
-}
-
-/// [`GeneralTri::depth_scale`]: `scale * unit / d` for `offset` ([`DepthOffset`]), `d` the
-/// eye's distance to the triangle's plane (`p = [p0, p1 - p0, p2 - p0]`, `face` its unit
-/// normal, `uv` its `[u0, du1, du2]` and `[v0, dv1, dv2]`). The triangle's world length
-/// per unit of `u` is `len = s unit`, `s = 1 - lift len / d` the scaling about the eye
-/// that carried the reference plane (at `d / s`) `lift unit` nearer. A point `o` behind
-/// the plane along its normal, seen through the plane's point at view depth `w`, lies on
-/// the same ray at view depth `w (1 + o / d)`. 0 where that is not finite or `s <= 0`.
-fn depth_scale(
-    offset: &DepthOffset,
-    p: [Vec3; 3],
-    uv: [[f32; 3]; 2],
-    face: Vec3,
-    eye: Vec3,
-) -> f32 {
-    let [[_, du1, du2], [_, dv1, dv2]] = uv;
-    let det = du1 * dv2 - du2 * dv1;
-    let len = ((p[1] * dv2 - p[2] * dv1) / det).length();
-    let d = (eye - p[0]).dot(face).abs();
-    let s = 1.0 - offset.lift * len / d;
-    let k = offset.scale * len / (s * d);
-    if k.is_finite() && s > 0.0 {
-        k
-    } else {
-        0.0
-    }
+    /// For a depth offset with [`DepthOffset::parallax`]: the triangle's terms of the
+    /// search for each fragment's texel.
+    parallax: Option<Parallax>,
 }
 
 /// [`GeneralTri::flat_normal`]: the shader's normalisation of a constant interpolated
@@ -336,11 +341,26 @@ impl FragShader for GeneralShader<'_> {
             (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
                 let edges = [p(0), p(1) - p(0), p(2) - p(0)];
                 let uv = [attr[UV], attr[UV + 1]];
-                Some(depth_scale(d, edges, uv, n, self.eye))
+                Some(nailboard::depth_scale(d, edges, uv, n, self.eye))
+            }
+            _ => None,
+        };
+        let parallax = match (&self.material.depth_offset, depth_scale) {
+            (
+                Some(
+                    d @ DepthOffset {
+                        parallax: Some(_), ..
+                    },
+                ),
+                Some(_),
+            ) => {
+                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
+                Parallax::new(d, edges, [attr[UV], attr[UV + 1]], n, self.eye)
             }
             _ => None,
         };
         GeneralTri {
+            parallax,
             attr,
             lod,
             depth_scale,
@@ -353,11 +373,24 @@ impl FragShader for GeneralShader<'_> {
     }
 
     fn shade(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
-        self.shade_lanes(p, tri, row, mask, out);
+        self.shade_lanes(p, tri, row, mask, None, out);
     }
 
     #[inline]
-    fn behind(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32) -> Option<(Lane, u32)> {
+    fn shade_behind(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        behind: &Behind,
+        out: &mut [Lane; 4],
+    ) {
+        self.shade_lanes(p, tri, row, mask, Some(behind.uv), out);
+    }
+
+    #[inline]
+    fn behind(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32) -> Option<Behind> {
         let (Some(k), Some(d), Some(tex)) = (
             p.depth_scale,
             &self.material.depth_offset,
@@ -366,26 +399,33 @@ impl FragShader for GeneralShader<'_> {
             return None;
         };
         let (l1, l2, w) = barycentrics(tri, row);
-        let (u, v) = uv_at(p, l1, l2);
         let lod = self.lod(p, tri, row, tex, [l1, l2, w]);
-        // The level nearest the colour's, filtered bilinearly: half a trilinear read (which
-        // cost as much as the colour's); a nearest texel was cheaper still but stepped the
-        // depth a texel at a time (3 times the mean error against the mesh).
-        let s = d
-            .texture
-            .bilinear8_lod(&self.material.sampler, lod, u, v, M8::from_bits(mask));
-        let zero = F8::splat(0.0);
-        let frac = s[3].gt(zero).select(s[0] / s[3], zero);
-        // A texel the offset image leaves uncovered holds no surface: dropped unshaded.
-        let keep = s[3].gt(zero).bits() & mask;
-        Some((frac * F8::splat(k) * w, keep))
+        Some(nailboard::behind(
+            d,
+            &self.material.sampler,
+            p.parallax.as_ref(),
+            k,
+            lod,
+            uv_at(p, l1, l2),
+            w,
+            mask,
+        ))
     }
 }
 
 impl GeneralShader<'_> {
-    /// [`FragShader::shade`].
+    /// [`FragShader::shade`], reading the texture at `uv` where given (a nailboard's
+    /// [`Behind::uv`]), else at the fragments' own.
     #[inline(always)]
-    fn shade_lanes(&self, p: &GeneralTri, tri: &Tri, row: &Row, mask: u32, out: &mut [Lane; 4]) {
+    fn shade_lanes(
+        &self,
+        p: &GeneralTri,
+        tri: &Tri,
+        row: &Row,
+        mask: u32,
+        uv: Option<[Lane; 2]>,
+        out: &mut [Lane; 4],
+    ) {
         let m = self.material;
         let (l1, l2, w) = barycentrics(tri, row);
         let at = |c: usize| {
@@ -402,7 +442,7 @@ impl GeneralShader<'_> {
         if let Some(tex) = &m.base_texture {
             let lod = self.lod(p, tri, row, tex, [l1, l2, w]);
             let keep = M8::from_bits(mask);
-            let (u, v) = uv_at(p, l1, l2);
+            let [u, v] = uv.unwrap_or_else(|| uv_at(p, l1, l2));
             let t = tex.sample8_lanes(&m.sampler, u, v, lod, keep);
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
@@ -460,13 +500,18 @@ impl GeneralShader<'_> {
 
     /// The texture's level of detail for `row`: one for the triangle where its footprint
     /// hardly varies, else one for the row (the largest footprint among the covered
-    /// lanes); 0 for samplers without mipmaps.
+    /// lanes); 0 for samplers without mipmaps; at most a nailboard's
+    /// [`DepthOffset::max_lod`].
     #[inline(always)]
     fn lod(&self, p: &GeneralTri, tri: &Tri, row: &Row, tex: &Texture, lw: [Lane; 3]) -> f32 {
-        match (self.material.sampler.filter, p.lod) {
+        let lod = match (self.material.sampler.filter, p.lod) {
             (Filter::Trilinear, Some(lod)) => lod,
             (Filter::Trilinear, None) => row_lod(tri, [p.attr[UV], p.attr[UV + 1]], tex, row, lw),
-            _ => 0.0,
+            _ => return 0.0,
+        };
+        match &self.material.depth_offset {
+            Some(d) => lod.min(d.max_lod),
+            None => lod,
         }
     }
 
@@ -604,5 +649,6 @@ fn light8(
 }
 
 mod lod;
+mod nailboard;
 #[cfg(test)]
 mod tests;

@@ -42,25 +42,18 @@ pub const SPRITE_PX: u32 = 256;
 /// half turn +0.4 dB mean, as 24 around, for 50 MB more resident where 24 around took
 /// 200 MB (session 14).
 pub const SPRITE_AZIMUTHS: usize = 12;
-/// Where each tree kind's views stand ([`ViewAtlas::pivot`]), in the unit-tall mesh's
-/// units above its sphere's centre: the broadleaf's through its crown's centre (0.7 up,
-/// the sphere's centre 0.485), where the crown's outline lies; the pine's a little above
-/// its centre, among its cones. Through the sphere's centre, the crowns of the trees near
-/// the eye showed a pixel low and small (session 14: 24.6 / 19.3 dB on the 640 x 360 tour,
-/// 25.3 / 21.3 with these pivots, 25.7 / 21.2 with 0.25 and 0.2).
+/// Each tree kind's point up its axis the view is chosen from ([`AIM`] times it), in
+/// the unit-tall mesh's units above its sphere's centre: the broadleaf's crown's centre
+/// (0.7 up, the sphere's centre 0.485), the pine's a little above its centre. Until
+/// session 30 the views also stood on the plane through it ([`ViewAtlas::pivot`], and for
+/// the pine a lower one seen from above, `ViewAtlas::pivot_steep`), where the outline's
+/// surface lies: a flat sprite's correction for perspective, which the nailboards'
+/// parallax search ([`PARALLAX_TOLERANCE`]) makes texel by texel (session 14: 24.6 / 19.3
+/// dB on the 640 x 360 tour through the sphere's centre, 25.3 / 21.3 through these).
 const CROWN_PIVOT: f32 = 0.2;
 const PINE_PIVOT: f32 = 0.1;
-/// The pine's pivot seen from straight above, reached linearly from [`PINE_PIVOT`] over the
-/// elevations above [`PINE_STEEP_FROM`] degrees ([`ViewAtlas::pivot_steep`]): from high
-/// above, a pine's outline is its lowest cone's rim, below its centre, and through the
-/// fixed pivot the sprite drew a pixel of rim beyond the mesh on the near side (session
-/// 15, 640 x 360 tour: 25.89 / 21.99 dB with the fixed pivot, 25.98 / 22.95 with this; -0.2
-/// from 45 degrees 25.94 / 22.48, -0.3 from 15 25.97 / 22.99, -0.6 from 30 25.95 / 22.61;
-/// the broadleaf's crown lowered to 0.1 the same way lost 0.4 dB of the worst frame).
-const PINE_TOP_PIVOT: f32 = -0.4;
-const PINE_STEEP_FROM: f32 = 30.0;
 /// A tree shows the view baked nearest the eye's direction from the point `AIM` times its
-/// pivot above its centre (up in the crown) rather than from the centre: from above, the
+/// pivot ([`CROWN_PIVOT`], [`PINE_PIVOT`]) above its centre (up in the crown) rather than from the centre: from above, the
 /// crown's top is seen from lower than the centre, and its sunlit rim showed brighter than
 /// the mesh's (session 14, 640 x 360 tour: from the centre 25.31 / 21.26 dB, from one pivot
 /// up 25.42 / 21.54; with the mirrored views, one pivot up 25.84 / 21.72, two 25.89 /
@@ -84,6 +77,24 @@ pub const SPRITE_ELEVATIONS: [f32; 20] = [
 /// view its sprite would be magnified (taller than [`SPRITE_PX`] on screen) off to the
 /// side of the view.
 pub const NEAR_SIZES: f32 = 3.5;
+/// The forest's nailboards show each fragment the texel whose surface lies on its ray
+/// ([`ViewAtlas::parallax`]; reached with an offset this close, in fractions of the
+/// offsets' span, 3 radii) rather than the one straight behind it on the view's plane.
+/// A view is orthographic and the tour sees it in perspective: a pine's lowest rim,
+/// nearer the eye than the plane, showed a third of a pixel high, and the rims, the
+/// crowns' tops and their bottoms carried 40% of the forest's error (session 30).
+/// 640 x 360 tour (120 frames, with [`SPRITE_MAX_LOD`]): 29.38 / 25.34 dB without, 31.02
+/// / 26.47 with; tolerance 0.02 30.94 / 25.49, 0.04 30.98 / 26.26, 0.05 30.86 / 24.07.
+/// 1280 x 720: 30.56 / 23.77 at 0.01, 30.70 / 24.70 at 0.02, 30.83 / 25.97 at 0.03, 30.82
+/// / 26.09 at 0.04.
+const PARALLAX_TOLERANCE: f32 = 0.03;
+/// The coarsest mip level the forest's sprites read ([`ViewAtlas::max_lod`]): the meshes
+/// they stand for are drawn one sample a pixel, sharper than a view prefiltered over the
+/// pixel's footprint (2 to 3 levels down at 640 x 360). Without parallax, 640 x 360:
+/// 28.66 / 24.55 dB at every level, 28.96 / 24.54 at 2, 29.38 / 25.34 at 1.5, 29.39 /
+/// 25.23 at 1.25, 29.36 / 25.28 at 1; reading level 0 only, 29.16 / 25.01. 1280 x 720:
+/// 29.22 / 25.00 at every level, 29.30 / 25.00 at 1.5, 29.29 / 24.85 at 1.
+const SPRITE_MAX_LOD: f32 = 1.5;
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
 /// Bolt speed (units per second) and length.
@@ -301,7 +312,7 @@ impl IbrLayer {
                     if frustum.sees(b.position, batch.atlas.reach(size)) {
                         // The view baked nearest the eye's direction from the crown's
                         // upper part (AIM).
-                        let aim = b.position + Vec3::Y * (AIM * batch.atlas.pivot * 0.5 * size.y);
+                        let aim = b.position + Vec3::Y * (AIM * batch.pivot * 0.5 * size.y);
                         batch.items.push(Billboard {
                             region: batch.atlas.region(eye - aim),
                             ..*b
@@ -374,6 +385,9 @@ impl IbrLayer {
 /// surfaces do.
 #[derive(Debug)]
 struct TreeSprites {
+    /// Where the view is chosen from ([`CROWN_PIVOT`], [`PINE_PIVOT`]), in the atlas's
+    /// radii above the sprite's centre.
+    pivot: f32,
     atlas: ViewAtlas,
     material: Material,
     items: Vec<Billboard>,
@@ -515,13 +529,6 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
             SPRITE_PX,
         );
         let mut atlas = atlas;
-        atlas.pivot = pivot / atlas.bounds.radius;
-        if kind == TreeKind::Pine {
-            atlas.pivot_steep = Some((
-                PINE_TOP_PIVOT / atlas.bounds.radius,
-                PINE_STEEP_FROM.to_radians(),
-            ));
-        }
         // Each sprite one flat outline whose fragments take their texel's own depth
         // (`ViewAtlas::nailboards`), not a 5 x 5 grid of moved nodes: crowns overlapping
         // crowns are ordered per texel. 640 x 360 tour, 120 frames: forest PSNR mean / worst
@@ -529,11 +536,14 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
         // 24.30, 29.22 / 24.9992; 8 triangles a sprite where a relief drew 16 or 32, and
         // the tour's frame no slower (BENCHMARKS.md, issue 39, session 29).
         atlas.nailboard = true;
+        atlas.parallax = Some(PARALLAX_TOLERANCE);
+        atlas.max_lod = SPRITE_MAX_LOD;
         let height = mesh_height(&mesh);
         let k = trees.meshes.len();
         trees.bounds.push(bounds);
         trees.meshes.push(mesh);
         let mut batch = TreeSprites {
+            pivot: pivot / atlas.bounds.radius,
             material: atlas.material().double_sided(true),
             atlas,
             items: Vec::new(),

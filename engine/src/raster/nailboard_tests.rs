@@ -68,6 +68,8 @@ fn board_material(offset: bool, front: f32) -> Material {
             texture: Arc::new(depth),
             scale: 1.0,
             lift: (front - 1.0) / (2.0 * HALF),
+            parallax: None,
+            max_lod: f32::INFINITY,
         }),
         ..Material::unlit(Rgba::WHITE).with_texture(Arc::new(colour))
     }

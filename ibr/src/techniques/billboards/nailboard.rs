@@ -221,4 +221,58 @@ mod tests {
         );
         assert!(mean < 3.0, "colour off by {mean} levels");
     }
+
+    /// A wide cone whose rim lies below its sprite's centre (a pine's lowest cone), lit,
+    /// seen from 20 degrees up at 5 of its sphere's radii (the views on the plane through
+    /// the centre either way): drawn flat, the nailboard shows
+    /// the rim (nearer the eye than the view's plane) where the orthographic view has it,
+    /// not where the eye sees it; with parallax each fragment shows the texel whose surface
+    /// lies on its ray, and both the outline and the colours come nearer the mesh's.
+    #[test]
+    fn with_parallax_a_nailboard_shows_its_surfaces_where_the_eye_sees_them() {
+        let mut cone = procedural::cone(0.6, 0.9, 48);
+        cone.colors.clear();
+        let material = Material {
+            shading: engine::Shading::Lit {
+                specular: 0.0,
+                shininess: 32.0,
+            },
+            ..Material::lit(Rgba::new(0.3, 0.7, 0.2, 1.0))
+        };
+        let draw = Draw {
+            mesh: &cone,
+            material: &material,
+            transform: Mat4::from_translation(Vec3::new(0.0, -0.35, 0.0)),
+        };
+        let lighting = Lighting {
+            ambient: Rgba::new(0.2, 0.2, 0.25, 1.0),
+            lights: vec![engine::Light::Directional {
+                direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
+                color: Rgba::WHITE,
+            }],
+        };
+        let bounds = Sphere {
+            center: Vec3::ZERO,
+            radius: 0.8,
+        };
+        let elevations: Vec<f32> = (0..18).map(|k| (5.0 * k as f32).to_radians()).collect();
+        let mut a = ViewAtlas::bake(&[draw], &lighting, bounds, 8, &elevations, 128);
+        a.nailboard = true;
+        let e = 20f32.to_radians();
+        let eye = Vec3::new(e.cos(), e.sin(), 0.0) * 4.0;
+        let (both, flat, flat_level) = against_mesh(&a, draw, &lighting, eye, 0.45);
+        a.parallax = Some(0.03);
+        let (_, searched, level) = against_mesh(&a, draw, &lighting, eye, 0.45);
+        // Measured: 3,012 pixels both cover; the outline off on 356 flat, 180 searched; the
+        // colours 1.41 and 0.73 levels off.
+        assert!(both > 2000, "{both}");
+        assert!(
+            searched * 3 < flat * 2,
+            "outline off on {searched} with parallax, {flat} without"
+        );
+        assert!(
+            level * 4.0 < flat_level * 3.0,
+            "colour off by {level} levels with parallax, {flat_level} without"
+        );
+    }
 }

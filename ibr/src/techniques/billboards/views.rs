@@ -141,6 +141,15 @@ pub struct ViewAtlas {
     /// depth; [`ViewAtlas::material`] then carries the offset image) instead of as depth
     /// grids ([`ViewAtlas::relief`]). `false` as baked.
     pub nailboard: bool,
+    /// With `nailboard`: each fragment shows the texel whose surface lies on its own ray
+    /// ([`engine::DepthOffset::parallax`], this its tolerance), not the one straight
+    /// behind it on the view's plane; the views then stand on the plane through the centre
+    /// (`pivot` and `pivot_steep` are not read: they placed the plane where the outline's
+    /// surface lies, which the search does texel by texel). `None` as baked.
+    pub parallax: Option<f32>,
+    /// With `nailboard`: the coarsest level of detail read ([`engine::DepthOffset::max_lod`]);
+    /// `f32::INFINITY` as baked.
+    pub max_lod: f32,
 }
 
 impl ViewAtlas {
@@ -302,6 +311,8 @@ impl ViewAtlas {
             depth_texture: Arc::new(depth_texture),
             depth_near,
             nailboard: false,
+            parallax: None,
+            max_lod: f32::INFINITY,
         }
     }
 
@@ -320,6 +331,8 @@ impl ViewAtlas {
                 texture: self.depth_texture.clone(),
                 scale: DEPTH_SPAN * 0.5 / self.azimuths as f32,
                 lift: self.depth_near * 0.5 / self.azimuths as f32,
+                parallax: self.parallax,
+                max_lod: self.max_lod,
             }),
             ..Material::unlit(Rgba::WHITE).with_texture(self.texture.clone())
         }
@@ -349,7 +362,10 @@ impl ViewAtlas {
                 basis,
                 view_index,
                 mount: Mount::new(e, basis.normal, basis.right),
-                pivot: self.pivot_at(e) * 0.5 * size.y,
+                pivot: match (self.nailboard, self.parallax) {
+                    (true, Some(_)) => 0.0,
+                    _ => self.pivot_at(e) * 0.5 * size.y,
+                },
             })
         })
     }
