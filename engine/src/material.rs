@@ -143,10 +143,10 @@ pub struct DepthOffset {
     /// right for surfaces on that plane and off by their offset's parallax elsewhere (a
     /// pine's lowest rim a third of a pixel high, seen from 40 tree heights). `Some(tol)`:
     /// the images are an orthographic view along the triangle's normal, and each fragment
-    /// shows the texel whose surface lies on its own ray, found by a two-step search and
-    /// kept where the texel reached has the offset it was reached with, within `tol`
-    /// (fractions of `scale`), else its own texel (the search, in the shade stage's
-    /// `nailboard` module; three offset reads a fragment, not one).
+    /// shows the texel whose surface lies on its own ray, found by a search of one or two
+    /// steps, a step kept where the texel reached has the offset it was reached with,
+    /// within `tol` (fractions of `scale`), else its own texel (the search, in the shade
+    /// stage's `nailboard` module; two or three offset reads a fragment, not one).
     pub parallax: Option<f32>,
     /// The coarsest level of detail read (colour and offset); `f32::INFINITY` for none. A
     /// nailboard stands for a mesh the rasterizer draws sharp (one sample a pixel), which a
