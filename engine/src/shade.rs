@@ -11,7 +11,7 @@
 //! its footprint over its box show the level spreads less than [`lod::LOD_SPREAD`].
 
 use crate::light::{Light, Lighting};
-use crate::material::{AlphaMode, DepthOffset, Material, Shading};
+use crate::material::{AlphaMode, Material, Shading};
 use crate::setup::{Plane, Tri, FRONT};
 use crate::texture::{Filter, Texture};
 use crate::vertex::{COL, NRM, POS, UV};
@@ -247,7 +247,7 @@ pub struct GeneralTri {
     /// behind the triangle of a texel offset of 1 (red over alpha) at view depth 1; `None`
     /// without.
     depth_scale: Option<f32>,
-    /// For a depth offset with [`DepthOffset::parallax`]: the triangle's terms of the
+    /// For a depth offset with [`crate::material::DepthOffset::parallax`]: the triangle's terms of the
     /// search for each fragment's texel.
     parallax: Option<Parallax>,
 }
@@ -337,27 +337,19 @@ impl FragShader for GeneralShader<'_> {
             }
             _ => None,
         };
-        let depth_scale = match (&self.material.depth_offset, self.material.alpha_mode) {
+        // A nailboard's terms: its offset's view depth, and its parallax search's (`None`
+        // without `DepthOffset::parallax`).
+        let (depth_scale, parallax) = match (&self.material.depth_offset, self.material.alpha_mode)
+        {
             (Some(d), AlphaMode::Mask { .. }) if self.material.base_texture.is_some() => {
                 let edges = [p(0), p(1) - p(0), p(2) - p(0)];
                 let uv = [attr[UV], attr[UV + 1]];
-                Some(nailboard::depth_scale(d, edges, uv, n, self.eye))
+                (
+                    Some(nailboard::depth_scale(d, edges, uv, n, self.eye)),
+                    Parallax::new(d, edges, uv, n, self.eye),
+                )
             }
-            _ => None,
-        };
-        let parallax = match (&self.material.depth_offset, depth_scale) {
-            (
-                Some(
-                    d @ DepthOffset {
-                        parallax: Some(_), ..
-                    },
-                ),
-                Some(_),
-            ) => {
-                let edges = [p(0), p(1) - p(0), p(2) - p(0)];
-                Parallax::new(d, edges, [attr[UV], attr[UV + 1]], n, self.eye)
-            }
-            _ => None,
+            _ => (None, None),
         };
         GeneralTri {
             parallax,
@@ -501,7 +493,7 @@ impl GeneralShader<'_> {
     /// The texture's level of detail for `row`: one for the triangle where its footprint
     /// hardly varies, else one for the row (the largest footprint among the covered
     /// lanes); 0 for samplers without mipmaps; at most a nailboard's
-    /// [`DepthOffset::max_lod`].
+    /// [`crate::material::DepthOffset::max_lod`].
     #[inline(always)]
     fn lod(&self, p: &GeneralTri, tri: &Tri, row: &Row, tex: &Texture, lw: [Lane; 3]) -> f32 {
         let lod = match (self.material.sampler.filter, p.lod) {
