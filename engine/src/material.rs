@@ -115,7 +115,9 @@ pub struct Material {
 ///
 /// `texture` is read at the base texture's uv, filtered bilinearly on the mip level
 /// nearest the base texture's level of detail (so it should have the base texture's size;
-/// the material's wrap modes apply). Its texels are premultiplied unorm bytes: red over alpha
+/// the material's wrap modes apply), and so is the base texture itself (a trilinear
+/// sampler is read on one level, not blended across two: on the showcase's forest at
+/// 1280 x 720 the blend cost 13 to 19% of the sprites' raster time for 0.015 dB). Its texels are premultiplied unorm bytes: red over alpha
 /// is the fraction of the largest offset; the mip levels then hold the alpha-weighted mean
 /// offset; where the read's alpha is 0 there is no surface, and the fragment is dropped. A
 /// fragment's surface lies `scale * red / alpha * unit` behind the triangle's plane, along

@@ -435,7 +435,12 @@ impl GeneralShader<'_> {
             let lod = self.lod(p, tri, row, tex, [l1, l2, w]);
             let keep = M8::from_bits(mask);
             let [u, v] = uv.unwrap_or_else(|| uv_at(p, l1, l2));
-            let t = tex.sample8_lanes(&m.sampler, u, v, lod, keep);
+            // A nailboard's colour (shaded through `shade_behind`) is read as its offset is,
+            // bilinearly on the level nearest `lod` (`DepthOffset`'s docs).
+            let t = match uv {
+                Some(_) => tex.bilinear8_lod(&m.sampler, lod, u, v, keep),
+                None => tex.sample8_lanes(&m.sampler, u, v, lod, keep),
+            };
             if tex.is_opaque() {
                 // Alpha 1 everywhere: premultiplied is straight, and alpha stays as it is.
                 for c in 0..3 {
