@@ -2,7 +2,9 @@
 
 use super::ViewAtlas;
 use crate::core::{Billboard, Facing, View};
-use engine::{Camera, Draw, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target};
+use engine::{
+    Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading, Target,
+};
 use glam::{Mat4, Vec2, Vec3};
 
 /// The atlas's sprite ([`ViewAtlas::relief`], or its nailboard when switched on) of the
@@ -68,4 +70,27 @@ pub(super) fn against_mesh(
         }
     }
     (both, one, off as f32 / (3 * both.max(1)) as f32)
+}
+
+/// A matte green material (no highlight: a view carries the light that left toward its
+/// bake direction).
+pub(super) fn matte() -> Material {
+    Material {
+        shading: Shading::Lit {
+            specular: 0.0,
+            shininess: 32.0,
+        },
+        ..Material::lit(Rgba::new(0.3, 0.7, 0.2, 1.0))
+    }
+}
+
+/// An ambient light and one sun from up and to the side.
+pub(super) fn sun() -> Lighting {
+    Lighting {
+        ambient: Rgba::new(0.2, 0.2, 0.25, 1.0),
+        lights: vec![Light::Directional {
+            direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
+            color: Rgba::WHITE,
+        }],
+    }
 }

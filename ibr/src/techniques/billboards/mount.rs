@@ -50,32 +50,10 @@ impl Mount {
 
 #[cfg(test)]
 mod tests {
-    use super::super::compare::against_mesh;
+    use super::super::compare::{against_mesh, matte, sun};
     use super::super::ViewAtlas;
-    use engine::{procedural, Draw, Light, Lighting, Material, Rgba, Shading, Sphere};
+    use engine::{procedural, Draw, Sphere};
     use glam::{Mat4, Vec3};
-
-    /// A matte green material (no highlight: a view carries the light that left toward
-    /// its bake direction).
-    fn matte() -> Material {
-        Material {
-            shading: Shading::Lit {
-                specular: 0.0,
-                shininess: 32.0,
-            },
-            ..Material::lit(Rgba::new(0.3, 0.7, 0.2, 1.0))
-        }
-    }
-
-    fn sun() -> Lighting {
-        Lighting {
-            ambient: Rgba::new(0.2, 0.2, 0.25, 1.0),
-            lights: vec![Light::Directional {
-                direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
-                color: Rgba::WHITE,
-            }],
-        }
-    }
 
     /// A ball standing high above its sprite's centre (as a crown above a tree's), seen
     /// from 30 degrees up at 2.3 of its sprite's sides: mounted through the ball's centre,

@@ -119,7 +119,7 @@ impl ViewAtlas {
 
 #[cfg(test)]
 mod tests {
-    use super::super::compare::{against_mesh, centred_sprite};
+    use super::super::compare::{against_mesh, centred_sprite, matte, sun};
     use super::*;
     use engine::{
         procedural, Camera, Draw, FrameOptions, Lighting, Material, Renderer, Rgba, Sphere, Target,
@@ -232,25 +232,13 @@ mod tests {
     fn with_parallax_a_nailboard_shows_its_surfaces_where_the_eye_sees_them() {
         let mut cone = procedural::cone(0.6, 0.9, 48);
         cone.colors.clear();
-        let material = Material {
-            shading: engine::Shading::Lit {
-                specular: 0.0,
-                shininess: 32.0,
-            },
-            ..Material::lit(Rgba::new(0.3, 0.7, 0.2, 1.0))
-        };
+        let material = matte();
         let draw = Draw {
             mesh: &cone,
             material: &material,
             transform: Mat4::from_translation(Vec3::new(0.0, -0.35, 0.0)),
         };
-        let lighting = Lighting {
-            ambient: Rgba::new(0.2, 0.2, 0.25, 1.0),
-            lights: vec![engine::Light::Directional {
-                direction: Vec3::new(-0.45, -0.75, -0.5).normalize(),
-                color: Rgba::WHITE,
-            }],
-        };
+        let lighting = sun();
         let bounds = Sphere {
             center: Vec3::ZERO,
             radius: 0.8,
