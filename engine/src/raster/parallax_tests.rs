@@ -218,3 +218,58 @@ fn a_capped_level_of_detail_reads_the_finer_texels() {
         "spread {capped} capped at level 0, {mip} from the mip chain"
     );
 }
+
+/// Odd triangles through the parallax search's setup (a zero-area one, one with a NaN
+/// corner, one reaching behind the eye, one whose uvs are all the same point, so its
+/// length per unit of `u` is infinite) draw without a panic, the same pixels on 1 and 2
+/// threads, and the drawable ones draw.
+#[test]
+fn odd_triangles_through_the_parallax_search_neither_panic_nor_differ_by_threads() {
+    use glam::Vec2;
+    let material = board_material(Some(0.03)).double_sided(true);
+    let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let mesh = Mesh {
+        positions: vec![
+            p(0.0, 0.0, 1.0),
+            p(0.5, 0.5, 1.0),
+            p(1.0, 1.0, 1.0),
+            p(f32::NAN, 0.0, 1.0),
+            p(0.5, 0.0, 1.0),
+            p(0.0, 0.5, 1.0),
+            p(-0.5, -0.5, 1.0),
+            p(0.5, -0.5, 1.0),
+            p(0.0, 0.5, 9.0),
+            p(-0.5, 0.5, 0.5),
+            p(0.5, 0.5, 0.5),
+            p(0.0, -0.5, 0.5),
+        ],
+        uvs: [
+            [0.0, 0.0],
+            [0.5, 0.5],
+            [1.0, 1.0],
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [0.0, 1.0],
+            [0.0, 1.0],
+            [1.0, 1.0],
+            [0.5, 0.0],
+            [0.5, 0.5],
+            [0.5, 0.5],
+            [0.5, 0.5],
+        ]
+        .iter()
+        .map(|&[u, v]| Vec2::new(u, v))
+        .collect(),
+        indices: (0..12).collect(),
+        ..Mesh::default()
+    };
+    let draw = Draw {
+        mesh: &mesh,
+        material: &material,
+        transform: Mat4::IDENTITY,
+    };
+    let (one, two) = (render(draw, 1), render(draw, 2));
+    assert_eq!(one, two, "one thread and two");
+    let drawn = one.iter().filter(|p| p.is_some()).count();
+    assert!(drawn > 0, "nothing drawn");
+}
