@@ -1,7 +1,7 @@
 //! The `bench billboards` sweep: what billboards cost and how far billboard trees are from
 //! the meshes they replace.
 //!
-//! Six series in four groups, one CSV row per point ([`Row::HEADER`]):
+//! Seven series in four groups, one CSV row per point ([`Row::HEADER`]):
 //! - `count`: screen-facing, alpha-blended glow particles ([`sprites::glow`] 64 px, 0.15
 //!   world units wide) scattered in a box 10 to 30 units in front of the camera, at
 //!   [`Settings::count_size`], for each of [`Settings::counts`].
@@ -22,12 +22,16 @@
 //!   `accuracy_top` adds the baked top-down sprite ([`AxialFallback::top`]). The error is
 //!   [`ibr::metrics`] over the union of both images' covered rectangles (grown by 2
 //!   pixels), pooled over trees and azimuths ([`ImageError::pooled`]).
-//! - `trees_mesh` and `trees_billboard`: a forest of [`Settings::tree_counts`] trees (pines and
-//!   broadleaves, 3 to 7 units tall, at random on a 200 x 200 square of a flat ground
-//!   plane) seen from one camera 12 units up at [`Settings::tree_size`]: as meshes (statically
-//!   batched: one merged mesh per kind, so the renderer sees three draws with the ground)
-//!   or as alpha-tested [`Facing::UPRIGHT`] billboards of sprites baked 128 px tall (one
-//!   batch per kind).
+//! - `trees_mesh`, `trees_billboard` and `trees_nailboard`: a forest of
+//!   [`Settings::tree_counts`] trees (pines and broadleaves, 3 to 7 units tall, at random on
+//!   a 200 x 200 square of a flat ground plane) seen from one camera 12 units up at
+//!   [`Settings::tree_size`]: as meshes (statically batched: one merged mesh per kind, so
+//!   the renderer sees three draws with the ground), as alpha-tested [`Facing::UPRIGHT`]
+//!   billboards of sprites baked 128 px tall (one batch per kind), or as the showcase's
+//!   forest draws its trees: nailboards of views baked [`Settings::bake_px`] square from 12
+//!   azimuths and 20 elevations, each fragment at its texel's depth, found by the parallax
+//!   search (`nailboards.rs`). The image series' rows carry their error against the mesh
+//!   forest's frame.
 //!
 //! Timing: every frame is timed as two parts, `build` (computing the billboard [`View`] and
 //! [`BillboardBatch::build`]: quad generation, and for blended batches the back-to-front
@@ -45,6 +49,7 @@
 //! [`Row::HEADER`]: crate::bench::sweep::CsvRow::HEADER
 
 mod accuracy;
+mod nailboards;
 mod particles;
 mod report;
 mod row;
@@ -153,7 +158,7 @@ impl Settings {
         self.counts.len()
             + self.resolutions.len()
             + 2 * self.elevations.len()
-            + 2 * self.tree_counts.len()
+            + 3 * self.tree_counts.len()
     }
 }
 
@@ -174,7 +179,7 @@ pub fn run(settings: &Settings, mut progress: impl FnMut(usize, usize, &str)) ->
             &camera,
             &lighting,
             &[],
-            batch,
+            &mut [&mut batch[0]],
             settings,
         );
         (batch[0].mesh().triangle_count() as u64, measured)

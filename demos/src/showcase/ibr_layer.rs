@@ -88,14 +88,14 @@ pub const NEAR_SIZES: f32 = 3.5;
 /// 0.04 30.98 / 26.26, 0.05 30.86 / 24.07. 1280 x 720: 30.56 / 23.77 at 0.01, 30.70 /
 /// 24.70 at 0.02, 30.83 / 25.97 at 0.03, 30.82 / 26.09 at 0.04. As committed (the colour
 /// read on one level): 31.00 / 26.44 and 30.82 / 26.01.
-const PARALLAX_TOLERANCE: f32 = 0.03;
+pub const PARALLAX_TOLERANCE: f32 = 0.03;
 /// The coarsest mip level the forest's sprites read ([`ViewAtlas::max_lod`]): the meshes
 /// they stand for are drawn one sample a pixel, sharper than a view prefiltered over the
 /// pixel's footprint (2 to 3 levels down at 640 x 360). Without parallax, 640 x 360:
 /// 28.66 / 24.55 dB at every level, 28.96 / 24.54 at 2, 29.38 / 25.34 at 1.5, 29.39 /
 /// 25.23 at 1.25, 29.36 / 25.28 at 1; reading level 0 only, 29.16 / 25.01. 1280 x 720:
 /// 29.22 / 25.00 at every level, 29.30 / 25.00 at 1.5, 29.29 / 24.85 at 1.
-const SPRITE_MAX_LOD: f32 = 1.5;
+pub const SPRITE_MAX_LOD: f32 = 1.5;
 /// Seconds between bolts fired from turret B at turret A.
 const BOLT_PERIOD: f32 = 1.6;
 /// Bolt speed (units per second) and length.
@@ -484,15 +484,6 @@ pub fn near(b: &Billboard, eye: Vec3) -> bool {
     b.position.distance(eye) < NEAR_SIZES * size.y
 }
 
-/// A sphere holding `mesh`'s (finite) vertices: about their bounding box's centre.
-fn sphere_around(mesh: &Mesh) -> engine::Sphere {
-    let finite = || mesh.positions.iter().filter(|p| p.is_finite());
-    let (lo, hi) = finite().fold((Vec3::MAX, Vec3::MIN), |(l, h), p| (l.min(*p), h.max(*p)));
-    let center = (lo + hi) * 0.5;
-    let radius = finite().map(|p| p.distance(center)).fold(0.0, f32::max);
-    engine::Sphere { center, radius }
-}
-
 /// The billboard forest: a pine and a broadleaf tree, turned about the vertical
 /// ([`lathe::tree`]: alike from every side, the subject billboards suit), each baked from
 /// [`SPRITE_AZIMUTHS`] x [`SPRITE_ELEVATIONS`] directions under the scene's lighting
@@ -513,7 +504,7 @@ fn forest(scene: &Scene, terrain: &Terrain) -> (Vec<TreeSprites>, ForestGeometry
         (TreeKind::Broadleaf, 3, CROWN_PIVOT),
     ] {
         let mesh = lathe::tree(kind, seed);
-        let bounds = sphere_around(&mesh);
+        let bounds = mesh.bounding_sphere();
         let white = foliage(Rgba::WHITE);
         let lighting = bake_lighting(&scene.lighting);
         let draw = Draw {

@@ -14,15 +14,16 @@ use ibr::{Billboard, BillboardBatch, Facing};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Times frames of `fixed` draws plus `batches` rebuilt every frame for `camera`, the
-/// batches as techniques of the [`FrameLoop`] (`build` is their `prepare`).
+/// Times frames of `fixed` draws plus `techniques` (billboard batches, the nailboard
+/// forest) rebuilt every frame for `camera` by the [`FrameLoop`] (`build` is their
+/// `prepare`).
 pub(super) fn measure(
     renderer: &mut Renderer,
     target: &mut Target,
     camera: &Camera,
     lighting: &Lighting,
     fixed: &[Draw],
-    batches: &mut [BillboardBatch],
+    techniques: &mut [&mut dyn Technique],
     settings: &Settings,
 ) -> (Times, FrameStats) {
     let opts = FrameOptions {
@@ -30,10 +31,6 @@ pub(super) fn measure(
         ..Default::default()
     };
     let mut frame_loop = FrameLoop::new();
-    let mut techniques: Vec<&mut dyn Technique> = batches
-        .iter_mut()
-        .map(|b| b as &mut dyn Technique)
-        .collect();
     let frames = settings.timing.run(|| {
         let view = FrameView {
             camera,
@@ -44,7 +41,7 @@ pub(super) fn measure(
             dt: 0.0,
         };
         let draws = fixed.iter().copied();
-        let stats = frame_loop.render(renderer, draws, &mut techniques, &view, target, &opts);
+        let stats = frame_loop.render(renderer, draws, techniques, &view, target, &opts);
         let t = frame_loop.times;
         (t.prepare, t.total.saturating_sub(t.prepare), stats)
     });

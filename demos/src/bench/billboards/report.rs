@@ -97,6 +97,12 @@ pub fn charts(rows: &[Row]) -> Vec<(&'static str, Chart)> {
                         total,
                         "billboard trees (build + render)",
                     ),
+                    times(
+                        "trees_nailboard",
+                        value,
+                        total,
+                        "nailboard trees, the showcase's (build + render)",
+                    ),
                 ],
             )
             .log(true, true),
@@ -135,6 +141,10 @@ fn trees_error_time(rows: &[Row]) -> Lines {
         vec![
             line("trees_mesh", "mesh trees (the reference)"),
             line("trees_billboard", "billboard trees"),
+            line(
+                "trees_nailboard",
+                "nailboard trees (views, per-texel depth)",
+            ),
         ],
     )
     .log(true, false)
@@ -146,7 +156,7 @@ pub struct BillboardsSweep;
 
 impl Sweep for BillboardsSweep {
     const NAME: &'static str = "billboards";
-    const ABOUT: &'static str = "Billboard frame time against count and resolution, billboard-tree error against view elevation, and billboard against mesh trees";
+    const ABOUT: &'static str = "Billboard frame time against count and resolution, billboard-tree error against view elevation, and billboard and nailboard against mesh trees";
     const ROWS: &'static str = "measurements";
     type Flags = RunFlags;
     type Settings = super::Settings;

@@ -16,8 +16,8 @@ pub struct Times {
 /// One measurement: a CSV row.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
-    /// `count`, `resolution`, `accuracy_fade`, `accuracy_top`, `trees_mesh` or
-    /// `trees_billboard`.
+    /// `count`, `resolution`, `accuracy_fade`, `accuracy_top`, `trees_mesh`,
+    /// `trees_billboard` or `trees_nailboard`.
     pub series: &'static str,
     /// What the series sweeps: `billboards`, `pixels`, `elevation_deg` or `trees`.
     pub param: &'static str,

@@ -1,6 +1,7 @@
 //! The sweep's trees (meshes, baked sprites, billboards) and the `trees_mesh` and
 //! `trees_billboard` forest series.
 
+use super::nailboards::NailboardForest;
 use super::particles::measure;
 use super::{Row, Settings};
 use crate::bench::raster::count_name;
@@ -9,6 +10,7 @@ use engine::{AlphaMode, Camera, Draw, Lighting, Material, Mesh, Renderer, Rgba, 
 use glam::{Mat4, Vec3};
 use ibr::metrics::{self, Options};
 use ibr::sprites::{self, BakedSprite};
+use ibr::technique::Technique;
 use ibr::{Billboard, BillboardBatch, Facing, Size};
 
 /// The trees of the sweep, standing on the origin and 5 units tall: a pine and a broadleaf.
@@ -109,11 +111,13 @@ pub(super) fn trees(
     let time = |renderer: &mut Renderer,
                 target: &mut Target,
                 fixed: &[Draw],
-                batches: &mut [BillboardBatch]| {
+                techniques: &mut [&mut dyn Technique]| {
         measure(
-            renderer, target, &camera, &lighting, fixed, batches, settings,
+            renderer, target, &camera, &lighting, fixed, techniques, settings,
         )
     };
+    // The nailboards' views are baked once for every count (as a game loads them).
+    let mut nailboards: Option<NailboardForest> = None;
     for &n in &settings.tree_counts {
         let trees = forest(n, 5);
         // Meshes: one merged mesh per kind (static batching).
@@ -171,7 +175,11 @@ pub(super) fn trees(
             material: &ground_material,
             transform: ground_at,
         }];
-        let measured = time(renderer, &mut target, &fixed, &mut batches);
+        let mut techniques: Vec<&mut dyn Technique> = batches
+            .iter_mut()
+            .map(|b| b as &mut dyn Technique)
+            .collect();
+        let measured = time(renderer, &mut target, &fixed, &mut techniques);
         let triangles = ground.triangle_count() as u64
             + batches
                 .iter()
@@ -180,5 +188,17 @@ pub(super) fn trees(
         let mut billboard_row = row("trees_billboard", triangles, measured);
         billboard_row.error = metrics::compare(&target, &truth, &Options::default()).ok();
         rows.push(billboard_row);
+
+        // Nailboards: the showcase forest's technique, one mesh of outlines per kind.
+        progress(format!("trees_nailboard {}", count_name(n as u64)));
+        let forest = nailboards.get_or_insert_with(|| {
+            NailboardForest::new(&kinds, &material, &lighting, settings.bake_px)
+        });
+        forest.plant(&trees);
+        let measured = time(renderer, &mut target, &fixed, &mut [forest]);
+        let triangles = ground.triangle_count() as u64 + forest.triangles();
+        let mut nailboard_row = row("trees_nailboard", triangles, measured);
+        nailboard_row.error = metrics::compare(&target, &truth, &Options::default()).ok();
+        rows.push(nailboard_row);
     }
 }

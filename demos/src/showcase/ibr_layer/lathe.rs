@@ -241,7 +241,7 @@ mod tests {
             material: &material,
             transform: Mat4::IDENTITY,
         };
-        let bounds = super::super::sphere_around(mesh);
+        let bounds = mesh.bounding_sphere();
         let a = ViewAtlas::bake(&[draw], &lighting, bounds, 12, &[0.0, 0.17], 128);
         let (w, h) = (200u32, 160u32);
         let dist = 12.0;
