@@ -1,5 +1,6 @@
-//! The sweep's trees (meshes, baked sprites, billboards) and the `trees_mesh` and
-//! `trees_billboard` forest series.
+//! The sweep's trees (meshes, baked sprites, billboards) and the `trees_mesh`,
+//! `trees_billboard` and `trees_nailboard` forest series (the last's forest in
+//! `nailboards.rs`).
 
 use super::nailboards::NailboardForest;
 use super::particles::measure;
