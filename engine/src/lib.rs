@@ -45,6 +45,10 @@ mod state;
 mod tile;
 mod vertex;
 
+// Unit tests' shared support.
+#[cfg(test)]
+mod testing;
+
 // What users see.
 pub mod camera;
 pub mod color;

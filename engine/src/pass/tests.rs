@@ -1,5 +1,6 @@
 use super::*;
 use crate::color::Rgba;
+use crate::testing::on_threads;
 use crate::{Camera, Draw, FrameOptions, Lighting, Material, Mesh, Renderer};
 use glam::{Mat4, Vec3};
 
@@ -182,20 +183,16 @@ impl PixelPass for Gradient {
 #[test]
 fn the_same_pixels_at_any_thread_count() {
     let run = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool")
-            .install(|| {
-                let mut t = scene(&[quad(3.0, -1.0, 1.0)]);
-                let s = run_pass(
-                    &mut t,
-                    PixelRect::full(W, H),
-                    &Gradient,
-                    PassMode::default(),
-                );
-                (t, s)
-            })
+        on_threads(threads, || {
+            let mut t = scene(&[quad(3.0, -1.0, 1.0)]);
+            let s = run_pass(
+                &mut t,
+                PixelRect::full(W, H),
+                &Gradient,
+                PassMode::default(),
+            );
+            (t, s)
+        })
     };
     let (a, b) = (run(1), run(3));
     assert_eq!(a.0, b.0);

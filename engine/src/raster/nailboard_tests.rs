@@ -3,6 +3,7 @@
 //! through it, and the same pixels on 1 and 2 threads.
 
 use crate::material::{AlphaMode, DepthOffset, Material};
+use crate::testing::on_threads;
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 use crate::{
     procedural, Camera, Draw, Encoding, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target,
@@ -82,10 +83,6 @@ fn render(draws: Vec<Draw<'_>>, threads: usize) -> Target {
 
 /// [`render`], and the frame's fragments tested and shaded.
 fn render_counted(draws: Vec<Draw<'_>>, threads: usize) -> (Target, [u64; 2]) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
     let mut target = Target::new(SIZE, SIZE);
     let opts = FrameOptions {
         clear: Some(Rgba::BLACK),
@@ -93,7 +90,9 @@ fn render_counted(draws: Vec<Draw<'_>>, threads: usize) -> (Target, [u64; 2]) {
     };
     let cam = camera();
     let mut r = Renderer::new();
-    pool.install(|| r.render(draws, &cam, &Lighting::default(), &mut target, &opts));
+    on_threads(threads, || {
+        r.render(draws, &cam, &Lighting::default(), &mut target, &opts)
+    });
     let st = r.stats();
     (target, [st.fragments_tested, st.fragments_shaded])
 }

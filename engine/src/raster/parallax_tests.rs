@@ -3,6 +3,7 @@
 //! orthographically (as a billboard's views are baked) and seen in perspective from near.
 
 use crate::material::{AlphaMode, DepthOffset, Material};
+use crate::testing::on_threads;
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 use crate::{
     procedural, Camera, Draw, Encoding, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target,
@@ -72,17 +73,15 @@ fn board_material(parallax: Option<f32>) -> Material {
 /// The sphere's colours (`[r, g]` bytes) and the board's, where each covers, rendered on
 /// `threads` threads.
 fn render(draw: Draw<'_>, threads: usize) -> Vec<Option<[u8; 2]>> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
     let mut target = Target::new(SIZE, SIZE);
     let opts = FrameOptions {
         clear: Some(Rgba::TRANSPARENT),
         ..FrameOptions::default()
     };
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, EYE), Vec3::ZERO, Vec3::Y, 0.6, 1.0);
-    pool.install(|| Renderer::new().render([draw], &cam, &Lighting::default(), &mut target, &opts));
+    on_threads(threads, || {
+        Renderer::new().render([draw], &cam, &Lighting::default(), &mut target, &opts)
+    });
     target
         .to_rgba8_premultiplied()
         .chunks(4)

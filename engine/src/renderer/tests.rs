@@ -5,6 +5,7 @@
 use super::order::permute;
 use super::*;
 use crate::material::{AlphaMode, Material};
+use crate::testing::on_threads;
 use glam::Mat4;
 
 const SIZE: u32 = 64;
@@ -60,14 +61,11 @@ pub(super) fn render_sized(
     size: (u32, u32),
 ) -> (Target, FrameStats) {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
     let mut target = Target::new(size.0, size.1);
     let opts = FrameOptions::default();
-    let stats =
-        pool.install(|| renderer.render(draws, &camera, &Lighting::default(), &mut target, &opts));
+    let stats = on_threads(threads, || {
+        renderer.render(draws, &camera, &Lighting::default(), &mut target, &opts)
+    });
     (target, stats)
 }
 
@@ -350,15 +348,11 @@ fn grid_mesh(n: usize, side: f32, step: f32, z: f32) -> Mesh {
 /// occlusion on or off, on `threads` threads.
 fn render_wide(draws: &[Draw<'_>], occlusion: bool, threads: usize) -> (Target, FrameStats) {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 1.0, 1.5);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
     let mut target = Target::new(192, 128);
     let mut renderer = Renderer::new();
     renderer.set_cluster_occlusion(occlusion);
     let opts = FrameOptions::default();
-    let stats = pool.install(|| {
+    let stats = on_threads(threads, || {
         renderer.render(
             draws.to_vec(),
             &camera,

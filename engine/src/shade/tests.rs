@@ -1,6 +1,7 @@
 //! Tests of the shading stage (`shade`): lanes, lights and texture sampling.
 
 use crate::color::{srgb_to_linear, Encoding};
+use crate::testing::on_threads;
 use crate::{
     Camera, Draw, FrameOptions, Light, Lighting, Material, Mesh, Renderer, Rgba, Shading, Target,
     Texture,
@@ -335,10 +336,6 @@ fn trilinear_levels_give_the_same_pixels_at_any_thread_count() {
     let lighting = Lighting::default();
     let mut frames = Vec::new();
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("pool");
         let mut target = Target::with_encoding(160, 96, Encoding::Srgb);
         let draws = [floor, sprite].map(|transform| Draw {
             mesh: &quad,
@@ -346,7 +343,9 @@ fn trilinear_levels_give_the_same_pixels_at_any_thread_count() {
             transform,
         });
         let opts = FrameOptions::default();
-        pool.install(|| Renderer::new().render(draws, &camera, &lighting, &mut target, &opts));
+        on_threads(threads, || {
+            Renderer::new().render(draws, &camera, &lighting, &mut target, &opts)
+        });
         frames.push(target.to_rgba8());
     }
     assert_eq!(frames[0], frames[1]);
