@@ -390,8 +390,8 @@ fn summary(times_ms: &[f64]) -> (f64, f64, f64) {
 fn stats_line(s: &FrameStats) -> String {
     format!(
         "render: stats: draws={} triangles_in={} clipped={} culled={} rejected={} set_up={} \
-         binned={} fragments_tested={} shaded={} written={} blocks_full={} blocks_partial={} \
-         blocks_hiz_rejected={}",
+         binned={} fragments_tested={} shaded={} written={} rows_shaded={} rows_paired={} \
+         blocks_full={} blocks_partial={} blocks_hiz_rejected={}",
         s.draws,
         s.triangles_in,
         s.triangles_clipped,
@@ -402,6 +402,8 @@ fn stats_line(s: &FrameStats) -> String {
         s.fragments_tested,
         s.fragments_shaded,
         s.fragments_written,
+        s.rows_shaded,
+        s.rows_paired,
         s.blocks_full,
         s.blocks_partial,
         s.blocks_hiz_rejected
