@@ -58,6 +58,18 @@ fn images(front: f32) -> (Texture, Texture) {
 /// quad lifted to `z = front` (scaled about the eye).
 fn board_material(offset: bool, front: f32) -> Material {
     let (colour, depth) = images(front);
+    let lift = (front - 1.0) / (2.0 * HALF);
+    nailboard(colour, offset.then_some((depth, lift)), None)
+}
+
+/// A nailboard's material, as these tests and `parallax_tests` draw it: `colour` unlit,
+/// alpha-tested, clamped and bilinear; `depth` its offset image (scale 1) with the quad's
+/// `lift` (none: a flat card), and `parallax` ([`DepthOffset::parallax`]).
+pub(super) fn nailboard(
+    colour: Texture,
+    depth: Option<(Texture, f32)>,
+    parallax: Option<f32>,
+) -> Material {
     Material {
         alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
         sampler: Sampler {
@@ -65,11 +77,11 @@ fn board_material(offset: bool, front: f32) -> Material {
             wrap_v: Wrap::Clamp,
             filter: Filter::Bilinear,
         },
-        depth_offset: offset.then(|| DepthOffset {
+        depth_offset: depth.map(|(depth, lift)| DepthOffset {
             texture: Arc::new(depth),
             scale: 1.0,
-            lift: (front - 1.0) / (2.0 * HALF),
-            parallax: None,
+            lift,
+            parallax,
             max_lod: f32::INFINITY,
         }),
         ..Material::unlit(Rgba::WHITE).with_texture(Arc::new(colour))

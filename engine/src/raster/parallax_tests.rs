@@ -2,9 +2,10 @@
 //! mesh it stands for: a sphere whose colour tells where on it a pixel looks, imaged
 //! orthographically (as a billboard's views are baked) and seen in perspective from near.
 
+use super::nailboard_tests::nailboard;
 use crate::material::{AlphaMode, DepthOffset, Material};
 use crate::testing::on_threads;
-use crate::texture::{Filter, Sampler, Texture, Wrap};
+use crate::texture::Texture;
 use crate::{
     procedural, Camera, Draw, Encoding, FrameOptions, Lighting, Mesh, Renderer, Rgba, Target,
 };
@@ -51,23 +52,8 @@ fn images() -> (Texture, Texture) {
 
 fn board_material(parallax: Option<f32>) -> Material {
     let (colour, depth) = images();
-    Material {
-        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
-        sampler: Sampler {
-            wrap_u: Wrap::Clamp,
-            wrap_v: Wrap::Clamp,
-            filter: Filter::Bilinear,
-        },
-        depth_offset: Some(DepthOffset {
-            texture: Arc::new(depth),
-            scale: 1.0,
-            // The quad at z = 1, the image right at z = 0.
-            lift: 1.0 / (2.0 * HALF),
-            parallax,
-            max_lod: f32::INFINITY,
-        }),
-        ..Material::unlit(Rgba::WHITE).with_texture(Arc::new(colour))
-    }
+    // The quad at z = 1, the image right at z = 0.
+    nailboard(colour, Some((depth, 1.0 / (2.0 * HALF))), parallax)
 }
 
 /// The sphere's colours (`[r, g]` bytes) and the board's, where each covers, rendered on
