@@ -24,7 +24,7 @@ use clap::{ArgGroup, Parser, ValueEnum};
 use demos::cli::{almost_empty, format_vec3, parse_vec3};
 use engine::{
     load, Camera, Cull, Encoding, FrameOptions, FrameStats, Material, Projection, Renderer, Rgba,
-    Scene, Shading, Target,
+    Scene, Shading, StageTimes, Target,
 };
 use glam::{Mat4, Vec3};
 use std::path::{Path, PathBuf};
@@ -387,6 +387,25 @@ fn summary(times_ms: &[f64]) -> (f64, f64, f64) {
     (median, t[0], t[(0.9 * (n - 1) as f64) as usize])
 }
 
+/// The timed frames' stage times, each stage's median in milliseconds: the vertex, front
+/// and tile stages by the wall clock, and within the tile stage the raster (clears and
+/// loads included) and resolve time summed over the workers (`StageTimes`).
+fn stages_line(stages: &[StageTimes]) -> String {
+    let median = |f: fn(&StageTimes) -> std::time::Duration| {
+        let ms: Vec<f64> = stages.iter().map(|s| f(s).as_secs_f64() * 1e3).collect();
+        summary(&ms).0
+    };
+    format!(
+        "render: stages: vertex_ms={:.3} front_ms={:.3} tiles_ms={:.3} raster_sum_ms={:.3} \
+         resolve_sum_ms={:.3}",
+        median(|s| s.vertex),
+        median(|s| s.front),
+        median(|s| s.tiles),
+        median(|s| s.raster),
+        median(|s| s.resolve)
+    )
+}
+
 fn stats_line(s: &FrameStats) -> String {
     format!(
         "render: stats: draws={} triangles_in={} clipped={} culled={} rejected={} set_up={} \
@@ -530,6 +549,7 @@ fn run(a: &Args) -> Result<(), String> {
     let render = |target: &mut Target| {
         let mut renderer = Renderer::new();
         let mut times = Vec::new();
+        let mut stages = Vec::new();
         let mut stats = FrameStats::default();
         match a.frames {
             None => stats = renderer.render_scene(&scene, &camera, target, &opts),
@@ -541,12 +561,13 @@ fn run(a: &Args) -> Result<(), String> {
                     let t = Instant::now();
                     stats = renderer.render_scene(&scene, &camera, target, &opts);
                     times.push(t.elapsed().as_secs_f64() * 1e3);
+                    stages.push(renderer.stage_times());
                 }
             }
         }
-        (stats, times, rayon::current_num_threads())
+        (stats, times, stages, rayon::current_num_threads())
     };
-    let (stats, times, threads) = match a.threads {
+    let (stats, times, stages, threads) = match a.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -555,6 +576,9 @@ fn run(a: &Args) -> Result<(), String> {
         None => render(&mut target),
     };
     eprintln!("{}", stats_line(&stats));
+    if !stages.is_empty() {
+        eprintln!("{}", stages_line(&stages));
+    }
 
     if !scene.instances.is_empty() {
         if let Some(line) = coverage_warning(a, &target, &scene) {
