@@ -6,15 +6,20 @@
 //! This is the crate's only `unsafe` code (in `avx.rs`), and it is the calls of
 //! register-to-register intrinsics (no pointers: `bytemuck` converts arrays to and from
 //! registers), one cache hint ([`prefetch`], which takes an address but reads nothing
-//! through it) and the texture gathers ([`I8::gather_pairs`], [`I8::gather_u32_lanes`],
-//! [`I8::gather_u32_pairs_lanes`] and their masked forms, whose indices are clamped into
-//! their table before the read). The gather replaced eight scalar loads and inserts per texture
+//! through it), the texture gathers ([`I8::gather_pairs`], [`I8::gather_u32_lanes`] and
+//! their masked forms) and 16-byte loads ([`I8::load_quads`]), whose indices are clamped
+//! into their table before the read. The gather replaced eight scalar loads and inserts per texture
 //! tap: on this Zen 5 class machine the textured torus 100k (`engine/examples/fragbench.rs`,
 //! 1280x720, one thread, peer lighting) went from a 30.9 to a 28.2 ms fastest frame, same
 //! run, 60 frames (an earlier measurement on Zen 4 had found it no faster). Measured on
 //! the `huge_64` scene at 1920x1080 (one thread), the auto-vectorised array version of the
 //! raster kernel spent most of its time rebuilding lane masks from `[bool; 8]` and ran about
-//! 2x slower than this one.
+//! 2x slower than this one. A bilinear tap-set is now one 16-byte load a lane
+//! ([`I8::load_quads`]: each texel stored beside the one below it) where it was four
+//! gathers: on an Ice Lake host (session 32) an 8-lane gather cost about 30 cycles, and the
+//! textured torus 10k (`render --obj out/scenes/tex_10k/scene.obj --shading textured
+//! --peer-light -W 1280 -H 720 --threads 1 --frames 150`) took 0.885 of the user time
+//! (median of 8 alternated pairs), the pixels the same.
 
 /// Lanes per vector: 8 (one 256-bit AVX2 register of `f32` or `i32`).
 pub const LANES: usize = 8;

@@ -128,20 +128,19 @@ impl I8 {
         let v = I8::from_array(std::array::from_fn(|l| table[i[l] as usize] as i32));
         keep.select_i32(v, I8::splat(0))
     }
-    /// `(table[idx], table[idx + 1])` for the lanes of `keep`, each index first clamped
-    /// into `0..=len - 2` (zeros for a table under two long, and in the lanes not kept).
-    pub fn gather_u32_pairs_lanes(table: &[u32], idx: I8, keep: M8) -> (I8, I8) {
-        let Some(last) = table.len().checked_sub(2) else {
-            return (I8::splat(0), I8::splat(0));
+    /// `table[idx + k]` for `k` in `0..4`, as four vectors, for the lanes of `keep`, each
+    /// index first clamped into `0..=len - 4` (zeros for a table under four long, and in
+    /// the lanes not kept).
+    pub fn load_quads(table: &[u32], idx: I8, keep: M8) -> [I8; 4] {
+        let Some(last) = table.len().checked_sub(4) else {
+            return [I8::splat(0); 4];
         };
         let last = last.min(i32::MAX as usize) as i32;
         let i = idx.max(I8::splat(0)).min(I8::splat(last)).to_array();
-        let a = I8::from_array(std::array::from_fn(|l| table[i[l] as usize] as i32));
-        let b = I8::from_array(std::array::from_fn(|l| table[i[l] as usize + 1] as i32));
-        (
-            keep.select_i32(a, I8::splat(0)),
-            keep.select_i32(b, I8::splat(0)),
-        )
+        std::array::from_fn(|k| {
+            let v = I8::from_array(std::array::from_fn(|l| table[i[l] as usize + k] as i32));
+            keep.select_i32(v, I8::splat(0))
+        })
     }
     /// `table[idx]` for every lane, each index first clamped into the table, split into
     /// its low and high 32 bits (zeros for an empty table).

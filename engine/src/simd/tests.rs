@@ -81,16 +81,20 @@ fn lanes_behave() {
         [10, 10, 11, 0, 0, 13, 0, 11]
     );
     assert_eq!(I8::gather_u32_lanes(&[], idx, keep).to_array(), [0; 8]);
-    // Pairs: indices clamped into 0..=len - 2, so the last word is only ever a second.
-    let (first, second) = I8::gather_u32_pairs_lanes(&words, idx, keep);
-    assert_eq!(first.to_array(), [10, 10, 11, 0, 0, 12, 0, 11]);
-    assert_eq!(second.to_array(), [11, 11, 12, 0, 0, 13, 0, 12]);
-    assert_eq!(
-        I8::gather_u32_pairs_lanes(&words[..1], idx, keep)
-            .1
-            .to_array(),
-        [0; 8]
-    );
+    // Quads: indices clamped into 0..=len - 4, each lane's four words in four vectors.
+    let words: Vec<u32> = (10..20).collect();
+    let quads = I8::load_quads(&words, idx, keep);
+    for (k, q) in quads.iter().enumerate() {
+        let k = k as i32;
+        assert_eq!(
+            q.to_array(),
+            [10 + k, 10 + k, 11 + k, 0, 0, 16 + k, 0, 11 + k],
+            "word {k}"
+        );
+    }
+    let all = I8::load_quads(&words, I8::ramp_times(1), M8::from_bits(0xff));
+    assert_eq!(all[3].to_array(), [13, 14, 15, 16, 17, 18, 19, 19]);
+    assert_eq!(I8::load_quads(&words[..3], idx, keep)[0].to_array(), [0; 8]);
     // Fused: rounded once, so (1 + e)(1 - e) - 1 keeps the -e^2 an unfused product loses.
     let e = F8::splat(f32::EPSILON);
     let (p, q) = (F8::splat(1.0) + e, F8::splat(1.0) - e);

@@ -3,11 +3,11 @@
 //! the scalar [`Texture::sample`].
 //!
 //! Every table holds 4 bytes a texel (the stored bytes, or the square roots of their linear
-//! values: `Texture::squared`), and where every kept lane's two texels of a row are
-//! neighbours in the table (not at a wrapped edge nor a block's last column) both are read
-//! in one 8-byte gather, so a bilinear tap-set is 4 gathers instead of 8.
+//! values: `Texture::squared`), each beside the texel below it (`LinearLevel`), so where
+//! every kept lane's tap-set lies inside the level (no wrapped or clamped edge) a lane's
+//! four texels are one 16-byte load, and the 8 lanes' taps 8 loads instead of 4 gathers.
 
-use super::{Filter, Sampler, Texture, Wrap, BLOCK, BLOCK_SHIFT};
+use super::{Filter, Sampler, Texture, Wrap};
 use crate::simd::{F8, I8, M8};
 
 impl Texture {
@@ -54,7 +54,7 @@ impl Texture {
             l.height,
             s.wrap_v,
         );
-        let idx = self.row8(0, y) + self.col8(x);
+        let idx = self.index8(0, x, y);
         let px = I8::gather_u32_lanes(&self.linear[0].bytes, idx, keep);
         self.weigh_bytes([px], [F8::splat(1.0)], keep)
     }
@@ -81,42 +81,36 @@ impl Texture {
         let one = F8::splat(1.0);
         let xa = wrap8(x0, l.width, s.wrap_u);
         let xb = wrap8(x0 + one, l.width, s.wrap_u);
-        let ya = self.row8(level, wrap8(y0, l.height, s.wrap_v));
-        let yb = self.row8(level, wrap8(y0 + one, l.height, s.wrap_v));
+        let ya = wrap8(y0, l.height, s.wrap_v);
+        let yb = wrap8(y0 + one, l.height, s.wrap_v);
         let (sx, sy) = (one - tx, one - ty);
         let w = [sx * sy, tx * sy, sx * ty, tx * ty];
-        let (xa, xb) = (self.col8(xa), self.col8(xb));
-        if keep.and_not(xb.eq(xa + I8::splat(1))).bits() == 0 {
-            // Every kept lane's right texel follows its left one in the table (the same
-            // row of the same block).
+        let inside = xb.eq(xa + I8::splat(1)).and(yb.eq(ya + I8::splat(1)));
+        if keep.and_not(inside).bits() == 0 {
+            // Every kept lane's right and lower neighbours are the next column and row:
+            // its four texels are the two entries at `(xa, ya)`.
             let t = &self.linear[level].bytes;
-            let (p0, p1) = I8::gather_u32_pairs_lanes(t, ya + xa, keep);
-            let (p2, p3) = I8::gather_u32_pairs_lanes(t, yb + xa, keep);
-            return self.weigh_bytes([p0, p1, p2, p3], w, keep);
+            let [p00, p01, p10, p11] = I8::load_quads(t, self.index8(level, xa, ya), keep);
+            return self.weigh_bytes([p00, p10, p01, p11], w, keep);
         }
-        self.taps(level, [ya + xa, ya + xb, yb + xa, yb + xb], w, keep)
+        let idx = |x: I8, y: I8| self.index8(level, x, y);
+        self.taps(
+            level,
+            [idx(xa, ya), idx(xb, ya), idx(xa, yb), idx(xb, yb)],
+            w,
+            keep,
+        )
     }
 
-    /// The part of a texel's index in `level`'s blocked table that comes from its row `y`
-    /// (in range): the block row's start plus the row within a block.
+    /// The word of `level`'s table holding texel `(x, y)` (in range), as
+    /// `LinearLevel::index` says.
     #[inline(always)]
-    pub(super) fn row8(&self, level: usize, y: I8) -> I8 {
+    pub(super) fn index8(&self, level: usize, x: I8, y: I8) -> I8 {
         let lin = &self.linear[level];
-        let m = I8::splat(BLOCK as i32 - 1);
-        y.shr::<BLOCK_SHIFT>()
-            .mul_lo(I8::splat(lin.block_row as i32))
-            + I8::splat(lin.base as i32)
-            + y.and(m).shl::<BLOCK_SHIFT>()
+        y.mul_lo(I8::splat(2 * lin.stride as i32)) + x.shl::<1>() + I8::splat(lin.base as i32)
     }
 
-    /// The part of a texel's index that comes from its column `x` (in range): the block's
-    /// start plus the column within it.
-    #[inline(always)]
-    pub(super) fn col8(&self, x: I8) -> I8 {
-        x.shr::<BLOCK_SHIFT>().shl::<{ 2 * BLOCK_SHIFT }>() + x.and(I8::splat(BLOCK as i32 - 1))
-    }
-
-    /// The weighted sum of four taps of `level` at (blocked) indices `idx`, for the lanes
+    /// The weighted sum of four taps of `level` at table indices `idx`, for the lanes
     /// of `keep` (zeros elsewhere).
     #[inline(always)]
     fn taps(&self, level: usize, idx: [I8; 4], w: [F8; 4], keep: M8) -> [F8; 4] {

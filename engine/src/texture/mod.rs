@@ -86,83 +86,79 @@ pub struct Texture {
 }
 
 /// One level laid out for the 8-lane sampler: `bytes`, 4 a texel (`r | g << 8 | b << 16 |
-/// a << 24`, as [`Texture::squared`] says), in square blocks of [`BLOCK`] x [`BLOCK`]
-/// (blocks row-major, texels row-major within a block; the level padded with zeros to
-/// whole blocks, the first block on a 64-byte boundary), so a bilinear tap-set and its
-/// neighbours' lie in one or two cache lines of a block instead of on rows a whole
-/// texture row apart. Only the addresses differ from a row-major table: the same texels
-/// are read and weighed, so samples are the same bit for bit.
+/// a << 24`, as [`Texture::squared`] says), in entries of two words, texel `(x, y)` and the
+/// one below it `(x, y + 1)` (the last row's own again), row-major, a row of `stride`
+/// entries (one more than the level's width: the last is its row's last texel again, so
+/// that the entry after any texel's is in the table). A bilinear tap-set, texels `(x, y)`,
+/// `(x, y + 1)`, `(x + 1, y)`, `(x + 1, y + 1)`, is then the 16 bytes of two neighbouring
+/// entries, one load a lane ([`crate::simd::I8::load_quads`]) instead of four gathers;
+/// the first entry starts on a 64-byte boundary. Only the addresses differ from a
+/// row-major table: the same texels are read and weighed, so samples are the same bit for
+/// bit.
 #[derive(Clone, Debug, Default)]
 struct LinearLevel {
     bytes: Vec<u32>,
-    /// Texels in one row of blocks: the blocks across the level times `BLOCK * BLOCK`.
-    block_row: u32,
-    /// Where the first block starts in the table: its first entry on a 64-byte boundary.
+    /// Entries in one row: the level's width plus one.
+    stride: u32,
+    /// Where the first entry starts in the table: on a 64-byte boundary.
     base: u32,
 }
 
-/// log2 of [`BLOCK`].
-const BLOCK_SHIFT: i32 = 2;
-/// Texels a side of a [`LinearLevel`]'s blocks.
-const BLOCK: u32 = 1 << BLOCK_SHIFT;
-
-/// Equal when the same texels are stored, wherever the allocation put the first block.
+/// Equal when the same texels are stored, wherever the allocation put the first entry.
 impl PartialEq for LinearLevel {
     fn eq(&self, o: &Self) -> bool {
-        self.block_row == o.block_row
-            && unpadded(&self.bytes, self.base) == unpadded(&o.bytes, o.base)
+        self.stride == o.stride && unpadded(&self.bytes, self.base) == unpadded(&o.bytes, o.base)
     }
 }
 
-/// The blocks of a table without the alignment padding (`PAD` entries, `base` before).
+/// The entries of a table without the alignment padding (`PAD` words, `base` before).
 fn unpadded<T>(table: &[T], base: u32) -> &[T] {
     let n = table.len().saturating_sub(PAD);
     &table[(base as usize).min(table.len())..][..n]
 }
 
-/// Entries added to a table so that its blocks can start on a cache line (16 of 4 bytes).
+/// Words added to a table so that its first entry can start on a cache line (16 of 4
+/// bytes).
 const PAD: usize = 15;
 
 impl LinearLevel {
-    /// Where texel `(x, y)` is stored in the table: the scalar statement of the layout
-    /// that `fill_blocks` writes and `row8` + `col8` read, held to both by the tests.
+    /// The word where texel `(x, y)` is stored (the one below it follows): the scalar
+    /// statement of the layout that `fill_pairs` writes and `Texture::index8` reads, held
+    /// to both by the tests.
     #[cfg(test)]
     fn index(&self, x: u32, y: u32) -> usize {
-        let m = BLOCK - 1;
-        (self.base
-            + (y >> BLOCK_SHIFT) * self.block_row
-            + ((x >> BLOCK_SHIFT) << (2 * BLOCK_SHIFT))
-            + ((y & m) << BLOCK_SHIFT)
-            + (x & m)) as usize
+        (self.base + 2 * (y * self.stride + x)) as usize
     }
 }
 
-/// A cleared `table` of `len` entries plus [`PAD`], and the entry at which the blocks start:
+/// A cleared `table` of `len` words plus [`PAD`], and the word at which the entries start:
 /// the first on a 64-byte boundary (the address is only looked at, never made into a
 /// pointer).
-fn aligned<T: Copy + Default>(table: &mut Vec<T>, len: usize) -> u32 {
+fn aligned(table: &mut Vec<u32>, len: usize) -> u32 {
     table.clear();
-    table.resize(len + PAD, T::default());
-    let size = size_of::<T>();
-    ((64 - table.as_ptr() as usize % 64) % 64 / size) as u32
+    table.resize(len + PAD, 0);
+    ((64 - table.as_ptr() as usize % 64) % 64 / size_of::<u32>()) as u32
 }
 
-/// Writes `level`'s texels, each through `f`, into the blocks of `table` from entry `base`
-/// on, in the table's order (a block's four rows, then the next block), so the writes run
-/// in order; the padding entries are left as they are.
-fn fill_blocks<T>(table: &mut [T], base: u32, level: &MipLevel, f: impl Fn(u32) -> T) {
-    let (w, h) = (level.width, level.height);
-    let mut i = base as usize;
-    for by in 0..h.div_ceil(BLOCK) {
-        for bx in 0..w.div_ceil(BLOCK) {
-            for y in by * BLOCK..(by + 1) * BLOCK {
-                for x in bx * BLOCK..(bx + 1) * BLOCK {
-                    if x < w && y < h {
-                        table[i] = f(level.texels[(y * w + x) as usize]);
-                    }
-                    i += 1;
-                }
-            }
+/// Writes `level`'s texels, each through `f` once, into the entries of `table` from word
+/// `base` on (see [`LinearLevel`]): each texel and the one below it, a row of `width + 1`
+/// entries, in the table's order.
+fn fill_pairs(table: &mut [u32], base: u32, level: &MipLevel, f: impl Fn(u32) -> u32) {
+    let (w, h) = (level.width as usize, level.height as usize);
+    let (base, stride) = (base as usize, w + 1);
+    // Each entry's first word, row by row; then its second, the first of the entry below.
+    for (y, texels) in level.texels.chunks_exact(w).take(h).enumerate() {
+        let row = &mut table[base + 2 * y * stride..][..2 * stride];
+        for (entry, &px) in row.chunks_exact_mut(2).zip(texels) {
+            entry[0] = f(px);
+        }
+        row[2 * w] = row[2 * w - 2];
+    }
+    for y in 0..h {
+        let below = base + 2 * (y + 1).min(h - 1) * stride;
+        let at = base + 2 * y * stride;
+        for x in 0..stride {
+            table[at + 2 * x + 1] = table[below + 2 * x];
         }
     }
 }
@@ -361,35 +357,34 @@ impl Texture {
         self.build_linear();
     }
 
-    /// Every level's table for the 8-lane sampler, blocked: the stored bytes, or their
-    /// square roots when `squared` (see [`Texture::squared`]).
+    /// Every level's table for the 8-lane sampler, in pairs of rows ([`LinearLevel`]): the
+    /// stored bytes, or their square roots when `squared` (see [`Texture::squared`]).
     fn build_linear(&mut self) {
         let (encoding, premultiplied, squared) = (self.encoding, self.premultiplied, self.squared);
         self.linear
             .resize_with(self.levels.len(), LinearLevel::default);
         let roots = srgb_roots();
         for (lin, level) in self.linear.iter_mut().zip(&self.levels) {
-            let blocks = |n: u32| n.div_ceil(BLOCK);
-            lin.block_row = blocks(level.width) * BLOCK * BLOCK;
-            let len = lin.block_row as usize * blocks(level.height) as usize;
+            lin.stride = level.width + 1;
+            let len = 2 * lin.stride as usize * level.height as usize;
             lin.base = aligned(&mut lin.bytes, len);
             if !squared && (premultiplied || self.opaque) {
-                fill_blocks(&mut lin.bytes, lin.base, level, |px| px);
+                fill_pairs(&mut lin.bytes, lin.base, level, |px| px);
             } else if !squared {
-                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                fill_pairs(&mut lin.bytes, lin.base, level, |px| {
                     let c = decode(encoding, premultiplied, px);
                     let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u32;
                     byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | px & 0xff00_0000
                 });
             } else if premultiplied {
                 // A premultiplied sRGB byte is its channel's linear value: one table look-up.
-                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                fill_pairs(&mut lin.bytes, lin.base, level, |px| {
                     let [r, g, b, a] = px.to_le_bytes();
                     let root = |c: u8| u32::from(roots[c as usize]);
                     root(r) | root(g) << 8 | root(b) << 16 | u32::from(a) << 24
                 });
             } else {
-                fill_blocks(&mut lin.bytes, lin.base, level, |px| {
+                fill_pairs(&mut lin.bytes, lin.base, level, |px| {
                     let c = decode(encoding, premultiplied, px);
                     let root = |x: f32| (x.clamp(0.0, 1.0).sqrt() * 255.0).round() as u32;
                     root(c.r) | root(c.g) << 8 | root(c.b) << 16 | px & 0xff00_0000

@@ -333,8 +333,8 @@ fn byte_taps_match_the_scalar_sampler() {
 }
 
 #[test]
-fn blocked_tables_hold_every_texel_once() {
-    // Odd sizes (not whole blocks), a row, a column, a power of two; straight sRGB with
+fn pair_tables_hold_every_texel_and_the_one_below() {
+    // Odd sizes, a row, a column, a power of two; straight sRGB with
     // alpha and premultiplied sRGB (square roots), straight unorm (premultiplied into
     // bytes), premultiplied and opaque unorm (the stored bytes).
     let sizes = [(13, 7), (1, 9), (17, 1), (16, 16), (5, 6)];
@@ -358,33 +358,43 @@ fn blocked_tables_hold_every_texel_once() {
             let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u32;
             for (k, (lin, l)) in t.linear.iter().zip(t.levels()).enumerate() {
                 let first = lin.bytes.as_ptr().wrapping_add(lin.base as usize) as usize;
-                assert_eq!(first % 64, 0, "blocks start on a cache line");
+                assert_eq!(first % 64, 0, "entries start on a cache line");
                 let mut seen = vec![false; lin.bytes.len()];
+                let want = |x: u32, y: u32| {
+                    let stored = l.texels[(y * l.width + x) as usize];
+                    let c = t.texel(k, x, y);
+                    if t.squared {
+                        root(c.r) | root(c.g) << 8 | root(c.b) << 16 | stored & 0xff00_0000
+                    } else if t.premultiplied || t.opaque {
+                        stored
+                    } else {
+                        byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | stored & 0xff00_0000
+                    }
+                };
                 for y in 0..l.height {
-                    for x in 0..l.width {
+                    // One entry past the row: its last texel again.
+                    for x in 0..=l.width {
                         let i = lin.index(x, y);
-                        let stored = l.texels[(y * l.width + x) as usize];
-                        let c = t.texel(k, x, y);
-                        let want = if t.squared {
-                            root(c.r) | root(c.g) << 8 | root(c.b) << 16 | stored & 0xff00_0000
-                        } else if t.premultiplied || t.opaque {
-                            stored
-                        } else {
-                            byte(c.r) | byte(c.g) << 8 | byte(c.b) << 16 | stored & 0xff00_0000
-                        };
-                        assert_eq!(lin.bytes[i], want, "{w}x{h} level {k} ({x}, {y})");
-                        assert!(!seen[i], "two texels at {i}");
-                        seen[i] = true;
+                        let (xs, below) = (x.min(l.width - 1), (y + 1).min(l.height - 1));
+                        let at = format!("{w}x{h} level {k} ({x}, {y})");
+                        assert_eq!(lin.bytes[i], want(xs, y), "{at}");
+                        assert_eq!(lin.bytes[i + 1], want(xs, below), "{at}, below");
+                        assert!(!seen[i] && !seen[i + 1], "two entries at {i}");
+                        (seen[i], seen[i + 1]) = (true, true);
                     }
                 }
-                // The 8-lane index (what the gathers read) is the scalar one.
+                // The 8-lane index (what the loads read) is the scalar one.
                 for y in 0..l.height {
                     for x0 in (0..l.width).step_by(8) {
                         let xs: [i32; 8] =
                             std::array::from_fn(|j| (x0 + j as u32).min(l.width - 1) as i32);
-                        let got = (t.row8(k, crate::simd::I8::splat(y as i32))
-                            + t.col8(crate::simd::I8::from_array(xs)))
-                        .to_array();
+                        let got = t
+                            .index8(
+                                k,
+                                crate::simd::I8::from_array(xs),
+                                crate::simd::I8::splat(y as i32),
+                            )
+                            .to_array();
                         for j in 0..8 {
                             assert_eq!(got[j] as usize, lin.index(xs[j] as u32, y));
                         }
