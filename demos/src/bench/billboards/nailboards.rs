@@ -21,6 +21,7 @@ use glam::{Mat4, Vec2, Vec3};
 use ibr::billboard::ViewAtlas;
 use ibr::technique::{Counters, FrameView, Technique};
 use ibr::{Billboard, Facing};
+use rayon::prelude::*;
 
 /// One tree kind: its views, its trees (views not yet chosen), this frame's sprites and
 /// their mesh.
@@ -109,7 +110,8 @@ impl Technique for NailboardForest {
     fn prepare(&mut self, view: &FrameView<'_>) {
         let eye = view.camera.eye();
         let seen = view.billboard_view();
-        for k in &mut self.kinds {
+        // Each kind's views, order and outlines on its own (the kinds share nothing).
+        self.kinds.par_iter_mut().for_each(|k| {
             k.items.clear();
             let atlas = &k.atlas;
             k.items.extend(k.trees.iter().map(|b| Billboard {
@@ -118,7 +120,7 @@ impl Technique for NailboardForest {
             }));
             ViewAtlas::order(&mut k.items, eye);
             k.atlas.relief(&k.items, &seen, &mut k.mesh);
-        }
+        });
     }
     fn draws<'a>(&'a self, out: &mut Vec<Draw<'a>>) {
         out.extend(self.kinds.iter().map(|k| Draw {
