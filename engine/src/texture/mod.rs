@@ -79,9 +79,9 @@ pub struct Texture {
     /// (alpha as stored), squared when read. Like sRGB, the square root spends the 8 bits
     /// where the eye tells levels apart; a sample is within `(sqrt(c) + 0.002) / 255` of
     /// the stored texels' exact linear value (the scalar [`Texture::sample`]'s: at most
-    /// 0.64 of a step of the sRGB bytes, 0.28 on average over the 256), and a tap reads 4
-    /// bytes, a row's two neighbours in one 8-byte read (a 16-bit linear copy read 8 bytes
-    /// a texel, one gather each).
+    /// 0.64 of a step of the sRGB bytes, 0.28 on average over the 256), and a tap is 4
+    /// bytes, a bilinear tap-set one 16-byte read (a 16-bit linear copy read 8 bytes a
+    /// texel, one gather each).
     squared: bool,
 }
 
