@@ -216,7 +216,16 @@ impl I8 {
             unsafe { _mm_loadu_si128(table.as_ptr().add(i[l] as usize).cast()) }
         };
         // Lanes `l` and `l + 4` in one register's halves, then a 4 x 4 transpose per half.
-        let [c0, c1, c2, c3] = [0, 1, 2, 3].map(|l| avx!(_mm256_set_m128i(at(l + 4), at(l))));
+        // (Written out: `[0, 1, 2, 3].map(..)` was left a call, its indices passed through
+        // memory.)
+        let (c0, c1) = avx!((
+            _mm256_set_m128i(at(4), at(0)),
+            _mm256_set_m128i(at(5), at(1))
+        ));
+        let (c2, c3) = avx!((
+            _mm256_set_m128i(at(6), at(2)),
+            _mm256_set_m128i(at(7), at(3))
+        ));
         let (t0, t1) = avx!((_mm256_unpacklo_epi32(c0, c1), _mm256_unpacklo_epi32(c2, c3)));
         let (t2, t3) = avx!((_mm256_unpackhi_epi32(c0, c1), _mm256_unpackhi_epi32(c2, c3)));
         let m = avx!(_mm256_castps_si256(keep.0));
