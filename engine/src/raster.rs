@@ -9,11 +9,11 @@
 //! `i * A + j * B >= T` in `i32`, where the threshold `T` comes from the exact `i64` edge
 //! value at the block's first pixel, so no precision is lost.
 //!
-//! Covered rows are depth-tested 8 lanes at a time; a row whose covered lanes lie within 4
-//! neighbours is held, and two such rows of the triangle in a block are shaded in one vector
-//! (`Rows::pair`: a 4 x 2 block, lanes 0-3 one row's 4 pixels and lanes 4-7 the other's),
-//! so small triangles fill more of the shader's lanes; each lane's inputs are those of its
-//! own row, and only the texture level of detail is shared by the pair.
+//! Covered rows are depth-tested 8 lanes at a time; a triangle's rows in a block are held
+//! while their covered lanes add up to 8 at most, and held rows are shaded in one vector
+//! (`Rows::pack`: each row's covered pixels in the next lanes, in order), so small
+//! triangles fill more of the shader's lanes; each lane's inputs are those of its own
+//! pixel, and only the texture level of detail is shared by the pack.
 //!
 //! Depth is reversed (greater is nearer) and tested before shading. The working buffers
 //! hold linear premultiplied colour in `f32`, so blending is exact and encoding to bytes
@@ -208,7 +208,7 @@ impl<S: FragShader> Rows<'_, S> {
             buf.touch(block);
             self.stats.blocks_partial += 1;
             let mut wrote = false;
-            let mut held = None;
+            let mut held = Held::default();
             while m != 0 {
                 let j = m.trailing_zeros() / SMALL as u32;
                 let bits = (m >> (SMALL as u32 * j)) as u32 & ((1 << SMALL) - 1);
@@ -216,9 +216,7 @@ impl<S: FragShader> Rows<'_, S> {
                 let r = (j as i32, bits);
                 wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
             }
-            if let Some((j, c, _)) = held {
-                wrote |= self.row(buf, block, bx, j, c, &mut prepared);
-            }
+            wrote |= self.flush(buf, block, bx, &mut held, &mut prepared);
             if wrote && self.mode.writes_depth() {
                 buf.mark_far_stale(block);
             }
@@ -346,7 +344,7 @@ impl<S: FragShader> Rows<'_, S> {
                 }
                 let range = I8::lane_range(lx0, lx1);
                 let ea_l: [I8; 3] = std::array::from_fn(|i| I8::ramp_times(ea[i]));
-                let mut held = None;
+                let mut held = Held::default();
                 for y in rows.0..=rows.1 {
                     let j = y - by;
                     let cov: M8 = if full {
@@ -359,9 +357,7 @@ impl<S: FragShader> Rows<'_, S> {
                     let r = (j, cov.bits());
                     wrote |= self.feed(buf, block, bx, r, &mut held, &mut prepared);
                 }
-                if let Some((j, c, _)) = held {
-                    wrote |= self.row(buf, block, bx, j, c, &mut prepared);
-                }
+                wrote |= self.flush(buf, block, bx, &mut held, &mut prepared);
                 if wrote && self.mode.writes_depth() {
                     buf.update_block_far(block);
                 }
@@ -371,11 +367,11 @@ impl<S: FragShader> Rows<'_, S> {
         }
     }
 
-    /// Takes row `j` of the block at `(bx, _)` with covered lanes `cov`: a narrow row (its
-    /// lanes within 4 neighbours) is held until the next row of the block, and two narrow
-    /// rows are shaded together in one vector (a 4 x 2 block, [`Rows::pair`]); other rows
-    /// are drawn alone. Which rows pair depends on coverage only, never on depth. The caller
-    /// draws a row still `held` at the block's end. Returns whether depth may have changed.
+    /// Takes row `j` of the block at `(bx, _)` with covered lanes `cov`: held with the rows
+    /// before it while their covered lanes add up to 8 at most, the held rows drawn first
+    /// when this one would pass 8 ([`Rows::flush`]). Which rows are packed depends on
+    /// coverage only, never on depth. The caller flushes what is still held at the block's
+    /// end. Returns whether depth may have changed.
     #[inline(always)]
     fn feed(
         &mut self,
@@ -383,28 +379,43 @@ impl<S: FragShader> Rows<'_, S> {
         block: usize,
         bx: i32,
         (j, cov): (i32, u32),
-        held: &mut Option<(i32, u32, u32)>,
+        held: &mut Held,
         prepared: &mut Option<S::Prepared>,
     ) -> bool {
         if cov == 0 {
             return false;
         }
-        let (lo, hi) = (cov.trailing_zeros(), 31 - cov.leading_zeros());
-        // The pre-pass's depth part shades nothing: pairing would save nothing there.
-        if hi - lo >= PAIR_WIDTH || matches!(self.pass, Pass::Depth(_)) {
-            let mut wrote = false;
-            if let Some((j0, c0, _)) = held.take() {
-                wrote = self.row(buf, block, bx, j0, c0, prepared);
-            }
-            return wrote | self.row(buf, block, bx, j, cov, prepared);
+        // The pre-pass's depth part shades nothing: packing would save nothing there.
+        if matches!(self.pass, Pass::Depth(_)) {
+            return self.row(buf, block, bx, j, cov, prepared);
         }
-        let s = lo.min(LANES as u32 - PAIR_WIDTH);
-        match held.take() {
-            Some(a) => self.pair(buf, block, bx, a, (j, cov, s), prepared),
-            None => {
-                *held = Some((j, cov, s));
-                false
-            }
+        let lanes = cov.count_ones();
+        let mut wrote = false;
+        if held.lanes + lanes > LANES as u32 {
+            wrote = self.flush(buf, block, bx, held, prepared);
+        }
+        held.rows[held.n] = (j, cov);
+        held.n += 1;
+        held.lanes += lanes;
+        wrote
+    }
+
+    /// Draws the rows `held` (one alone, more as a pack) and empties it; whether depth may
+    /// have changed.
+    #[inline(always)]
+    fn flush(
+        &mut self,
+        buf: &mut TileBuf,
+        block: usize,
+        bx: i32,
+        held: &mut Held,
+        prepared: &mut Option<S::Prepared>,
+    ) -> bool {
+        let h = std::mem::take(held);
+        match h.n {
+            0 => false,
+            1 => self.row(buf, block, bx, h.rows[0].0, h.rows[0].1, prepared),
+            n => self.pack(buf, block, bx, &h.rows[..n], prepared),
         }
     }
 
@@ -501,92 +512,105 @@ impl<S: FragShader> Rows<'_, S> {
         (m, z)
     }
 
-    /// Two narrow rows `(j, covered lanes, first lane s)` of the block at `(bx, _)`, each
-    /// within lanes `s..s + 4`: depth-tested row by row as [`Rows::row`] does, then shaded
-    /// in one vector (lanes 0-3 the first row's `s..s + 4`, lanes 4-7 the second's), the
-    /// texture level of detail shared by the pair's covered lanes (GPUs share one per 2 x 2
-    /// quad), and written row by row. Every other input of a lane is the same as alone.
+    /// Rows `(j, covered lanes)` of the block at `(bx, _)`, 8 covered lanes at most in all:
+    /// depth-tested row by row as [`Rows::row`] does, then shaded in one vector (each row's
+    /// covered pixels in the next lanes, in order), the texture level of detail shared by
+    /// the pack's covered lanes (GPUs share one per 2 x 2 quad), and written row by row.
+    /// Every other input of a lane is the same as in its row alone.
     #[inline(never)]
-    fn pair(
+    fn pack(
         &mut self,
         buf: &mut TileBuf,
         block: usize,
         bx: i32,
-        (ja, ca, sa): (i32, u32, u32),
-        (jb, cb, sb): (i32, u32, u32),
+        rows: &[(i32, u32)],
         prepared: &mut Option<S::Prepared>,
     ) -> bool {
         let tri = self.tri;
         let (rx, ry) = (tri.bbox[0] as i32, tri.bbox[1] as i32);
         let by = (block / BLOCKS * LANES) as i32 + self.oy;
         let fx = (bx - rx) as f32;
-        let (fya, fyb) = ((by + ja - ry) as f32, (by + jb - ry) as f32);
-        let (base_a, base_b) = (
-            block * BLOCK_PIXELS + ja as usize * LANES,
-            block * BLOCK_PIXELS + jb as usize * LANES,
-        );
-        let za = eval(&tri.z, &Row::whole(fx, fya, ca));
-        let zb = eval(&tri.z, &Row::whole(fx, fyb, cb));
-        let ma = self.test(buf, base_a, &za, M8::from_bits(ca));
-        let mb = self.test(buf, base_b, &zb, M8::from_bits(cb));
-        if (ma.bits() | mb.bits()) == 0 {
+        // Each row's depth, its lanes that pass, and where its pixels are in the pack: lane
+        // `back[k][x]` holds pixel `x` of row `k` (the lanes of uncovered pixels are not
+        // written, whatever they hold).
+        let (mut xs, mut ys) = ([0.0f32; LANES], [0.0f32; LANES]);
+        let mut z = [F8::splat(0.0); LANES];
+        let mut passed = [0u32; LANES];
+        let mut back = [[0u32; LANES]; LANES];
+        // The pack's lanes whose pixels passed in their rows.
+        let (mut n, mut mask) = (0, 0u32);
+        for (k, &(j, cov)) in rows.iter().enumerate() {
+            let fy = (by + j - ry) as f32;
+            let base = block * BLOCK_PIXELS + j as usize * LANES;
+            z[k] = eval(&tri.z, &Row::whole(fx, fy, cov));
+            passed[k] = self.test(buf, base, &z[k], M8::from_bits(cov)).bits();
+            let mut bits = cov;
+            while bits != 0 {
+                let x = bits.trailing_zeros() as usize;
+                (xs[n], ys[n], back[k][x]) = (x as f32, fy, n as u32);
+                mask |= (passed[k] >> x & 1) << n;
+                n += 1;
+                bits &= bits - 1;
+            }
+        }
+        if mask == 0 {
             return false;
         }
-        let half = |bits: u32, s: u32| bits >> s & 0xf;
         let row = Row {
             fx,
-            fy: fya,
-            fy2: fyb,
-            xs: F8::from_array(std::array::from_fn(|l| {
-                (if l < 4 {
-                    sa as usize + l
-                } else {
-                    sb as usize + l - 4
-                }) as f32
-            })),
-            second: M8::from_bits(0xf0),
-            covered: half(ca, sa) | half(cb, sb) << 4,
+            ys: F8::from_array(ys),
+            xs: F8::from_array(xs),
+            covered: (1u32 << n) - 1,
         };
         let (shader, vary) = (self.shader, self.vary);
         let prepared = prepared.get_or_insert_with(|| shader.prepare(tri, vary));
-        // Lane `l` of a row is the pair's lane `l - s` (+ 4 for the second row); the lanes
-        // outside the row's 4 take any lane, as they are not written.
-        let back = |s: u32, from: u32| -> [u32; LANES] {
-            std::array::from_fn(|l| (l as u32 + LANES as u32 + from - s) % LANES as u32)
-        };
-        let (ia, ib) = (back(sa, 0), back(sb, 4));
-        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
         let behind = shader.behind(prepared, tri, &row, mask);
-        let (ma, za, mb, zb) = match &behind {
-            Some(b) => {
-                // The pair's lanes back in each row's frame (as the depth is permuted).
-                let keep_a = M8::from_bits((b.keep & 0xf) << sa);
-                let keep_b = M8::from_bits((b.keep >> 4 & 0xf) << sb);
-                let (ma, za) = self.retest(buf, base_a, ma.and(keep_a), &za, b.depth.permute(ia));
-                let (mb, zb) = self.retest(buf, base_b, mb.and(keep_b), &zb, b.depth.permute(ib));
-                (ma, za, mb, zb)
+        let mut m = [M8::from_bits(0); LANES];
+        for k in 0..rows.len() {
+            m[k] = M8::from_bits(passed[k]);
+        }
+        if let Some(b) = &behind {
+            // Each row tested again at its moved depth: the pack's lanes back in the row's
+            // frame (as the depth is permuted), and the pack's lanes that still pass.
+            mask = 0;
+            for (k, &(j, cov)) in rows.iter().enumerate() {
+                let mut keep = 0;
+                for x in 0..LANES {
+                    keep |= (cov >> x & b.keep >> back[k][x] & 1) << x;
+                }
+                let base = block * BLOCK_PIXELS + j as usize * LANES;
+                let depth = b.depth.permute(back[k]);
+                (m[k], z[k]) = self.retest(buf, base, m[k].and(M8::from_bits(keep)), &z[k], depth);
+                let bits = m[k].bits();
+                for x in 0..LANES {
+                    mask |= (bits >> x & 1) << back[k][x];
+                }
             }
-            None => (ma, za, mb, zb),
-        };
-        let passed = ma.bits().count_ones() + mb.bits().count_ones();
-        if passed == 0 {
+        }
+        if mask == 0 {
             return false;
         }
-        self.stats.fragments_shaded += passed as u64;
+        self.stats.fragments_shaded += mask.count_ones() as u64;
         self.stats.rows_shaded += 1;
         self.stats.rows_paired += 1;
-        let mask = half(ma.bits(), sa) | half(mb.bits(), sb) << 4;
         let mut out = [F8::splat(0.0); 4];
         match &behind {
             Some(b) => shader.shade_behind(prepared, tri, &row, mask, b, &mut out),
             None => shader.shade(prepared, tri, &row, mask, &mut out),
         }
         let mut wrote = false;
-        if ma.bits() != 0 {
-            wrote |= self.write(buf, base_a, ma, &za, &out.map(|c| c.permute(ia)));
-        }
-        if mb.bits() != 0 {
-            wrote |= self.write(buf, base_b, mb, &zb, &out.map(|c| c.permute(ib)));
+        for (k, &(j, _)) in rows.iter().enumerate() {
+            if m[k].bits() != 0 {
+                let base = block * BLOCK_PIXELS + j as usize * LANES;
+                let b = back[k];
+                let row_out = [
+                    out[0].permute(b),
+                    out[1].permute(b),
+                    out[2].permute(b),
+                    out[3].permute(b),
+                ];
+                wrote |= self.write(buf, base, m[k], &z[k], &row_out);
+            }
         }
         wrote
     }
@@ -607,8 +631,14 @@ impl<S: FragShader> Rows<'_, S> {
     }
 }
 
-/// The widest span of lanes a row may cover to be shaded in a pair (half a vector).
-const PAIR_WIDTH: u32 = LANES as u32 / 2;
+/// A block's rows held to be shaded together: each row's index and covered lanes, in
+/// order, `lanes` covered in all (8 at most).
+#[derive(Clone, Copy, Debug, Default)]
+struct Held {
+    rows: [(i32, u32); LANES],
+    n: usize,
+    lanes: u32,
+}
 
 /// Sets the ids of the lanes in `bits` of one row.
 #[inline(always)]

@@ -1,12 +1,12 @@
 //! Shade stage: fragment shaders, one per family of materials, each run on a row of 8
-//! pixels at a time (or on two rows' 4 pixels each, a 4 x 2 block: [`Row`]).
+//! pixels at a time (or on a pack of a triangle's rows in a block, 8 pixels in all: [`Row`]).
 //!
 //! A shader first `prepare`s a triangle (fetches its three vertices' varyings once per
 //! triangle and tile), then `shade`s rows, writing straight linear RGB and alpha for all 8
 //! lanes; the rasterizer decides which lanes it keeps. Attributes are interpolated with
 //! perspective-correct barycentrics: `l1 = (l1/w) / (1/w)`, from planes set up per triangle.
 //! Texture level of detail comes from the analytic screen-space derivatives of those
-//! barycentrics, so no 2x2 quads are needed; one level is taken for a row's (or a pair's)
+//! barycentrics, so no 2x2 quads are needed; one level is taken for a row's (or a pack's)
 //! covered lanes, their widest footprint, or once for the whole triangle where bounds on
 //! its footprint over its box show the level spreads less than [`lod::LOD_SPREAD`].
 
@@ -28,21 +28,17 @@ use nailboard::Parallax;
 /// 8 lanes of one channel.
 pub type Lane = F8;
 
-/// Where a row of lanes sits: pixel `x0 + lane`, row `y`, relative to the plane reference;
-/// or, for a pair of narrow rows shaded together (a 4 x 2 block, see `raster`), lanes 0-3
-/// in one row and lanes 4-7 in another, each at its own 4 pixels of the block.
+/// Where a vector's lanes sit: pixel `x0 + lane` of row `y`, relative to the plane
+/// reference; or, for a pack of rows of a triangle in one block shaded together (see
+/// `raster`), each lane at its own pixel of its own row.
 #[derive(Clone, Copy, Debug)]
 pub struct Row {
     /// `x - rx` of the block's first pixel.
     pub fx: f32,
-    /// `y - ry` of the lanes outside `second`.
-    pub fy: f32,
-    /// `y - ry` of the lanes in `second` (a pair's other row).
-    pub fy2: f32,
+    /// Each lane's `y - ry` (the same in every lane for a whole row).
+    pub ys: F8,
     /// Each lane's pixel within the block's row: `F8::ramp()` for a whole row.
     pub xs: F8,
-    /// The lanes from the pair's other row (none for a whole row).
-    pub second: M8,
     /// The lanes the triangle covers in this row (bit `l` for lane `l`), whether or not they
     /// pass the depth test: their footprints choose the row's level of detail, so a pixel's
     /// texture level does not depend on what was drawn before it (nor on the pre-pass).
@@ -55,22 +51,19 @@ impl Row {
     pub fn whole(fx: f32, fy: f32, covered: u32) -> Self {
         Row {
             fx,
-            fy,
-            fy2: fy,
+            ys: F8::splat(fy),
             xs: F8::ramp(),
-            second: M8::from_bits(0),
             covered,
         }
     }
 }
 
 /// A plane at the lanes of `row`. Each lane's value is the one a whole row through its pixel
-/// gives (the same operations in the same order), so pairing rows changes no lane's value.
+/// gives (the same operations in the same order: `c + dx fx`, plus `dy y`, then `dx x`
+/// fused), so packing rows changes no lane's value.
 #[inline(always)]
 pub fn eval(p: &Plane, row: &Row) -> Lane {
-    let base = p.c + p.dx * row.fx + p.dy * row.fy;
-    let base2 = p.c + p.dx * row.fx + p.dy * row.fy2;
-    let base = row.second.select(F8::splat(base2), F8::splat(base));
+    let base = F8::splat(p.c + p.dx * row.fx) + F8::splat(p.dy) * row.ys;
     F8::splat(p.dx).mul_add(row.xs, base)
 }
 

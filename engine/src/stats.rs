@@ -49,8 +49,8 @@ pub struct FrameStats {
     /// Rows of 8 lanes the shader ran on (`fragments_shaded / rows_shaded` is how full the
     /// lanes were: 8 at best; thin and small triangles leave most lanes idle).
     pub rows_shaded: u64,
-    /// Of `rows_shaded`, those that held two narrow rows of a triangle in a block, 4 lanes
-    /// each (a 4 x 2 block sharing one texture level of detail).
+    /// Of `rows_shaded`, those that held a pack of two rows or more of a triangle in a
+    /// block (8 covered lanes at most, sharing one texture level of detail).
     pub rows_paired: u64,
     /// Fragments written to the target (after alpha test).
     pub fragments_written: u64,

@@ -207,12 +207,12 @@ fn gradient_grid(n: u32) -> Mesh {
     mesh
 }
 
-/// Narrow rows of small triangles are shaded two to a vector (`raster`'s pairs), and each
-/// pixel keeps its own colour: the gradient cut into 3-pixel triangles (most rows paired)
-/// gives the pixels of the same gradient drawn as two large triangles (hardly any pairs),
+/// The rows of small triangles are shaded several to a vector (`raster`'s packs), and each
+/// pixel keeps its own colour: the gradient cut into 3-pixel triangles (most rows packed)
+/// gives the pixels of the same gradient drawn as two large triangles (hardly any packs),
 /// within a level of rounding, on 1 and 2 threads alike.
 #[test]
-fn paired_rows_give_each_pixel_its_own_colour() {
+fn packed_rows_give_each_pixel_its_own_colour() {
     let material = Material {
         vertex_colors: true,
         ..Material::unlit(Rgba::new(1.0, 1.0, 1.0, 1.0))
@@ -250,7 +250,7 @@ fn paired_rows_give_each_pixel_its_own_colour() {
     assert_eq!(coarse_stats.fragments_shaded, fine_stats.fragments_shaded);
     assert!(
         fine_stats.rows_paired * 4 > fine_stats.rows_shaded,
-        "small triangles pair most narrow rows: {fine_stats:?}"
+        "small triangles pack most rows: {fine_stats:?}"
     );
     assert!(
         coarse_stats.rows_paired * 10 < coarse_stats.rows_shaded,

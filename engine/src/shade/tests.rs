@@ -10,35 +10,27 @@ use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
 proptest::proptest! {
-    /// A pair's lanes take the values their pixels have in whole rows, bit for bit: lanes
-    /// 0-3 are pixels `sa..sa + 4` of the first row, lanes 4-7 pixels `sb..sb + 4` of the
-    /// second.
+    /// A pack's lanes take the values their pixels have in whole rows, bit for bit: lane `l`
+    /// is pixel `xs[l]` of row `fy + dys[l]`.
     #[test]
-    fn paired_lanes_evaluate_as_their_rows(
+    fn packed_lanes_evaluate_as_their_rows(
         c in -1e3f32..1e3, dx in -10f32..10.0, dy in -10f32..10.0,
-        fx in -64i32..64, fy in -64i32..64, gap in 1i32..8,
-        sa in 0usize..5, sb in 0usize..5,
+        fx in -64i32..64, fy in -64i32..64,
+        xs in proptest::array::uniform8(0usize..8), dys in proptest::array::uniform8(0i32..8),
     ) {
         use super::{eval, Row};
         use crate::simd::F8;
         let p = crate::setup::Plane { c, dx, dy };
-        let (fx, fya, fyb) = (fx as f32, fy as f32, (fy + gap) as f32);
-        let pair = Row {
-            fx,
-            fy: fya,
-            fy2: fyb,
-            xs: F8::from_array(std::array::from_fn(|l| {
-                (if l < 4 { sa + l } else { sb + l - 4 }) as f32
-            })),
-            second: crate::simd::M8::from_bits(0xf0),
+        let pack = Row {
+            fx: fx as f32,
+            ys: F8::from_array(dys.map(|d| (fy + d) as f32)),
+            xs: F8::from_array(xs.map(|x| x as f32)),
             covered: 0xff,
         };
-        let got = eval(&p, &pair).to_array();
-        let a = eval(&p, &Row::whole(fx, fya, 0xff)).to_array();
-        let b = eval(&p, &Row::whole(fx, fyb, 0xff)).to_array();
-        for l in 0..4 {
-            proptest::prop_assert_eq!(got[l].to_bits(), a[sa + l].to_bits());
-            proptest::prop_assert_eq!(got[l + 4].to_bits(), b[sb + l].to_bits());
+        let got = eval(&p, &pack).to_array();
+        for l in 0..8 {
+            let whole = eval(&p, &Row::whole(fx as f32, (fy + dys[l]) as f32, 0xff)).to_array();
+            proptest::prop_assert_eq!(got[l].to_bits(), whole[xs[l]].to_bits());
         }
     }
 }
