@@ -149,6 +149,30 @@ fn frames_prints_the_timing_line_last() {
     assert_eq!(f[8], "frames=2", "{last}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("render: stats:"), "{stderr}");
+    // The stages line: every stage's median, a number of milliseconds.
+    let stages = stderr
+        .lines()
+        .find_map(|l| l.strip_prefix("render: stages: "))
+        .unwrap_or_else(|| panic!("{stderr}"));
+    let keys: Vec<&str> = stages
+        .split(' ')
+        .map(|kv| kv.split('=').next().unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            "vertex_ms",
+            "front_ms",
+            "tiles_ms",
+            "raster_sum_ms",
+            "resolve_sum_ms"
+        ],
+        "{stages}"
+    );
+    for kv in stages.split(' ') {
+        let v: f64 = kv.split('=').nth(1).and_then(|v| v.parse().ok()).expect(kv);
+        assert!(v.is_finite() && v >= 0.0, "{stages}");
+    }
 }
 
 /// Runs and checks: failure with `code`, and exactly one error line, `render: error: ...`

@@ -13,6 +13,10 @@
 //! a hidden alias of `--out`; the other flags follow the tools' shared vocabulary
 //! (`demos::cli`), negative vectors included (`--eye -1,2,3`).
 //!
+//! Stderr carries the (last) frame's work counters (`render: stats: ...`, `FrameStats`)
+//! and, when timing, each stage's median over the timed frames (`render: stages:
+//! vertex_ms=.. front_ms=.. tiles_ms=.. raster_sum_ms=.. resolve_sum_ms=..`, `StageTimes`).
+//!
 //! When the model covers (almost) none of the frame, one line on stderr says so, with the
 //! model's bounds and an `--eye`/`--target` that would frame it.
 //!
